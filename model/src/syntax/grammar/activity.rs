@@ -1,0 +1,250 @@
+//! Activity diagrams: parameters, the variable section, swimlanes, nodes and transitions.
+
+use super::*;
+
+/// `ActivityDiagram Name(params), owner A.B { variables, swimlanes, nodes }`
+pub(super) fn activity_diagram(p: &mut Parser) {
+    let m = p.start();
+    p.bump(ACTIVITY_DIAGRAM_KW);
+    let what = describe_named(p, "activity diagram");
+    name(p, "a name for the activity diagram");
+    if p.at(L_PAREN) {
+        types::param_list(p);
+    }
+    if p.at(COMMA) && p.nth_at_contextual(1, OWNER_KW) {
+        owner_clause(p);
+    }
+    if open_curly(p, &format!("the body of {what}")) {
+        while !p.at(EOF) && !p.at(R_CURLY) {
+            if at_diagram_start(p) {
+                break;
+            }
+            activity_item(p);
+        }
+        close_curly(p, &what);
+    }
+    m.complete(p, ACTIVITY_DIAGRAM);
+}
+
+/// `, owner A.B`
+fn owner_clause(p: &mut Parser) {
+    let m = p.start();
+    p.bump(COMMA);
+    p.bump(OWNER_KW);
+    path_or_error(p, "the owner class after `owner`");
+    m.complete(p, OWNER_CLAUSE);
+}
+
+/// The node keyword starting here, if a node declaration (`action name`) starts here.
+fn at_node(p: &Parser) -> Option<SyntaxKind> {
+    let keyword = if p.at(LOOP_KW) {
+        LOOP_KW
+    } else {
+        match p.current_contextual()? {
+            kw @ (START_KW | FINAL_KW | ACTION_KW | DECISION_KW | FORK_KW | JOIN_KW
+            | LOOP_WINDOW_KW | CALC_KW | CALC_RANGE_KW) => kw,
+            _ => return None,
+        }
+    };
+    p.nth_is_name(1).then_some(keyword)
+}
+
+/// Whether something that belongs to an activity diagram, not inside a node, starts here.
+fn at_activity_level_start(p: &Parser) -> bool {
+    at_node(p).is_some() || (p.at_contextual(SWIMLANE_KW) && p.nth_is_name(1)) || at_diagram_start(p)
+}
+
+const VARIABLE_START: TokenSet =
+    types::TYPE_START.union(TokenSet::new(&[PUBLIC_KW, PROTECTED_KW, PRIVATE_KW, CONST_KW, L_BRACK]));
+
+fn activity_item(p: &mut Parser) {
+    if p.at(IMPORT_KW) {
+        import(p);
+    } else if p.at_contextual(SWIMLANE_KW) && p.nth_is_name(1) {
+        nested(p, swimlane);
+    } else if at_node(p).is_some() {
+        nested(p, node);
+    } else if p.at(VAR_KW) || (p.at(CONST_KW) && !p.nth_at(1, CONST_KW)) {
+        statements::var_decl(p);
+    } else if p.at_ts(VARIABLE_START) || at_qualifier(p) {
+        variable(p);
+    } else {
+        p.err_recover_until(
+            "expected a variable, `swimlane` or a node (`start`, `action`, `final`, …)",
+            &|p| at_activity_level_start(p) || p.at(R_CURLY) || p.at(IMPORT_KW),
+        );
+    }
+}
+
+/// A variable-section entry: `public int gidx;`, `[Attr] int2 coordinate = new int2(0, 0);`
+fn variable(p: &mut Parser) {
+    let m = p.start();
+    if p.at(L_BRACK) {
+        attribute_list(p);
+    }
+    modifiers(p);
+    if types::type_ref(p) {
+        name(p, "a variable name");
+        if p.eat(EQ) {
+            expressions::expr_or_error(p);
+        }
+        p.expect_with(SEMICOLON, "after the variable");
+    }
+    m.complete(p, VARIABLE);
+}
+
+/// `swimlane Name, owner A.B { nodes }`
+fn swimlane(p: &mut Parser) {
+    let m = p.start();
+    p.bump(SWIMLANE_KW);
+    let what = describe_named(p, "swimlane");
+    name(p, "a swimlane name");
+    if p.at(COMMA) && p.nth_at_contextual(1, OWNER_KW) {
+        owner_clause(p);
+    }
+    if open_curly(p, &format!("the nodes of {what}")) {
+        while !p.at(EOF) && !p.at(R_CURLY) {
+            if at_node(p).is_some() {
+                nested(p, node);
+            } else if at_activity_level_start(p) {
+                break;
+            } else {
+                p.err_recover_until(
+                    "expected a node (`start`, `action`, `decision`, `calc`, `final`, …)",
+                    &|p| at_activity_level_start(p) || p.at(R_CURLY),
+                );
+            }
+        }
+        close_curly(p, &what);
+    }
+    m.complete(p, SWIMLANE);
+}
+
+/// Any activity node.
+fn node(p: &mut Parser) {
+    let Some(keyword) = at_node(p) else { return };
+    let m = p.start();
+    p.bump(keyword);
+    let what = format!("node `{}`", p.current_text());
+    name(p, "a node name");
+    let kind = match keyword {
+        START_KW => START_NODE,
+        FINAL_KW => FINAL_NODE,
+        ACTION_KW => ACTION_NODE,
+        DECISION_KW => DECISION_NODE,
+        FORK_KW => FORK_NODE,
+        JOIN_KW => JOIN_NODE,
+        LOOP_KW => LOOP_NODE,
+        LOOP_WINDOW_KW => LOOP_WINDOW_NODE,
+        CALC_KW => CALC_NODE,
+        _ => CALC_RANGE_NODE,
+    };
+    match kind {
+        LOOP_NODE | LOOP_WINDOW_NODE => {
+            if p.at(L_PAREN) {
+                loop_header(p);
+            } else {
+                p.error_missing(format!("expected `(` with the loop sections of {what}"));
+            }
+        }
+        FINAL_NODE => {
+            if p.eat(RETURN_KW) {
+                expressions::expr_or_error(p);
+            }
+            if !p.eat(SEMICOLON) && p.at(L_CURLY) {
+                node_body(p, &what);
+            }
+            m.complete(p, kind);
+            return;
+        }
+        _ => {
+            if p.at(L_PAREN) {
+                types::param_list(p);
+            }
+        }
+    }
+    node_body(p, &what);
+    m.complete(p, kind);
+}
+
+/// `(setup; test; increment)` of a loop or loopWindow node; a single section is a `while`.
+fn loop_header(p: &mut Parser) {
+    let m = p.start();
+    p.bump(L_PAREN);
+    loop {
+        let section = p.start();
+        while !p.at(EOF) && !p.at(SEMICOLON) && !p.at(R_PAREN) {
+            if p.at(VAR_KW) || p.at(CONST_KW) || (p.at(REF_KW) && p.nth_is_name(1)) {
+                statements::var_decl_head(p);
+            } else if !expressions::expr_or_error(p) {
+                break;
+            }
+            if !p.eat(COMMA) {
+                break;
+            }
+        }
+        section.complete(p, LOOP_SECTION);
+        if !p.eat(SEMICOLON) {
+            break;
+        }
+    }
+    if !p.eat(R_PAREN) {
+        p.error_unclosed("expected `)` to close the loop sections");
+    }
+    m.complete(p, LOOP_HEADER);
+}
+
+/// `{ statements and transitions }`. Without `{`, transitions that follow are still parsed.
+fn node_body(p: &mut Parser, what: &str) {
+    let m = p.start();
+    if p.eat(L_CURLY) {
+        while !p.at(EOF) && !p.at(R_CURLY) {
+            if at_transition(p) {
+                transition(p);
+            } else if at_activity_level_start(p) {
+                break;
+            } else {
+                statements::statement(p);
+            }
+        }
+        close_curly(p, &format!("the body of {what}"));
+    } else {
+        p.error_missing(format!("expected `{{` to open the body of {what}"));
+        while at_transition(p) {
+            transition(p);
+        }
+    }
+    m.complete(p, NODE_BODY);
+}
+
+fn at_transition(p: &Parser) -> bool {
+    p.at(FAT_ARROW) || p.at(L_BRACK)
+}
+
+/// `[guard] => target(args);`
+fn transition(p: &mut Parser) {
+    let m = p.start();
+    if p.at(L_BRACK) {
+        let guard = p.start();
+        p.bump(L_BRACK);
+        if !p.at(R_BRACK) {
+            expressions::expr_or_error(p);
+        }
+        if !p.eat(R_BRACK) {
+            p.error_unclosed("expected `]` to close the guard");
+        }
+        guard.complete(p, GUARD);
+    }
+    if p.expect_with(FAT_ARROW, "after the guard") {
+        if p.at_name() {
+            name_ref(p);
+            if p.at(L_PAREN) {
+                expressions::arg_list(p);
+            }
+        } else {
+            p.error_missing("expected the target node's name after `=>`");
+        }
+    }
+    p.expect_with(SEMICOLON, "after the transition");
+    m.complete(p, TRANSITION);
+}

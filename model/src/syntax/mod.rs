@@ -1,0 +1,116 @@
+//! Syntax: lexer, error-tolerant parser and the lossless rowan tree of a GU-DSL document.
+//!
+//! [`parse`] never fails: it returns a tree that holds every byte of the input (comments and
+//! malformed text included) plus the syntax errors found on the way.
+
+mod builder;
+mod error;
+mod grammar;
+mod kind;
+pub mod lexer;
+mod parser;
+mod token_set;
+
+pub use error::{SyntaxError, SyntaxErrorCode};
+pub use kind::SyntaxKind;
+pub use rowan::{TextRange, TextSize};
+
+/// The rowan language tag of GU-DSL trees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum GuDsl {}
+
+impl rowan::Language for GuDsl {
+    type Kind = SyntaxKind;
+
+    fn kind_from_raw(raw: rowan::SyntaxKind) -> SyntaxKind {
+        SyntaxKind::from_raw(raw.0).unwrap_or(SyntaxKind::ERROR)
+    }
+
+    fn kind_to_raw(kind: SyntaxKind) -> rowan::SyntaxKind {
+        kind.into()
+    }
+}
+
+pub type SyntaxNode = rowan::SyntaxNode<GuDsl>;
+pub type SyntaxToken = rowan::SyntaxToken<GuDsl>;
+pub type SyntaxElement = rowan::SyntaxElement<GuDsl>;
+pub type SyntaxNodeChildren = rowan::SyntaxNodeChildren<GuDsl>;
+
+/// The result of parsing one document: a green tree (cheap to clone, shareable across threads)
+/// and the syntax errors, ordered by position.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Parse {
+    green: rowan::GreenNode,
+    errors: Vec<SyntaxError>,
+}
+
+impl Parse {
+    /// The root node (`SOURCE_FILE`) of the tree.
+    pub fn syntax_node(&self) -> SyntaxNode {
+        SyntaxNode::new_root(self.green.clone())
+    }
+
+    /// The typed root.
+    pub fn source_file(&self) -> crate::ast::SourceFile {
+        crate::ast::SourceFile { syntax: self.syntax_node() }
+    }
+
+    pub fn green(&self) -> &rowan::GreenNode {
+        &self.green
+    }
+
+    pub fn errors(&self) -> &[SyntaxError] {
+        &self.errors
+    }
+}
+
+/// Parses a whole GU-DSL document.
+pub fn parse(text: &str) -> Parse {
+    let lexed = lexer::lex(text);
+    let input = parser::Input::new(text, &lexed);
+    let (events, mut errors) = grammar::source_file(&input);
+    let green = builder::build_tree(text, &lexed, events);
+    for lex_error in &lexed.errors {
+        let start: usize = lexed.tokens[..lex_error.token].iter().map(|t| t.len as usize).sum();
+        let len = lexed.tokens[lex_error.token].len as usize;
+        errors.push(SyntaxError::new(
+            lex_error.code,
+            lex_error.message.clone(),
+            TextRange::new((start as u32).into(), ((start + len) as u32).into()),
+        ));
+    }
+    errors.sort_by_key(|e| (e.range.start(), e.range.end()));
+    Parse { green, errors }
+}
+
+/// Indented dump of a tree, one node or token a line, with the errors at the end: the format
+/// of the parser's golden files.
+pub fn debug_dump(parse: &Parse) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let mut indent = 0usize;
+    for event in parse.syntax_node().preorder_with_tokens() {
+        match event {
+            rowan::WalkEvent::Enter(element) => {
+                let range = element.text_range();
+                let _ = write!(out, "{:indent$}{:?}@{:?}", "", element.kind(), range, indent = indent);
+                if let rowan::NodeOrToken::Token(token) = &element {
+                    let _ = write!(out, " {:?}", token.text());
+                }
+                out.push('\n');
+                if element.as_node().is_some() {
+                    indent += 2;
+                }
+            }
+            rowan::WalkEvent::Leave(element) => {
+                if element.as_node().is_some() {
+                    indent -= 2;
+                }
+            }
+        }
+    }
+    for error in parse.errors() {
+        let _ = writeln!(out, "error {:?}: {}: {}", error.range, error.code.as_str(), error.message);
+    }
+    out
+}

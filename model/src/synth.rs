@@ -1,0 +1,1 @@
+//! Deterministic synthetic GU-DSL workspaces of any size, for benchmarks and stress tests.

@@ -1,0 +1,1 @@
+//! Diagram rendering (graph view -> layout -> SVG/PNG); built in a later issue.
