@@ -10,6 +10,8 @@ mod kind;
 pub mod lexer;
 mod parser;
 mod token_set;
+#[cfg(test)]
+mod tests;
 
 pub use error::{SyntaxError, SyntaxErrorCode};
 pub use kind::SyntaxKind;
@@ -70,15 +72,26 @@ pub fn parse(text: &str) -> Parse {
     let input = parser::Input::new(text, &lexed);
     let (events, mut errors) = grammar::source_file(&input);
     let green = builder::build_tree(text, &lexed, events);
-    for lex_error in &lexed.errors {
-        let start: usize = lexed.tokens[..lex_error.token].iter().map(|t| t.len as usize).sum();
-        let len = lexed.tokens[lex_error.token].len as usize;
-        errors.push(SyntaxError::new(
-            lex_error.code,
-            lex_error.message.clone(),
-            TextRange::new((start as u32).into(), ((start + len) as u32).into()),
-        ));
+    // A malformed token explains the parser errors right around it: report it alone.
+    let mut starts = Vec::with_capacity(lexed.tokens.len() + 1);
+    let mut offset = 0u32;
+    for token in &lexed.tokens {
+        starts.push(offset);
+        offset += token.len;
     }
+    starts.push(offset);
+    let mut lex_errors = Vec::with_capacity(lexed.errors.len());
+    for lex_error in &lexed.errors {
+        let i = lex_error.token;
+        let range = TextRange::new(starts[i].into(), starts[i + 1].into());
+        let before = (0..i).rev().find(|&j| !lexed.tokens[j].kind.is_trivia()).map_or(0, |j| starts[j + 1]);
+        let after = (i + 1..lexed.tokens.len())
+            .find(|&j| !lexed.tokens[j].kind.is_trivia())
+            .map_or(offset, |j| starts[j + 1]);
+        errors.retain(|e| !(before..=after).contains(&u32::from(e.range.start())));
+        lex_errors.push(SyntaxError::new(lex_error.code, lex_error.message.clone(), range));
+    }
+    errors.extend(lex_errors);
     errors.sort_by_key(|e| (e.range.start(), e.range.end()));
     Parse { green, errors }
 }

@@ -295,7 +295,7 @@ impl<'i> Parser<'i> {
         let mut end = start;
         let mut first = true;
         while !self.at(EOF) {
-            if !first && (stop(self) || self.at_ts(CLOSERS)) {
+            if !first && (stop(self) || self.at(R_CURLY)) {
                 break;
             }
             end = self.current_range().end();

@@ -36,6 +36,13 @@ fn decl_kind(p: &Parser) -> DeclKind {
         loop {
             match p.nth(n) {
                 EOF => return DeclKind::Other,
+                // An attribute list missing its `]`: the declaration starts here.
+                PUBLIC_KW | PROTECTED_KW | PRIVATE_KW | ABSTRACT_KW | CLASS_KW | INTERFACE_KW
+                | ENUM_KW | ATTRIBUTE_KW | L_CURLY | R_CURLY | SEMICOLON
+                    if depth == 1 =>
+                {
+                    break
+                }
                 L_BRACK | L_PAREN => depth += 1,
                 R_BRACK | R_PAREN => depth = depth.saturating_sub(1),
                 _ => {}
@@ -103,6 +110,18 @@ fn class_diagram_item(p: &mut Parser) {
     }
 }
 
+/// Consumes the declaration keyword the lookahead saw, or reports what is there instead (the
+/// lookahead and the attribute-list parser can disagree on broken attribute lists).
+fn expect_decl_keyword(p: &mut Parser, keyword: SyntaxKind) -> bool {
+    if p.at(keyword) {
+        p.bump(keyword);
+        true
+    } else {
+        p.err_recover_until(&format!("expected {}", keyword.describe()), &|p| p.at_ts(ITEM_RECOVERY));
+        false
+    }
+}
+
 /// Attribute list and modifiers that open a declaration.
 fn decl_prefix(p: &mut Parser) {
     if p.at(L_BRACK) {
@@ -120,7 +139,10 @@ fn class(p: &mut Parser) {
         Some(kind @ (SOURCE_KW | FILTER_KW | SINK_KW)) => kind,
         _ => CLASS_KW,
     };
-    p.bump(keyword);
+    if !expect_decl_keyword(p, keyword) {
+        m.complete(p, CLASS);
+        return;
+    }
     let what = describe_named(p, "class");
     name(p, "a class name");
     if p.at(L_ANGLE) {
@@ -146,7 +168,10 @@ fn class(p: &mut Parser) {
 fn interface(p: &mut Parser) {
     let m = p.start();
     decl_prefix(p);
-    p.bump(INTERFACE_KW);
+    if !expect_decl_keyword(p, INTERFACE_KW) {
+        m.complete(p, INTERFACE);
+        return;
+    }
     if (p.at_contextual(PROVIDER_KW) || p.at_contextual(PROCESSOR_KW)) && p.nth(1) == IDENT {
         let kind = p.current_contextual().unwrap_or(IDENT);
         p.bump(kind);
@@ -170,7 +195,10 @@ fn interface(p: &mut Parser) {
 fn attribute_def(p: &mut Parser) {
     let m = p.start();
     decl_prefix(p);
-    p.bump(ATTRIBUTE_KW);
+    if !expect_decl_keyword(p, ATTRIBUTE_KW) {
+        m.complete(p, ATTRIBUTE_DEF);
+        return;
+    }
     let what = describe_named(p, "attribute");
     name(p, "an attribute name");
     member_list(p, &what);
@@ -192,7 +220,10 @@ fn type_list(p: &mut Parser, what: &str) {
 fn enumeration(p: &mut Parser) {
     let m = p.start();
     decl_prefix(p);
-    p.bump(ENUM_KW);
+    if !expect_decl_keyword(p, ENUM_KW) {
+        m.complete(p, ENUM);
+        return;
+    }
     let what = describe_named(p, "enum");
     name(p, "an enum name");
     if open_curly(p, &format!("the values of {what}")) {
@@ -270,10 +301,8 @@ fn member(p: &mut Parser) {
         return;
     }
     if !types::type_ref(p) {
-        // Only attributes/modifiers: report what is there and keep it in this member.
-        if !p.at(R_CURLY) && !p.at(EOF) {
-            p.err_recover("expected the member's type", MEMBER_RECOVERY);
-        }
+        // Only attributes/modifiers (`type_ref` reported it); a `;` still ends the member.
+        p.eat(SEMICOLON);
         m.complete(p, FIELD);
         return;
     }

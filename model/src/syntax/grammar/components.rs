@@ -90,7 +90,8 @@ fn port(p: &mut Parser) {
                 let kind = p.current_contextual().unwrap_or(IDENT);
                 p.bump(kind);
                 name(p, "a connector name");
-                if p.expect_with(COLON, "between the connector name and its interface") {
+                // A missing `:` before a name is reported once and the name still parsed.
+                if p.expect_with(COLON, "between the connector name and its interface") || p.at_name() {
                     path_or_error(p, "the connector's interface");
                 }
                 c.complete(p, CONNECTOR);
@@ -243,7 +244,7 @@ fn port_instance(p: &mut Parser) {
                 let kind = p.current_contextual().unwrap_or(IDENT);
                 p.bump(kind);
                 name(p, "a connector name");
-                if p.expect_with(EQ, "between the connector name and its interface") {
+                if p.expect_with(EQ, "between the connector name and its interface") || p.at_name() {
                     path_or_error(p, "the connector's interface");
                     if p.at(L_PAREN) {
                         named_arg_list(p);

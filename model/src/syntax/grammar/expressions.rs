@@ -196,8 +196,11 @@ pub(super) fn arg_list(p: &mut Parser) {
         if !expr_or_error(p) && !p.at(COMMA) {
             break;
         }
-        if !p.at(R_PAREN) && !p.expect_with(COMMA, "between arguments") && !at_expr_start(p) {
-            break;
+        if !p.eat(COMMA) && !p.at(R_PAREN) {
+            if !at_expr_start(p) {
+                break;
+            }
+            p.error_missing("expected `,` between arguments");
         }
     }
     if !p.eat(R_PAREN) {

@@ -139,13 +139,13 @@ pub(super) fn attribute_list(p: &mut Parser) {
                 named_arg_list(p);
             }
             use_.complete(p, ATTRIBUTE_USE);
+        } else if p.at(COMMA) {
+            p.error_here("expected an attribute name");
         } else {
-            p.err_recover("expected an attribute name", TokenSet::new(&[COMMA, R_BRACK]));
+            break;
         }
-        if !p.at(R_BRACK) && !p.expect_with(COMMA, "between attributes") {
-            if !p.at_name() {
-                break;
-            }
+        if !p.eat(COMMA) {
+            break;
         }
     }
     if !p.eat(R_BRACK) {

@@ -126,8 +126,11 @@ pub(super) fn param_list(p: &mut Parser) {
                 break;
             }
         }
-        if !p.at(R_PAREN) && !p.expect_with(COMMA, "between parameters") && !at_type_start(p) {
-            break;
+        if !p.eat(COMMA) && !p.at(R_PAREN) {
+            if !at_type_start(p) {
+                break;
+            }
+            p.error_missing("expected `,` between parameters");
         }
     }
     if !p.eat(R_PAREN) {
