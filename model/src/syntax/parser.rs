@@ -213,16 +213,8 @@ impl<'i> Parser<'i> {
         }
     }
 
-    /// Consumes `kind` or reports that it is missing right after the previous token.
-    pub(crate) fn expect(&mut self, kind: SyntaxKind) -> bool {
-        if self.eat(kind) {
-            return true;
-        }
-        self.error_missing(format!("expected {}", kind.describe()));
-        false
-    }
-
-    /// Like [`Parser::expect`], with a message that says what the token was for.
+    /// Consumes `kind` or reports it missing right after the previous token, saying what it
+    /// was for (`expected `;` after the field`).
     pub(crate) fn expect_with(&mut self, kind: SyntaxKind, what: &str) -> bool {
         if self.eat(kind) {
             return true;
@@ -461,7 +453,7 @@ impl Marker {
             p.events[idx] = Event::Start { kind, forward_parent: None };
         }
         p.events.push(Event::Finish);
-        CompletedMarker { pos: self.pos, kind }
+        CompletedMarker { pos: self.pos }
     }
 
     /// Drops the node; its children go to the parent.
@@ -480,14 +472,9 @@ impl Marker {
 #[derive(Clone, Copy)]
 pub(crate) struct CompletedMarker {
     pos: u32,
-    kind: SyntaxKind,
 }
 
 impl CompletedMarker {
-    pub(crate) fn kind(&self) -> SyntaxKind {
-        self.kind
-    }
-
     /// Starts a node that will contain this one.
     pub(crate) fn precede(self, p: &mut Parser) -> Marker {
         let new = p.start();

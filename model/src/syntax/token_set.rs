@@ -7,8 +7,6 @@ use super::SyntaxKind;
 pub(crate) struct TokenSet([u64; 4]);
 
 impl TokenSet {
-    pub(crate) const EMPTY: TokenSet = TokenSet([0; 4]);
-
     pub(crate) const fn new(kinds: &[SyntaxKind]) -> TokenSet {
         let mut bits = [0u64; 4];
         let mut i = 0;

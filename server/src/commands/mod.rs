@@ -1,0 +1,3 @@
+//! One module per `gudsl` subcommand.
+
+pub mod check;

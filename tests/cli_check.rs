@@ -1,0 +1,68 @@
+//! End-to-end tests of `gudsl check`: run the built binary on files and folders, as CI does.
+
+use std::{path::Path, process::Command};
+
+fn gudsl() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gudsl"))
+}
+
+fn repo(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path).to_string_lossy().into_owned()
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("gudsl-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn samples_check_clean() {
+    let out = gudsl().args(["check", &repo("samples")]).output().unwrap();
+    assert!(out.status.success(), "{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.stdout.is_empty());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("0 errors"));
+}
+
+#[test]
+fn broken_file_reports_path_line_column_code_and_exits_1() {
+    let dir = temp_dir("broken");
+    let file = dir.join("broken.gudsl");
+    std::fs::write(&file, "ClassDiagram D\n{\n    public class C { public int x }\n}\n").unwrap();
+    let out = gudsl().args(["check", file.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(stdout.trim(), format!("{}:3:34: error[E0001]: expected `;` after the field", file.display()));
+}
+
+#[test]
+fn json_format_is_machine_readable() {
+    let dir = temp_dir("json");
+    std::fs::write(dir.join("a.gudsl"), "ClassDiagram A { }\n").unwrap();
+    // Columns count characters: the emoji and umlaut are one column each.
+    std::fs::write(dir.join("b.gudsl"), "// ä😀\nClassDiagram B { class C { int x } }\n").unwrap();
+    let out = gudsl().args(["check", "--format", "json", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(report["files"], 2);
+    assert_eq!(report["errors"], 1);
+    let d = &report["diagnostics"][0];
+    assert!(d["path"].as_str().unwrap().ends_with("b.gudsl"));
+    assert_eq!((d["line"].as_u64(), d["column"].as_u64()), (Some(2), Some(33)));
+    assert_eq!(d["code"], "E0001");
+    assert_eq!(d["severity"], "error");
+}
+
+#[test]
+fn missing_path_exits_2() {
+    let out = gudsl().args(["check", "/nonexistent/gudsl/path"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/gudsl/path"));
+}
+
+#[test]
+fn no_path_is_a_usage_error() {
+    let out = gudsl().arg("check").output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
