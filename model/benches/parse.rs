@@ -38,19 +38,31 @@ fn main() {
             size_mb / median.as_secs_f64()
         );
     };
-    row("lex only (200 files)", measure(15, || {
-        for f in &files {
-            std::hint::black_box(gudsl_model::syntax::lexer::lex(&f.text));
-        }
-    }), mb);
-    row("lex + parse + tree (200 files)", measure(15, || {
-        for f in &files {
-            std::hint::black_box(gudsl_model::parse(&f.text));
-        }
-    }), mb);
-    row("lex + parse + tree (one 50k-line file)", measure(15, || {
-        std::hint::black_box(gudsl_model::parse(&one_file));
-    }), mb);
+    row(
+        "lex only (200 files)",
+        measure(15, || {
+            for f in &files {
+                std::hint::black_box(gudsl_model::syntax::lexer::lex(&f.text));
+            }
+        }),
+        mb,
+    );
+    row(
+        "lex + parse + tree (200 files)",
+        measure(15, || {
+            for f in &files {
+                std::hint::black_box(gudsl_model::parse(&f.text));
+            }
+        }),
+        mb,
+    );
+    row(
+        "lex + parse + tree (one 50k-line file)",
+        measure(15, || {
+            std::hint::black_box(gudsl_model::parse(&one_file));
+        }),
+        mb,
+    );
     let errors: usize = files.iter().map(|f| gudsl_model::parse(&f.text).errors().len()).sum();
     println!("syntax errors in the workspace: {errors}");
 }

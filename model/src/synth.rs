@@ -67,7 +67,11 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
             let _ = writeln!(out, "        public int compute{m}(int a, ref float b, const int c)\n        {{");
             let _ = writeln!(out, "            var int acc = a * {} + c;", rng.below(100));
             let _ = writeln!(out, "            for(i = 0 : 1 : i < a) {{ acc = acc + i * (b as int); }}");
-            let _ = writeln!(out, "            if(acc > {}) {{ acc = acc / 2; }} else {{ acc = acc << 1; }};", rng.below(1000));
+            let _ = writeln!(
+                out,
+                "            if(acc > {}) {{ acc = acc / 2; }} else {{ acc = acc << 1; }};",
+                rng.below(1000)
+            );
             let _ = writeln!(out, "            call {other}.Image{}::compute{m}(acc, b, c);", (index + 1) % files);
             let _ = writeln!(out, "            return acc;\n        }}");
         }
@@ -105,8 +109,14 @@ fn activity(out: &mut String, rng: &mut Rng, index: usize, pkg: &str, target_lin
                 let _ = writeln!(out, "            => {next};\n        }}\n");
             }
             2 => {
-                let _ = writeln!(out, "        loopWindow step{step}(var int u = -2, var int v = -2; u < 2, v < 2; u = u + 1, v = v + 1)");
-                let _ = writeln!(out, "        {{\n            counter = counter + u * v;\n            => {next};\n        }}\n");
+                let _ = writeln!(
+                    out,
+                    "        loopWindow step{step}(var int u = -2, var int v = -2; u < 2, v < 2; u = u + 1, v = v + 1)"
+                );
+                let _ = writeln!(
+                    out,
+                    "        {{\n            counter = counter + u * v;\n            => {next};\n        }}\n"
+                );
             }
             _ => {
                 let _ = writeln!(out, "        decision step{step}\n        {{");

@@ -2,6 +2,8 @@
 //! iterator, because half-typed documents are the normal case.
 
 mod nodes;
+#[cfg(test)]
+mod tests;
 
 pub use nodes::*;
 

@@ -656,9 +656,9 @@ pub enum LoopPart {
 
 impl LoopSection {
     pub fn parts(&self) -> impl Iterator<Item = LoopPart> {
-        self.syntax.children().filter_map(|n| {
-            VarDecl::cast(n.clone()).map(LoopPart::Decl).or_else(|| Expr::cast(n).map(LoopPart::Expr))
-        })
+        self.syntax
+            .children()
+            .filter_map(|n| VarDecl::cast(n.clone()).map(LoopPart::Decl).or_else(|| Expr::cast(n).map(LoopPart::Expr)))
     }
 }
 
@@ -837,9 +837,9 @@ impl LoopWindowStmt {
 
 impl LoopWindowDim {
     pub fn start(&self) -> Option<LoopPart> {
-        self.syntax.children().find_map(|n| {
-            VarDecl::cast(n.clone()).map(LoopPart::Decl).or_else(|| Expr::cast(n).map(LoopPart::Expr))
-        })
+        self.syntax
+            .children()
+            .find_map(|n| VarDecl::cast(n.clone()).map(LoopPart::Decl).or_else(|| Expr::cast(n).map(LoopPart::Expr)))
     }
     pub fn end(&self) -> Option<Expr> {
         children::<Expr>(&self.syntax).last().filter(|_| self.syntax.children().count() == 2)
@@ -925,10 +925,7 @@ impl BinExpr {
     }
     /// The operator token (`+`, `==`, `=`, `>>=`, …).
     pub fn op(&self) -> Option<SyntaxToken> {
-        self.syntax
-            .children_with_tokens()
-            .filter_map(|e| e.into_token())
-            .find(|t| !t.kind().is_trivia())
+        self.syntax.children_with_tokens().filter_map(|e| e.into_token()).find(|t| !t.kind().is_trivia())
     }
     pub fn is_assignment(&self) -> bool {
         self.op().is_some_and(|t| {

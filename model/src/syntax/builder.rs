@@ -93,8 +93,8 @@ impl Sink<'_> {
             let i = self.token + back;
             match self.raw_kind(i) {
                 WHITESPACE => {
-                    let start: usize = self.offset
-                        + self.lexed.tokens[self.token..i].iter().map(|t| t.len as usize).sum::<usize>();
+                    let start: usize =
+                        self.offset + self.lexed.tokens[self.token..i].iter().map(|t| t.len as usize).sum::<usize>();
                     let ws = &self.text[start..start + self.lexed.tokens[i].len as usize];
                     if ws.matches('\n').count() >= 2 {
                         break;
@@ -123,10 +123,8 @@ impl Sink<'_> {
             return;
         }
         // A composed token (`>=`, `>>`, `>>=`): one tree token spanning several raw ones.
-        let len: usize = self.lexed.tokens[self.token..self.token + n_raw as usize]
-            .iter()
-            .map(|t| t.len as usize)
-            .sum();
+        let len: usize =
+            self.lexed.tokens[self.token..self.token + n_raw as usize].iter().map(|t| t.len as usize).sum();
         self.builder.token(kind.into(), &self.text[self.offset..self.offset + len]);
         self.offset += len;
         self.token += n_raw as usize;

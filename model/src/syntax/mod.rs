@@ -9,9 +9,9 @@ mod grammar;
 mod kind;
 pub mod lexer;
 mod parser;
-mod token_set;
 #[cfg(test)]
 mod tests;
+mod token_set;
 
 pub use error::{SyntaxError, SyntaxErrorCode};
 pub use kind::SyntaxKind;
@@ -85,9 +85,8 @@ pub fn parse(text: &str) -> Parse {
         let i = lex_error.token;
         let range = TextRange::new(starts[i].into(), starts[i + 1].into());
         let before = (0..i).rev().find(|&j| !lexed.tokens[j].kind.is_trivia()).map_or(0, |j| starts[j + 1]);
-        let after = (i + 1..lexed.tokens.len())
-            .find(|&j| !lexed.tokens[j].kind.is_trivia())
-            .map_or(offset, |j| starts[j + 1]);
+        let after =
+            (i + 1..lexed.tokens.len()).find(|&j| !lexed.tokens[j].kind.is_trivia()).map_or(offset, |j| starts[j + 1]);
         errors.retain(|e| !(before..=after).contains(&u32::from(e.range.start())));
         lex_errors.push(SyntaxError::new(lex_error.code, lex_error.message.clone(), range));
     }

@@ -5,8 +5,7 @@
 //! builds), and [`CompletedMarker::precede`] wraps an already parsed node, for left recursion.
 
 use super::{
-    lexer::LexedText, token_set::TokenSet, SyntaxError, SyntaxErrorCode, SyntaxKind,
-    SyntaxKind::*, TextRange,
+    lexer::LexedText, token_set::TokenSet, SyntaxError, SyntaxErrorCode, SyntaxKind, SyntaxKind::*, TextRange,
 };
 
 /// Non-trivia tokens with their positions, as the grammar sees them.
@@ -70,10 +69,16 @@ impl<'t> Input<'t> {
 pub(crate) enum Event {
     /// Start a node. `forward_parent` points (relatively) at a `Start` that must be opened
     /// before this one: the wrapper created by `precede`.
-    Start { kind: SyntaxKind, forward_parent: Option<u32> },
+    Start {
+        kind: SyntaxKind,
+        forward_parent: Option<u32>,
+    },
     Finish,
     /// Consume `n_raw` lexer tokens (more than one for `>>`, `>=`, `>>=`) as one token `kind`.
-    Token { kind: SyntaxKind, n_raw: u8 },
+    Token {
+        kind: SyntaxKind,
+        n_raw: u8,
+    },
     /// A start that was abandoned or moved.
     Tombstone,
 }
@@ -137,9 +142,7 @@ impl<'i> Parser<'i> {
         match kind {
             GTEQ => self.nth(n) == R_ANGLE && joint(0) && kind_at(1) == EQ,
             SHR => self.nth(n) == R_ANGLE && joint(0) && kind_at(1) == R_ANGLE,
-            SHREQ => {
-                self.nth(n) == R_ANGLE && joint(0) && kind_at(1) == R_ANGLE && joint(1) && kind_at(2) == EQ
-            }
+            SHREQ => self.nth(n) == R_ANGLE && joint(0) && kind_at(1) == R_ANGLE && joint(1) && kind_at(2) == EQ,
             _ if kind.is_contextual_keyword() => self.nth_at_contextual(n, kind),
             _ => self.nth(n) == kind,
         }
@@ -236,11 +239,7 @@ impl<'i> Parser<'i> {
 
     /// Range of the current token (EOF: the end of the text).
     pub(crate) fn current_range(&self) -> TextRange {
-        self.input
-            .ranges
-            .get(self.pos)
-            .copied()
-            .unwrap_or_else(|| TextRange::empty(self.input.text_len.into()))
+        self.input.ranges.get(self.pos).copied().unwrap_or_else(|| TextRange::empty(self.input.text_len.into()))
     }
 
     fn push_error(&mut self, code: SyntaxErrorCode, message: String, range: TextRange) {

@@ -41,8 +41,8 @@ fn at_node(p: &Parser) -> Option<SyntaxKind> {
         LOOP_KW
     } else {
         match p.current_contextual()? {
-            kw @ (START_KW | FINAL_KW | ACTION_KW | DECISION_KW | FORK_KW | JOIN_KW
-            | LOOP_WINDOW_KW | CALC_KW | CALC_RANGE_KW) => kw,
+            kw @ (START_KW | FINAL_KW | ACTION_KW | DECISION_KW | FORK_KW | JOIN_KW | LOOP_WINDOW_KW | CALC_KW
+            | CALC_RANGE_KW) => kw,
             _ => return None,
         }
     };
@@ -69,10 +69,9 @@ fn activity_item(p: &mut Parser) {
     } else if p.at_ts(VARIABLE_START) || at_qualifier(p) {
         variable(p);
     } else {
-        p.err_recover_until(
-            "expected a variable, `swimlane` or a node (`start`, `action`, `final`, …)",
-            &|p| at_activity_level_start(p) || p.at(R_CURLY) || p.at(IMPORT_KW),
-        );
+        p.err_recover_until("expected a variable, `swimlane` or a node (`start`, `action`, `final`, …)", &|p| {
+            at_activity_level_start(p) || p.at(R_CURLY) || p.at(IMPORT_KW)
+        });
     }
 }
 
@@ -109,10 +108,9 @@ fn swimlane(p: &mut Parser) {
             } else if at_activity_level_start(p) {
                 break;
             } else {
-                p.err_recover_until(
-                    "expected a node (`start`, `action`, `decision`, `calc`, `final`, …)",
-                    &|p| at_activity_level_start(p) || p.at(R_CURLY),
-                );
+                p.err_recover_until("expected a node (`start`, `action`, `decision`, `calc`, `final`, …)", &|p| {
+                    at_activity_level_start(p) || p.at(R_CURLY)
+                });
             }
         }
         close_curly(p, &what);

@@ -37,8 +37,8 @@ fn decl_kind(p: &Parser) -> DeclKind {
             match p.nth(n) {
                 EOF => return DeclKind::Other,
                 // An attribute list missing its `]`: the declaration starts here.
-                PUBLIC_KW | PROTECTED_KW | PRIVATE_KW | ABSTRACT_KW | CLASS_KW | INTERFACE_KW
-                | ENUM_KW | ATTRIBUTE_KW | L_CURLY | R_CURLY | SEMICOLON
+                PUBLIC_KW | PROTECTED_KW | PRIVATE_KW | ABSTRACT_KW | CLASS_KW | INTERFACE_KW | ENUM_KW
+                | ATTRIBUTE_KW | L_CURLY | R_CURLY | SEMICOLON
                     if depth == 1 =>
                 {
                     break
@@ -61,9 +61,10 @@ fn decl_kind(p: &Parser) -> DeclKind {
         INTERFACE_KW => DeclKind::Interface,
         ENUM_KW => DeclKind::Enum,
         ATTRIBUTE_KW => DeclKind::AttributeDef,
-        IDENT if [SOURCE_KW, FILTER_KW, SINK_KW].iter().any(|&kw| p.nth_at_contextual(n, kw))
-            && p.nth(n + 1) == IDENT
-            && matches!(p.nth(n + 2), L_CURLY | L_ANGLE | EXTENDS_KW | IMPLEMENTS_KW) =>
+        IDENT
+            if [SOURCE_KW, FILTER_KW, SINK_KW].iter().any(|&kw| p.nth_at_contextual(n, kw))
+                && p.nth(n + 1) == IDENT
+                && matches!(p.nth(n + 2), L_CURLY | L_ANGLE | EXTENDS_KW | IMPLEMENTS_KW) =>
         {
             DeclKind::Class
         }
@@ -73,8 +74,17 @@ fn decl_kind(p: &Parser) -> DeclKind {
 
 /// Tokens after which a class-diagram item can start again.
 const ITEM_RECOVERY: TokenSet = TokenSet::new(&[
-    PUBLIC_KW, PROTECTED_KW, PRIVATE_KW, ABSTRACT_KW, CLASS_KW, INTERFACE_KW, ENUM_KW,
-    ATTRIBUTE_KW, IMPORT_KW, L_BRACK, R_CURLY,
+    PUBLIC_KW,
+    PROTECTED_KW,
+    PRIVATE_KW,
+    ABSTRACT_KW,
+    CLASS_KW,
+    INTERFACE_KW,
+    ENUM_KW,
+    ATTRIBUTE_KW,
+    IMPORT_KW,
+    L_BRACK,
+    R_CURLY,
 ]);
 
 fn class_diagram_item(p: &mut Parser) {
@@ -103,10 +113,9 @@ fn class_diagram_item(p: &mut Parser) {
             );
             m.complete(p, ERROR);
         }
-        DeclKind::Other => p.err_recover_until(
-            "expected a class, interface, enum or attribute declaration",
-            &|p| p.at_ts(ITEM_RECOVERY) || at_diagram_start(p),
-        ),
+        DeclKind::Other => p.err_recover_until("expected a class, interface, enum or attribute declaration", &|p| {
+            p.at_ts(ITEM_RECOVERY) || at_diagram_start(p)
+        }),
     }
 }
 
@@ -278,17 +287,12 @@ fn member_list(p: &mut Parser, what: &str) {
 }
 
 /// Tokens at which a broken member ends.
-const MEMBER_RECOVERY: TokenSet = TokenSet::new(&[
-    PUBLIC_KW, PROTECTED_KW, PRIVATE_KW, L_BRACK, R_CURLY, CONST_KW,
-]);
+const MEMBER_RECOVERY: TokenSet = TokenSet::new(&[PUBLIC_KW, PROTECTED_KW, PRIVATE_KW, L_BRACK, R_CURLY, CONST_KW]);
 
 /// A field, method or association.
 fn member(p: &mut Parser) {
-    let at_member = p.at(L_BRACK)
-        || p.at_ts(VISIBILITY)
-        || at_qualifier(p)
-        || types::at_type_start(p)
-        || p.at_contextual(SELF_KW);
+    let at_member =
+        p.at(L_BRACK) || p.at_ts(VISIBILITY) || at_qualifier(p) || types::at_type_start(p) || p.at_contextual(SELF_KW);
     if !at_member {
         p.err_recover("expected a field, method or association", MEMBER_RECOVERY);
         return;

@@ -56,10 +56,9 @@ fn component(p: &mut Parser) {
             } else if at_diagram_start(p) {
                 break;
             } else {
-                p.err_recover_until(
-                    "expected a port, a connection `[…]` or a nested component",
-                    &|p| at_component(p) || at_port(p) || p.at(L_BRACK) || at_diagram_start(p),
-                );
+                p.err_recover_until("expected a port, a connection `[…]` or a nested component", &|p| {
+                    at_component(p) || at_port(p) || p.at(L_BRACK) || at_diagram_start(p)
+                });
             }
         }
         close_curly(p, &what);

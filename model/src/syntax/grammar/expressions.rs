@@ -4,8 +4,25 @@ use super::*;
 
 /// Tokens an expression can start with.
 const EXPR_START: TokenSet = TokenSet::new(&[
-    INT_NUMBER, FLOAT_NUMBER, STRING, CHAR, TRUE_KW, FALSE_KW, NULL_KW, THIS_KW, IDENT, L_PAREN,
-    NEW_KW, CALL_KW, MINUS, PLUS, BANG, TILDE, PLUS2, MINUS2, REF_KW,
+    INT_NUMBER,
+    FLOAT_NUMBER,
+    STRING,
+    CHAR,
+    TRUE_KW,
+    FALSE_KW,
+    NULL_KW,
+    THIS_KW,
+    IDENT,
+    L_PAREN,
+    NEW_KW,
+    CALL_KW,
+    MINUS,
+    PLUS,
+    BANG,
+    TILDE,
+    PLUS2,
+    MINUS2,
+    REF_KW,
 ]);
 
 pub(super) fn at_expr_start(p: &Parser) -> bool {
@@ -13,9 +30,8 @@ pub(super) fn at_expr_start(p: &Parser) -> bool {
 }
 
 /// Where a missing expression is reported without consuming anything.
-const EXPR_RECOVERY: TokenSet = TokenSet::new(&[
-    SEMICOLON, COMMA, R_PAREN, R_BRACK, R_CURLY, L_CURLY, COLON, FAT_ARROW, EOF,
-]);
+const EXPR_RECOVERY: TokenSet =
+    TokenSet::new(&[SEMICOLON, COMMA, R_PAREN, R_BRACK, R_CURLY, L_CURLY, COLON, FAT_ARROW, EOF]);
 
 /// An expression, which the caller knows starts here.
 pub(super) fn expr(p: &mut Parser) -> Option<CompletedMarker> {

@@ -191,11 +191,9 @@ pub(super) fn at_qualifier(p: &Parser) -> bool {
     match p.current() {
         CONST_KW | REF_KW => true,
         IDENT => {
-            matches!(
-                p.current_contextual(),
-                Some(GLOBAL_KW | SHARED_KW | OUT_KW | READ_KW | WRITE_KW | STATIC_KW)
-            ) && (types::nth_at_type_keyword(p, 1)
-                || (p.nth(1) == IDENT && matches!(p.nth(2), IDENT | L_ANGLE | DOT | L_BRACK)))
+            matches!(p.current_contextual(), Some(GLOBAL_KW | SHARED_KW | OUT_KW | READ_KW | WRITE_KW | STATIC_KW))
+                && (types::nth_at_type_keyword(p, 1)
+                    || (p.nth(1) == IDENT && matches!(p.nth(2), IDENT | L_ANGLE | DOT | L_BRACK)))
         }
         _ => false,
     }

@@ -29,8 +29,7 @@ fn at_block_end(p: &Parser) -> bool {
 
 /// Tokens that end a broken statement.
 const STATEMENT_RECOVERY: TokenSet = TokenSet::new(&[
-    SEMICOLON, R_CURLY, VAR_KW, IF_KW, FOR_KW, LOOP_KW, DO_KW, SWITCH_KW, RETURN_KW, FAT_ARROW,
-    L_BRACK,
+    SEMICOLON, R_CURLY, VAR_KW, IF_KW, FOR_KW, LOOP_KW, DO_KW, SWITCH_KW, RETURN_KW, FAT_ARROW, L_BRACK,
 ]);
 
 /// One statement.
@@ -239,10 +238,7 @@ fn switch_stmt(p: &mut Parser) {
             } else if at_block_end(p) {
                 break;
             } else {
-                p.err_recover(
-                    "expected `case` or `default`",
-                    TokenSet::new(&[CASE_KW, DEFAULT_KW, R_CURLY]),
-                );
+                p.err_recover("expected `case` or `default`", TokenSet::new(&[CASE_KW, DEFAULT_KW, R_CURLY]));
             }
         }
         close_curly(p, "the `switch`");

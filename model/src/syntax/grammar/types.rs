@@ -4,13 +4,11 @@ use super::*;
 
 /// Built-in type keywords.
 pub(super) const BUILTIN_TYPES: TokenSet = TokenSet::new(&[
-    BOOL_KW, BYTE_KW, CHAR_KW, DOUBLE_KW, FLOAT_KW, INT_KW, LONG_KW, REAL_KW, SHORT_KW, STRING_KW,
-    VOID_KW,
+    BOOL_KW, BYTE_KW, CHAR_KW, DOUBLE_KW, FLOAT_KW, INT_KW, LONG_KW, REAL_KW, SHORT_KW, STRING_KW, VOID_KW,
 ]);
 
 /// Tokens a type can start with.
-pub(super) const TYPE_START: TokenSet =
-    BUILTIN_TYPES.union(TokenSet::new(&[UNSIGNED_KW, REF_KW, IDENT]));
+pub(super) const TYPE_START: TokenSet = BUILTIN_TYPES.union(TokenSet::new(&[UNSIGNED_KW, REF_KW, IDENT]));
 
 pub(super) fn nth_at_type_keyword(p: &Parser, n: usize) -> bool {
     let kind = p.nth(n);
@@ -118,10 +116,7 @@ pub(super) fn param_list(p: &mut Parser) {
         if at_type_start(p) || at_qualifier(p) || p.at(CONST_KW) {
             param(p);
         } else {
-            p.err_recover(
-                "expected a parameter (`type name`)",
-                TokenSet::new(&[COMMA, R_PAREN, L_CURLY, SEMICOLON]),
-            );
+            p.err_recover("expected a parameter (`type name`)", TokenSet::new(&[COMMA, R_PAREN, L_CURLY, SEMICOLON]));
             if !p.at(COMMA) {
                 break;
             }
