@@ -207,9 +207,22 @@ fn node_body(p: &mut Parser, what: &str) {
         }
         close_curly(p, &format!("the body of {what}"));
     } else {
+        // Parse what follows as the body all the same; its `}` is taken only when statements
+        // show that a body was meant (`start S => init;` has no braces at all).
         p.error_missing(format!("expected `{{` to open the body of {what}"));
-        while at_transition(p) {
-            transition(p);
+        let mut saw_statement = false;
+        while !p.at(EOF) && !p.at(R_CURLY) && !at_activity_level_start(p) {
+            if at_transition(p) {
+                transition(p);
+            } else if statements::at_statement_start(p) {
+                statements::statement(p);
+                saw_statement = true;
+            } else {
+                break;
+            }
+        }
+        if saw_statement {
+            p.eat(R_CURLY);
         }
     }
     m.complete(p, NODE_BODY);

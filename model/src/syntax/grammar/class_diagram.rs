@@ -315,8 +315,13 @@ fn member(p: &mut Parser) {
         types::param_list(p);
         if p.at(L_CURLY) {
             statements::block(p);
-        } else {
-            p.expect_with(SEMICOLON, "after the method declaration (or a `{` body)");
+        } else if !p.eat(SEMICOLON) {
+            if statements::at_statement_start(p) && !at_decl_start(p) {
+                p.error_missing("expected `{` to open the method body");
+                statements::block_without_open(p);
+            } else {
+                p.error_missing("expected `;` after the method declaration (or a `{` body)");
+            }
         }
         m.complete(p, METHOD);
     } else {

@@ -225,13 +225,15 @@ pub(super) fn close_curly(p: &mut Parser, what: &str) {
     }
 }
 
-/// Consumes `{` opening `what`, or reports it.
+/// Consumes `{` opening `what`, or reports it missing. Returns whether to parse the body:
+/// after a missing `{` the body is parsed all the same (its `}` usually follows), so one
+/// forgotten brace gives one error, not one per line of the body.
 pub(super) fn open_curly(p: &mut Parser, what: &str) -> bool {
     if p.eat(L_CURLY) {
         return true;
     }
     p.error_missing(format!("expected `{{` to open {what}"));
-    false
+    !p.at(EOF)
 }
 
 /// Text of the name token at the current position, for messages ("class `Image`").

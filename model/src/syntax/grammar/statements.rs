@@ -9,6 +9,32 @@ pub(super) fn block(p: &mut Parser) {
     }
     let m = p.start();
     p.bump(L_CURLY);
+    block_statements(p);
+    m.complete(p, BLOCK);
+    p.leave();
+}
+
+/// A block whose `{` is missing (reported by the caller): its statements up to the `}`.
+pub(super) fn block_without_open(p: &mut Parser) {
+    if !p.enter() {
+        return;
+    }
+    let m = p.start();
+    block_statements(p);
+    m.complete(p, BLOCK);
+    p.leave();
+}
+
+/// Whether a statement (not a declaration of the enclosing scope) starts here.
+pub(super) fn at_statement_start(p: &Parser) -> bool {
+    expressions::at_expr_start(p)
+        || matches!(
+            p.current(),
+            VAR_KW | IF_KW | LOOP_KW | DO_KW | FOR_KW | SWITCH_KW | RETURN_KW | BREAK_KW | CONTINUE_KW
+        )
+}
+
+fn block_statements(p: &mut Parser) {
     while !p.at(EOF) && !p.at(R_CURLY) {
         if at_block_end(p) {
             break;
@@ -16,15 +42,23 @@ pub(super) fn block(p: &mut Parser) {
         statement(p);
     }
     close_curly(p, "the block");
-    m.complete(p, BLOCK);
-    p.leave();
 }
 
 /// Where a block must have ended: a diagram-level construct follows (a missing `}`).
 fn at_block_end(p: &Parser) -> bool {
     at_diagram_start(p)
         || (p.at_contextual(SWIMLANE_KW) && p.nth_is_name(1))
-        || matches!(p.current(), PUBLIC_KW | PROTECTED_KW | PRIVATE_KW | CLASS_KW | INTERFACE_KW | ENUM_KW)
+        || matches!(p.current(), PUBLIC_KW | PROTECTED_KW | PRIVATE_KW)
+        || (matches!(p.current(), CLASS_KW | INTERFACE_KW | ENUM_KW | ABSTRACT_KW) && at_type_header(p))
+}
+
+/// `class Name {`, `interface provider Name extends`, …: a declaration header, not a statement.
+fn at_type_header(p: &Parser) -> bool {
+    let mut n = 1;
+    if p.nth_at(n, CLASS_KW) || p.nth_at_contextual(n, PROVIDER_KW) || p.nth_at_contextual(n, PROCESSOR_KW) {
+        n += 1;
+    }
+    p.nth_is_name(n) && matches!(p.nth(n + 1), L_CURLY | L_ANGLE | EXTENDS_KW | IMPLEMENTS_KW)
 }
 
 /// Tokens that end a broken statement.
