@@ -5,9 +5,7 @@ use super::*;
 /// `ActivityDiagram Name(params), owner A.B { variables, swimlanes, nodes }`
 pub(super) fn activity_diagram(p: &mut Parser) {
     let m = p.start();
-    p.bump(ACTIVITY_DIAGRAM_KW);
-    let what = describe_named(p, "activity diagram");
-    name(p, "a name for the activity diagram");
+    let what = diagram_header(p, ACTIVITY_DIAGRAM_KW, "activity diagram");
     if p.at(L_PAREN) {
         types::param_list(p);
     }

@@ -5,9 +5,7 @@ use super::*;
 /// `ClassDiagram Name { … }`
 pub(super) fn class_diagram(p: &mut Parser) {
     let m = p.start();
-    p.bump(CLASS_DIAGRAM_KW);
-    let what = describe_named(p, "class diagram");
-    name(p, "a name for the class diagram");
+    let what = diagram_header(p, CLASS_DIAGRAM_KW, "class diagram");
     if open_curly(p, &format!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             class_diagram_item(p);

@@ -6,9 +6,7 @@ use super::*;
 /// `ComponentDiagram Name { components, nested component diagrams }`
 pub(super) fn component_diagram(p: &mut Parser) {
     let m = p.start();
-    p.bump(COMPONENT_DIAGRAM_KW);
-    let what = describe_named(p, "component diagram");
-    name(p, "a name for the component diagram");
+    let what = diagram_header(p, COMPONENT_DIAGRAM_KW, "component diagram");
     if open_curly(p, &format!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if p.at(IMPORT_KW) {
@@ -153,9 +151,7 @@ fn connection(p: &mut Parser, kind: SyntaxKind) {
 /// `ComponentInstanceDiagram Name { instances, port instances, bindings }`
 pub(super) fn component_instance_diagram(p: &mut Parser) {
     let m = p.start();
-    p.bump(COMPONENT_INSTANCE_DIAGRAM_KW);
-    let what = describe_named(p, "component-instance diagram");
-    name(p, "a name for the component-instance diagram");
+    let what = diagram_header(p, COMPONENT_INSTANCE_DIAGRAM_KW, "component-instance diagram");
     if open_curly(p, &format!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if p.at(IMPORT_KW) {

@@ -236,6 +236,14 @@ pub(super) fn open_curly(p: &mut Parser, what: &str) -> bool {
     !p.at(EOF)
 }
 
+/// `Keyword Name` opening a diagram; returns how the diagram reads in messages.
+pub(super) fn diagram_header(p: &mut Parser, keyword: SyntaxKind, what: &str) -> String {
+    p.bump(keyword);
+    let described = describe_named(p, what);
+    name(p, &format!("a name for the {what}"));
+    described
+}
+
 /// Text of the name token at the current position, for messages ("class `Image`").
 pub(super) fn describe_named(p: &Parser, what: &str) -> String {
     if p.at_name() {
