@@ -170,7 +170,11 @@ fn loop_header(p: &mut Parser) {
     loop {
         let section = p.start();
         while !p.at(EOF) && !p.at(SEMICOLON) && !p.at(R_PAREN) {
-            if p.at(VAR_KW) || p.at(CONST_KW) || (p.at(REF_KW) && p.nth_is_name(1)) {
+            if p.at(VAR_KW)
+                || p.at(CONST_KW)
+                || (p.at(REF_KW) && p.nth_is_name(1))
+                || statements::at_declaration_without_var(p)
+            {
                 statements::var_decl_head(p);
             } else if !expressions::expr_or_error(p) {
                 break;

@@ -108,6 +108,10 @@ pub(super) fn statement(p: &mut Parser) {
         IDENT if (p.at_contextual(LOOPWINDOW2D_KW) || p.at_contextual(LOOPWINDOW3D_KW)) && p.nth(1) == L_PAREN => {
             nested(p, loop_window_stmt)
         }
+        _ if at_declaration_without_var(p) => {
+            // `int i = 0;` as in C: one clear error, and the declaration is still understood.
+            var_decl(p);
+        }
         _ if expressions::at_expr_start(p) => {
             let m = p.start();
             expressions::expr(p);
@@ -115,6 +119,16 @@ pub(super) fn statement(p: &mut Parser) {
             m.complete(p, EXPR_STMT);
         }
         _ => p.err_recover("expected a statement", STATEMENT_RECOVERY),
+    }
+}
+
+/// `int i`, `unsigned byte b`, `Image img =`: a C-style declaration missing its `var`.
+pub(super) fn at_declaration_without_var(p: &Parser) -> bool {
+    match p.current() {
+        kind if types::BUILTIN_TYPES.contains(kind) => p.nth_is_name(1),
+        UNSIGNED_KW => true,
+        IDENT => p.nth_is_name(1) && matches!(p.nth(2), EQ | SEMICOLON | COMMA),
+        _ => false,
     }
 }
 
@@ -134,6 +148,9 @@ pub(super) fn var_decl_head(p: &mut Parser) {
 }
 
 fn var_decl_head_inner(p: &mut Parser) {
+    if at_declaration_without_var(p) {
+        p.error_here("local variables are declared with `var` (or `const`): `var int i = 0;`");
+    }
     // `var`, `const`, `var ref`, `const ref` or `ref`; the `ref` goes into the type.
     if p.at(VAR_KW) || p.at(CONST_KW) {
         p.bump_any();
