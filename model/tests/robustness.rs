@@ -68,3 +68,11 @@ fn every_prefix_of_a_document_parses() {
         assert_lossless(&text[..end]);
     }
 }
+
+#[test]
+fn huge_attribute_list_before_a_class() {
+    let args = (0..5_000).map(|i| format!("A{i}")).collect::<Vec<_>>().join(", ");
+    let text = format!("ClassDiagram D {{ [{args}] public class C {{ }} }}");
+    let parsed = assert_lossless(&text);
+    assert!(parsed.errors().is_empty(), "{:?}", &parsed.errors()[..1]);
+}

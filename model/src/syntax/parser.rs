@@ -109,7 +109,18 @@ impl<'i> Parser<'i> {
         }
     }
 
-    pub(crate) fn finish(self) -> (Vec<Event>, Vec<SyntaxError>) {
+    pub(crate) fn finish(mut self) -> (Vec<Event>, Vec<SyntaxError>) {
+        // Only a grammar bug (caught by the stall guard) leaves tokens unparsed: say so rather
+        // than drop them silently (the tree builder keeps them in an ERROR node).
+        if self.pos < self.input.kinds.len() {
+            let start = self.input.ranges[self.pos].start();
+            let range = TextRange::new(start, self.input.text_len.into());
+            self.push_error(
+                SyntaxErrorCode::UnexpectedToken,
+                "the parser could not read the rest of the file".into(),
+                range,
+            );
+        }
         (self.events, self.errors)
     }
 
@@ -146,6 +157,11 @@ impl<'i> Parser<'i> {
             _ if kind.is_contextual_keyword() => self.nth_at_contextual(n, kind),
             _ => self.nth(n) == kind,
         }
+    }
+
+    /// Kind `n` tokens ahead, for scans over a whole construct (not counted as a stall).
+    pub(crate) fn peek(&self, n: usize) -> SyntaxKind {
+        self.input.kind(self.pos + n)
     }
 
     pub(crate) fn at_ts(&self, set: TokenSet) -> bool {

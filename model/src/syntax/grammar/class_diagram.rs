@@ -29,10 +29,10 @@ enum DeclKind {
 fn decl_kind(p: &Parser) -> DeclKind {
     let mut n = 0;
     // Skip attribute lists, balanced.
-    while p.nth(n) == L_BRACK {
+    while p.peek(n) == L_BRACK {
         let mut depth = 0usize;
         loop {
-            match p.nth(n) {
+            match p.peek(n) {
                 EOF => return DeclKind::Other,
                 // An attribute list missing its `]`: the declaration starts here.
                 PUBLIC_KW | PROTECTED_KW | PRIVATE_KW | ABSTRACT_KW | CLASS_KW | INTERFACE_KW | ENUM_KW
