@@ -2,6 +2,8 @@
 //! workspace-wide semantics. It performs no I/O and knows nothing of editors, SVG or GPUs.
 
 pub mod ast;
+pub mod db;
+pub mod hir;
 pub mod syntax;
 pub mod synth;
 pub mod text;

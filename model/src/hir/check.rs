@@ -1,0 +1,522 @@
+//! Validation of one file: resolves every reference through the workspace and checks the
+//! rules of each diagram kind. Runs on the syntax tree (for ranges) and reaches other files
+//! only through [`lookup`], so its result depends on exactly the names it uses.
+
+use std::collections::{HashMap, HashSet, VecDeque};
+
+use super::{
+    definitions::{join, lookup, DefKind, Definition, Fqn},
+    diagnostics::{Diagnostic, DiagnosticCode, Severity},
+    items::{ImportItem, TypeKind},
+};
+use crate::{
+    ast::{self, AstNode, HasName},
+    db::{parse, Db, SourceFile, Workspace},
+    syntax::{SyntaxKind, TextRange},
+};
+
+/// The semantic diagnostics of one file.
+#[salsa::tracked(returns(ref))]
+pub fn check_file(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {
+    let mut checker = Checker { db, workspace, diagnostics: Vec::new() };
+    let source = parse(db, file).source_file();
+    let root = Scope::default();
+    checker.duplicates(source.diagrams().filter_map(|d| d.name()), "diagram");
+    for diagram in source.diagrams() {
+        checker.diagram(&root, &diagram);
+    }
+    checker.diagnostics
+}
+
+/// Where names are looked up: the enclosing diagrams (innermost last), their imports and the
+/// template parameters in scope.
+#[derive(Clone, Default)]
+struct Scope {
+    namespaces: Vec<String>,
+    imports: Vec<ImportItem>,
+    type_params: Vec<String>,
+}
+
+struct Checker<'db> {
+    db: &'db dyn Db,
+    workspace: Workspace,
+    diagnostics: Vec<Diagnostic>,
+}
+
+impl<'db> Checker<'db> {
+    fn report(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
+        self.diagnostics.push(Diagnostic { code, severity: Severity::Error, range, message });
+    }
+
+    fn warn(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
+        self.diagnostics.push(Diagnostic { code, severity: Severity::Warning, range, message });
+    }
+
+    fn lookup(&self, fqn: &str) -> &'db [Definition] {
+        lookup(self.db, self.workspace, Fqn::new(self.db, fqn.to_string()))
+    }
+
+    /// Resolves a (possibly qualified) name from `scope`: enclosing namespaces innermost first,
+    /// then imports, then the name as a fully qualified one.
+    fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
+        for namespace in scope.namespaces.iter().rev() {
+            if let Some(def) = self.lookup(&join(namespace, path)).first() {
+                return Some(def);
+            }
+        }
+        for import in &scope.imports {
+            let candidate = match import {
+                ImportItem::Wildcard(prefix) => join(prefix, path),
+                ImportItem::Name(name) => {
+                    let last = name.rsplit('.').next().unwrap_or(name);
+                    let first = path.split('.').next().unwrap_or(path);
+                    if last != first {
+                        continue;
+                    }
+                    format!("{name}{}", &path[first.len()..])
+                }
+                ImportItem::Header => continue,
+            };
+            if let Some(def) = self.lookup(&candidate).first() {
+                return Some(def);
+            }
+        }
+        self.lookup(path).first()
+    }
+
+    fn duplicates(&mut self, names: impl Iterator<Item = ast::Name>, what: &str) {
+        let mut seen: HashMap<String, TextRange> = HashMap::new();
+        for name in names {
+            let text = name.text();
+            let range = name.syntax().text_range();
+            if let Some(first) = seen.get(&text) {
+                let _ = first;
+                self.report(
+                    DiagnosticCode::DuplicateName,
+                    range,
+                    format!("{what} `{text}` is declared more than once in this scope"),
+                );
+            } else {
+                seen.insert(text, range);
+            }
+        }
+    }
+
+    fn diagram(&mut self, outer: &Scope, diagram: &ast::Diagram) {
+        let Some(name) = diagram.name().map(|n| n.text()) else { return };
+        let mut scope = outer.clone();
+        scope.namespaces.push(join(scope.namespaces.last().map_or("", |s| s.as_str()), &name));
+        for import in diagram.syntax().children().filter_map(ast::Import::cast) {
+            self.import(&mut scope, &import);
+        }
+        let nested: Vec<ast::Diagram> = diagram.syntax().children().filter_map(ast::Diagram::cast).collect();
+        match diagram {
+            ast::Diagram::ClassDiagram(d) => {
+                let names = d.type_decls().filter_map(|t| t.name()).chain(nested.iter().filter_map(|d| d.name()));
+                self.duplicates(names, "declaration");
+                for decl in d.type_decls() {
+                    self.type_decl(&scope, &decl);
+                }
+            }
+            ast::Diagram::ActivityDiagram(d) => self.activity(&scope, d),
+            ast::Diagram::ComponentDiagram(_) | ast::Diagram::ComponentInstanceDiagram(_) => {
+                self.duplicates(nested.iter().filter_map(|d| d.name()), "diagram");
+            }
+        }
+        for nested in &nested {
+            self.diagram(&scope, nested);
+        }
+    }
+
+    fn import(&mut self, scope: &mut Scope, import: &ast::Import) {
+        let Some(target) = import.target() else { return };
+        let (path, item) = match target {
+            ast::ImportTarget::Name(p) => (p.clone(), ImportItem::Name(p.text())),
+            ast::ImportTarget::Wildcard(p) => (p.clone(), ImportItem::Wildcard(p.text())),
+            ast::ImportTarget::Header(_) => return,
+        };
+        if self.lookup(&path.text()).is_empty() {
+            self.report(
+                DiagnosticCode::UnresolvedImport,
+                path.syntax().text_range(),
+                format!("cannot import `{}`: no diagram or type has this fully qualified name", path.text()),
+            );
+        }
+        scope.imports.push(item);
+    }
+
+    // ---- class diagrams
+
+    fn type_decl(&mut self, outer: &Scope, decl: &ast::TypeDecl) {
+        let mut scope = outer.clone();
+        if let ast::TypeDecl::Class(c) = decl {
+            scope.type_params.extend(c.template_params().filter_map(|t| t.name()).map(|n| n.text()));
+            for ty in c.extends().chain(c.implements()) {
+                self.type_ref(&scope, &ty);
+            }
+        }
+        if let ast::TypeDecl::Interface(i) = decl {
+            scope.type_params.extend(i.template_params().filter_map(|t| t.name()).map(|n| n.text()));
+            for ty in i.extends() {
+                self.type_ref(&scope, &ty);
+            }
+        }
+        let members: Vec<ast::Member> = decl.members().collect();
+        let field_names = members.iter().filter_map(|m| match m {
+            ast::Member::Field(f) => f.name(),
+            ast::Member::Association(a) => a.name(),
+            ast::Member::Method(_) => None,
+        });
+        self.duplicates(field_names, "field");
+        for member in &members {
+            match member {
+                ast::Member::Field(f) => {
+                    if let Some(ty) = f.type_ref() {
+                        self.type_ref(&scope, &ty);
+                    }
+                    if let Some(init) = f.initializer() {
+                        self.expressions(&scope, init.syntax());
+                    }
+                }
+                ast::Member::Association(a) => {
+                    if let Some(ty) = a.target() {
+                        self.type_ref(&scope, &ty);
+                    }
+                }
+                ast::Member::Method(m) => {
+                    if let Some(ty) = m.return_type() {
+                        self.type_ref(&scope, &ty);
+                    }
+                    self.params(&scope, m.param_list());
+                    if let Some(body) = m.body() {
+                        self.expressions(&scope, body.syntax());
+                    }
+                }
+            }
+        }
+    }
+
+    fn params(&mut self, scope: &Scope, list: Option<ast::ParamList>) {
+        let Some(list) = list else { return };
+        self.duplicates(list.params().filter_map(|p| p.name()), "parameter");
+        for param in list.params() {
+            if let Some(ty) = param.type_ref() {
+                self.type_ref(scope, &ty);
+            }
+        }
+    }
+
+    /// Checks that a type names something (a built-in, a GPU type, a template parameter or a
+    /// declared type), and its type arguments likewise.
+    fn type_ref(&mut self, scope: &Scope, ty: &ast::TypeRef) {
+        for arg in ty.type_args() {
+            self.type_ref(scope, &arg);
+        }
+        let Some(path) = ty.path() else { return };
+        let text = path.text();
+        if text.is_empty() || is_builtin_type_name(&text) || scope.type_params.contains(&text) {
+            return;
+        }
+        match self.resolve(scope, &text) {
+            Some(def) if matches!(def.kind, DefKind::Type(_)) => {}
+            Some(def) => self.report(
+                DiagnosticCode::UnresolvedType,
+                path.syntax().text_range(),
+                format!("`{text}` names {} `{}`, not a type", describe(&def.kind), def.fqn),
+            ),
+            None => self.report(
+                DiagnosticCode::UnresolvedType,
+                path.syntax().text_range(),
+                format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does"),
+            ),
+        }
+    }
+
+    /// Types and behaviors named inside statements and expressions (`var T x`, `new T(…)`,
+    /// `x as T`, `call behavior X`).
+    fn expressions(&mut self, scope: &Scope, node: &crate::SyntaxNode) {
+        for descendant in node.descendants() {
+            match descendant.kind() {
+                SyntaxKind::TYPE_REF if descendant.parent().is_some_and(|p| p.kind() != SyntaxKind::TYPE_ARGS) => {
+                    if let Some(ty) = ast::TypeRef::cast(descendant) {
+                        self.type_ref(scope, &ty);
+                    }
+                }
+                SyntaxKind::CALL_BEHAVIOR_EXPR => {
+                    if let Some(call) = ast::CallBehaviorExpr::cast(descendant) {
+                        self.call_behavior(scope, &call);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn call_behavior(&mut self, scope: &Scope, call: &ast::CallBehaviorExpr) {
+        let Some(path) = call.behavior() else { return };
+        let text = path.text();
+        let range = path.syntax().text_range();
+        match self.resolve(scope, &text).map(|d| &d.kind) {
+            Some(DefKind::Activity(signature)) => {
+                let given = call.args().count();
+                let expected = signature.params.len();
+                // Without an argument list the diagram's parameters are taken from the caller.
+                if call.syntax().children().any(|n| n.kind() == SyntaxKind::ARG_LIST) && given != expected {
+                    self.report(
+                        DiagnosticCode::TransitionArity,
+                        range,
+                        format!("activity diagram `{text}` takes {expected} argument(s), {given} given"),
+                    );
+                }
+            }
+            Some(other) => self.report(
+                DiagnosticCode::UnresolvedBehavior,
+                range,
+                format!("`call behavior` needs an activity diagram, but `{text}` is {}", describe(other)),
+            ),
+            None => {
+                self.report(DiagnosticCode::UnresolvedBehavior, range, format!("unknown activity diagram `{text}`"))
+            }
+        }
+    }
+
+    // ---- activity diagrams
+
+    fn owner(&mut self, scope: &Scope, path: &ast::Path) {
+        let text = path.text();
+        let range = path.syntax().text_range();
+        match self.resolve(scope, &text).map(|d| &d.kind) {
+            Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {}
+            Some(other) => self.report(
+                DiagnosticCode::OwnerNotAClass,
+                range,
+                format!("the owner `{text}` is {}; an owner must be a class", describe(other)),
+            ),
+            None => self.report(DiagnosticCode::UnresolvedOwner, range, format!("unknown owner class `{text}`")),
+        }
+    }
+
+    fn activity(&mut self, scope: &Scope, diagram: &ast::ActivityDiagram) {
+        self.params(scope, diagram.param_list());
+        if let Some(owner) = diagram.owner() {
+            self.owner(scope, &owner);
+        }
+        let variable_names =
+            diagram.variables().filter_map(|v| v.name()).chain(diagram.var_decls().filter_map(|v| v.name()));
+        self.duplicates(variable_names, "variable");
+        for variable in diagram.variables() {
+            if let Some(ty) = variable.type_ref() {
+                self.type_ref(scope, &ty);
+            }
+            if let Some(init) = variable.initializer() {
+                self.expressions(scope, init.syntax());
+            }
+        }
+        for decl in diagram.var_decls() {
+            self.expressions(scope, decl.syntax());
+        }
+        let mut nodes: Vec<ast::ActivityNode> = Vec::new();
+        self.duplicates(diagram.swimlanes().filter_map(|s| s.name()), "swimlane");
+        for lane in diagram.swimlanes() {
+            if let Some(owner) = lane.owner() {
+                self.owner(scope, &owner);
+            }
+            nodes.extend(lane.nodes());
+        }
+        nodes.extend(diagram.nodes());
+        self.duplicates(nodes.iter().filter_map(|n| n.name()), "node");
+        for node in &nodes {
+            self.params(scope, node.param_list());
+            if let Some(body) = node.body() {
+                self.expressions(scope, body.syntax());
+            }
+        }
+        self.flow(diagram, &nodes);
+    }
+
+    /// Start nodes, transition targets and arities, reachability and paths to a final node.
+    fn flow(&mut self, diagram: &ast::ActivityDiagram, nodes: &[ast::ActivityNode]) {
+        let by_name: HashMap<String, &ast::ActivityNode> =
+            nodes.iter().filter_map(|n| Some((n.name()?.text(), n))).rev().collect();
+        let starts: Vec<&ast::ActivityNode> = nodes.iter().filter(|n| n.kind() == ast::NodeKind::Start).collect();
+        let diagram_name = diagram.name().map(|n| n.text()).unwrap_or_default();
+        let header_range = diagram.name().map_or_else(|| diagram.syntax().text_range(), |n| n.syntax().text_range());
+        if starts.is_empty() && !nodes.is_empty() {
+            self.report(
+                DiagnosticCode::MissingStartNode,
+                header_range,
+                format!("activity diagram `{diagram_name}` has no start node: add `start S {{ => first; }}`"),
+            );
+        }
+        for extra in starts.iter().skip(1) {
+            let range = extra.name().map_or_else(|| extra.syntax().text_range(), |n| n.syntax().text_range());
+            self.report(
+                DiagnosticCode::DuplicateStartNode,
+                range,
+                format!("activity diagram `{diagram_name}` has more than one start node"),
+            );
+        }
+        let mut edges: HashMap<String, Vec<String>> = HashMap::new();
+        for node in nodes {
+            let Some(source) = node.name().map(|n| n.text()) else { continue };
+            for transition in node.transitions() {
+                let Some(target) = transition.target() else { continue };
+                let target_name = target.text();
+                let Some(target_node) = by_name.get(&target_name) else {
+                    self.report(
+                        DiagnosticCode::UnresolvedTransitionTarget,
+                        target.syntax().text_range(),
+                        format!("no node `{target_name}` in activity diagram `{diagram_name}`"),
+                    );
+                    continue;
+                };
+                edges.entry(source.clone()).or_default().push(target_name.clone());
+                self.transition_arity(&transition, &target, target_node);
+            }
+        }
+        // Reachability from the start node(s).
+        let reachable = reach(starts.iter().filter_map(|s| s.name().map(|n| n.text())), &edges);
+        if !starts.is_empty() {
+            for node in nodes {
+                let Some(name) = node.name() else { continue };
+                if !reachable.contains(&name.text()) {
+                    self.warn(
+                        DiagnosticCode::UnreachableNode,
+                        name.syntax().text_range(),
+                        format!("node `{}` is never reached from the start node", name.text()),
+                    );
+                }
+            }
+        }
+        // A final node must be reachable from every reachable node.
+        let finals: Vec<String> = nodes
+            .iter()
+            .filter(|n| n.kind() == ast::NodeKind::Final)
+            .filter_map(|n| n.name().map(|n| n.text()))
+            .collect();
+        let mut reverse: HashMap<String, Vec<String>> = HashMap::new();
+        for (source, targets) in &edges {
+            for target in targets {
+                reverse.entry(target.clone()).or_default().push(source.clone());
+            }
+        }
+        let reaches_final = reach(finals.iter().cloned(), &reverse);
+        for node in nodes {
+            let Some(name) = node.name() else { continue };
+            if reachable.contains(&name.text()) && !reaches_final.contains(&name.text()) {
+                self.warn(
+                    DiagnosticCode::NoPathToFinal,
+                    name.syntax().text_range(),
+                    format!("no path leads from node `{}` to a final node", name.text()),
+                );
+            }
+        }
+    }
+
+    /// A transition passes the target's parameters, after the work size of calc (3) and
+    /// calcRange (6: global and local range) nodes.
+    fn transition_arity(&mut self, transition: &ast::Transition, target: &ast::NameRef, node: &ast::ActivityNode) {
+        let params = node.params().count();
+        let (extra, what) = match node.kind() {
+            ast::NodeKind::Calc => (3, " (3 work-size dimensions first)"),
+            ast::NodeKind::CalcRange => (6, " (global and local range, 6 values, first)"),
+            _ => (0, ""),
+        };
+        let expected = params + extra;
+        let given = transition.args().count();
+        // A transition without arguments to a node with parameters takes them from the flow.
+        if transition.arg_list().is_none() && extra == 0 {
+            return;
+        }
+        if given != expected {
+            let range = transition.arg_list().map_or_else(|| target.syntax().text_range(), |a| a.syntax().text_range());
+            self.report(
+                DiagnosticCode::TransitionArity,
+                range,
+                format!("node `{}` takes {expected} argument(s){what}, {given} given", target.text()),
+            );
+        }
+    }
+}
+
+fn reach(from: impl Iterator<Item = String>, edges: &HashMap<String, Vec<String>>) -> HashSet<String> {
+    let mut seen: HashSet<String> = HashSet::new();
+    let mut queue: VecDeque<String> = from.collect();
+    while let Some(node) = queue.pop_front() {
+        if seen.insert(node.clone()) {
+            if let Some(next) = edges.get(&node) {
+                queue.extend(next.iter().cloned());
+            }
+        }
+    }
+    seen
+}
+
+fn describe(kind: &DefKind) -> &'static str {
+    match kind {
+        DefKind::ClassDiagram => "a class diagram",
+        DefKind::ComponentDiagram => "a component diagram",
+        DefKind::ComponentInstanceDiagram => "a component-instance diagram",
+        DefKind::Activity(_) => "an activity diagram",
+        DefKind::Type(ty) => match ty.kind {
+            TypeKind::Class(_) => "a class",
+            TypeKind::Interface(_) => "an interface",
+            TypeKind::Enum => "an enum",
+            TypeKind::Attribute => "an attribute",
+        },
+    }
+}
+
+/// GPU and OpenCL built-in type names of chapter 10 that are written as identifiers:
+/// `(u)char|short|int|long|float|double` with n ∈ {2,3,4,8,16} (and the scalar `uchar`…),
+/// `image2D_t`, `image3D_t`, `buffer2D_tn`, `buffer3D_tn`, `sampler_t`.
+pub fn is_builtin_type_name(name: &str) -> bool {
+    const SCALARS: [&str; 6] = ["char", "short", "int", "long", "float", "double"];
+    const SUFFIXES: [&str; 10] = ["c", "uc", "s", "us", "i", "ui", "l", "ul", "f", "d"];
+    const WIDTHS: [&str; 5] = ["2", "3", "4", "8", "16"];
+    if name == "sampler_t" {
+        return true;
+    }
+    let vector =
+        |rest: &str| SCALARS.iter().any(|s| rest.strip_prefix(s).is_some_and(|n| n.is_empty() || WIDTHS.contains(&n)));
+    if vector(name) || name.strip_prefix('u').is_some_and(|r| r.starts_with(['c', 's', 'i', 'l']) && vector(r)) {
+        return true;
+    }
+    for prefix in ["image2D_", "image3D_"] {
+        if name.strip_prefix(prefix).is_some_and(|t| SUFFIXES.contains(&t)) {
+            return true;
+        }
+    }
+    for prefix in ["buffer2D_", "buffer3D_"] {
+        if let Some(rest) = name.strip_prefix(prefix) {
+            if SUFFIXES.iter().any(|s| rest.strip_prefix(s).is_some_and(|n| WIDTHS.contains(&n))) {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn gpu_type_names() {
+        for yes in [
+            "float4",
+            "uchar16",
+            "int2",
+            "uint",
+            "double8",
+            "image2D_uc",
+            "image3D_f",
+            "buffer2D_ui4",
+            "buffer3D_d16",
+            "sampler_t",
+        ] {
+            assert!(super::is_builtin_type_name(yes), "{yes}");
+        }
+        for no in ["float5", "image2D_x", "buffer2D_f", "Image", "uchar5", "ufloat4"] {
+            assert!(!super::is_builtin_type_name(no), "{no}");
+        }
+    }
+}

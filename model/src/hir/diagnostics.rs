@@ -1,0 +1,101 @@
+//! Diagnostics: the syntax and semantic problems of one file, each with a stable code, a
+//! severity, a byte range and a message that names the thing.
+
+use crate::{
+    db::{parse, Db, SourceFile, Workspace},
+    syntax::TextRange,
+    SyntaxErrorCode,
+};
+
+/// How bad a problem is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+impl Severity {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        }
+    }
+}
+
+/// Stable codes: `E00xx` syntax, `E02xx` semantics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DiagnosticCode {
+    Syntax(SyntaxErrorCode),
+    /// A type name that names nothing.
+    UnresolvedType,
+    /// A swimlane or diagram owner that names nothing.
+    UnresolvedOwner,
+    /// An owner that is not a class.
+    OwnerNotAClass,
+    /// A transition to a node the diagram does not have.
+    UnresolvedTransitionTarget,
+    /// Two things of one name in one scope.
+    DuplicateName,
+    /// An activity diagram without a start node.
+    MissingStartNode,
+    /// More than one start node.
+    DuplicateStartNode,
+    /// A node no transition leads to.
+    UnreachableNode,
+    /// A node from which no final node can be reached.
+    NoPathToFinal,
+    /// A transition with the wrong number of arguments for its target.
+    TransitionArity,
+    /// `call behavior X` where X is no activity diagram.
+    UnresolvedBehavior,
+    /// An import of a name that does not exist.
+    UnresolvedImport,
+}
+
+impl DiagnosticCode {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            DiagnosticCode::Syntax(code) => code.as_str(),
+            DiagnosticCode::UnresolvedType => "E0201",
+            DiagnosticCode::UnresolvedOwner => "E0202",
+            DiagnosticCode::OwnerNotAClass => "E0203",
+            DiagnosticCode::UnresolvedTransitionTarget => "E0204",
+            DiagnosticCode::DuplicateName => "E0205",
+            DiagnosticCode::MissingStartNode => "E0206",
+            DiagnosticCode::DuplicateStartNode => "E0207",
+            DiagnosticCode::UnreachableNode => "E0208",
+            DiagnosticCode::NoPathToFinal => "E0209",
+            DiagnosticCode::TransitionArity => "E0210",
+            DiagnosticCode::UnresolvedBehavior => "E0211",
+            DiagnosticCode::UnresolvedImport => "E0212",
+        }
+    }
+}
+
+/// One problem in one file.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Diagnostic {
+    pub code: DiagnosticCode,
+    pub severity: Severity,
+    pub range: TextRange,
+    pub message: String,
+}
+
+/// Every problem of `file`: syntax errors first, then semantic ones, by position.
+#[salsa::tracked(returns(ref))]
+pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {
+    let mut diagnostics: Vec<Diagnostic> = parse(db, file)
+        .errors()
+        .iter()
+        .map(|e| Diagnostic {
+            code: DiagnosticCode::Syntax(e.code),
+            severity: Severity::Error,
+            range: e.range,
+            message: e.message.clone(),
+        })
+        .collect();
+    diagnostics.extend(super::check::check_file(db, workspace, file).iter().cloned());
+    diagnostics.sort_by_key(|d| (d.range.start(), d.range.end()));
+    diagnostics
+}
