@@ -265,7 +265,7 @@ impl<'db> Checker<'db> {
                     self.report(
                         DiagnosticCode::TransitionArity,
                         range,
-                        format!("activity diagram `{text}` takes {expected} argument(s), {given} given"),
+                        format!("activity diagram `{text}` takes {}, {given} given", arguments(expected)),
                     );
                 }
             }
@@ -433,10 +433,15 @@ impl<'db> Checker<'db> {
             self.report(
                 DiagnosticCode::TransitionArity,
                 range,
-                format!("node `{}` takes {expected} argument(s){what}, {given} given", target.text()),
+                format!("node `{}` takes {}{what}, {given} given", target.text(), arguments(expected)),
             );
         }
     }
+}
+
+/// `1 argument`, `3 arguments`.
+fn arguments(n: usize) -> String {
+    format!("{n} argument{}", if n == 1 { "" } else { "s" })
 }
 
 fn reach(from: impl Iterator<Item = String>, edges: &HashMap<String, Vec<String>>) -> HashSet<String> {

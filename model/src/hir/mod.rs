@@ -7,6 +7,8 @@ pub mod diagnostics;
 pub mod items;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod golden;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};
 pub use diagnostics::{file_diagnostics, Diagnostic, DiagnosticCode, Severity};
