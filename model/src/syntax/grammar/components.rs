@@ -257,8 +257,10 @@ fn port_instance(p: &mut Parser) {
                     break;
                 }
             }
-            // Listing 24 ends each connector with `;`; Listing 28 separates them with `,`.
-            if !p.eat(COMMA) && !p.eat(SEMICOLON) {
+            // Listing 24 ends each connector with `;` (and separates them with `,`); Listing 28
+            // separates them with `,` only. `;`, `,` and `; ,` are all accepted.
+            let semicolon = p.eat(SEMICOLON);
+            if !p.eat(COMMA) && !semicolon {
                 break;
             }
         }
