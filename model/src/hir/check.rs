@@ -5,12 +5,13 @@
 use std::collections::{HashMap, HashSet, VecDeque};
 
 use super::{
+    components::{component_info, processor_signatures, resolve_path, signature_key, ComponentInfo},
     definitions::{join, lookup, DefKind, Definition, Fqn},
     diagnostics::{Diagnostic, DiagnosticCode, Severity},
-    items::{ImportItem, TypeKind},
+    items::{type_signature, ConnectorRole, ImportItem, InterfaceRole, TypeKind, TypeSignature},
 };
 use crate::{
-    ast::{self, AstNode, HasName},
+    ast::{self, AstNode, HasModifiers, HasName},
     db::{parse, Db, SourceFile, Workspace},
     syntax::{SyntaxKind, TextRange},
 };
@@ -59,29 +60,8 @@ impl<'db> Checker<'db> {
     /// Resolves a (possibly qualified) name from `scope`: enclosing namespaces innermost first,
     /// then imports, then the name as a fully qualified one.
     fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
-        for namespace in scope.namespaces.iter().rev() {
-            if let Some(def) = self.lookup(&join(namespace, path)).first() {
-                return Some(def);
-            }
-        }
-        for import in &scope.imports {
-            let candidate = match import {
-                ImportItem::Wildcard(prefix) => join(prefix, path),
-                ImportItem::Name(name) => {
-                    let last = name.rsplit('.').next().unwrap_or(name);
-                    let first = path.split('.').next().unwrap_or(path);
-                    if last != first {
-                        continue;
-                    }
-                    format!("{name}{}", &path[first.len()..])
-                }
-                ImportItem::Header => continue,
-            };
-            if let Some(def) = self.lookup(&candidate).first() {
-                return Some(def);
-            }
-        }
-        self.lookup(path).first()
+        let fqn = resolve_path(&scope.namespaces, &scope.imports, path, |c| !self.lookup(c).is_empty())?;
+        self.lookup(&fqn).first()
     }
 
     fn duplicates(&mut self, names: impl Iterator<Item = ast::Name>, what: &str) {
@@ -119,8 +99,13 @@ impl<'db> Checker<'db> {
                 }
             }
             ast::Diagram::ActivityDiagram(d) => self.activity(&scope, d),
-            ast::Diagram::ComponentDiagram(_) | ast::Diagram::ComponentInstanceDiagram(_) => {
+            ast::Diagram::ComponentDiagram(d) => {
                 self.duplicates(nested.iter().filter_map(|d| d.name()), "diagram");
+                self.component_diagram(&scope, d);
+            }
+            ast::Diagram::ComponentInstanceDiagram(d) => {
+                self.duplicates(nested.iter().filter_map(|d| d.name()), "diagram");
+                self.instance_diagram(&scope, d);
             }
         }
         for nested in &nested {
@@ -160,7 +145,12 @@ impl<'db> Checker<'db> {
             for ty in i.extends() {
                 self.type_ref(&scope, &ty);
             }
+            if i.role() == InterfaceRole::Provider {
+                self.provider_methods(i);
+            }
         }
+        self.attribute_uses(&scope, decl.syntax());
+        let gpu_class = self.is_gpu_class(&scope, decl);
         let members: Vec<ast::Member> = decl.members().collect();
         let field_names = members.iter().filter_map(|m| match m {
             ast::Member::Field(f) => f.name(),
@@ -188,6 +178,9 @@ impl<'db> Checker<'db> {
                         self.type_ref(&scope, &ty);
                     }
                     self.params(&scope, m.param_list());
+                    if !gpu_class {
+                        self.shared_params(m);
+                    }
                     if let Some(body) = m.body() {
                         self.expressions(&scope, body.syntax());
                     }
@@ -247,6 +240,11 @@ impl<'db> Checker<'db> {
                         self.call_behavior(scope, &call);
                     }
                 }
+                SyntaxKind::CALL_METHOD_EXPR => {
+                    if let Some(call) = ast::CallMethodExpr::cast(descendant) {
+                        self.call_method(scope, &call);
+                    }
+                }
                 _ => {}
             }
         }
@@ -277,6 +275,405 @@ impl<'db> Checker<'db> {
             None => {
                 self.report(DiagnosticCode::UnresolvedBehavior, range, format!("unknown activity diagram `{text}`"))
             }
+        }
+    }
+
+    /// `call Class::method(…)`: the class exists and has (or inherits) the method.
+    fn call_method(&mut self, scope: &Scope, call: &ast::CallMethodExpr) {
+        let (Some(class), Some(method)) = (call.class(), call.method()) else { return };
+        let class_text = class.text();
+        let Some(def) = self.resolve(scope, &class_text) else {
+            self.report(
+                DiagnosticCode::UnresolvedType,
+                class.syntax().text_range(),
+                format!("unknown class `{class_text}`"),
+            );
+            return;
+        };
+        let DefKind::Type(_) = &def.kind else {
+            self.report(
+                DiagnosticCode::UnresolvedType,
+                class.syntax().text_range(),
+                format!("`{class_text}` is {}, not a class", describe(&def.kind)),
+            );
+            return;
+        };
+        let name = method.text();
+        if !self.has_method(def, &name, &mut HashSet::new()) {
+            self.report(
+                DiagnosticCode::UnresolvedMethod,
+                method.syntax().text_range(),
+                format!("`{}` has no method `{name}`", def.fqn),
+            );
+        }
+    }
+
+    /// Whether the type `def` declares or inherits (through `extends`/`implements`) `name`.
+    fn has_method(&self, def: &Definition, name: &str, seen: &mut HashSet<String>) -> bool {
+        let DefKind::Type(ty) = &def.kind else { return false };
+        if !seen.insert(def.fqn.clone()) {
+            return false;
+        }
+        if ty.methods.iter().any(|m| m.name == name) {
+            return true;
+        }
+        let scope = self.scope_of(def);
+        ty.extends
+            .iter()
+            .chain(&ty.implements)
+            .filter_map(|base| base.path.as_deref())
+            .any(|base| self.resolve(&scope, base).is_some_and(|base_def| self.has_method(base_def, name, seen)))
+    }
+
+    /// The scope a definition was declared in: its enclosing namespaces and their imports.
+    fn scope_of(&self, def: &Definition) -> Scope {
+        let mut namespaces = Vec::new();
+        let mut prefix = String::new();
+        let segments: Vec<&str> = def.fqn.split('.').collect();
+        for segment in &segments[..segments.len().saturating_sub(1)] {
+            prefix = join(&prefix, segment);
+            namespaces.push(prefix.clone());
+        }
+        Scope { namespaces, imports: def.imports.to_vec(), ..Scope::default() }
+    }
+
+    /// A provider interface's `provideX(…)` methods need a processor interface with the
+    /// corresponding `processX(…)` signature (chapter 11.3.1).
+    fn provider_methods(&mut self, interface: &ast::Interface) {
+        let processors = processor_signatures(self.db, self.workspace);
+        for member in interface.members() {
+            let ast::Member::Method(method) = member else { continue };
+            let Some(name) = method.name() else { continue };
+            let text = name.text();
+            let Some(suffix) = text.strip_prefix("provide") else { continue };
+            let params: Vec<TypeSignature> = method.params().map(|p| type_signature(p.type_ref())).collect();
+            let key = signature_key(suffix, &params);
+            if !processors.contains(&key) {
+                self.report(
+                    DiagnosticCode::MissingProcessorSignature,
+                    name.syntax().text_range(),
+                    format!("provider method `{text}` has no processor counterpart: declare `process{key}` in a processor interface"),
+                );
+            }
+        }
+    }
+
+    /// `[A.B(field = value)]`: the attribute exists and declares each field.
+    fn attribute_uses(&mut self, scope: &Scope, node: &crate::SyntaxNode) {
+        for list in node.children().filter_map(ast::AttributeList::cast) {
+            for use_ in list.uses() {
+                let Some(path) = use_.path() else { continue };
+                let text = path.text();
+                let def = self.resolve(scope, &text);
+                let attribute = match def.map(|d| &d.kind) {
+                    Some(DefKind::Type(ty)) if ty.kind == TypeKind::Attribute => ty.clone(),
+                    Some(other) => {
+                        self.report(
+                            DiagnosticCode::InvalidAttributeUse,
+                            path.syntax().text_range(),
+                            format!("`{text}` is {}, not an attribute", describe(other)),
+                        );
+                        continue;
+                    }
+                    None => {
+                        self.report(
+                            DiagnosticCode::InvalidAttributeUse,
+                            path.syntax().text_range(),
+                            format!("unknown attribute `{text}`"),
+                        );
+                        continue;
+                    }
+                };
+                for arg in use_.args() {
+                    let Some(field) = arg.name() else { continue };
+                    if !attribute.fields.iter().any(|f| f.name == field.text()) {
+                        self.report(
+                            DiagnosticCode::InvalidAttributeUse,
+                            field.syntax().text_range(),
+                            format!("attribute `{text}` has no field `{}`", field.text()),
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A class that implements (directly or through its bases) the `OpenCL` interface is
+    /// generated as OpenCL code (chapter 10.3.2.3); only there may parameters be `shared`.
+    fn is_gpu_class(&self, scope: &Scope, decl: &ast::TypeDecl) -> bool {
+        let ast::TypeDecl::Class(class) = decl else { return false };
+        let mut seen = HashSet::new();
+        class
+            .extends()
+            .chain(class.implements())
+            .filter_map(|t| t.path())
+            .any(|p| self.resolve(scope, &p.text()).is_some_and(|d| self.reaches_opencl(d, &mut seen)))
+    }
+
+    fn reaches_opencl(&self, def: &Definition, seen: &mut HashSet<String>) -> bool {
+        if def.fqn.rsplit('.').next() == Some("OpenCL") {
+            return true;
+        }
+        let DefKind::Type(ty) = &def.kind else { return false };
+        if !seen.insert(def.fqn.clone()) {
+            return false;
+        }
+        let scope = self.scope_of(def);
+        ty.extends
+            .iter()
+            .chain(&ty.implements)
+            .filter_map(|b| b.path.as_deref())
+            .any(|base| self.resolve(&scope, base).is_some_and(|d| self.reaches_opencl(d, seen)))
+    }
+
+    fn shared_params(&mut self, method: &ast::Method) {
+        for param in method.params() {
+            if param.has_modifier(SyntaxKind::SHARED_KW) {
+                let range = param.name().map_or_else(|| param.syntax().text_range(), |n| n.syntax().text_range());
+                self.report(
+                    DiagnosticCode::SharedOutsideGpuClass,
+                    range,
+                    "`shared` memory parameters are only allowed in classes that implement the `OpenCL` interface"
+                        .to_string(),
+                );
+            }
+        }
+    }
+
+    // ---- component diagrams
+
+    fn component_diagram(&mut self, scope: &Scope, diagram: &ast::ComponentDiagram) {
+        let mut components = Vec::new();
+        let mut stack: Vec<ast::Component> = diagram.components().collect();
+        while let Some(component) = stack.pop() {
+            stack.extend(component.components());
+            components.push(component);
+        }
+        // Every port.connector of the diagram, for connection ends.
+        let mut connectors: HashMap<String, ConnectorRole> = HashMap::new();
+        for component in &components {
+            if let Some(class) = component.class() {
+                let text = class.text();
+                match self.resolve(scope, &text).map(|d| &d.kind) {
+                    Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {}
+                    Some(other) => self.report(
+                        DiagnosticCode::InvalidComponent,
+                        class.syntax().text_range(),
+                        format!("a component is built on a class, but `{text}` is {}", describe(other)),
+                    ),
+                    None => self.report(
+                        DiagnosticCode::InvalidComponent,
+                        class.syntax().text_range(),
+                        format!("unknown component class `{text}`"),
+                    ),
+                }
+            }
+            self.duplicates(component.ports().filter_map(|p| p.name()), "port");
+            for port in component.ports() {
+                let Some(port_name) = port.name().map(|n| n.text()) else { continue };
+                for connector in port.connectors() {
+                    let (Some(role), Some(name), Some(interface)) =
+                        (connector.role(), connector.name(), connector.interface())
+                    else {
+                        continue;
+                    };
+                    connectors.insert(format!("{port_name}.{}", name.text()), role);
+                    self.connector_interface(scope, role, &interface);
+                }
+            }
+        }
+        for component in &components {
+            for connection in component.connections() {
+                use ast::HasEnds;
+                let mut roles = Vec::new();
+                for end in [connection.source(), connection.target()].into_iter().flatten() {
+                    match connectors.get(&end.text()) {
+                        Some(&role) => roles.push(role),
+                        None => self.report(
+                            DiagnosticCode::UnresolvedConnector,
+                            end.syntax().text_range(),
+                            format!("no connector `{}` (`port.connector`) in this component diagram", end.text()),
+                        ),
+                    }
+                }
+                if let [source, target] = roles[..] {
+                    if source == target {
+                        let range = connection.syntax().text_range();
+                        self.report(
+                            DiagnosticCode::InvalidConnection,
+                            range,
+                            format!("a connection joins a provider and a processor, not two {}s", role_name(source)),
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// A connector's interface is an interface of the connector's role.
+    fn connector_interface(&mut self, scope: &Scope, role: ConnectorRole, interface: &ast::Path) {
+        let text = interface.text();
+        let range = interface.syntax().text_range();
+        let expected = match role {
+            ConnectorRole::Provider => InterfaceRole::Provider,
+            ConnectorRole::Processor => InterfaceRole::Processor,
+        };
+        match self.resolve(scope, &text).map(|d| &d.kind) {
+            Some(DefKind::Type(ty)) if ty.kind == TypeKind::Interface(expected) => {}
+            Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Interface(_)) => self.report(
+                DiagnosticCode::InvalidConnectorInterface,
+                range,
+                format!("a {0} connector needs a `{0}` interface; `{text}` is not one", role_name(role)),
+            ),
+            Some(other) => self.report(
+                DiagnosticCode::InvalidConnectorInterface,
+                range,
+                format!("`{text}` is {}, not an interface", describe(other)),
+            ),
+            None => {
+                self.report(DiagnosticCode::InvalidConnectorInterface, range, format!("unknown interface `{text}`"))
+            }
+        }
+    }
+
+    // ---- component-instance diagrams
+
+    fn instance_diagram(&mut self, scope: &Scope, diagram: &ast::ComponentInstanceDiagram) {
+        use ast::HasEnds;
+        self.duplicates(diagram.instances().filter_map(|i| i.name()), "instance");
+        // instance name -> (component, port instance name -> port name)
+        let mut instances: HashMap<String, (Option<&'db ComponentInfo>, HashMap<String, String>)> = HashMap::new();
+        for instance in diagram.instances() {
+            let Some(name) = instance.name().map(|n| n.text()) else { continue };
+            let info = instance.component().and_then(|path| self.instance_component(scope, &instance, &path));
+            let mut ports = HashMap::new();
+            self.duplicates(instance.port_instances().filter_map(|p| p.name()), "port instance");
+            for port_instance in instance.port_instances() {
+                let (Some(pi_name), Some(port)) = (port_instance.name(), port_instance.port()) else { continue };
+                if let Some(info) = info {
+                    if !info.item.ports.iter().any(|p| p.name == port.text()) {
+                        self.report(
+                            DiagnosticCode::UnresolvedConnector,
+                            port.syntax().text_range(),
+                            format!("component `{}` has no port `{}`", info.item.class, port.text()),
+                        );
+                    }
+                }
+                ports.insert(pi_name.text(), port.text());
+            }
+            instances.insert(name, (info, ports));
+        }
+        // Bindings: `[source portInstance.connector ==> target instance.portInstance.connector]`,
+        // allowed only where the component diagram connects the two ports' connectors.
+        for instance in diagram.instances() {
+            let Some(owner) = instance.name().map(|n| n.text()) else { continue };
+            for binding in instance.bindings().chain(Vec::new()) {
+                let ends: Vec<Option<(String, String)>> = [binding.source(), binding.target()]
+                    .into_iter()
+                    .flatten()
+                    .map(|end| {
+                        let segments: Vec<String> = end.segments().map(|s| s.text()).collect();
+                        let (inst, pi, connector) = match segments.as_slice() {
+                            [pi, c] => (owner.clone(), pi.clone(), c.clone()),
+                            [inst, pi, c] => (inst.clone(), pi.clone(), c.clone()),
+                            _ => {
+                                self.report(
+                                    DiagnosticCode::UnresolvedConnector,
+                                    end.syntax().text_range(),
+                                    "a binding end is `portInstance.connector` or `instance.portInstance.connector`"
+                                        .to_string(),
+                                );
+                                return None;
+                            }
+                        };
+                        let Some((_, ports)) = instances.get(&inst) else {
+                            self.report(
+                                DiagnosticCode::UnresolvedConnector,
+                                end.syntax().text_range(),
+                                format!("no instance `{inst}` in this diagram"),
+                            );
+                            return None;
+                        };
+                        let Some(port) = ports.get(&pi) else {
+                            self.report(
+                                DiagnosticCode::UnresolvedConnector,
+                                end.syntax().text_range(),
+                                format!("instance `{inst}` has no port instance `{pi}`"),
+                            );
+                            return None;
+                        };
+                        Some((port.clone(), connector))
+                    })
+                    .collect();
+                if let [Some((sp, sc)), Some((tp, tc))] = ends.as_slice() {
+                    let allowed = instances.values().filter_map(|(info, _)| *info).any(|info| {
+                        info.item.connections.iter().any(|c| {
+                            let forward = c.source == format!("{sp}.{sc}") && c.target == format!("{tp}.{tc}");
+                            let backward = c.source == format!("{tp}.{tc}") && c.target == format!("{sp}.{sc}");
+                            forward || backward
+                        })
+                    });
+                    if !allowed {
+                        self.report(
+                            DiagnosticCode::BindingNotAllowed,
+                            binding.syntax().text_range(),
+                            format!("no connection in the component diagram joins `{sp}.{sc}` and `{tp}.{tc}`"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The component an instance instantiates; checks its field values on the way.
+    fn instance_component(
+        &mut self,
+        scope: &Scope,
+        instance: &ast::ComponentInstance,
+        path: &ast::Path,
+    ) -> Option<&'db ComponentInfo> {
+        let text = path.text();
+        let range = path.syntax().text_range();
+        let Some(def) = self.resolve(scope, &text) else {
+            self.report(DiagnosticCode::InvalidComponent, range, format!("unknown component `{text}`"));
+            return None;
+        };
+        let info = component_info(self.db, self.workspace, Fqn::new(self.db, def.fqn.clone())).as_ref();
+        let Some(info) = info else {
+            self.report(
+                DiagnosticCode::InvalidComponent,
+                range,
+                format!("`{}` is not a component of any component diagram", def.fqn),
+            );
+            return None;
+        };
+        if let DefKind::Type(ty) = &def.kind {
+            for value in instance.field_values() {
+                let Some(field) = value.name() else { continue };
+                if !ty.fields.iter().any(|f| f.name == field.text()) {
+                    self.report(
+                        DiagnosticCode::UnknownInstanceField,
+                        field.syntax().text_range(),
+                        format!("component class `{}` has no field `{}`", def.fqn, field.text()),
+                    );
+                }
+            }
+        }
+        Some(info)
+    }
+
+    fn loop_window_sections(&mut self, node: &ast::ActivityNode) {
+        let Some(header) = node.loop_header() else { return };
+        let counts: Vec<usize> = header.sections().map(|s| s.parts().count()).collect();
+        if counts.len() != 3 || counts.windows(2).any(|w| w[0] != w[1]) {
+            self.report(
+                DiagnosticCode::LoopWindowMismatch,
+                header.syntax().text_range(),
+                format!(
+                    "a loopWindow needs as many tests and increments as setups (setup; test; increment), found {}",
+                    counts.iter().map(|c| c.to_string()).collect::<Vec<_>>().join("; ")
+                ),
+            );
         }
     }
 
@@ -326,6 +723,9 @@ impl<'db> Checker<'db> {
         nodes.extend(diagram.nodes());
         self.duplicates(nodes.iter().filter_map(|n| n.name()), "node");
         for node in &nodes {
+            if node.kind() == ast::NodeKind::LoopWindow {
+                self.loop_window_sections(node);
+            }
             self.params(scope, node.param_list());
             if let Some(body) = node.body() {
                 self.expressions(scope, body.syntax());
@@ -442,6 +842,14 @@ impl<'db> Checker<'db> {
 /// `1 argument`, `3 arguments`.
 fn arguments(n: usize) -> String {
     format!("{n} argument{}", if n == 1 { "" } else { "s" })
+}
+
+/// The message-ready name of a connector role.
+fn role_name(role: ConnectorRole) -> &'static str {
+    match role {
+        ConnectorRole::Provider => "provider",
+        ConnectorRole::Processor => "processor",
+    }
 }
 
 fn reach(from: impl Iterator<Item = String>, edges: &HashMap<String, Vec<String>>) -> HashSet<String> {

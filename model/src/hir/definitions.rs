@@ -7,7 +7,7 @@
 
 use std::{collections::BTreeMap, sync::Arc};
 
-use super::items::{item_tree, ActivitySignature, DiagramItem, DiagramKind, TypeItem};
+use super::items::{item_tree, ActivitySignature, DiagramItem, DiagramKind, ImportItem, TypeItem};
 use crate::db::{Db, SourceFile, Workspace};
 
 /// A fully qualified name, interned: the key of [`lookup`].
@@ -34,6 +34,8 @@ pub struct Definition {
     pub fqn: String,
     pub file: SourceFile,
     pub kind: DefKind,
+    /// The imports in force where it is declared (for resolving the names it uses).
+    pub imports: Arc<[ImportItem]>,
 }
 
 /// Every definition of the workspace by fully qualified name (several when duplicated).
@@ -48,31 +50,38 @@ pub fn def_map(db: &dyn Db, workspace: Workspace) -> DefMap {
     let mut map = DefMap::default();
     for &file in workspace.files(db) {
         for diagram in &item_tree(db, file).diagrams {
-            collect(&mut map, file, "", diagram);
+            collect(&mut map, file, "", &[], diagram);
         }
     }
     map
 }
 
-fn collect(map: &mut DefMap, file: SourceFile, prefix: &str, diagram: &DiagramItem) {
+fn collect(map: &mut DefMap, file: SourceFile, prefix: &str, outer_imports: &[ImportItem], diagram: &DiagramItem) {
     let fqn = join(prefix, &diagram.name);
+    let imports: Arc<[ImportItem]> = outer_imports.iter().chain(&diagram.imports).cloned().collect();
     let kind = match (&diagram.kind, &diagram.activity) {
         (DiagramKind::Activity, Some(signature)) => DefKind::Activity(Arc::new(signature.clone())),
         (DiagramKind::Component, _) => DefKind::ComponentDiagram,
         (DiagramKind::ComponentInstance, _) => DefKind::ComponentInstanceDiagram,
         _ => DefKind::ClassDiagram,
     };
-    map.definitions.entry(fqn.clone()).or_default().push(Definition { fqn: fqn.clone(), file, kind });
+    map.definitions.entry(fqn.clone()).or_default().push(Definition {
+        fqn: fqn.clone(),
+        file,
+        kind,
+        imports: imports.clone(),
+    });
     for ty in &diagram.types {
         let type_fqn = join(&fqn, &ty.name);
         map.definitions.entry(type_fqn.clone()).or_default().push(Definition {
             fqn: type_fqn,
             file,
             kind: DefKind::Type(Arc::new(ty.clone())),
+            imports: imports.clone(),
         });
     }
     for nested in &diagram.diagrams {
-        collect(map, file, &fqn, nested);
+        collect(map, file, &fqn, &imports, nested);
     }
 }
 

@@ -51,6 +51,28 @@ pub enum DiagnosticCode {
     UnresolvedBehavior,
     /// An import of a name that does not exist.
     UnresolvedImport,
+    /// A loopWindow whose setup, test and increment sections differ in count.
+    LoopWindowMismatch,
+    /// `call Class::m` where the class has no method `m`.
+    UnresolvedMethod,
+    /// A component (or instance) whose class is not a class (or not a component).
+    InvalidComponent,
+    /// A connector whose interface is not an interface of its role.
+    InvalidConnectorInterface,
+    /// A port, connector or port instance that does not exist.
+    UnresolvedConnector,
+    /// A provider method without the corresponding processor signature.
+    MissingProcessorSignature,
+    /// A connection that does not join a provider and a processor.
+    InvalidConnection,
+    /// An instance field value for a field the class does not have.
+    UnknownInstanceField,
+    /// A binding that no connection of the component diagram allows.
+    BindingNotAllowed,
+    /// An attribute usage naming no attribute, or a field it does not declare.
+    InvalidAttributeUse,
+    /// A `shared` parameter outside a GPU (OpenCL) class.
+    SharedOutsideGpuClass,
 }
 
 impl DiagnosticCode {
@@ -69,6 +91,17 @@ impl DiagnosticCode {
             DiagnosticCode::TransitionArity => "E0210",
             DiagnosticCode::UnresolvedBehavior => "E0211",
             DiagnosticCode::UnresolvedImport => "E0212",
+            DiagnosticCode::LoopWindowMismatch => "E0213",
+            DiagnosticCode::UnresolvedMethod => "E0214",
+            DiagnosticCode::InvalidComponent => "E0215",
+            DiagnosticCode::InvalidConnectorInterface => "E0216",
+            DiagnosticCode::UnresolvedConnector => "E0217",
+            DiagnosticCode::MissingProcessorSignature => "E0218",
+            DiagnosticCode::InvalidConnection => "E0219",
+            DiagnosticCode::UnknownInstanceField => "E0220",
+            DiagnosticCode::BindingNotAllowed => "E0221",
+            DiagnosticCode::InvalidAttributeUse => "E0222",
+            DiagnosticCode::SharedOutsideGpuClass => "E0223",
         }
     }
 }

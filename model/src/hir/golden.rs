@@ -29,10 +29,8 @@ fn split_fixture(text: &str) -> Vec<(String, String)> {
 /// The diagnostics of a fixture, one line each: `path:line:col: severity[code]: message`.
 pub(crate) fn render(text: &str) -> String {
     let db = RootDatabase::default();
-    let files: Vec<(SourceFile, String)> = split_fixture(text)
-        .into_iter()
-        .map(|(path, body)| (SourceFile::new(&db, path, body.clone()), body))
-        .collect();
+    let files: Vec<(SourceFile, String)> =
+        split_fixture(text).into_iter().map(|(path, body)| (SourceFile::new(&db, path, body.clone()), body)).collect();
     let workspace = Workspace::new(&db, files.iter().map(|(f, _)| *f).collect());
     let mut out = String::new();
     for (file, body) in &files {

@@ -35,6 +35,43 @@ pub struct DiagramItem {
     pub types: Vec<TypeItem>,
     pub diagrams: Vec<DiagramItem>,
     pub activity: Option<ActivitySignature>,
+    /// Components of a component diagram (nested ones flattened, in order).
+    pub components: Vec<ComponentItem>,
+}
+
+/// A component: the class it is built on, its ports and the connections it declares.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ComponentItem {
+    pub kind: ClassKind,
+    /// The component class, as written (resolved from the diagram's scope).
+    pub class: String,
+    pub ports: Vec<PortItem>,
+    pub connections: Vec<ConnectionItem>,
+}
+
+/// A port and its connectors.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PortItem {
+    pub name: String,
+    pub is_async: bool,
+    pub is_buffered: bool,
+    pub connectors: Vec<ConnectorItem>,
+}
+
+/// `provider name : Interface`
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ConnectorItem {
+    pub role: ConnectorRole,
+    pub name: String,
+    pub interface: String,
+}
+
+/// `[Name source port.connector ==> target port.connector]`
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ConnectionItem {
+    pub name: Option<String>,
+    pub source: String,
+    pub target: String,
 }
 
 /// An import.
@@ -152,6 +189,7 @@ fn diagram_item(diagram: &ast::Diagram) -> Option<DiagramItem> {
         types: Vec::new(),
         diagrams: Vec::new(),
         activity: None,
+        components: Vec::new(),
     };
     let imports: Vec<ast::Import> = diagram.syntax().children().filter_map(ast::Import::cast).collect();
     item.imports = imports.iter().filter_map(import_item).collect();
@@ -163,10 +201,50 @@ fn diagram_item(diagram: &ast::Diagram) -> Option<DiagramItem> {
             item.kind = DiagramKind::Activity;
             item.activity = Some(activity_signature(d));
         }
-        ast::Diagram::ComponentDiagram(_) => item.kind = DiagramKind::Component,
+        ast::Diagram::ComponentDiagram(d) => {
+            item.kind = DiagramKind::Component;
+            for component in d.components() {
+                component_items(&component, &mut item.components);
+            }
+        }
         ast::Diagram::ComponentInstanceDiagram(_) => item.kind = DiagramKind::ComponentInstance,
     }
     Some(item)
+}
+
+fn component_items(component: &ast::Component, out: &mut Vec<ComponentItem>) {
+    use ast::HasEnds;
+    let Some(class) = component.class().map(|p| p.text()) else { return };
+    let ports = component
+        .ports()
+        .filter_map(|port| {
+            Some(PortItem {
+                name: name_of(&port)?,
+                is_async: port.is_async(),
+                is_buffered: port.is_buffered(),
+                connectors: port
+                    .connectors()
+                    .filter_map(|c| {
+                        Some(ConnectorItem { role: c.role()?, name: name_of(&c)?, interface: c.interface()?.text() })
+                    })
+                    .collect(),
+            })
+        })
+        .collect();
+    let connections = component
+        .connections()
+        .filter_map(|c| {
+            Some(ConnectionItem {
+                name: c.connection_name().map(|n| n.text()),
+                source: c.source()?.text(),
+                target: c.target()?.text(),
+            })
+        })
+        .collect();
+    out.push(ComponentItem { kind: component.kind(), class, ports, connections });
+    for nested in component.components() {
+        component_items(&nested, out);
+    }
 }
 
 fn import_item(import: &ast::Import) -> Option<ImportItem> {

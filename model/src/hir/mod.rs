@@ -2,13 +2,14 @@
 //! map, name resolution and validation, all as salsa queries over [`crate::db`].
 
 pub mod check;
+pub mod components;
 pub mod definitions;
 pub mod diagnostics;
+#[cfg(test)]
+mod golden;
 pub mod items;
 #[cfg(test)]
 mod tests;
-#[cfg(test)]
-mod golden;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};
 pub use diagnostics::{file_diagnostics, Diagnostic, DiagnosticCode, Severity};
