@@ -542,26 +542,26 @@ impl<'db> Checker<'db> {
         use ast::HasEnds;
         self.duplicates(diagram.instances().filter_map(|i| i.name()), "instance");
         // instance name -> (component, port instance name -> port name)
-        let mut instances: HashMap<String, (Option<&'db ComponentInfo>, HashMap<String, String>)> = HashMap::new();
+        let mut instances: HashMap<String, (&'db [ComponentInfo], HashMap<String, String>)> = HashMap::new();
         for instance in diagram.instances() {
             let Some(name) = instance.name().map(|n| n.text()) else { continue };
-            let info = instance.component().and_then(|path| self.instance_component(scope, &instance, &path));
+            let infos = instance.component().map_or(&[][..], |path| self.instance_component(scope, &instance, &path));
             let mut ports = HashMap::new();
             self.duplicates(instance.port_instances().filter_map(|p| p.name()), "port instance");
             for port_instance in instance.port_instances() {
                 let (Some(pi_name), Some(port)) = (port_instance.name(), port_instance.port()) else { continue };
-                if let Some(info) = info {
-                    if !info.item.ports.iter().any(|p| p.name == port.text()) {
+                if let Some(first) = infos.first() {
+                    if !infos.iter().any(|info| info.item.ports.iter().any(|p| p.name == port.text())) {
                         self.report(
                             DiagnosticCode::UnresolvedConnector,
                             port.syntax().text_range(),
-                            format!("component `{}` has no port `{}`", info.item.class, port.text()),
+                            format!("component `{}` has no port `{}`", first.item.class, port.text()),
                         );
                     }
                 }
                 ports.insert(pi_name.text(), port.text());
             }
-            instances.insert(name, (info, ports));
+            instances.insert(name, (infos, ports));
         }
         // Bindings: `[source portInstance.connector ==> target instance.portInstance.connector]`,
         // allowed only where the component diagram connects the two ports' connectors.
@@ -606,7 +606,7 @@ impl<'db> Checker<'db> {
                     })
                     .collect();
                 if let [Some((sp, sc)), Some((tp, tc))] = ends.as_slice() {
-                    let allowed = instances.values().filter_map(|(info, _)| *info).any(|info| {
+                    let allowed = instances.values().flat_map(|(infos, _)| infos.iter()).any(|info| {
                         info.item.connections.iter().any(|c| {
                             let forward = c.source == format!("{sp}.{sc}") && c.target == format!("{tp}.{tc}");
                             let backward = c.source == format!("{tp}.{tc}") && c.target == format!("{sp}.{sc}");
@@ -631,22 +631,22 @@ impl<'db> Checker<'db> {
         scope: &Scope,
         instance: &ast::ComponentInstance,
         path: &ast::Path,
-    ) -> Option<&'db ComponentInfo> {
+    ) -> &'db [ComponentInfo] {
         let text = path.text();
         let range = path.syntax().text_range();
         let Some(def) = self.resolve(scope, &text) else {
             self.report(DiagnosticCode::InvalidComponent, range, format!("unknown component `{text}`"));
-            return None;
+            return &[];
         };
-        let info = component_info(self.db, self.workspace, Fqn::new(self.db, def.fqn.clone())).as_ref();
-        let Some(info) = info else {
+        let infos = component_info(self.db, self.workspace, Fqn::new(self.db, def.fqn.clone())).as_slice();
+        if infos.is_empty() {
             self.report(
                 DiagnosticCode::InvalidComponent,
                 range,
                 format!("`{}` is not a component of any component diagram", def.fqn),
             );
-            return None;
-        };
+            return infos;
+        }
         if let DefKind::Type(ty) = &def.kind {
             for value in instance.field_values() {
                 let Some(field) = value.name() else { continue };
@@ -659,7 +659,7 @@ impl<'db> Checker<'db> {
                 }
             }
         }
-        Some(info)
+        infos
     }
 
     fn loop_window_sections(&mut self, node: &ast::ActivityNode) {
@@ -813,22 +813,25 @@ impl<'db> Checker<'db> {
         }
     }
 
-    /// A transition passes the target's parameters, after the work size of calc (3) and
-    /// calcRange (6: global and local range) nodes.
+    /// A transition passes the target's parameters, after the work size of a calc node
+    /// (3 dimensions) or the ranges of a calcRange node (global then local range: 2, 4 or 6
+    /// values for 1, 2 or 3 dimensions; Listing 32 passes 4).
     fn transition_arity(&mut self, transition: &ast::Transition, target: &ast::NameRef, node: &ast::ActivityNode) {
         let params = node.params().count();
-        let (extra, what) = match node.kind() {
-            ast::NodeKind::Calc => (3, " (3 work-size dimensions first)"),
-            ast::NodeKind::CalcRange => (6, " (global and local range, 6 values, first)"),
-            _ => (0, ""),
-        };
-        let expected = params + extra;
         let given = transition.args().count();
         // A transition without arguments to a node with parameters takes them from the flow.
-        if transition.arg_list().is_none() && extra == 0 {
+        if transition.arg_list().is_none() && !matches!(node.kind(), ast::NodeKind::Calc | ast::NodeKind::CalcRange) {
             return;
         }
-        if given != expected {
+        let (allowed, what): (Vec<usize>, &str) = match node.kind() {
+            ast::NodeKind::Calc => (vec![params + 3], " (3 work-size dimensions first)"),
+            ast::NodeKind::CalcRange => {
+                (vec![params + 2, params + 4, params + 6], " (global and local range first: 2, 4 or 6 values)")
+            }
+            _ => (vec![params], ""),
+        };
+        let expected = *allowed.last().unwrap_or(&params);
+        if !allowed.contains(&given) {
             let range = transition.arg_list().map_or_else(|| target.syntax().text_range(), |a| a.syntax().text_range());
             self.report(
                 DiagnosticCode::TransitionArity,

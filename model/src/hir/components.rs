@@ -17,9 +17,10 @@ pub struct ComponentInfo {
     pub item: ComponentItem,
 }
 
-/// Every component of the workspace by the fully qualified name of its class.
+/// Every component of the workspace by the fully qualified name of its class (a class can be
+/// a component in several component diagrams).
 #[salsa::tracked(returns(ref))]
-pub fn component_index(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, ComponentInfo> {
+pub fn component_index(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<ComponentInfo>> {
     let defs = def_map(db, workspace);
     let mut index = BTreeMap::new();
     for &file in workspace.files(db) {
@@ -35,7 +36,7 @@ fn collect(
     namespaces: &mut Vec<String>,
     imports: &mut Vec<ImportItem>,
     diagram: &DiagramItem,
-    index: &mut BTreeMap<String, ComponentInfo>,
+    index: &mut BTreeMap<String, Vec<ComponentInfo>>,
 ) {
     let fqn = join(namespaces.last().map_or("", |s| s.as_str()), &diagram.name);
     namespaces.push(fqn.clone());
@@ -45,7 +46,7 @@ fn collect(
         for component in &diagram.components {
             let resolved = resolve_path(namespaces, imports, &component.class, |c| defs.definitions.contains_key(c));
             let class = resolved.unwrap_or_else(|| component.class.clone());
-            index.entry(class).or_insert_with(|| ComponentInfo { diagram: fqn.clone(), item: component.clone() });
+            index.entry(class).or_default().push(ComponentInfo { diagram: fqn.clone(), item: component.clone() });
         }
     }
     for nested in &diagram.diagrams {
@@ -55,10 +56,10 @@ fn collect(
     namespaces.pop();
 }
 
-/// The component built on the class `class` (a fully qualified name), if any.
+/// The components built on the class `class` (a fully qualified name); empty if none.
 #[salsa::tracked(returns(ref))]
-pub fn component_info<'db>(db: &'db dyn Db, workspace: Workspace, class: Fqn<'db>) -> Option<ComponentInfo> {
-    component_index(db, workspace).get(class.text(db)).cloned()
+pub fn component_info<'db>(db: &'db dyn Db, workspace: Workspace, class: Fqn<'db>) -> Vec<ComponentInfo> {
+    component_index(db, workspace).get(class.text(db)).cloned().unwrap_or_default()
 }
 
 /// Resolves `path` from enclosing `namespaces` (innermost last) and `imports` to the first
