@@ -49,6 +49,11 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
     let _ = writeln!(out, "    public interface provider I{pkg}Provider\n    {{\n        public void provideImage(ref Image{index} image);\n    }}\n");
     let _ = writeln!(out, "    public interface processor I{pkg}Processor\n    {{\n        public void processImage(ref Image{index} image);\n    }}\n");
     let _ = writeln!(out, "    public enum Mode{index} {{ Fast, Accurate = 2, Off }}\n");
+    let _ = writeln!(
+        out,
+        "    public attribute GeneratorVisibility\n    {{\n        public bool visible = true;\n    }}\n"
+    );
+    let _ = writeln!(out, "    public class Filters\n    {{\n        public global void filterMean(int width, int height, int radius);\n    }}\n");
     // Classes until roughly 60 % of the file's lines are used; the activity diagram takes the rest.
     let class_budget = target_lines * 6 / 10;
     let mut class_index = 0;
@@ -94,7 +99,12 @@ fn activity(out: &mut String, rng: &mut Rng, index: usize, pkg: &str, target_lin
     let _ = writeln!(out, "        action init(int w, int h)\n        {{\n            counter = w * h;\n            => step0;\n        }}\n");
     let mut step = 0;
     while out.lines().count() + 12 < target_lines {
-        let next = format!("step{}", step + 1);
+        // Transitions into a calc node pass its three work-size dimensions.
+        let next = if (step + 1) % 4 == 1 {
+            format!("step{}(width, height, 0)", step + 1)
+        } else {
+            format!("step{}", step + 1)
+        };
         match step % 4 {
             0 => {
                 let _ = writeln!(out, "        action step{step}()\n        {{");
@@ -105,7 +115,8 @@ fn activity(out: &mut String, rng: &mut Rng, index: usize, pkg: &str, target_lin
             }
             1 => {
                 let _ = writeln!(out, "        calc step{step}()\n        {{");
-                let _ = writeln!(out, "            call Filters::filterMean(width, height, {});", rng.below(9) + 1);
+                let _ =
+                    writeln!(out, "            call {pkg}.Filters::filterMean(width, height, {});", rng.below(9) + 1);
                 let _ = writeln!(out, "            => {next};\n        }}\n");
             }
             2 => {
@@ -126,7 +137,9 @@ fn activity(out: &mut String, rng: &mut Rng, index: usize, pkg: &str, target_lin
         }
         step += 1;
     }
-    let _ = writeln!(out, "        action step{step} {{ result = counter; => done; }}\n");
+    // The last step is the node kind the previous transition expects.
+    let last = if step % 4 == 1 { "calc" } else { "action" };
+    let _ = writeln!(out, "        {last} step{step}() {{ result = counter; => done; }}\n");
     let _ = writeln!(out, "        final done;\n    }}\n}}\n");
 }
 
@@ -146,14 +159,18 @@ fn components(out: &mut String, index: usize, pkg: &str) {
 #[cfg(test)]
 mod tests {
     #[test]
-    fn generated_workspace_parses_clean_and_has_the_size_asked() {
+    fn generated_workspace_checks_clean_and_has_the_size_asked() {
         let files = super::workspace(20, 5_000);
         assert_eq!(files.len(), 20);
         let lines: usize = files.iter().map(|f| f.text.lines().count()).sum();
         assert!((4_500..=6_000).contains(&lines), "{lines} lines");
-        for file in &files {
-            let parse = crate::parse(&file.text);
-            assert!(parse.errors().is_empty(), "{}: {:?}", file.path, parse.errors());
+        let db = crate::db::RootDatabase::default();
+        let inputs: Vec<_> =
+            files.iter().map(|f| crate::db::SourceFile::new(&db, f.path.clone(), f.text.clone())).collect();
+        let workspace = crate::db::Workspace::new(&db, inputs.clone());
+        for (file, &input) in files.iter().zip(&inputs) {
+            let diagnostics = crate::hir::file_diagnostics(&db, workspace, input);
+            assert!(diagnostics.is_empty(), "{}: {:?}", file.path, diagnostics);
         }
     }
 }

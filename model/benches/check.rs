@@ -1,0 +1,88 @@
+//! Semantic check benchmark on a generated 50 000-line, 200-file workspace: a cold full check,
+//! a re-check after typing one character inside a method body, and after renaming a class that
+//! one other file uses. Median and p95 of the runs, printed as a table.
+//!
+//! `cargo bench -p gudsl-model --bench check`
+
+use std::time::{Duration, Instant};
+
+use gudsl_model::{
+    db::{RootDatabase, SourceFile, Workspace},
+    hir::file_diagnostics,
+};
+use salsa::Setter;
+
+fn stats(mut samples: Vec<Duration>) -> (f64, f64) {
+    samples.sort();
+    let at = |p: f64| samples[((samples.len() - 1) as f64 * p).round() as usize].as_secs_f64() * 1e3;
+    (at(0.5), at(0.95))
+}
+
+fn load(files: &[gudsl_model::synth::SynthFile]) -> (RootDatabase, Workspace, Vec<SourceFile>) {
+    let db = RootDatabase::default();
+    let inputs: Vec<SourceFile> = files.iter().map(|f| SourceFile::new(&db, f.path.clone(), f.text.clone())).collect();
+    let workspace = Workspace::new(&db, inputs.clone());
+    (db, workspace, inputs)
+}
+
+fn check_all(db: &RootDatabase, workspace: Workspace, inputs: &[SourceFile]) -> usize {
+    inputs.iter().map(|&f| file_diagnostics(db, workspace, f).len()).sum()
+}
+
+fn main() {
+    let files = gudsl_model::synth::workspace(200, 50_000);
+    let lines: usize = files.iter().map(|f| f.text.lines().count()).sum();
+    println!("workspace: {} files, {lines} lines", files.len());
+    println!("{:<52} {:>10} {:>10} {:>6}", "case", "median", "p95", "runs");
+
+    let cold: Vec<Duration> = (0..10)
+        .map(|_| {
+            let start = Instant::now();
+            let (db, workspace, inputs) = load(&files);
+            let n = check_all(&db, workspace, &inputs);
+            assert_eq!(n, 0, "the generated workspace must check clean");
+            start.elapsed()
+        })
+        .collect();
+    let (m, p) = stats(cold);
+    println!("{:<52} {m:>8.1}ms {p:>8.1}ms {:>6}", "cold: load + parse + check all 200 files", 10);
+
+    // Typing inside a method body of file 100: one character more, then one less, alternating.
+    let (mut db, workspace, inputs) = load(&files);
+    check_all(&db, workspace, &inputs);
+    let target = inputs[100];
+    let original = files[100].text.clone();
+    let anchor = original.find("var int acc = a * ").expect("a method body") + "var int acc = a * ".len();
+    let body_edit: Vec<Duration> = (0..50)
+        .map(|i| {
+            let text =
+                if i % 2 == 0 { format!("{}1{}", &original[..anchor], &original[anchor..]) } else { original.clone() };
+            let start = Instant::now();
+            target.set_text(&mut db).to(text);
+            check_all(&db, workspace, &inputs);
+            start.elapsed()
+        })
+        .collect();
+    let (m, p) = stats(body_edit);
+    println!("{:<52} {m:>8.2}ms {p:>8.2}ms {:>6}", "one-character edit in a method body, re-check all", 50);
+
+    // Renaming class C100_1 (used by no other file) and Image100 (used by file 99).
+    for (class, what) in
+        [("C100_1", "rename a class no other file uses"), ("Image100", "rename a class another file uses")]
+    {
+        target.set_text(&mut db).to(original.clone());
+        check_all(&db, workspace, &inputs);
+        let renamed = original.replace(&format!("public class {class}"), &format!("public class {class}X"));
+        let rename: Vec<Duration> = (0..30)
+            .map(|i| {
+                let text = if i % 2 == 0 { renamed.clone() } else { original.clone() };
+                let start = Instant::now();
+                target.set_text(&mut db).to(text);
+                check_all(&db, workspace, &inputs);
+                start.elapsed()
+            })
+            .collect();
+        let (m, p) = stats(rename);
+        println!("{:<52} {m:>8.2}ms {p:>8.2}ms {:>6}", format!("{what}, re-check all"), 30);
+    }
+}
