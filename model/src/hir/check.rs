@@ -19,7 +19,7 @@ use crate::{
 /// The semantic diagnostics of one file.
 #[salsa::tracked(returns(ref))]
 pub fn check_file(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {
-    let mut checker = Checker { db, workspace, diagnostics: Vec::new() };
+    let mut checker = Checker { db, workspace, current_file: file, diagnostics: Vec::new() };
     let source = parse(db, file).source_file();
     let root = Scope::default();
     checker.duplicates(source.diagrams().filter_map(|d| d.name()), "diagram");
@@ -41,6 +41,7 @@ struct Scope {
 struct Checker<'db> {
     db: &'db dyn Db,
     workspace: Workspace,
+    current_file: SourceFile,
     diagnostics: Vec<Diagnostic>,
 }
 
@@ -62,6 +63,21 @@ impl<'db> Checker<'db> {
     fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
         let fqn = resolve_path(&scope.namespaces, &scope.imports, path, |c| !self.lookup(c).is_empty())?;
         self.lookup(&fqn).first()
+    }
+
+    /// Reports `name` (declared with fully qualified name `fqn`) if another file declares it too.
+    fn unique_across_files(&mut self, fqn: &str, name: &ast::Name, what: &str) {
+        let definitions = self.lookup(fqn);
+        let here = self.current_file;
+        let elsewhere: Vec<&str> =
+            definitions.iter().filter(|d| d.file != here).map(|d| d.file.path(self.db).as_str()).collect();
+        if let Some(other) = elsewhere.first() {
+            self.report(
+                DiagnosticCode::DuplicateName,
+                name.syntax().text_range(),
+                format!("{what} `{fqn}` is also declared in {other}"),
+            );
+        }
     }
 
     fn duplicates(&mut self, names: impl Iterator<Item = ast::Name>, what: &str) {
@@ -90,11 +106,21 @@ impl<'db> Checker<'db> {
             self.import(&mut scope, &import);
         }
         let nested: Vec<ast::Diagram> = diagram.syntax().children().filter_map(ast::Diagram::cast).collect();
+        // Class diagrams are namespaces and merge across files; other diagrams must be unique.
+        if !matches!(diagram, ast::Diagram::ClassDiagram(_)) {
+            if let Some(name) = diagram.name() {
+                self.unique_across_files(scope.namespaces.last().map_or("", |s| s.as_str()), &name, "diagram");
+            }
+        }
         match diagram {
             ast::Diagram::ClassDiagram(d) => {
                 let names = d.type_decls().filter_map(|t| t.name()).chain(nested.iter().filter_map(|d| d.name()));
                 self.duplicates(names, "declaration");
                 for decl in d.type_decls() {
+                    if let Some(name) = decl.name() {
+                        let fqn = join(scope.namespaces.last().map_or("", |s| s.as_str()), &name.text());
+                        self.unique_across_files(&fqn, &name, "type");
+                    }
                     self.type_decl(&scope, &decl);
                 }
             }
