@@ -6,7 +6,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 
 use super::{
     components::{component_info, processor_signatures, resolve_path, signature_key, ComponentInfo},
-    definitions::{join, lookup, DefKind, Definition, Fqn},
+    definitions::{join, lookup, types_named, DefKind, Definition, Fqn},
     diagnostics::{Diagnostic, DiagnosticCode, Severity},
     items::{type_signature, ConnectorRole, ImportItem, InterfaceRole, TypeKind, TypeSignature},
 };
@@ -60,9 +60,28 @@ impl<'db> Checker<'db> {
 
     /// Resolves a (possibly qualified) name from `scope`: enclosing namespaces innermost first,
     /// then imports, then the name as a fully qualified one.
+    ///
+    /// A simple name that none of these finds names the workspace's only type of that name, if
+    /// there is exactly one (the dissertation's listings use other diagrams' types unqualified).
     fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
-        let fqn = resolve_path(&scope.namespaces, &scope.imports, path, |c| !self.lookup(c).is_empty())?;
-        self.lookup(&fqn).first()
+        if let Some(fqn) = resolve_path(&scope.namespaces, &scope.imports, path, |c| !self.lookup(c).is_empty()) {
+            return self.lookup(&fqn).first();
+        }
+        if path.contains('.') {
+            return None;
+        }
+        match types_named(self.db, self.workspace, Fqn::new(self.db, path.to_string())).as_slice() {
+            [only] => self.lookup(only).first(),
+            _ => None,
+        }
+    }
+
+    /// The types a simple name could mean, for an "ambiguous" message.
+    fn candidates(&self, path: &str) -> &'db [String] {
+        if path.contains('.') {
+            return &[];
+        }
+        types_named(self.db, self.workspace, Fqn::new(self.db, path.to_string()))
     }
 
     /// Reports `name` (declared with fully qualified name `fqn`) if another file declares it too.
@@ -243,11 +262,15 @@ impl<'db> Checker<'db> {
                 path.syntax().text_range(),
                 format!("`{text}` names {} `{}`, not a type", describe(&def.kind), def.fqn),
             ),
-            None => self.report(
-                DiagnosticCode::UnresolvedType,
-                path.syntax().text_range(),
-                format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does"),
-            ),
+            None => {
+                let candidates = self.candidates(&text);
+                let message = if candidates.len() > 1 {
+                    format!("ambiguous type `{text}`: qualify it or import one of {}", candidates.join(", "))
+                } else {
+                    format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does")
+                };
+                self.report(DiagnosticCode::UnresolvedType, path.syntax().text_range(), message);
+            }
         }
     }
 

@@ -38,10 +38,12 @@ pub struct Definition {
     pub imports: Arc<[ImportItem]>,
 }
 
-/// Every definition of the workspace by fully qualified name (several when duplicated).
+/// Every definition of the workspace by fully qualified name (several when duplicated), and
+/// the fully qualified names of the types by their simple name.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct DefMap {
     pub definitions: BTreeMap<String, Vec<Definition>>,
+    pub types_by_simple_name: BTreeMap<String, Vec<String>>,
 }
 
 /// The definition map of the workspace.
@@ -73,6 +75,7 @@ fn collect(map: &mut DefMap, file: SourceFile, prefix: &str, outer_imports: &[Im
     });
     for ty in &diagram.types {
         let type_fqn = join(&fqn, &ty.name);
+        map.types_by_simple_name.entry(ty.name.clone()).or_default().push(type_fqn.clone());
         map.definitions.entry(type_fqn.clone()).or_default().push(Definition {
             fqn: type_fqn,
             file,
@@ -98,4 +101,11 @@ pub fn join(prefix: &str, name: &str) -> String {
 #[salsa::tracked(returns(ref))]
 pub fn lookup<'db>(db: &'db dyn Db, workspace: Workspace, fqn: Fqn<'db>) -> Vec<Definition> {
     def_map(db, workspace).definitions.get(fqn.text(db)).cloned().unwrap_or_default()
+}
+
+/// The fully qualified names of the types whose simple name is `name` (for names used without
+/// qualification or import, as the dissertation's listings do across diagrams).
+#[salsa::tracked(returns(ref))]
+pub fn types_named<'db>(db: &'db dyn Db, workspace: Workspace, name: Fqn<'db>) -> Vec<String> {
+    def_map(db, workspace).types_by_simple_name.get(name.text(db)).cloned().unwrap_or_default()
 }
