@@ -590,8 +590,10 @@ impl<'db> Checker<'db> {
     fn instance_diagram(&mut self, scope: &Scope, diagram: &ast::ComponentInstanceDiagram) {
         use ast::HasEnds;
         self.duplicates(diagram.instances().filter_map(|i| i.name()), "instance");
-        // instance name -> (component, port instance name -> port name)
-        let mut instances: HashMap<String, (&'db [ComponentInfo], HashMap<String, String>)> = HashMap::new();
+        // instance name -> (components, port instance name -> (port name, connector instance
+        // name -> the port's connector it instantiates))
+        type PortInstances = HashMap<String, (String, HashMap<String, String>)>;
+        let mut instances: HashMap<String, (&'db [ComponentInfo], PortInstances)> = HashMap::new();
         for instance in diagram.instances() {
             let Some(name) = instance.name().map(|n| n.text()) else { continue };
             let infos = instance.component().map_or(&[][..], |path| self.instance_component(scope, &instance, &path));
@@ -608,7 +610,25 @@ impl<'db> Checker<'db> {
                         );
                     }
                 }
-                ports.insert(pi_name.text(), port.text());
+                // A connector instance (`provider name = Interface()`, a new name, Listing 24)
+                // instantiates the port's connector with the same interface.
+                let port_connectors: Vec<&super::items::ConnectorItem> = infos
+                    .iter()
+                    .flat_map(|info| info.item.ports.iter())
+                    .filter(|p| p.name == port.text())
+                    .flat_map(|p| p.connectors.iter())
+                    .collect();
+                let mut connectors = HashMap::new();
+                for cid in port_instance.connectors() {
+                    let (Some(cid_name), Some(interface)) = (cid.name(), cid.interface()) else { continue };
+                    let simple = interface.last_segment().map(|s| s.text()).unwrap_or_default();
+                    let matched = port_connectors
+                        .iter()
+                        .find(|c| c.interface.rsplit('.').next() == Some(simple.as_str()))
+                        .map_or_else(|| cid_name.text(), |c| c.name.clone());
+                    connectors.insert(cid_name.text(), matched);
+                }
+                ports.insert(pi_name.text(), (port.text(), connectors));
             }
             instances.insert(name, (infos, ports));
         }
@@ -643,7 +663,7 @@ impl<'db> Checker<'db> {
                             );
                             return None;
                         };
-                        let Some(port) = ports.get(&pi) else {
+                        let Some((port, connectors)) = ports.get(&pi) else {
                             self.report(
                                 DiagnosticCode::UnresolvedConnector,
                                 end.syntax().text_range(),
@@ -651,6 +671,7 @@ impl<'db> Checker<'db> {
                             );
                             return None;
                         };
+                        let connector = connectors.get(&connector).cloned().unwrap_or(connector);
                         Some((port.clone(), connector))
                     })
                     .collect();
