@@ -66,3 +66,31 @@ fn no_path_is_a_usage_error() {
     let out = gudsl().arg("check").output().unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn semantic_errors_across_files_and_warnings() {
+    let dir = temp_dir("semantic");
+    std::fs::write(dir.join("defs.gudsl"), "ClassDiagram Defs { public class Image { } }\n").unwrap();
+    std::fs::write(
+        dir.join("ad.gudsl"),
+        "ActivityDiagram Ad()\n{\n    swimlane L, owner Defs.Imag\n    {\n        start S { => done; }\n        action orphan { => done; }\n        final done;\n    }\n}\n",
+    )
+    .unwrap();
+    let out = gudsl().args(["check", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let ad = dir.join("ad.gudsl");
+    assert!(
+        stdout.contains(&format!("{}:3:23: error[E0202]: unknown owner class `Defs.Imag`", ad.display())),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(&format!("{}:6:16: warning[E0208]: node `orphan` is never reached", ad.display())),
+        "{stdout}"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("1 error, 1 warning"));
+    // Fixing the owner leaves only the warning: exit 0.
+    std::fs::write(dir.join("defs.gudsl"), "ClassDiagram Defs { public class Imag { } }\n").unwrap();
+    let out = gudsl().args(["check", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
+}

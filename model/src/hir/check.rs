@@ -332,11 +332,13 @@ impl<'db> Checker<'db> {
         let (Some(class), Some(method)) = (call.class(), call.method()) else { return };
         let class_text = class.text();
         let Some(def) = self.resolve(scope, &class_text) else {
-            self.report(
-                DiagnosticCode::UnresolvedType,
-                class.syntax().text_range(),
-                format!("unknown class `{class_text}`"),
-            );
+            let candidates = self.candidates(&class_text);
+            let message = if candidates.len() > 1 {
+                format!("ambiguous class `{class_text}`: qualify it or import one of {}", candidates.join(", "))
+            } else {
+                format!("unknown class `{class_text}`")
+            };
+            self.report(DiagnosticCode::UnresolvedType, class.syntax().text_range(), message);
             return;
         };
         let DefKind::Type(_) = &def.kind else {

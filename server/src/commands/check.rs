@@ -1,10 +1,15 @@
-//! `gudsl check PATH…`: reports every problem in the given files and folders, for people
+//! `gudsl check PATH…`: reports every syntax and semantic problem in the given files and
+//! folders (checked together as one workspace), for people
 //! (`path:line:col: error[E0001]: message`) or machines (`--format json`).
 
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
-use gudsl_model::text::{ColumnUnit, LineIndex};
+use gudsl_model::{
+    db::{RootDatabase, SourceFile, Workspace},
+    hir::file_diagnostics,
+    text::{ColumnUnit, LineIndex},
+};
 use serde::Serialize;
 
 use crate::workspace;
@@ -42,6 +47,7 @@ struct Diagnostic {
 struct Report {
     files: usize,
     errors: usize,
+    warnings: usize,
     diagnostics: Vec<Diagnostic>,
 }
 
@@ -53,29 +59,36 @@ pub fn run(args: &CheckArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    // One salsa database for the whole run: the documents form one workspace.
+    let db = RootDatabase::default();
+    let files: Vec<SourceFile> =
+        documents.iter().map(|d| SourceFile::new(&db, d.path.display().to_string(), d.text.clone())).collect();
+    let workspace = Workspace::new(&db, files.clone());
     let mut diagnostics = Vec::new();
-    for document in &documents {
-        let parse = gudsl_model::parse(&document.text);
-        if parse.errors().is_empty() {
+    for (document, &file) in documents.iter().zip(&files) {
+        let found = file_diagnostics(&db, workspace, file);
+        if found.is_empty() {
             continue;
         }
         let index = LineIndex::new(&document.text);
-        for error in parse.errors() {
-            let start = index.line_col(error.range.start(), ColumnUnit::Char);
-            let end = index.line_col(error.range.end(), ColumnUnit::Char);
+        for diagnostic in found {
+            let start = index.line_col(diagnostic.range.start(), ColumnUnit::Char);
+            let end = index.line_col(diagnostic.range.end(), ColumnUnit::Char);
             diagnostics.push(Diagnostic {
                 path: document.path.display().to_string(),
                 line: start.line + 1,
                 column: start.col + 1,
                 end_line: end.line + 1,
                 end_column: end.col + 1,
-                severity: "error",
-                code: error.code.as_str(),
-                message: error.message.clone(),
+                severity: diagnostic.severity.as_str(),
+                code: diagnostic.code.as_str(),
+                message: diagnostic.message.clone(),
             });
         }
     }
-    let report = Report { files: documents.len(), errors: diagnostics.len(), diagnostics };
+    let errors = diagnostics.iter().filter(|d| d.severity == "error").count();
+    let warnings = diagnostics.len() - errors;
+    let report = Report { files: documents.len(), errors, warnings, diagnostics };
     match args.format {
         Format::Json => match serde_json::to_string_pretty(&report) {
             Ok(json) => println!("{json}"),
@@ -89,7 +102,12 @@ pub fn run(args: &CheckArgs) -> ExitCode {
                 println!("{}:{}:{}: {}[{}]: {}", d.path, d.line, d.column, d.severity, d.code, d.message);
             }
             let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-            eprintln!("checked {}: {}", plural(report.files, "file"), plural(report.errors, "error"));
+            eprintln!(
+                "checked {}: {}, {}",
+                plural(report.files, "file"),
+                plural(report.errors, "error"),
+                plural(report.warnings, "warning")
+            );
         }
     }
     if report.errors > 0 {
