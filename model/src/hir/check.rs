@@ -8,7 +8,9 @@ use super::{
     components::{component_info, processor_signatures, resolve_path, signature_key, ComponentInfo},
     definitions::{join, lookup, types_named, DefKind, Definition, Fqn},
     diagnostics::{Diagnostic, DiagnosticCode, Severity},
+    infer::{header_declarations, Body},
     items::{type_signature, ConnectorRole, ImportItem, InterfaceRole, TypeKind, TypeSignature},
+    ty,
 };
 use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
@@ -32,13 +34,13 @@ pub fn check_file(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Di
 /// Where names are looked up: the enclosing diagrams (innermost last), their imports and the
 /// template parameters in scope.
 #[derive(Clone, Default)]
-struct Scope {
-    namespaces: Vec<String>,
-    imports: Vec<ImportItem>,
-    type_params: Vec<String>,
+pub(crate) struct Scope {
+    pub(crate) namespaces: Vec<String>,
+    pub(crate) imports: Vec<ImportItem>,
+    pub(crate) type_params: Vec<String>,
 }
 
-struct Checker<'db> {
+pub(crate) struct Checker<'db> {
     db: &'db dyn Db,
     workspace: Workspace,
     current_file: SourceFile,
@@ -46,6 +48,85 @@ struct Checker<'db> {
 }
 
 impl<'db> Checker<'db> {
+    pub(crate) fn error(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
+        self.report(code, range, message);
+    }
+
+    /// The one definition of a fully qualified name, if any.
+    pub(crate) fn lookup_one(&self, fqn: &str) -> Option<&'db Definition> {
+        self.lookup(fqn).first()
+    }
+
+    /// Whether type `sub` is `sup` or derives from it (`extends`/`implements`, transitively).
+    pub(crate) fn is_subtype(&self, sub: &str, sup: &str) -> bool {
+        let mut seen = HashSet::new();
+        let mut stack = vec![sub.to_string()];
+        while let Some(fqn) = stack.pop() {
+            if fqn == sup {
+                return true;
+            }
+            if !seen.insert(fqn.clone()) {
+                continue;
+            }
+            let Some(def) = self.lookup_one(&fqn) else { continue };
+            let DefKind::Type(ty) = &def.kind else { continue };
+            let scope = self.scope_of(def);
+            for base in ty.extends.iter().chain(&ty.implements).filter_map(|b| b.path.as_deref()) {
+                if let Some(base_def) = self.resolve(&scope, base) {
+                    stack.push(base_def.fqn.clone());
+                }
+            }
+        }
+        false
+    }
+
+    /// Finds, in type `fqn` or its bases, the first member `pick` returns.
+    pub(crate) fn find_member<T>(
+        &self,
+        fqn: &str,
+        seen: &mut HashSet<String>,
+        pick: &dyn Fn(&super::items::TypeItem) -> Option<T>,
+    ) -> Option<(&'db Definition, T)> {
+        if !seen.insert(fqn.to_string()) {
+            return None;
+        }
+        let def = self.lookup_one(fqn)?;
+        let DefKind::Type(ty) = &def.kind else { return None };
+        if let Some(found) = pick(ty) {
+            return Some((def, found));
+        }
+        let scope = self.scope_of(def);
+        for base in ty.extends.iter().chain(&ty.implements).filter_map(|b| b.path.as_deref()) {
+            if let Some(base_def) = self.resolve(&scope, base) {
+                if let Some(found) = self.find_member(&base_def.fqn, seen, pick) {
+                    return Some(found);
+                }
+            }
+        }
+        None
+    }
+
+    /// Every overload of `name` in `def` and its bases, with the type that declares it.
+    pub(crate) fn collect_methods(
+        &self,
+        def: &'db Definition,
+        name: &str,
+        seen: &mut HashSet<String>,
+        out: &mut Vec<(&'db Definition, super::items::MethodSignature)>,
+    ) {
+        if !seen.insert(def.fqn.clone()) {
+            return;
+        }
+        let DefKind::Type(ty) = &def.kind else { return };
+        out.extend(ty.methods.iter().filter(|m| m.name == name).map(|m| (def, m.clone())));
+        let scope = self.scope_of(def);
+        for base in ty.extends.iter().chain(&ty.implements).filter_map(|b| b.path.as_deref()) {
+            if let Some(base_def) = self.resolve(&scope, base) {
+                self.collect_methods(base_def, name, seen, out);
+            }
+        }
+    }
+
     fn report(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
         self.diagnostics.push(Diagnostic { code, severity: Severity::Error, range, message });
     }
@@ -63,7 +144,7 @@ impl<'db> Checker<'db> {
     ///
     /// A simple name that none of these finds names the workspace's only type of that name, if
     /// there is exactly one (the dissertation's listings use other diagrams' types unqualified).
-    fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
+    pub(crate) fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
         if let Some(fqn) = resolve_path(&scope.namespaces, &scope.imports, path, |c| !self.lookup(c).is_empty()) {
             return self.lookup(&fqn).first();
         }
@@ -228,6 +309,16 @@ impl<'db> Checker<'db> {
                     }
                     if let Some(body) = m.body() {
                         self.expressions(&scope, body.syntax());
+                        let owner = decl.name().and_then(|n| {
+                            self.lookup_one(&join(scope.namespaces.last().map_or("", |s| s.as_str()), &n.text()))
+                        });
+                        let mut typing = Body { checker: self, scope: scope.clone(), locals: HashMap::new(), owner };
+                        for param in m.params() {
+                            if let Some(name) = param.name() {
+                                typing.declare(name.text(), param.type_ref());
+                            }
+                        }
+                        typing.check(body.syntax());
                     }
                 }
             }
@@ -377,7 +468,7 @@ impl<'db> Checker<'db> {
     }
 
     /// The scope a definition was declared in: its enclosing namespaces and their imports.
-    fn scope_of(&self, def: &Definition) -> Scope {
+    pub(crate) fn scope_of(&self, def: &Definition) -> Scope {
         let mut namespaces = Vec::new();
         let mut prefix = String::new();
         let segments: Vec<&str> = def.fqn.split('.').collect();
@@ -719,14 +810,34 @@ impl<'db> Checker<'db> {
             );
             return infos;
         }
-        if let DefKind::Type(ty) = &def.kind {
+        if matches!(def.kind, DefKind::Type(_)) {
             for value in instance.field_values() {
                 let Some(field) = value.name() else { continue };
-                if !ty.fields.iter().any(|f| f.name == field.text()) {
+                let name = field.text();
+                // The field may be inherited; its type is resolved where it is declared.
+                let found = self.find_member(&def.fqn, &mut HashSet::new(), &|ty| {
+                    ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone())
+                });
+                let Some((declaring, field_sig)) = found else {
                     self.report(
                         DiagnosticCode::UnknownInstanceField,
                         field.syntax().text_range(),
-                        format!("component class `{}` has no field `{}`", def.fqn, field.text()),
+                        format!("component class `{}` has no field `{name}`", def.fqn),
+                    );
+                    continue;
+                };
+                let Some(expr) = value.value() else { continue };
+                let declaring_scope = self.scope_of(declaring);
+                let field_ty = ty::from_signature(&field_sig, &mut |path| {
+                    self.resolve(&declaring_scope, path).map(|d| d.fqn.clone())
+                });
+                let mut typing = Body { checker: self, scope: scope.clone(), locals: HashMap::new(), owner: None };
+                let value_ty = typing.infer(&expr);
+                if !value_ty.assignable_to(&field_ty, &mut |a, b| self.is_subtype(a, b)) {
+                    self.report(
+                        DiagnosticCode::TypeMismatch,
+                        expr.syntax().text_range(),
+                        format!("field `{name}` of `{}` has type `{field_ty}`, but the value is `{value_ty}`", def.fqn),
                     );
                 }
             }
@@ -794,6 +905,12 @@ impl<'db> Checker<'db> {
         }
         nodes.extend(diagram.nodes());
         self.duplicates(nodes.iter().filter_map(|n| n.name()), "node");
+        // Locals every node sees: the diagram's parameters and variables.
+        let mut diagram_locals: Vec<(String, Option<ast::TypeRef>)> =
+            diagram.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
+        diagram_locals.extend(diagram.variables().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
+        diagram_locals.extend(diagram.var_decls().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
+        let diagram_owner = diagram.owner().and_then(|p| self.resolve(scope, &p.text()));
         for node in &nodes {
             if node.kind() == ast::NodeKind::LoopWindow {
                 self.loop_window_sections(node);
@@ -801,6 +918,18 @@ impl<'db> Checker<'db> {
             self.params(scope, node.param_list());
             if let Some(body) = node.body() {
                 self.expressions(scope, body.syntax());
+                let lane_owner = node
+                    .syntax()
+                    .parent()
+                    .and_then(ast::Swimlane::cast)
+                    .and_then(|lane| lane.owner())
+                    .and_then(|p| self.resolve(scope, &p.text()));
+                let owner = lane_owner.or(diagram_owner).filter(|d| matches!(d.kind, DefKind::Type(_)));
+                let mut typing = Body { checker: self, scope: scope.clone(), locals: HashMap::new(), owner };
+                for (name, ty) in diagram_locals.iter().cloned().chain(header_declarations(node)) {
+                    typing.declare(name, ty);
+                }
+                typing.check(body.syntax());
             }
         }
         self.flow(diagram, &nodes);
@@ -915,7 +1044,7 @@ impl<'db> Checker<'db> {
 }
 
 /// `1 argument`, `3 arguments`.
-fn arguments(n: usize) -> String {
+pub(crate) fn arguments(n: usize) -> String {
     format!("{n} argument{}", if n == 1 { "" } else { "s" })
 }
 

@@ -73,6 +73,14 @@ pub enum DiagnosticCode {
     InvalidAttributeUse,
     /// A `shared` parameter outside a GPU (OpenCL) class.
     SharedOutsideGpuClass,
+    /// A guard or condition that is not boolean.
+    NotABoolean,
+    /// A value assigned to a variable or field of an incompatible type.
+    TypeMismatch,
+    /// A call with a number of arguments no overload takes.
+    CallArity,
+    /// A call argument of a type the parameter does not accept.
+    ArgumentType,
 }
 
 impl DiagnosticCode {
@@ -102,6 +110,10 @@ impl DiagnosticCode {
             DiagnosticCode::BindingNotAllowed => "E0221",
             DiagnosticCode::InvalidAttributeUse => "E0222",
             DiagnosticCode::SharedOutsideGpuClass => "E0223",
+            DiagnosticCode::NotABoolean => "E0224",
+            DiagnosticCode::TypeMismatch => "E0225",
+            DiagnosticCode::CallArity => "E0226",
+            DiagnosticCode::ArgumentType => "E0227",
         }
     }
 }

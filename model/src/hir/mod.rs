@@ -7,9 +7,11 @@ pub mod definitions;
 pub mod diagnostics;
 #[cfg(test)]
 mod golden;
+pub mod infer;
 pub mod items;
 #[cfg(test)]
 mod tests;
+pub mod ty;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};
 pub use diagnostics::{file_diagnostics, Diagnostic, DiagnosticCode, Severity};

@@ -1,0 +1,388 @@
+//! Expression typing inside method and node bodies: enough to check guards and conditions,
+//! assignments and initialisers, and the arity and argument types of calls that resolve to a
+//! declared method. Names it cannot type are `Unknown` and never cause a diagnostic of their own.
+
+use std::collections::{HashMap, HashSet};
+
+use super::{
+    check::{Checker, Scope},
+    definitions::{DefKind, Definition},
+    diagnostics::DiagnosticCode,
+    items::{type_signature, MethodSignature, TypeKind},
+    ty::{self, Ty},
+};
+use crate::{
+    ast::{self, AstNode, HasName},
+    syntax::{SyntaxKind, SyntaxNode},
+};
+
+/// Typing context of one body: local names, and the class whose members are in scope.
+pub(crate) struct Body<'c, 'db> {
+    pub(crate) checker: &'c mut Checker<'db>,
+    pub(crate) scope: Scope,
+    pub(crate) locals: HashMap<String, Ty>,
+    pub(crate) owner: Option<&'db Definition>,
+}
+
+impl<'db> Body<'_, 'db> {
+    /// Declares a local (parameter, variable) from its written type.
+    pub(crate) fn declare(&mut self, name: String, ty: Option<ast::TypeRef>) {
+        let ty = self.ty_of(ty);
+        self.locals.insert(name, ty);
+    }
+
+    fn ty_of(&self, ty: Option<ast::TypeRef>) -> Ty {
+        let sig = type_signature(ty);
+        if sig.path.as_ref().is_some_and(|p| self.scope.type_params.contains(p)) {
+            return Ty::Unknown;
+        }
+        let checker = &*self.checker;
+        let scope = &self.scope;
+        ty::from_signature(&sig, &mut |path| checker.resolve(scope, path).map(|d| d.fqn.clone()))
+    }
+
+    /// Checks every statement, guard and transition of `node` (a block or a node body).
+    pub(crate) fn check(&mut self, node: &SyntaxNode) {
+        // Declarations first, in order, so that uses anywhere in the body see them.
+        for decl in node.descendants().filter_map(ast::VarDecl::cast) {
+            if let Some(name) = decl.name() {
+                self.declare(name.text(), decl.type_ref());
+            }
+        }
+        for element in node.descendants() {
+            match element.kind() {
+                SyntaxKind::VAR_DECL => {
+                    let decl = ast::VarDecl::cast(element).expect("kind checked");
+                    if let (Some(init), Some(name)) = (decl.initializer(), decl.name()) {
+                        let target = self.locals.get(&name.text()).cloned().unwrap_or(Ty::Unknown);
+                        let value = self.infer(&init);
+                        self.expect_assignable(&value, &target, init.syntax(), &format!("`{}`", name.text()));
+                    }
+                }
+                SyntaxKind::EXPR_STMT | SyntaxKind::RETURN_STMT => {
+                    if let Some(expr) = element.children().find_map(ast::Expr::cast) {
+                        self.infer(&expr);
+                    }
+                }
+                SyntaxKind::GUARD => {
+                    if let Some(cond) = ast::Guard::cast(element).and_then(|g| g.condition()) {
+                        self.expect_bool(&cond, "a transition guard");
+                    }
+                }
+                SyntaxKind::IF_STMT | SyntaxKind::LOOP_STMT | SyntaxKind::DO_LOOP_STMT => {
+                    if let Some(cond) = element.children().find_map(ast::Expr::cast) {
+                        self.expect_bool(&cond, "a condition");
+                    }
+                }
+                SyntaxKind::TRANSITION => {
+                    for arg in ast::Transition::cast(element).into_iter().flat_map(|t| t.args().collect::<Vec<_>>()) {
+                        self.infer(&arg);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn expect_bool(&mut self, cond: &ast::Expr, what: &str) {
+        let ty = self.infer(cond);
+        if !Ty::Bool.assignable_to(&ty, &mut |_, _| true) || matches!(ty, Ty::String | Ty::Named(_) | Ty::Vector(..)) {
+            self.checker.error(
+                DiagnosticCode::NotABoolean,
+                cond.syntax().text_range(),
+                format!("{what} must be a boolean expression, but this is `{ty}`"),
+            );
+        }
+    }
+
+    fn expect_assignable(&mut self, value: &Ty, target: &Ty, at: &SyntaxNode, what: &str) {
+        let checker = &*self.checker;
+        if !value.assignable_to(target, &mut |a, b| checker.is_subtype(a, b)) {
+            self.checker.error(
+                DiagnosticCode::TypeMismatch,
+                at.text_range(),
+                format!("{what} has type `{target}`, but the value is `{value}`"),
+            );
+        }
+    }
+
+    /// The type of an expression, checking calls and assignments inside it on the way.
+    pub(crate) fn infer(&mut self, expr: &ast::Expr) -> Ty {
+        match expr {
+            ast::Expr::Literal(lit) => match lit.token().map(|t| t.kind()) {
+                Some(SyntaxKind::INT_NUMBER | SyntaxKind::CHAR) => Ty::Int,
+                Some(SyntaxKind::FLOAT_NUMBER) => Ty::Float,
+                Some(SyntaxKind::STRING) => Ty::String,
+                Some(SyntaxKind::TRUE_KW | SyntaxKind::FALSE_KW) => Ty::Bool,
+                Some(SyntaxKind::NULL_KW) => Ty::Null,
+                _ => Ty::Unknown,
+            },
+            ast::Expr::NameExpr(name) => {
+                let Some(text) = name.name_ref().map(|n| n.text()) else { return Ty::Unknown };
+                self.name_ty(&text)
+            }
+            ast::Expr::ThisExpr(_) => self.owner.map_or(Ty::Unknown, |o| Ty::Named(o.fqn.clone())),
+            ast::Expr::ParenExpr(p) => p.expr().map_or(Ty::Unknown, |e| self.infer(&e)),
+            ast::Expr::PrefixExpr(p) => {
+                let operand = p.operand().map_or(Ty::Unknown, |e| self.infer(&e));
+                match p.op().map(|t| t.kind()) {
+                    Some(SyntaxKind::BANG) => Ty::Bool,
+                    _ => operand,
+                }
+            }
+            ast::Expr::PostfixExpr(p) => p.operand().map_or(Ty::Unknown, |e| self.infer(&e)),
+            ast::Expr::BinExpr(bin) => self.binary(bin),
+            ast::Expr::TernaryExpr(t) => {
+                if let Some(cond) = t.condition() {
+                    self.expect_bool(&cond, "the condition of `?:`");
+                }
+                let then = t.then_expr().map_or(Ty::Unknown, |e| self.infer(&e));
+                if let Some(e) = t.else_expr() {
+                    self.infer(&e);
+                }
+                then
+            }
+            ast::Expr::CastExpr(c) => {
+                if let Some(e) = c.operand() {
+                    self.infer(&e);
+                }
+                self.ty_of(c.type_ref())
+            }
+            ast::Expr::AsExpr(a) => {
+                if let Some(e) = a.operand() {
+                    self.infer(&e);
+                }
+                self.ty_of(a.type_ref())
+            }
+            ast::Expr::IndexExpr(i) => {
+                if let Some(index) = i.index() {
+                    self.infer(&index);
+                }
+                match i.base().map(|b| self.infer(&b)) {
+                    Some(Ty::Array(inner)) => *inner,
+                    Some(Ty::Vector(base, _)) => *base,
+                    _ => Ty::Unknown,
+                }
+            }
+            ast::Expr::MemberExpr(m) => {
+                let receiver = m.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
+                let Some(member) = m.member().map(|n| n.text()) else { return Ty::Unknown };
+                match receiver {
+                    // Swizzles: `v._x`, `v.x`, `v.xy`.
+                    Ty::Vector(base, _) => *base,
+                    Ty::Named(fqn) => self.field_ty(&fqn, &member),
+                    _ => Ty::Unknown,
+                }
+            }
+            ast::Expr::ScopeExpr(s) => {
+                let scope = s.scope().map_or(Ty::Unknown, |r| self.infer(&r));
+                match (scope, s.member()) {
+                    (Ty::Named(fqn), Some(member)) => self.field_ty(&fqn, &member.text()),
+                    _ => Ty::Unknown,
+                }
+            }
+            ast::Expr::NewExpr(n) => {
+                let args: Vec<ast::Expr> =
+                    n.arg_list().into_iter().flat_map(|l| l.args().collect::<Vec<_>>()).collect();
+                for arg in &args {
+                    self.infer(arg);
+                }
+                let ty = self.ty_of(n.type_ref());
+                match n.array_size() {
+                    Some(size) => {
+                        self.infer(&size);
+                        Ty::Array(Box::new(ty))
+                    }
+                    None => ty,
+                }
+            }
+            ast::Expr::CallExpr(call) => self.call(call),
+            ast::Expr::CallMethodExpr(call) => {
+                let args: Vec<ast::Expr> = call.args().collect();
+                let (Some(class), Some(method)) = (call.class(), call.method()) else { return Ty::Unknown };
+                match self.checker.resolve(&self.scope, &class.text()) {
+                    Some(def) => self.check_call(def, &method.text(), &args, method.syntax()),
+                    None => Ty::Unknown,
+                }
+            }
+            ast::Expr::CallBehaviorExpr(call) => {
+                for arg in call.args() {
+                    self.infer(&arg);
+                }
+                Ty::Void
+            }
+            ast::Expr::CallInterfaceExpr(call) => {
+                for arg in call.args() {
+                    self.infer(&arg);
+                }
+                Ty::Unknown
+            }
+        }
+    }
+
+    fn binary(&mut self, bin: &ast::BinExpr) -> Ty {
+        let lhs = bin.lhs().map_or(Ty::Unknown, |e| self.infer(&e));
+        let rhs = bin.rhs().map_or(Ty::Unknown, |e| self.infer(&e));
+        let Some(op) = bin.op().map(|t| t.kind()) else { return Ty::Unknown };
+        if bin.is_assignment() {
+            if op == SyntaxKind::EQ {
+                if let Some(rhs_expr) = bin.rhs() {
+                    let target = bin.lhs().map_or("the target".to_string(), |l| format!("`{}`", l.syntax().text()));
+                    self.expect_assignable(&rhs, &lhs, rhs_expr.syntax(), &target);
+                }
+            }
+            return lhs;
+        }
+        use SyntaxKind::*;
+        match op {
+            EQ2 | NEQ | L_ANGLE | LTEQ | R_ANGLE | GTEQ | AMP2 | PIPE2 => Ty::Bool,
+            _ => match (&lhs, &rhs) {
+                (Ty::String, _) | (_, Ty::String) if op == PLUS => Ty::String,
+                (Ty::Float, Ty::Int) | (Ty::Int, Ty::Float) => Ty::Float,
+                (Ty::Vector(..), _) => lhs,
+                (_, Ty::Vector(..)) => rhs,
+                (Ty::Int | Ty::Float, _) if lhs == rhs => lhs,
+                (Ty::Array(_), _) => lhs,
+                _ => Ty::Unknown,
+            },
+        }
+    }
+
+    /// A local, a field of the owner (or its bases), or a type used as a scope.
+    fn name_ty(&mut self, name: &str) -> Ty {
+        if let Some(ty) = self.locals.get(name) {
+            return ty.clone();
+        }
+        if let Some(owner) = self.owner {
+            let ty = self.field_ty(&owner.fqn.clone(), name);
+            if ty != Ty::Unknown {
+                return ty;
+            }
+        }
+        match self.checker.resolve(&self.scope, name) {
+            Some(def) if matches!(def.kind, DefKind::Type(_)) => Ty::Named(def.fqn.clone()),
+            _ => Ty::Unknown,
+        }
+    }
+
+    /// The type of field `name` of type `fqn` (or its bases); an enum's values are of the enum.
+    fn field_ty(&mut self, fqn: &str, name: &str) -> Ty {
+        let mut seen = HashSet::new();
+        let Some((def, field)) = self
+            .checker
+            .find_member(fqn, &mut seen, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()))
+        else {
+            return match self.checker.lookup_one(fqn).map(|d| &d.kind) {
+                Some(DefKind::Type(ty)) if ty.kind == TypeKind::Enum && ty.enum_values.iter().any(|v| v == name) => {
+                    Ty::Named(fqn.to_string())
+                }
+                _ => Ty::Unknown,
+            };
+        };
+        let scope = self.checker.scope_of(def);
+        let checker = &*self.checker;
+        ty::from_signature(&field, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone()))
+    }
+
+    fn call(&mut self, call: &ast::CallExpr) -> Ty {
+        let args: Vec<ast::Expr> = call.args().collect();
+        match call.callee() {
+            Some(ast::Expr::NameExpr(name)) => {
+                let Some(method) = name.name_ref() else { return Ty::Unknown };
+                match self.owner {
+                    Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax()),
+                    None => self.infer_all(&args),
+                }
+            }
+            Some(ast::Expr::MemberExpr(member)) => {
+                let receiver = member.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
+                match (receiver, member.member()) {
+                    (Ty::Named(fqn), Some(method)) => match self.checker.lookup_one(&fqn) {
+                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax()),
+                        None => self.infer_all(&args),
+                    },
+                    _ => self.infer_all(&args),
+                }
+            }
+            Some(ast::Expr::ScopeExpr(scoped)) => {
+                let scope = scoped.scope().map_or(Ty::Unknown, |r| self.infer(&r));
+                match (scope, scoped.member()) {
+                    (Ty::Named(fqn), Some(method)) => match self.checker.lookup_one(&fqn) {
+                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax()),
+                        None => self.infer_all(&args),
+                    },
+                    _ => self.infer_all(&args),
+                }
+            }
+            _ => self.infer_all(&args),
+        }
+    }
+
+    fn infer_all(&mut self, args: &[ast::Expr]) -> Ty {
+        for arg in args {
+            self.infer(arg);
+        }
+        Ty::Unknown
+    }
+
+    /// Checks a call of `method` on type `def` (with its bases): arity against the overloads,
+    /// then argument types against the overload of that arity. Returns the result type.
+    fn check_call(&mut self, def: &'db Definition, method: &str, args: &[ast::Expr], at: &SyntaxNode) -> Ty {
+        let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
+        let mut overloads: Vec<(&'db Definition, MethodSignature)> = Vec::new();
+        let mut seen = HashSet::new();
+        self.checker.collect_methods(def, method, &mut seen, &mut overloads);
+        if overloads.is_empty() {
+            return Ty::Unknown;
+        }
+        let Some((declaring, signature)) = overloads.iter().find(|(_, m)| m.params.len() == args.len()).cloned() else {
+            let mut arities: Vec<usize> = overloads.iter().map(|(_, m)| m.params.len()).collect();
+            arities.sort_unstable();
+            arities.dedup();
+            let expected = match arities.as_slice() {
+                [one] => super::check::arguments(*one),
+                _ => format!("{} arguments", arities.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(" or ")),
+            };
+            self.checker.error(
+                DiagnosticCode::CallArity,
+                at.text_range(),
+                format!("`{method}` takes {expected}, {} given", args.len()),
+            );
+            return Ty::Unknown;
+        };
+        let scope = self.checker.scope_of(declaring);
+        for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
+            let checker = &*self.checker;
+            let param_ty =
+                ty::from_signature(&param.ty, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone()));
+            let checker = &*self.checker;
+            if !arg_ty.assignable_to(&param_ty, &mut |a, b| checker.is_subtype(a, b)) {
+                self.checker.error(
+                    DiagnosticCode::ArgumentType,
+                    arg.syntax().text_range(),
+                    format!(
+                        "argument {} of `{method}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
+                        i + 1,
+                        param.name
+                    ),
+                );
+            }
+        }
+        let checker = &*self.checker;
+        ty::from_signature(&signature.ret, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone()))
+    }
+}
+
+/// Names declared by a loop header or a parameter list, for node bodies.
+pub(crate) fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast::TypeRef>)> {
+    let mut out: Vec<(String, Option<ast::TypeRef>)> =
+        node.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
+    if let Some(header) = node.loop_header() {
+        for decl in header.syntax().descendants().filter_map(ast::VarDecl::cast) {
+            if let Some(name) = decl.name() {
+                out.push((name.text(), decl.type_ref()));
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,126 @@
+//! Types of the expression language, as far as checks need them: primitives, GPU vectors and
+//! images, user types by fully qualified name, and `Unknown` for whatever cannot be known (which
+//! is compatible with everything, so one unresolved name never cascades into more errors).
+
+use std::fmt;
+
+use super::items::TypeSignature;
+
+/// A type.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Ty {
+    Unknown,
+    Void,
+    Bool,
+    /// `byte`, `char`, `short`, `int`, `long` and their `unsigned` forms.
+    Int,
+    /// `float`, `real`, `double`.
+    Float,
+    String,
+    Null,
+    /// `float4`, `int2`, `uchar16`, …: element kind and width.
+    Vector(Box<Ty>, u8),
+    /// `image2D_uc`, `buffer2D_f4`, `sampler_t`: opaque GPU types.
+    Gpu(std::string::String),
+    /// A declared class, interface or enum, by fully qualified name.
+    Named(std::string::String),
+    Array(Box<Ty>),
+}
+
+impl Ty {
+    pub fn is_numeric(&self) -> bool {
+        matches!(self, Ty::Int | Ty::Float)
+    }
+
+    /// Whether a value of type `self` may be assigned to (or passed as) `target`. Numbers convert
+    /// into each other as in C; `ref`/`out` and user types are compared by name only when both
+    /// sides are known; inheritance is the caller's business (`subtype`).
+    pub fn assignable_to(&self, target: &Ty, subtype: &mut dyn FnMut(&str, &str) -> bool) -> bool {
+        match (self, target) {
+            (Ty::Unknown, _) | (_, Ty::Unknown) => true,
+            (a, b) if a == b => true,
+            (a, b) if a.is_numeric() && b.is_numeric() => true,
+            // C's implicit conversions between numbers and booleans.
+            (Ty::Bool, b) | (b, Ty::Bool) if b.is_numeric() => true,
+            (Ty::Null, Ty::Named(_) | Ty::Array(_) | Ty::Gpu(_) | Ty::String) => true,
+            // A scalar broadcasts into a vector (`float4 x = 0.0f`), as OpenCL allows.
+            (a, Ty::Vector(..)) if a.is_numeric() => true,
+            (Ty::Vector(a, n), Ty::Vector(b, m)) => n == m && (a == b || (a.is_numeric() && b.is_numeric())),
+            (Ty::Named(a), Ty::Named(b)) => subtype(a, b),
+            // Arrays and references stand for memory: an array of T passes where T is expected.
+            (Ty::Array(a), b) | (b, Ty::Array(a)) => a.assignable_to(b, subtype) || b.assignable_to(a, subtype),
+            // The framework's C++ types are often passed through `void` references.
+            (_, Ty::Void) => true,
+            // A host container passed to a kernel's image or buffer parameter: the framework's
+            // KernelCall hands over its device memory (Sec. 10.3.1).
+            (Ty::Named(_), Ty::Gpu(_)) => true,
+            _ => false,
+        }
+    }
+}
+
+impl fmt::Display for Ty {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Ty::Unknown => write!(f, "?"),
+            Ty::Void => write!(f, "void"),
+            Ty::Bool => write!(f, "bool"),
+            Ty::Int => write!(f, "int"),
+            Ty::Float => write!(f, "float"),
+            Ty::String => write!(f, "string"),
+            Ty::Null => write!(f, "null"),
+            Ty::Vector(base, n) => write!(f, "{base}{n}"),
+            Ty::Gpu(name) | Ty::Named(name) => write!(f, "{name}"),
+            Ty::Array(inner) => write!(f, "{inner}[]"),
+        }
+    }
+}
+
+/// The type of a built-in keyword or GPU type name, if it is one.
+pub fn builtin(name: &str) -> Option<Ty> {
+    Some(match name {
+        "bool" => Ty::Bool,
+        "byte" | "char" | "short" | "int" | "long" | "uchar" | "ushort" | "uint" | "ulong" => Ty::Int,
+        "float" | "real" | "double" => Ty::Float,
+        "string" => Ty::String,
+        "void" => Ty::Void,
+        _ => {
+            for (prefix, base) in [
+                ("uchar", Ty::Int),
+                ("ushort", Ty::Int),
+                ("uint", Ty::Int),
+                ("ulong", Ty::Int),
+                ("char", Ty::Int),
+                ("short", Ty::Int),
+                ("int", Ty::Int),
+                ("long", Ty::Int),
+                ("float", Ty::Float),
+                ("double", Ty::Float),
+            ] {
+                if let Some(width) = name.strip_prefix(prefix).and_then(|w| w.parse::<u8>().ok()) {
+                    if [2, 3, 4, 8, 16].contains(&width) {
+                        return Some(Ty::Vector(Box::new(base), width));
+                    }
+                }
+            }
+            if super::check::is_builtin_type_name(name) {
+                return Some(Ty::Gpu(name.to_string()));
+            }
+            return None;
+        }
+    })
+}
+
+/// The type a signature denotes, given how to resolve a path to a fully qualified name.
+pub fn from_signature(sig: &TypeSignature, resolve: &mut dyn FnMut(&str) -> Option<String>) -> Ty {
+    let base = if let Some(builtin_name) = &sig.builtin {
+        builtin(builtin_name).unwrap_or(Ty::Unknown)
+    } else if sig.is_unsigned && sig.path.is_none() {
+        Ty::Int
+    } else if let Some(path) = &sig.path {
+        builtin(path).or_else(|| resolve(path).map(Ty::Named)).unwrap_or(Ty::Unknown)
+    } else {
+        Ty::Unknown
+    };
+    (0..sig.array_dims).fold(base, |ty, _| Ty::Array(Box::new(ty)))
+}
