@@ -71,7 +71,7 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
         for m in 0..2 {
             let _ = writeln!(out, "        public int compute{m}(int a, ref float b, const int c)\n        {{");
             let _ = writeln!(out, "            var int acc = a * {} + c;", rng.below(100));
-            let _ = writeln!(out, "            for(i = 0 : 1 : i < a) {{ acc = acc + i * (b as int); }}");
+            let _ = writeln!(out, "            for(var int i = 0 : 1 : i < a) {{ acc = acc + i * (b as int); }}");
             let _ = writeln!(
                 out,
                 "            if(acc > {}) {{ acc = acc / 2; }} else {{ acc = acc << 1; }};",

@@ -81,6 +81,10 @@ pub enum DiagnosticCode {
     CallArity,
     /// A call argument of a type the parameter does not accept.
     ArgumentType,
+    /// A name in an expression that is no variable, parameter, field or type.
+    UnknownName,
+    /// A field or method a type does not have.
+    UnknownMember,
 }
 
 impl DiagnosticCode {
@@ -114,6 +118,8 @@ impl DiagnosticCode {
             DiagnosticCode::TypeMismatch => "E0225",
             DiagnosticCode::CallArity => "E0226",
             DiagnosticCode::ArgumentType => "E0227",
+            DiagnosticCode::UnknownName => "E0228",
+            DiagnosticCode::UnknownMember => "E0229",
         }
     }
 }

@@ -118,8 +118,8 @@ impl<'db> Body<'_, 'db> {
                 _ => Ty::Unknown,
             },
             ast::Expr::NameExpr(name) => {
-                let Some(text) = name.name_ref().map(|n| n.text()) else { return Ty::Unknown };
-                self.name_ty(&text)
+                let Some(name_ref) = name.name_ref() else { return Ty::Unknown };
+                self.name_ty(&name_ref.text(), name_ref.syntax())
             }
             ast::Expr::ThisExpr(_) => self.owner.map_or(Ty::Unknown, |o| Ty::Named(o.fqn.clone())),
             ast::Expr::ParenExpr(p) => p.expr().map_or(Ty::Unknown, |e| self.infer(&e)),
@@ -166,18 +166,18 @@ impl<'db> Body<'_, 'db> {
             }
             ast::Expr::MemberExpr(m) => {
                 let receiver = m.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
-                let Some(member) = m.member().map(|n| n.text()) else { return Ty::Unknown };
+                let Some(member) = m.member() else { return Ty::Unknown };
                 match receiver {
                     // Swizzles: `v._x`, `v.x`, `v.xy`.
                     Ty::Vector(base, _) => *base,
-                    Ty::Named(fqn) => self.field_ty(&fqn, &member),
+                    Ty::Named(fqn) => self.field_ty(&fqn, &member.text(), member.syntax()),
                     _ => Ty::Unknown,
                 }
             }
             ast::Expr::ScopeExpr(s) => {
                 let scope = s.scope().map_or(Ty::Unknown, |r| self.infer(&r));
                 match (scope, s.member()) {
-                    (Ty::Named(fqn), Some(member)) => self.field_ty(&fqn, &member.text()),
+                    (Ty::Named(fqn), Some(member)) => self.field_ty(&fqn, &member.text(), member.syntax()),
                     _ => Ty::Unknown,
                 }
             }
@@ -201,7 +201,7 @@ impl<'db> Body<'_, 'db> {
                 let args: Vec<ast::Expr> = call.args().collect();
                 let (Some(class), Some(method)) = (call.class(), call.method()) else { return Ty::Unknown };
                 match self.checker.resolve(&self.scope, &class.text()) {
-                    Some(def) => self.check_call(def, &method.text(), &args, method.syntax()),
+                    Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), false),
                     None => Ty::Unknown,
                 }
             }
@@ -248,40 +248,67 @@ impl<'db> Body<'_, 'db> {
         }
     }
 
-    /// A local, a field of the owner (or its bases), or a type used as a scope.
-    fn name_ty(&mut self, name: &str) -> Ty {
+    /// A local, a field of the owner (or its bases), or a type used as a scope; anything else
+    /// is reported as unknown.
+    fn name_ty(&mut self, name: &str, at: &SyntaxNode) -> Ty {
         if let Some(ty) = self.locals.get(name) {
             return ty.clone();
         }
         if let Some(owner) = self.owner {
-            let ty = self.field_ty(&owner.fqn.clone(), name);
-            if ty != Ty::Unknown {
+            if let Some(ty) = self.member_ty(&owner.fqn.clone(), name) {
                 return ty;
             }
         }
         match self.checker.resolve(&self.scope, name) {
             Some(def) if matches!(def.kind, DefKind::Type(_)) => Ty::Named(def.fqn.clone()),
-            _ => Ty::Unknown,
+            Some(_) => Ty::Unknown,
+            None => {
+                let hint = match self.owner {
+                    Some(owner) => format!(" (nor a field of the owner `{}`)", owner.fqn),
+                    None => String::new(),
+                };
+                self.checker.error(
+                    DiagnosticCode::UnknownName,
+                    at.text_range(),
+                    format!("unknown name `{name}`: not a variable, parameter or type in scope{hint}"),
+                );
+                Ty::Unknown
+            }
         }
     }
 
     /// The type of field `name` of type `fqn` (or its bases); an enum's values are of the enum.
-    fn field_ty(&mut self, fqn: &str, name: &str) -> Ty {
+    /// `None` if the type has no such member.
+    fn member_ty(&mut self, fqn: &str, name: &str) -> Option<Ty> {
         let mut seen = HashSet::new();
-        let Some((def, field)) = self
-            .checker
-            .find_member(fqn, &mut seen, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()))
-        else {
+        let Some((def, field)) = self.checker.find_member(fqn, &mut seen, &|ty| {
+            ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone())
+        }) else {
             return match self.checker.lookup_one(fqn).map(|d| &d.kind) {
                 Some(DefKind::Type(ty)) if ty.kind == TypeKind::Enum && ty.enum_values.iter().any(|v| v == name) => {
-                    Ty::Named(fqn.to_string())
+                    Some(Ty::Named(fqn.to_string()))
                 }
-                _ => Ty::Unknown,
+                _ => None,
             };
         };
         let scope = self.checker.scope_of(def);
         let checker = &*self.checker;
-        ty::from_signature(&field, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone()))
+        Some(ty::from_signature(&field, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone())))
+    }
+
+    /// `receiver.member` on a user type: reports a member the type does not have.
+    fn field_ty(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Ty {
+        if let Some(ty) = self.member_ty(fqn, name) {
+            return ty;
+        }
+        let is_method = {
+            let mut seen = HashSet::new();
+            self.checker.find_member(fqn, &mut seen, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(())).is_some()
+        };
+        if !is_method && self.checker.lookup_one(fqn).is_some() {
+            self.checker.error(DiagnosticCode::UnknownMember, at.text_range(), format!("`{fqn}` has no field `{name}`"));
+        }
+        Ty::Unknown
     }
 
     fn call(&mut self, call: &ast::CallExpr) -> Ty {
@@ -290,15 +317,22 @@ impl<'db> Body<'_, 'db> {
             Some(ast::Expr::NameExpr(name)) => {
                 let Some(method) = name.name_ref() else { return Ty::Unknown };
                 match self.owner {
-                    Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax()),
-                    None => self.infer_all(&args),
+                    Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax(), true),
+                    None => {
+                        self.checker.error(
+                            DiagnosticCode::UnknownName,
+                            method.syntax().text_range(),
+                            format!("unknown function `{}`: without an owner class, call methods as `Class::{0}(…)`", method.text()),
+                        );
+                        self.infer_all(&args)
+                    }
                 }
             }
             Some(ast::Expr::MemberExpr(member)) => {
                 let receiver = member.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
                 match (receiver, member.member()) {
                     (Ty::Named(fqn), Some(method)) => match self.checker.lookup_one(&fqn) {
-                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax()),
+                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
                         None => self.infer_all(&args),
                     },
                     _ => self.infer_all(&args),
@@ -308,7 +342,7 @@ impl<'db> Body<'_, 'db> {
                 let scope = scoped.scope().map_or(Ty::Unknown, |r| self.infer(&r));
                 match (scope, scoped.member()) {
                     (Ty::Named(fqn), Some(method)) => match self.checker.lookup_one(&fqn) {
-                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax()),
+                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
                         None => self.infer_all(&args),
                     },
                     _ => self.infer_all(&args),
@@ -327,12 +361,20 @@ impl<'db> Body<'_, 'db> {
 
     /// Checks a call of `method` on type `def` (with its bases): arity against the overloads,
     /// then argument types against the overload of that arity. Returns the result type.
-    fn check_call(&mut self, def: &'db Definition, method: &str, args: &[ast::Expr], at: &SyntaxNode) -> Ty {
+    fn check_call(&mut self, def: &'db Definition, method: &str, args: &[ast::Expr], at: &SyntaxNode, report_missing: bool) -> Ty {
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
         let mut overloads: Vec<(&'db Definition, MethodSignature)> = Vec::new();
         let mut seen = HashSet::new();
         self.checker.collect_methods(def, method, &mut seen, &mut overloads);
         if overloads.is_empty() {
+            if !report_missing {
+                return Ty::Unknown;
+            }
+            self.checker.error(
+                DiagnosticCode::UnknownMember,
+                at.text_range(),
+                format!("`{}` has no method `{method}`", def.fqn),
+            );
             return Ty::Unknown;
         }
         let Some((declaring, signature)) = overloads.iter().find(|(_, m)| m.params.len() == args.len()).cloned() else {
