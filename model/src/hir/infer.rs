@@ -281,9 +281,10 @@ impl<'db> Body<'_, 'db> {
     /// `None` if the type has no such member.
     fn member_ty(&mut self, fqn: &str, name: &str) -> Option<Ty> {
         let mut seen = HashSet::new();
-        let Some((def, field)) = self.checker.find_member(fqn, &mut seen, &|ty| {
-            ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone())
-        }) else {
+        let Some((def, field)) = self
+            .checker
+            .find_member(fqn, &mut seen, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()))
+        else {
             return match self.checker.lookup_one(fqn).map(|d| &d.kind) {
                 Some(DefKind::Type(ty)) if ty.kind == TypeKind::Enum && ty.enum_values.iter().any(|v| v == name) => {
                     Some(Ty::Named(fqn.to_string()))
@@ -303,10 +304,16 @@ impl<'db> Body<'_, 'db> {
         }
         let is_method = {
             let mut seen = HashSet::new();
-            self.checker.find_member(fqn, &mut seen, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(())).is_some()
+            self.checker
+                .find_member(fqn, &mut seen, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(()))
+                .is_some()
         };
         if !is_method && self.checker.lookup_one(fqn).is_some() {
-            self.checker.error(DiagnosticCode::UnknownMember, at.text_range(), format!("`{fqn}` has no field `{name}`"));
+            self.checker.error(
+                DiagnosticCode::UnknownMember,
+                at.text_range(),
+                format!("`{fqn}` has no field `{name}`"),
+            );
         }
         Ty::Unknown
     }
@@ -322,7 +329,10 @@ impl<'db> Body<'_, 'db> {
                         self.checker.error(
                             DiagnosticCode::UnknownName,
                             method.syntax().text_range(),
-                            format!("unknown function `{}`: without an owner class, call methods as `Class::{0}(…)`", method.text()),
+                            format!(
+                                "unknown function `{}`: without an owner class, call methods as `Class::{0}(…)`",
+                                method.text()
+                            ),
                         );
                         self.infer_all(&args)
                     }
@@ -361,7 +371,14 @@ impl<'db> Body<'_, 'db> {
 
     /// Checks a call of `method` on type `def` (with its bases): arity against the overloads,
     /// then argument types against the overload of that arity. Returns the result type.
-    fn check_call(&mut self, def: &'db Definition, method: &str, args: &[ast::Expr], at: &SyntaxNode, report_missing: bool) -> Ty {
+    fn check_call(
+        &mut self,
+        def: &'db Definition,
+        method: &str,
+        args: &[ast::Expr],
+        at: &SyntaxNode,
+        report_missing: bool,
+    ) -> Ty {
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
         let mut overloads: Vec<(&'db Definition, MethodSignature)> = Vec::new();
         let mut seen = HashSet::new();
