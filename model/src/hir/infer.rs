@@ -49,6 +49,16 @@ impl<'db> Body<'_, 'db> {
                 self.declare(name.text(), decl.type_ref());
             }
         }
+        // `loopwindow2D(u = -r : r, …)` introduces its window variables (integers).
+        for dim in node.descendants().filter_map(ast::LoopWindowDim::cast) {
+            if let Some(ast::LoopPart::Expr(ast::Expr::BinExpr(assign))) = dim.start() {
+                if let Some(ast::Expr::NameExpr(name)) = assign.lhs() {
+                    if let Some(name) = name.name_ref() {
+                        self.locals.entry(name.text()).or_insert(Ty::Int);
+                    }
+                }
+            }
+        }
         for element in node.descendants() {
             match element.kind() {
                 SyntaxKind::VAR_DECL => {
