@@ -48,6 +48,26 @@ impl LineIndex {
         LineCol { line: line as u32, col: col as u32 }
     }
 
+    /// The byte offset of a line and column (in `unit`), clamped to the line's end; `None` for a
+    /// line past the end of the text.
+    pub fn offset(&self, at: LineCol, unit: ColumnUnit) -> Option<TextSize> {
+        let start = *self.line_starts.get(at.line as usize)? as usize;
+        let end = self.line_starts.get(at.line as usize + 1).map_or(self.text.len(), |&e| e as usize);
+        let line = &self.text[start..end];
+        let mut col = 0u32;
+        for (i, ch) in line.char_indices() {
+            if col >= at.col || ch == '\n' {
+                return Some(((start + i) as u32).into());
+            }
+            col += match unit {
+                ColumnUnit::Utf8 => ch.len_utf8() as u32,
+                ColumnUnit::Utf16 => ch.len_utf16() as u32,
+                ColumnUnit::Char => 1,
+            };
+        }
+        Some((end as u32).into())
+    }
+
     pub fn line_count(&self) -> usize {
         self.line_starts.len()
     }
@@ -70,5 +90,20 @@ mod tests {
         // Inside the emoji: its start.
         assert_eq!(at(7, ColumnUnit::Char), LineCol { line: 1, col: 1 });
         assert_eq!(at(100, ColumnUnit::Utf8), LineCol { line: 2, col: 0 });
+    }
+
+    #[test]
+    fn every_offset_round_trips_in_every_unit() {
+        let text = "ab\nä😀x\n// ümlaut €\n";
+        let index = LineIndex::new(text);
+        for unit in [ColumnUnit::Utf8, ColumnUnit::Utf16, ColumnUnit::Char] {
+            for offset in (0..=text.len()).filter(|&o| text.is_char_boundary(o)) {
+                let line_col = index.line_col((offset as u32).into(), unit);
+                assert_eq!(index.offset(line_col, unit), Some((offset as u32).into()), "{unit:?} {offset}");
+            }
+        }
+        assert_eq!(index.offset(LineCol { line: 9, col: 0 }, ColumnUnit::Utf8), None);
+        // A column past the end of a line clamps to the line end.
+        assert_eq!(index.offset(LineCol { line: 0, col: 99 }, ColumnUnit::Utf16), Some(2.into()));
     }
 }

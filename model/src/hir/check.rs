@@ -31,6 +31,32 @@ pub fn check_file(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Di
     checker.diagnostics
 }
 
+impl<'db> Checker<'db> {
+    /// A checker used only to resolve names (editor features), reporting nothing.
+    pub(crate) fn resolver(db: &'db dyn Db, workspace: Workspace, file: SourceFile) -> Checker<'db> {
+        Checker { db, workspace, current_file: file, diagnostics: Vec::new() }
+    }
+}
+
+/// The scope at a syntax node: the enclosing diagrams (namespaces) and their imports.
+pub(crate) fn scope_at(node: &crate::SyntaxNode) -> Scope {
+    let mut diagrams: Vec<ast::Diagram> = node.ancestors().filter_map(ast::Diagram::cast).collect();
+    diagrams.reverse();
+    let mut scope = Scope::default();
+    for diagram in diagrams {
+        let Some(name) = diagram.name().map(|n| n.text()) else { break };
+        scope.namespaces.push(join(scope.namespaces.last().map_or("", |s| s.as_str()), &name));
+        for import in diagram.syntax().children().filter_map(ast::Import::cast) {
+            match import.target() {
+                Some(ast::ImportTarget::Name(p)) => scope.imports.push(ImportItem::Name(p.text())),
+                Some(ast::ImportTarget::Wildcard(p)) => scope.imports.push(ImportItem::Wildcard(p.text())),
+                _ => {}
+            }
+        }
+    }
+    scope
+}
+
 /// Where names are looked up: the enclosing diagrams (innermost last), their imports and the
 /// template parameters in scope.
 #[derive(Clone, Default)]
