@@ -73,3 +73,9 @@ impl RootDatabase {
 pub fn parse(db: &dyn Db, file: SourceFile) -> crate::Parse {
     crate::parse(file.text(db))
 }
+
+/// The line index of a file, for converting positions at the editor boundary.
+#[salsa::tracked(returns(ref))]
+pub fn line_index(db: &dyn Db, file: SourceFile) -> crate::text::LineIndex {
+    crate::text::LineIndex::new(file.text(db))
+}

@@ -1,6 +1,7 @@
-//! `gudsl`: the GU-DSL command-line tools (and, in later issues, the language server).
+//! `gudsl`: the GU-DSL command-line tools and language server.
 
 mod commands;
+mod lsp;
 mod workspace;
 
 use std::process::ExitCode;
@@ -18,11 +19,14 @@ struct Cli {
 enum Command {
     /// Check GU-DSL files or folders and report every problem found.
     Check(commands::check::CheckArgs),
+    /// Run the language server on stdin/stdout (for editors).
+    Lsp,
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check(args) => commands::check::run(&args),
+        Command::Lsp => lsp::run(),
     }
 }

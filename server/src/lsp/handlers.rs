@@ -1,0 +1,129 @@
+//! Request handlers: one function per LSP feature, each on a snapshot, converting the model's
+//! answer to LSP types.
+
+use gudsl_model::{
+    db::line_index,
+    hir::{file_diagnostics, Severity},
+    ide,
+};
+use tower_lsp_server::ls_types as lsp;
+
+use super::{
+    convert::Encoding,
+    host::{Host, Snapshot},
+};
+
+pub fn diagnostics(snapshot: &Snapshot, file: gudsl_model::db::SourceFile, encoding: Encoding) -> Vec<lsp::Diagnostic> {
+    let index = line_index(&snapshot.db, file);
+    file_diagnostics(&snapshot.db, snapshot.workspace, file)
+        .iter()
+        .map(|d| lsp::Diagnostic {
+            range: encoding.range(index, d.range),
+            severity: Some(match d.severity {
+                Severity::Error => lsp::DiagnosticSeverity::ERROR,
+                Severity::Warning => lsp::DiagnosticSeverity::WARNING,
+            }),
+            code: Some(lsp::NumberOrString::String(d.code.as_str().to_string())),
+            source: Some("gudsl".to_string()),
+            message: d.message.clone(),
+            ..Default::default()
+        })
+        .collect()
+}
+
+pub fn document_symbols(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    encoding: Encoding,
+) -> Option<lsp::DocumentSymbolResponse> {
+    let file = snapshot.document(uri)?.file;
+    let index = line_index(&snapshot.db, file);
+    let tree = gudsl_model::db::parse(&snapshot.db, file).source_file();
+    #[allow(deprecated)] // `deprecated` is a required field of the LSP type.
+    fn convert(symbol: ide::Symbol, index: &gudsl_model::text::LineIndex, encoding: Encoding) -> lsp::DocumentSymbol {
+        use ide::SymbolKind as K;
+        let kind = match symbol.kind {
+            K::Diagram => lsp::SymbolKind::NAMESPACE,
+            K::Class => lsp::SymbolKind::CLASS,
+            K::Interface => lsp::SymbolKind::INTERFACE,
+            K::Enum => lsp::SymbolKind::ENUM,
+            K::EnumValue => lsp::SymbolKind::ENUM_MEMBER,
+            K::Attribute => lsp::SymbolKind::STRUCT,
+            K::Field => lsp::SymbolKind::FIELD,
+            K::Method => lsp::SymbolKind::METHOD,
+            K::Variable => lsp::SymbolKind::VARIABLE,
+            K::Swimlane => lsp::SymbolKind::MODULE,
+            K::Node => lsp::SymbolKind::FUNCTION,
+            K::Component => lsp::SymbolKind::OBJECT,
+            K::Port => lsp::SymbolKind::INTERFACE,
+            K::Instance => lsp::SymbolKind::OBJECT,
+        };
+        lsp::DocumentSymbol {
+            name: symbol.name,
+            detail: symbol.detail,
+            kind,
+            tags: None,
+            deprecated: None,
+            range: encoding.range(index, symbol.range),
+            selection_range: encoding.range(index, symbol.selection_range),
+            children: Some(symbol.children.into_iter().map(|c| convert(c, index, encoding)).collect()),
+        }
+    }
+    let symbols = ide::document_symbols(&tree).into_iter().map(|s| convert(s, index, encoding)).collect();
+    Some(lsp::DocumentSymbolResponse::Nested(symbols))
+}
+
+pub fn goto_definition(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Option<lsp::GotoDefinitionResponse> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let locations: Vec<lsp::Location> = ide::goto_definition(&snapshot.db, snapshot.workspace, file, offset)
+        .into_iter()
+        .filter_map(|target| {
+            let index = line_index(&snapshot.db, target.file);
+            Some(lsp::Location { uri: snapshot.uri_of(target.file)?, range: encoding.range(index, target.focus_range) })
+        })
+        .collect();
+    (!locations.is_empty()).then_some(lsp::GotoDefinitionResponse::Array(locations))
+}
+
+pub fn hover(snapshot: &Snapshot, uri: &lsp::Uri, position: lsp::Position, encoding: Encoding) -> Option<lsp::Hover> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let (range, markdown) = ide::hover(&snapshot.db, snapshot.workspace, file, offset)?;
+    let index = line_index(&snapshot.db, file);
+    Some(lsp::Hover {
+        contents: lsp::HoverContents::Markup(lsp::MarkupContent { kind: lsp::MarkupKind::Markdown, value: markdown }),
+        range: Some(encoding.range(index, range)),
+    })
+}
+
+pub fn folding_ranges(snapshot: &Snapshot, uri: &lsp::Uri, encoding: Encoding) -> Option<Vec<lsp::FoldingRange>> {
+    let file = snapshot.document(uri)?.file;
+    let index = line_index(&snapshot.db, file);
+    let root = gudsl_model::db::parse(&snapshot.db, file).syntax_node();
+    Some(
+        ide::folding_ranges(&root, index)
+            .into_iter()
+            .map(|fold| {
+                let range = encoding.range(index, fold.range);
+                lsp::FoldingRange {
+                    start_line: range.start.line,
+                    start_character: None,
+                    end_line: range.end.line,
+                    end_character: None,
+                    kind: Some(match fold.kind {
+                        ide::FoldKind::Region => lsp::FoldingRangeKind::Region,
+                        ide::FoldKind::Comment => lsp::FoldingRangeKind::Comment,
+                        ide::FoldKind::Imports => lsp::FoldingRangeKind::Imports,
+                    }),
+                    collapsed_text: None,
+                }
+            })
+            .collect(),
+    )
+}

@@ -1,0 +1,196 @@
+"""End-to-end test of `gudsl lsp` driven by pygls's LanguageClient, a real LSP client this
+project did not write. Usage: python3 e2e.py PATH_TO_GUDSL. Exits non-zero on the first failure.
+
+It loads a workspace from disk, opens a document with an error, types the fix as an incremental
+edit, and checks diagnostics (with versions), hover, go to definition, document symbols and
+folding, with non-ASCII text (outside the BMP) before the positions it asks about."""
+
+import asyncio
+import sys
+import tempfile
+from pathlib import Path
+
+from lsprotocol import types as t
+from pygls.lsp.client import LanguageClient
+
+DEFS = """ClassDiagram Defs
+{
+    /// An image with a width.
+    public class Image
+    {
+        public int width;
+    }
+}
+"""
+
+AD = """// Größe 😀 of the image
+ActivityDiagram Ad(int n)
+{
+    swimlane Lane, owner Defs.Imag
+    {
+        start S { => work; }
+        action work
+        {
+            width = n;
+            => done;
+        }
+        final done;
+    }
+}
+"""
+
+
+def fail(message):
+    print(f"FAIL: {message}", file=sys.stderr)
+    sys.exit(1)
+
+
+async def wait_for(predicate, what, timeout=10.0):
+    deadline = asyncio.get_running_loop().time() + timeout
+    while asyncio.get_running_loop().time() < deadline:
+        value = predicate()
+        if value:
+            return value
+        await asyncio.sleep(0.02)
+    fail(f"timed out waiting for {what}")
+
+
+async def main(gudsl):
+    root = Path(tempfile.mkdtemp(prefix="gudsl-e2e-"))
+    (root / "defs.gudsl").write_text(DEFS)
+    (root / "ad.gudsl").write_text(AD)
+    defs_uri = (root / "defs.gudsl").as_uri()
+    ad_uri = (root / "ad.gudsl").as_uri()
+
+    client = LanguageClient("gudsl-e2e", "1.0")
+    diagnostics = {}
+
+    @client.feature(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    def on_diagnostics(params: t.PublishDiagnosticsParams):
+        diagnostics[params.uri] = (params.version, params.diagnostics)
+
+    progress = []
+    registrations = []
+
+    @client.feature(t.CLIENT_REGISTER_CAPABILITY)
+    def on_register(params: t.RegistrationParams):
+        registrations.extend(r.method for r in params.registrations)
+
+    @client.feature(t.WINDOW_WORK_DONE_PROGRESS_CREATE)
+    def on_progress_create(params: t.WorkDoneProgressCreateParams):
+        return None
+
+    @client.feature(t.PROGRESS)
+    def on_progress(params: t.ProgressParams):
+        progress.append(params.value)
+
+    await client.start_io(gudsl, "lsp")
+    result = await client.initialize_async(
+        t.InitializeParams(
+            process_id=None,
+            root_uri=root.as_uri(),
+            workspace_folders=[t.WorkspaceFolder(uri=root.as_uri(), name="ws")],
+            capabilities=t.ClientCapabilities(
+                general=t.GeneralClientCapabilities(position_encodings=[t.PositionEncodingKind.Utf16]),
+                window=t.WindowClientCapabilities(work_done_progress=True),
+            ),
+        )
+    )
+    if result.capabilities.position_encoding != t.PositionEncodingKind.Utf16:
+        fail(f"position encoding {result.capabilities.position_encoding}")
+    client.initialized(t.InitializedParams())
+
+    # The workspace is loaded from disk: the broken owner is reported for the closed file.
+    published = await wait_for(lambda: diagnostics.get(ad_uri), "diagnostics of the loaded workspace")
+    codes = [d.code for d in published[1]]
+    if "workspace/didChangeWatchedFiles" not in registrations:
+        fail(f"the server did not register its file watcher: {registrations}")
+    kinds = [getattr(v, "kind", None) or (v.get("kind") if isinstance(v, dict) else None) for v in progress]
+    if "begin" not in kinds or "end" not in kinds:
+        fail(f"workspace loading reported no $/progress begin/end: {progress}")
+    if "E0202" not in codes:
+        fail(f"expected E0202 for the unknown owner, got {codes}")
+
+    # Open it, then type the missing `e` of `Defs.Image` as an incremental change.
+    client.text_document_did_open(
+        t.DidOpenTextDocumentParams(text_document=t.TextDocumentItem(uri=ad_uri, language_id="gudsl", version=1, text=AD))
+    )
+    line = AD.splitlines().index("    swimlane Lane, owner Defs.Imag")
+    col = len("    swimlane Lane, owner Defs.Imag")
+    diagnostics.pop(ad_uri, None)
+    client.text_document_did_change(
+        t.DidChangeTextDocumentParams(
+            text_document=t.VersionedTextDocumentIdentifier(uri=ad_uri, version=2),
+            content_changes=[
+                t.TextDocumentContentChangePartial(
+                    range=t.Range(start=t.Position(line=line, character=col), end=t.Position(line=line, character=col)),
+                    text="e",
+                )
+            ],
+        )
+    )
+    fixed = await wait_for(lambda: diagnostics.get(ad_uri) if diagnostics.get(ad_uri, (0,))[0] == 2 else None, "diagnostics of version 2")
+    if fixed[1]:
+        fail(f"expected no diagnostics after the fix, got {[(d.code, d.message) for d in fixed[1]]}")
+
+    # Hover and definition on `Image` (after the fix) and on the owner's field `width`.
+    image_col = col - 1
+    hover = await client.text_document_hover_async(
+        t.HoverParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=line, character=image_col))
+    )
+    if hover is None or "class Image" not in hover.contents.value or "An image with a width." not in hover.contents.value:
+        fail(f"hover: {hover}")
+    definition = await client.text_document_definition_async(
+        t.DefinitionParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=line, character=image_col))
+    )
+    if not definition or definition[0].uri != defs_uri or definition[0].range.start.line != 3:
+        fail(f"definition of Image: {definition}")
+    width_line = AD.splitlines().index("            width = n;")
+    definition = await client.text_document_definition_async(
+        t.DefinitionParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=width_line, character=14))
+    )
+    if not definition or definition[0].uri != defs_uri or definition[0].range.start.line != 5:
+        fail(f"definition of width: {definition}")
+
+    # A position after the emoji: UTF-16 columns count it as two units.
+    text_line0 = AD.splitlines()[0]
+    utf16_col = len(text_line0[: text_line0.index("of")].encode("utf-16-le")) // 2
+    if utf16_col != len(text_line0[: text_line0.index("of")]) + 1:
+        fail("test setup: the emoji should take two UTF-16 units")
+
+    symbols = await client.text_document_document_symbol_async(
+        t.DocumentSymbolParams(text_document=t.TextDocumentIdentifier(uri=ad_uri))
+    )
+    names = [s.name for s in symbols]
+    lane = symbols[0].children[0]
+    if names != ["Ad"] or lane.name != "Lane" or [c.name for c in lane.children] != ["S", "work", "done"]:
+        fail(f"symbols: {names}, {lane}")
+    folds = await client.text_document_folding_range_async(
+        t.FoldingRangeParams(text_document=t.TextDocumentIdentifier(uri=ad_uri))
+    )
+    if not any(f.start_line == 2 and f.end_line == 13 for f in folds):
+        fail(f"folding ranges: {[(f.start_line, f.end_line) for f in folds]}")
+
+    # Broken input: requests still answer.
+    client.text_document_did_change(
+        t.DidChangeTextDocumentParams(
+            text_document=t.VersionedTextDocumentIdentifier(uri=ad_uri, version=3),
+            content_changes=[t.TextDocumentContentChangeWholeDocument(text="ActivityDiagram { swimlane")],
+        )
+    )
+    broken = await wait_for(lambda: diagnostics.get(ad_uri) if diagnostics.get(ad_uri, (0,))[0] == 3 else None, "diagnostics of version 3")
+    if not broken[1]:
+        fail("expected syntax errors for the broken document")
+    await client.text_document_hover_async(
+        t.HoverParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=0, character=20))
+    )
+    await client.text_document_document_symbol_async(t.DocumentSymbolParams(text_document=t.TextDocumentIdentifier(uri=ad_uri)))
+
+    await client.shutdown_async(None)
+    client.exit(None)
+    await client.stop()
+    print("lsp e2e: 1 passed, 0 failed")
+
+
+if __name__ == "__main__":
+    asyncio.run(main(sys.argv[1]))
