@@ -171,6 +171,45 @@ async def main(gudsl):
     if not any(f.start_line == 2 and f.end_line == 13 for f in folds):
         fail(f"folding ranges: {[(f.start_line, f.end_line) for f in folds]}")
 
+    # Rename the class `Image` from its use in the owner clause: the declaration in defs.gudsl
+    # and the use in ad.gudsl change.
+    prepared = await client.text_document_prepare_rename_async(
+        t.PrepareRenameParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=line, character=image_col))
+    )
+    if prepared is None:
+        fail("prepareRename refused a class name")
+    edit = await client.text_document_rename_async(
+        t.RenameParams(
+            text_document=t.TextDocumentIdentifier(uri=ad_uri),
+            position=t.Position(line=line, character=image_col),
+            new_name="Picture",
+        )
+    )
+    changed = {uri: [(e.range.start.line, e.range.start.character, e.new_text) for e in edits] for uri, edits in edit.changes.items()}
+    if changed.get(defs_uri) != [(3, 17, "Picture")] or changed.get(ad_uri) != [(line, col - 4, "Picture")]:
+        fail(f"rename edits: {changed}")
+    references = await client.text_document_references_async(
+        t.ReferenceParams(
+            text_document=t.TextDocumentIdentifier(uri=defs_uri),
+            position=t.Position(line=3, character=19),
+            context=t.ReferenceContext(include_declaration=False),
+        )
+    )
+    if [(r.uri, r.range.start.line) for r in references] != [(ad_uri, line)]:
+        fail(f"references: {references}")
+    try:
+        await client.text_document_rename_async(
+            t.RenameParams(
+                text_document=t.TextDocumentIdentifier(uri=ad_uri),
+                position=t.Position(line=line, character=image_col),
+                new_name="not a name",
+            )
+        )
+        fail("an invalid new name was accepted")
+    except Exception as error:  # the server answers with an error response
+        if "not a valid name" not in str(error):
+            fail(f"unexpected rename error: {error}")
+
     # Broken input: requests still answer.
     client.text_document_did_change(
         t.DidChangeTextDocumentParams(

@@ -3,8 +3,10 @@
 
 mod folding;
 mod navigation;
+mod references;
 mod symbols;
 
 pub use folding::{folding_ranges, Fold, FoldKind};
 pub use navigation::{goto_definition, hover, NavigationTarget};
+pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};
 pub use symbols::{document_symbols, Symbol, SymbolKind};

@@ -24,14 +24,14 @@ pub struct NavigationTarget {
 }
 
 /// What the name under the cursor means.
-struct Resolved {
+pub(crate) struct Resolved {
     /// The name at the cursor.
-    reference: TextRange,
-    target: NavigationTarget,
+    pub(crate) reference: TextRange,
+    pub(crate) target: NavigationTarget,
     /// The declaration's node, for hover text.
-    declaration: SyntaxNode,
-    /// Extra words for hover (the fully qualified name).
-    qualified: Option<String>,
+    pub(crate) declaration: SyntaxNode,
+    /// The fully qualified name, for workspace-level declarations.
+    pub(crate) qualified: Option<String>,
 }
 
 /// The declarations the name at `offset` refers to (the declaration itself on a defining name).
@@ -60,7 +60,7 @@ fn ident_at(root: &SyntaxNode, offset: TextSize) -> Option<SyntaxToken> {
     [right, left].into_iter().flatten().find(|t| t.kind() == SyntaxKind::IDENT || t.kind().is_contextual_keyword())
 }
 
-fn resolve_at(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Option<Resolved> {
+pub(crate) fn resolve_at(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Option<Resolved> {
     let root = parse(db, file).syntax_node();
     let token = ident_at(&root, offset)?;
     let parent = token.parent()?;
@@ -69,6 +69,19 @@ fn resolve_at(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextS
         // On a declaration's own name: the declaration.
         SyntaxKind::NAME => {
             let declaration = parent.parent()?;
+            let is_global = ast::Diagram::can_cast(declaration.kind()) || ast::TypeDecl::can_cast(declaration.kind());
+            let qualified = is_global.then(|| {
+                let scope = scope_at(&declaration);
+                // A diagram's scope includes itself; a type's is its diagram.
+                if ast::Diagram::can_cast(declaration.kind()) {
+                    scope.namespaces.last().cloned().unwrap_or_default()
+                } else {
+                    crate::hir::definitions::join(
+                        scope.namespaces.last().map_or("", |s| s.as_str()),
+                        &parent.text().to_string(),
+                    )
+                }
+            });
             Some(Resolved {
                 reference: parent.text_range(),
                 target: NavigationTarget {
@@ -77,7 +90,7 @@ fn resolve_at(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextS
                     focus_range: parent.text_range(),
                 },
                 declaration,
-                qualified: None,
+                qualified,
             })
         }
         SyntaxKind::NAME_REF => {

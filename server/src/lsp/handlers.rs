@@ -127,3 +127,78 @@ pub fn folding_ranges(snapshot: &Snapshot, uri: &lsp::Uri, encoding: Encoding) -
             .collect(),
     )
 }
+
+pub fn references(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    include_declaration: bool,
+    encoding: Encoding,
+) -> Option<Vec<lsp::Location>> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let refs = ide::find_references(&snapshot.db, snapshot.workspace, file, offset, include_declaration);
+    Some(
+        refs.into_iter()
+            .filter_map(|r| {
+                let index = line_index(&snapshot.db, r.file);
+                Some(lsp::Location { uri: snapshot.uri_of(r.file)?, range: encoding.range(index, r.range) })
+            })
+            .collect(),
+    )
+}
+
+pub fn document_highlight(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Option<Vec<lsp::DocumentHighlight>> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let index = line_index(&snapshot.db, file);
+    let refs = ide::find_references(&snapshot.db, snapshot.workspace, file, offset, true);
+    Some(
+        refs.into_iter()
+            .filter(|r| r.file == file)
+            .map(|r| lsp::DocumentHighlight { range: encoding.range(index, r.range), kind: None })
+            .collect(),
+    )
+}
+
+pub fn prepare_rename(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Result<Option<lsp::PrepareRenameResponse>, String> {
+    let Some(document) = snapshot.document(uri) else { return Ok(None) };
+    let offset = Host::offset(snapshot, document.file, position, encoding);
+    let index = line_index(&snapshot.db, document.file);
+    match ide::prepare_rename(&snapshot.db, snapshot.workspace, document.file, offset) {
+        Ok(range) => Ok(Some(lsp::PrepareRenameResponse::Range(encoding.range(index, range)))),
+        Err(error) => Err(error.0),
+    }
+}
+
+pub fn rename(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    new_name: &str,
+    encoding: Encoding,
+) -> Result<Option<lsp::WorkspaceEdit>, String> {
+    let Some(document) = snapshot.document(uri) else { return Ok(None) };
+    let offset = Host::offset(snapshot, document.file, position, encoding);
+    let edits = ide::rename(&snapshot.db, snapshot.workspace, document.file, offset, new_name).map_err(|e| e.0)?;
+    let mut changes: std::collections::HashMap<lsp::Uri, Vec<lsp::TextEdit>> = std::collections::HashMap::new();
+    for (place, text) in edits {
+        let Some(uri) = snapshot.uri_of(place.file) else { continue };
+        let index = line_index(&snapshot.db, place.file);
+        changes
+            .entry(uri)
+            .or_default()
+            .push(lsp::TextEdit { range: encoding.range(index, place.range), new_text: text });
+    }
+    Ok(Some(lsp::WorkspaceEdit { changes: Some(changes), ..Default::default() }))
+}

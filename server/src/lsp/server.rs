@@ -242,6 +242,12 @@ impl LanguageServer for Backend {
                 definition_provider: Some(lsp::OneOf::Left(true)),
                 hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
                 folding_range_provider: Some(lsp::FoldingRangeProviderCapability::Simple(true)),
+                references_provider: Some(lsp::OneOf::Left(true)),
+                document_highlight_provider: Some(lsp::OneOf::Left(true)),
+                rename_provider: Some(lsp::OneOf::Right(lsp::RenameOptions {
+                    prepare_provider: Some(true),
+                    work_done_progress_options: Default::default(),
+                })),
                 ..Default::default()
             },
             ..Default::default()
@@ -333,4 +339,44 @@ impl LanguageServer for Backend {
         let encoding = self.encoding();
         self.on_snapshot(move |s| handlers::folding_ranges(s, &params.text_document.uri, encoding)).await
     }
+
+    async fn references(&self, params: lsp::ReferenceParams) -> Result<Option<Vec<lsp::Location>>> {
+        let encoding = self.encoding();
+        let at = params.text_document_position;
+        let include = params.context.include_declaration;
+        self.on_snapshot(move |s| handlers::references(s, &at.text_document.uri, at.position, include, encoding)).await
+    }
+
+    async fn document_highlight(
+        &self,
+        params: lsp::DocumentHighlightParams,
+    ) -> Result<Option<Vec<lsp::DocumentHighlight>>> {
+        let encoding = self.encoding();
+        let at = params.text_document_position_params;
+        self.on_snapshot(move |s| handlers::document_highlight(s, &at.text_document.uri, at.position, encoding)).await
+    }
+
+    async fn prepare_rename(
+        &self,
+        params: lsp::TextDocumentPositionParams,
+    ) -> Result<Option<lsp::PrepareRenameResponse>> {
+        let encoding = self.encoding();
+        self.on_snapshot(move |s| handlers::prepare_rename(s, &params.text_document.uri, params.position, encoding))
+            .await?
+            .map_err(invalid_request)
+    }
+
+    async fn rename(&self, params: lsp::RenameParams) -> Result<Option<lsp::WorkspaceEdit>> {
+        let encoding = self.encoding();
+        let at = params.text_document_position;
+        let new_name = params.new_name;
+        self.on_snapshot(move |s| handlers::rename(s, &at.text_document.uri, at.position, &new_name, encoding))
+            .await?
+            .map_err(invalid_request)
+    }
+}
+
+/// A request the server refuses, with the reason for the user.
+fn invalid_request(message: String) -> Error {
+    Error { code: ErrorCode::InvalidRequest, message: message.into(), data: None }
 }

@@ -1,0 +1,210 @@
+//! Find references and rename: every place that names the declaration under the cursor.
+//!
+//! Workspace-level declarations (diagrams, classes, interfaces, enums, attributes) are found
+//! through every qualified name of the workspace, resolved from where it is written; activity
+//! nodes through the transitions of their diagram; parameters and variables through the names
+//! of their scope.
+
+use crate::{
+    ast::{self, AstNode},
+    db::{parse, Db, SourceFile, Workspace},
+    hir::check::{scope_at, Checker},
+    syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
+};
+
+use super::navigation::resolve_at;
+
+/// One place in the workspace.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct FileRange {
+    pub file: SourceFile,
+    pub range: TextRange,
+}
+
+/// Every reference to what the name at `offset` means (with its declaration's name first if
+/// `include_declaration`). Empty where the name resolves to nothing.
+pub fn find_references(
+    db: &dyn Db,
+    workspace: Workspace,
+    file: SourceFile,
+    offset: TextSize,
+    include_declaration: bool,
+) -> Vec<FileRange> {
+    let Some(resolved) = resolve_at(db, workspace, file, offset) else { return Vec::new() };
+    let target = &resolved.target;
+    let mut found = Vec::new();
+    let declaration = resolved.declaration.clone();
+    if let Some(fqn) = resolved.qualified.as_deref().filter(|_| is_global(&declaration)) {
+        for &other in workspace.files(db) {
+            let root = parse(db, other).syntax_node();
+            let checker = Checker::resolver(db, workspace, other);
+            for path in root.descendants().filter_map(ast::Path::cast) {
+                let scope = scope_at(path.syntax());
+                let mut prefix = String::new();
+                for segment in path.segments() {
+                    prefix = if prefix.is_empty() { segment.text() } else { format!("{prefix}.{}", segment.text()) };
+                    if checker.resolve(&scope, &prefix).is_some_and(|d| d.fqn == fqn) {
+                        found.push(FileRange { file: other, range: segment.syntax().text_range() });
+                    }
+                }
+            }
+        }
+    } else if ast::ActivityNode::can_cast(declaration.kind()) {
+        let name = text_of(&declaration, target.focus_range);
+        if let Some(diagram) = declaration.ancestors().find_map(ast::ActivityDiagram::cast) {
+            for transition in diagram.syntax().descendants().filter_map(ast::Transition::cast) {
+                if let Some(reference) = transition.target().filter(|t| t.text() == name) {
+                    found.push(FileRange { file: target.file, range: reference.syntax().text_range() });
+                }
+            }
+        }
+    } else if matches!(declaration.kind(), SyntaxKind::PARAM | SyntaxKind::VAR_DECL | SyntaxKind::VARIABLE) {
+        let name = text_of(&declaration, target.focus_range);
+        let scope = declaration
+            .ancestors()
+            .skip(1)
+            .find(|a| {
+                matches!(
+                    a.kind(),
+                    SyntaxKind::METHOD | SyntaxKind::ACTIVITY_DIAGRAM | SyntaxKind::BLOCK | SyntaxKind::NODE_BODY
+                ) || ast::ActivityNode::can_cast(a.kind())
+            })
+            .unwrap_or_else(|| declaration.clone());
+        // Parameters of a node are used in its body; of a diagram, everywhere in it.
+        for name_expr in scope.descendants().filter_map(ast::NameExpr::cast) {
+            if let Some(reference) = name_expr.name_ref().filter(|r| r.text() == name) {
+                // Only those that resolve back to this declaration (shadowing aside).
+                let back = resolve_at(db, workspace, target.file, reference.syntax().text_range().start());
+                if back.is_some_and(|b| b.target.focus_range == target.focus_range && b.target.file == target.file) {
+                    found.push(FileRange { file: target.file, range: reference.syntax().text_range() });
+                }
+            }
+        }
+    }
+    found.retain(|r| !(r.file == target.file && r.range == target.focus_range));
+    if include_declaration {
+        found.insert(0, FileRange { file: target.file, range: target.focus_range });
+    }
+    found.sort_by_key(|r| (r.file.path(db).clone(), r.range.start(), r.range.end()));
+    found.dedup();
+    found
+}
+
+fn is_global(declaration: &SyntaxNode) -> bool {
+    ast::Diagram::can_cast(declaration.kind()) || ast::TypeDecl::can_cast(declaration.kind())
+}
+
+fn text_of(declaration: &SyntaxNode, range: TextRange) -> String {
+    let start = declaration.text_range().start();
+    let text = declaration.text().to_string();
+    let (from, to) = (usize::from(range.start() - start), usize::from(range.end() - start));
+    text.get(from..to).unwrap_or_default().to_string()
+}
+
+/// Why a rename cannot be done here.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RenameError(pub String);
+
+/// The range of the name that a rename at `offset` would change.
+pub fn prepare_rename(
+    db: &dyn Db,
+    workspace: Workspace,
+    file: SourceFile,
+    offset: TextSize,
+) -> Result<TextRange, RenameError> {
+    let resolved =
+        resolve_at(db, workspace, file, offset).ok_or_else(|| RenameError("no renameable name here".into()))?;
+    let declaration = &resolved.declaration;
+    let renameable = is_global(declaration)
+        || ast::ActivityNode::can_cast(declaration.kind())
+        || matches!(declaration.kind(), SyntaxKind::PARAM | SyntaxKind::VAR_DECL | SyntaxKind::VARIABLE);
+    if !renameable {
+        return Err(RenameError("renaming fields and methods is not supported yet".into()));
+    }
+    Ok(resolved.reference)
+}
+
+/// The edits that rename what the name at `offset` means to `new_name`.
+pub fn rename(
+    db: &dyn Db,
+    workspace: Workspace,
+    file: SourceFile,
+    offset: TextSize,
+    new_name: &str,
+) -> Result<Vec<(FileRange, String)>, RenameError> {
+    let valid = new_name.chars().next().is_some_and(|c| c == '_' || c.is_ascii_alphabetic())
+        && new_name.chars().all(|c| c == '_' || c.is_ascii_alphanumeric())
+        && crate::SyntaxKind::from_keyword(new_name).is_none();
+    if !valid {
+        return Err(RenameError(format!("`{new_name}` is not a valid name")));
+    }
+    prepare_rename(db, workspace, file, offset)?;
+    Ok(find_references(db, workspace, file, offset, true).into_iter().map(|r| (r, new_name.to_string())).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::db::RootDatabase;
+
+    fn setup(files: &[(&str, &str)]) -> (RootDatabase, Workspace, Vec<SourceFile>, TextSize) {
+        let db = RootDatabase::default();
+        let mut cursor = None;
+        let inputs: Vec<SourceFile> = files
+            .iter()
+            .map(|(path, text)| {
+                if let Some(at) = text.find("$0") {
+                    cursor = Some(TextSize::from(at as u32));
+                }
+                SourceFile::new(&db, path.to_string(), text.replace("$0", ""))
+            })
+            .collect();
+        let ws = Workspace::new(&db, inputs.clone());
+        (db, ws, inputs, cursor.expect("$0"))
+    }
+
+    fn texts(db: &RootDatabase, refs: &[FileRange]) -> Vec<(String, String)> {
+        refs.iter().map(|r| (r.file.path(db).clone(), r.file.text(db)[r.range].to_string())).collect()
+    }
+
+    #[test]
+    fn references_of_a_class_across_files_and_qualifications() {
+        let (db, ws, files, at) = setup(&[
+            ("defs.gudsl", "ClassDiagram Defs { public class Ima$0ge { } public class Other { public Image i; } }"),
+            (
+                "user.gudsl",
+                "ClassDiagram U { import Defs.*; class V { public Image a; public Defs.Image b; public Other c; } }",
+            ),
+            ("ad.gudsl", "ActivityDiagram Ad(), owner Defs.Image { swimlane L { start S { => f; } final f; } }"),
+        ]);
+        let refs = find_references(&db, ws, files[0], at, true);
+        let found = texts(&db, &refs);
+        assert_eq!(found.len(), 5, "{found:?}");
+        assert!(found.iter().all(|(_, t)| t == "Image"));
+        let edits = rename(&db, ws, files[0], at, "Picture").unwrap();
+        assert_eq!(edits.len(), 5);
+        assert!(rename(&db, ws, files[0], at, "class").is_err());
+        assert!(rename(&db, ws, files[0], at, "9x").is_err());
+    }
+
+    #[test]
+    fn references_of_a_node_and_a_parameter() {
+        let (db, ws, files, at) = setup(&[(
+            "ad.gudsl",
+            "ActivityDiagram Ad(int n) { swimlane L { start S { => work(n); } action wo$0rk(int k) { var int x = k + k; [x > 0] => work(x); [] => f; } final f; } }",
+        )]);
+        let refs = find_references(&db, ws, files[0], at, false);
+        assert_eq!(texts(&db, &refs).len(), 2);
+        let text = files[0].text(&db).clone();
+        let k = TextSize::from(text.find("int k").unwrap() as u32 + 4);
+        let refs = find_references(&db, ws, files[0], k, true);
+        assert_eq!(texts(&db, &refs).iter().filter(|(_, t)| t == "k").count(), 3);
+    }
+
+    #[test]
+    fn nothing_to_rename_on_keywords_and_whitespace() {
+        let (db, ws, files, at) = setup(&[("a.gudsl", "ClassDiagram D { $0 class C { } }")]);
+        assert!(prepare_rename(&db, ws, files[0], at).is_err());
+        assert!(find_references(&db, ws, files[0], at, true).is_empty());
+    }
+}
