@@ -94,3 +94,27 @@ fn semantic_errors_across_files_and_warnings() {
     let out = gudsl().args(["check", dir.to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stdout));
 }
+
+#[test]
+fn fmt_formats_in_place_and_check_reports() {
+    let dir = temp_dir("fmt");
+    let file = dir.join("a.gudsl");
+    std::fs::write(&file, "ClassDiagram A{public class C{public int x=1;}}\n").unwrap();
+    let out = gudsl().args(["fmt", "--check", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("a.gudsl"));
+    let out = gudsl().args(["fmt", dir.to_str().unwrap()]).output().unwrap();
+    assert!(out.status.success());
+    assert_eq!(
+        std::fs::read_to_string(&file).unwrap(),
+        "ClassDiagram A\n{\n    public class C\n    {\n        public int x = 1;\n    }\n}\n"
+    );
+    let out = gudsl().args(["fmt", "--check", dir.to_str().unwrap()]).output().unwrap();
+    assert!(out.status.success(), "formatted output is stable");
+    // A file with syntax errors is left alone and reported.
+    std::fs::write(&file, "ClassDiagram A { class C { int x } }\n").unwrap();
+    let out = gudsl().args(["fmt", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("syntax error"));
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "ClassDiagram A { class C { int x } }\n");
+}

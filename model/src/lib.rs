@@ -3,6 +3,7 @@
 
 pub mod ast;
 pub mod db;
+pub mod format;
 pub mod hir;
 pub mod ide;
 pub mod syntax;

@@ -19,6 +19,8 @@ struct Cli {
 enum Command {
     /// Check GU-DSL files or folders and report every problem found.
     Check(commands::check::CheckArgs),
+    /// Format GU-DSL files in place (`--check`: only report unformatted files).
+    Fmt(commands::fmt::FmtArgs),
     /// Run the language server on stdin/stdout (for editors).
     Lsp,
 }
@@ -27,6 +29,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Check(args) => commands::check::run(&args),
+        Command::Fmt(args) => commands::fmt::run(&args),
         Command::Lsp => lsp::run(),
     }
 }

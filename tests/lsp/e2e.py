@@ -210,6 +210,15 @@ async def main(gudsl):
         if "not a valid name" not in str(error):
             fail(f"unexpected rename error: {error}")
 
+    # Formatting returns the canonical text as one edit.
+    edits = await client.text_document_formatting_async(
+        t.DocumentFormattingParams(
+            text_document=t.TextDocumentIdentifier(uri=ad_uri), options=t.FormattingOptions(tab_size=4, insert_spaces=True)
+        )
+    )
+    if len(edits) != 1 or "    swimlane Lane, owner Defs.Image\n    {\n        start S\n        {\n" not in edits[0].new_text:
+        fail(f"formatting: {edits}")
+
     # Broken input: requests still answer.
     client.text_document_did_change(
         t.DidChangeTextDocumentParams(

@@ -1,3 +1,4 @@
 //! One module per `gudsl` subcommand.
 
 pub mod check;
+pub mod fmt;

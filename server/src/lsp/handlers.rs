@@ -202,3 +202,16 @@ pub fn rename(
     }
     Ok(Some(lsp::WorkspaceEdit { changes: Some(changes), ..Default::default() }))
 }
+
+/// The whole document formatted, as one edit (none if it is formatted or has syntax errors).
+pub fn formatting(snapshot: &Snapshot, uri: &lsp::Uri, encoding: Encoding) -> Option<Vec<lsp::TextEdit>> {
+    let file = snapshot.document(uri)?.file;
+    let text = file.text(&snapshot.db);
+    let formatted = gudsl_model::format::format(gudsl_model::db::parse(&snapshot.db, file))?;
+    if &formatted == text {
+        return Some(Vec::new());
+    }
+    let index = line_index(&snapshot.db, file);
+    let whole = gudsl_model::syntax::TextRange::up_to((text.len() as u32).into());
+    Some(vec![lsp::TextEdit { range: encoding.range(index, whole), new_text: formatted }])
+}

@@ -1,0 +1,319 @@
+//! The formatter: canonical indentation, line breaks and spacing for a GU-DSL document,
+//! keeping every comment and at most one blank line where the author left blank lines.
+//!
+//! It re-emits the document's tokens. Declarations, members, statements, nodes, transitions,
+//! ports and bindings start on their own line; blocks indent by four spaces; operators are
+//! spaced as in the dissertation's listings. Line breaks the author wrote inside parentheses
+//! (long argument lists) are kept as continuation lines. A document with syntax errors is not
+//! formatted: `format` returns `None` rather than guess around the broken text.
+
+use crate::{
+    syntax::{SyntaxKind, SyntaxKind::*, SyntaxToken},
+    Parse,
+};
+
+const INDENT: &str = "    ";
+
+/// Nodes that start on a line of their own.
+fn starts_line(kind: SyntaxKind) -> bool {
+    matches!(
+        kind,
+        CLASS_DIAGRAM
+            | ACTIVITY_DIAGRAM
+            | COMPONENT_DIAGRAM
+            | COMPONENT_INSTANCE_DIAGRAM
+            | IMPORT
+            | CLASS
+            | INTERFACE
+            | ENUM
+            | ATTRIBUTE_DEF
+            | FIELD
+            | METHOD
+            | ASSOCIATION
+            | VARIABLE
+            | SWIMLANE
+            | START_NODE
+            | FINAL_NODE
+            | ACTION_NODE
+            | DECISION_NODE
+            | FORK_NODE
+            | JOIN_NODE
+            | LOOP_NODE
+            | LOOP_WINDOW_NODE
+            | CALC_NODE
+            | CALC_RANGE_NODE
+            | TRANSITION
+            | VAR_DECL
+            | EXPR_STMT
+            | IF_STMT
+            | LOOP_STMT
+            | DO_LOOP_STMT
+            | FOR_STMT
+            | SWITCH_STMT
+            | SWITCH_CASE
+            | RETURN_STMT
+            | BREAK_STMT
+            | CONTINUE_STMT
+            | LOOP_WINDOW_STMT
+            | BLOCK
+            | COMPONENT
+            | PORT
+            | CONNECTION
+            | COMPONENT_INSTANCE
+            | PORT_INSTANCE
+            | BINDING
+    )
+}
+
+/// The outermost node that `token` is the first token of.
+fn started_node(token: &SyntaxToken) -> Option<SyntaxKind> {
+    let mut result = None;
+    let mut node = token.parent();
+    while let Some(n) = node {
+        if n.first_token().as_ref() != Some(token) {
+            break;
+        }
+        if starts_line(n.kind()) {
+            // VAR_DECLs inside loop headers and `for` stay inline.
+            let in_header = n.ancestors().skip(1).any(|a| matches!(a.kind(), LOOP_HEADER | FOR_STMT | LOOP_WINDOW_DIM))
+                && n.kind() == VAR_DECL;
+            // A block that is the body of a construct stays on the construct's line.
+            let body_block =
+                n.kind() == BLOCK && n.parent().is_some_and(|p| p.kind() != BLOCK && p.kind() != NODE_BODY);
+            if !in_header && !body_block {
+                result = Some(n.kind());
+            }
+        }
+        node = n.parent();
+    }
+    result
+}
+
+fn parent_kind(token: &SyntaxToken) -> SyntaxKind {
+    token.parent().map_or(SOURCE_FILE, |p| p.kind())
+}
+
+fn is_keyword_like(kind: SyntaxKind) -> bool {
+    kind.is_keyword()
+}
+
+/// Whether a space separates `prev` and `next` on one line.
+fn space_between(prev: &SyntaxToken, next: &SyntaxToken) -> bool {
+    let (p, n) = (prev.kind(), next.kind());
+    let (pp, np) = (parent_kind(prev), parent_kind(next));
+    match (p, n) {
+        (_, SEMICOLON | COMMA | R_PAREN | DOT | COLON2) => false,
+        (L_PAREN | DOT | COLON2 | BANG | TILDE, _) => false,
+        (L_BRACK, _) => false,
+        (_, R_BRACK) => false,
+        (_, COLON) if matches!(np, SWITCH_CASE | SWITCH_STMT) => false,
+        // Type arguments and template parameters: `A<B, C>`.
+        (_, L_ANGLE) | (L_ANGLE, _)
+            if matches!(np, TYPE_ARGS | TEMPLATE_PARAMS) || matches!(pp, TYPE_ARGS | TEMPLATE_PARAMS) =>
+        {
+            false
+        }
+        (_, R_ANGLE) if matches!(np, TYPE_ARGS | TEMPLATE_PARAMS) => false,
+        (R_ANGLE, L_PAREN | L_BRACK) if matches!(pp, TYPE_ARGS) => false,
+        // Prefix operators bind to their operand.
+        (MINUS | PLUS | PLUS2 | MINUS2, _) if pp == PREFIX_EXPR => false,
+        (_, PLUS2 | MINUS2) if np == POSTFIX_EXPR => false,
+        // `(float)x`
+        (R_PAREN, _) if pp == CAST_EXPR => false,
+        // `import A.*`
+        (_, STAR) if np == IMPORT => false,
+        // Calls, parameter lists, headers: `f(`, `if(`, `loop(`, `new T(`, `T[n]`, `a[i]`.
+        (IDENT | R_PAREN | R_BRACK | R_ANGLE, L_PAREN) => false,
+        (k, L_PAREN) if is_keyword_like(k) && !matches!(k, RETURN_KW | AS_KW | CALL_KW) => false,
+        (_, L_BRACK) if matches!(np, INDEX_EXPR | NEW_EXPR | TYPE_REF) => false,
+        _ => true,
+    }
+}
+
+/// Formats a parsed document; `None` if it has syntax errors.
+pub fn format(parse: &Parse) -> Option<String> {
+    if !parse.errors().is_empty() {
+        return None;
+    }
+    let root = parse.syntax_node();
+    let mut out = String::new();
+    let mut depth: usize = 0;
+    let mut paren_depth: usize = 0;
+    let mut prev: Option<SyntaxToken> = None;
+    // Newlines in the whitespace just before the current token.
+    let mut newlines_before = 0usize;
+    let mut at_line_start = true;
+    let mut force_newline = false;
+    // Per open `{`: whether a line break happened inside it (else its `}` stays on the line).
+    let mut broken: Vec<bool> = Vec::new();
+
+    let newline = |out: &mut String, count: usize| {
+        while out.ends_with(' ') {
+            out.pop();
+        }
+        for _ in 0..count {
+            out.push('\n');
+        }
+    };
+
+    for token in root.descendants_with_tokens().filter_map(|e| e.into_token()) {
+        let kind = token.kind();
+        if kind == WHITESPACE {
+            newlines_before = token.text().matches('\n').count();
+            continue;
+        }
+        let is_comment = matches!(kind, LINE_COMMENT | BLOCK_COMMENT);
+        if kind == R_CURLY || kind == R_PAREN || kind == R_BRACK {
+            if kind == R_CURLY {
+                depth = depth.saturating_sub(1);
+            } else {
+                paren_depth = paren_depth.saturating_sub(1);
+            }
+        }
+        // Decide what separates this token from the previous one.
+        let empty_block = kind == R_CURLY && prev.as_ref().is_some_and(|p| p.kind() == L_CURLY);
+        let inline_block = kind == R_CURLY && broken.last().is_some_and(|b| !b);
+        let line_level = !is_comment && started_node(&token).is_some();
+        // Braces of a body that spans lines go on their own line, as in the dissertation.
+        let own_line_brace = kind == L_CURLY && body_breaks(&token);
+        let mut wants_newline = force_newline
+            || (line_level && !at_line_start && prev.is_some())
+            || (kind == R_CURLY && !inline_block)
+            || own_line_brace
+            || (is_comment && newlines_before > 0 && prev.is_some())
+            || (paren_depth > 0 && newlines_before > 0 && !is_comment && prev.is_some());
+        if kind == R_CURLY && inline_block && !force_newline {
+            wants_newline = false;
+        }
+        if wants_newline && prev.is_some() {
+            // Keep one blank line where the author left at least one (not right after `{`).
+            let after_open = prev.as_ref().is_some_and(|p| p.kind() == L_CURLY);
+            let blank = newlines_before >= 2 && !after_open && kind != R_CURLY;
+            newline(&mut out, if blank { 2 } else { 1 });
+            at_line_start = true;
+            if let Some(last) = broken.last_mut() {
+                *last = true;
+            }
+        }
+        if at_line_start {
+            if prev.is_some() || !out.is_empty() {
+                let continuation = if paren_depth > 0 { 1 } else { 0 };
+                let level = depth + continuation;
+                for _ in 0..level {
+                    out.push_str(INDENT);
+                }
+            }
+        } else if let Some(p) = &prev {
+            if is_comment || empty_block || space_between(p, &token) {
+                out.push(' ');
+            }
+        }
+        out.push_str(token.text().trim_end());
+        at_line_start = false;
+        force_newline = false;
+        newlines_before = 0;
+        match kind {
+            L_CURLY => {
+                depth += 1;
+                broken.push(false);
+            }
+            L_PAREN | L_BRACK => paren_depth += 1,
+            LINE_COMMENT => force_newline = true,
+            // A `}` ends its line, except before `;`, `else` and `loop` (of `do … loop`).
+            R_CURLY => {
+                let inner_broken = broken.pop().unwrap_or(false);
+                if let Some(last) = broken.last_mut() {
+                    *last |= inner_broken;
+                }
+                if let Some(next) = token.next_token().and_then(|t| next_significant(&t)) {
+                    if !matches!(next.kind(), SEMICOLON | LOOP_KW | COMMA | R_PAREN) {
+                        force_newline = true;
+                    }
+                }
+            }
+            // The `;` of a statement or declaration ends its line (not inside headers).
+            SEMICOLON if paren_depth == 0 => force_newline = true,
+            // Attribute lists stand on their own line above the declaration.
+            R_BRACK
+                if parent_kind(&token) == ATTRIBUTE_LIST
+                    && token.parent().and_then(|p| p.parent()).is_some_and(|g| g.kind() != ENUM_VALUE) =>
+            {
+                force_newline = true
+            }
+            _ => {}
+        }
+        prev = Some(token);
+    }
+    newline(&mut out, 1);
+    // No trailing blank lines; exactly one final newline.
+    while out.ends_with("\n\n") {
+        out.pop();
+    }
+    if out == "\n" {
+        out.clear();
+    }
+    Some(out)
+}
+
+/// Whether the braced body `open` starts holds something that goes on a line of its own.
+fn body_breaks(open: &SyntaxToken) -> bool {
+    let Some(owner) = open.parent() else { return false };
+    let start = open.text_range().end();
+    owner.descendants_with_tokens().any(|element| {
+        element.text_range().start() >= start
+            && match element {
+                rowan::NodeOrToken::Node(node) => starts_line(node.kind()),
+                rowan::NodeOrToken::Token(token) => matches!(token.kind(), LINE_COMMENT),
+            }
+    })
+}
+
+fn next_significant(token: &SyntaxToken) -> Option<SyntaxToken> {
+    let mut t = Some(token.clone());
+    while let Some(current) = t {
+        if !current.kind().is_trivia() {
+            return Some(current);
+        }
+        t = current.next_token();
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fmt(text: &str) -> String {
+        format(&crate::parse(text)).expect("no syntax errors")
+    }
+
+    #[test]
+    fn canonical_layout() {
+        let input = "ClassDiagram D{  // the diagram\n[A.B(x=1)] public class C extends B{public int x=a+b*2;\n\n\n public void m(int a,int b){ if(a<b){x=-a;}else{x=b;}; for(i = 0:1:i<a){ } } }\npublic enum E { A, B = 2 }\n}\n";
+        let expected = "ClassDiagram D\n{ // the diagram\n    [A.B(x = 1)]\n    public class C extends B\n    {\n        public int x = a + b * 2;\n\n        public void m(int a, int b)\n        {\n            if(a < b)\n            {\n                x = -a;\n            }\n            else\n            {\n                x = b;\n            };\n            for(i = 0 : 1 : i < a) { }\n        }\n    }\n    public enum E { A, B = 2 }\n}\n";
+        assert_eq!(fmt(input), expected);
+        assert_eq!(fmt(expected), expected, "idempotent");
+    }
+
+    #[test]
+    fn activity_and_components() {
+        let input = "ActivityDiagram Ad(int n),owner D.C{\npublic int i;\nswimlane L{start S{=>work(n);}\naction work(int k){var int x=k;[x>0]=>work(x);[]=>f;}\nloopWindow w(var int u=-1,var int v=-1;u<1,v<1;u=u+1,v=v+1){=>f;}\nfinal f;}}\nComponentDiagram Cd{source D.C{port P(provider p:I);[L source P.p==>target Q.q]}}\n";
+        let out = fmt(input);
+        assert!(
+            out.contains("    swimlane L\n    {\n        start S\n        {\n            => work(n);\n        }\n"),
+            "{out}"
+        );
+        assert!(out.contains("            [x > 0] => work(x);\n            [] => f;\n"), "{out}");
+        assert!(
+            out.contains("loopWindow w(var int u = -1, var int v = -1; u < 1, v < 1; u = u + 1, v = v + 1)\n"),
+            "{out}"
+        );
+        assert!(out.contains("        port P(provider p : I);\n        [L source P.p ==> target Q.q]\n"), "{out}");
+        assert_eq!(fmt(&out), out, "idempotent");
+    }
+
+    #[test]
+    fn broken_documents_are_not_formatted() {
+        assert!(format(&crate::parse("ClassDiagram D { class C { int x }")).is_none());
+    }
+}
