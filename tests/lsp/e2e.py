@@ -210,6 +210,21 @@ async def main(gudsl):
         if "not a valid name" not in str(error):
             fail(f"unexpected rename error: {error}")
 
+    # Completion: node names after `=>`, the owner's fields inside an action.
+    done_line = AD.splitlines().index("            => done;")
+    completion = await client.text_document_completion_async(
+        t.CompletionParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=done_line, character=15))
+    )
+    labels = sorted(i.label for i in (completion.items if hasattr(completion, "items") else completion))
+    if labels != ["S", "done", "work"]:
+        fail(f"completion after =>: {labels}")
+    completion = await client.text_document_completion_async(
+        t.CompletionParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), position=t.Position(line=width_line, character=12))
+    )
+    labels = [i.label for i in (completion.items if hasattr(completion, "items") else completion)]
+    if "width" not in labels or "var" not in labels or "n" not in labels:
+        fail(f"completion in an action: {labels}")
+
     # Formatting returns the canonical text as one edit.
     edits = await client.text_document_formatting_async(
         t.DocumentFormattingParams(

@@ -1,11 +1,13 @@
 //! Editor features computed on the model, in byte offsets and model types only (the server
 //! converts them to LSP): document outline, folding, go to definition and hover.
 
+mod completion;
 mod folding;
 mod navigation;
 mod references;
 mod symbols;
 
+pub use completion::{completions, CompletionItem, CompletionKind};
 pub use folding::{folding_ranges, Fold, FoldKind};
 pub use navigation::{goto_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};

@@ -215,3 +215,45 @@ pub fn formatting(snapshot: &Snapshot, uri: &lsp::Uri, encoding: Encoding) -> Op
     let whole = gudsl_model::syntax::TextRange::up_to((text.len() as u32).into());
     Some(vec![lsp::TextEdit { range: encoding.range(index, whole), new_text: formatted }])
 }
+
+pub fn completion(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Option<lsp::CompletionResponse> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let items = ide::completions(&snapshot.db, snapshot.workspace, file, offset)
+        .into_iter()
+        .map(|item| {
+            use ide::CompletionKind as K;
+            let kind = match item.kind {
+                K::Keyword => lsp::CompletionItemKind::KEYWORD,
+                K::Snippet => lsp::CompletionItemKind::SNIPPET,
+                K::Type => lsp::CompletionItemKind::CLASS,
+                K::Namespace => lsp::CompletionItemKind::MODULE,
+                K::Node => lsp::CompletionItemKind::FUNCTION,
+                K::Field => lsp::CompletionItemKind::FIELD,
+                K::Method => lsp::CompletionItemKind::METHOD,
+                K::Variable => lsp::CompletionItemKind::VARIABLE,
+                K::Interface => lsp::CompletionItemKind::INTERFACE,
+                K::EnumValue => lsp::CompletionItemKind::ENUM_MEMBER,
+            };
+            let is_snippet = item.snippet.is_some();
+            lsp::CompletionItem {
+                label: item.label.clone(),
+                kind: Some(kind),
+                detail: item.detail,
+                insert_text: item.snippet,
+                insert_text_format: Some(if is_snippet {
+                    lsp::InsertTextFormat::SNIPPET
+                } else {
+                    lsp::InsertTextFormat::PLAIN_TEXT
+                }),
+                ..Default::default()
+            }
+        })
+        .collect();
+    Some(lsp::CompletionResponse::Array(items))
+}

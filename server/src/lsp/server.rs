@@ -243,6 +243,10 @@ impl LanguageServer for Backend {
                 hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
                 folding_range_provider: Some(lsp::FoldingRangeProviderCapability::Simple(true)),
                 references_provider: Some(lsp::OneOf::Left(true)),
+                completion_provider: Some(lsp::CompletionOptions {
+                    trigger_characters: Some([".", ">", ":", "("].iter().map(|c| c.to_string()).collect()),
+                    ..Default::default()
+                }),
                 document_formatting_provider: Some(lsp::OneOf::Left(true)),
                 document_highlight_provider: Some(lsp::OneOf::Left(true)),
                 rename_provider: Some(lsp::OneOf::Right(lsp::RenameOptions {
@@ -339,6 +343,12 @@ impl LanguageServer for Backend {
     async fn folding_range(&self, params: lsp::FoldingRangeParams) -> Result<Option<Vec<lsp::FoldingRange>>> {
         let encoding = self.encoding();
         self.on_snapshot(move |s| handlers::folding_ranges(s, &params.text_document.uri, encoding)).await
+    }
+
+    async fn completion(&self, params: lsp::CompletionParams) -> Result<Option<lsp::CompletionResponse>> {
+        let encoding = self.encoding();
+        let at = params.text_document_position;
+        self.on_snapshot(move |s| handlers::completion(s, &at.text_document.uri, at.position, encoding)).await
     }
 
     async fn formatting(&self, params: lsp::DocumentFormattingParams) -> Result<Option<Vec<lsp::TextEdit>>> {

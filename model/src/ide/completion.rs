@@ -1,0 +1,469 @@
+//! Completion that knows where the cursor is: node names after `=>`, qualified names after a
+//! `.`, types in type positions, the owner class's members and the locals inside bodies,
+//! interfaces after `:` in ports, fields in `instantiates X (`, and keyword snippets for the
+//! constructs valid at that level.
+
+use std::collections::BTreeSet;
+
+use crate::{
+    ast::{self, AstNode, HasName},
+    db::{parse, Db, SourceFile, Workspace},
+    hir::{
+        check::{scope_at, Checker},
+        def_map,
+        items::{InterfaceRole, TypeKind},
+        DefKind,
+    },
+    syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextSize},
+};
+
+/// What a completion item is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum CompletionKind {
+    Keyword,
+    Snippet,
+    Type,
+    Namespace,
+    Node,
+    Field,
+    Method,
+    Variable,
+    Interface,
+    EnumValue,
+}
+
+/// One proposal.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct CompletionItem {
+    pub label: String,
+    pub kind: CompletionKind,
+    pub detail: Option<String>,
+    /// Text to insert in LSP snippet syntax (`$1`, `${1:name}`), when it differs from the label.
+    pub snippet: Option<String>,
+}
+
+fn item(label: impl Into<String>, kind: CompletionKind, detail: Option<String>) -> CompletionItem {
+    CompletionItem { label: label.into(), kind, detail, snippet: None }
+}
+
+fn snippet(label: &str, body: &str, detail: &str) -> CompletionItem {
+    CompletionItem {
+        label: label.to_string(),
+        kind: CompletionKind::Snippet,
+        detail: Some(detail.to_string()),
+        snippet: Some(body.to_string()),
+    }
+}
+
+const BUILTIN_TYPES: &[&str] = &[
+    "bool",
+    "byte",
+    "char",
+    "short",
+    "int",
+    "long",
+    "float",
+    "double",
+    "real",
+    "string",
+    "void",
+    "unsigned",
+    "int2",
+    "int4",
+    "float2",
+    "float3",
+    "float4",
+    "uchar4",
+    "image2D_uc",
+    "image2D_f",
+    "image3D_f",
+    "buffer2D_f4",
+    "sampler_t",
+];
+
+/// The proposals at `offset`.
+pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Vec<CompletionItem> {
+    let root = parse(db, file).syntax_node();
+    let checker = Checker::resolver(db, workspace, file);
+    let previous = previous_token(&root, offset);
+    let at = previous.as_ref().and_then(|t| t.parent()).unwrap_or_else(|| root.clone());
+    // The identifier being typed, if the cursor is right after one.
+    let typing_ident = previous.as_ref().filter(|t| t.kind() == IDENT && t.text_range().end() == offset);
+    let before = match typing_ident {
+        Some(ident) => ident.prev_token().and_then(|t| skip_trivia_back(&t)),
+        None => previous.clone(),
+    };
+    let before_kind = before.as_ref().map(|t| t.kind());
+
+    let mut items = Vec::new();
+    // `=> |`: the nodes of this activity diagram.
+    if before_kind == Some(FAT_ARROW) {
+        if let Some(diagram) = at.ancestors().find_map(ast::ActivityDiagram::cast) {
+            for node in diagram.syntax().descendants().filter_map(ast::ActivityNode::cast) {
+                if let Some(name) = node.name() {
+                    let detail = format!("{:?}", node.kind()).to_lowercase();
+                    items.push(item(name.text(), CompletionKind::Node, Some(detail)));
+                }
+            }
+        }
+        return finish(items);
+    }
+    // `A.B.|` in a qualified name: what the namespace contains.
+    if before_kind == Some(DOT) {
+        if let Some(prefix) = before.as_ref().and_then(path_before_dot) {
+            let scope = scope_at(&at);
+            let namespace = checker.resolve(&scope, &prefix).map(|d| d.fqn.clone()).unwrap_or(prefix.clone());
+            let map = def_map(db, workspace);
+            let children: BTreeSet<(String, bool)> = map
+                .definitions
+                .range(format!("{namespace}.")..)
+                .take_while(|(k, _)| k.starts_with(&format!("{namespace}.")))
+                .filter_map(|(k, defs)| {
+                    let rest = &k[namespace.len() + 1..];
+                    (!rest.contains('.')).then(|| (rest.to_string(), matches!(defs[0].kind, DefKind::Type(_))))
+                })
+                .collect();
+            for (name, is_type) in children {
+                let kind = if is_type { CompletionKind::Type } else { CompletionKind::Namespace };
+                items.push(item(name, kind, Some(namespace.clone())));
+            }
+            // An enum's values.
+            if let Some(DefKind::Type(ty)) = checker.lookup_one(&namespace).map(|d| &d.kind) {
+                for value in &ty.enum_values {
+                    items.push(item(value.clone(), CompletionKind::EnumValue, Some(namespace.clone())));
+                }
+            }
+            return finish(items);
+        }
+    }
+    // `provider name : |` in a port: interfaces of that role.
+    if before_kind == Some(COLON) && at.ancestors().any(|a| a.kind() == CONNECTOR || a.kind() == PORT) {
+        let role = at.ancestors().find_map(ast::Connector::cast).and_then(|c| c.role());
+        for defs in def_map(db, workspace).definitions.values() {
+            let def = &defs[0];
+            if let DefKind::Type(ty) = &def.kind {
+                let fits = matches!(
+                    (ty.kind, role),
+                    (TypeKind::Interface(InterfaceRole::Provider), Some(ast::ConnectorRole::Provider))
+                        | (TypeKind::Interface(InterfaceRole::Processor), Some(ast::ConnectorRole::Processor))
+                        | (TypeKind::Interface(_), None)
+                );
+                if fits {
+                    items.push(item(def.fqn.clone(), CompletionKind::Interface, None));
+                }
+            }
+        }
+        return finish(items);
+    }
+    // `X instantiates T (|`: the component class's fields.
+    if let Some(instance) = at.ancestors().find_map(ast::ComponentInstance::cast) {
+        let in_args = at.ancestors().any(|a| a.kind() == NAMED_ARG_LIST);
+        if in_args && matches!(before_kind, Some(L_PAREN | COMMA)) {
+            if let Some(def) = instance.component().and_then(|p| checker.resolve(&scope_at(&at), &p.text())) {
+                if let DefKind::Type(ty) = &def.kind {
+                    for field in &ty.fields {
+                        let mut it = item(field.name.clone(), CompletionKind::Field, Some(def.fqn.clone()));
+                        it.snippet = Some(format!("{} = $1", field.name));
+                        items.push(it);
+                    }
+                }
+            }
+            return finish(items);
+        }
+    }
+    // Type positions: after a visibility/qualifier, in a parameter list, after `var`, `new`, `as`,
+    // `extends`, `implements`, `owner`, `instantiates`, `:` of an association.
+    let type_position = matches!(
+        before_kind,
+        Some(
+            PUBLIC_KW
+                | PROTECTED_KW
+                | PRIVATE_KW
+                | VAR_KW
+                | CONST_KW
+                | REF_KW
+                | NEW_KW
+                | AS_KW
+                | EXTENDS_KW
+                | IMPLEMENTS_KW
+                | UNSIGNED_KW
+                | OWNER_KW
+                | INSTANTIATES_KW
+                | L_ANGLE
+        )
+    ) || (matches!(before_kind, Some(L_PAREN | COMMA))
+        && at.ancestors().any(|a| a.kind() == PARAM_LIST))
+        || at.ancestors().any(|a| a.kind() == TYPE_REF);
+    if type_position {
+        for ty in BUILTIN_TYPES {
+            items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
+        }
+        types_in_scope(db, workspace, &mut items);
+        return finish(items);
+    }
+    // Inside a node or method body: statements, locals, the owner's members.
+    if let Some(body) = at.ancestors().find(|a| matches!(a.kind(), NODE_BODY | BLOCK)) {
+        for keyword in ["var", "const", "if", "for", "loop", "do", "switch", "return", "call behavior", "new"] {
+            items.push(item(keyword, CompletionKind::Keyword, None));
+        }
+        if body.kind() == NODE_BODY || body.ancestors().any(|a| a.kind() == NODE_BODY) {
+            items.push(snippet("=> transition", "=> ${1:target};", "transition to a node"));
+            items.push(snippet("[guard] => transition", "[${1:condition}] => ${2:target};", "guarded transition"));
+        }
+        locals_in_scope(&body, &mut items);
+        owner_members(&checker, &at, &mut items);
+        return finish(items);
+    }
+    // Declaration levels: keyword snippets.
+    let level = at.ancestors().find(|a| {
+        matches!(
+            a.kind(),
+            CLASS_DIAGRAM | ACTIVITY_DIAGRAM | SWIMLANE | COMPONENT_DIAGRAM | COMPONENT_INSTANCE_DIAGRAM | MEMBER_LIST
+        )
+    });
+    match level.as_ref().map(|l| l.kind()) {
+        Some(CLASS_DIAGRAM) => {
+            items.push(snippet("class", "public class ${1:Name}\n{\n\t$0\n}", "class declaration"));
+            items.push(snippet("interface", "public interface ${1:Name}\n{\n\t$0\n}", "interface declaration"));
+            items.push(snippet("provider interface", "public interface provider ${1:Name}\n{\n\tpublic void provide${2:Data}(${3});\n}", "output interface of a component"));
+            items.push(snippet("processor interface", "public interface processor ${1:Name}\n{\n\tpublic void process${2:Data}(${3});\n}", "input interface of a component"));
+            items.push(snippet("enum", "public enum ${1:Name} { ${2:A}, ${3:B} }", "enumeration"));
+            items.push(snippet("attribute", "public attribute ${1:Name}\n{\n\tpublic ${2:string} ${3:value};\n}", "generator attribute"));
+            for kind in ["source", "filter", "sink"] {
+                items.push(snippet(kind, &format!("public {kind} ${{1:Name}}\n{{\n\tpublic bool process(ConstIObjectParametersPtr parameters);\n}}"), "component class"));
+            }
+            items.push(item("import", CompletionKind::Keyword, None));
+        }
+        Some(ACTIVITY_DIAGRAM) | Some(SWIMLANE) => {
+            if level.as_ref().is_some_and(|l| l.kind() == ACTIVITY_DIAGRAM) {
+                items.push(snippet("swimlane", "swimlane ${1:Lane}, owner ${2:Class}\n{\n\tstart S\n\t{\n\t\t=> ${3:first};\n\t}\n\t$0\n\tfinal done;\n}", "swimlane with start and final nodes"));
+            }
+            for (kind, body) in [
+                ("start", "start ${1:S}\n{\n\t=> ${2:first};\n}"),
+                ("action", "action ${1:name}(${2})\n{\n\t$0\n\t=> ${3:next};\n}"),
+                ("decision", "decision ${1:name}\n{\n\t[${2:condition}] => ${3:yes};\n\t[] => ${4:no};\n}"),
+                ("calc", "calc ${1:name}(${2})\n{\n\tcall ${3:Class}::${4:kernel}($5);\n\t=> ${6:next};\n}"),
+                ("calcRange", "calcRange ${1:name}(${2})\n{\n\tcall ${3:Class}::${4:kernel}($5);\n\t=> ${6:next};\n}"),
+                ("loop", "loop ${1:name}(var int ${2:i} = 0; $2 < ${3:n}; $2 = $2 + 1)\n{\n\t$0\n\t=> ${4:next};\n}"),
+                ("loopWindow", "loopWindow ${1:name}(var int u = -${2:r}, var int v = -$2; u <= $2, v <= $2; u = u + 1, v = v + 1)\n{\n\t$0\n\t=> ${3:next};\n}"),
+                ("fork", "fork ${1:name}\n{\n\t=> ${2:a};\n\t=> ${3:b};\n}"),
+                ("join", "join ${1:name}\n{\n\t=> ${2:next};\n}"),
+                ("final", "final ${1:done};"),
+            ] {
+                items.push(snippet(kind, body, &format!("{kind} node")));
+            }
+        }
+        Some(MEMBER_LIST) => {
+            for keyword in ["public", "protected", "private", "const", "ref", "global", "self"] {
+                items.push(item(keyword, CompletionKind::Keyword, None));
+            }
+            for ty in BUILTIN_TYPES {
+                items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
+            }
+            types_in_scope(db, workspace, &mut items);
+        }
+        Some(COMPONENT_DIAGRAM) => {
+            for kind in ["source", "filter", "sink", "class"] {
+                items.push(snippet(kind, &format!("{kind} ${{1:Class}}\n{{\n\tport ${{2:Port}} ( provider ${{3:out}} : ${{4:Interface}} );\n}}"), "component"));
+            }
+        }
+        Some(COMPONENT_INSTANCE_DIAGRAM) => {
+            items.push(snippet("instantiates", "${1:Name} instantiates ${2:Component} ( )\n{\n\t$0\n}", "component instance"));
+        }
+        _ => {
+            for (kind, body) in [
+                ("ClassDiagram", "ClassDiagram ${1:Name}\n{\n\t$0\n}"),
+                ("ActivityDiagram", "ActivityDiagram ${1:Name}(${2})\n{\n\tswimlane ${3:Lane}\n\t{\n\t\tstart S\n\t\t{\n\t\t\t=> done;\n\t\t}\n\t\t$0\n\t\tfinal done;\n\t}\n}"),
+                ("ComponentDiagram", "ComponentDiagram ${1:Name}\n{\n\t$0\n}"),
+                ("ComponentInstanceDiagram", "ComponentInstanceDiagram ${1:Name}\n{\n\t$0\n}"),
+            ] {
+                items.push(snippet(kind, body, "diagram"));
+            }
+        }
+    }
+    finish(items)
+}
+
+fn finish(mut items: Vec<CompletionItem>) -> Vec<CompletionItem> {
+    items.sort();
+    items.dedup_by(|a, b| a.label == b.label && a.kind == b.kind);
+    items
+}
+
+fn previous_token(root: &SyntaxNode, offset: TextSize) -> Option<SyntaxToken> {
+    let token = root.token_at_offset(offset).left_biased()?;
+    skip_trivia_back(&token)
+}
+
+fn skip_trivia_back(token: &SyntaxToken) -> Option<SyntaxToken> {
+    let mut t = Some(token.clone());
+    while let Some(current) = t {
+        if !current.kind().is_trivia() {
+            return Some(current);
+        }
+        t = current.prev_token();
+    }
+    None
+}
+
+/// `A.B` for the `.` after `B` in `A.B.`.
+fn path_before_dot(dot: &SyntaxToken) -> Option<String> {
+    let mut segments = Vec::new();
+    let mut t = dot.prev_token().and_then(|t| skip_trivia_back(&t));
+    while let Some(ident) = t.filter(|t| t.kind() == IDENT) {
+        segments.push(ident.text().to_string());
+        let before = ident.prev_token().and_then(|t| skip_trivia_back(&t));
+        match before {
+            Some(d) if d.kind() == DOT => t = d.prev_token().and_then(|t| skip_trivia_back(&t)),
+            _ => break,
+        }
+    }
+    segments.reverse();
+    (!segments.is_empty()).then(|| segments.join("."))
+}
+
+fn types_in_scope(db: &dyn Db, workspace: Workspace, items: &mut Vec<CompletionItem>) {
+    for (simple, fqns) in &def_map(db, workspace).types_by_simple_name {
+        for fqn in fqns {
+            let label = if fqns.len() == 1 { simple.clone() } else { fqn.clone() };
+            items.push(item(label, CompletionKind::Type, Some(fqn.clone())));
+        }
+    }
+}
+
+fn locals_in_scope(body: &SyntaxNode, items: &mut Vec<CompletionItem>) {
+    for ancestor in body.ancestors() {
+        for decl in ancestor.children().filter(|c| matches!(c.kind(), VAR_DECL | VARIABLE)) {
+            if let Some(name) = decl.children().find(|c| c.kind() == NAME) {
+                items.push(item(name.text().to_string(), CompletionKind::Variable, None));
+            }
+        }
+        for param in ancestor.children().filter(|c| c.kind() == PARAM_LIST).flat_map(|l| l.children()) {
+            if let Some(name) = ast::Param::cast(param).and_then(|p| p.name()) {
+                items.push(item(name.text(), CompletionKind::Variable, Some("parameter".into())));
+            }
+        }
+    }
+}
+
+/// The fields and methods of the swimlane's (or diagram's, or enclosing class's) owner, with
+/// those inherited.
+fn owner_members(checker: &Checker, at: &SyntaxNode, items: &mut Vec<CompletionItem>) {
+    let scope = scope_at(at);
+    let owner_path = at.ancestors().find_map(|a| {
+        ast::Swimlane::cast(a.clone())
+            .and_then(|s| s.owner())
+            .or_else(|| ast::ActivityDiagram::cast(a).and_then(|d| d.owner()))
+    });
+    let owner = match owner_path {
+        Some(path) => checker.resolve(&scope, &path.text()),
+        None => at.ancestors().find_map(ast::TypeDecl::cast).and_then(|class| {
+            let name = class.name()?.text();
+            checker
+                .lookup_one(&crate::hir::definitions::join(scope.namespaces.last().map_or("", |s| s.as_str()), &name))
+        }),
+    };
+    let Some(owner) = owner else { return };
+    let mut seen = std::collections::HashSet::new();
+    let mut stack = vec![owner];
+    while let Some(def) = stack.pop() {
+        if !seen.insert(def.fqn.clone()) {
+            continue;
+        }
+        let DefKind::Type(ty) = &def.kind else { continue };
+        for field in &ty.fields {
+            items.push(item(field.name.clone(), CompletionKind::Field, Some(def.fqn.clone())));
+        }
+        for method in &ty.methods {
+            let params: Vec<String> =
+                method.params.iter().enumerate().map(|(i, p)| format!("${{{}:{}}}", i + 1, p.name)).collect();
+            let mut it = item(method.name.clone(), CompletionKind::Method, Some(def.fqn.clone()));
+            it.snippet = Some(format!("{}({})", method.name, params.join(", ")));
+            items.push(it);
+        }
+        let base_scope = checker.scope_of(def);
+        for base in ty.extends.iter().chain(&ty.implements).filter_map(|b| b.path.as_deref()) {
+            if let Some(base_def) = checker.resolve(&base_scope, base) {
+                stack.push(base_def);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::db::RootDatabase;
+
+    fn labels(files: &[(&str, &str)]) -> Vec<String> {
+        let db = RootDatabase::default();
+        let mut cursor = None;
+        let inputs: Vec<SourceFile> = files
+            .iter()
+            .map(|(path, text)| {
+                if let Some(at) = text.find("$0") {
+                    cursor = Some(TextSize::from(at as u32));
+                }
+                SourceFile::new(&db, path.to_string(), text.replace("$0", ""))
+            })
+            .collect();
+        let ws = Workspace::new(&db, inputs.clone());
+        completions(&db, ws, inputs[0], cursor.unwrap()).into_iter().map(|i| i.label).collect()
+    }
+
+    #[test]
+    fn node_names_after_a_transition_arrow() {
+        let found = labels(&[(
+            "a.gudsl",
+            "ActivityDiagram Ad() { swimlane L { start S { => $0 } action work { } final done; } }",
+        )]);
+        assert_eq!(found, ["S", "done", "work"]);
+    }
+
+    #[test]
+    fn qualified_names_after_a_dot_and_enum_values() {
+        let defs = ("d.gudsl", "ClassDiagram Defs { class Image { } enum Mode { Fast, Slow } ClassDiagram Inner { } }");
+        let found = labels(&[("a.gudsl", "ClassDiagram U { class C { public Defs.$0 x; } }"), defs]);
+        assert_eq!(found, ["Image", "Inner", "Mode"]);
+        let found = labels(&[
+            ("a.gudsl", "ActivityDiagram Ad() { swimlane L { start S { var Defs.Mode m = Defs.Mode.$0 } } }"),
+            defs,
+        ]);
+        assert_eq!(found, ["Fast", "Slow"]);
+    }
+
+    #[test]
+    fn owner_members_and_locals_in_an_action() {
+        let found = labels(&[
+            ("a.gudsl", "ActivityDiagram Ad(int n) { swimlane L, owner Defs.Image { start S { => a; } action a(int k) { var int x = 1; $0 } } }"),
+            ("d.gudsl", "ClassDiagram Defs { class Base { public int width; } class Image extends Base { public void grow(int by); } }"),
+        ]);
+        for expected in ["width", "grow", "x", "k", "n", "var", "=> transition"] {
+            assert!(found.contains(&expected.to_string()), "{expected} missing from {found:?}");
+        }
+    }
+
+    #[test]
+    fn interfaces_after_a_connector_colon_and_fields_in_instantiates() {
+        let defs = (
+            "d.gudsl",
+            "ClassDiagram Defs { interface provider Out { } interface processor In { } source Camera { public int width; public int height; } }",
+        );
+        let found =
+            labels(&[("a.gudsl", "ComponentDiagram C { source Defs.Camera { port P ( provider p : $0 ) } }"), defs]);
+        assert_eq!(found, ["Defs.Out"]);
+        let found = labels(&[("a.gudsl", "ComponentInstanceDiagram I { C1 instantiates Defs.Camera ($0) }"), defs]);
+        assert_eq!(found, ["height", "width"]);
+    }
+
+    #[test]
+    fn snippets_by_level_and_types_in_type_positions() {
+        assert!(labels(&[("a.gudsl", "$0")]).contains(&"ActivityDiagram".to_string()));
+        let found = labels(&[("a.gudsl", "ClassDiagram D { $0 }")]);
+        assert!(found.contains(&"class".to_string()) && found.contains(&"provider interface".to_string()));
+        let found = labels(&[("a.gudsl", "ActivityDiagram A() { swimlane L { $0 } }")]);
+        assert!(found.contains(&"calcRange".to_string()) && found.contains(&"loopWindow".to_string()));
+        let found = labels(&[("a.gudsl", "ClassDiagram D { class Image { } class C { public $0 } }")]);
+        assert!(found.contains(&"Image".to_string()) && found.contains(&"float4".to_string()));
+    }
+}
