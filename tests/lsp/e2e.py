@@ -225,6 +225,29 @@ async def main(gudsl):
     if "width" not in labels or "var" not in labels or "n" not in labels:
         fail(f"completion in an action: {labels}")
 
+    # Semantic tokens (full, then a delta against it), selection ranges, workspace symbols.
+    full = await client.text_document_semantic_tokens_full_async(
+        t.SemanticTokensParams(text_document=t.TextDocumentIdentifier(uri=ad_uri))
+    )
+    if not full.data or len(full.data) % 5 != 0 or not full.result_id:
+        fail(f"semantic tokens: {full}")
+    delta = await client.text_document_semantic_tokens_full_delta_async(
+        t.SemanticTokensDeltaParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), previous_result_id=full.result_id)
+    )
+    if not hasattr(delta, "edits") or delta.edits:
+        fail(f"an unchanged document should give an empty delta: {delta}")
+    selections = await client.text_document_selection_range_async(
+        t.SelectionRangeParams(text_document=t.TextDocumentIdentifier(uri=ad_uri), positions=[t.Position(line=width_line, character=14)])
+    )
+    depth, node = 0, selections[0]
+    while node is not None:
+        depth, node = depth + 1, node.parent
+    if depth < 5:
+        fail(f"selection range chain too short: {depth}")
+    symbols = await client.workspace_symbol_async(t.WorkspaceSymbolParams(query="imag"))
+    if [s.name for s in symbols] != ["Image"]:
+        fail(f"workspace symbols: {[s.name for s in symbols]}")
+
     # Formatting returns the canonical text as one edit.
     edits = await client.text_document_formatting_async(
         t.DocumentFormattingParams(

@@ -1,14 +1,20 @@
 //! Editor features computed on the model, in byte offsets and model types only (the server
-//! converts them to LSP): document outline, folding, go to definition and hover.
+//! converts them to LSP): outline, folding, navigation, references and rename, completion,
+//! selection ranges, workspace symbols, semantic tokens.
 
 mod completion;
 mod folding;
 mod navigation;
 mod references;
+mod structure;
 mod symbols;
 
 pub use completion::{completions, CompletionItem, CompletionKind};
 pub use folding::{folding_ranges, Fold, FoldKind};
 pub use navigation::{goto_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};
+pub use structure::{
+    selection_ranges, semantic_tokens, workspace_symbols, HighlightedToken, TokenClass, WorkspaceSymbol,
+    WorkspaceSymbolKind,
+};
 pub use symbols::{document_symbols, Symbol, SymbolKind};

@@ -257,3 +257,163 @@ pub fn completion(
         .collect();
     Some(lsp::CompletionResponse::Array(items))
 }
+
+pub fn selection_ranges(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    positions: &[lsp::Position],
+    encoding: Encoding,
+) -> Option<Vec<lsp::SelectionRange>> {
+    let file = snapshot.document(uri)?.file;
+    let index = line_index(&snapshot.db, file);
+    let root = gudsl_model::db::parse(&snapshot.db, file).syntax_node();
+    Some(
+        positions
+            .iter()
+            .map(|&position| {
+                let offset = Host::offset(snapshot, file, position, encoding);
+                let ranges = ide::selection_ranges(&root, offset);
+                // Outermost first, each the parent of the next.
+                let mut selection: Option<lsp::SelectionRange> = None;
+                for range in ranges.iter().rev() {
+                    selection = Some(lsp::SelectionRange {
+                        range: encoding.range(index, *range),
+                        parent: selection.map(Box::new),
+                    });
+                }
+                selection.unwrap_or(lsp::SelectionRange { range: lsp::Range::new(position, position), parent: None })
+            })
+            .collect(),
+    )
+}
+
+#[allow(deprecated)] // `deprecated` is a required field of the LSP type.
+pub fn workspace_symbols(snapshot: &Snapshot, query: &str, encoding: Encoding) -> Vec<lsp::SymbolInformation> {
+    ide::workspace_symbols(&snapshot.db, snapshot.workspace, query, 500)
+        .into_iter()
+        .filter_map(|symbol| {
+            use ide::WorkspaceSymbolKind as K;
+            let index = line_index(&snapshot.db, symbol.file);
+            Some(lsp::SymbolInformation {
+                name: symbol.name,
+                kind: match symbol.kind {
+                    K::Diagram => lsp::SymbolKind::NAMESPACE,
+                    K::Activity => lsp::SymbolKind::FUNCTION,
+                    K::Class => lsp::SymbolKind::CLASS,
+                    K::Interface => lsp::SymbolKind::INTERFACE,
+                    K::Enum => lsp::SymbolKind::ENUM,
+                    K::Attribute => lsp::SymbolKind::STRUCT,
+                },
+                tags: None,
+                deprecated: None,
+                location: lsp::Location {
+                    uri: snapshot.uri_of(symbol.file)?,
+                    range: encoding.range(index, symbol.focus_range),
+                },
+                container_name: symbol.fqn.rsplit_once('.').map(|(container, _)| container.to_string()),
+            })
+        })
+        .collect()
+}
+
+/// The token types of the semantic-token legend, in `ide::TokenClass` order.
+pub fn semantic_token_legend() -> lsp::SemanticTokensLegend {
+    use lsp::SemanticTokenType as T;
+    lsp::SemanticTokensLegend {
+        token_types: vec![
+            T::KEYWORD,
+            T::COMMENT,
+            T::STRING,
+            T::NUMBER,
+            T::OPERATOR,
+            T::NAMESPACE,
+            T::CLASS,
+            T::INTERFACE,
+            T::ENUM,
+            T::ENUM_MEMBER,
+            T::TYPE,
+            T::FUNCTION,
+            T::METHOD,
+            T::PROPERTY,
+            T::PARAMETER,
+            T::VARIABLE,
+            T::DECORATOR,
+        ],
+        token_modifiers: vec![lsp::SemanticTokenModifier::DECLARATION],
+    }
+}
+
+/// The semantic tokens of a document in LSP's relative encoding (multi-line tokens split).
+pub fn semantic_token_data(snapshot: &Snapshot, uri: &lsp::Uri, encoding: Encoding) -> Option<Vec<u32>> {
+    let file = snapshot.document(uri)?.file;
+    let index = line_index(&snapshot.db, file);
+    let text = file.text(&snapshot.db);
+    let mut data = Vec::new();
+    let (mut last_line, mut last_col) = (0u32, 0u32);
+    for token in ide::semantic_tokens(&snapshot.db, file) {
+        let kind = token.class as u32;
+        let modifiers = u32::from(token.declaration);
+        let start: usize = token.range.start().into();
+        let end: usize = token.range.end().into();
+        // One entry per line of the token.
+        let mut line_start = start;
+        for piece in text[start..end].split_inclusive('\n') {
+            let piece_text = piece.trim_end_matches(['\n', '\r']);
+            let from = gudsl_model::syntax::TextSize::from(line_start as u32);
+            let position = encoding.position(index, from);
+            let length = match encoding.0 {
+                gudsl_model::text::ColumnUnit::Utf8 => piece_text.len() as u32,
+                _ => piece_text.encode_utf16().count() as u32,
+            };
+            if length > 0 {
+                let delta_line = position.line - last_line;
+                let delta_col = if delta_line == 0 { position.character - last_col } else { position.character };
+                data.extend([delta_line, delta_col, length, kind, modifiers]);
+                last_line = position.line;
+                last_col = position.character;
+            }
+            line_start += piece.len();
+        }
+    }
+    Some(data)
+}
+
+/// The edit that turns `old` token data into `new` (common prefix and suffix kept).
+pub fn semantic_token_edit(old: &[u32], new: &[u32]) -> Vec<lsp::SemanticTokensEdit> {
+    let prefix = old.iter().zip(new).take_while(|(a, b)| a == b).count();
+    let suffix = old[prefix..].iter().rev().zip(new[prefix..].iter().rev()).take_while(|(a, b)| a == b).count();
+    let delete = old.len() - prefix - suffix;
+    let insert = &new[prefix..new.len() - suffix];
+    if delete == 0 && insert.is_empty() {
+        return Vec::new();
+    }
+    let data: Vec<lsp::SemanticToken> = insert
+        .chunks(5)
+        .map(|c| lsp::SemanticToken {
+            delta_line: c[0],
+            delta_start: c[1],
+            length: c[2],
+            token_type: c[3],
+            token_modifiers_bitset: c[4],
+        })
+        .collect();
+    vec![lsp::SemanticTokensEdit { start: prefix as u32, delete_count: delete as u32, data: Some(data) }]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn semantic_token_edits_keep_common_prefix_and_suffix() {
+        let old = [0, 0, 5, 0, 0, 1, 2, 3, 1, 0, 0, 4, 2, 2, 0];
+        let mut new = old.to_vec();
+        new[7] = 9; // one token's length changed
+        let edits = semantic_token_edit(&old, &new);
+        assert_eq!(edits.len(), 1);
+        assert_eq!((edits[0].start, edits[0].delete_count), (7, 1));
+        assert!(semantic_token_edit(&old, &old).is_empty());
+        let all = semantic_token_edit(&[], &old);
+        assert_eq!(all[0].data.as_ref().unwrap().len(), 3);
+    }
+}

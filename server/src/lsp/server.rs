@@ -32,6 +32,9 @@ pub struct Backend {
     generation: Arc<AtomicU64>,
     /// What was last published per URI, so only changes are sent.
     published: Arc<Mutex<HashMap<String, Vec<lsp::Diagnostic>>>>,
+    /// The last semantic tokens sent per URI, with their result id, for delta requests.
+    semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
+    next_result_id: AtomicU64,
 }
 
 fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
@@ -47,6 +50,8 @@ impl Backend {
             roots: Mutex::default(),
             generation: Arc::default(),
             published: Arc::default(),
+            semantic_tokens: Mutex::default(),
+            next_result_id: AtomicU64::new(1),
         }
     }
 
@@ -248,6 +253,16 @@ impl LanguageServer for Backend {
                     ..Default::default()
                 }),
                 document_formatting_provider: Some(lsp::OneOf::Left(true)),
+                selection_range_provider: Some(lsp::SelectionRangeProviderCapability::Simple(true)),
+                workspace_symbol_provider: Some(lsp::OneOf::Left(true)),
+                semantic_tokens_provider: Some(lsp::SemanticTokensServerCapabilities::SemanticTokensOptions(
+                    lsp::SemanticTokensOptions {
+                        legend: handlers::semantic_token_legend(),
+                        full: Some(lsp::SemanticTokensFullOptions::Delta { delta: Some(true) }),
+                        range: None,
+                        work_done_progress_options: Default::default(),
+                    },
+                )),
                 document_highlight_provider: Some(lsp::OneOf::Left(true)),
                 rename_provider: Some(lsp::OneOf::Right(lsp::RenameOptions {
                     prepare_provider: Some(true),
@@ -349,6 +364,58 @@ impl LanguageServer for Backend {
         let encoding = self.encoding();
         let at = params.text_document_position;
         self.on_snapshot(move |s| handlers::completion(s, &at.text_document.uri, at.position, encoding)).await
+    }
+
+    async fn selection_range(&self, params: lsp::SelectionRangeParams) -> Result<Option<Vec<lsp::SelectionRange>>> {
+        let encoding = self.encoding();
+        self.on_snapshot(move |s| handlers::selection_ranges(s, &params.text_document.uri, &params.positions, encoding))
+            .await
+    }
+
+    async fn symbol(&self, params: lsp::WorkspaceSymbolParams) -> Result<Option<lsp::WorkspaceSymbolResponse>> {
+        let encoding = self.encoding();
+        let symbols = self.on_snapshot(move |s| handlers::workspace_symbols(s, &params.query, encoding)).await?;
+        Ok(Some(lsp::WorkspaceSymbolResponse::Flat(symbols)))
+    }
+
+    async fn semantic_tokens_full(
+        &self,
+        params: lsp::SemanticTokensParams,
+    ) -> Result<Option<lsp::SemanticTokensResult>> {
+        let encoding = self.encoding();
+        let uri = params.text_document.uri;
+        let key = uri.as_str().to_string();
+        let Some(data) = self.on_snapshot(move |s| handlers::semantic_token_data(s, &uri, encoding)).await? else {
+            return Ok(None);
+        };
+        let id = self.next_result_id.fetch_add(1, Ordering::SeqCst).to_string();
+        let tokens = handlers::semantic_token_edit(&[], &data).pop().and_then(|e| e.data).unwrap_or_default();
+        lock(&self.semantic_tokens).insert(key, (id.clone(), data));
+        Ok(Some(lsp::SemanticTokensResult::Tokens(lsp::SemanticTokens { result_id: Some(id), data: tokens })))
+    }
+
+    async fn semantic_tokens_full_delta(
+        &self,
+        params: lsp::SemanticTokensDeltaParams,
+    ) -> Result<Option<lsp::SemanticTokensFullDeltaResult>> {
+        let encoding = self.encoding();
+        let uri = params.text_document.uri;
+        let key = uri.as_str().to_string();
+        let Some(data) = self.on_snapshot(move |s| handlers::semantic_token_data(s, &uri, encoding)).await? else {
+            return Ok(None);
+        };
+        let id = self.next_result_id.fetch_add(1, Ordering::SeqCst).to_string();
+        let previous = lock(&self.semantic_tokens).insert(key, (id.clone(), data.clone()));
+        Ok(Some(match previous.filter(|(old_id, _)| *old_id == params.previous_result_id) {
+            Some((_, old)) => lsp::SemanticTokensFullDeltaResult::TokensDelta(lsp::SemanticTokensDelta {
+                result_id: Some(id),
+                edits: handlers::semantic_token_edit(&old, &data),
+            }),
+            None => {
+                let tokens = handlers::semantic_token_edit(&[], &data).pop().and_then(|e| e.data).unwrap_or_default();
+                lsp::SemanticTokensFullDeltaResult::Tokens(lsp::SemanticTokens { result_id: Some(id), data: tokens })
+            }
+        }))
     }
 
     async fn formatting(&self, params: lsp::DocumentFormattingParams) -> Result<Option<Vec<lsp::TextEdit>>> {
