@@ -380,8 +380,9 @@ pub fn semantic_token_data(snapshot: &Snapshot, uri: &lsp::Uri, encoding: Encodi
 
 /// The edit that turns `old` token data into `new` (common prefix and suffix kept).
 pub fn semantic_token_edit(old: &[u32], new: &[u32]) -> Vec<lsp::SemanticTokensEdit> {
-    let prefix = old.iter().zip(new).take_while(|(a, b)| a == b).count();
-    let suffix = old[prefix..].iter().rev().zip(new[prefix..].iter().rev()).take_while(|(a, b)| a == b).count();
+    // Edits replace whole tokens (five numbers each).
+    let prefix = old.iter().zip(new).take_while(|(a, b)| a == b).count() / 5 * 5;
+    let suffix = old[prefix..].iter().rev().zip(new[prefix..].iter().rev()).take_while(|(a, b)| a == b).count() / 5 * 5;
     let delete = old.len() - prefix - suffix;
     let insert = &new[prefix..new.len() - suffix];
     if delete == 0 && insert.is_empty() {
@@ -411,7 +412,8 @@ mod tests {
         new[7] = 9; // one token's length changed
         let edits = semantic_token_edit(&old, &new);
         assert_eq!(edits.len(), 1);
-        assert_eq!((edits[0].start, edits[0].delete_count), (7, 1));
+        assert_eq!((edits[0].start, edits[0].delete_count), (5, 5));
+        assert_eq!(edits[0].data.as_ref().unwrap()[0].length, 9);
         assert!(semantic_token_edit(&old, &old).is_empty());
         let all = semantic_token_edit(&[], &old);
         assert_eq!(all[0].data.as_ref().unwrap().len(), 3);
