@@ -257,14 +257,34 @@ async def main(gudsl):
     if len(edits) != 1 or "    swimlane Lane, owner Defs.Image\n    {\n        start S\n        {\n" not in edits[0].new_text:
         fail(f"formatting: {edits}")
 
-    # Broken input: requests still answer.
+    # A quick fix: a transition to a node that does not exist offers to create it.
     client.text_document_did_change(
         t.DidChangeTextDocumentParams(
             text_document=t.VersionedTextDocumentIdentifier(uri=ad_uri, version=3),
+            content_changes=[t.TextDocumentContentChangeWholeDocument(text=AD.replace("Defs.Imag\n", "Defs.Image\n").replace("=> done;", "=> finish;"))],
+        )
+    )
+    missing = await wait_for(lambda: diagnostics.get(ad_uri) if diagnostics.get(ad_uri, (0,))[0] == 3 else None, "diagnostics of version 3")
+    e0204 = [d for d in missing[1] if d.code == "E0204"]
+    if not e0204:
+        fail(f"expected E0204 for `finish`: {[(d.code, d.message) for d in missing[1]]}")
+    actions = await client.text_document_code_action_async(
+        t.CodeActionParams(
+            text_document=t.TextDocumentIdentifier(uri=ad_uri), range=e0204[0].range, context=t.CodeActionContext(diagnostics=e0204)
+        )
+    )
+    titles = [a.title for a in actions]
+    if "Create action node `finish`" not in titles:
+        fail(f"code actions: {titles}")
+
+    # Broken input: requests still answer.
+    client.text_document_did_change(
+        t.DidChangeTextDocumentParams(
+            text_document=t.VersionedTextDocumentIdentifier(uri=ad_uri, version=4),
             content_changes=[t.TextDocumentContentChangeWholeDocument(text="ActivityDiagram { swimlane")],
         )
     )
-    broken = await wait_for(lambda: diagnostics.get(ad_uri) if diagnostics.get(ad_uri, (0,))[0] == 3 else None, "diagnostics of version 3")
+    broken = await wait_for(lambda: diagnostics.get(ad_uri) if diagnostics.get(ad_uri, (0,))[0] == 4 else None, "diagnostics of version 4")
     if not broken[1]:
         fail("expected syntax errors for the broken document")
     await client.text_document_hover_async(

@@ -3,6 +3,7 @@
 //! selection ranges, workspace symbols, semantic tokens.
 
 mod completion;
+mod fixes;
 mod folding;
 mod navigation;
 mod references;
@@ -10,6 +11,7 @@ mod structure;
 mod symbols;
 
 pub use completion::{completions, CompletionItem, CompletionKind};
+pub use fixes::{quick_fixes, QuickFix};
 pub use folding::{folding_ranges, Fold, FoldKind};
 pub use navigation::{goto_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};

@@ -401,6 +401,51 @@ pub fn semantic_token_edit(old: &[u32], new: &[u32]) -> Vec<lsp::SemanticTokensE
     vec![lsp::SemanticTokensEdit { start: prefix as u32, delete_count: delete as u32, data: Some(data) }]
 }
 
+pub fn code_actions(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    range: lsp::Range,
+    encoding: Encoding,
+) -> Option<Vec<lsp::CodeActionOrCommand>> {
+    let file = snapshot.document(uri)?.file;
+    let index = line_index(&snapshot.db, file);
+    let text_len = file.text(&snapshot.db).len();
+    let start = encoding.offset(index, text_len, range.start);
+    let end = encoding.offset(index, text_len, range.end);
+    let range = gudsl_model::syntax::TextRange::new(start.min(end), end.max(start));
+    let fixes = ide::quick_fixes(&snapshot.db, snapshot.workspace, file, range);
+    Some(
+        fixes
+            .into_iter()
+            .map(|fix| {
+                let mut changes: std::collections::HashMap<lsp::Uri, Vec<lsp::TextEdit>> =
+                    std::collections::HashMap::new();
+                for (place, text) in fix.edits {
+                    if let Some(uri) = snapshot.uri_of(place.file) {
+                        let index = line_index(&snapshot.db, place.file);
+                        changes
+                            .entry(uri)
+                            .or_default()
+                            .push(lsp::TextEdit { range: encoding.range(index, place.range), new_text: text });
+                    }
+                }
+                lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
+                    title: fix.title,
+                    kind: Some(lsp::CodeActionKind::QUICKFIX),
+                    diagnostics: Some(vec![lsp::Diagnostic {
+                        range: encoding.range(index, fix.diagnostic_range),
+                        code: Some(lsp::NumberOrString::String(fix.code.as_str().to_string())),
+                        source: Some("gudsl".into()),
+                        ..Default::default()
+                    }]),
+                    edit: Some(lsp::WorkspaceEdit { changes: Some(changes), ..Default::default() }),
+                    ..Default::default()
+                })
+            })
+            .collect(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -253,6 +253,10 @@ impl LanguageServer for Backend {
                     ..Default::default()
                 }),
                 document_formatting_provider: Some(lsp::OneOf::Left(true)),
+                code_action_provider: Some(lsp::CodeActionProviderCapability::Options(lsp::CodeActionOptions {
+                    code_action_kinds: Some(vec![lsp::CodeActionKind::QUICKFIX]),
+                    ..Default::default()
+                })),
                 selection_range_provider: Some(lsp::SelectionRangeProviderCapability::Simple(true)),
                 workspace_symbol_provider: Some(lsp::OneOf::Left(true)),
                 semantic_tokens_provider: Some(lsp::SemanticTokensServerCapabilities::SemanticTokensOptions(
@@ -416,6 +420,11 @@ impl LanguageServer for Backend {
                 lsp::SemanticTokensFullDeltaResult::Tokens(lsp::SemanticTokens { result_id: Some(id), data: tokens })
             }
         }))
+    }
+
+    async fn code_action(&self, params: lsp::CodeActionParams) -> Result<Option<lsp::CodeActionResponse>> {
+        let encoding = self.encoding();
+        self.on_snapshot(move |s| handlers::code_actions(s, &params.text_document.uri, params.range, encoding)).await
     }
 
     async fn formatting(&self, params: lsp::DocumentFormattingParams) -> Result<Option<Vec<lsp::TextEdit>>> {
