@@ -5,6 +5,7 @@
 mod completion;
 mod fixes;
 mod folding;
+mod hints;
 mod navigation;
 mod references;
 mod structure;
@@ -13,6 +14,7 @@ mod symbols;
 pub use completion::{completions, CompletionItem, CompletionKind};
 pub use fixes::{quick_fixes, QuickFix};
 pub use folding::{folding_ranges, Fold, FoldKind};
+pub use hints::{inlay_hints, signature_help, InlayHint, SignatureHelp};
 pub use navigation::{goto_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};
 pub use structure::{

@@ -446,6 +446,60 @@ pub fn code_actions(
     )
 }
 
+pub fn inlay_hints(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    range: lsp::Range,
+    encoding: Encoding,
+) -> Option<Vec<lsp::InlayHint>> {
+    let file = snapshot.document(uri)?.file;
+    let index = line_index(&snapshot.db, file);
+    let len = file.text(&snapshot.db).len();
+    let (start, end) = (encoding.offset(index, len, range.start), encoding.offset(index, len, range.end));
+    let range = gudsl_model::syntax::TextRange::new(start.min(end), end.max(start));
+    Some(
+        ide::inlay_hints(&snapshot.db, file, range)
+            .into_iter()
+            .map(|hint| lsp::InlayHint {
+                position: encoding.position(index, hint.offset),
+                label: lsp::InlayHintLabel::String(hint.label),
+                kind: Some(lsp::InlayHintKind::PARAMETER),
+                text_edits: None,
+                tooltip: None,
+                padding_left: None,
+                padding_right: Some(true),
+                data: None,
+            })
+            .collect(),
+    )
+}
+
+pub fn signature_help(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Option<lsp::SignatureHelp> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let help = ide::signature_help(&snapshot.db, snapshot.workspace, file, offset)?;
+    Some(lsp::SignatureHelp {
+        signatures: vec![lsp::SignatureInformation {
+            label: help.label,
+            documentation: None,
+            parameters: Some(
+                help.parameters
+                    .into_iter()
+                    .map(|p| lsp::ParameterInformation { label: lsp::ParameterLabel::Simple(p), documentation: None })
+                    .collect(),
+            ),
+            active_parameter: Some(help.active_parameter as u32),
+        }],
+        active_signature: Some(0),
+        active_parameter: Some(help.active_parameter as u32),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
