@@ -62,7 +62,7 @@ fn collect(map: &mut DefMap, file: SourceFile, prefix: &str, outer_imports: &[Im
     let fqn = join(prefix, &diagram.name);
     let imports: Arc<[ImportItem]> = outer_imports.iter().chain(&diagram.imports).cloned().collect();
     let kind = match (&diagram.kind, &diagram.activity) {
-        (DiagramKind::Activity, Some(signature)) => DefKind::Activity(Arc::new(signature.clone())),
+        (DiagramKind::Activity, Some(signature)) => DefKind::Activity(signature.clone()),
         (DiagramKind::Component, _) => DefKind::ComponentDiagram,
         (DiagramKind::ComponentInstance, _) => DefKind::ComponentInstanceDiagram,
         _ => DefKind::ClassDiagram,
@@ -79,7 +79,7 @@ fn collect(map: &mut DefMap, file: SourceFile, prefix: &str, outer_imports: &[Im
         map.definitions.entry(type_fqn.clone()).or_default().push(Definition {
             fqn: type_fqn,
             file,
-            kind: DefKind::Type(Arc::new(ty.clone())),
+            kind: DefKind::Type(ty.clone()),
             imports: imports.clone(),
         });
     }

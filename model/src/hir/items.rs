@@ -32,9 +32,9 @@ pub struct DiagramItem {
     pub kind: DiagramKind,
     pub name: String,
     pub imports: Vec<ImportItem>,
-    pub types: Vec<TypeItem>,
+    pub types: Vec<std::sync::Arc<TypeItem>>,
     pub diagrams: Vec<DiagramItem>,
-    pub activity: Option<ActivitySignature>,
+    pub activity: Option<std::sync::Arc<ActivitySignature>>,
     /// Components of a component diagram (nested ones flattened, in order).
     pub components: Vec<ComponentItem>,
 }
@@ -196,10 +196,12 @@ fn diagram_item(diagram: &ast::Diagram) -> Option<DiagramItem> {
     item.diagrams =
         diagram.syntax().children().filter_map(ast::Diagram::cast).filter_map(|d| diagram_item(&d)).collect();
     match diagram {
-        ast::Diagram::ClassDiagram(d) => item.types = d.type_decls().filter_map(|t| type_item(&t)).collect(),
+        ast::Diagram::ClassDiagram(d) => {
+            item.types = d.type_decls().filter_map(|t| type_item(&t)).map(std::sync::Arc::new).collect()
+        }
         ast::Diagram::ActivityDiagram(d) => {
             item.kind = DiagramKind::Activity;
-            item.activity = Some(activity_signature(d));
+            item.activity = Some(std::sync::Arc::new(activity_signature(d)));
         }
         ast::Diagram::ComponentDiagram(d) => {
             item.kind = DiagramKind::Component;

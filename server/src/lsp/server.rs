@@ -30,8 +30,8 @@ pub struct Backend {
     roots: Mutex<Vec<PathBuf>>,
     /// Bumped by every edit; a diagnostics run publishes only if no newer edit came.
     generation: Arc<AtomicU64>,
-    /// What was last published per URI, so only changes are sent.
-    published: Arc<Mutex<HashMap<String, Vec<lsp::Diagnostic>>>>,
+    /// What was last published per URI (with the document version), so only changes are sent.
+    published: Arc<Mutex<HashMap<String, (Option<i32>, Vec<lsp::Diagnostic>)>>>,
     /// The last semantic tokens sent per URI, with their result id, for delta requests.
     semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
     next_result_id: AtomicU64,
@@ -91,7 +91,8 @@ impl Backend {
     }
 
     /// Computes the diagnostics of every document and publishes those that changed, unless a
-    /// newer edit arrives first (then its own run publishes).
+    /// newer edit arrives first (then its own run publishes). Open documents go first, so the
+    /// one being typed in is answered before the rest of the workspace is re-checked.
     fn schedule_diagnostics(&self) {
         let generation = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
         let current = self.generation.clone();
@@ -101,40 +102,46 @@ impl Backend {
         let encoding = self.encoding();
         tokio::spawn(async move {
             tokio::task::yield_now().await;
-            if current.load(Ordering::SeqCst) != generation {
-                return;
-            }
-            let snapshot = lock(&host).snapshot();
-            let computed = tokio::task::spawn_blocking(move || {
-                salsa::Cancelled::catch(AssertUnwindSafe(|| {
-                    let mut all: Vec<(lsp::Uri, Option<i32>, Vec<lsp::Diagnostic>)> = snapshot
-                        .documents
-                        .values()
-                        .map(|d| (d.uri.clone(), d.version, handlers::diagnostics(&snapshot, d.file, encoding)))
-                        .collect();
-                    all.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
-                    all
-                }))
-            })
-            .await;
-            let Ok(Ok(all)) = computed else { return };
-            if current.load(Ordering::SeqCst) != generation {
-                return;
-            }
-            let changed: Vec<_> = {
-                let mut published = lock(&published);
-                all.into_iter()
-                    .filter(|(uri, _, diagnostics)| {
-                        let unchanged = published.get(uri.as_str()) == Some(diagnostics);
-                        if !unchanged {
-                            published.insert(uri.as_str().to_string(), diagnostics.clone());
-                        }
-                        !unchanged
-                    })
-                    .collect()
-            };
-            for (uri, version, diagnostics) in changed {
-                client.publish_diagnostics(uri, diagnostics, version).await;
+            for open_phase in [true, false] {
+                if current.load(Ordering::SeqCst) != generation {
+                    return;
+                }
+                let snapshot = lock(&host).snapshot();
+                let computed = tokio::task::spawn_blocking(move || {
+                    salsa::Cancelled::catch(AssertUnwindSafe(|| {
+                        let mut all: Vec<(lsp::Uri, Option<i32>, Vec<lsp::Diagnostic>)> = snapshot
+                            .documents
+                            .values()
+                            .filter(|d| d.open == open_phase)
+                            .map(|d| (d.uri.clone(), d.version, handlers::diagnostics(&snapshot, d.file, encoding)))
+                            .collect();
+                        all.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
+                        all
+                    }))
+                })
+                .await;
+                let Ok(Ok(all)) = computed else { return };
+                if current.load(Ordering::SeqCst) != generation {
+                    return;
+                }
+                let changed: Vec<_> = {
+                    let mut published = lock(&published);
+                    // A new version of an open document is always answered, so the editor knows
+                    // its diagnostics are current; other documents only when they change.
+                    all.into_iter()
+                        .filter(|(uri, version, diagnostics)| {
+                            let current = (*version, diagnostics.clone());
+                            let unchanged = published.get(uri.as_str()) == Some(&current);
+                            if !unchanged {
+                                published.insert(uri.as_str().to_string(), current);
+                            }
+                            !unchanged
+                        })
+                        .collect()
+                };
+                for (uri, version, diagnostics) in changed {
+                    client.publish_diagnostics(uri, diagnostics, version).await;
+                }
             }
         });
     }
