@@ -23,6 +23,9 @@ use super::{
     host::{Host, Snapshot},
 };
 
+/// Diagnostics as last sent for a document, with the document version they were for.
+type Published = (Option<i32>, Vec<lsp::Diagnostic>);
+
 pub struct Backend {
     client: Client,
     host: Arc<Mutex<Host>>,
@@ -31,7 +34,7 @@ pub struct Backend {
     /// Bumped by every edit; a diagnostics run publishes only if no newer edit came.
     generation: Arc<AtomicU64>,
     /// What was last published per URI (with the document version), so only changes are sent.
-    published: Arc<Mutex<HashMap<String, (Option<i32>, Vec<lsp::Diagnostic>)>>>,
+    published: Arc<Mutex<HashMap<String, Published>>>,
     /// The last semantic tokens sent per URI, with their result id, for delta requests.
     semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
     next_result_id: AtomicU64,
