@@ -108,6 +108,23 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
         }
         return finish(items);
     }
+    // `receiver.|` in an expression: the fields and methods of the receiver's declared type.
+    if before_kind == Some(DOT) && before.as_ref().and_then(|d| d.parent()).is_some_and(|p| p.kind() == MEMBER_EXPR) {
+        let receiver = before.as_ref().and_then(|d| d.prev_token()).and_then(|t| skip_trivia_back(&t));
+        if let Some(receiver) = receiver.filter(|r| r.kind() == IDENT) {
+            if let Some(resolved) =
+                super::navigation::type_of_name_at(db, workspace, file, receiver.text_range().start())
+            {
+                if let Some(def) = resolved.qualified.as_deref().and_then(|fqn| checker.lookup_one(fqn)) {
+                    type_members(&checker, def, &mut items);
+                }
+            }
+        }
+        if !items.is_empty() {
+            return finish(items);
+        }
+        // Not a typed receiver: `Enum.Value`, `Diagram.Type` are qualified names (below).
+    }
     // `A.B.|` in a qualified name: what the namespace contains.
     if before_kind == Some(DOT) {
         if let Some(prefix) = before.as_ref().and_then(path_before_dot) {
@@ -363,9 +380,15 @@ fn owner_members(checker: &Checker, at: &SyntaxNode, items: &mut Vec<CompletionI
                 .lookup_one(&crate::hir::definitions::join(scope.namespaces.last().map_or("", |s| s.as_str()), &name))
         }),
     };
-    let Some(owner) = owner else { return };
+    if let Some(owner) = owner {
+        type_members(checker, owner, items);
+    }
+}
+
+/// The fields and methods of a type and its bases.
+fn type_members(checker: &Checker, def: &crate::hir::Definition, items: &mut Vec<CompletionItem>) {
     let mut seen = std::collections::HashSet::new();
-    let mut stack = vec![owner];
+    let mut stack = vec![def];
     while let Some(def) = stack.pop() {
         if !seen.insert(def.fqn.clone()) {
             continue;
@@ -441,6 +464,15 @@ mod tests {
         for expected in ["width", "grow", "x", "k", "n", "var", "=> transition"] {
             assert!(found.contains(&expected.to_string()), "{expected} missing from {found:?}");
         }
+    }
+
+    #[test]
+    fn members_of_a_variable_after_a_dot() {
+        let found = labels(&[
+            ("a.gudsl", "ActivityDiagram Ad() { swimlane L { start S { var Defs.Image img = null; img.$0 } } }"),
+            ("d.gudsl", "ClassDiagram Defs { class Base { public int id; } class Image extends Base { public int width; public void grow(int by); } }"),
+        ]);
+        assert_eq!(found, ["grow", "id", "width"]);
     }
 
     #[test]

@@ -15,7 +15,7 @@ pub use completion::{completions, CompletionItem, CompletionKind};
 pub use fixes::{quick_fixes, QuickFix};
 pub use folding::{folding_ranges, Fold, FoldKind};
 pub use hints::{inlay_hints, signature_help, InlayHint, SignatureHelp};
-pub use navigation::{goto_definition, hover, NavigationTarget};
+pub use navigation::{goto_definition, goto_type_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};
 pub use structure::{
     selection_ranges, semantic_tokens, workspace_symbols, HighlightedToken, TokenClass, WorkspaceSymbol,

@@ -39,6 +39,35 @@ pub fn goto_definition(db: &dyn Db, workspace: Workspace, file: SourceFile, offs
     resolve_at(db, workspace, file, offset).map(|r| r.target).into_iter().collect()
 }
 
+/// The declaration of the type of what the name at `offset` means: the class of a variable,
+/// parameter or field; a type itself.
+pub fn goto_type_definition(
+    db: &dyn Db,
+    workspace: Workspace,
+    file: SourceFile,
+    offset: TextSize,
+) -> Vec<NavigationTarget> {
+    type_of_name_at(db, workspace, file, offset).map(|r| r.target).into_iter().collect()
+}
+
+/// The definition of the declared type of the name at `offset`, if it has a user type.
+pub(crate) fn type_of_name_at(
+    db: &dyn Db,
+    workspace: Workspace,
+    file: SourceFile,
+    offset: TextSize,
+) -> Option<Resolved> {
+    let resolved = resolve_at(db, workspace, file, offset)?;
+    if ast::TypeDecl::can_cast(resolved.declaration.kind()) {
+        return Some(resolved);
+    }
+    let type_ref = resolved.declaration.children().find_map(ast::TypeRef::cast)?;
+    let path = type_ref.path()?;
+    let checker = Checker::resolver(db, workspace, resolved.target.file);
+    let def = checker.resolve(&scope_at(&resolved.declaration), &path.text())?;
+    definition_target(db, def, resolved.reference)
+}
+
 /// Hover text (markdown) for the name at `offset`, and the range it applies to.
 pub fn hover(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Option<(TextRange, String)> {
     let resolved = resolve_at(db, workspace, file, offset)?;
@@ -402,6 +431,18 @@ mod tests {
         let at = TextSize::from(text.find("grow").unwrap() as u32 + 1);
         let targets = goto_definition(&db, ws, files[0], at);
         assert_eq!(target_text(&db, &targets[0]), "grow");
+    }
+
+    #[test]
+    fn type_definition_of_a_variable() {
+        let (db, ws, files, at) = setup(&[
+            ("ad.gudsl", "ActivityDiagram Ad(Defs.Image img) { swimlane L { start S { var int w = im$0g.width; => f; } final f; } }"),
+            ("defs.gudsl", "ClassDiagram Defs { class Image { public int width; } }"),
+        ]);
+        let targets = goto_type_definition(&db, ws, files[0], at);
+        assert_eq!(targets.len(), 1);
+        assert_eq!(targets[0].file, files[1]);
+        assert_eq!(target_text(&db, &targets[0]), "Image");
     }
 
     #[test]

@@ -91,6 +91,24 @@ pub fn goto_definition(
     (!locations.is_empty()).then_some(lsp::GotoDefinitionResponse::Array(locations))
 }
 
+pub fn goto_type_definition(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Option<lsp::GotoDefinitionResponse> {
+    let file = snapshot.document(uri)?.file;
+    let offset = Host::offset(snapshot, file, position, encoding);
+    let locations: Vec<lsp::Location> = ide::goto_type_definition(&snapshot.db, snapshot.workspace, file, offset)
+        .into_iter()
+        .filter_map(|target| {
+            let index = line_index(&snapshot.db, target.file);
+            Some(lsp::Location { uri: snapshot.uri_of(target.file)?, range: encoding.range(index, target.focus_range) })
+        })
+        .collect();
+    (!locations.is_empty()).then_some(lsp::GotoDefinitionResponse::Array(locations))
+}
+
 pub fn hover(snapshot: &Snapshot, uri: &lsp::Uri, position: lsp::Position, encoding: Encoding) -> Option<lsp::Hover> {
     let file = snapshot.document(uri)?.file;
     let offset = Host::offset(snapshot, file, position, encoding);

@@ -255,6 +255,7 @@ impl LanguageServer for Backend {
                 })),
                 document_symbol_provider: Some(lsp::OneOf::Left(true)),
                 definition_provider: Some(lsp::OneOf::Left(true)),
+                type_definition_provider: Some(lsp::TypeDefinitionProviderCapability::Simple(true)),
                 hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
                 folding_range_provider: Some(lsp::FoldingRangeProviderCapability::Simple(true)),
                 references_provider: Some(lsp::OneOf::Left(true)),
@@ -367,6 +368,15 @@ impl LanguageServer for Backend {
         let encoding = self.encoding();
         let at = params.text_document_position_params;
         self.on_snapshot(move |s| handlers::goto_definition(s, &at.text_document.uri, at.position, encoding)).await
+    }
+
+    async fn goto_type_definition(
+        &self,
+        params: lsp::request::GotoTypeDefinitionParams,
+    ) -> Result<Option<lsp::request::GotoTypeDefinitionResponse>> {
+        let encoding = self.encoding();
+        let at = params.text_document_position_params;
+        self.on_snapshot(move |s| handlers::goto_type_definition(s, &at.text_document.uri, at.position, encoding)).await
     }
 
     async fn hover(&self, params: lsp::HoverParams) -> Result<Option<lsp::Hover>> {
