@@ -108,6 +108,14 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
         }
         return finish(items);
     }
+    // Bindings and connections: port instances, ports and connectors.
+    if let Some(link) = at.ancestors().find(|a| matches!(a.kind(), BINDING | CONNECTION)) {
+        if matches!(before_kind, Some(SOURCE_KW | TARGET_KW | DOT)) {
+            let prefix = if before_kind == Some(DOT) { before.as_ref().and_then(path_before_dot) } else { None };
+            connector_candidates(&link, prefix.as_deref(), &mut items);
+            return finish(items);
+        }
+    }
     // `receiver.|` in an expression: the fields and methods of the receiver's declared type.
     if before_kind == Some(DOT) && before.as_ref().and_then(|d| d.parent()).is_some_and(|p| p.kind() == MEMBER_EXPR) {
         let receiver = before.as_ref().and_then(|d| d.prev_token()).and_then(|t| skip_trivia_back(&t));
@@ -323,6 +331,70 @@ fn skip_trivia_back(token: &SyntaxToken) -> Option<SyntaxToken> {
     None
 }
 
+/// What may follow in a connection (`port.connector`) or binding
+/// (`portInstance.connector`, `instance.portInstance.connector`) after `prefix`.
+fn connector_candidates(link: &SyntaxNode, prefix: Option<&str>, items: &mut Vec<CompletionItem>) {
+    let segments: Vec<&str> = prefix.map(|p| p.split('.').collect()).unwrap_or_default();
+    if link.kind() == CONNECTION {
+        let Some(diagram) = link.ancestors().find_map(ast::ComponentDiagram::cast) else { return };
+        for port in diagram.syntax().descendants().filter_map(ast::Port::cast) {
+            let Some(name) = port.name().map(|n| n.text()) else { continue };
+            match segments.as_slice() {
+                [] => items.push(item(name, CompletionKind::Interface, Some("port".into()))),
+                [p] if *p == name => {
+                    for c in port.connectors().filter_map(|c| c.name()) {
+                        items.push(item(c.text(), CompletionKind::Field, Some(format!("connector of {name}"))));
+                    }
+                }
+                _ => {}
+            }
+        }
+        return;
+    }
+    let Some(diagram) = link.ancestors().find_map(ast::ComponentInstanceDiagram::cast) else { return };
+    let own = link.ancestors().find_map(ast::ComponentInstance::cast);
+    let port_instances =
+        |instance: &ast::ComponentInstance| -> Vec<ast::PortInstance> { instance.port_instances().collect() };
+    let connectors_of = |pi: &ast::PortInstance, items: &mut Vec<CompletionItem>| {
+        for c in pi.connectors().filter_map(|c| c.name()) {
+            items.push(item(c.text(), CompletionKind::Field, Some("connector".into())));
+        }
+    };
+    match segments.as_slice() {
+        [] => {
+            if let Some(own) = &own {
+                for pi in port_instances(own).iter().filter_map(|p| p.name()) {
+                    items.push(item(pi.text(), CompletionKind::Interface, Some("port instance".into())));
+                }
+            }
+            for instance in diagram.instances().filter_map(|i| i.name()) {
+                items.push(item(instance.text(), CompletionKind::Variable, Some("instance".into())));
+            }
+        }
+        [first] => {
+            if let Some(pi) = own.iter().flat_map(port_instances).find(|p| p.name().is_some_and(|n| n.text() == *first))
+            {
+                connectors_of(&pi, items);
+            }
+            if let Some(instance) = diagram.instances().find(|i| i.name().is_some_and(|n| n.text() == *first)) {
+                for pi in port_instances(&instance).iter().filter_map(|p| p.name()) {
+                    items.push(item(pi.text(), CompletionKind::Interface, Some("port instance".into())));
+                }
+            }
+        }
+        [instance, port_instance] => {
+            if let Some(instance) = diagram.instances().find(|i| i.name().is_some_and(|n| n.text() == *instance)) {
+                if let Some(pi) =
+                    instance.port_instances().find(|p| p.name().is_some_and(|n| n.text() == *port_instance))
+                {
+                    connectors_of(&pi, items);
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
 /// `A.B` for the `.` after `B` in `A.B.`.
 fn path_before_dot(dot: &SyntaxToken) -> Option<String> {
     let mut segments = Vec::new();
@@ -486,6 +558,19 @@ mod tests {
         assert_eq!(found, ["Defs.Out"]);
         let found = labels(&[("a.gudsl", "ComponentInstanceDiagram I { C1 instantiates Defs.Camera ($0) }"), defs]);
         assert_eq!(found, ["height", "width"]);
+    }
+
+    #[test]
+    fn port_instances_and_connectors_in_bindings() {
+        let doc = |cursor: &str| {
+            format!(
+                "ComponentInstanceDiagram I {{ C1 instantiates D.Camera ( ) {{ Out : OutPort ( provider Img = IOut() ); [ source {cursor} ] }} V1 instantiates D.Viewer ( ) {{ In : InPort ( processor Img2 = IIn() ); }} }}"
+            )
+        };
+        assert_eq!(labels(&[("a.gudsl", &doc("$0"))]), ["C1", "Out", "V1"]);
+        assert_eq!(labels(&[("a.gudsl", &doc("Out.$0"))]), ["Img"]);
+        assert_eq!(labels(&[("a.gudsl", &doc("Out.Img ==> target V1.$0"))]), ["In"]);
+        assert_eq!(labels(&[("a.gudsl", &doc("Out.Img ==> target V1.In.$0"))]), ["Img2"]);
     }
 
     #[test]

@@ -118,7 +118,8 @@ fn port(p: &mut Parser) {
 fn connection(p: &mut Parser, kind: SyntaxKind) {
     let m = p.start();
     p.bump(L_BRACK);
-    let named = p.at_name() && !(p.at_contextual(SOURCE_KW) && p.nth_is_name(1));
+    // `[source …]` has no name unless it is itself called `source` (`[source source …]`).
+    let named = p.at_name() && (!p.at_contextual(SOURCE_KW) || p.nth_at_contextual(1, SOURCE_KW));
     if named {
         name(p, "a connection name");
     }
