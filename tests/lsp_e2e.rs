@@ -5,10 +5,11 @@ use std::process::Command;
 
 #[test]
 fn lsp_end_to_end_with_pygls() {
-    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/lsp/e2e.py");
+    let repo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let output = Command::new("python3")
-        .arg(&script)
+        .arg(repo.join("tests/lsp/e2e.py"))
         .arg(env!("CARGO_BIN_EXE_gudsl"))
+        .arg(repo.join("samples"))
         .output()
         .expect("python3 runs (the end-to-end test needs Python 3 with pygls)");
     let stdout = String::from_utf8_lossy(&output.stdout);

@@ -1,5 +1,5 @@
 """End-to-end test of `gudsl lsp` driven by pygls's LanguageClient, a real LSP client this
-project did not write. Usage: python3 e2e.py PATH_TO_GUDSL. Exits non-zero on the first failure.
+project did not write. Usage: python3 e2e.py PATH_TO_GUDSL [SAMPLES_DIR]. Exits non-zero on the first failure.
 
 It loads a workspace from disk, opens a document with an error, types the fix as an incremental
 edit, and checks diagnostics (with versions), hover, go to definition, document symbols and
@@ -295,8 +295,61 @@ async def main(gudsl):
     await client.shutdown_async(None)
     client.exit(None)
     await client.stop()
+
+
+async def samples_session(gudsl, samples):
+    """The dissertation's samples as a workspace: all clean; Main's calls resolve across files."""
+    samples = Path(samples).resolve()
+    files = sorted(samples.rglob("*.gudsl"))
+    client = LanguageClient("gudsl-e2e-samples", "1.0")
+    diagnostics = {}
+
+    @client.feature(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    def on_diagnostics(params: t.PublishDiagnosticsParams):
+        diagnostics[params.uri] = params.diagnostics
+
+    @client.feature(t.CLIENT_REGISTER_CAPABILITY)
+    def on_register(params):
+        return None
+
+    await client.start_io(gudsl, "lsp")
+    await client.initialize_async(
+        t.InitializeParams(process_id=None, root_uri=samples.as_uri(), capabilities=t.ClientCapabilities())
+    )
+    client.initialized(t.InitializedParams())
+    await wait_for(lambda: len(diagnostics) >= len(files), f"diagnostics for all {len(files)} samples", timeout=30)
+    dirty = {uri: [d.message for d in ds] for uri, ds in diagnostics.items() if ds}
+    if dirty:
+        fail(f"samples should check clean: {dirty}")
+    main = samples / "seed" / "main_full.gudsl"
+    text = main.read_text()
+    client.text_document_did_open(
+        t.DidOpenTextDocumentParams(text_document=t.TextDocumentItem(uri=main.as_uri(), language_id="gudsl", version=1, text=text))
+    )
+    lines = text.splitlines()
+    line = next(i for i, l in enumerate(lines) if "call MeanFilter::filterMean" in l)
+    character = lines[line].index("MeanFilter") + 2
+    hover = await client.text_document_hover_async(
+        t.HoverParams(text_document=t.TextDocumentIdentifier(uri=main.as_uri()), position=t.Position(line=line, character=character))
+    )
+    if hover is None or "Filtering.Filter2.MeanFilter" not in hover.contents.value:
+        fail(f"hover on MeanFilter in Main: {hover}")
+    definition = await client.text_document_definition_async(
+        t.DefinitionParams(text_document=t.TextDocumentIdentifier(uri=main.as_uri()), position=t.Position(line=line, character=character))
+    )
+    if not definition or not definition[0].uri.endswith("framework/framework.gudsl"):
+        fail(f"definition of MeanFilter: {definition}")
+    await client.shutdown_async(None)
+    client.exit(None)
+    await client.stop()
+
+
+async def run_all(gudsl, samples):
+    await main(gudsl)
+    if samples:
+        await samples_session(gudsl, samples)
     print("lsp e2e: 1 passed, 0 failed")
 
 
 if __name__ == "__main__":
-    asyncio.run(main(sys.argv[1]))
+    asyncio.run(run_all(sys.argv[1], sys.argv[2] if len(sys.argv) > 2 else None))

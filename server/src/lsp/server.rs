@@ -31,6 +31,8 @@ pub struct Backend {
     host: Arc<Mutex<Host>>,
     encoding: OnceLock<Encoding>,
     roots: Mutex<Vec<PathBuf>>,
+    /// The client accepts `window/workDoneProgress/create`.
+    progress_supported: std::sync::atomic::AtomicBool,
     /// Bumped by every edit; a diagnostics run publishes only if no newer edit came.
     generation: Arc<AtomicU64>,
     /// What was last published per URI (with the document version), so only changes are sent.
@@ -51,6 +53,7 @@ impl Backend {
             host: Arc::default(),
             encoding: OnceLock::new(),
             roots: Mutex::default(),
+            progress_supported: Default::default(),
             generation: Arc::default(),
             published: Arc::default(),
             semantic_tokens: Mutex::default(),
@@ -158,7 +161,8 @@ impl Backend {
         }
         paths.sort();
         let token = lsp::ProgressToken::String("gudsl/load".to_string());
-        let progress_supported = self.client.create_work_done_progress(token.clone()).await.is_ok();
+        let progress_supported = self.progress_supported.load(Ordering::SeqCst)
+            && self.client.create_work_done_progress(token.clone()).await.is_ok();
         let progress = if progress_supported {
             Some(
                 self.client
@@ -229,6 +233,8 @@ fn collect_gudsl(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
 impl LanguageServer for Backend {
     async fn initialize(&self, params: lsp::InitializeParams) -> Result<lsp::InitializeResult> {
         let encoding = Encoding::negotiate(&params.capabilities);
+        let progress = params.capabilities.window.as_ref().and_then(|w| w.work_done_progress).unwrap_or(false);
+        self.progress_supported.store(progress, Ordering::SeqCst);
         let _ = self.encoding.set(encoding);
         let mut roots: Vec<PathBuf> = params
             .workspace_folders
