@@ -38,12 +38,18 @@ pub fn find_references(
         for &other in workspace.files(db) {
             let root = parse(db, other).syntax_node();
             let checker = Checker::resolver(db, workspace, other);
+            let simple = fqn.rsplit('.').next().unwrap_or(fqn);
             for path in root.descendants().filter_map(ast::Path::cast) {
+                // Only a segment spelled like the declaration can name it: resolve just those.
+                if !path.segments().any(|s| s.text() == simple) {
+                    continue;
+                }
                 let scope = scope_at(path.syntax());
                 let mut prefix = String::new();
                 for segment in path.segments() {
-                    prefix = if prefix.is_empty() { segment.text() } else { format!("{prefix}.{}", segment.text()) };
-                    if checker.resolve(&scope, &prefix).is_some_and(|d| d.fqn == fqn) {
+                    let text = segment.text();
+                    prefix = if prefix.is_empty() { text.clone() } else { format!("{prefix}.{text}") };
+                    if text == simple && checker.resolve(&scope, &prefix).is_some_and(|d| d.fqn == fqn) {
                         found.push(FileRange { file: other, range: segment.syntax().text_range() });
                     }
                 }
