@@ -4,6 +4,7 @@
 pub mod ast;
 pub mod db;
 pub mod format;
+pub mod graph;
 pub mod hir;
 pub mod ide;
 pub mod syntax;
