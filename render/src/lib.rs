@@ -1,1 +1,3 @@
-//! Diagram rendering (graph view -> layout -> SVG/PNG); built in a later issue.
+//! gudsl-render: diagram graphs → layout → SVG/PNG. This first part is the layered layout.
+
+pub mod layout;
