@@ -1,4 +1,5 @@
-//! gudsl-render: diagram graphs → layout → SVG/PNG. This first part is the layered layout.
+//! gudsl-render: diagram graphs → layered layout → SVG, with text measured in the bundled font.
 
 pub mod layout;
+pub mod svg;
 pub mod text;

@@ -1,0 +1,422 @@
+//! Diagram → SVG: sizes every node from its measured text, lays the graph out, and draws it in
+//! UML notation (class boxes with compartments, activity nodes by kind, components with ports,
+//! instances), with edge heads by kind. Deterministic: coordinates are written with two decimals.
+
+use std::fmt::Write;
+
+use gudsl_model::graph::{EdgeKind, Graph, GraphNode, NodeShape};
+
+use crate::{
+    layout::{layered, Layout, LayoutInput, LayoutNode, Point, Spacing},
+    text::{self, Style, FONT_FAMILY},
+};
+
+const FONT_SIZE: f64 = 12.0;
+const PADDING: f64 = 8.0;
+/// Lines of an action's body shown before it is collapsed to "…".
+const MAX_BODY_LINES: usize = 6;
+/// Longest body line shown, in characters.
+const MAX_LINE_CHARS: usize = 60;
+
+/// A node's drawn content: header lines (stereotype, name) and compartments of lines.
+struct Content {
+    header: Vec<(String, Style)>,
+    compartments: Vec<Vec<String>>,
+    width: f64,
+    height: f64,
+}
+
+fn shorten(line: &str) -> String {
+    if line.chars().count() > MAX_LINE_CHARS {
+        format!("{}…", line.chars().take(MAX_LINE_CHARS - 1).collect::<String>())
+    } else {
+        line.to_string()
+    }
+}
+
+fn content(node: &GraphNode) -> Content {
+    let line_h = text::line_height(FONT_SIZE);
+    match node.shape {
+        NodeShape::Start => return Content { header: Vec::new(), compartments: Vec::new(), width: 20.0, height: 20.0 },
+        NodeShape::Final => return Content { header: Vec::new(), compartments: Vec::new(), width: 24.0, height: 24.0 },
+        NodeShape::Fork | NodeShape::Join => {
+            return Content { header: Vec::new(), compartments: Vec::new(), width: 80.0, height: 8.0 };
+        }
+        _ => {}
+    }
+    let mut header = Vec::new();
+    if let Some(stereotype) = &node.stereotype {
+        header.push((format!("«{stereotype}»"), Style::Regular));
+    }
+    let name_style = if node.is_abstract { Style::Oblique } else { Style::Bold };
+    header.push((node.label.clone(), name_style));
+    let mut compartments: Vec<Vec<String>> = node
+        .compartments
+        .iter()
+        .map(|c| {
+            let mut lines: Vec<String> = c.lines.iter().map(|l| shorten(l)).collect();
+            if matches!(
+                node.shape,
+                NodeShape::Action | NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow
+            ) && lines.len() > MAX_BODY_LINES
+            {
+                let hidden = lines.len() - MAX_BODY_LINES + 1;
+                lines.truncate(MAX_BODY_LINES - 1);
+                lines.push(format!("… {hidden} more"));
+            }
+            lines
+        })
+        .collect();
+    if matches!(node.shape, NodeShape::Class | NodeShape::Interface | NodeShape::Enum | NodeShape::Attribute)
+        && compartments.is_empty()
+    {
+        compartments.push(Vec::new());
+    }
+    let widest_header = header.iter().map(|(t, s)| text::width(t, FONT_SIZE, *s)).fold(0.0, f64::max);
+    let widest_line =
+        compartments.iter().flatten().map(|l| text::width(l, FONT_SIZE, Style::Regular)).fold(0.0, f64::max);
+    let ports_width =
+        node.ports.iter().map(|p| text::width(&p.label, FONT_SIZE * 0.85, Style::Regular)).fold(0.0, f64::max);
+    let mut width = widest_header.max(widest_line).max(ports_width) + 2.0 * PADDING;
+    let lines = header.len() + compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
+    let mut height = lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING;
+    if node.shape == NodeShape::Decision {
+        // A diamond holds its label in the middle half.
+        width = width * 1.6 + 10.0;
+        height = height * 1.6 + 10.0;
+    }
+    if node.shape == NodeShape::Component {
+        width += 24.0; // the component icon
+    }
+    height += node.ports.len() as f64 * line_h * 0.9;
+    Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
+}
+
+/// Renders a diagram graph as an SVG document.
+pub fn render(graph: &Graph) -> String {
+    let contents: Vec<Content> = graph.nodes.iter().map(content).collect();
+    let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+    let mut edge_refs = Vec::new();
+    let mut input = LayoutInput {
+        nodes: contents.iter().map(|c| LayoutNode { width: c.width, height: c.height }).collect(),
+        edges: Vec::new(),
+    };
+    for edge in &graph.edges {
+        if let (Some(a), Some(b)) = (index_of(&edge.source), index_of(&edge.target)) {
+            // Generalization and realization point upwards in UML: lay them out parent first.
+            let (from, to) = match edge.kind {
+                EdgeKind::Generalization | EdgeKind::Realization => (b, a),
+                _ => (a, b),
+            };
+            input.edges.push((from, to));
+            edge_refs.push(edge);
+        }
+    }
+    let layout = layered(&input, Spacing::default());
+    write_svg(graph, &contents, &layout, &edge_refs)
+}
+
+fn f(v: f64) -> String {
+    let s = format!("{v:.2}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.to_string()
+    }
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+fn write_svg(graph: &Graph, contents: &[Content], layout: &Layout, edges: &[&gudsl_model::graph::GraphEdge]) -> String {
+    let mut out = String::new();
+    // The drawing grows to hold edge labels that reach past the boxes.
+    let mut w = layout.width;
+    for (i, edge) in edges.iter().enumerate() {
+        if let (Some(label), Some(points)) = (&edge.label, layout.edges.get(i)) {
+            let mid = midpoint(points);
+            w = w.max(mid.x + 4.0 + text::width(label, FONT_SIZE * 0.85, Style::Regular) + 8.0);
+        }
+    }
+    let h = layout.height;
+    let _ = writeln!(
+        out,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}" font-family="{FONT_FAMILY}" font-size="{}">"#,
+        f(w),
+        f(h),
+        f(w),
+        f(h),
+        f(FONT_SIZE)
+    );
+    let _ = writeln!(out, "<title>{}</title>", escape(&graph.id));
+    out.push_str(concat!(
+        "<defs>",
+        r#"<marker id="open" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="10" markerHeight="10" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10" fill="none" stroke="black"/></marker>"#,
+        r#"<marker id="filled" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="9" markerHeight="9" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="black"/></marker>"#,
+        r#"<marker id="triangle" viewBox="0 0 12 12" refX="12" refY="6" markerWidth="12" markerHeight="12" orient="auto-start-reverse"><path d="M0,0 L12,6 L0,12 z" fill="white" stroke="black"/></marker>"#,
+        r#"<marker id="diamond" viewBox="0 0 16 10" refX="0" refY="5" markerWidth="16" markerHeight="10" orient="auto-start-reverse"><path d="M0,5 L8,0 L16,5 L8,10 z" fill="white" stroke="black"/></marker>"#,
+        r#"<marker id="diamond-filled" viewBox="0 0 16 10" refX="0" refY="5" markerWidth="16" markerHeight="10" orient="auto-start-reverse"><path d="M0,5 L8,0 L16,5 L8,10 z" fill="black"/></marker>"#,
+        "</defs>\n"
+    ));
+    let _ = writeln!(out, r#"<rect width="{}" height="{}" fill="white"/>"#, f(w), f(h));
+    for (i, edge) in edges.iter().enumerate() {
+        let Some(points) = layout.edges.get(i) else { continue };
+        let mut points = points.clone();
+        if matches!(edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
+            points.reverse(); // drawn from the child to the parent
+        }
+        let path: Vec<String> = points.iter().map(|p| format!("{},{}", f(p.x), f(p.y))).collect();
+        let (dash, start, end) = match edge.kind {
+            EdgeKind::Generalization => ("", "", r#" marker-end="url(#triangle)""#),
+            EdgeKind::Realization => (r#" stroke-dasharray="6,4""#, "", r#" marker-end="url(#triangle)""#),
+            EdgeKind::Association => ("", "", r#" marker-end="url(#open)""#),
+            EdgeKind::Aggregation => ("", r#" marker-start="url(#diamond)""#, ""),
+            EdgeKind::Composition => ("", r#" marker-start="url(#diamond-filled)""#, ""),
+            EdgeKind::Transition | EdgeKind::Connection | EdgeKind::Binding => {
+                ("", "", r#" marker-end="url(#filled)""#)
+            }
+        };
+        let _ = writeln!(
+            out,
+            r#"<polyline class="edge" data-id="{}" points="{}" fill="none" stroke="black"{dash}{start}{end}/>"#,
+            escape(&edge.id),
+            path.join(" ")
+        );
+        if let Some(label) = &edge.label {
+            let mid = midpoint(&points);
+            let _ = writeln!(
+                out,
+                r##"<text class="edge-label" x="{}" y="{}" font-size="{}" fill="#333">{}</text>"##,
+                f(mid.x + 4.0),
+                f(mid.y - 4.0),
+                f(FONT_SIZE * 0.85),
+                escape(label)
+            );
+        }
+    }
+    for ((node, content), position) in graph.nodes.iter().zip(contents).zip(&layout.positions) {
+        draw_node(&mut out, node, content, *position);
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+fn midpoint(points: &[Point]) -> Point {
+    if points.len() % 2 == 1 {
+        return points[points.len() / 2];
+    }
+    let (a, b) = (points[points.len() / 2 - 1], points[points.len() / 2]);
+    Point { x: (a.x + b.x) / 2.0, y: (a.y + b.y) / 2.0 }
+}
+
+fn draw_node(out: &mut String, node: &GraphNode, content: &Content, at: Point) {
+    let (x, y, w, h) = (at.x, at.y, content.width, content.height);
+    let id = escape(&node.id);
+    let _ = write!(out, r#"<g class="node" data-id="{id}">"#);
+    match node.shape {
+        NodeShape::Start => {
+            let _ = write!(
+                out,
+                r#"<circle cx="{}" cy="{}" r="{}" fill="black"/>"#,
+                f(x + w / 2.0),
+                f(y + h / 2.0),
+                f(w / 2.0)
+            );
+        }
+        NodeShape::Final => {
+            let (cx, cy) = (f(x + w / 2.0), f(y + h / 2.0));
+            let _ = write!(
+                out,
+                r#"<circle cx="{cx}" cy="{cy}" r="{}" fill="white" stroke="black"/><circle cx="{cx}" cy="{cy}" r="{}" fill="black"/>"#,
+                f(w / 2.0),
+                f(w / 2.0 - 5.0)
+            );
+        }
+        NodeShape::Fork | NodeShape::Join => {
+            let _ = write!(out, r#"<rect x="{}" y="{}" width="{}" height="{}" fill="black"/>"#, f(x), f(y), f(w), f(h));
+        }
+        NodeShape::Decision => {
+            let _ = write!(
+                out,
+                r#"<polygon points="{},{} {},{} {},{} {},{}" fill="white" stroke="black"/>"#,
+                f(x + w / 2.0),
+                f(y),
+                f(x + w),
+                f(y + h / 2.0),
+                f(x + w / 2.0),
+                f(y + h),
+                f(x),
+                f(y + h / 2.0)
+            );
+        }
+        NodeShape::Action | NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow => {
+            let fill = match node.shape {
+                NodeShape::Calc | NodeShape::CalcRange => "#eef4ff",
+                NodeShape::Loop | NodeShape::LoopWindow => "#f2fbef",
+                _ => "white",
+            };
+            let _ = write!(
+                out,
+                r#"<rect x="{}" y="{}" width="{}" height="{}" rx="10" fill="{fill}" stroke="black"/>"#,
+                f(x),
+                f(y),
+                f(w),
+                f(h)
+            );
+        }
+        _ => {
+            let dash = if node.shape == NodeShape::External { r#" stroke-dasharray="4,3""# } else { "" };
+            let _ = write!(
+                out,
+                r#"<rect x="{}" y="{}" width="{}" height="{}" fill="white" stroke="black"{dash}/>"#,
+                f(x),
+                f(y),
+                f(w),
+                f(h)
+            );
+            if node.shape == NodeShape::Component {
+                // The UML component icon in the top right corner.
+                let (ix, iy) = (x + w - 20.0, y + 6.0);
+                let _ = write!(
+                    out,
+                    r#"<rect x="{}" y="{}" width="12" height="14" fill="white" stroke="black"/><rect x="{}" y="{}" width="6" height="3" fill="white" stroke="black"/><rect x="{}" y="{}" width="6" height="3" fill="white" stroke="black"/>"#,
+                    f(ix),
+                    f(iy),
+                    f(ix - 3.0),
+                    f(iy + 3.0),
+                    f(ix - 3.0),
+                    f(iy + 8.0)
+                );
+            }
+        }
+    }
+    // Text: header centred, compartments left-aligned under separators.
+    let line_h = text::line_height(FONT_SIZE);
+    let ascent = text::ascent(FONT_SIZE);
+    let lines_total = content.header.len() + content.compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
+    let block_h = lines_total as f64 * line_h
+        + (1 + content.compartments.len()) as f64 * PADDING
+        + node.ports.len() as f64 * line_h * 0.9;
+    let mut cursor = y + (h - block_h).max(0.0) / 2.0 + PADDING / 2.0;
+    for (line, style) in &content.header {
+        let weight = match style {
+            Style::Bold => r#" font-weight="bold""#,
+            Style::Oblique => r#" font-style="italic""#,
+            Style::Regular => "",
+        };
+        let _ = write!(
+            out,
+            r#"<text x="{}" y="{}" text-anchor="middle"{weight}>{}</text>"#,
+            f(x + w / 2.0),
+            f(cursor + ascent),
+            escape(line)
+        );
+        cursor += line_h;
+    }
+    let boxed = matches!(
+        node.shape,
+        NodeShape::Class | NodeShape::Interface | NodeShape::Enum | NodeShape::Attribute | NodeShape::Instance
+    );
+    for compartment in &content.compartments {
+        cursor += PADDING / 2.0;
+        if boxed {
+            let _ = write!(
+                out,
+                r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
+                f(x),
+                f(cursor),
+                f(x + w),
+                f(cursor)
+            );
+        }
+        cursor += PADDING / 2.0;
+        for line in compartment {
+            let _ = write!(out, r#"<text x="{}" y="{}">{}</text>"#, f(x + PADDING), f(cursor + ascent), escape(line));
+            cursor += line_h;
+        }
+        if compartment.is_empty() {
+            cursor += line_h;
+        }
+    }
+    for port in &node.ports {
+        let symbol = match port.provider {
+            Some(true) => "○",
+            Some(false) => "◐",
+            None => "□",
+        };
+        let _ = write!(
+            out,
+            r#"<text class="port" data-id="{}" x="{}" y="{}" font-size="{}">{symbol} {}</text>"#,
+            escape(&port.id),
+            f(x + PADDING),
+            f(cursor + ascent * 0.85),
+            f(FONT_SIZE * 0.85),
+            escape(&port.label)
+        );
+        cursor += line_h * 0.9;
+    }
+    out.push_str("</g>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use gudsl_model::{
+        db::{RootDatabase, SourceFile, Workspace},
+        graph::file_graphs,
+    };
+
+    use super::*;
+
+    fn sample_graphs() -> Vec<Graph> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
+        let db = RootDatabase::default();
+        let mut files = Vec::new();
+        for dir in ["seed", "framework"] {
+            let mut entries: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().flatten().map(|e| e.path()).collect();
+            entries.sort();
+            for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "gudsl")) {
+                files.push(SourceFile::new(&db, path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
+            }
+        }
+        let ws = Workspace::new(&db, files.clone());
+        files.iter().flat_map(|&f| file_graphs(&db, ws, f).clone()).collect()
+    }
+
+    #[test]
+    fn every_sample_diagram_renders_deterministically() {
+        let graphs = sample_graphs();
+        assert!(graphs.len() > 40);
+        for graph in &graphs {
+            let svg = render(graph);
+            assert!(svg.starts_with("<svg ") && svg.ends_with("</svg>\n"), "{}", graph.id);
+            assert_eq!(svg, render(graph), "{}: not deterministic", graph.id);
+            assert_eq!(svg.matches("<g class=\"node\"").count(), graph.nodes.len(), "{}", graph.id);
+            assert!(!svg.contains("NaN") && !svg.contains("inf"), "{}", graph.id);
+        }
+    }
+
+    #[test]
+    fn text_fits_its_box() {
+        for graph in sample_graphs() {
+            for node in &graph.nodes {
+                let c = content(node);
+                for (line, style) in &c.header {
+                    assert!(
+                        text::width(line, FONT_SIZE, *style) + 2.0 * PADDING <= c.width + 1e-6,
+                        "{}: {line}",
+                        node.id
+                    );
+                }
+                for line in c.compartments.iter().flatten() {
+                    assert!(
+                        text::width(line, FONT_SIZE, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
+                        "{}: {line}",
+                        node.id
+                    );
+                }
+            }
+        }
+    }
+}
