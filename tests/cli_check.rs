@@ -118,3 +118,38 @@ fn fmt_formats_in_place_and_check_reports() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("syntax error"));
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "ClassDiagram A { class C { int x } }\n");
 }
+
+#[test]
+fn render_writes_identical_svg_and_png_per_diagram() {
+    let out1 = temp_dir("render1");
+    let out2 = temp_dir("render2");
+    for out in [&out1, &out2] {
+        let status = gudsl()
+            .args(["render", &repo("samples"), "--diagram", "ComponentExampleDiagram", "-o", out.to_str().unwrap()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+    let a = std::fs::read(out1.join("ComponentExampleDiagram.svg")).unwrap();
+    let b = std::fs::read(out2.join("ComponentExampleDiagram.svg")).unwrap();
+    assert_eq!(a, b, "byte-identical output for identical input");
+    assert!(String::from_utf8_lossy(&a).contains("data-id=\"ComponentClassDefinitions.Camera\""));
+    let status = gudsl()
+        .args([
+            "render",
+            &repo("samples/seed/listing08_member_access.gudsl"),
+            "--format",
+            "png",
+            "-o",
+            out1.to_str().unwrap(),
+        ])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert!(std::fs::read(out1.join("AdMemberAccess.png")).unwrap().starts_with(b"\x89PNG"));
+    let out = gudsl()
+        .args(["render", &repo("samples"), "--diagram", "NoSuchDiagram", "-o", out1.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+}

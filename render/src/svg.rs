@@ -26,6 +26,16 @@ struct Content {
     height: f64,
 }
 
+/// A port's line: its notation symbol (provider lollipop ○, processor socket ◐) and label.
+fn port_text(port: &gudsl_model::graph::GraphPort) -> String {
+    let symbol = match port.provider {
+        Some(true) => "○",
+        Some(false) => "◐",
+        None => "□",
+    };
+    format!("{symbol} {}", port.label)
+}
+
 fn shorten(line: &str) -> String {
     if line.chars().count() > MAX_LINE_CHARS {
         format!("{}…", line.chars().take(MAX_LINE_CHARS - 1).collect::<String>())
@@ -76,7 +86,7 @@ fn content(node: &GraphNode) -> Content {
     let widest_line =
         compartments.iter().flatten().map(|l| text::width(l, FONT_SIZE, Style::Regular)).fold(0.0, f64::max);
     let ports_width =
-        node.ports.iter().map(|p| text::width(&p.label, FONT_SIZE * 0.85, Style::Regular)).fold(0.0, f64::max);
+        node.ports.iter().map(|p| text::width(&port_text(p), FONT_SIZE * 0.85, Style::Regular)).fold(0.0, f64::max);
     let mut width = widest_header.max(widest_line).max(ports_width) + 2.0 * PADDING;
     let lines = header.len() + compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
     let mut height = lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING;
@@ -92,11 +102,17 @@ fn content(node: &GraphNode) -> Content {
     Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
 }
 
-/// Renders a diagram graph as an SVG document.
-pub fn render(graph: &Graph) -> String {
+/// A graph arranged for drawing: node contents, the layout, and the edges it routed.
+struct Arranged<'g> {
+    contents: Vec<Content>,
+    layout: Layout,
+    edges: Vec<&'g gudsl_model::graph::GraphEdge>,
+}
+
+fn arrange(graph: &Graph) -> Arranged<'_> {
     let contents: Vec<Content> = graph.nodes.iter().map(content).collect();
     let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
-    let mut edge_refs = Vec::new();
+    let mut edges = Vec::new();
     let mut input = LayoutInput {
         nodes: contents.iter().map(|c| LayoutNode { width: c.width, height: c.height }).collect(),
         edges: Vec::new(),
@@ -109,11 +125,65 @@ pub fn render(graph: &Graph) -> String {
                 _ => (a, b),
             };
             input.edges.push((from, to));
-            edge_refs.push(edge);
+            edges.push(edge);
         }
     }
-    let layout = layered(&input, Spacing::default());
-    write_svg(graph, &contents, &layout, &edge_refs)
+    let mut layout = layered(&input, Spacing::default());
+    for (route, edge) in layout.edges.iter_mut().zip(&edges) {
+        if matches!(edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
+            route.reverse(); // drawn from the child to the parent
+        }
+    }
+    Arranged { contents, layout, edges }
+}
+
+/// Where an edge's label is drawn: its text box (top-left x, y, width, height).
+fn label_box(points: &[Point], label: &str) -> (f64, f64, f64, f64) {
+    let mid = midpoint(points);
+    let size = FONT_SIZE * 0.85;
+    let width = text::width(label, size, Style::Regular);
+    let height = text::line_height(size);
+    (mid.x + 4.0, mid.y - 4.0 - text::ascent(size), width, height)
+}
+
+/// Renders a diagram graph as an SVG document.
+pub fn render(graph: &Graph) -> String {
+    let arranged = arrange(graph);
+    write_svg(graph, &arranged.contents, &arranged.layout, &arranged.edges)
+}
+
+/// The computed geometry as the neutral JSON of `research/layout_metrics.py`: node boxes, edge
+/// polylines and label boxes (x, y = top-left), so layouts can be scored like dot's.
+pub fn layout_json(graph: &Graph) -> String {
+    let arranged = arrange(graph);
+    let json_str = |s: &str| format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""));
+    let mut nodes = Vec::new();
+    for ((node, content), at) in graph.nodes.iter().zip(&arranged.contents).zip(&arranged.layout.positions) {
+        nodes.push(format!(
+            r#"{{"id":{},"x":{},"y":{},"w":{},"h":{}}}"#,
+            json_str(&node.id),
+            f(at.x),
+            f(at.y),
+            f(content.width),
+            f(content.height)
+        ));
+    }
+    let mut edges = Vec::new();
+    let mut labels = Vec::new();
+    for (i, (edge, points)) in arranged.edges.iter().zip(&arranged.layout.edges).enumerate() {
+        let pts: Vec<String> = points.iter().map(|p| format!("[{},{}]", f(p.x), f(p.y))).collect();
+        edges.push(format!(
+            r#"{{"src":{},"dst":{},"points":[{}]}}"#,
+            json_str(&edge.source),
+            json_str(&edge.target),
+            pts.join(",")
+        ));
+        if let Some(label) = &edge.label {
+            let (x, y, w, h) = label_box(points, label);
+            labels.push(format!(r#"{{"edge":{i},"kind":"mid","x":{},"y":{},"w":{},"h":{}}}"#, f(x), f(y), f(w), f(h)));
+        }
+    }
+    format!("{{\"nodes\":[{}],\"edges\":[{}],\"labels\":[{}]}}\n", nodes.join(","), edges.join(","), labels.join(","))
 }
 
 fn f(v: f64) -> String {
@@ -163,10 +233,6 @@ fn write_svg(graph: &Graph, contents: &[Content], layout: &Layout, edges: &[&gud
     let _ = writeln!(out, r#"<rect width="{}" height="{}" fill="white"/>"#, f(w), f(h));
     for (i, edge) in edges.iter().enumerate() {
         let Some(points) = layout.edges.get(i) else { continue };
-        let mut points = points.clone();
-        if matches!(edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
-            points.reverse(); // drawn from the child to the parent
-        }
         let path: Vec<String> = points.iter().map(|p| format!("{},{}", f(p.x), f(p.y))).collect();
         let (dash, start, end) = match edge.kind {
             EdgeKind::Generalization => ("", "", r#" marker-end="url(#triangle)""#),
@@ -185,12 +251,12 @@ fn write_svg(graph: &Graph, contents: &[Content], layout: &Layout, edges: &[&gud
             path.join(" ")
         );
         if let Some(label) = &edge.label {
-            let mid = midpoint(&points);
+            let (x, y, _, _) = label_box(points, label);
             let _ = writeln!(
                 out,
                 r##"<text class="edge-label" x="{}" y="{}" font-size="{}" fill="#333">{}</text>"##,
-                f(mid.x + 4.0),
-                f(mid.y - 4.0),
+                f(x),
+                f(y + text::ascent(FONT_SIZE * 0.85)),
                 f(FONT_SIZE * 0.85),
                 escape(label)
             );
@@ -341,19 +407,14 @@ fn draw_node(out: &mut String, node: &GraphNode, content: &Content, at: Point) {
         }
     }
     for port in &node.ports {
-        let symbol = match port.provider {
-            Some(true) => "○",
-            Some(false) => "◐",
-            None => "□",
-        };
         let _ = write!(
             out,
-            r#"<text class="port" data-id="{}" x="{}" y="{}" font-size="{}">{symbol} {}</text>"#,
+            r#"<text class="port" data-id="{}" x="{}" y="{}" font-size="{}">{}</text>"#,
             escape(&port.id),
             f(x + PADDING),
             f(cursor + ascent * 0.85),
             f(FONT_SIZE * 0.85),
-            escape(&port.label)
+            escape(&port_text(port))
         );
         cursor += line_h * 0.9;
     }
@@ -398,6 +459,27 @@ mod tests {
     }
 
     #[test]
+    fn every_sample_svg_rasterizes_with_resvg() {
+        for graph in sample_graphs().iter().take(12) {
+            let png = crate::png::to_png(&render(graph), 1.0).unwrap_or_else(|e| panic!("{}: {e}", graph.id));
+            assert!(png.starts_with(b"\x89PNG"), "{}", graph.id);
+        }
+        for graph in sample_graphs() {
+            crate::png::parse(&render(&graph)).unwrap_or_else(|e| panic!("{}: {e}", graph.id));
+        }
+    }
+
+    #[test]
+    fn layout_json_is_the_metrics_script_format() {
+        for graph in sample_graphs().iter().take(8) {
+            let json = layout_json(graph);
+            assert!(json.starts_with("{\"nodes\":[{\"id\":"), "{json}");
+            assert!(json.contains("\"edges\":[") && json.contains("\"labels\":["));
+            assert_eq!(json.matches("\"w\":").count() - json.matches("\"kind\":\"mid\"").count(), graph.nodes.len());
+        }
+    }
+
+    #[test]
     fn text_fits_its_box() {
         for graph in sample_graphs() {
             for node in &graph.nodes {
@@ -412,6 +494,14 @@ mod tests {
                 for line in c.compartments.iter().flatten() {
                     assert!(
                         text::width(line, FONT_SIZE, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
+                        "{}: {line}",
+                        node.id
+                    );
+                }
+                for port in &node.ports {
+                    let line = port_text(port);
+                    assert!(
+                        text::width(&line, FONT_SIZE * 0.85, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
                         "{}: {line}",
                         node.id
                     );

@@ -21,6 +21,8 @@ enum Command {
     Check(commands::check::CheckArgs),
     /// Format GU-DSL files in place (`--check`: only report unformatted files).
     Fmt(commands::fmt::FmtArgs),
+    /// Draw diagrams as SVG or PNG (or their geometry as JSON).
+    Render(commands::render::RenderArgs),
     /// Run the language server on stdin/stdout (for editors).
     Lsp,
 }
@@ -30,6 +32,7 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Check(args) => commands::check::run(&args),
         Command::Fmt(args) => commands::fmt::run(&args),
+        Command::Render(args) => commands::render::run(&args),
         Command::Lsp => lsp::run(),
     }
 }
