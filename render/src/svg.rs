@@ -107,6 +107,8 @@ struct Arranged<'g> {
     contents: Vec<Content>,
     layout: Layout,
     edges: Vec<&'g gudsl_model::graph::GraphEdge>,
+    /// Each edge's label box (x, y, width, height), placed clear of the boxes and other labels.
+    labels: Vec<Option<(f64, f64, f64, f64)>>,
 }
 
 fn arrange(graph: &Graph) -> Arranged<'_> {
@@ -134,22 +136,62 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
             route.reverse(); // drawn from the child to the parent
         }
     }
-    Arranged { contents, layout, edges }
+    let obstacles: Vec<(f64, f64, f64, f64)> =
+        layout.positions.iter().zip(&contents).map(|(p, c)| (p.x, p.y, c.width, c.height)).collect();
+    let mut placed: Vec<(f64, f64, f64, f64)> = Vec::new();
+    let mut labels = Vec::with_capacity(edges.len());
+    for (edge, route) in edges.iter().zip(&layout.edges) {
+        let label = edge.label.as_ref().map(|label| {
+            let chosen = place_label(route, label, &obstacles, &placed);
+            placed.push(chosen);
+            chosen
+        });
+        labels.push(label);
+    }
+    Arranged { contents, layout, edges, labels }
 }
 
-/// Where an edge's label is drawn: its text box (top-left x, y, width, height).
-fn label_box(points: &[Point], label: &str) -> (f64, f64, f64, f64) {
-    let mid = midpoint(points);
+fn intersects(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
+    a.0 < b.0 + b.2 && b.0 < a.0 + a.2 && a.1 < b.1 + b.3 && b.1 < a.1 + a.3
+}
+
+/// A box for `label` beside its edge, clear of every node and already placed label if any
+/// candidate is (along each segment, on either side); else the middle of the edge.
+fn place_label(
+    route: &[Point],
+    label: &str,
+    obstacles: &[(f64, f64, f64, f64)],
+    placed: &[(f64, f64, f64, f64)],
+) -> (f64, f64, f64, f64) {
     let size = FONT_SIZE * 0.85;
-    let width = text::width(label, size, Style::Regular);
-    let height = text::line_height(size);
-    (mid.x + 4.0, mid.y - 4.0 - text::ascent(size), width, height)
+    let (w, h) = (text::width(label, size, Style::Regular), text::line_height(size));
+    let mut candidates = Vec::new();
+    for fraction in [0.5, 0.3, 0.7, 0.15, 0.85] {
+        for segment in route.windows(2) {
+            let p = Point {
+                x: segment[0].x + (segment[1].x - segment[0].x) * fraction,
+                y: segment[0].y + (segment[1].y - segment[0].y) * fraction,
+            };
+            candidates.push((p.x + 4.0, p.y - h / 2.0));
+            candidates.push((p.x - 4.0 - w, p.y - h / 2.0));
+            candidates.push((p.x - w / 2.0, p.y - h - 3.0));
+            candidates.push((p.x - w / 2.0, p.y + 3.0));
+        }
+    }
+    let clear = |b: (f64, f64, f64, f64)| {
+        let padded = (b.0 - 2.0, b.1 - 2.0, b.2 + 4.0, b.3 + 4.0);
+        b.0 >= 0.0 && b.1 >= 0.0 && !obstacles.iter().chain(placed).any(|o| intersects(padded, *o))
+    };
+    candidates.into_iter().map(|(x, y)| (x, y, w, h)).find(|b| clear(*b)).unwrap_or_else(|| {
+        let mid = midpoint(route);
+        (mid.x + 4.0, mid.y - h / 2.0, w, h)
+    })
 }
 
 /// Renders a diagram graph as an SVG document.
 pub fn render(graph: &Graph) -> String {
     let arranged = arrange(graph);
-    write_svg(graph, &arranged.contents, &arranged.layout, &arranged.edges)
+    write_svg(graph, &arranged)
 }
 
 /// The computed geometry as the neutral JSON of `research/layout_metrics.py`: node boxes, edge
@@ -178,8 +220,7 @@ pub fn layout_json(graph: &Graph) -> String {
             json_str(&edge.target),
             pts.join(",")
         ));
-        if let Some(label) = &edge.label {
-            let (x, y, w, h) = label_box(points, label);
+        if let Some((x, y, w, h)) = arranged.labels[i] {
             labels.push(format!(r#"{{"edge":{i},"kind":"mid","x":{},"y":{},"w":{},"h":{}}}"#, f(x), f(y), f(w), f(h)));
         }
     }
@@ -200,17 +241,12 @@ fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-fn write_svg(graph: &Graph, contents: &[Content], layout: &Layout, edges: &[&gudsl_model::graph::GraphEdge]) -> String {
+fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
+    let (contents, layout, edges) = (&arranged.contents, &arranged.layout, &arranged.edges);
     let mut out = String::new();
     // The drawing grows to hold edge labels that reach past the boxes.
-    let mut w = layout.width;
-    for (i, edge) in edges.iter().enumerate() {
-        if let (Some(label), Some(points)) = (&edge.label, layout.edges.get(i)) {
-            let mid = midpoint(points);
-            w = w.max(mid.x + 4.0 + text::width(label, FONT_SIZE * 0.85, Style::Regular) + 8.0);
-        }
-    }
-    let h = layout.height;
+    let w = arranged.labels.iter().flatten().map(|l| l.0 + l.2 + 8.0).fold(layout.width, f64::max);
+    let h = arranged.labels.iter().flatten().map(|l| l.1 + l.3 + 8.0).fold(layout.height, f64::max);
     let _ = writeln!(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}" font-family="{FONT_FAMILY}" font-size="{}">"#,
@@ -250,8 +286,7 @@ fn write_svg(graph: &Graph, contents: &[Content], layout: &Layout, edges: &[&gud
             escape(&edge.id),
             path.join(" ")
         );
-        if let Some(label) = &edge.label {
-            let (x, y, _, _) = label_box(points, label);
+        if let (Some(label), Some((x, y, _, _))) = (&edge.label, arranged.labels[i]) {
             let _ = writeln!(
                 out,
                 r##"<text class="edge-label" x="{}" y="{}" font-size="{}" fill="#333">{}</text>"##,
@@ -476,6 +511,68 @@ mod tests {
             assert!(json.starts_with("{\"nodes\":[{\"id\":"), "{json}");
             assert!(json.contains("\"edges\":[") && json.contains("\"labels\":["));
             assert_eq!(json.matches("\"w\":").count() - json.matches("\"kind\":\"mid\"").count(), graph.nodes.len());
+        }
+    }
+
+    /// Geometry of every sample diagram: boxes do not overlap, no label covers a box, and every
+    /// edge starts and ends on the border of its boxes.
+    #[test]
+    fn sample_geometry_is_clean() {
+        for graph in sample_graphs() {
+            let arranged = arrange(&graph);
+            let boxes: Vec<(f64, f64, f64, f64)> = arranged
+                .layout
+                .positions
+                .iter()
+                .zip(&arranged.contents)
+                .map(|(p, c)| (p.x, p.y, c.width, c.height))
+                .collect();
+            for a in 0..boxes.len() {
+                for b in a + 1..boxes.len() {
+                    assert!(
+                        !intersects(boxes[a], boxes[b]),
+                        "{}: {} overlaps {}",
+                        graph.id,
+                        graph.nodes[a].id,
+                        graph.nodes[b].id
+                    );
+                }
+            }
+            for (label, edge) in arranged.labels.iter().zip(&arranged.edges) {
+                if let Some(label) = label {
+                    for (i, b) in boxes.iter().enumerate() {
+                        assert!(
+                            !intersects(*label, *b),
+                            "{}: label of {} covers {}",
+                            graph.id,
+                            edge.id,
+                            graph.nodes[i].id
+                        );
+                    }
+                }
+            }
+            let index_of =
+                |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+            for (edge, route) in arranged.edges.iter().zip(&arranged.layout.edges) {
+                let (Some(s), Some(t)) = (index_of(&edge.source), index_of(&edge.target)) else { continue };
+                if s == t {
+                    continue;
+                }
+                let on_border = |p: Point, b: (f64, f64, f64, f64)| {
+                    let e = 0.01;
+                    let inside = p.x >= b.0 - e && p.x <= b.0 + b.2 + e && p.y >= b.1 - e && p.y <= b.1 + b.3 + e;
+                    let edge_x = (p.x - b.0).abs() < e || (p.x - b.0 - b.2).abs() < e;
+                    let edge_y = (p.y - b.1).abs() < e || (p.y - b.1 - b.3).abs() < e;
+                    inside && (edge_x || edge_y)
+                };
+                assert!(on_border(route[0], boxes[s]), "{}: {} does not start on its box", graph.id, edge.id);
+                assert!(
+                    on_border(*route.last().unwrap(), boxes[t]),
+                    "{}: {} does not end on its box",
+                    graph.id,
+                    edge.id
+                );
+            }
         }
     }
 
