@@ -12,11 +12,13 @@ pub struct LayoutNode {
     pub height: f64,
 }
 
-/// The input: boxes and directed edges between them (by index).
+/// The input: boxes and directed edges between them (by index), and optionally a group
+/// (swimlane) per box: groups are laid out as side-by-side columns, in group order.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LayoutInput {
     pub nodes: Vec<LayoutNode>,
     pub edges: Vec<(usize, usize)>,
+    pub groups: Vec<Option<usize>>,
 }
 
 /// Spacing of the layout.
@@ -70,6 +72,8 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     let rank = longest_path_ranks(n, &edges);
     // 3. Dummy nodes: every edge becomes a chain of unit-length segments.
     let mut vertex_rank: Vec<usize> = rank.clone();
+    let group_of_node = |v: usize| input.groups.get(v).copied().flatten();
+    let mut vertex_group: Vec<Option<usize>> = (0..n).map(group_of_node).collect();
     let mut chains: Vec<Vec<usize>> = Vec::new();
     let mut segments: Vec<(usize, usize)> = Vec::new();
     for &(a, b, _) in &edges {
@@ -82,6 +86,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         for r in rank[a] + 1..rank[b] {
             let dummy = vertex_rank.len();
             vertex_rank.push(r);
+            vertex_group.push(group_of_node(a));
             segments.push((previous, dummy));
             chain.push(dummy);
             previous = dummy;
@@ -100,6 +105,13 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     let up: Vec<Vec<usize>> = adjacency(vertices, &segments, true);
     let down: Vec<Vec<usize>> = adjacency(vertices, &segments, false);
     order_layers(&mut layers, &up, &down);
+    let grouped = vertex_group.iter().any(|g| g.is_some());
+    if grouped {
+        // Swimlanes: within each rank, boxes of lower groups come first (stable).
+        for layer in layers.iter_mut() {
+            layer.sort_by_key(|&v| vertex_group[v].map_or(usize::MAX, |g| g));
+        }
+    }
     // 5. Coordinates.
     let size = |v: usize| if v < n { (input.nodes[v].width, input.nodes[v].height) } else { (0.0, 0.0) };
     let mut x = vec![0.0f64; vertices];
@@ -133,6 +145,34 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
                 })
                 .collect();
             place_with_separation(layer, &wanted, &mut x, &|v| size(v).0, spacing.node_gap);
+        }
+    }
+    if grouped {
+        // Shift the groups apart so their columns do not overlap.
+        let groups = vertex_group.iter().flatten().max().map_or(0, |g| g + 1);
+        let mut offset = 0.0;
+        let mut previous_right = f64::NEG_INFINITY;
+        for g in 0..groups {
+            let members: Vec<usize> = (0..vertices).filter(|&v| vertex_group[v] == Some(g)).collect();
+            if members.is_empty() {
+                continue;
+            }
+            let left = members.iter().map(|&v| x[v] - size(v).0 / 2.0).fold(f64::INFINITY, f64::min);
+            let right = members.iter().map(|&v| x[v] + size(v).0 / 2.0).fold(f64::NEG_INFINITY, f64::max);
+            let wanted_left = previous_right + spacing.node_gap * 2.0;
+            let shift =
+                if previous_right.is_finite() { (wanted_left - (left + offset)).max(0.0) + offset } else { offset };
+            for &v in &members {
+                x[v] += shift;
+            }
+            offset = shift;
+            previous_right = right + shift;
+        }
+        // Boxes of no group go after the last column.
+        for v in 0..vertices {
+            if vertex_group[v].is_none() && previous_right.is_finite() {
+                x[v] += offset;
+            }
         }
     }
     let min_x = (0..vertices).map(|v| x[v] - size(v).0 / 2.0).fold(f64::INFINITY, f64::min);
@@ -461,7 +501,11 @@ mod tests {
 
     #[test]
     fn tree_lays_out_without_overlaps_or_crossings() {
-        let input = LayoutInput { nodes: boxes(7), edges: vec![(0, 1), (0, 2), (1, 3), (1, 4), (2, 5), (2, 6)] };
+        let input = LayoutInput {
+            nodes: boxes(7),
+            edges: vec![(0, 1), (0, 2), (1, 3), (1, 4), (2, 5), (2, 6)],
+            groups: Vec::new(),
+        };
         let layout = layered(&input, Spacing::default());
         assert!(!overlaps(&layout, &input));
         // Ranks go downwards.
@@ -476,8 +520,11 @@ mod tests {
     #[test]
     fn cycles_long_edges_and_self_loops() {
         // A loop back (3 -> 1), a long edge (0 -> 3) and a self loop (2 -> 2).
-        let input =
-            LayoutInput { nodes: boxes(5), edges: vec![(0, 1), (1, 2), (2, 3), (3, 1), (0, 3), (2, 2), (3, 4)] };
+        let input = LayoutInput {
+            nodes: boxes(5),
+            edges: vec![(0, 1), (1, 2), (2, 3), (3, 1), (0, 3), (2, 2), (3, 4)],
+            groups: Vec::new(),
+        };
         let layout = layered(&input, Spacing::default());
         assert!(!overlaps(&layout, &input));
         assert_eq!(layout.edges.len(), input.edges.len());
@@ -492,7 +539,7 @@ mod tests {
     #[test]
     fn ordering_removes_avoidable_crossings() {
         // K2,2 minus nothing crosses unless ordered well: 0->3, 1->2 with initial order 0,1 / 2,3.
-        let input = LayoutInput { nodes: boxes(4), edges: vec![(0, 3), (1, 2)] };
+        let input = LayoutInput { nodes: boxes(4), edges: vec![(0, 3), (1, 2)], groups: Vec::new() };
         let layout = layered(&input, Spacing::default());
         let (a, b) = (&layout.edges[0], &layout.edges[1]);
         // Straight, non-crossing: the source left of the other is also the target left of it.
@@ -502,12 +549,32 @@ mod tests {
     }
 
     #[test]
+    fn groups_become_disjoint_columns() {
+        // Two lanes whose nodes alternate along one chain.
+        let groups = vec![Some(0), Some(1), Some(0), Some(1), Some(0)];
+        let input =
+            LayoutInput { nodes: boxes(5), edges: vec![(0, 1), (1, 2), (2, 3), (3, 4)], groups: groups.clone() };
+        let layout = layered(&input, Spacing::default());
+        let span = |g: usize| {
+            let members: Vec<usize> = (0..5).filter(|&v| groups[v] == Some(g)).collect();
+            let left = members.iter().map(|&v| layout.positions[v].x).fold(f64::INFINITY, f64::min);
+            let right =
+                members.iter().map(|&v| layout.positions[v].x + input.nodes[v].width).fold(f64::NEG_INFINITY, f64::max);
+            (left, right)
+        };
+        let (l0, r0) = span(0);
+        let (l1, _) = span(1);
+        assert!(r0 < l1, "lane 0 [{l0}, {r0}] must end before lane 1 starts at {l1}");
+        assert!(!overlaps(&layout, &input));
+    }
+
+    #[test]
     fn deterministic_and_handles_empty_and_large_inputs() {
         assert_eq!(layered(&LayoutInput::default(), Spacing::default()).positions.len(), 0);
         let n = 200;
         let edges: Vec<(usize, usize)> =
             (1..n).map(|i| ((i * 7) % i, i)).chain((0..n / 4).map(|i| (i * 3 % n, (i * 11 + 5) % n))).collect();
-        let input = LayoutInput { nodes: boxes(n), edges };
+        let input = LayoutInput { nodes: boxes(n), edges, groups: Vec::new() };
         let first = layered(&input, Spacing::default());
         let second = layered(&input, Spacing::default());
         assert_eq!(first, second);

@@ -118,6 +118,11 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
     let mut input = LayoutInput {
         nodes: contents.iter().map(|c| LayoutNode { width: c.width, height: c.height }).collect(),
         edges: Vec::new(),
+        groups: graph
+            .nodes
+            .iter()
+            .map(|n| n.group.as_ref().and_then(|g| graph.groups.iter().position(|group| &group.id == g)))
+            .collect(),
     };
     for edge in &graph.edges {
         if let (Some(a), Some(b)) = (index_of(&edge.source), index_of(&edge.target)) {
@@ -247,6 +252,14 @@ fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
     // The drawing grows to hold edge labels that reach past the boxes.
     let w = arranged.labels.iter().flatten().map(|l| l.0 + l.2 + 8.0).fold(layout.width, f64::max);
     let h = arranged.labels.iter().flatten().map(|l| l.1 + l.3 + 8.0).fold(layout.height, f64::max);
+    let w = graph
+        .groups
+        .iter()
+        .map(|g| {
+            text::width(&g.label, FONT_SIZE, Style::Bold)
+                + g.owner.as_ref().map_or(0.0, |o| text::width(&format!(" : {o}"), FONT_SIZE, Style::Bold))
+        })
+        .fold(w, |w, title| w.max(title + 40.0));
     let _ = writeln!(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}" font-family="{FONT_FAMILY}" font-size="{}">"#,
@@ -267,6 +280,45 @@ fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
         "</defs>\n"
     ));
     let _ = writeln!(out, r#"<rect width="{}" height="{}" fill="white"/>"#, f(w), f(h));
+    // Swimlanes: partitions around their nodes' column, titled with the lane and its owner.
+    for group in &graph.groups {
+        let members: Vec<(Point, &Content)> = graph
+            .nodes
+            .iter()
+            .zip(contents)
+            .zip(&layout.positions)
+            .filter(|((n, _), _)| n.group.as_ref() == Some(&group.id))
+            .map(|((_, c), p)| (*p, c))
+            .collect();
+        if members.is_empty() {
+            continue;
+        }
+        let mut left = members.iter().map(|(p, _)| p.x).fold(f64::INFINITY, f64::min) - 14.0;
+        let mut right = members.iter().map(|(p, c)| p.x + c.width).fold(f64::NEG_INFINITY, f64::max) + 14.0;
+        let title = match &group.owner {
+            Some(owner) => format!("{} : {owner}", group.label),
+            None => group.label.clone(),
+        };
+        // The partition is at least as wide as its title.
+        let missing = text::width(&title, FONT_SIZE, Style::Bold) + 16.0 - (right - left);
+        if missing > 0.0 {
+            left -= missing / 2.0;
+            right += missing / 2.0;
+        }
+        left = left.max(1.0);
+        right = right.min(w - 1.0);
+        let _ = writeln!(
+            out,
+            r##"<g class="swimlane" data-id="{}"><rect x="{}" y="2" width="{}" height="{}" fill="none" stroke="#888"/><text x="{}" y="{}" text-anchor="middle" font-weight="bold" fill="#555">{}</text></g>"##,
+            escape(&group.id),
+            f(left),
+            f(right - left),
+            f(h - 4.0),
+            f((left + right) / 2.0),
+            f(2.0 + text::ascent(FONT_SIZE) + 2.0),
+            escape(&title)
+        );
+    }
     for (i, edge) in edges.iter().enumerate() {
         let Some(points) = layout.edges.get(i) else { continue };
         let path: Vec<String> = points.iter().map(|p| format!("{},{}", f(p.x), f(p.y))).collect();
