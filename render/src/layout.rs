@@ -234,7 +234,6 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
                     route.push(Point { x: c.x, y: bottom });
                 }
             }
-            route.dedup_by(|a, b| (a.x - b.x).abs() < 1e-9 && (a.y - b.y).abs() < 1e-9);
             points = route;
         }
         if reversed {
@@ -242,9 +241,70 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         }
         routed.push(points);
     }
+    spread_attachments(&mut routed, &chains, &edges, n, &|v| size(v).0);
+    for route in routed.iter_mut() {
+        route.dedup_by(|a, b| (a.x - b.x).abs() < 1e-9 && (a.y - b.y).abs() < 1e-9);
+    }
     let width = (0..n).map(|v| positions[v].x + input.nodes[v].width).fold(0.0, f64::max) + spacing.margin;
     let height = top - spacing.rank_gap + spacing.margin;
     Layout { positions, edges: routed, width, height }
+}
+
+/// Edges that leave (or enter) one side of a box get their own points along that side, ordered
+/// by where their other end lies, instead of all sharing the side's centre.
+fn spread_attachments(
+    routed: &mut [Vec<Point>],
+    chains: &[Vec<usize>],
+    edges: &[(usize, usize, bool)],
+    n: usize,
+    width: &dyn Fn(usize) -> f64,
+) {
+    // (box, side is bottom) -> [(edge index, end is the route's first point, other end's x)]
+    type Ends = Vec<(usize, bool, f64)>;
+    let mut sides: HashMap<(usize, bool), Ends> = HashMap::new();
+    for (e, (chain, route)) in chains.iter().zip(routed.iter()).enumerate() {
+        if chain.len() < 2 || chain[0] == chain[chain.len() - 1] || route.len() < 2 {
+            continue;
+        }
+        let reversed = edges[e].2;
+        // The route's first point belongs to the box the chain starts at, unless reversed.
+        let (first_box, last_box) =
+            if reversed { (chain[chain.len() - 1], chain[0]) } else { (chain[0], chain[chain.len() - 1]) };
+        let (first, last) = (route[0], route[route.len() - 1]);
+        let first_bottom = route[1].y > first.y;
+        let last_bottom = route[route.len() - 2].y > last.y;
+        if first_box < n {
+            sides.entry((first_box, first_bottom)).or_default().push((e, true, route[route.len() / 2].x));
+        }
+        if last_box < n {
+            sides.entry((last_box, last_bottom)).or_default().push((e, false, route[route.len() / 2].x));
+        }
+    }
+    let mut keys: Vec<(usize, bool)> = sides.keys().copied().collect();
+    keys.sort_unstable();
+    for key in keys {
+        let mut ends = sides.remove(&key).unwrap_or_default();
+        if ends.len() < 2 {
+            continue;
+        }
+        ends.sort_by(|a, b| a.2.partial_cmp(&b.2).unwrap_or(std::cmp::Ordering::Equal).then(a.0.cmp(&b.0)));
+        let w = width(key.0) * 0.6;
+        let count = ends.len() as f64;
+        for (i, &(e, is_first, _)) in ends.iter().enumerate() {
+            let route = &mut routed[e];
+            let centre_x = if is_first { route[0].x } else { route[route.len() - 1].x };
+            let x = centre_x - w / 2.0 + w * (i as f64 + 0.5) / count;
+            // Move the end point and its vertical stub together.
+            if is_first {
+                route[0].x = x;
+                route[1].x = x;
+            } else {
+                let len = route.len();
+                route[len - 1].x = x;
+                route[len - 2].x = x;
+            }
+        }
+    }
 }
 
 /// Edges oriented so that the graph is acyclic: `(from, to, reversed)`.
