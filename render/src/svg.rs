@@ -503,6 +503,45 @@ fn draw_node(out: &mut String, node: &GraphNode, content: &Content, at: Point) {
             f(FONT_SIZE * 0.85),
             escape(&port_text(port))
         );
+        // UML port notation on the right border: a square on the boundary, then a lollipop
+        // (provided interface) or a socket (required interface).
+        let cy = cursor + line_h * 0.45;
+        let bx = x + w;
+        let _ = write!(
+            out,
+            r#"<rect x="{}" y="{}" width="8" height="8" fill="white" stroke="black"/>"#,
+            f(bx - 4.0),
+            f(cy - 4.0)
+        );
+        match port.provider {
+            Some(true) => {
+                let _ = write!(
+                    out,
+                    r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/><circle cx="{}" cy="{}" r="5" fill="white" stroke="black"/>"#,
+                    f(bx + 4.0),
+                    f(cy),
+                    f(bx + 12.0),
+                    f(cy),
+                    f(bx + 17.0),
+                    f(cy)
+                );
+            }
+            Some(false) => {
+                let _ = write!(
+                    out,
+                    r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/><path d="M{},{} A6,6 0 0,0 {},{}" fill="none" stroke="black"/>"#,
+                    f(bx + 4.0),
+                    f(cy),
+                    f(bx + 12.0),
+                    f(cy),
+                    f(bx + 18.0),
+                    f(cy - 6.0),
+                    f(bx + 18.0),
+                    f(cy + 6.0)
+                );
+            }
+            None => {}
+        }
         cursor += line_h * 0.9;
     }
     out.push_str("</g>\n");
