@@ -102,6 +102,24 @@ fn content(node: &GraphNode) -> Content {
     Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
 }
 
+/// Where connections meet each port of a node: just outside its lollipop or socket on the
+/// right border (mirrors the text layout of `draw_node`).
+fn port_anchors(node: &GraphNode, content: &Content, at: Point) -> Vec<Point> {
+    let line_h = text::line_height(FONT_SIZE);
+    let lines_total = content.header.len() + content.compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
+    let block_h = lines_total as f64 * line_h
+        + (1 + content.compartments.len()) as f64 * PADDING
+        + node.ports.len() as f64 * line_h * 0.9;
+    let mut cursor = at.y + (content.height - block_h).max(0.0) / 2.0 + PADDING / 2.0;
+    cursor += content.header.len() as f64 * line_h;
+    for compartment in &content.compartments {
+        cursor += PADDING + compartment.len().max(1) as f64 * line_h;
+    }
+    (0..node.ports.len())
+        .map(|i| Point { x: at.x + content.width + 24.0, y: cursor + line_h * 0.45 + i as f64 * line_h * 0.9 })
+        .collect()
+}
+
 /// A graph arranged for drawing: node contents, the layout, and the edges it routed.
 struct Arranged<'g> {
     contents: Vec<Content>,
@@ -141,6 +159,41 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
             route.reverse(); // drawn from the child to the parent
         }
     }
+    // Connections and bindings run between ports: out of the source port to a vertical lane
+    // right of every box, then into the target port.
+    let anchor_of = |id: &str| {
+        graph.nodes.iter().zip(&contents).zip(&layout.positions).find_map(|((node, content), at)| {
+            node.ports.iter().position(|p| p.id == id).map(|i| port_anchors(node, content, *at)[i])
+        })
+    };
+    let right_of_boxes = layout.positions.iter().zip(&contents).map(|(p, c)| p.x + c.width).fold(0.0, f64::max) + 40.0;
+    let spans: Vec<(f64, f64)> = layout.positions.iter().zip(&contents).map(|(p, c)| (p.y, p.y + c.height)).collect();
+    // The gap below (or above) every box that shares `y`'s band: clear of all boxes there.
+    let below = |y: f64| spans.iter().filter(|(t, b)| *t <= y && y <= *b).map(|(_, b)| *b).fold(y, f64::max) + 16.0;
+    let above = |y: f64| spans.iter().filter(|(t, b)| *t <= y && y <= *b).map(|(t, _)| *t).fold(y, f64::min) - 16.0;
+    let mut lane = 0.0;
+    for (route, edge) in layout.edges.iter_mut().zip(&edges) {
+        if let (Some(from), Some(to)) = (anchor_of(&edge.source), anchor_of(&edge.target)) {
+            let x = right_of_boxes + lane;
+            lane += 14.0;
+            // Out of the port, into the gap between the rows, along it to the lane, and back
+            // in the same way to the target port: no segment crosses a box.
+            let (out_y, in_y) =
+                if to.y >= from.y { (below(from.y), above(to.y)) } else { (above(from.y), below(to.y)) };
+            let (fx, tx) = (from.x + 8.0, to.x + 8.0);
+            *route = vec![
+                from,
+                Point { x: fx, y: from.y },
+                Point { x: fx, y: out_y },
+                Point { x, y: out_y },
+                Point { x, y: in_y },
+                Point { x: tx, y: in_y },
+                Point { x: tx, y: to.y },
+                to,
+            ];
+        }
+    }
+    layout.width = layout.width.max(right_of_boxes + lane + 20.0);
     let obstacles: Vec<(f64, f64, f64, f64)> =
         layout.positions.iter().zip(&contents).map(|(p, c)| (p.x, p.y, c.width, c.height)).collect();
     let mut placed: Vec<(f64, f64, f64, f64)> = Vec::new();
@@ -177,10 +230,13 @@ fn place_label(
                 x: segment[0].x + (segment[1].x - segment[0].x) * fraction,
                 y: segment[0].y + (segment[1].y - segment[0].y) * fraction,
             };
-            candidates.push((p.x + 4.0, p.y - h / 2.0));
-            candidates.push((p.x - 4.0 - w, p.y - h / 2.0));
-            candidates.push((p.x - w / 2.0, p.y - h - 3.0));
-            candidates.push((p.x - w / 2.0, p.y + 3.0));
+            let beside = [(p.x + 4.0, p.y - h / 2.0), (p.x - 4.0 - w, p.y - h / 2.0)];
+            let over = [(p.x - w / 2.0, p.y - h - 3.0), (p.x - w / 2.0, p.y + 3.0)];
+            // Beside a vertical segment, over or under a horizontal one: never across the line.
+            let horizontal = (segment[1].x - segment[0].x).abs() > (segment[1].y - segment[0].y).abs();
+            let (preferred, other) = if horizontal { (over, beside) } else { (beside, over) };
+            candidates.extend(preferred);
+            candidates.extend(other);
         }
     }
     let clear = |b: (f64, f64, f64, f64)| {
@@ -647,6 +703,29 @@ mod tests {
             for (edge, route) in arranged.edges.iter().zip(&arranged.layout.edges) {
                 let (Some(s), Some(t)) = (index_of(&edge.source), index_of(&edge.target)) else { continue };
                 if s == t {
+                    continue;
+                }
+                // Port-to-port edges end at the ports' anchors, right of the boxes.
+                let port_anchor = |node: usize, id: &str| {
+                    graph.nodes[node].ports.iter().position(|p| p.id == id).map(|i| {
+                        port_anchors(&graph.nodes[node], &arranged.contents[node], arranged.layout.positions[node])[i]
+                    })
+                };
+                if let (Some(a), Some(b)) = (port_anchor(s, &edge.source), port_anchor(t, &edge.target)) {
+                    assert_eq!(route[0], a, "{}: {} does not start at its port", graph.id, edge.id);
+                    assert_eq!(*route.last().unwrap(), b, "{}: {} does not end at its port", graph.id, edge.id);
+                    // Axis-parallel segments: none may pass through a box.
+                    for segment in route.windows(2) {
+                        let (x0, x1) = (segment[0].x.min(segment[1].x), segment[0].x.max(segment[1].x));
+                        let (y0, y1) = (segment[0].y.min(segment[1].y), segment[0].y.max(segment[1].y));
+                        for (i, bx) in boxes.iter().enumerate() {
+                            let hit = x0 < bx.0 + bx.2
+                                && bx.0 < x1.max(x0 + 0.01)
+                                && y0 < bx.1 + bx.3
+                                && bx.1 < y1.max(y0 + 0.01);
+                            assert!(!hit, "{}: {} passes through {}", graph.id, edge.id, graph.nodes[i].id);
+                        }
+                    }
                     continue;
                 }
                 let on_border = |p: Point, b: (f64, f64, f64, f64)| {
