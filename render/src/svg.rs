@@ -331,8 +331,8 @@ fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
         r#"<marker id="open" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="10" markerHeight="10" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10" fill="none" stroke="black"/></marker>"#,
         r#"<marker id="filled" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="9" markerHeight="9" orient="auto-start-reverse"><path d="M0,0 L10,5 L0,10 z" fill="black"/></marker>"#,
         r#"<marker id="triangle" viewBox="0 0 12 12" refX="12" refY="6" markerWidth="12" markerHeight="12" orient="auto-start-reverse"><path d="M0,0 L12,6 L0,12 z" fill="white" stroke="black"/></marker>"#,
-        r#"<marker id="diamond" viewBox="0 0 16 10" refX="0" refY="5" markerWidth="16" markerHeight="10" orient="auto-start-reverse"><path d="M0,5 L8,0 L16,5 L8,10 z" fill="white" stroke="black"/></marker>"#,
-        r#"<marker id="diamond-filled" viewBox="0 0 16 10" refX="0" refY="5" markerWidth="16" markerHeight="10" orient="auto-start-reverse"><path d="M0,5 L8,0 L16,5 L8,10 z" fill="black"/></marker>"#,
+        r#"<marker id="diamond" viewBox="0 0 16 10" refX="0" refY="5" markerWidth="16" markerHeight="10" orient="auto"><path d="M0,5 L8,0 L16,5 L8,10 z" fill="white" stroke="black"/></marker>"#,
+        r#"<marker id="diamond-filled" viewBox="0 0 16 10" refX="0" refY="5" markerWidth="16" markerHeight="10" orient="auto"><path d="M0,5 L8,0 L16,5 L8,10 z" fill="black"/></marker>"#,
         "</defs>\n"
     ));
     let _ = writeln!(out, r#"<rect width="{}" height="{}" fill="white"/>"#, f(w), f(h));
