@@ -488,22 +488,10 @@ fn type_members(checker: &Checker, def: &crate::hir::Definition, items: &mut Vec
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::db::RootDatabase;
 
     fn labels(files: &[(&str, &str)]) -> Vec<String> {
-        let db = RootDatabase::default();
-        let mut cursor = None;
-        let inputs: Vec<SourceFile> = files
-            .iter()
-            .map(|(path, text)| {
-                if let Some(at) = text.find("$0") {
-                    cursor = Some(TextSize::from(at as u32));
-                }
-                SourceFile::new(&db, path.to_string(), text.replace("$0", ""))
-            })
-            .collect();
-        let ws = Workspace::new(&db, inputs.clone());
-        completions(&db, ws, inputs[0], cursor.unwrap()).into_iter().map(|i| i.label).collect()
+        let (db, ws, inputs, cursor) = super::super::test_fixture::with_cursor(files);
+        completions(&db, ws, inputs[0], cursor).into_iter().map(|i| i.label).collect()
     }
 
     #[test]

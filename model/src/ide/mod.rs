@@ -10,6 +10,8 @@ mod navigation;
 mod references;
 mod structure;
 mod symbols;
+#[cfg(test)]
+mod test_fixture;
 
 pub use completion::{completions, CompletionItem, CompletionKind};
 pub use fixes::{quick_fixes, QuickFix};

@@ -363,22 +363,7 @@ mod tests {
     use super::*;
     use crate::db::RootDatabase;
 
-    /// Files with `$0` marking the cursor in the first one.
-    fn setup(files: &[(&str, &str)]) -> (RootDatabase, Workspace, Vec<SourceFile>, TextSize) {
-        let db = RootDatabase::default();
-        let mut cursor = None;
-        let inputs: Vec<SourceFile> = files
-            .iter()
-            .map(|(path, text)| {
-                if let Some(at) = text.find("$0") {
-                    cursor = Some(TextSize::from(at as u32));
-                }
-                SourceFile::new(&db, path.to_string(), text.replace("$0", ""))
-            })
-            .collect();
-        let workspace = Workspace::new(&db, inputs.clone());
-        (db, workspace, inputs, cursor.expect("a $0 cursor"))
-    }
+    use super::super::test_fixture::with_cursor as setup;
 
     fn target_text(db: &RootDatabase, target: &NavigationTarget) -> String {
         target.file.text(db)[target.focus_range].to_string()

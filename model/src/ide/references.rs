@@ -153,21 +153,7 @@ mod tests {
     use super::*;
     use crate::db::RootDatabase;
 
-    fn setup(files: &[(&str, &str)]) -> (RootDatabase, Workspace, Vec<SourceFile>, TextSize) {
-        let db = RootDatabase::default();
-        let mut cursor = None;
-        let inputs: Vec<SourceFile> = files
-            .iter()
-            .map(|(path, text)| {
-                if let Some(at) = text.find("$0") {
-                    cursor = Some(TextSize::from(at as u32));
-                }
-                SourceFile::new(&db, path.to_string(), text.replace("$0", ""))
-            })
-            .collect();
-        let ws = Workspace::new(&db, inputs.clone());
-        (db, ws, inputs, cursor.expect("$0"))
-    }
+    use super::super::test_fixture::with_cursor as setup;
 
     fn texts(db: &RootDatabase, refs: &[FileRange]) -> Vec<(String, String)> {
         refs.iter().map(|r| (r.file.path(db).clone(), r.file.text(db)[r.range].to_string())).collect()

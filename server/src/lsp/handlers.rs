@@ -73,15 +73,22 @@ pub fn document_symbols(
     Some(lsp::DocumentSymbolResponse::Nested(symbols))
 }
 
-pub fn goto_definition(
+/// Navigation targets as LSP locations; `None` when there are none.
+fn navigation(
     snapshot: &Snapshot,
     uri: &lsp::Uri,
     position: lsp::Position,
     encoding: Encoding,
+    find: fn(
+        &dyn gudsl_model::db::Db,
+        gudsl_model::db::Workspace,
+        gudsl_model::db::SourceFile,
+        gudsl_model::syntax::TextSize,
+    ) -> Vec<ide::NavigationTarget>,
 ) -> Option<lsp::GotoDefinitionResponse> {
     let file = snapshot.document(uri)?.file;
     let offset = Host::offset(snapshot, file, position, encoding);
-    let locations: Vec<lsp::Location> = ide::goto_definition(&snapshot.db, snapshot.workspace, file, offset)
+    let locations: Vec<lsp::Location> = find(&snapshot.db, snapshot.workspace, file, offset)
         .into_iter()
         .filter_map(|target| {
             let index = line_index(&snapshot.db, target.file);
@@ -91,22 +98,22 @@ pub fn goto_definition(
     (!locations.is_empty()).then_some(lsp::GotoDefinitionResponse::Array(locations))
 }
 
+pub fn goto_definition(
+    snapshot: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+    encoding: Encoding,
+) -> Option<lsp::GotoDefinitionResponse> {
+    navigation(snapshot, uri, position, encoding, ide::goto_definition)
+}
+
 pub fn goto_type_definition(
     snapshot: &Snapshot,
     uri: &lsp::Uri,
     position: lsp::Position,
     encoding: Encoding,
 ) -> Option<lsp::GotoDefinitionResponse> {
-    let file = snapshot.document(uri)?.file;
-    let offset = Host::offset(snapshot, file, position, encoding);
-    let locations: Vec<lsp::Location> = ide::goto_type_definition(&snapshot.db, snapshot.workspace, file, offset)
-        .into_iter()
-        .filter_map(|target| {
-            let index = line_index(&snapshot.db, target.file);
-            Some(lsp::Location { uri: snapshot.uri_of(target.file)?, range: encoding.range(index, target.focus_range) })
-        })
-        .collect();
-    (!locations.is_empty()).then_some(lsp::GotoDefinitionResponse::Array(locations))
+    navigation(snapshot, uri, position, encoding, ide::goto_type_definition)
 }
 
 pub fn hover(snapshot: &Snapshot, uri: &lsp::Uri, position: lsp::Position, encoding: Encoding) -> Option<lsp::Hover> {
