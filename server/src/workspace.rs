@@ -29,37 +29,53 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<Document>, LoadError> {
     for path in paths {
         let meta = std::fs::metadata(path).map_err(|e| LoadError { path: path.clone(), message: e.to_string() })?;
         if meta.is_dir() {
-            collect(path, &mut files)?;
+            let mut errors = Vec::new();
+            files.extend(gudsl_files(path, &mut errors));
+            if let Some(error) = errors.into_iter().next() {
+                return Err(error);
+            }
         } else {
             files.push(path.clone());
         }
     }
     files.dedup();
-    files
-        .into_iter()
-        .map(|path| {
-            let bytes = std::fs::read(&path).map_err(|e| LoadError { path: path.clone(), message: e.to_string() })?;
-            // Invalid UTF-8 is replaced, not rejected: the parser reports what it cannot read.
-            let text = String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
-            Ok(Document { path, text })
-        })
-        .collect()
+    files.into_iter().map(|path| Ok(Document { text: read_text(&path)?, path })).collect()
 }
 
-fn collect(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), LoadError> {
-    let error = |e: std::io::Error| LoadError { path: dir.to_path_buf(), message: e.to_string() };
-    let mut entries: Vec<PathBuf> =
-        std::fs::read_dir(dir).map_err(error)?.map(|e| e.map(|e| e.path())).collect::<Result<_, _>>().map_err(error)?;
+/// A file's text. Invalid UTF-8 is replaced, not rejected: the parser reports what it cannot read.
+pub fn read_text(path: &Path) -> Result<String, LoadError> {
+    let bytes = std::fs::read(path).map_err(|e| LoadError { path: path.to_path_buf(), message: e.to_string() })?;
+    Ok(String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()))
+}
+
+/// Every `.gudsl` file under `dir`, recursively, each folder's entries in sorted order. Hidden
+/// folders, `target` and `node_modules` are skipped; a folder that cannot be read is reported
+/// in `errors` and the walk goes on.
+pub fn gudsl_files(dir: &Path, errors: &mut Vec<LoadError>) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    collect(dir, &mut out, errors);
+    out
+}
+
+fn collect(dir: &Path, out: &mut Vec<PathBuf>, errors: &mut Vec<LoadError>) {
+    let entries: std::io::Result<Vec<PathBuf>> =
+        std::fs::read_dir(dir).and_then(|entries| entries.map(|e| e.map(|e| e.path())).collect());
+    let mut entries = match entries {
+        Ok(entries) => entries,
+        Err(e) => {
+            errors.push(LoadError { path: dir.to_path_buf(), message: e.to_string() });
+            return;
+        }
+    };
     entries.sort();
     for path in entries {
         if path.is_dir() {
-            let hidden = path.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.'));
-            if !hidden && path.file_name().is_none_or(|n| n != "target") {
-                collect(&path, out)?;
+            let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            if !name.starts_with('.') && name != "target" && name != "node_modules" {
+                collect(&path, out, errors);
             }
         } else if path.extension().is_some_and(|ext| ext == "gudsl") {
             out.push(path);
         }
     }
-    Ok(())
 }

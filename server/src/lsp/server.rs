@@ -17,6 +17,8 @@ use tower_lsp_server::{
     ls_types as lsp, Client, LanguageServer,
 };
 
+use crate::workspace;
+
 use super::{
     convert::Encoding,
     handlers,
@@ -156,10 +158,14 @@ impl Backend {
     async fn load_workspace(&self) {
         let roots = lock(&self.roots).clone();
         let mut paths = Vec::new();
+        let mut errors = Vec::new();
         for root in &roots {
-            collect_gudsl(root, &mut paths);
+            paths.extend(workspace::gudsl_files(root, &mut errors));
         }
         paths.sort();
+        for error in errors {
+            self.client.log_message(lsp::MessageType::WARNING, format!("gudsl: {error}")).await;
+        }
         let token = lsp::ProgressToken::String("gudsl/load".to_string());
         let progress_supported = self.progress_supported.load(Ordering::SeqCst)
             && self.client.create_work_done_progress(token.clone()).await.is_ok();
@@ -178,8 +184,7 @@ impl Backend {
         let total = paths.len().max(1);
         for (i, path) in paths.iter().enumerate() {
             let Some(uri) = lsp::Uri::from_file_path(path) else { continue };
-            let Ok(bytes) = std::fs::read(path) else { continue };
-            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let Ok(text) = workspace::read_text(path) else { continue };
             {
                 let mut host = lock(&self.host);
                 if !host.is_open(&uri) {
@@ -212,21 +217,6 @@ impl Backend {
         };
         // Clients without dynamic registration simply refuse; the server works without it.
         let _ = self.client.register_capability(vec![registration]).await;
-    }
-}
-
-fn collect_gudsl(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    for entry in entries.flatten() {
-        let path = entry.path();
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if path.is_dir() {
-            if !name.starts_with('.') && name != "target" && name != "node_modules" {
-                collect_gudsl(&path, out);
-            }
-        } else if name.ends_with(".gudsl") {
-            out.push(path);
-        }
     }
 }
 
@@ -334,12 +324,12 @@ impl LanguageServer for Backend {
     async fn did_close(&self, params: lsp::DidCloseTextDocumentParams) {
         let uri = params.text_document.uri;
         // Back to the disk's version (the editor may close without saving).
-        let on_disk = uri.to_file_path().and_then(|p| std::fs::read(p).ok());
+        let on_disk = uri.to_file_path().and_then(|p| workspace::read_text(&p).ok());
         {
             let mut host = lock(&self.host);
             match on_disk {
-                Some(bytes) => {
-                    host.set_text(&uri, String::from_utf8_lossy(&bytes).into_owned(), None, false);
+                Some(text) => {
+                    host.set_text(&uri, text, None, false);
                 }
                 None => host.remove(&uri),
             }
@@ -357,8 +347,8 @@ impl LanguageServer for Backend {
                 }
                 if change.typ == lsp::FileChangeType::DELETED {
                     host.remove(&change.uri);
-                } else if let Some(bytes) = change.uri.to_file_path().and_then(|p| std::fs::read(p).ok()) {
-                    host.set_text(&change.uri, String::from_utf8_lossy(&bytes).into_owned(), None, false);
+                } else if let Some(text) = change.uri.to_file_path().and_then(|p| workspace::read_text(&p).ok()) {
+                    host.set_text(&change.uri, text, None, false);
                 }
             }
         }
