@@ -83,6 +83,20 @@ impl<'db> Checker<'db> {
         self.lookup(fqn).first()
     }
 
+    /// The class whose members a body at `node` sees: its swimlane's owner, else its activity
+    /// diagram's owner, else the class the body belongs to.
+    pub(crate) fn owner_at(&self, node: &crate::SyntaxNode) -> Option<&'db Definition> {
+        let scope = scope_at(node);
+        let resolve_owner = |path: Option<ast::Path>| path.and_then(|p| self.resolve(&scope, &p.text()));
+        let lane = node.ancestors().find_map(ast::Swimlane::cast).and_then(|lane| resolve_owner(lane.owner()));
+        let diagram = || node.ancestors().find_map(ast::ActivityDiagram::cast).and_then(|d| resolve_owner(d.owner()));
+        let class = || {
+            let class = node.ancestors().find_map(ast::TypeDecl::cast)?;
+            self.lookup_one(&join(scope.namespaces.last().map_or("", |s| s.as_str()), &class.name()?.text()))
+        };
+        lane.or_else(diagram).or_else(class).filter(|d| matches!(d.kind, DefKind::Type(_)))
+    }
+
     /// Whether type `sub` is `sup` or derives from it (`extends`/`implements`, transitively).
     pub(crate) fn is_subtype(&self, sub: &str, sup: &str) -> bool {
         let mut seen = HashSet::new();
@@ -335,9 +349,7 @@ impl<'db> Checker<'db> {
                     }
                     if let Some(body) = m.body() {
                         self.expressions(&scope, body.syntax());
-                        let owner = decl.name().and_then(|n| {
-                            self.lookup_one(&join(scope.namespaces.last().map_or("", |s| s.as_str()), &n.text()))
-                        });
+                        let owner = self.owner_at(body.syntax());
                         let mut typing = Body { checker: self, scope: scope.clone(), locals: HashMap::new(), owner };
                         for param in m.params() {
                             if let Some(name) = param.name() {
@@ -467,30 +479,14 @@ impl<'db> Checker<'db> {
             return;
         };
         let name = method.text();
-        if !self.has_method(def, &name, &mut HashSet::new()) {
+        let declares = |ty: &super::items::TypeItem| ty.methods.iter().any(|m| m.name == name).then_some(());
+        if self.find_member(&def.fqn, &mut HashSet::new(), &declares).is_none() {
             self.report(
                 DiagnosticCode::UnresolvedMethod,
                 method.syntax().text_range(),
                 format!("`{}` has no method `{name}`", def.fqn),
             );
         }
-    }
-
-    /// Whether the type `def` declares or inherits (through `extends`/`implements`) `name`.
-    fn has_method(&self, def: &Definition, name: &str, seen: &mut HashSet<String>) -> bool {
-        let DefKind::Type(ty) = &def.kind else { return false };
-        if !seen.insert(def.fqn.clone()) {
-            return false;
-        }
-        if ty.methods.iter().any(|m| m.name == name) {
-            return true;
-        }
-        let scope = self.scope_of(def);
-        ty.extends
-            .iter()
-            .chain(&ty.implements)
-            .filter_map(|base| base.path.as_deref())
-            .any(|base| self.resolve(&scope, base).is_some_and(|base_def| self.has_method(base_def, name, seen)))
     }
 
     /// The scope a definition was declared in: its enclosing namespaces and their imports.
@@ -936,7 +932,6 @@ impl<'db> Checker<'db> {
             diagram.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
         diagram_locals.extend(diagram.variables().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
         diagram_locals.extend(diagram.var_decls().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
-        let diagram_owner = diagram.owner().and_then(|p| self.resolve(scope, &p.text()));
         for node in &nodes {
             if node.kind() == ast::NodeKind::LoopWindow {
                 self.loop_window_sections(node);
@@ -944,13 +939,7 @@ impl<'db> Checker<'db> {
             self.params(scope, node.param_list());
             if let Some(body) = node.body() {
                 self.expressions(scope, body.syntax());
-                let lane_owner = node
-                    .syntax()
-                    .parent()
-                    .and_then(ast::Swimlane::cast)
-                    .and_then(|lane| lane.owner())
-                    .and_then(|p| self.resolve(scope, &p.text()));
-                let owner = lane_owner.or(diagram_owner).filter(|d| matches!(d.kind, DefKind::Type(_)));
+                let owner = self.owner_at(body.syntax());
                 let mut typing = Body { checker: self, scope: scope.clone(), locals: HashMap::new(), owner };
                 for (name, ty) in diagram_locals.iter().cloned().chain(header_declarations(node)) {
                     typing.declare(name, ty);

@@ -438,21 +438,7 @@ fn locals_in_scope(body: &SyntaxNode, items: &mut Vec<CompletionItem>) {
 /// The fields and methods of the swimlane's (or diagram's, or enclosing class's) owner, with
 /// those inherited.
 fn owner_members(checker: &Checker, at: &SyntaxNode, items: &mut Vec<CompletionItem>) {
-    let scope = scope_at(at);
-    let owner_path = at.ancestors().find_map(|a| {
-        ast::Swimlane::cast(a.clone())
-            .and_then(|s| s.owner())
-            .or_else(|| ast::ActivityDiagram::cast(a).and_then(|d| d.owner()))
-    });
-    let owner = match owner_path {
-        Some(path) => checker.resolve(&scope, &path.text()),
-        None => at.ancestors().find_map(ast::TypeDecl::cast).and_then(|class| {
-            let name = class.name()?.text();
-            checker
-                .lookup_one(&crate::hir::definitions::join(scope.namespaces.last().map_or("", |s| s.as_str()), &name))
-        }),
-    };
-    if let Some(owner) = owner {
+    if let Some(owner) = checker.owner_at(at) {
         type_members(checker, owner, items);
     }
 }

@@ -8,7 +8,7 @@ use crate::{
         check::{scope_at, Checker},
         DefKind,
     },
-    syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
+    syntax::{SyntaxKind, TextRange, TextSize},
 };
 
 /// A label shown before an argument.
@@ -109,7 +109,7 @@ pub fn signature_help(db: &dyn Db, workspace: Workspace, file: SourceFile, offse
         SyntaxKind::CALL_EXPR => {
             let call = ast::CallExpr::cast(owner.clone())?;
             let ast::Expr::NameExpr(name) = call.callee()? else { return None };
-            let owner_def = owner_of(&checker, &owner)?;
+            let owner_def = checker.owner_at(&owner)?;
             method_signature(&checker, owner_def, &name.name_ref()?.text())?
         }
         _ => return None,
@@ -123,16 +123,6 @@ fn method_signature(checker: &Checker, def: &crate::hir::Definition, name: &str)
     let (declaring, method) = overloads.into_iter().next()?;
     let params: Vec<String> = method.params.iter().map(|p| p.name.clone()).collect();
     Some((format!("{}.{}({})", declaring.fqn, method.name, params.join(", ")), params))
-}
-
-fn owner_of<'db>(checker: &Checker<'db>, at: &SyntaxNode) -> Option<&'db crate::hir::Definition> {
-    let scope = scope_at(at);
-    let path = at.ancestors().find_map(|a| {
-        ast::Swimlane::cast(a.clone())
-            .and_then(|s| s.owner())
-            .or_else(|| ast::ActivityDiagram::cast(a).and_then(|d| d.owner()))
-    })?;
-    checker.resolve(&scope, &path.text())
 }
 
 #[cfg(test)]

@@ -295,23 +295,8 @@ fn resolve_local(
         }
     }
     // A field or method of the owner class (swimlane owner, diagram owner, enclosing class).
-    let owner_path = name_ref.ancestors().find_map(|a| {
-        ast::Swimlane::cast(a.clone())
-            .and_then(|s| s.owner())
-            .or_else(|| ast::ActivityDiagram::cast(a).and_then(|d| d.owner()))
-    });
     let scope = scope_at(name_ref);
-    let owner = match owner_path {
-        Some(path) => checker.resolve(&scope, &path.text()),
-        None => {
-            let class = name_ref.ancestors().find_map(ast::TypeDecl::cast)?;
-            let fqn = crate::hir::definitions::join(
-                scope.namespaces.last().map_or("", |s| s.as_str()),
-                &class.name()?.text(),
-            );
-            checker.lookup_one(&fqn)
-        }
-    }?;
+    let owner = checker.owner_at(name_ref)?;
     if let Some(found) = member_of(db, checker, owner, name, reference) {
         return Some(found);
     }
