@@ -88,8 +88,7 @@ fn content(node: &GraphNode) -> Content {
     let ports_width =
         node.ports.iter().map(|p| text::width(&port_text(p), FONT_SIZE * 0.85, Style::Regular)).fold(0.0, f64::max);
     let mut width = widest_header.max(widest_line).max(ports_width) + 2.0 * PADDING;
-    let lines = header.len() + compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
-    let mut height = lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING;
+    let mut height = text_height(header.len(), &compartments, 0);
     if node.shape == NodeShape::Decision {
         // A diamond holds its label in the middle half.
         width = width * 1.6 + 10.0;
@@ -102,16 +101,25 @@ fn content(node: &GraphNode) -> Content {
     Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
 }
 
+/// The height of a node's text: header lines, compartments (an empty one keeps one line) with
+/// their separators, and the port lines.
+fn text_height(header_lines: usize, compartments: &[Vec<String>], ports: usize) -> f64 {
+    let line_h = text::line_height(FONT_SIZE);
+    let lines = header_lines + compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
+    lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING + ports as f64 * line_h * 0.9
+}
+
+/// Where a node's text starts: its block centred vertically in a box whose top is `top`.
+fn text_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
+    let block = text_height(content.header.len(), &content.compartments, node.ports.len());
+    top + (content.height - block).max(0.0) / 2.0 + PADDING / 2.0
+}
+
 /// Where connections meet each port of a node: just outside its lollipop or socket on the
-/// right border (mirrors the text layout of `draw_node`).
+/// right border (the rows `draw_node` writes them in).
 fn port_anchors(node: &GraphNode, content: &Content, at: Point) -> Vec<Point> {
     let line_h = text::line_height(FONT_SIZE);
-    let lines_total = content.header.len() + content.compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
-    let block_h = lines_total as f64 * line_h
-        + (1 + content.compartments.len()) as f64 * PADDING
-        + node.ports.len() as f64 * line_h * 0.9;
-    let mut cursor = at.y + (content.height - block_h).max(0.0) / 2.0 + PADDING / 2.0;
-    cursor += content.header.len() as f64 * line_h;
+    let mut cursor = text_top(node, content, at.y) + content.header.len() as f64 * line_h;
     for compartment in &content.compartments {
         cursor += PADDING + compartment.len().max(1) as f64 * line_h;
     }
@@ -525,11 +533,7 @@ fn draw_node(out: &mut String, node: &GraphNode, content: &Content, at: Point) {
     // Text: header centred, compartments left-aligned under separators.
     let line_h = text::line_height(FONT_SIZE);
     let ascent = text::ascent(FONT_SIZE);
-    let lines_total = content.header.len() + content.compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
-    let block_h = lines_total as f64 * line_h
-        + (1 + content.compartments.len()) as f64 * PADDING
-        + node.ports.len() as f64 * line_h * 0.9;
-    let mut cursor = y + (h - block_h).max(0.0) / 2.0 + PADDING / 2.0;
+    let mut cursor = text_top(node, content, y);
     for (line, style) in &content.header {
         let weight = match style {
             Style::Bold => r#" font-weight="bold""#,
