@@ -206,9 +206,11 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
         layout.positions.iter().zip(&contents).map(|(p, c)| (p.x, p.y, c.width, c.height)).collect();
     let mut placed: Vec<(f64, f64, f64, f64)> = Vec::new();
     let mut labels = Vec::with_capacity(edges.len());
-    for (edge, route) in edges.iter().zip(&layout.edges) {
+    for (index, (edge, route)) in edges.iter().zip(&layout.edges).enumerate() {
         let label = edge.label.as_ref().map(|label| {
-            let chosen = place_label(route, label, &obstacles, &placed);
+            let others = layout.edges.iter().enumerate().filter(|&(i, _)| i != index).map(|(_, r)| r.as_slice());
+            let foreign: Vec<&[Point]> = others.collect();
+            let chosen = place_label(route, label, &obstacles, &placed, &foreign);
             placed.push(chosen);
             chosen
         });
@@ -221,13 +223,15 @@ fn intersects(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
     a.0 < b.0 + b.2 && b.0 < a.0 + a.2 && a.1 < b.1 + b.3 && b.1 < a.1 + a.3
 }
 
-/// A box for `label` beside its edge, clear of every node and already placed label if any
-/// candidate is (along each segment, on either side); else the middle of the edge.
+/// A box for `label` beside its edge, clear of every node, already placed label and other edge
+/// if any candidate is (along each segment, on either side); else clear of nodes and labels;
+/// else the middle of the edge.
 fn place_label(
     route: &[Point],
     label: &str,
     obstacles: &[(f64, f64, f64, f64)],
     placed: &[(f64, f64, f64, f64)],
+    other_edges: &[&[Point]],
 ) -> (f64, f64, f64, f64) {
     let size = FONT_SIZE * 0.85;
     let (w, h) = (text::width(label, size, Style::Regular), text::line_height(size));
@@ -251,7 +255,12 @@ fn place_label(
         let padded = (b.0 - 2.0, b.1 - 2.0, b.2 + 4.0, b.3 + 4.0);
         b.0 >= 0.0 && b.1 >= 0.0 && !obstacles.iter().chain(placed).any(|o| intersects(padded, *o))
     };
-    candidates.into_iter().map(|(x, y)| (x, y, w, h)).find(|b| clear(*b)).unwrap_or_else(|| {
+    let boxes: Vec<(f64, f64, f64, f64)> = candidates.into_iter().map(|(x, y)| (x, y, w, h)).collect();
+    let off_edges = |b: &(f64, f64, f64, f64)| {
+        !other_edges.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b)))
+    };
+    let clear_of_all = boxes.iter().copied().find(|b| clear(*b) && off_edges(b));
+    clear_of_all.or_else(|| boxes.iter().copied().find(|b| clear(*b))).unwrap_or_else(|| {
         let mid = midpoint(route);
         (mid.x + 4.0, mid.y - h / 2.0, w, h)
     })
@@ -439,6 +448,28 @@ fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
     }
     out.push_str("</svg>\n");
     out
+}
+
+/// Whether the segment from `a` to `b` passes through the box `(x, y, width, height)`
+/// (Liang–Barsky clipping).
+fn segment_meets_box(a: Point, b: Point, (x, y, w, h): (f64, f64, f64, f64)) -> bool {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [(-dx, a.x - x), (dx, x + w - a.x), (-dy, a.y - y), (dy, y + h - a.y)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+    }
+    t0 <= t1
 }
 
 fn midpoint(points: &[Point]) -> Point {

@@ -93,6 +93,10 @@ def main(gudsl, metrics):
             f"{o['edge_node_hits']:>6} {d['edge_node_hits']:>7} | {o['area'] / 1000:>8.0f} {d['area'] / 1000:>8.0f}"
         )
     print("(each pair: gudsl, dot)")
+    import os
+    if os.environ.get("FULL"):
+        for kind, n, e, t_ours, t_dot, o, d in rows:
+            print(kind, n, {k: (o[k], d[k]) for k in o if not isinstance(o[k], (dict, list))})
 
 
 if __name__ == "__main__":

@@ -1,0 +1,85 @@
+//! Coordinates: each vertex's x (Brandes–Köpf, `align`) with swimlanes shifted apart into
+//! disjoint columns; each rank's band (top and height).
+
+use super::align;
+use super::proper::Proper;
+use super::Spacing;
+
+/// Centre x per vertex, the leftmost box edge at `spacing.margin`.
+pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], width: &[f64], spacing: Spacing) -> Vec<f64> {
+    // Long edges run closer to each other than to boxes, and boxes keep the full gap.
+    let dummy = |v: usize| v >= graph.boxes;
+    let gap = |u: usize, v: usize| match (dummy(u), dummy(v)) {
+        (true, true) => spacing.node_gap * 0.35,
+        (false, false) => spacing.node_gap,
+        _ => spacing.node_gap * 0.5,
+    };
+    let separation = |u: usize, v: usize| width[u] / 2.0 + gap(u, v) + width[v] / 2.0;
+    let mut x = align::brandes_koepf(graph, layers, &separation);
+    separate_groups(graph, &mut x, width, spacing.node_gap * 2.0);
+    let min_x = (0..graph.vertices()).map(|v| x[v] - width[v] / 2.0).fold(f64::INFINITY, f64::min);
+    for value in x.iter_mut() {
+        *value += spacing.margin - min_x;
+    }
+    x
+}
+
+/// Shifts the swimlanes apart, in lane order, so their columns do not overlap; vertices of no
+/// lane go with the last column.
+fn separate_groups(graph: &Proper, x: &mut [f64], width: &[f64], gap: f64) {
+    let lanes = graph.group.iter().filter(|&&g| g != usize::MAX).max().map_or(0, |g| g + 1);
+    if lanes == 0 {
+        return;
+    }
+    let mut offset = 0.0;
+    let mut previous_right = f64::NEG_INFINITY;
+    for lane in 0..lanes {
+        let members: Vec<usize> = (0..graph.vertices()).filter(|&v| graph.group[v] == lane).collect();
+        if members.is_empty() {
+            continue;
+        }
+        let left = members.iter().map(|&v| x[v] - width[v] / 2.0).fold(f64::INFINITY, f64::min);
+        let right = members.iter().map(|&v| x[v] + width[v] / 2.0).fold(f64::NEG_INFINITY, f64::max);
+        let shift = if previous_right.is_finite() {
+            (previous_right + gap - (left + offset)).max(0.0) + offset
+        } else {
+            offset
+        };
+        for &v in &members {
+            x[v] += shift;
+        }
+        offset = shift;
+        previous_right = right + shift;
+    }
+    for (value, &lane) in x.iter_mut().zip(&graph.group) {
+        if lane == usize::MAX {
+            *value += offset;
+        }
+    }
+}
+
+/// The horizontal band of each rank: as tall as its tallest box.
+pub(super) struct Bands {
+    pub top: Vec<f64>,
+    pub height: Vec<f64>,
+    /// Bottom of the last band plus the margin.
+    pub total_height: f64,
+}
+
+impl Bands {
+    pub fn new(layers: &[Vec<usize>], height: &[f64], spacing: Spacing) -> Bands {
+        let heights: Vec<f64> = layers.iter().map(|l| l.iter().map(|&v| height[v]).fold(0.0, f64::max)).collect();
+        let mut top = Vec::with_capacity(layers.len());
+        let mut cursor = spacing.margin;
+        for h in &heights {
+            top.push(cursor);
+            cursor += h + spacing.rank_gap;
+        }
+        Bands { top, height: heights, total_height: cursor - spacing.rank_gap + spacing.margin }
+    }
+
+    /// The y of the middle of rank `r`.
+    pub fn middle(&self, r: usize) -> f64 {
+        self.top[r] + self.height[r] / 2.0
+    }
+}
