@@ -17,6 +17,10 @@ const PADDING: f64 = 8.0;
 const MAX_BODY_LINES: usize = 6;
 /// Longest body line shown, in characters.
 const MAX_LINE_CHARS: usize = 60;
+/// Edge labels (guards, arguments) wrap at spaces beyond this many characters per line.
+const LABEL_LINE_CHARS: usize = 40;
+/// Font size of edge labels.
+const LABEL_SIZE: f64 = FONT_SIZE * 0.85;
 
 /// A node's drawn content: header lines (stereotype, name) and compartments of lines.
 struct Content {
@@ -34,6 +38,22 @@ fn port_text(port: &gudsl_model::graph::GraphPort) -> String {
         None => "□",
     };
     format!("{symbol} {}", port.label)
+}
+
+/// An edge label as lines of at most `LABEL_LINE_CHARS` characters, broken at spaces (a word
+/// longer than that gets a line of its own).
+fn label_lines(label: &str) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in label.split(' ') {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= LABEL_LINE_CHARS => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 fn shorten(line: &str) -> String {
@@ -161,7 +181,11 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
             edges.push(edge);
         }
     }
-    let mut layout = layered(&input, Spacing::default());
+    // Ranks sit far enough apart for the tallest edge label to fit between them.
+    let tallest_label = edges.iter().filter_map(|e| e.label.as_ref()).map(|l| label_lines(l).len()).max().unwrap_or(0);
+    let mut spacing = Spacing::default();
+    spacing.rank_gap = spacing.rank_gap.max(tallest_label as f64 * text::line_height(LABEL_SIZE) + 30.0);
+    let mut layout = layered(&input, spacing);
     for (route, edge) in layout.edges.iter_mut().zip(&edges) {
         if matches!(edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
             route.reverse(); // drawn from the child to the parent
@@ -206,11 +230,10 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
         layout.positions.iter().zip(&contents).map(|(p, c)| (p.x, p.y, c.width, c.height)).collect();
     let mut placed: Vec<(f64, f64, f64, f64)> = Vec::new();
     let mut labels = Vec::with_capacity(edges.len());
-    for (index, (edge, route)) in edges.iter().zip(&layout.edges).enumerate() {
+    let routes: Vec<&[Point]> = layout.edges.iter().map(Vec::as_slice).collect();
+    for (edge, route) in edges.iter().zip(&layout.edges) {
         let label = edge.label.as_ref().map(|label| {
-            let others = layout.edges.iter().enumerate().filter(|&(i, _)| i != index).map(|(_, r)| r.as_slice());
-            let foreign: Vec<&[Point]> = others.collect();
-            let chosen = place_label(route, label, &obstacles, &placed, &foreign);
+            let chosen = place_label(route, label, &obstacles, &placed, &routes);
             placed.push(chosen);
             chosen
         });
@@ -223,18 +246,19 @@ fn intersects(a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)) -> bool {
     a.0 < b.0 + b.2 && b.0 < a.0 + a.2 && a.1 < b.1 + b.3 && b.1 < a.1 + a.3
 }
 
-/// A box for `label` beside its edge, clear of every node, already placed label and other edge
-/// if any candidate is (along each segment, on either side); else clear of nodes and labels;
-/// else the middle of the edge.
+/// A box for `label` beside its edge, clear of every node, already placed label and edge (its
+/// own included) if any candidate is (along each segment, on either side); else clear of nodes
+/// and labels; else the middle of the edge.
 fn place_label(
     route: &[Point],
     label: &str,
     obstacles: &[(f64, f64, f64, f64)],
     placed: &[(f64, f64, f64, f64)],
-    other_edges: &[&[Point]],
+    routes: &[&[Point]],
 ) -> (f64, f64, f64, f64) {
-    let size = FONT_SIZE * 0.85;
-    let (w, h) = (text::width(label, size, Style::Regular), text::line_height(size));
+    let lines = label_lines(label);
+    let w = lines.iter().map(|line| text::width(line, LABEL_SIZE, Style::Regular)).fold(0.0, f64::max);
+    let h = text::line_height(LABEL_SIZE) * lines.len() as f64;
     let mut candidates = Vec::new();
     for fraction in [0.5, 0.3, 0.7, 0.15, 0.85] {
         for segment in route.windows(2) {
@@ -247,8 +271,16 @@ fn place_label(
             // Beside a vertical segment, over or under a horizontal one: never across the line.
             let horizontal = (segment[1].x - segment[0].x).abs() > (segment[1].y - segment[0].y).abs();
             let (preferred, other) = if horizontal { (over, beside) } else { (beside, over) };
+            // Off a slanted segment: the two corners at `p` that the line does not pass through.
+            let corners = [
+                (p.x + 4.0, p.y - h - 4.0),
+                (p.x - 4.0 - w, p.y + 4.0),
+                (p.x - 4.0 - w, p.y - h - 4.0),
+                (p.x + 4.0, p.y + 4.0),
+            ];
             candidates.extend(preferred);
             candidates.extend(other);
+            candidates.extend(corners);
         }
     }
     let clear = |b: (f64, f64, f64, f64)| {
@@ -257,7 +289,7 @@ fn place_label(
     };
     let boxes: Vec<(f64, f64, f64, f64)> = candidates.into_iter().map(|(x, y)| (x, y, w, h)).collect();
     let off_edges = |b: &(f64, f64, f64, f64)| {
-        !other_edges.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b)))
+        !routes.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b)))
     };
     let clear_of_all = boxes.iter().copied().find(|b| clear(*b) && off_edges(b));
     clear_of_all.or_else(|| boxes.iter().copied().find(|b| clear(*b))).unwrap_or_else(|| {
@@ -433,13 +465,20 @@ fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
             }
         }
         if let (Some(label), Some((x, y, _, _))) = (&edge.label, arranged.labels[i]) {
+            let lines: Vec<String> = label_lines(label)
+                .iter()
+                .enumerate()
+                .map(|(n, line)| {
+                    let dy = if n == 0 { text::ascent(LABEL_SIZE) } else { text::line_height(LABEL_SIZE) };
+                    format!(r#"<tspan x="{}" dy="{}">{}</tspan>"#, f(x), f(dy), escape(line))
+                })
+                .collect();
             let _ = writeln!(
                 out,
-                r##"<text class="edge-label" x="{}" y="{}" font-size="{}" fill="#333">{}</text>"##,
-                f(x),
-                f(y + text::ascent(FONT_SIZE * 0.85)),
-                f(FONT_SIZE * 0.85),
-                escape(label)
+                r##"<text class="edge-label" y="{}" font-size="{}" fill="#333">{}</text>"##,
+                f(y),
+                f(LABEL_SIZE),
+                lines.join("")
             );
         }
     }
