@@ -8,7 +8,7 @@ fn main() {
             (0..n).map(|i| LayoutNode { width: 80.0 + (i % 5) as f64 * 15.0, height: 40.0 }).collect();
         let edges: Vec<(usize, usize)> =
             (1..n).map(|i| ((i * 7) % i, i)).chain((0..n / 4).map(|i| (i * 3 % n, (i * 11 + 5) % n))).collect();
-        let input = LayoutInput { nodes, edges, groups: Vec::new() };
+        let input = LayoutInput { nodes, edges, ..Default::default() };
         let start = std::time::Instant::now();
         let runs = 5;
         for _ in 0..runs {

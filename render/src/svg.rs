@@ -2,7 +2,7 @@
 //! UML notation (class boxes with compartments, activity nodes by kind, components with ports,
 //! instances), with edge heads by kind. Deterministic: coordinates are written with two decimals.
 
-use std::fmt::Write;
+use std::{collections::HashMap, fmt::Write};
 
 use gudsl_model::graph::{EdgeKind, Graph, GraphNode, NodeShape};
 
@@ -54,6 +54,13 @@ fn label_lines(label: &str) -> Vec<String> {
         }
     }
     lines
+}
+
+/// The width and height of an edge label as drawn.
+fn label_size(label: &str) -> (f64, f64) {
+    let lines = label_lines(label);
+    let width = lines.iter().map(|line| text::width(line, LABEL_SIZE, Style::Regular)).fold(0.0, f64::max);
+    (width, text::line_height(LABEL_SIZE) * lines.len() as f64)
 }
 
 fn shorten(line: &str) -> String {
@@ -159,7 +166,12 @@ struct Arranged<'g> {
 
 fn arrange(graph: &Graph) -> Arranged<'_> {
     let contents: Vec<Content> = graph.nodes.iter().map(content).collect();
-    let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+    // An edge end is a node's id, or a port's: the node's id, a dot and more.
+    let by_id: HashMap<&str, usize> = graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), i)).collect();
+    let index_of = |id: &str| {
+        let prefixes = id.match_indices('.').map(|(dot, _)| &id[..dot]).rev();
+        std::iter::once(id).chain(prefixes).find_map(|prefix| by_id.get(prefix).copied())
+    };
     let mut edges = Vec::new();
     let mut input = LayoutInput {
         nodes: contents.iter().map(|c| LayoutNode { width: c.width, height: c.height }).collect(),
@@ -169,7 +181,9 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
             .iter()
             .map(|n| n.group.as_ref().and_then(|g| graph.groups.iter().position(|group| &group.id == g)))
             .collect(),
+        labels: Vec::new(),
     };
+    let is_port = |id: &str| graph.nodes.iter().any(|n| n.ports.iter().any(|p| p.id == id));
     for edge in &graph.edges {
         if let (Some(a), Some(b)) = (index_of(&edge.source), index_of(&edge.target)) {
             // Generalization and realization point upwards in UML: lay them out parent first.
@@ -178,14 +192,13 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
                 _ => (a, b),
             };
             input.edges.push((from, to));
+            // The layout makes room for the labels of the edges it routes (not port to port).
+            let routed_by_layout = !(is_port(&edge.source) && is_port(&edge.target));
+            input.labels.push(edge.label.as_deref().filter(|_| routed_by_layout).map(label_size));
             edges.push(edge);
         }
     }
-    // Ranks sit far enough apart for the tallest edge label to fit between them.
-    let tallest_label = edges.iter().filter_map(|e| e.label.as_ref()).map(|l| label_lines(l).len()).max().unwrap_or(0);
-    let mut spacing = Spacing::default();
-    spacing.rank_gap = spacing.rank_gap.max(tallest_label as f64 * text::line_height(LABEL_SIZE) + 30.0);
-    let mut layout = layered(&input, spacing);
+    let mut layout = layered(&input, Spacing::default());
     for (route, edge) in layout.edges.iter_mut().zip(&edges) {
         if matches!(edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
             route.reverse(); // drawn from the child to the parent
@@ -231,9 +244,15 @@ fn arrange(graph: &Graph) -> Arranged<'_> {
     let mut placed: Vec<(f64, f64, f64, f64)> = Vec::new();
     let mut labels = Vec::with_capacity(edges.len());
     let routes: Vec<&[Point]> = layout.edges.iter().map(Vec::as_slice).collect();
-    for (edge, route) in edges.iter().zip(&layout.edges) {
+    for ((edge, route), laid_out) in edges.iter().zip(&layout.edges).zip(&layout.labels) {
         let label = edge.label.as_ref().map(|label| {
-            let chosen = place_label(route, label, &obstacles, &placed, &routes);
+            let chosen = match laid_out {
+                Some(at) => {
+                    let (w, h) = label_size(label);
+                    (at.x, at.y, w, h)
+                }
+                None => place_label(route, label, &obstacles, &placed, &routes),
+            };
             placed.push(chosen);
             chosen
         });
@@ -256,9 +275,7 @@ fn place_label(
     placed: &[(f64, f64, f64, f64)],
     routes: &[&[Point]],
 ) -> (f64, f64, f64, f64) {
-    let lines = label_lines(label);
-    let w = lines.iter().map(|line| text::width(line, LABEL_SIZE, Style::Regular)).fold(0.0, f64::max);
-    let h = text::line_height(LABEL_SIZE) * lines.len() as f64;
+    let (w, h) = label_size(label);
     let mut candidates = Vec::new();
     for fraction in [0.5, 0.3, 0.7, 0.15, 0.85] {
         for segment in route.windows(2) {
@@ -453,10 +470,14 @@ fn write_svg(graph: &Graph, arranged: &Arranged) -> String {
             {
                 let (dx, dy) = (next.x - end.x, next.y - end.y);
                 let len = (dx * dx + dy * dy).sqrt().max(1e-9);
-                let (px, py) = (end.x + dx / len * 14.0 + 6.0, end.y + dy / len * 14.0);
+                // Beside the edge, on the side it turns away to (right of a straight one).
+                let leftwards = dx < -0.5;
+                let side = if leftwards { -6.0 } else { 6.0 };
+                let (px, py) = (end.x + dx / len * 14.0 + side, end.y + dy / len * 14.0);
+                let anchor = if leftwards { r#" text-anchor="end""# } else { "" };
                 let _ = writeln!(
                     out,
-                    r##"<text class="multiplicity" x="{}" y="{}" font-size="{}" fill="#333">{}</text>"##,
+                    r##"<text class="multiplicity" x="{}" y="{}"{anchor} font-size="{}" fill="#333">{}</text>"##,
                     f(px),
                     f(py + text::ascent(FONT_SIZE * 0.8) / 2.0),
                     f(FONT_SIZE * 0.8),
@@ -782,6 +803,10 @@ mod tests {
             }
             for (label, edge) in arranged.labels.iter().zip(&arranged.edges) {
                 if let Some(label) = label {
+                    for (route, other) in arranged.layout.edges.iter().zip(&arranged.edges) {
+                        let crossed = route.windows(2).any(|s| segment_meets_box(s[0], s[1], *label));
+                        assert!(!crossed, "{}: label of {} is crossed by {}", graph.id, edge.id, other.id);
+                    }
                     for (i, b) in boxes.iter().enumerate() {
                         assert!(
                             !intersects(*label, *b),

@@ -1,7 +1,9 @@
 //! Layered (Sugiyama-style) layout of a directed graph of boxes, top to bottom: cycle breaking
 //! and longest-path ranks (`rank`), dummy vertices for long edges (`proper`), crossing
-//! minimisation (`order`, `sifting`), coordinates (`place`, `align`) and edge polylines (`route`). Deterministic:
-//! the same input gives the same output.
+//! minimisation (`order`, `sifting`), coordinates (`place`, `align`) and edge polylines
+//! (`route`). Edge labels take room in the layout as dot's do: with labels, ranks are doubled
+//! and each labelled edge's label sits beside a dummy in a rank between its boxes' ranks.
+//! Deterministic: the same input gives the same output.
 
 mod align;
 mod order;
@@ -18,13 +20,15 @@ pub struct LayoutNode {
     pub height: f64,
 }
 
-/// The input: boxes and directed edges between them (by index), and optionally a group
-/// (swimlane) per box: groups are laid out as side-by-side columns, in group order.
+/// The input: boxes and directed edges between them (by index), optionally a group (swimlane)
+/// per box (groups are laid out as side-by-side columns, in group order) and the size
+/// (width, height) of a label per edge.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct LayoutInput {
     pub nodes: Vec<LayoutNode>,
     pub edges: Vec<(usize, usize)>,
     pub groups: Vec<Option<usize>>,
+    pub labels: Vec<Option<(f64, f64)>>,
 }
 
 /// Spacing of the layout.
@@ -52,12 +56,25 @@ pub struct Point {
 }
 
 /// The result: each box's top-left corner, each edge's polyline (first and last points on the
-/// boxes' borders), and the drawing's size.
+/// boxes' borders), the top-left corner of each edge's label where the layout placed it (not
+/// for self loops), and the drawing's size.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Layout {
     pub positions: Vec<Point>,
     pub edges: Vec<Vec<Point>>,
+    pub labels: Vec<Option<Point>>,
     pub width: f64,
+    pub height: f64,
+}
+
+/// Space between an edge and its label.
+const LABEL_OFFSET: f64 = 4.0;
+
+/// How much room a vertex takes left and right of its centre line, and its height.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Extent {
+    pub left: f64,
+    pub right: f64,
     pub height: f64,
 }
 
@@ -66,25 +83,49 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     let n = input.nodes.len();
     if n == 0 {
         let empty = 2.0 * spacing.margin;
-        return Layout { positions: Vec::new(), edges: Vec::new(), width: empty, height: empty };
+        return Layout { positions: Vec::new(), edges: Vec::new(), labels: Vec::new(), width: empty, height: empty };
     }
+    let label_of = |e: usize| input.labels.get(e).copied().flatten();
+    let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
     let edges = rank::orient(n, &input.edges);
-    let rank = rank::longest_path(n, &edges);
+    let mut rank = rank::longest_path(n, &edges);
+    if labelled {
+        rank.iter_mut().for_each(|r| *r *= 2);
+    }
     let graph = proper::Proper::new(&input.groups, &edges, &rank);
+    let mut extent: Vec<Extent> = input
+        .nodes
+        .iter()
+        .map(|node| Extent { left: node.width / 2.0, right: node.width / 2.0, height: node.height })
+        .collect();
+    extent.resize(graph.vertices(), Extent::default());
+    // A labelled edge's label goes right of the dummy nearest its middle in a between-rank.
+    let label_vertex: Vec<Option<usize>> = (0..edges.len())
+        .map(|e| {
+            let (width, height) = label_of(e)?;
+            let chain = &graph.chains[e];
+            let middle = chain.len() / 2;
+            let at = if middle % 2 == 1 { middle } else { middle - 1 };
+            let dummy = *chain.get(at).filter(|_| chain.len() > 2)?;
+            extent[dummy] = Extent { left: 0.0, right: LABEL_OFFSET + width, height };
+            Some(dummy)
+        })
+        .collect();
     let mut layers = graph.initial_layers();
     order::minimise_crossings(&mut layers, &graph);
-    let size: Vec<(f64, f64)> = (0..graph.vertices())
-        .map(|v| input.nodes.get(v).map_or((0.0, 0.0), |node| (node.width, node.height)))
+    let x = place::horizontal(&graph, &layers, &extent, spacing);
+    let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
+    let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing });
+    let positions: Vec<Point> = (0..n)
+        .map(|v| Point { x: x[v] - input.nodes[v].width / 2.0, y: bands.middle(rank[v]) - input.nodes[v].height / 2.0 })
         .collect();
-    let width: Vec<f64> = size.iter().map(|s| s.0).collect();
-    let height: Vec<f64> = size.iter().map(|s| s.1).collect();
-    let x = place::horizontal(&graph, &layers, &width, spacing);
-    let bands = place::Bands::new(&layers, &height, spacing);
-    let positions: Vec<Point> =
-        (0..n).map(|v| Point { x: x[v] - width[v] / 2.0, y: bands.middle(rank[v]) - height[v] / 2.0 }).collect();
-    let routed = route::polylines(&graph, &edges, &x, &bands, &size);
-    let layout_width = (0..n).map(|v| positions[v].x + width[v]).fold(0.0, f64::max) + spacing.margin;
-    Layout { positions, edges: routed, width: layout_width, height: bands.total_height }
+    let labels = label_vertex
+        .iter()
+        .map(|v| v.map(|d| Point { x: x[d] + LABEL_OFFSET, y: bands.middle(graph.rank[d]) - extent[d].height / 2.0 }))
+        .collect();
+    let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
+    let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
+    Layout { positions, edges: routed, labels, width, height: bands.total_height }
 }
 
 #[cfg(test)]
@@ -128,7 +169,7 @@ mod tests {
         let input = LayoutInput {
             nodes: boxes(7),
             edges: vec![(0, 1), (0, 2), (1, 3), (1, 4), (2, 5), (2, 6)],
-            groups: Vec::new(),
+            ..Default::default()
         };
         let layout = layered(&input, Spacing::default());
         assert!(!overlaps(&layout, &input));
@@ -147,7 +188,7 @@ mod tests {
         let input = LayoutInput {
             nodes: boxes(5),
             edges: vec![(0, 1), (1, 2), (2, 3), (3, 1), (0, 3), (2, 2), (3, 4)],
-            groups: Vec::new(),
+            ..Default::default()
         };
         let layout = layered(&input, Spacing::default());
         assert!(!overlaps(&layout, &input));
@@ -163,7 +204,7 @@ mod tests {
     #[test]
     fn ordering_removes_avoidable_crossings() {
         // K2,2 minus nothing crosses unless ordered well: 0->3, 1->2 with initial order 0,1 / 2,3.
-        let input = LayoutInput { nodes: boxes(4), edges: vec![(0, 3), (1, 2)], groups: Vec::new() };
+        let input = LayoutInput { nodes: boxes(4), edges: vec![(0, 3), (1, 2)], ..Default::default() };
         let layout = layered(&input, Spacing::default());
         let (a, b) = (&layout.edges[0], &layout.edges[1]);
         // Straight, non-crossing: the source left of the other is also the target left of it.
@@ -176,8 +217,12 @@ mod tests {
     fn groups_become_disjoint_columns() {
         // Two lanes whose nodes alternate along one chain.
         let groups = vec![Some(0), Some(1), Some(0), Some(1), Some(0)];
-        let input =
-            LayoutInput { nodes: boxes(5), edges: vec![(0, 1), (1, 2), (2, 3), (3, 4)], groups: groups.clone() };
+        let input = LayoutInput {
+            nodes: boxes(5),
+            edges: vec![(0, 1), (1, 2), (2, 3), (3, 4)],
+            groups: groups.clone(),
+            ..Default::default()
+        };
         let layout = layered(&input, Spacing::default());
         let span = |g: usize| {
             let members: Vec<usize> = (0..5).filter(|&v| groups[v] == Some(g)).collect();
@@ -198,10 +243,47 @@ mod tests {
         let n = 200;
         let edges: Vec<(usize, usize)> =
             (1..n).map(|i| ((i * 7) % i, i)).chain((0..n / 4).map(|i| (i * 3 % n, (i * 11 + 5) % n))).collect();
-        let input = LayoutInput { nodes: boxes(n), edges, groups: Vec::new() };
+        let input = LayoutInput { nodes: boxes(n), edges, ..Default::default() };
         let first = layered(&input, Spacing::default());
         let second = layered(&input, Spacing::default());
         assert_eq!(first, second);
         assert!(!overlaps(&first, &input));
+    }
+
+    #[test]
+    fn labels_get_room_beside_their_edges() {
+        // Three parallel labelled edges between two boxes and a labelled long edge.
+        let edges = vec![(0, 1), (0, 1), (0, 1), (1, 2), (0, 2)];
+        let labels = vec![Some((80.0, 14.0)), Some((60.0, 14.0)), Some((70.0, 28.0)), None, Some((50.0, 14.0))];
+        let input = LayoutInput { nodes: boxes(3), edges: edges.clone(), labels, ..Default::default() };
+        let layout = layered(&input, Spacing::default());
+        assert!(!overlaps(&layout, &input));
+        let label_box = |e: usize| {
+            let at = layout.labels[e].expect("a labelled edge gets a place for its label");
+            let (w, h) = input.labels[e].unwrap();
+            (at.x, at.y, w, h)
+        };
+        assert_eq!(layout.labels[3], None);
+        let meets = |a: (f64, f64, f64, f64), b: (f64, f64, f64, f64)| {
+            a.0 < b.0 + b.2 && b.0 < a.0 + a.2 && a.1 < b.1 + b.3 && b.1 < a.1 + a.3
+        };
+        for e in [0, 1, 2, 4] {
+            let label = label_box(e);
+            for (v, p) in layout.positions.iter().enumerate() {
+                assert!(!meets(label, (p.x, p.y, input.nodes[v].width, input.nodes[v].height)), "label {e} on box {v}");
+            }
+            for f in [0, 1, 2, 4].into_iter().filter(|&f| f > e) {
+                assert!(!meets(label, label_box(f)), "labels {e} and {f} overlap");
+            }
+            // No edge passes through a label (the polylines are vertical where labels are).
+            for route in &layout.edges {
+                for s in route.windows(2) {
+                    let (x0, x1) = (s[0].x.min(s[1].x), s[0].x.max(s[1].x));
+                    let (y0, y1) = (s[0].y.min(s[1].y), s[0].y.max(s[1].y));
+                    let thin = (x0, y0, (x1 - x0).max(1e-6), (y1 - y0).max(1e-6));
+                    assert!(!meets(label, thin), "an edge crosses label {e}");
+                }
+            }
+        }
     }
 }

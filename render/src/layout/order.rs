@@ -18,7 +18,7 @@ pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper) {
     // few sweeps in a row bring nothing.
     let mut fruitless = 0;
     for sweep in 0..24 {
-        if best_crossings == 0 || fruitless == 6 {
+        if best_crossings == 0 || fruitless == 3 {
             break;
         }
         order.barycentre_sweep(graph, sweep % 2 == 0);

@@ -3,10 +3,10 @@
 
 use super::align;
 use super::proper::Proper;
-use super::Spacing;
+use super::{Extent, Spacing};
 
 /// Centre x per vertex, the leftmost box edge at `spacing.margin`.
-pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], width: &[f64], spacing: Spacing) -> Vec<f64> {
+pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing) -> Vec<f64> {
     // Long edges run closer to each other than to boxes, and boxes keep the full gap.
     let dummy = |v: usize| v >= graph.boxes;
     let gap = |u: usize, v: usize| match (dummy(u), dummy(v)) {
@@ -14,10 +14,10 @@ pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], width: &[f64], s
         (false, false) => spacing.node_gap,
         _ => spacing.node_gap * 0.5,
     };
-    let separation = |u: usize, v: usize| width[u] / 2.0 + gap(u, v) + width[v] / 2.0;
+    let separation = |u: usize, v: usize| extent[u].right + gap(u, v) + extent[v].left;
     let mut x = align::brandes_koepf(graph, layers, &separation);
-    separate_groups(graph, &mut x, width, spacing.node_gap * 2.0);
-    let min_x = (0..graph.vertices()).map(|v| x[v] - width[v] / 2.0).fold(f64::INFINITY, f64::min);
+    separate_groups(graph, &mut x, extent, spacing.node_gap * 2.0);
+    let min_x = (0..graph.vertices()).map(|v| x[v] - extent[v].left).fold(f64::INFINITY, f64::min);
     for value in x.iter_mut() {
         *value += spacing.margin - min_x;
     }
@@ -26,7 +26,7 @@ pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], width: &[f64], s
 
 /// Shifts the swimlanes apart, in lane order, so their columns do not overlap; vertices of no
 /// lane go with the last column.
-fn separate_groups(graph: &Proper, x: &mut [f64], width: &[f64], gap: f64) {
+fn separate_groups(graph: &Proper, x: &mut [f64], extent: &[Extent], gap: f64) {
     let lanes = graph.group.iter().filter(|&&g| g != usize::MAX).max().map_or(0, |g| g + 1);
     if lanes == 0 {
         return;
@@ -38,8 +38,8 @@ fn separate_groups(graph: &Proper, x: &mut [f64], width: &[f64], gap: f64) {
         if members.is_empty() {
             continue;
         }
-        let left = members.iter().map(|&v| x[v] - width[v] / 2.0).fold(f64::INFINITY, f64::min);
-        let right = members.iter().map(|&v| x[v] + width[v] / 2.0).fold(f64::NEG_INFINITY, f64::max);
+        let left = members.iter().map(|&v| x[v] - extent[v].left).fold(f64::INFINITY, f64::min);
+        let right = members.iter().map(|&v| x[v] + extent[v].right).fold(f64::NEG_INFINITY, f64::max);
         let shift = if previous_right.is_finite() {
             (previous_right + gap - (left + offset)).max(0.0) + offset
         } else {
@@ -67,8 +67,9 @@ pub(super) struct Bands {
 }
 
 impl Bands {
-    pub fn new(layers: &[Vec<usize>], height: &[f64], spacing: Spacing) -> Bands {
-        let heights: Vec<f64> = layers.iter().map(|l| l.iter().map(|&v| height[v]).fold(0.0, f64::max)).collect();
+    pub fn new(layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing) -> Bands {
+        let heights: Vec<f64> =
+            layers.iter().map(|l| l.iter().map(|&v| extent[v].height).fold(0.0, f64::max)).collect();
         let mut top = Vec::with_capacity(layers.len());
         let mut cursor = spacing.margin;
         for h in &heights {

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use super::place::Bands;
 use super::proper::Proper;
-use super::Point;
+use super::{Extent, Point};
 
 /// One polyline per oriented edge, in the input's direction, starting and ending on the boxes'
 /// borders.
@@ -16,7 +16,7 @@ pub(super) fn polylines(
     edges: &[(usize, usize, bool)],
     x: &[f64],
     bands: &Bands,
-    size: &[(f64, f64)],
+    extent: &[Extent],
 ) -> Vec<Vec<Point>> {
     let centre = |v: usize| Point { x: x[v], y: bands.middle(graph.rank[v]) };
     let mut routed: Vec<Vec<Point>> = graph
@@ -24,12 +24,12 @@ pub(super) fn polylines(
         .iter()
         .map(|chain| {
             if chain[0] == chain[chain.len() - 1] {
-                return self_loop(centre(chain[0]), size[chain[0]]);
+                return self_loop(centre(chain[0]), extent[chain[0]]);
             }
             let mut route = Vec::with_capacity(chain.len() * 2);
             let last = chain.len() - 1;
             for (i, &v) in chain.iter().enumerate() {
-                let (c, h, r) = (centre(v), size[v].1, graph.rank[v]);
+                let (c, h, r) = (centre(v), extent[v].height, graph.rank[v]);
                 let (top, bottom) = (bands.top[r], bands.top[r] + bands.height[r]);
                 if i == 0 {
                     route.push(Point { x: c.x, y: c.y + h / 2.0 });
@@ -45,7 +45,7 @@ pub(super) fn polylines(
             route
         })
         .collect();
-    spread_attachments(&mut routed, graph, x, size);
+    spread_attachments(&mut routed, graph, x, extent);
     for (route, &(_, _, reversed)) in routed.iter_mut().zip(edges) {
         if reversed {
             route.reverse();
@@ -56,19 +56,20 @@ pub(super) fn polylines(
 }
 
 /// A small loop on the right side of a box.
-fn self_loop(c: Point, (w, h): (f64, f64)) -> Vec<Point> {
+fn self_loop(c: Point, extent: Extent) -> Vec<Point> {
+    let (right, h) = (c.x + extent.right, extent.height);
     vec![
-        Point { x: c.x + w / 2.0, y: c.y - h / 4.0 },
-        Point { x: c.x + w / 2.0 + 20.0, y: c.y - h / 4.0 },
-        Point { x: c.x + w / 2.0 + 20.0, y: c.y + h / 4.0 },
-        Point { x: c.x + w / 2.0, y: c.y + h / 4.0 },
+        Point { x: right, y: c.y - h / 4.0 },
+        Point { x: right + 20.0, y: c.y - h / 4.0 },
+        Point { x: right + 20.0, y: c.y + h / 4.0 },
+        Point { x: right, y: c.y + h / 4.0 },
     ]
 }
 
 /// Edges that leave (or enter) one side of a box get their own points along that side, in the
 /// order of the vertices they run to in the neighbouring rank (so spreading adds no crossing),
 /// instead of all sharing the side's centre. Routes still run from source to target here.
-fn spread_attachments(routed: &mut [Vec<Point>], graph: &Proper, x: &[f64], size: &[(f64, f64)]) {
+fn spread_attachments(routed: &mut [Vec<Point>], graph: &Proper, x: &[f64], extent: &[Extent]) {
     // (box, side is bottom) -> [(edge index, end is the route's first point, next vertex's x)]
     type Ends = Vec<(usize, bool, f64)>;
     let mut sides: HashMap<(usize, bool), Ends> = HashMap::new();
@@ -88,7 +89,7 @@ fn spread_attachments(routed: &mut [Vec<Point>], graph: &Proper, x: &[f64], size
             continue;
         }
         ends.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)));
-        let w = size[key.0].0 * 0.6;
+        let w = (extent[key.0].left + extent[key.0].right) * 0.6;
         let count = ends.len() as f64;
         for (i, &(e, is_first, _)) in ends.iter().enumerate() {
             let route = &mut routed[e];

@@ -11,6 +11,12 @@ use super::proper::Proper;
 pub(super) struct GlobalOrder {
     blocks: Vec<usize>,
     pub order: Order,
+    /// Place of each block in `blocks`.
+    index: Vec<usize>,
+    /// First and last rank per block.
+    span: Vec<(usize, usize)>,
+    /// Lane per block.
+    lane: Vec<usize>,
 }
 
 impl GlobalOrder {
@@ -35,7 +41,13 @@ impl GlobalOrder {
                 layers[graph.rank[v]].push(v);
             }
         }
-        GlobalOrder { blocks, order: Order::new(layers, order.position.len()) }
+        let span = graph.blocks.iter().map(|m| (graph.rank[m[0]], graph.rank[m[m.len() - 1]])).collect();
+        let lane = graph.blocks.iter().map(|m| graph.group[m[0]]).collect();
+        let mut index = vec![0; blocks.len()];
+        for (i, &b) in blocks.iter().enumerate() {
+            index[b] = i;
+        }
+        GlobalOrder { blocks, order: Order::new(layers, order.position.len()), index, span, lane }
     }
 
     /// Sifts every block once.
@@ -45,81 +57,78 @@ impl GlobalOrder {
         }
     }
 
-    /// Moves block `b` to the place in its group's stretch of the order where its edges cross
-    /// the fewest others.
+    /// Moves block `b` to the place in its lane's stretch of the order where its edges cross
+    /// the fewest others. While `b` is sifted its vertices stay where they were in the ranks:
+    /// `b` is placed virtually, before `blocks[place]`, and compared with others by that.
     fn sift(&mut self, b: usize, graph: &Proper) {
-        let members = &graph.blocks[b];
-        let group = graph.group[members[0]];
-        let from = self.blocks.iter().position(|&x| x == b).unwrap_or(0);
+        let from = self.index[b];
         self.blocks.remove(from);
-        let start = self.blocks.iter().position(|&x| graph.group[graph.blocks[x][0]] == group).unwrap_or(from);
-        let end = self.blocks.iter().rposition(|&x| graph.group[graph.blocks[x][0]] == group).map_or(from, |i| i + 1);
-        // Put b first in its group's stretch, in the order and in each of its ranks.
-        self.blocks.insert(start, b);
-        for &v in members {
-            let r = graph.rank[v];
-            let layer = &mut self.order.layers[r];
-            layer.remove(self.order.position[v]);
-            let first = layer.iter().position(|&w| graph.group[w] >= group).unwrap_or(layer.len());
-            layer.insert(first, v);
-            self.order.renumber(r);
-        }
-        let (first_rank, last_rank) = (graph.rank[members[0]], graph.rank[members[members.len() - 1]]);
-        let mut best_places: Vec<usize> = members.iter().map(|&v| self.order.position[v]).collect();
-        let (mut cost, mut best_cost, mut best_index) = (0i64, 0i64, start);
+        self.renumber_blocks(from);
+        // The order is sorted by lane: b's lane is one stretch of it.
+        let lane = self.lane[b];
+        let start = self.blocks.partition_point(|&x| self.lane[x] < lane);
+        let end = self.blocks.partition_point(|&x| self.lane[x] <= lane);
+        let (mut cost, mut best_cost, mut best_place) = (0i64, 0i64, start);
         let mut best_distance = from.abs_diff(start);
-        for index in start + 1..=end {
-            let c = self.blocks[index];
-            let other = &graph.blocks[c];
-            let (c_first, c_last) = (graph.rank[other[0]], graph.rank[other[other.len() - 1]]);
-            let (shared_first, shared_last) = (first_rank.max(c_first), last_rank.min(c_last));
-            if shared_first <= shared_last {
-                cost += self.swap_cost(b, c, shared_first, shared_last, graph);
-                for r in shared_first..=shared_last {
-                    let (v, w) = (members[r - first_rank], other[r - c_first]);
-                    let (pv, pw) = (self.order.position[v], self.order.position[w]);
-                    self.order.layers[r].swap(pv, pw);
-                    self.order.position[v] = pw;
-                    self.order.position[w] = pv;
-                }
+        for place in start..end {
+            let c = self.blocks[place];
+            if let Some((first, last)) = self.shared_ranks(b, c) {
+                cost += self.swap_cost(b, c, place, first, last, graph);
             }
-            self.blocks.swap(index - 1, index);
-            let distance = from.abs_diff(index);
+            let distance = from.abs_diff(place + 1);
             if cost < best_cost || (cost == best_cost && distance < best_distance) {
-                (best_cost, best_index, best_distance) = (cost, index, distance);
-                best_places = members.iter().map(|&v| self.order.position[v]).collect();
+                (best_cost, best_place, best_distance) = (cost, place + 1, distance);
             }
         }
-        if best_index != end {
-            self.blocks.remove(end);
-            self.blocks.insert(best_index, b);
-            for (&v, &place) in members.iter().zip(&best_places) {
-                let r = graph.rank[v];
-                let layer = &mut self.order.layers[r];
-                layer.remove(self.order.position[v]);
-                layer.insert(place, v);
-                self.order.renumber(r);
+        self.blocks.insert(best_place, b);
+        self.renumber_blocks(best_place.min(from));
+        // Each rank follows the order: b's vertex goes after the vertices of earlier blocks.
+        for &v in &graph.blocks[b] {
+            let r = graph.rank[v];
+            let old = self.order.position[v];
+            let layer = &mut self.order.layers[r];
+            layer.remove(old);
+            let new = layer.partition_point(|&w| self.index[graph.block_of[w]] < best_place);
+            layer.insert(new, v);
+            let low = old.min(new);
+            for (i, &w) in layer[low..=old.max(new)].iter().enumerate() {
+                self.order.position[w] = low + i;
             }
         }
     }
 
+    /// Recomputes the place in the order of every block from `start` on.
+    fn renumber_blocks(&mut self, start: usize) {
+        for (i, &x) in self.blocks.iter().enumerate().skip(start) {
+            self.index[x] = i;
+        }
+    }
+
+    /// The ranks both blocks cross, if any.
+    fn shared_ranks(&self, b: usize, c: usize) -> Option<(usize, usize)> {
+        let ((b_first, b_last), (c_first, c_last)) = (self.span[b], self.span[c]);
+        let shared = (b_first.max(c_first), b_last.min(c_last));
+        (shared.0 <= shared.1).then_some(shared)
+    }
+
     /// How many more crossings there are with block `c` before `b` than with `b` before `c`,
-    /// where both are adjacent in ranks `first..=last`: only the edges at the two ends of that
-    /// stretch can change.
-    fn swap_cost(&self, b: usize, c: usize, first: usize, last: usize, graph: &Proper) -> i64 {
+    /// where `b` is sifted past `c = blocks[place]` and both are in ranks `first..=last`: only
+    /// the edges at the two ends of that stretch can change.
+    fn swap_cost(&self, b: usize, c: usize, place: usize, first: usize, last: usize, graph: &Proper) -> i64 {
         let compare = |x: usize, y: usize, b_first: bool| {
             if x == y {
                 return Ordering::Equal;
             }
             let (bx, by) = (graph.block_of[x], graph.block_of[y]);
-            if bx == b && by == c {
-                if b_first {
+            let b_before = |other: usize| if other == c { b_first } else { self.index[other] > place };
+            if bx == b {
+                if b_before(by) {
                     Ordering::Less
                 } else {
                     Ordering::Greater
                 }
-            } else if bx == c && by == b {
-                if b_first {
+            } else if by == b {
+                if b_before(bx) {
                     Ordering::Greater
                 } else {
                     Ordering::Less
@@ -131,10 +140,8 @@ impl GlobalOrder {
         let mut cost = 0i64;
         let gaps = [first.checked_sub(1), Some(last).filter(|&l| l + 1 < self.order.layers.len())];
         for gap in gaps.into_iter().flatten() {
-            let b_segments = block_segments(&graph.blocks[b], gap, graph);
-            let c_segments = block_segments(&graph.blocks[c], gap, graph);
-            for &(s_top, s_bottom) in &b_segments {
-                for &(t_top, t_bottom) in &c_segments {
+            for (s_top, s_bottom) in block_segments(&graph.blocks[b], gap, graph) {
+                for (t_top, t_bottom) in block_segments(&graph.blocks[c], gap, graph) {
                     for (b_first, sign) in [(true, -1), (false, 1)] {
                         let (above, below) = (compare(s_top, t_top, b_first), compare(s_bottom, t_bottom, b_first));
                         if above != Ordering::Equal && below != Ordering::Equal && above != below {
@@ -149,16 +156,13 @@ impl GlobalOrder {
 }
 
 /// The segments of a block between rank `gap` and rank `gap + 1`.
-fn block_segments(members: &[usize], gap: usize, graph: &Proper) -> Vec<(usize, usize)> {
+fn block_segments<'g>(members: &[usize], gap: usize, graph: &'g Proper) -> impl Iterator<Item = (usize, usize)> + 'g {
     let first = graph.rank[members[0]];
     let at = |r: usize| r.checked_sub(first).and_then(|i| members.get(i)).copied();
-    if let Some(v) = at(gap) {
-        graph.down[v].iter().map(|&w| (v, w)).collect()
-    } else if let Some(v) = at(gap + 1) {
-        graph.up[v].iter().map(|&u| (u, v)).collect()
-    } else {
-        Vec::new()
-    }
+    let (below, above) = (at(gap), at(gap + 1));
+    let down = below.into_iter().flat_map(move |v| graph.down[v].iter().map(move |&w| (v, w)));
+    let up = above.filter(|_| below.is_none()).into_iter().flat_map(move |v| graph.up[v].iter().map(move |&u| (u, v)));
+    down.chain(up)
 }
 
 #[cfg(test)]
