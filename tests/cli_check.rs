@@ -152,4 +152,8 @@ fn render_writes_identical_svg_and_png_per_diagram() {
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no diagram named `NoSuchDiagram`"));
+    let out = gudsl().args(["render", "no/such/path.gudsl", "-o", out1.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "an unreadable path is exit code 2");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/path.gudsl"));
 }
