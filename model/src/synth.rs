@@ -85,7 +85,7 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
     }
     let _ = writeln!(out, "}}\n");
     activity(&mut out, &mut rng, index, &pkg, target_lines);
-    if index % 4 == 0 {
+    if index.is_multiple_of(4) {
         components(&mut out, index, &pkg);
     }
     SynthFile { path: format!("pkg{index:03}.gudsl"), text: out }

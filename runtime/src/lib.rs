@@ -1,1 +1,15 @@
-//! ToF pipeline runtime (WGSL kernels on wgpu, CPU reference, camera simulator); built in a later issue.
+//! gudsl-runtime: the ToF algorithms of the dissertation as WGSL compute kernels on wgpu, each
+//! with a CPU reference; pipelines of kernels run on the GPU (data kept there, one readback at
+//! the sinks) or, without an adapter, on the CPU reference.
+
+pub mod executor;
+pub mod gpu;
+pub mod image;
+pub mod kernels;
+pub mod pipeline;
+
+pub use executor::{run_cpu, GpuPipeline};
+pub use gpu::{Gpu, GpuUnavailable};
+pub use image::Image;
+pub use kernels::{Kernel, Shape};
+pub use pipeline::{Pipeline, Slot};

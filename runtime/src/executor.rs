@@ -1,0 +1,177 @@
+//! Runs a pipeline: on the GPU with every slot a buffer made once and reused across frames, all
+//! steps in one submission and one readback of the sinks; or on the CPU with the reference of
+//! each kernel.
+
+use std::time::{Duration, Instant};
+
+use crate::gpu::Gpu;
+use crate::pipeline::{Pipeline, Slot};
+use crate::Image;
+
+/// The CPU reference executor.
+pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Vec<Image> {
+    let mut values: Vec<Option<Image>> = vec![None; pipeline.slots.len()];
+    for (slot, image) in pipeline.sources.iter().zip(sources) {
+        values[slot.0] = Some(image.clone());
+    }
+    for step in &pipeline.steps {
+        let inputs: Vec<&Image> = step.inputs.iter().map(|s| values[s.0].as_ref().expect("a computed slot")).collect();
+        let outputs = step.kernel.cpu(&inputs);
+        for (slot, image) in step.outputs.iter().zip(outputs) {
+            values[slot.0] = Some(image);
+        }
+    }
+    pipeline.sinks.iter().map(|s| values[s.0].take().expect("a computed sink")).collect()
+}
+
+/// A pipeline prepared on a GPU: buffers, parameters and bind groups made once.
+pub struct GpuPipeline<'g> {
+    gpu: &'g Gpu,
+    pipeline: Pipeline,
+    buffers: Vec<wgpu::Buffer>,
+    steps: Vec<PreparedStep>,
+    staging: wgpu::Buffer,
+}
+
+struct PreparedStep {
+    passes: Vec<(wgpu::ComputePipeline, [u32; 3])>,
+    bind_group: wgpu::BindGroup,
+    scratch: Option<(wgpu::Buffer, Vec<u32>)>,
+}
+
+impl<'g> GpuPipeline<'g> {
+    pub fn new(gpu: &'g Gpu, pipeline: &Pipeline) -> GpuPipeline<'g> {
+        let buffers: Vec<wgpu::Buffer> =
+            pipeline.slots.iter().map(|(name, shape)| gpu.storage(name, shape.len())).collect();
+        let steps = pipeline
+            .steps
+            .iter()
+            .map(|step| {
+                let kernel = step.kernel;
+                let shapes: Vec<_> = step.inputs.iter().map(|&s| pipeline.shape(s)).collect();
+                let params = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("params"),
+                    size: kernel.params(&shapes).len() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                gpu.queue.write_buffer(&params, 0, &kernel.params(&shapes));
+                let (scratch_len, scratch_start) = kernel.scratch();
+                let scratch =
+                    (scratch_len > 0).then(|| (gpu.storage("scratch", scratch_len), vec![scratch_start; scratch_len]));
+                let outputs = step.outputs.len() + usize::from(scratch.is_some());
+                let layout = gpu.layout(step.inputs.len(), outputs);
+                let passes: Vec<_> = kernel
+                    .passes(&shapes)
+                    .into_iter()
+                    .map(|pass| (gpu.pipeline(kernel.name(), pass.entry, kernel.source(), &layout), pass.workgroups))
+                    .collect();
+                let mut resources: Vec<&wgpu::Buffer> = vec![&params];
+                resources.extend(step.inputs.iter().chain(&step.outputs).map(|s| &buffers[s.0]));
+                if let Some((buffer, _)) = &scratch {
+                    resources.push(buffer);
+                }
+                let entries: Vec<wgpu::BindGroupEntry> = resources
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+                    .collect();
+                let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: None,
+                    layout: &layout,
+                    entries: &entries,
+                });
+                PreparedStep { passes, bind_group, scratch }
+            })
+            .collect();
+        let sink_len: usize = pipeline.sinks.iter().map(|&s| pipeline.shape(s).len()).sum();
+        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sinks"),
+            size: (sink_len.max(1) * 4) as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        GpuPipeline { gpu, pipeline: pipeline.clone(), buffers, steps, staging }
+    }
+
+    /// Uploads the sources, runs every step and reads the sinks back.
+    pub fn run(&self, sources: &[Image]) -> Vec<Image> {
+        self.upload(sources);
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        for step in &self.steps {
+            self.encode(step, &mut encoder);
+        }
+        let mut offset = 0u64;
+        for &sink in &self.pipeline.sinks {
+            let bytes = (self.pipeline.shape(sink).len() * 4) as u64;
+            encoder.copy_buffer_to_buffer(&self.buffers[sink.0], 0, &self.staging, offset, bytes);
+            offset += bytes;
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.staging.map_async(wgpu::MapMode::Read, .., |_| {});
+        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        let mut images = Vec::with_capacity(self.pipeline.sinks.len());
+        {
+            let view = self.staging.get_mapped_range(..).expect("mapped sinks");
+            let all: &[f32] = bytemuck::cast_slice(&view);
+            let mut start = 0;
+            for &sink in &self.pipeline.sinks {
+                let shape = self.pipeline.shape(sink);
+                let data = all[start..start + shape.len()].to_vec();
+                start += shape.len();
+                images.push(Image { width: shape.width, height: shape.height, planes: shape.planes, data });
+            }
+        }
+        self.staging.unmap();
+        images
+    }
+
+    /// Uploads the sources, then times each step on its own (submit and wait), without readback.
+    pub fn time_steps(&self, sources: &[Image]) -> Vec<Duration> {
+        self.upload(sources);
+        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        self.steps
+            .iter()
+            .map(|step| {
+                let start = Instant::now();
+                let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+                self.encode(step, &mut encoder);
+                self.gpu.queue.submit([encoder.finish()]);
+                let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+                start.elapsed()
+            })
+            .collect()
+    }
+
+    fn upload(&self, sources: &[Image]) {
+        assert_eq!(sources.len(), self.pipeline.sources.len(), "one image per source");
+        for (&slot, image) in self.pipeline.sources.iter().zip(sources) {
+            assert_eq!(
+                image.data.len(),
+                self.pipeline.shape(slot).len(),
+                "source {} has the wrong size",
+                self.pipeline.slots[slot.0].0
+            );
+            self.gpu.queue.write_buffer(&self.buffers[slot.0], 0, bytemuck::cast_slice(&image.data));
+        }
+        for step in &self.steps {
+            if let Some((buffer, start)) = &step.scratch {
+                self.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(start));
+            }
+        }
+    }
+
+    fn encode(&self, step: &PreparedStep, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_bind_group(0, &step.bind_group, &[]);
+        for (compute, groups) in &step.passes {
+            pass.set_pipeline(compute);
+            pass.dispatch_workgroups(groups[0], groups[1], groups[2]);
+        }
+    }
+
+    /// The slot buffers (for tests that look inside).
+    pub fn buffer(&self, slot: Slot) -> &wgpu::Buffer {
+        &self.buffers[slot.0]
+    }
+}

@@ -1,0 +1,165 @@
+//! The headless wgpu context: any adapter (a real GPU, or Mesa's lavapipe/llvmpipe on machines
+//! without one), one device and queue, compute pipelines built once per kernel and reused, and
+//! the buffer helpers the executor uses.
+
+use std::{cell::RefCell, collections::HashMap, fmt};
+
+use wgpu::util::DeviceExt;
+
+/// Why no GPU context could be made; the runtime then runs the CPU reference instead.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GpuUnavailable(pub String);
+
+impl fmt::Display for GpuUnavailable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "no GPU adapter: {} (install a GPU driver, or Mesa's lavapipe: the Debian package mesa-vulkan-drivers)",
+            self.0
+        )
+    }
+}
+
+impl std::error::Error for GpuUnavailable {}
+
+/// A device and queue with a cache of compute pipelines by kernel and entry point.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter: wgpu::AdapterInfo,
+    pipelines: RefCell<HashMap<(&'static str, &'static str), wgpu::ComputePipeline>>,
+}
+
+impl Gpu {
+    /// The first adapter wgpu offers (`WGPU_BACKEND`, `WGPU_ADAPTER_NAME` and the other wgpu
+    /// environment variables are honoured).
+    pub fn new() -> Result<Gpu, GpuUnavailable> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
+            ..Default::default()
+        };
+        let adapter =
+            pollster::block_on(instance.request_adapter(&options)).map_err(|e| GpuUnavailable(e.to_string()))?;
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("gudsl-runtime"),
+            required_features: wgpu::Features::empty(),
+            // Image buffers are large: take what the adapter offers.
+            required_limits: adapter.limits(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|e| GpuUnavailable(e.to_string()))?;
+        Ok(Gpu { device, queue, adapter: adapter.get_info(), pipelines: RefCell::new(HashMap::new()) })
+    }
+
+    /// "name (backend, device type)".
+    pub fn describe(&self) -> String {
+        format!("{} ({:?}, {:?})", self.adapter.name, self.adapter.backend, self.adapter.device_type)
+    }
+
+    /// The bind group layout of a kernel with `inputs` read-only and `outputs` read-write storage
+    /// buffers (the last `scratch` of them u32 scratch), after the uniform parameters at 0.
+    pub fn layout(&self, inputs: usize, outputs: usize) -> wgpu::BindGroupLayout {
+        let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let mut entries = vec![wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }];
+        entries.extend((0..inputs).map(|i| storage(1 + i as u32, true)));
+        entries.extend((0..outputs).map(|i| storage(1 + (inputs + i) as u32, false)));
+        self.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &entries })
+    }
+
+    /// The compute pipeline of entry point `entry` of the kernel `name`, built from `source`
+    /// with `layout` the first time it is asked for.
+    pub fn pipeline(
+        &self,
+        name: &'static str,
+        entry: &'static str,
+        source: &str,
+        layout: &wgpu::BindGroupLayout,
+    ) -> wgpu::ComputePipeline {
+        let key = (name, entry);
+        if let Some(pipeline) = self.pipelines.borrow().get(&key) {
+            return pipeline.clone();
+        }
+        let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(name),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline_layout = self.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(name),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+        let pipeline = self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(name),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        self.pipelines.borrow_mut().insert(key, pipeline.clone());
+        pipeline
+    }
+
+    /// A storage buffer of `len` f32 samples, readable and writable by kernels, copyable both ways.
+    pub fn storage(&self, label: &str, len: usize) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: (len.max(1) * 4) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// A uniform buffer holding `value`.
+    pub fn uniform<T: bytemuck::Pod>(&self, label: &str, value: &T) -> wgpu::Buffer {
+        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::bytes_of(value),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        })
+    }
+
+    /// Reads `len` f32 samples of `buffer` back to the CPU (waits for the queue).
+    pub fn read(&self, buffer: &wgpu::Buffer, len: usize) -> Vec<f32> {
+        let size = (len.max(1) * 4) as u64;
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        self.queue.submit([encoder.finish()]);
+        staging.map_async(wgpu::MapMode::Read, .., |_| {});
+        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
+        let data = {
+            let view = staging.get_mapped_range(..).expect("a mapped readback buffer");
+            bytemuck::cast_slice::<u8, f32>(&view)[..len].to_vec()
+        };
+        staging.unmap();
+        data
+    }
+}

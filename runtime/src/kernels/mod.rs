@@ -1,0 +1,144 @@
+//! The kernels: each one a WGSL compute shader beside this file and its CPU reference here, with
+//! the parameters of the dissertation. A kernel reads input images and writes output images of
+//! f32 planes; the executor binds `params` (uniform) at 0, the inputs from 1, then the outputs,
+//! then an optional scratch buffer of u32 (reductions), and runs the kernel's passes in order.
+
+mod filters;
+mod reduce;
+
+pub use filters::{bilateral, gaussian, mean, median};
+pub use reduce::find_index;
+
+/// Size of an image: `planes` planes of `width × height`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shape {
+    pub width: usize,
+    pub height: usize,
+    pub planes: usize,
+}
+
+impl Shape {
+    pub fn len(&self) -> usize {
+        self.width * self.height * self.planes
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// One computation with its parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kernel {
+    /// Box mean over a `(2r+1)²` window (chapter 10's mean filter), edges replicated.
+    Mean { radius: u32 },
+    /// Median over a `(2r+1)²` window, r = 1 (3×3) or 2 (5×5), edges replicated.
+    Median { radius: u32 },
+    /// Gaussian over a `(2⌈3σ⌉+1)²` window, normalised, edges replicated.
+    Gaussian { sigma: f32 },
+    /// Bilateral filter (chapter 10): spatial and range Gaussians, normalised.
+    Bilateral { radius: u32, sigma_space: f32, sigma_range: f32 },
+    /// findIndex (chapter 10): the first index whose value is ≥ `threshold`, or the length.
+    FindIndex { threshold: f32 },
+}
+
+/// A kernel pass: its entry point and workgroup counts.
+pub struct Pass {
+    pub entry: &'static str,
+    pub workgroups: [u32; 3],
+}
+
+/// Workgroups of 8×8 threads covering a plane.
+fn tiles(shape: Shape) -> [u32; 3] {
+    [shape.width.div_ceil(8) as u32, shape.height.div_ceil(8) as u32, 1]
+}
+
+impl Kernel {
+    /// A stable name (pipeline cache key and benchmark label).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Kernel::Mean { .. } => "mean",
+            Kernel::Median { .. } => "median",
+            Kernel::Gaussian { .. } => "gaussian",
+            Kernel::Bilateral { .. } => "bilateral",
+            Kernel::FindIndex { .. } => "find_index",
+        }
+    }
+
+    pub fn source(&self) -> &'static str {
+        match self {
+            Kernel::Mean { .. } => include_str!("mean.wgsl"),
+            Kernel::Median { .. } => include_str!("median.wgsl"),
+            Kernel::Gaussian { .. } | Kernel::Bilateral { .. } => include_str!("weighted.wgsl"),
+            Kernel::FindIndex { .. } => include_str!("find_index.wgsl"),
+        }
+    }
+
+    /// Number of input images.
+    pub fn inputs(&self) -> usize {
+        1
+    }
+
+    /// Shapes of the outputs for inputs of these shapes.
+    pub fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        let first = inputs[0];
+        match self {
+            Kernel::FindIndex { .. } => vec![Shape { width: 1, height: 1, planes: 1 }],
+            _ => vec![Shape { planes: 1, ..first }],
+        }
+    }
+
+    /// Length of the u32 scratch buffer and the value it starts each run with (none: 0).
+    pub fn scratch(&self) -> (usize, u32) {
+        match self {
+            Kernel::FindIndex { .. } => (1, u32::MAX),
+            _ => (0, 0),
+        }
+    }
+
+    /// The uniform parameter block for inputs of these shapes.
+    pub fn params(&self, inputs: &[Shape]) -> Vec<u8> {
+        let s = inputs[0];
+        let (w, h) = (s.width as u32, s.height as u32);
+        let words: [u32; 8] = match *self {
+            Kernel::Mean { radius } | Kernel::Median { radius } => [w, h, radius, 0, 0, 0, 0, 0],
+            Kernel::Gaussian { sigma } => {
+                let radius = filters::gaussian_radius(sigma);
+                // A range sigma of 0 turns the range weight off: a plain Gaussian.
+                [w, h, radius, sigma.to_bits(), 0f32.to_bits(), 0, 0, 0]
+            }
+            Kernel::Bilateral { radius, sigma_space, sigma_range } => {
+                [w, h, radius, sigma_space.to_bits(), sigma_range.max(f32::MIN_POSITIVE).to_bits(), 0, 0, 0]
+            }
+            Kernel::FindIndex { threshold } => [(s.len()) as u32, threshold.to_bits(), 0, 0, 0, 0, 0, 0],
+        };
+        bytemuck::cast_slice(&words).to_vec()
+    }
+
+    /// The passes over inputs of these shapes.
+    pub fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        match self {
+            Kernel::FindIndex { .. } => vec![
+                Pass { entry: "main", workgroups: [(inputs[0].len().div_ceil(256) as u32).max(1), 1, 1] },
+                Pass { entry: "finish", workgroups: [1, 1, 1] },
+            ],
+            _ => vec![Pass { entry: "main", workgroups: tiles(inputs[0]) }],
+        }
+    }
+
+    /// The CPU reference: the same computation in plain Rust.
+    pub fn cpu(&self, inputs: &[&crate::Image]) -> Vec<crate::Image> {
+        let input = inputs[0];
+        match *self {
+            Kernel::Mean { radius } => vec![mean(input, radius)],
+            Kernel::Median { radius } => vec![median(input, radius)],
+            Kernel::Gaussian { sigma } => vec![gaussian(input, sigma)],
+            Kernel::Bilateral { radius, sigma_space, sigma_range } => {
+                vec![bilateral(input, radius, sigma_space, sigma_range)]
+            }
+            Kernel::FindIndex { threshold } => {
+                vec![crate::Image::from_plane(1, 1, vec![find_index(&input.data, threshold) as f32])]
+            }
+        }
+    }
+}

@@ -1,0 +1,105 @@
+//! Every kernel on the GPU (lavapipe in CI) against its CPU reference, on random and on
+//! simulated data, with a tolerance per kernel. Without an adapter these tests fail, unless
+//! GUDSL_NO_GPU=1 says the machine has none on purpose.
+
+use gudsl_runtime::{run_cpu, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
+
+/// A deterministic xorshift generator: the same data on every machine.
+struct Random(u64);
+
+impl Random {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    fn image(&mut self, width: usize, height: usize, planes: usize, scale: f32) -> Image {
+        let data = (0..width * height * planes).map(|_| self.next() * scale).collect();
+        Image { width, height, planes, data }
+    }
+}
+
+fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(gpu) => {
+            eprintln!("adapter: {}", gpu.describe());
+            Some(gpu)
+        }
+        Err(error) if std::env::var_os("GUDSL_NO_GPU").is_some() => {
+            eprintln!("skipped: {error}");
+            None
+        }
+        Err(error) => panic!("{error}; set GUDSL_NO_GPU=1 on a machine without one"),
+    }
+}
+
+/// Runs `kernel` on `inputs` on both and compares every output sample.
+fn check(gpu: &Gpu, kernel: Kernel, inputs: &[Image], tolerance: f32) {
+    let mut pipeline = Pipeline::new();
+    let sources: Vec<_> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, image)| {
+            let shape = Shape { width: image.width, height: image.height, planes: image.planes };
+            pipeline.source(&format!("in{i}"), shape)
+        })
+        .collect();
+    for slot in pipeline.step(kernel, &sources) {
+        pipeline.sink(slot);
+    }
+    let expected = run_cpu(&pipeline, inputs);
+    let actual = GpuPipeline::new(gpu, &pipeline).run(inputs);
+    for (e, a) in expected.iter().zip(&actual) {
+        assert_eq!((e.width, e.height, e.planes), (a.width, a.height, a.planes));
+        let worst = e
+            .data
+            .iter()
+            .zip(&a.data)
+            .map(|(x, y)| if x.is_nan() && y.is_nan() { 0.0 } else { (x - y).abs() / x.abs().max(1.0) })
+            .fold(0.0f32, f32::max);
+        assert!(worst <= tolerance, "{}: GPU differs from the CPU by {worst} (tolerance {tolerance})", kernel.name());
+    }
+}
+
+#[test]
+fn filters_match_on_random_images() {
+    let Some(gpu) = gpu() else { return };
+    let mut random = Random(0x9e37_79b9_7f4a_7c15);
+    // Odd sizes: partial workgroups at the right and bottom edges.
+    let image = random.image(203, 97, 1, 7.5);
+    check(&gpu, Kernel::Mean { radius: 1 }, std::slice::from_ref(&image), 1e-6);
+    check(&gpu, Kernel::Mean { radius: 3 }, std::slice::from_ref(&image), 1e-6);
+    check(&gpu, Kernel::Median { radius: 1 }, std::slice::from_ref(&image), 0.0);
+    check(&gpu, Kernel::Median { radius: 2 }, std::slice::from_ref(&image), 0.0);
+    check(&gpu, Kernel::Gaussian { sigma: 1.2 }, std::slice::from_ref(&image), 1e-5);
+    check(&gpu, Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.5 }, &[image], 1e-5);
+}
+
+#[test]
+fn find_index_matches_including_no_match() {
+    let Some(gpu) = gpu() else { return };
+    let mut random = Random(7);
+    let image = random.image(640, 480, 1, 1.0);
+    for threshold in [0.0, 0.5, 0.999_99, 2.0] {
+        check(&gpu, Kernel::FindIndex { threshold }, std::slice::from_ref(&image), 0.0);
+    }
+}
+
+#[test]
+fn every_kernel_is_valid_wgsl() {
+    let kernels = [
+        Kernel::Mean { radius: 1 },
+        Kernel::Median { radius: 1 },
+        Kernel::Gaussian { sigma: 1.0 },
+        Kernel::FindIndex { threshold: 0.0 },
+    ];
+    for kernel in kernels {
+        let module = naga::front::wgsl::parse_str(kernel.source())
+            .unwrap_or_else(|e| panic!("{}: {}", kernel.name(), e.emit_to_string(kernel.source())));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}: {e:?}", kernel.name()));
+    }
+}
