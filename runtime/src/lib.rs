@@ -6,7 +6,9 @@ pub mod executor;
 pub mod gpu;
 pub mod image;
 pub mod kernels;
+pub mod npy;
 pub mod pipeline;
+pub mod sim;
 
 pub use executor::{run_cpu, GpuPipeline};
 pub use gpu::{Gpu, GpuUnavailable};

@@ -2,6 +2,7 @@
 //! simulated data, with a tolerance per kernel. Without an adapter these tests fail, unless
 //! GUDSL_NO_GPU=1 says the machine has none on purpose.
 
+use gudsl_runtime::sim::{simulate, Camera, Motion, Scene};
 use gudsl_runtime::{run_cpu, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
 
 /// A deterministic xorshift generator: the same data on every machine.
@@ -88,8 +89,29 @@ fn find_index_matches_including_no_match() {
 }
 
 #[test]
+fn pmd_kernels_match_on_simulated_and_random_frames() {
+    let Some(gpu) = gpu() else { return };
+    let frame = simulate(&Scene::height_field(), Motion::Translation([0.01, 0.0, 0.0]), &Camera::default(), 0);
+    let mut random = Random(99);
+    let random_raw = random.image(64, 48, 8, 65535.0);
+    let random_black = random.image(64, 48, 8, 200.0);
+    for (raw, black) in [(&frame.raw, &frame.black), (&random_raw, &random_black)] {
+        check(&gpu, Kernel::SubtractBlack, &[raw.clone(), black.clone()], 0.0);
+        // Phase in radians and distance in metres: atan2 and sqrt agree to a few ulps.
+        check(&gpu, Kernel::Demodulate { modulation_hz: 20.0e6 }, std::slice::from_ref(raw), 2e-5);
+    }
+    let distance = random.image(200, 200, 1, 7.0);
+    let intensity = random.image(200, 200, 1, 30_000.0);
+    let correction = Kernel::CorrectIntensity { q: [0.01, -2e-6, 3e-11], int_time_calib: 500.0, int_time: 1000.0 };
+    check(&gpu, correction, &[distance, intensity], 1e-5);
+}
+
+#[test]
 fn every_kernel_is_valid_wgsl() {
     let kernels = [
+        Kernel::Demodulate { modulation_hz: 20.0e6 },
+        Kernel::SubtractBlack,
+        Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
         Kernel::Mean { radius: 1 },
         Kernel::Median { radius: 1 },
         Kernel::Gaussian { sigma: 1.0 },

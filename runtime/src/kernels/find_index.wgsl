@@ -8,9 +8,10 @@ struct Params { len: u32, threshold: f32, _pad: vec2<u32>, _pad2: vec4<u32> }
 @group(0) @binding(3) var<storage, read_write> first: atomic<u32>;
 
 @compute @workgroup_size(256)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x < p.len && input[id.x] >= p.threshold {
-        atomicMin(&first, id.x);
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = id.y * groups.x * 256u + id.x;
+    if i < p.len && input[i] >= p.threshold {
+        atomicMin(&first, i);
     }
 }
 

@@ -5,6 +5,7 @@
 
 mod filters;
 mod reduce;
+pub mod tof;
 
 pub use filters::{bilateral, gaussian, mean, median};
 pub use reduce::find_index;
@@ -30,6 +31,13 @@ impl Shape {
 /// One computation with its parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kernel {
+    /// 4-phase demodulation (sec. 2.1.1): raw frame (8 planes) → phase, amplitude, intensity,
+    /// distance (metres, modulation frequency in Hz).
+    Demodulate { modulation_hz: f32 },
+    /// Black-image subtraction (fixed-pattern noise): raw frame, black frame → raw frame.
+    SubtractBlack,
+    /// Intensity-related distance correction (sec. 2.1.2.2): distance, intensity → distance.
+    CorrectIntensity { q: [f32; 3], int_time_calib: f32, int_time: f32 },
     /// Box mean over a `(2r+1)²` window (chapter 10's mean filter), edges replicated.
     Mean { radius: u32 },
     /// Median over a `(2r+1)²` window, r = 1 (3×3) or 2 (5×5), edges replicated.
@@ -48,6 +56,13 @@ pub struct Pass {
     pub workgroups: [u32; 3],
 }
 
+/// Workgroups of 256 threads covering `len` items, in rows of at most 65535 workgroups.
+fn linear(len: usize) -> [u32; 3] {
+    let groups = len.div_ceil(256).max(1);
+    let x = groups.min(65_535);
+    [x as u32, groups.div_ceil(x) as u32, 1]
+}
+
 /// Workgroups of 8×8 threads covering a plane.
 fn tiles(shape: Shape) -> [u32; 3] {
     [shape.width.div_ceil(8) as u32, shape.height.div_ceil(8) as u32, 1]
@@ -57,6 +72,9 @@ impl Kernel {
     /// A stable name (pipeline cache key and benchmark label).
     pub fn name(&self) -> &'static str {
         match self {
+            Kernel::Demodulate { .. } => "demodulate",
+            Kernel::SubtractBlack => "subtract_black",
+            Kernel::CorrectIntensity { .. } => "correct_intensity",
             Kernel::Mean { .. } => "mean",
             Kernel::Median { .. } => "median",
             Kernel::Gaussian { .. } => "gaussian",
@@ -67,6 +85,9 @@ impl Kernel {
 
     pub fn source(&self) -> &'static str {
         match self {
+            Kernel::Demodulate { .. } => include_str!("demodulate.wgsl"),
+            Kernel::SubtractBlack => include_str!("subtract_black.wgsl"),
+            Kernel::CorrectIntensity { .. } => include_str!("correct_intensity.wgsl"),
             Kernel::Mean { .. } => include_str!("mean.wgsl"),
             Kernel::Median { .. } => include_str!("median.wgsl"),
             Kernel::Gaussian { .. } | Kernel::Bilateral { .. } => include_str!("weighted.wgsl"),
@@ -76,7 +97,10 @@ impl Kernel {
 
     /// Number of input images.
     pub fn inputs(&self) -> usize {
-        1
+        match self {
+            Kernel::SubtractBlack | Kernel::CorrectIntensity { .. } => 2,
+            _ => 1,
+        }
     }
 
     /// Shapes of the outputs for inputs of these shapes.
@@ -84,6 +108,8 @@ impl Kernel {
         let first = inputs[0];
         match self {
             Kernel::FindIndex { .. } => vec![Shape { width: 1, height: 1, planes: 1 }],
+            Kernel::Demodulate { .. } => vec![Shape { planes: 1, ..first }; 4],
+            Kernel::SubtractBlack => vec![first],
             _ => vec![Shape { planes: 1, ..first }],
         }
     }
@@ -101,6 +127,15 @@ impl Kernel {
         let s = inputs[0];
         let (w, h) = (s.width as u32, s.height as u32);
         let words: [u32; 8] = match *self {
+            Kernel::Demodulate { modulation_hz } => {
+                let range = tof::unambiguous_range(modulation_hz);
+                [(s.width * s.height) as u32, w, range.to_bits(), 0, 0, 0, 0, 0]
+            }
+            Kernel::SubtractBlack => [s.len() as u32, 0, 0, 0, 0, 0, 0, 0],
+            Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
+                let scale = int_time_calib / int_time;
+                [s.len() as u32, w, q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), scale.to_bits(), 0, 0]
+            }
             Kernel::Mean { radius } | Kernel::Median { radius } => [w, h, radius, 0, 0, 0, 0, 0],
             Kernel::Gaussian { sigma } => {
                 let radius = filters::gaussian_radius(sigma);
@@ -119,9 +154,10 @@ impl Kernel {
     pub fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
         match self {
             Kernel::FindIndex { .. } => vec![
-                Pass { entry: "main", workgroups: [(inputs[0].len().div_ceil(256) as u32).max(1), 1, 1] },
+                Pass { entry: "main", workgroups: linear(inputs[0].len()) },
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
+            Kernel::SubtractBlack => vec![Pass { entry: "main", workgroups: linear(inputs[0].len()) }],
             _ => vec![Pass { entry: "main", workgroups: tiles(inputs[0]) }],
         }
     }
@@ -130,6 +166,11 @@ impl Kernel {
     pub fn cpu(&self, inputs: &[&crate::Image]) -> Vec<crate::Image> {
         let input = inputs[0];
         match *self {
+            Kernel::Demodulate { modulation_hz } => tof::demodulate(input, modulation_hz).into(),
+            Kernel::SubtractBlack => vec![tof::subtract_black(input, inputs[1])],
+            Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
+                vec![tof::correct_intensity(input, inputs[1], q, int_time_calib, int_time)]
+            }
             Kernel::Mean { radius } => vec![mean(input, radius)],
             Kernel::Median { radius } => vec![median(input, radius)],
             Kernel::Gaussian { sigma } => vec![gaussian(input, sigma)],

@@ -1,0 +1,370 @@
+//! A simulated PMD camera with ground truth, after the evaluation setup of chapter 4: a planar
+//! wall at 4 m and an object at about 3 m (sphere, box or a detailed height field), seen by a
+//! 200×200 sensor with the intrinsics and distortion of Table 2.1 at 20 MHz. The four phase
+//! images are taken one after another, the camera moving (1 cm) or turning (1°) between them;
+//! each pixel integrates 3×3 sub-rays, so depth edges give flying pixels. A and B channels carry
+//! `S/2·(1 ± m·cos(φ + i·π/2))` with `S` falling with distance and rising with reflectivity and
+//! integration time, plus ambient light, a fixed-pattern offset (the black image), shot noise and
+//! saturation at 65535.
+
+use std::f32::consts::PI;
+
+use crate::kernels::tof::SPEED_OF_LIGHT;
+use crate::Image;
+
+/// Pinhole intrinsics with Brown–Conrady distortion (k1, k2 radial; p1, p2 tangential).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Intrinsics {
+    pub width: usize,
+    pub height: usize,
+    pub fx: f32,
+    pub fy: f32,
+    pub cx: f32,
+    pub cy: f32,
+    pub k1: f32,
+    pub k2: f32,
+    pub p1: f32,
+    pub p2: f32,
+}
+
+impl Intrinsics {
+    /// Table 2.1: the PMD CamCube 3.0 of the dissertation.
+    pub const CAMCUBE: Intrinsics = Intrinsics {
+        width: 200,
+        height: 200,
+        fx: 176.14,
+        fy: 176.70,
+        cx: 103.83,
+        cy: 99.06,
+        k1: -0.295140,
+        k2: 1.191152,
+        p1: 0.004619,
+        p2: -0.001630,
+    };
+
+    /// The unit ray (camera frame: x right, y down, z forward) through image point `(u, v)`,
+    /// undistorting the normalised coordinates by fixed-point iteration.
+    pub fn ray(&self, u: f32, v: f32) -> [f32; 3] {
+        let (xd, yd) = ((u - self.cx) / self.fx, (v - self.cy) / self.fy);
+        let (mut x, mut y) = (xd, yd);
+        for _ in 0..10 {
+            let r2 = x * x + y * y;
+            let radial = 1.0 + self.k1 * r2 + self.k2 * r2 * r2;
+            let dx = 2.0 * self.p1 * x * y + self.p2 * (r2 + 2.0 * x * x);
+            let dy = self.p1 * (r2 + 2.0 * y * y) + 2.0 * self.p2 * x * y;
+            x = (xd - dx) / radial;
+            y = (yd - dy) / radial;
+        }
+        let n = (x * x + y * y + 1.0).sqrt();
+        [x / n, y / n, 1.0 / n]
+    }
+}
+
+/// The object in front of the wall.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Object {
+    Sphere {
+        centre: [f32; 3],
+        radius: f32,
+    },
+    /// An axis-aligned box.
+    Cuboid {
+        min: [f32; 3],
+        max: [f32; 3],
+    },
+    /// A relief facing the camera: `z = base − height(x, y)` over a square of side `size`
+    /// around `centre` (x, y), with fine ridges (a stand-in for the scanned figures of chapter 4).
+    HeightField {
+        centre: [f32; 2],
+        base: f32,
+        size: f32,
+    },
+}
+
+/// A wall at `wall_distance` (plane z = const) and an object, with their reflectivities.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scene {
+    pub wall_distance: f32,
+    pub wall_reflectivity: f32,
+    pub object: Option<Object>,
+    pub object_reflectivity: f32,
+}
+
+impl Scene {
+    /// The chapter 4 setup: wall at 4 m, the object at about 3 m.
+    pub fn wall_and(object: Object) -> Scene {
+        Scene { wall_distance: 4.0, wall_reflectivity: 0.8, object: Some(object), object_reflectivity: 0.6 }
+    }
+
+    pub fn sphere() -> Scene {
+        Scene::wall_and(Object::Sphere { centre: [0.0, 0.0, 3.0], radius: 0.45 })
+    }
+
+    pub fn cuboid() -> Scene {
+        Scene::wall_and(Object::Cuboid { min: [-0.4, -0.3, 2.8], max: [0.3, 0.4, 3.3] })
+    }
+
+    pub fn height_field() -> Scene {
+        Scene::wall_and(Object::HeightField { centre: [0.0, 0.0], base: 3.1, size: 1.0 })
+    }
+
+    /// The nearest hit of the ray from `origin` along unit `dir`: distance, reflectivity and the
+    /// cosine of the incidence angle.
+    fn hit(&self, origin: [f32; 3], dir: [f32; 3]) -> Option<(f32, f32, f32)> {
+        let mut best: Option<(f32, f32, f32)> = None;
+        let mut consider = |t: f32, reflectivity: f32, cos: f32| {
+            if t > 1e-4 && best.is_none_or(|b| t < b.0) {
+                best = Some((t, reflectivity, cos.abs().max(0.05)));
+            }
+        };
+        if dir[2] > 1e-6 {
+            consider((self.wall_distance - origin[2]) / dir[2], self.wall_reflectivity, dir[2]);
+        }
+        if let Some(object) = self.object {
+            if let Some((t, normal)) = intersect(object, origin, dir) {
+                consider(t, self.object_reflectivity, dot(normal, dir));
+            }
+        }
+        best
+    }
+}
+
+fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn along(origin: [f32; 3], dir: [f32; 3], t: f32) -> [f32; 3] {
+    [origin[0] + t * dir[0], origin[1] + t * dir[1], origin[2] + t * dir[2]]
+}
+
+/// Relief height of the height field at `(x, y)` relative to its centre: a dome with ridges.
+fn relief(x: f32, y: f32, size: f32) -> f32 {
+    let (u, v) = (x / size, y / size);
+    let dome = 0.25 * (1.0 - 4.0 * (u * u + v * v)).max(0.0);
+    dome + 0.02 * (40.0 * u).sin() * (30.0 * v).cos()
+}
+
+/// Distance along the ray and surface normal of the first hit on `object`.
+fn intersect(object: Object, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])> {
+    match object {
+        Object::Sphere { centre, radius } => {
+            let oc = [o[0] - centre[0], o[1] - centre[1], o[2] - centre[2]];
+            let b = dot(oc, d);
+            let c = dot(oc, oc) - radius * radius;
+            let disc = b * b - c;
+            if disc < 0.0 {
+                return None;
+            }
+            let t = -b - disc.sqrt();
+            let p = along(o, d, t);
+            let n = [(p[0] - centre[0]) / radius, (p[1] - centre[1]) / radius, (p[2] - centre[2]) / radius];
+            (t > 0.0).then_some((t, n))
+        }
+        Object::Cuboid { min, max } => {
+            let (mut near, mut far, mut axis) = (f32::NEG_INFINITY, f32::INFINITY, 0);
+            for k in 0..3 {
+                if d[k].abs() < 1e-9 {
+                    if o[k] < min[k] || o[k] > max[k] {
+                        return None;
+                    }
+                    continue;
+                }
+                let (a, b) = ((min[k] - o[k]) / d[k], (max[k] - o[k]) / d[k]);
+                let (a, b) = (a.min(b), a.max(b));
+                if a > near {
+                    near = a;
+                    axis = k;
+                }
+                far = far.min(b);
+            }
+            if near > far || near <= 0.0 {
+                return None;
+            }
+            let mut n = [0.0; 3];
+            n[axis] = -d[axis].signum();
+            Some((near, n))
+        }
+        Object::HeightField { centre, base, size } => {
+            // March through the slab the relief occupies, then bisect the crossing.
+            let half = size / 2.0;
+            let inside = |p: [f32; 3]| (p[0] - centre[0]).abs() <= half && (p[1] - centre[1]).abs() <= half;
+            let below = |p: [f32; 3]| p[2] >= base - relief(p[0] - centre[0], p[1] - centre[1], size);
+            if d[2] <= 1e-6 {
+                return None;
+            }
+            let (t0, t1) = ((base - 0.3 - o[2]) / d[2], (base - o[2]) / d[2]);
+            let steps = 200;
+            let mut previous = t0;
+            for s in 1..=steps {
+                let t = t0 + (t1 - t0) * s as f32 / steps as f32;
+                let p = along(o, d, t);
+                if inside(p) && below(p) {
+                    let (mut lo, mut hi) = (previous, t);
+                    for _ in 0..20 {
+                        let mid = 0.5 * (lo + hi);
+                        if below(along(o, d, mid)) {
+                            hi = mid;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    let p = along(o, d, hi);
+                    let e = 1e-3;
+                    let (x, y) = (p[0] - centre[0], p[1] - centre[1]);
+                    let gx = (relief(x + e, y, size) - relief(x - e, y, size)) / (2.0 * e);
+                    let gy = (relief(x, y + e, size) - relief(x, y - e, size)) / (2.0 * e);
+                    let len = (gx * gx + gy * gy + 1.0).sqrt();
+                    return Some((hi, [gx / len, gy / len, -1.0 / len]));
+                }
+                previous = t;
+            }
+            None
+        }
+    }
+}
+
+/// How the camera moves between two phase images.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    Still,
+    /// Translation in metres per phase image (chapter 4: 1 cm lateral).
+    Translation([f32; 3]),
+    /// Rotation about the line of sight in degrees per phase image (chapter 4: 1°).
+    Rotation(f32),
+}
+
+/// Acquisition settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub intrinsics: Intrinsics,
+    pub modulation_hz: f32,
+    /// Integration time per phase image in microseconds.
+    pub integration_us: f32,
+    /// Signal per channel sum for reflectivity 1 at 1 m and 1 µs.
+    pub gain: f32,
+    /// Demodulation contrast m.
+    pub contrast: f32,
+    /// Ambient light per channel per µs.
+    pub ambient: f32,
+    /// Shot noise on or off.
+    pub noise: bool,
+    /// Sub-rays per pixel side (3: 3×3).
+    pub supersampling: usize,
+    pub seed: u64,
+}
+
+impl Default for Camera {
+    fn default() -> Camera {
+        Camera {
+            intrinsics: Intrinsics::CAMCUBE,
+            modulation_hz: 20.0e6,
+            integration_us: 1000.0,
+            gain: 60.0,
+            contrast: 0.6,
+            ambient: 0.05,
+            noise: true,
+            supersampling: 3,
+            seed: 1,
+        }
+    }
+}
+
+/// One simulated frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Raw channels `A0 B0 A1 B1 A2 B2 A3 B3`, whole numbers in 0..=65535.
+    pub raw: Image,
+    /// The chip's black image (fixed-pattern offset per channel), as the camera would record it.
+    pub black: Image,
+    /// Ground truth: radial distance in metres per pixel at the first phase image's pose
+    /// (centre ray; NaN where the ray hits nothing).
+    pub truth: Image,
+}
+
+/// A small deterministic generator (xorshift64*) with Gaussian samples.
+struct Random(u64);
+
+impl Random {
+    fn uniform(&mut self) -> f32 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        ((self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 + 0.5) / (1u64 << 24) as f32
+    }
+
+    fn gaussian(&mut self) -> f32 {
+        let (u, v) = (self.uniform(), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
+    }
+}
+
+/// The camera pose (origin, rotation about z in radians) at phase step `step` (4 per frame).
+fn pose(motion: Motion, step: usize) -> ([f32; 3], f32) {
+    let s = step as f32;
+    match motion {
+        Motion::Still => ([0.0; 3], 0.0),
+        Motion::Translation(v) => ([v[0] * s, v[1] * s, v[2] * s], 0.0),
+        Motion::Rotation(degrees) => ([0.0; 3], (degrees * s).to_radians()),
+    }
+}
+
+fn rotate_z([x, y, z]: [f32; 3], angle: f32) -> [f32; 3] {
+    let (s, c) = angle.sin_cos();
+    [c * x - s * y, s * x + c * y, z]
+}
+
+/// Simulates frame number `index` of a sequence (its phase images are steps `4·index … 4·index+3`).
+pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) -> Frame {
+    let k = camera.intrinsics;
+    let (w, h) = (k.width, k.height);
+    let n = w * h;
+    let mut raw = Image::zeros(w, h, 8);
+    let mut black = Image::zeros(w, h, 8);
+    let mut truth = Image::zeros(w, h, 1);
+    let mut random = Random(camera.seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (index as u64 + 1));
+    // The fixed pattern does not change between frames: its own generator.
+    let mut pattern = Random(0x5eed_0f_b1ac);
+    for value in black.data.iter_mut() {
+        *value = (60.0 + 15.0 * pattern.gaussian()).round().max(0.0);
+    }
+    let wavelength_phase = 4.0 * PI * camera.modulation_hz / SPEED_OF_LIGHT;
+    let ss = camera.supersampling.max(1);
+    let rays: Vec<[f32; 3]> = (0..n * ss * ss)
+        .map(|j| {
+            let (pixel, sub) = (j / (ss * ss), j % (ss * ss));
+            let u = (pixel % w) as f32 + ((sub % ss) as f32 + 0.5) / ss as f32 - 0.5;
+            let v = (pixel / w) as f32 + ((sub / ss) as f32 + 0.5) / ss as f32 - 0.5;
+            k.ray(u, v)
+        })
+        .collect();
+    let (origin0, angle0) = pose(motion, 4 * index);
+    for pixel in 0..n {
+        let centre = k.ray((pixel % w) as f32, (pixel / w) as f32);
+        truth.data[pixel] = scene.hit(origin0, rotate_z(centre, angle0)).map_or(f32::NAN, |(t, _, _)| t);
+    }
+    for phase in 0..4 {
+        let (origin, angle) = pose(motion, 4 * index + phase);
+        let offset = phase as f32 * PI / 2.0;
+        for pixel in 0..n {
+            let (mut sum, mut modulated) = (0.0f32, 0.0f32);
+            for sub in 0..ss * ss {
+                let dir = rotate_z(rays[pixel * ss * ss + sub], angle);
+                if let Some((t, reflectivity, cos)) = scene.hit(origin, dir) {
+                    let signal = camera.gain * camera.integration_us * reflectivity * cos / (t * t);
+                    sum += signal;
+                    modulated += signal * (wavelength_phase * t + offset).cos();
+                }
+            }
+            let (sum, modulated) = (sum / (ss * ss) as f32, modulated / (ss * ss) as f32);
+            let ambient = camera.ambient * camera.integration_us;
+            for (channel, sign) in [(0, 1.0), (1, -1.0)] {
+                let plane = 2 * phase + channel;
+                let clean = 0.5 * (sum + sign * camera.contrast * modulated) + ambient;
+                let noisy = if camera.noise { clean + clean.max(0.0).sqrt() * random.gaussian() } else { clean };
+                let value = (noisy + black.data[plane * n + pixel]).round().clamp(0.0, 65535.0);
+                raw.data[plane * n + pixel] = value;
+            }
+        }
+    }
+    Frame { raw, black, truth }
+}
