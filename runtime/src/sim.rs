@@ -323,7 +323,7 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
     let mut truth = Image::zeros(w, h, 1);
     let mut random = Random(camera.seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ (index as u64 + 1));
     // The fixed pattern does not change between frames: its own generator.
-    let mut pattern = Random(0x5eed_0f_b1ac);
+    let mut pattern = Random(0x005e_ed0f_b1ac);
     for value in black.data.iter_mut() {
         *value = (60.0 + 15.0 * pattern.gaussian()).round().max(0.0);
     }
