@@ -107,11 +107,59 @@ fn pmd_kernels_match_on_simulated_and_random_frames() {
 }
 
 #[test]
+fn motion_compensation_kernels_match_on_a_moving_scene() {
+    let Some(gpu) = gpu() else { return };
+    let frame = simulate(&Scene::height_field(), Motion::Translation([0.02, 0.0, 0.0]), &Camera::default(), 0);
+    let raw = gudsl_runtime::kernels::tof::subtract_black(&frame.raw, &frame.black);
+    check(&gpu, Kernel::DetectMotion { theta: 655.0 }, std::slice::from_ref(&raw), 0.0);
+    let [_, mask] = gudsl_runtime::kernels::motion::detect(&raw, 655.0);
+    let moving = mask.data.iter().filter(|&&m| m == 1.0).count();
+    assert!(moving > 1000, "the moving scene has moving pixels: {moving}");
+    for restriction in [None, Some((0.0, std::f32::consts::FRAC_PI_4)), Some((3.0, std::f32::consts::FRAC_PI_2))] {
+        for window in [5, 7] {
+            // SSD sums may round differently on the GPU (fused multiply-add): a near tie may
+            // pick another vector; allow one pixel in ten thousand.
+            let kernel = Kernel::MatchBlocks { window, restriction };
+            let (cpu, gpu_flow) = both(&gpu, kernel, &[raw.clone(), mask.clone()]);
+            let differing = (0..cpu.pixels())
+                .filter(|&i| {
+                    cpu.data[i] != gpu_flow.data[i] || cpu.data[cpu.pixels() + i] != gpu_flow.data[cpu.pixels() + i]
+                })
+                .count();
+            assert!(differing * 10_000 <= cpu.pixels(), "{window} {restriction:?}: {differing} flow vectors differ");
+            check(&gpu, Kernel::SmoothFlow { window }, std::slice::from_ref(&cpu), 0.0);
+            check(&gpu, Kernel::CorrectRaw, &[raw.clone(), cpu], 0.0);
+        }
+    }
+}
+
+/// The single output of `kernel` on the CPU and on the GPU.
+fn both(gpu: &Gpu, kernel: Kernel, inputs: &[Image]) -> (Image, Image) {
+    let mut pipeline = Pipeline::new();
+    let sources: Vec<_> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, im)| {
+            pipeline.source(&format!("in{i}"), Shape { width: im.width, height: im.height, planes: im.planes })
+        })
+        .collect();
+    let out = pipeline.step(kernel, &sources)[0];
+    pipeline.sink(out);
+    let cpu = run_cpu(&pipeline, inputs).remove(0);
+    let gpu = GpuPipeline::new(gpu, &pipeline).run(inputs).remove(0);
+    (cpu, gpu)
+}
+
+#[test]
 fn every_kernel_is_valid_wgsl() {
     let kernels = [
         Kernel::Demodulate { modulation_hz: 20.0e6 },
         Kernel::SubtractBlack,
         Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
+        Kernel::DetectMotion { theta: 0.0 },
+        Kernel::MatchBlocks { window: 5, restriction: None },
+        Kernel::SmoothFlow { window: 5 },
+        Kernel::CorrectRaw,
         Kernel::Mean { radius: 1 },
         Kernel::Median { radius: 1 },
         Kernel::Gaussian { sigma: 1.0 },

@@ -4,6 +4,7 @@
 //! then an optional scratch buffer of u32 (reductions), and runs the kernel's passes in order.
 
 mod filters;
+pub mod motion;
 mod reduce;
 pub mod tof;
 
@@ -38,6 +39,16 @@ pub enum Kernel {
     SubtractBlack,
     /// Intensity-related distance correction (sec. 2.1.2.2): distance, intensity → distance.
     CorrectIntensity { q: [f32; 3], int_time_calib: f32, int_time: f32 },
+    /// Motion detection (eq. 4.4, 4.5): raw frame → M, mask (`M > theta`).
+    DetectMotion { theta: f32 },
+    /// Block matching (eq. 4.6–4.10): raw frame, mask → flow (2 planes: dx, dy per phase image)
+    /// over a `window × window` search (MWS), optionally only directions within
+    /// `restriction.1` radians of `restriction.0` (ρ/2 around the previous mean direction).
+    MatchBlocks { window: u32, restriction: Option<(f32, f32)> },
+    /// Median smoothing of flow directions over a `window × window` neighbourhood ("NH").
+    SmoothFlow { window: u32 },
+    /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame.
+    CorrectRaw,
     /// Box mean over a `(2r+1)²` window (chapter 10's mean filter), edges replicated.
     Mean { radius: u32 },
     /// Median over a `(2r+1)²` window, r = 1 (3×3) or 2 (5×5), edges replicated.
@@ -75,6 +86,10 @@ impl Kernel {
             Kernel::Demodulate { .. } => "demodulate",
             Kernel::SubtractBlack => "subtract_black",
             Kernel::CorrectIntensity { .. } => "correct_intensity",
+            Kernel::DetectMotion { .. } => "detect_motion",
+            Kernel::MatchBlocks { .. } => "match_blocks",
+            Kernel::SmoothFlow { .. } => "smooth_flow",
+            Kernel::CorrectRaw => "correct_raw",
             Kernel::Mean { .. } => "mean",
             Kernel::Median { .. } => "median",
             Kernel::Gaussian { .. } => "gaussian",
@@ -88,6 +103,10 @@ impl Kernel {
             Kernel::Demodulate { .. } => include_str!("demodulate.wgsl"),
             Kernel::SubtractBlack => include_str!("subtract_black.wgsl"),
             Kernel::CorrectIntensity { .. } => include_str!("correct_intensity.wgsl"),
+            Kernel::DetectMotion { .. } => include_str!("detect_motion.wgsl"),
+            Kernel::MatchBlocks { .. } => include_str!("match_blocks.wgsl"),
+            Kernel::SmoothFlow { .. } => include_str!("smooth_flow.wgsl"),
+            Kernel::CorrectRaw => include_str!("correct_raw.wgsl"),
             Kernel::Mean { .. } => include_str!("mean.wgsl"),
             Kernel::Median { .. } => include_str!("median.wgsl"),
             Kernel::Gaussian { .. } | Kernel::Bilateral { .. } => include_str!("weighted.wgsl"),
@@ -98,7 +117,10 @@ impl Kernel {
     /// Number of input images.
     pub fn inputs(&self) -> usize {
         match self {
-            Kernel::SubtractBlack | Kernel::CorrectIntensity { .. } => 2,
+            Kernel::SubtractBlack
+            | Kernel::CorrectIntensity { .. }
+            | Kernel::MatchBlocks { .. }
+            | Kernel::CorrectRaw => 2,
             _ => 1,
         }
     }
@@ -109,7 +131,9 @@ impl Kernel {
         match self {
             Kernel::FindIndex { .. } => vec![Shape { width: 1, height: 1, planes: 1 }],
             Kernel::Demodulate { .. } => vec![Shape { planes: 1, ..first }; 4],
-            Kernel::SubtractBlack => vec![first],
+            Kernel::SubtractBlack | Kernel::CorrectRaw | Kernel::SmoothFlow { .. } => vec![first],
+            Kernel::DetectMotion { .. } => vec![Shape { planes: 1, ..first }; 2],
+            Kernel::MatchBlocks { .. } => vec![Shape { planes: 2, ..first }],
             _ => vec![Shape { planes: 1, ..first }],
         }
     }
@@ -132,6 +156,13 @@ impl Kernel {
                 [(s.width * s.height) as u32, w, range.to_bits(), 0, 0, 0, 0, 0]
             }
             Kernel::SubtractBlack => [s.len() as u32, 0, 0, 0, 0, 0, 0, 0],
+            Kernel::DetectMotion { theta } => [w, h, theta.to_bits(), 0, 0, 0, 0, 0],
+            Kernel::MatchBlocks { window, restriction } => {
+                let (restrict, (mean, half)) = (u32::from(restriction.is_some()), restriction.unwrap_or((0.0, 0.0)));
+                [w, h, (window - 1) / 2, restrict, mean.to_bits(), half.to_bits(), 0, 0]
+            }
+            Kernel::SmoothFlow { window } => [w, h, (window - 1) / 2, 0, 0, 0, 0, 0],
+            Kernel::CorrectRaw => [w, h, 0, 0, 0, 0, 0, 0],
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 let scale = int_time_calib / int_time;
                 [s.len() as u32, w, q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), scale.to_bits(), 0, 0]
@@ -168,6 +199,12 @@ impl Kernel {
         match *self {
             Kernel::Demodulate { modulation_hz } => tof::demodulate(input, modulation_hz).into(),
             Kernel::SubtractBlack => vec![tof::subtract_black(input, inputs[1])],
+            Kernel::DetectMotion { theta } => motion::detect(input, theta).into(),
+            Kernel::MatchBlocks { window, restriction } => {
+                vec![motion::match_blocks(input, inputs[1], window, restriction)]
+            }
+            Kernel::SmoothFlow { window } => vec![motion::smooth_flow(input, window)],
+            Kernel::CorrectRaw => vec![motion::correct_raw(input, inputs[1])],
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 vec![tof::correct_intensity(input, inputs[1], q, int_time_calib, int_time)]
             }
