@@ -2,6 +2,7 @@
 //! steps in one submission and one readback of the sinks; or on the CPU with the reference of
 //! each kernel.
 
+use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
 use crate::gpu::Gpu;
@@ -10,18 +11,20 @@ use crate::Image;
 
 /// The CPU reference executor.
 pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Vec<Image> {
-    let mut values: Vec<Option<Image>> = vec![None; pipeline.slots.len()];
+    assert_eq!(sources.len(), pipeline.sources.len(), "one image per source");
+    let mut values: Vec<Option<Cow<Image>>> = vec![None; pipeline.slots.len()];
     for (slot, image) in pipeline.sources.iter().zip(sources) {
-        values[slot.0] = Some(image.clone());
+        values[slot.0] = Some(Cow::Borrowed(image));
     }
     for step in &pipeline.steps {
-        let inputs: Vec<&Image> = step.inputs.iter().map(|s| values[s.0].as_ref().expect("a computed slot")).collect();
+        let inputs: Vec<&Image> =
+            step.inputs.iter().map(|s| values[s.0].as_deref().expect("a computed slot")).collect();
         let outputs = step.kernel.cpu(&inputs);
         for (slot, image) in step.outputs.iter().zip(outputs) {
-            values[slot.0] = Some(image);
+            values[slot.0] = Some(Cow::Owned(image));
         }
     }
-    pipeline.sinks.iter().map(|s| values[s.0].take().expect("a computed sink")).collect()
+    pipeline.sinks.iter().map(|s| values[s.0].as_deref().expect("a computed sink").clone()).collect()
 }
 
 /// A pipeline prepared on a GPU: buffers, parameters and bind groups made once.

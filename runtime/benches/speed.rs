@@ -1,0 +1,158 @@
+//! Speed of every kernel and of whole chains at 200×200, 640×480 and 1024×1024, on the CPU
+//! reference (one thread) and on wgpu (the adapter wgpu finds: lavapipe without a GPU), side by
+//! side in one run. GPU kernel times are submit-to-done of that kernel alone, data already on the
+//! GPU; chain rows also give the round trip (upload, all steps, readback of the sinks).
+//! Medians of repeated runs.
+//!
+//! `cargo bench -p gudsl-runtime --bench speed`
+
+use std::time::{Duration, Instant};
+
+use gudsl_runtime::{run_cpu, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
+
+/// Deterministic test data (xorshift): raw frames in 0..65535, images in 0..8.
+fn random(width: usize, height: usize, planes: usize, scale: f32, seed: u64) -> Image {
+    let mut state = seed | 1;
+    let data = (0..width * height * planes)
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 40) as f32 / (1u64 << 24) as f32 * scale).round()
+        })
+        .collect();
+    Image { width, height, planes, data }
+}
+
+fn median_ms(mut samples: Vec<Duration>) -> f64 {
+    samples.sort();
+    samples[samples.len() / 2].as_secs_f64() * 1e3
+}
+
+fn repeats(width: usize) -> usize {
+    if width > 600 {
+        5
+    } else {
+        15
+    }
+}
+
+/// A one-kernel pipeline over fresh sources of the right shapes.
+fn single(kernel: Kernel, inputs: &[Image]) -> Pipeline {
+    let mut p = Pipeline::new();
+    let sources: Vec<_> = inputs
+        .iter()
+        .enumerate()
+        .map(|(i, im)| p.source(&format!("in{i}"), Shape { width: im.width, height: im.height, planes: im.planes }))
+        .collect();
+    for out in p.step(kernel, &sources) {
+        p.sink(out);
+    }
+    p
+}
+
+/// Motion compensation (chapter 4, MWS 5, θ 1 %) then demodulation.
+fn motion_chain(width: usize, height: usize) -> Pipeline {
+    let mut p = Pipeline::new();
+    let shape = Shape { width, height, planes: 8 };
+    let (raw, black) = (p.source("raw", shape), p.source("black", shape));
+    let raw = p.step(Kernel::SubtractBlack, &[raw, black])[0];
+    let mask = p.step(Kernel::DetectMotion { theta: 655.0 }, &[raw])[1];
+    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None }, &[raw, mask])[0];
+    let corrected = p.step(Kernel::CorrectRaw, &[raw, flow])[0];
+    let outputs = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]);
+    p.sink(outputs[1]);
+    p.sink(outputs[3]);
+    p
+}
+
+/// Demodulation and the chapter 6 filters: median 3×3, median 5×5, Gaussian, bilateral.
+fn filter_chain(width: usize, height: usize) -> Pipeline {
+    let mut p = Pipeline::new();
+    let raw = p.source("raw", Shape { width, height, planes: 8 });
+    let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw])[3];
+    let a = p.step(Kernel::Median { radius: 1 }, &[distance])[0];
+    let b = p.step(Kernel::Median { radius: 2 }, &[a])[0];
+    let c = p.step(Kernel::Gaussian { sigma: 1.0 }, &[b])[0];
+    let d = p.step(Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.05 }, &[c])[0];
+    p.sink(d);
+    p
+}
+
+fn main() {
+    let gpu = Gpu::new().map_err(|e| eprintln!("{e}: GPU columns left empty")).ok();
+    let device = gpu.as_ref().map_or("none".to_string(), Gpu::describe);
+    println!("CPU: reference, one thread. GPU: {device}. Milliseconds, medians.\n");
+    println!("{:<28} {:>10} | {:>9} {:>9} {:>9} | {:>7}", "kernel", "size", "CPU", "GPU", "GPU trip", "speedup");
+    for (w, h) in [(200usize, 200usize), (640, 480), (1024, 1024)] {
+        let raw = random(w, h, 8, 30_000.0, 1);
+        let black = random(w, h, 8, 100.0, 2);
+        let image = random(w, h, 1, 8.0, 3);
+        let intensity = random(w, h, 1, 30_000.0, 4);
+        let [_, mask] = gudsl_runtime::kernels::motion::detect(&raw, 655.0);
+        let flow = gudsl_runtime::kernels::motion::match_blocks(&raw, &mask, 5, None);
+        let cases: Vec<(Kernel, Vec<Image>)> = vec![
+            (Kernel::SubtractBlack, vec![raw.clone(), black.clone()]),
+            (Kernel::Demodulate { modulation_hz: 20.0e6 }, vec![raw.clone()]),
+            (
+                Kernel::CorrectIntensity { q: [0.01, -1e-6, 1e-11], int_time_calib: 500.0, int_time: 1000.0 },
+                vec![image.clone(), intensity],
+            ),
+            (Kernel::DetectMotion { theta: 655.0 }, vec![raw.clone()]),
+            (Kernel::MatchBlocks { window: 5, restriction: None }, vec![raw.clone(), mask.clone()]),
+            (Kernel::MatchBlocks { window: 7, restriction: None }, vec![raw.clone(), mask.clone()]),
+            (Kernel::SmoothFlow { window: 5 }, vec![flow.clone()]),
+            (Kernel::CorrectRaw, vec![raw.clone(), flow]),
+            (Kernel::Mean { radius: 1 }, vec![image.clone()]),
+            (Kernel::Median { radius: 1 }, vec![image.clone()]),
+            (Kernel::Median { radius: 2 }, vec![image.clone()]),
+            (Kernel::Gaussian { sigma: 1.0 }, vec![image.clone()]),
+            (Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.05 }, vec![image.clone()]),
+            (Kernel::FindIndex { threshold: 7.9 }, vec![image.clone()]),
+        ];
+        let n = repeats(w);
+        for (kernel, inputs) in cases {
+            let label = match kernel {
+                Kernel::MatchBlocks { window, .. } => format!("match_blocks MWS {window}"),
+                Kernel::Median { radius } => format!("median {0}×{0}", 2 * radius + 1),
+                other => other.name().to_string(),
+            };
+            let pipeline = single(kernel, &inputs);
+            let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs)))).collect());
+            let gpu_ms = gpu.as_ref().map(|gpu| {
+                let prepared = GpuPipeline::new(gpu, &pipeline);
+                prepared.run(&inputs); // warm up: pipelines compiled, buffers touched
+                median_ms((0..n).map(|_| prepared.time_steps(&inputs)[0]).collect())
+            });
+            row(&label, w, h, cpu, gpu_ms, None);
+        }
+        for (label, pipeline, inputs) in [
+            ("chain: motion comp. + demod", motion_chain(w, h), vec![raw.clone(), black.clone()]),
+            ("chain: demod + 4 filters", filter_chain(w, h), vec![raw.clone()]),
+        ] {
+            let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs)))).collect());
+            let (gpu_ms, trip) = gpu.as_ref().map_or((None, None), |gpu| {
+                let prepared = GpuPipeline::new(gpu, &pipeline);
+                prepared.run(&inputs);
+                let steps = median_ms((0..n).map(|_| prepared.time_steps(&inputs).into_iter().sum()).collect());
+                let trip = median_ms((0..n).map(|_| time(|| drop(prepared.run(&inputs)))).collect());
+                (Some(steps), Some(trip))
+            });
+            row(label, w, h, cpu, gpu_ms, trip);
+        }
+        println!();
+    }
+    println!("Reference (dissertation, GTX 680): motion compensation 12.58 ms at MWS 5 (200×200, Table 4.2); car chain 40.96 ms per frame.");
+}
+
+fn time(f: impl FnOnce()) -> Duration {
+    let start = Instant::now();
+    f();
+    start.elapsed()
+}
+
+fn row(label: &str, w: usize, h: usize, cpu: f64, gpu: Option<f64>, trip: Option<f64>) {
+    let show = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+    let speedup = gpu.map_or("-".to_string(), |g| format!("{:.1}×", cpu / g));
+    println!("{label:<28} {:>10} | {cpu:>9.2} {:>9} {:>9} | {speedup:>7}", format!("{w}×{h}"), show(gpu), show(trip));
+}
