@@ -42,6 +42,19 @@ impl Intrinsics {
         p2: -0.001630,
     };
 
+    /// The unit ray through every pixel centre: 3 planes (x, y, z), for the point cloud.
+    pub fn rays(&self) -> Image {
+        let n = self.width * self.height;
+        let mut rays = Image::zeros(self.width, self.height, 3);
+        for i in 0..n {
+            let ray = self.ray((i % self.width) as f32, (i / self.width) as f32);
+            for (k, value) in ray.into_iter().enumerate() {
+                rays.data[k * n + i] = value;
+            }
+        }
+        rays
+    }
+
     /// The unit ray (camera frame: x right, y down, z forward) through image point `(u, v)`,
     /// undistorting the normalised coordinates by fixed-point iteration.
     pub fn ray(&self, u: f32, v: f32) -> [f32; 3] {
@@ -106,6 +119,11 @@ impl Scene {
 
     pub fn height_field() -> Scene {
         Scene::wall_and(Object::HeightField { centre: [0.0, 0.0], base: 3.1, size: 1.0 })
+    }
+
+    /// The wall alone (the empty scene of the background model).
+    pub fn empty() -> Scene {
+        Scene { object: None, ..Scene::sphere() }
     }
 
     /// The nearest hit of the ray from `origin` along unit `dir`: distance, reflectivity and the

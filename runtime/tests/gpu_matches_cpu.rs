@@ -133,6 +133,38 @@ fn motion_compensation_kernels_match_on_a_moving_scene() {
     }
 }
 
+#[test]
+fn car_chain_kernels_match_on_simulated_frames() {
+    let Some(gpu) = gpu() else { return };
+    let camera = Camera::default();
+    let frame = simulate(&Scene::sphere(), Motion::Still, &camera, 0);
+    let empty = simulate(&Scene::empty(), Motion::Still, &camera, 0);
+    let demodulated = |f: &gudsl_runtime::sim::Frame| {
+        gudsl_runtime::kernels::tof::demodulate(&gudsl_runtime::kernels::tof::subtract_black(&f.raw, &f.black), 20.0e6)
+    };
+    let [_, amplitude, intensity, distance] = demodulated(&frame);
+    let [_, _, background_intensity, background_distance] = demodulated(&empty);
+    check(&gpu, Kernel::MaskAmplitude { min: 250.0, max: 1200.0 }, &[distance.clone(), amplitude], 0.0);
+    check(&gpu, Kernel::RemoveOutliers { range: 0.05, min_similar: 3 }, std::slice::from_ref(&distance), 0.0);
+    let segment = Kernel::Segment { theta_intensity: 50.0, theta_distance: 0.1 };
+    let inputs = [intensity, distance.clone(), background_intensity, background_distance];
+    check(&gpu, segment, &inputs, 0.0);
+    let mask = run_cpu_single(segment, &inputs);
+    for dilate in [false, true] {
+        check(&gpu, Kernel::Morphology { radius: 1, dilate }, std::slice::from_ref(&mask), 0.0);
+    }
+    check(&gpu, Kernel::ApplyMask, &[distance.clone(), mask], 0.0);
+    let rays = camera.intrinsics.rays();
+    check(&gpu, Kernel::PointCloud, &[distance.clone(), rays.clone()], 1e-6);
+    let points = gudsl_runtime::kernels::car::point_cloud(&distance, &rays);
+    check(&gpu, Kernel::Normals, std::slice::from_ref(&points), 1e-5);
+}
+
+fn run_cpu_single(kernel: Kernel, inputs: &[Image]) -> Image {
+    let refs: Vec<&Image> = inputs.iter().collect();
+    kernel.cpu(&refs).remove(0)
+}
+
 /// The single output of `kernel` on the CPU and on the GPU.
 fn both(gpu: &Gpu, kernel: Kernel, inputs: &[Image]) -> (Image, Image) {
     let mut pipeline = Pipeline::new();
@@ -160,6 +192,13 @@ fn every_kernel_is_valid_wgsl() {
         Kernel::MatchBlocks { window: 5, restriction: None },
         Kernel::SmoothFlow { window: 5 },
         Kernel::CorrectRaw,
+        Kernel::MaskAmplitude { min: 0.0, max: 1.0 },
+        Kernel::RemoveOutliers { range: 0.05, min_similar: 3 },
+        Kernel::Segment { theta_intensity: 1.0, theta_distance: 1.0 },
+        Kernel::Morphology { radius: 1, dilate: true },
+        Kernel::ApplyMask,
+        Kernel::PointCloud,
+        Kernel::Normals,
         Kernel::Mean { radius: 1 },
         Kernel::Median { radius: 1 },
         Kernel::Gaussian { sigma: 1.0 },

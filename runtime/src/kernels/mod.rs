@@ -3,6 +3,7 @@
 //! f32 planes; the executor binds `params` (uniform) at 0, the inputs from 1, then the outputs,
 //! then an optional scratch buffer of u32 (reductions), and runs the kernel's passes in order.
 
+pub mod car;
 mod filters;
 pub mod motion;
 mod reduce;
@@ -49,6 +50,21 @@ pub enum Kernel {
     SmoothFlow { window: u32 },
     /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame.
     CorrectRaw,
+    /// Amplitude masking (eq. 6.1): distance, amplitude → distance (0 outside [min, max]).
+    MaskAmplitude { min: f32, max: f32 },
+    /// 3×3 outlier removal (sec. 6.5.1.3): distance → distance.
+    RemoveOutliers { range: f32, min_similar: u32 },
+    /// Foreground segmentation (sec. 6.5.2): intensity, distance, background intensity,
+    /// background distance → mask.
+    Segment { theta_intensity: f32, theta_distance: f32 },
+    /// Binary erosion or dilation of a mask (opening: erode then dilate; closing: the reverse).
+    Morphology { radius: u32, dilate: bool },
+    /// value, mask → value where the mask is set, else 0.
+    ApplyMask,
+    /// Polar → Cartesian: distance, unit rays (3 planes) → points (3 planes).
+    PointCloud,
+    /// Normals by central differences: points → normals (3 planes).
+    Normals,
     /// Box mean over a `(2r+1)²` window (chapter 10's mean filter), edges replicated.
     Mean { radius: u32 },
     /// Median over a `(2r+1)²` window, r = 1 (3×3) or 2 (5×5), edges replicated.
@@ -90,6 +106,13 @@ impl Kernel {
             Kernel::MatchBlocks { .. } => "match_blocks",
             Kernel::SmoothFlow { .. } => "smooth_flow",
             Kernel::CorrectRaw => "correct_raw",
+            Kernel::MaskAmplitude { .. } => "mask_amplitude",
+            Kernel::RemoveOutliers { .. } => "remove_outliers",
+            Kernel::Segment { .. } => "segment",
+            Kernel::Morphology { .. } => "morphology",
+            Kernel::ApplyMask => "apply_mask",
+            Kernel::PointCloud => "point_cloud",
+            Kernel::Normals => "normals",
             Kernel::Mean { .. } => "mean",
             Kernel::Median { .. } => "median",
             Kernel::Gaussian { .. } => "gaussian",
@@ -107,6 +130,13 @@ impl Kernel {
             Kernel::MatchBlocks { .. } => include_str!("match_blocks.wgsl"),
             Kernel::SmoothFlow { .. } => include_str!("smooth_flow.wgsl"),
             Kernel::CorrectRaw => include_str!("correct_raw.wgsl"),
+            Kernel::MaskAmplitude { .. } => include_str!("mask_amplitude.wgsl"),
+            Kernel::RemoveOutliers { .. } => include_str!("remove_outliers.wgsl"),
+            Kernel::Segment { .. } => include_str!("segment.wgsl"),
+            Kernel::Morphology { .. } => include_str!("morphology.wgsl"),
+            Kernel::ApplyMask => include_str!("apply_mask.wgsl"),
+            Kernel::PointCloud => include_str!("point_cloud.wgsl"),
+            Kernel::Normals => include_str!("normals.wgsl"),
             Kernel::Mean { .. } => include_str!("mean.wgsl"),
             Kernel::Median { .. } => include_str!("median.wgsl"),
             Kernel::Gaussian { .. } | Kernel::Bilateral { .. } => include_str!("weighted.wgsl"),
@@ -120,7 +150,11 @@ impl Kernel {
             Kernel::SubtractBlack
             | Kernel::CorrectIntensity { .. }
             | Kernel::MatchBlocks { .. }
-            | Kernel::CorrectRaw => 2,
+            | Kernel::CorrectRaw
+            | Kernel::MaskAmplitude { .. }
+            | Kernel::ApplyMask
+            | Kernel::PointCloud => 2,
+            Kernel::Segment { .. } => 4,
             _ => 1,
         }
     }
@@ -134,6 +168,7 @@ impl Kernel {
             Kernel::SubtractBlack | Kernel::CorrectRaw | Kernel::SmoothFlow { .. } => vec![first],
             Kernel::DetectMotion { .. } => vec![Shape { planes: 1, ..first }; 2],
             Kernel::MatchBlocks { .. } => vec![Shape { planes: 2, ..first }],
+            Kernel::PointCloud | Kernel::Normals => vec![Shape { planes: 3, ..first }],
             _ => vec![Shape { planes: 1, ..first }],
         }
     }
@@ -162,7 +197,14 @@ impl Kernel {
                 [w, h, (window - 1) / 2, restrict, mean.to_bits(), half.to_bits(), 0, 0]
             }
             Kernel::SmoothFlow { window } => [w, h, (window - 1) / 2, 0, 0, 0, 0, 0],
-            Kernel::CorrectRaw => [w, h, 0, 0, 0, 0, 0, 0],
+            Kernel::CorrectRaw | Kernel::Normals => [w, h, 0, 0, 0, 0, 0, 0],
+            Kernel::MaskAmplitude { min, max } => [w * h, w, min.to_bits(), max.to_bits(), 0, 0, 0, 0],
+            Kernel::RemoveOutliers { range, min_similar } => [w, h, range.to_bits(), min_similar, 0, 0, 0, 0],
+            Kernel::Segment { theta_intensity, theta_distance } => {
+                [w * h, w, theta_intensity.to_bits(), theta_distance.to_bits(), 0, 0, 0, 0]
+            }
+            Kernel::Morphology { radius, dilate } => [w, h, radius, u32::from(dilate), 0, 0, 0, 0],
+            Kernel::ApplyMask | Kernel::PointCloud => [w * h, w, 0, 0, 0, 0, 0, 0],
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 let scale = int_time_calib / int_time;
                 [s.len() as u32, w, q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), scale.to_bits(), 0, 0]
@@ -205,6 +247,15 @@ impl Kernel {
             }
             Kernel::SmoothFlow { window } => vec![motion::smooth_flow(input, window)],
             Kernel::CorrectRaw => vec![motion::correct_raw(input, inputs[1])],
+            Kernel::MaskAmplitude { min, max } => vec![car::mask_amplitude(input, inputs[1], min, max)],
+            Kernel::RemoveOutliers { range, min_similar } => vec![car::remove_outliers(input, range, min_similar)],
+            Kernel::Segment { theta_intensity, theta_distance } => {
+                vec![car::segment(input, inputs[1], inputs[2], inputs[3], theta_intensity, theta_distance)]
+            }
+            Kernel::Morphology { radius, dilate } => vec![car::morphology(input, radius, dilate)],
+            Kernel::ApplyMask => vec![car::apply_mask(input, inputs[1])],
+            Kernel::PointCloud => vec![car::point_cloud(input, inputs[1])],
+            Kernel::Normals => vec![car::normals(input)],
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 vec![tof::correct_intensity(input, inputs[1], q, int_time_calib, int_time)]
             }
