@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use crate::gpu::Gpu;
 use crate::pipeline::{Pipeline, Slot};
-use crate::Image;
+use crate::{Image, Kernel};
 
 /// The CPU reference executor.
 pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Vec<Image> {
@@ -37,6 +37,7 @@ pub struct GpuPipeline<'g> {
 }
 
 struct PreparedStep {
+    params: wgpu::Buffer,
     passes: Vec<(wgpu::ComputePipeline, [u32; 3])>,
     bind_group: wgpu::BindGroup,
     scratch: Option<(wgpu::Buffer, Vec<u32>)>,
@@ -59,7 +60,7 @@ impl<'g> GpuPipeline<'g> {
                     mapped_at_creation: false,
                 });
                 gpu.queue.write_buffer(&params, 0, &kernel.params(&shapes));
-                let (scratch_len, scratch_start) = kernel.scratch();
+                let (scratch_len, scratch_start) = kernel.scratch(&shapes);
                 let scratch =
                     (scratch_len > 0).then(|| (gpu.storage("scratch", scratch_len), vec![scratch_start; scratch_len]));
                 let outputs = step.outputs.len() + usize::from(scratch.is_some());
@@ -84,7 +85,7 @@ impl<'g> GpuPipeline<'g> {
                     layout: &layout,
                     entries: &entries,
                 });
-                PreparedStep { passes, bind_group, scratch }
+                PreparedStep { params, passes, bind_group, scratch }
             })
             .collect();
         let sink_len: usize = pipeline.sinks.iter().map(|&s| pipeline.shape(s).len()).sum();
@@ -100,6 +101,13 @@ impl<'g> GpuPipeline<'g> {
     /// Uploads the sources, runs every step and reads the sinks back.
     pub fn run(&self, sources: &[Image]) -> Vec<Image> {
         self.upload(sources);
+        self.rerun()
+    }
+
+    /// Runs every step again on the sources already on the GPU and reads the sinks back (for
+    /// iterations that only change parameters, see [`GpuPipeline::set_kernel`]).
+    pub fn rerun(&self) -> Vec<Image> {
+        self.reset_scratch();
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         for step in &self.steps {
             self.encode(step, &mut encoder);
@@ -129,9 +137,20 @@ impl<'g> GpuPipeline<'g> {
         images
     }
 
+    /// Changes the parameters of step `index` (same kernel, same shapes), e.g. the pose of an
+    /// ICP iteration.
+    pub fn set_kernel(&mut self, index: usize, kernel: Kernel) {
+        let step = &mut self.pipeline.steps[index];
+        assert_eq!(step.kernel.name(), kernel.name(), "set_kernel keeps the kernel, changing its parameters");
+        step.kernel = kernel;
+        let shapes: Vec<_> = step.inputs.iter().map(|&s| self.pipeline.slots[s.0].1).collect();
+        self.gpu.queue.write_buffer(&self.steps[index].params, 0, &kernel.params(&shapes));
+    }
+
     /// Uploads the sources, then times each step on its own (submit and wait), without readback.
     pub fn time_steps(&self, sources: &[Image]) -> Vec<Duration> {
         self.upload(sources);
+        self.reset_scratch();
         let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
         self.steps
             .iter()
@@ -157,6 +176,9 @@ impl<'g> GpuPipeline<'g> {
             );
             self.gpu.queue.write_buffer(&self.buffers[slot.0], 0, bytemuck::cast_slice(&image.data));
         }
+    }
+
+    fn reset_scratch(&self) {
         for step in &self.steps {
             if let Some((buffer, start)) = &step.scratch {
                 self.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(start));

@@ -2,12 +2,14 @@
 //! with a CPU reference; pipelines of kernels run on the GPU (data kept there, one readback at
 //! the sinks) or, without an adapter, on the CPU reference.
 
+pub mod camera;
 pub mod executor;
 pub mod gpu;
 pub mod image;
 pub mod kernels;
 pub mod npy;
 pub mod pipeline;
+pub mod registration;
 pub mod sim;
 
 pub use executor::{run_cpu, GpuPipeline};

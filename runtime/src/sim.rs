@@ -9,69 +9,10 @@
 
 use std::f32::consts::PI;
 
+pub use crate::camera::Intrinsics;
+use crate::camera::{apply, Pose, IDENTITY};
 use crate::kernels::tof::SPEED_OF_LIGHT;
 use crate::Image;
-
-/// Pinhole intrinsics with Brown–Conrady distortion (k1, k2 radial; p1, p2 tangential).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Intrinsics {
-    pub width: usize,
-    pub height: usize,
-    pub fx: f32,
-    pub fy: f32,
-    pub cx: f32,
-    pub cy: f32,
-    pub k1: f32,
-    pub k2: f32,
-    pub p1: f32,
-    pub p2: f32,
-}
-
-impl Intrinsics {
-    /// Table 2.1: the PMD CamCube 3.0 of the dissertation.
-    pub const CAMCUBE: Intrinsics = Intrinsics {
-        width: 200,
-        height: 200,
-        fx: 176.14,
-        fy: 176.70,
-        cx: 103.83,
-        cy: 99.06,
-        k1: -0.295140,
-        k2: 1.191152,
-        p1: 0.004619,
-        p2: -0.001630,
-    };
-
-    /// The unit ray through every pixel centre: 3 planes (x, y, z), for the point cloud.
-    pub fn rays(&self) -> Image {
-        let n = self.width * self.height;
-        let mut rays = Image::zeros(self.width, self.height, 3);
-        for i in 0..n {
-            let ray = self.ray((i % self.width) as f32, (i / self.width) as f32);
-            for (k, value) in ray.into_iter().enumerate() {
-                rays.data[k * n + i] = value;
-            }
-        }
-        rays
-    }
-
-    /// The unit ray (camera frame: x right, y down, z forward) through image point `(u, v)`,
-    /// undistorting the normalised coordinates by fixed-point iteration.
-    pub fn ray(&self, u: f32, v: f32) -> [f32; 3] {
-        let (xd, yd) = ((u - self.cx) / self.fx, (v - self.cy) / self.fy);
-        let (mut x, mut y) = (xd, yd);
-        for _ in 0..10 {
-            let r2 = x * x + y * y;
-            let radial = 1.0 + self.k1 * r2 + self.k2 * r2 * r2;
-            let dx = 2.0 * self.p1 * x * y + self.p2 * (r2 + 2.0 * x * x);
-            let dy = self.p1 * (r2 + 2.0 * y * y) + 2.0 * self.p2 * x * y;
-            x = (xd - dx) / radial;
-            y = (yd - dy) / radial;
-        }
-        let n = (x * x + y * y + 1.0).sqrt();
-        [x / n, y / n, 1.0 / n]
-    }
-}
 
 /// The object in front of the wall.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,6 +25,14 @@ pub enum Object {
     Cuboid {
         min: [f32; 3],
         max: [f32; 3],
+    },
+    /// A box of half-extents `half` around `centre`, turned by `rotation` (its axes as the
+    /// columns of a camera-frame rotation): three faces in view, so it fixes all six degrees of
+    /// freedom of a registration (the car of chapter 6, roughly).
+    TurnedBox {
+        centre: [f32; 3],
+        half: [f32; 3],
+        rotation: Pose,
     },
     /// A relief facing the camera: `z = base − height(x, y)` over a square of side `size`
     /// around `centre` (x, y), with fine ridges (a stand-in for the scanned figures of chapter 4).
@@ -119,6 +68,12 @@ impl Scene {
 
     pub fn height_field() -> Scene {
         Scene::wall_and(Object::HeightField { centre: [0.0, 0.0], base: 3.1, size: 1.0 })
+    }
+
+    /// A box turned 35° about the vertical and 20° about the horizontal axis at about 3 m.
+    pub fn turned_box() -> Scene {
+        let rotation = crate::camera::pose_from([20f64.to_radians(), 35f64.to_radians(), 0.0], [0.0; 3]);
+        Scene::wall_and(Object::TurnedBox { centre: [0.1, 0.05, 3.0], half: [0.45, 0.25, 0.3], rotation })
     }
 
     /// The wall alone (the empty scene of the background model).
@@ -202,6 +157,14 @@ fn intersect(object: Object, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])
             n[axis] = -d[axis].signum();
             Some((near, n))
         }
+        Object::TurnedBox { centre, half, rotation } => {
+            // Into the box's frame (rotation transposed), intersect there, the normal back out.
+            let local = |v: [f32; 3]| apply(&crate::camera::invert(&rotation), v, false);
+            let o = local([o[0] - centre[0], o[1] - centre[1], o[2] - centre[2]]);
+            let (min, max) = ([-half[0], -half[1], -half[2]], half);
+            let (t, n) = intersect(Object::Cuboid { min, max }, o, local(d))?;
+            Some((t, apply(&rotation, n, false)))
+        }
         Object::HeightField { centre, base, size } => {
             // March through the slab the relief occupies, then bisect the crossing.
             let half = size / 2.0;
@@ -269,6 +232,8 @@ pub struct Camera {
     /// Sub-rays per pixel side (3: 3×3).
     pub supersampling: usize,
     pub seed: u64,
+    /// Where the camera stands: camera → world (the wall's frame); the motion is relative to it.
+    pub pose: Pose,
 }
 
 impl Default for Camera {
@@ -283,6 +248,7 @@ impl Default for Camera {
             noise: true,
             supersampling: 3,
             seed: 1,
+            pose: IDENTITY,
         }
     }
 }
@@ -355,18 +321,22 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
             k.ray(u, v)
         })
         .collect();
-    let (origin0, angle0) = pose(motion, 4 * index);
+    // The world ray of a camera-frame ray at a phase step's pose.
+    let world = |(origin, angle): ([f32; 3], f32), dir: [f32; 3]| {
+        (apply(&camera.pose, origin, true), apply(&camera.pose, rotate_z(dir, angle), false))
+    };
+    let first = pose(motion, 4 * index);
     for pixel in 0..n {
-        let centre = k.ray((pixel % w) as f32, (pixel / w) as f32);
-        truth.data[pixel] = scene.hit(origin0, rotate_z(centre, angle0)).map_or(f32::NAN, |(t, _, _)| t);
+        let (origin, dir) = world(first, k.ray((pixel % w) as f32, (pixel / w) as f32));
+        truth.data[pixel] = scene.hit(origin, dir).map_or(f32::NAN, |(t, _, _)| t);
     }
     for phase in 0..4 {
-        let (origin, angle) = pose(motion, 4 * index + phase);
+        let step = pose(motion, 4 * index + phase);
         let offset = phase as f32 * PI / 2.0;
         for pixel in 0..n {
             let (mut sum, mut modulated) = (0.0f32, 0.0f32);
             for sub in 0..ss * ss {
-                let dir = rotate_z(rays[pixel * ss * ss + sub], angle);
+                let (origin, dir) = world(step, rays[pixel * ss * ss + sub]);
                 if let Some((t, reflectivity, cos)) = scene.hit(origin, dir) {
                     let signal = camera.gain * camera.integration_us * reflectivity * cos / (t * t);
                     sum += signal;

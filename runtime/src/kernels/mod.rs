@@ -5,6 +5,7 @@
 
 pub mod car;
 mod filters;
+pub mod icp;
 pub mod motion;
 mod reduce;
 pub mod tof;
@@ -65,6 +66,11 @@ pub enum Kernel {
     PointCloud,
     /// Normals by central differences: points → normals (3 planes).
     Normals,
+    /// One projective point-to-plane ICP step (sec. 6.5.3): source points, source normals,
+    /// model points, model normals → the 29 sums of the 6×6 system (see [`icp::SUMS`]).
+    IcpReduce { pose: crate::camera::Pose, intrinsics: crate::camera::Intrinsics, max_distance: f32, min_cos: f32 },
+    /// Rigid transform of a point cloud: points → points.
+    TransformPoints { pose: crate::camera::Pose },
     /// Box mean over a `(2r+1)²` window (chapter 10's mean filter), edges replicated.
     Mean { radius: u32 },
     /// Median over a `(2r+1)²` window, r = 1 (3×3) or 2 (5×5), edges replicated.
@@ -113,6 +119,8 @@ impl Kernel {
             Kernel::ApplyMask => "apply_mask",
             Kernel::PointCloud => "point_cloud",
             Kernel::Normals => "normals",
+            Kernel::IcpReduce { .. } => "icp_reduce",
+            Kernel::TransformPoints { .. } => "transform_points",
             Kernel::Mean { .. } => "mean",
             Kernel::Median { .. } => "median",
             Kernel::Gaussian { .. } => "gaussian",
@@ -137,6 +145,8 @@ impl Kernel {
             Kernel::ApplyMask => include_str!("apply_mask.wgsl"),
             Kernel::PointCloud => include_str!("point_cloud.wgsl"),
             Kernel::Normals => include_str!("normals.wgsl"),
+            Kernel::IcpReduce { .. } => include_str!("icp_reduce.wgsl"),
+            Kernel::TransformPoints { .. } => include_str!("transform_points.wgsl"),
             Kernel::Mean { .. } => include_str!("mean.wgsl"),
             Kernel::Median { .. } => include_str!("median.wgsl"),
             Kernel::Gaussian { .. } | Kernel::Bilateral { .. } => include_str!("weighted.wgsl"),
@@ -154,7 +164,7 @@ impl Kernel {
             | Kernel::MaskAmplitude { .. }
             | Kernel::ApplyMask
             | Kernel::PointCloud => 2,
-            Kernel::Segment { .. } => 4,
+            Kernel::Segment { .. } | Kernel::IcpReduce { .. } => 4,
             _ => 1,
         }
     }
@@ -168,15 +178,20 @@ impl Kernel {
             Kernel::SubtractBlack | Kernel::CorrectRaw | Kernel::SmoothFlow { .. } => vec![first],
             Kernel::DetectMotion { .. } => vec![Shape { planes: 1, ..first }; 2],
             Kernel::MatchBlocks { .. } => vec![Shape { planes: 2, ..first }],
-            Kernel::PointCloud | Kernel::Normals => vec![Shape { planes: 3, ..first }],
+            Kernel::PointCloud | Kernel::Normals | Kernel::TransformPoints { .. } => vec![Shape { planes: 3, ..first }],
+            Kernel::IcpReduce { .. } => vec![Shape { width: icp::SUMS, height: 1, planes: 1 }],
             _ => vec![Shape { planes: 1, ..first }],
         }
     }
 
     /// Length of the u32 scratch buffer and the value it starts each run with (none: 0).
-    pub fn scratch(&self) -> (usize, u32) {
+    pub fn scratch(&self, inputs: &[Shape]) -> (usize, u32) {
         match self {
             Kernel::FindIndex { .. } => (1, u32::MAX),
+            Kernel::IcpReduce { .. } => {
+                let [x, y, _] = linear(inputs[0].width * inputs[0].height);
+                ((x * y) as usize * icp::SUMS, 0)
+            }
             _ => (0, 0),
         }
     }
@@ -185,40 +200,51 @@ impl Kernel {
     pub fn params(&self, inputs: &[Shape]) -> Vec<u8> {
         let s = inputs[0];
         let (w, h) = (s.width as u32, s.height as u32);
-        let words: [u32; 8] = match *self {
+        let words: Vec<u32> = match *self {
             Kernel::Demodulate { modulation_hz } => {
                 let range = tof::unambiguous_range(modulation_hz);
-                [(s.width * s.height) as u32, w, range.to_bits(), 0, 0, 0, 0, 0]
+                vec![(s.width * s.height) as u32, w, range.to_bits(), 0, 0, 0, 0, 0]
             }
-            Kernel::SubtractBlack => [s.len() as u32, 0, 0, 0, 0, 0, 0, 0],
-            Kernel::DetectMotion { theta } => [w, h, theta.to_bits(), 0, 0, 0, 0, 0],
+            Kernel::SubtractBlack => vec![s.len() as u32, 0, 0, 0, 0, 0, 0, 0],
+            Kernel::DetectMotion { theta } => vec![w, h, theta.to_bits(), 0, 0, 0, 0, 0],
             Kernel::MatchBlocks { window, restriction } => {
                 let (restrict, (mean, half)) = (u32::from(restriction.is_some()), restriction.unwrap_or((0.0, 0.0)));
-                [w, h, (window - 1) / 2, restrict, mean.to_bits(), half.to_bits(), 0, 0]
+                vec![w, h, (window - 1) / 2, restrict, mean.to_bits(), half.to_bits(), 0, 0]
             }
-            Kernel::SmoothFlow { window } => [w, h, (window - 1) / 2, 0, 0, 0, 0, 0],
-            Kernel::CorrectRaw | Kernel::Normals => [w, h, 0, 0, 0, 0, 0, 0],
-            Kernel::MaskAmplitude { min, max } => [w * h, w, min.to_bits(), max.to_bits(), 0, 0, 0, 0],
-            Kernel::RemoveOutliers { range, min_similar } => [w, h, range.to_bits(), min_similar, 0, 0, 0, 0],
+            Kernel::SmoothFlow { window } => vec![w, h, (window - 1) / 2, 0, 0, 0, 0, 0],
+            Kernel::CorrectRaw | Kernel::Normals => vec![w, h, 0, 0, 0, 0, 0, 0],
+            Kernel::MaskAmplitude { min, max } => vec![w * h, w, min.to_bits(), max.to_bits(), 0, 0, 0, 0],
+            Kernel::RemoveOutliers { range, min_similar } => vec![w, h, range.to_bits(), min_similar, 0, 0, 0, 0],
             Kernel::Segment { theta_intensity, theta_distance } => {
-                [w * h, w, theta_intensity.to_bits(), theta_distance.to_bits(), 0, 0, 0, 0]
+                vec![w * h, w, theta_intensity.to_bits(), theta_distance.to_bits(), 0, 0, 0, 0]
             }
-            Kernel::Morphology { radius, dilate } => [w, h, radius, u32::from(dilate), 0, 0, 0, 0],
-            Kernel::ApplyMask | Kernel::PointCloud => [w * h, w, 0, 0, 0, 0, 0, 0],
+            Kernel::Morphology { radius, dilate } => vec![w, h, radius, u32::from(dilate), 0, 0, 0, 0],
+            Kernel::ApplyMask | Kernel::PointCloud => vec![w * h, w, 0, 0, 0, 0, 0, 0],
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 let scale = int_time_calib / int_time;
-                [s.len() as u32, w, q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), scale.to_bits(), 0, 0]
+                vec![s.len() as u32, w, q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), scale.to_bits(), 0, 0]
             }
-            Kernel::Mean { radius } | Kernel::Median { radius } => [w, h, radius, 0, 0, 0, 0, 0],
+            Kernel::Mean { radius } | Kernel::Median { radius } => vec![w, h, radius, 0, 0, 0, 0, 0],
             Kernel::Gaussian { sigma } => {
                 let radius = filters::gaussian_radius(sigma);
                 // A range sigma of 0 turns the range weight off: a plain Gaussian.
-                [w, h, radius, sigma.to_bits(), 0f32.to_bits(), 0, 0, 0]
+                vec![w, h, radius, sigma.to_bits(), 0f32.to_bits(), 0, 0, 0]
             }
             Kernel::Bilateral { radius, sigma_space, sigma_range } => {
-                [w, h, radius, sigma_space.to_bits(), sigma_range.max(f32::MIN_POSITIVE).to_bits(), 0, 0, 0]
+                vec![w, h, radius, sigma_space.to_bits(), sigma_range.max(f32::MIN_POSITIVE).to_bits(), 0, 0, 0]
             }
-            Kernel::FindIndex { threshold } => [(s.len()) as u32, threshold.to_bits(), 0, 0, 0, 0, 0, 0],
+            Kernel::IcpReduce { pose, intrinsics: k, max_distance, min_cos } => {
+                let mut floats = pose.to_vec();
+                floats.extend([k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2]);
+                floats.extend([w as f32, h as f32, max_distance, min_cos]);
+                floats.iter().map(|v| v.to_bits()).collect()
+            }
+            Kernel::TransformPoints { pose } => {
+                let mut words: Vec<u32> = pose.iter().map(|v| v.to_bits()).collect();
+                words.extend([w, h, 0, 0]);
+                words
+            }
+            Kernel::FindIndex { threshold } => vec![(s.len()) as u32, threshold.to_bits(), 0, 0, 0, 0, 0, 0],
         };
         bytemuck::cast_slice(&words).to_vec()
     }
@@ -231,6 +257,10 @@ impl Kernel {
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
             Kernel::SubtractBlack => vec![Pass { entry: "main", workgroups: linear(inputs[0].len()) }],
+            Kernel::IcpReduce { .. } => vec![
+                Pass { entry: "main", workgroups: linear(inputs[0].width * inputs[0].height) },
+                Pass { entry: "finish", workgroups: [1, 1, 1] },
+            ],
             _ => vec![Pass { entry: "main", workgroups: tiles(inputs[0]) }],
         }
     }
@@ -256,6 +286,12 @@ impl Kernel {
             Kernel::ApplyMask => vec![car::apply_mask(input, inputs[1])],
             Kernel::PointCloud => vec![car::point_cloud(input, inputs[1])],
             Kernel::Normals => vec![car::normals(input)],
+            Kernel::IcpReduce { pose, intrinsics, max_distance, min_cos } => {
+                let sums =
+                    icp::reduce([input, inputs[1], inputs[2], inputs[3]], &pose, &intrinsics, max_distance, min_cos);
+                vec![crate::Image::from_plane(icp::SUMS, 1, sums.iter().map(|&v| v as f32).collect())]
+            }
+            Kernel::TransformPoints { pose } => vec![icp::transform_points(input, &pose)],
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 vec![tof::correct_intensity(input, inputs[1], q, int_time_calib, int_time)]
             }
