@@ -4,9 +4,11 @@
 
 pub mod camera;
 pub mod executor;
+pub mod exposure;
 pub mod gpu;
 pub mod image;
 pub mod kernels;
+pub mod linalg;
 pub mod npy;
 pub mod pipeline;
 pub mod registration;

@@ -4,8 +4,8 @@
 //! images are taken one after another, the camera moving (1 cm) or turning (1°) between them;
 //! each pixel integrates 3×3 sub-rays, so depth edges give flying pixels. A and B channels carry
 //! `S/2·(1 ± m·cos(φ + i·π/2))` with `S` falling with distance and rising with reflectivity and
-//! integration time, plus ambient light, a fixed-pattern offset (the black image), shot noise and
-//! saturation at 65535.
+//! integration time, plus ambient light, a fixed-pattern offset (the black image), shot noise, a
+//! response that bends above a knee and saturation at 65535.
 
 use std::f32::consts::PI;
 
@@ -33,6 +33,14 @@ pub enum Object {
         centre: [f32; 3],
         half: [f32; 3],
         rotation: Pose,
+    },
+    /// Plates facing the camera at `distance` (chapter 5: eight metal plates at about 1 m), two
+    /// rows of four, each `size` wide and twice as high, filling the view; reflectivities left to
+    /// right, top row first.
+    Plates {
+        distance: f32,
+        size: f32,
+        reflectivities: [f32; 8],
     },
     /// A relief facing the camera: `z = base − height(x, y)` over a square of side `size`
     /// around `centre` (x, y), with fine ridges (a stand-in for the scanned figures of chapter 4).
@@ -76,6 +84,13 @@ impl Scene {
         Scene::wall_and(Object::TurnedBox { centre: [0.1, 0.05, 3.0], half: [0.45, 0.25, 0.3], rotation })
     }
 
+    /// Chapter 5's static scene: black, metallic, blue, green, red, silver, yellow and white
+    /// plates at 1 m.
+    pub fn plates() -> Scene {
+        let reflectivities = [0.05, 0.45, 0.2, 0.3, 0.35, 0.6, 0.75, 0.9];
+        Scene::wall_and(Object::Plates { distance: 1.0, size: 0.3, reflectivities })
+    }
+
     /// The wall alone (the empty scene of the background model).
     pub fn empty() -> Scene {
         Scene { object: None, ..Scene::sphere() }
@@ -95,7 +110,15 @@ impl Scene {
         }
         if let Some(object) = self.object {
             if let Some((t, normal)) = intersect(object, origin, dir) {
-                consider(t, self.object_reflectivity, dot(normal, dir));
+                let reflectivity = match object {
+                    Object::Plates { size, reflectivities, .. } => {
+                        let p = along(origin, dir, t);
+                        let column = ((p[0] / size + 2.0).max(0.0) as usize).min(3);
+                        reflectivities[column + if p[1] < 0.0 { 0 } else { 4 }]
+                    }
+                    _ => self.object_reflectivity,
+                };
+                consider(t, reflectivity, dot(normal, dir));
             }
         }
         best
@@ -165,6 +188,12 @@ fn intersect(object: Object, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])
             let (t, n) = intersect(Object::Cuboid { min, max }, o, local(d))?;
             Some((t, apply(&rotation, n, false)))
         }
+        Object::Plates { distance, size, .. } => {
+            let t = (distance - o[2]) / d[2];
+            let p = along(o, d, t);
+            let inside = p[0].abs() <= 2.0 * size && p[1].abs() <= 2.0 * size;
+            (d[2] > 1e-6 && t > 0.0 && inside).then_some((t, [0.0, 0.0, -1.0]))
+        }
         Object::HeightField { centre, base, size } => {
             // March through the slab the relief occupies, then bisect the crossing.
             let half = size / 2.0;
@@ -232,6 +261,9 @@ pub struct Camera {
     /// Sub-rays per pixel side (3: 3×3).
     pub supersampling: usize,
     pub seed: u64,
+    /// Channel charge above which the pixel's response compresses (it clips at 65535): the
+    /// non-linearity that chapter 5's intensity correction h undoes.
+    pub knee: f32,
     /// Where the camera stands: camera → world (the wall's frame); the motion is relative to it.
     pub pose: Pose,
 }
@@ -248,6 +280,7 @@ impl Default for Camera {
             noise: true,
             supersampling: 3,
             seed: 1,
+            knee: 40_000.0,
             pose: IDENTITY,
         }
     }
@@ -295,6 +328,16 @@ fn pose(motion: Motion, step: usize) -> ([f32; 3], f32) {
 fn rotate_z([x, y, z]: [f32; 3], angle: f32) -> [f32; 3] {
     let (s, c) = angle.sin_cos();
     [c * x - s * y, s * x + c * y, z]
+}
+
+/// The charge a pixel reports for `charge` collected: linear up to `knee`, then bending towards
+/// 1.2 × 65535 (it clips at 65535 once the charge is about 1.8 × (65535 − knee) past the knee).
+fn response(charge: f32, knee: f32) -> f32 {
+    if charge <= knee {
+        return charge;
+    }
+    let headroom = 1.2 * 65535.0 - knee;
+    knee + headroom * ((charge - knee) / headroom).tanh()
 }
 
 /// Simulates frame number `index` of a sequence (its phase images are steps `4·index … 4·index+3`).
@@ -349,7 +392,7 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
                 let plane = 2 * phase + channel;
                 let clean = 0.5 * (sum + sign * camera.contrast * modulated) + ambient;
                 let noisy = if camera.noise { clean + clean.max(0.0).sqrt() * random.gaussian() } else { clean };
-                let value = (noisy + black.data[plane * n + pixel]).round().clamp(0.0, 65535.0);
+                let value = (response(noisy, camera.knee) + black.data[plane * n + pixel]).round().clamp(0.0, 65535.0);
                 raw.data[plane * n + pixel] = value;
             }
         }

@@ -163,6 +163,24 @@ fn car_chain_kernels_match_on_simulated_frames() {
 }
 
 #[test]
+fn integration_time_estimate_matches_on_bright_and_dark_frames() {
+    let Some(gpu) = gpu() else { return };
+    let model = gudsl_runtime::kernels::integration::IntegrationModel::CAMCUBE;
+    for t in [50.0, 1000.0, 8000.0] {
+        let camera = Camera { integration_us: t, supersampling: 1, ..Camera::default() };
+        let frame = simulate(&Scene::plates(), Motion::Still, &camera, 0);
+        let raw = gudsl_runtime::kernels::tof::subtract_black(&frame.raw, &frame.black);
+        let [_, _, intensity, _] = gudsl_runtime::kernels::tof::demodulate(&raw, 20.0e6);
+        // Scaled into Table 5.1's intensity range, so h's part is exercised too.
+        let scaled = Image { data: intensity.data.iter().map(|v| v * 0.2).collect(), ..intensity };
+        // A weighted mean of 40 000 values: f32 trees against f64.
+        check(&gpu, Kernel::IntegrationTime { t_curr: t, model }, &[scaled], 1e-4);
+    }
+    let dark = Image::zeros(200, 200, 1);
+    check(&gpu, Kernel::IntegrationTime { t_curr: 700.0, model }, &[dark], 0.0);
+}
+
+#[test]
 fn icp_reduction_matches_on_two_views() {
     let Some(gpu) = gpu() else { return };
     let cloud = |pose| {
@@ -237,6 +255,10 @@ fn every_kernel_is_valid_wgsl() {
             min_cos: 0.9,
         },
         Kernel::TransformPoints { pose: gudsl_runtime::camera::IDENTITY },
+        Kernel::IntegrationTime {
+            t_curr: 1000.0,
+            model: gudsl_runtime::kernels::integration::IntegrationModel::CAMCUBE,
+        },
         Kernel::Mean { radius: 1 },
         Kernel::Median { radius: 1 },
         Kernel::Gaussian { sigma: 1.0 },

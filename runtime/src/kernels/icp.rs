@@ -89,7 +89,6 @@ fn pair(
 
 /// Solves the step's 6×6 system (Cholesky) for `(α, β, γ, tx, ty, tz)`; `None` when it is
 /// singular (too few or degenerate pairs).
-#[allow(clippy::needless_range_loop)] // matrix code reads best with indices
 pub fn solve(sums: &[f64; SUMS]) -> Option<[f64; 6]> {
     let mut a = [[0.0f64; 6]; 6];
     let mut k = 0;
@@ -100,32 +99,7 @@ pub fn solve(sums: &[f64; SUMS]) -> Option<[f64; 6]> {
             k += 1;
         }
     }
-    let b: [f64; 6] = std::array::from_fn(|r| sums[21 + r]);
-    // A = L Lᵀ; a pivot tiny next to the largest diagonal entry means a direction no pair fixes.
-    let scale = (0..6).map(|r| a[r][r]).fold(0.0f64, f64::max);
-    let mut l = [[0.0f64; 6]; 6];
-    for r in 0..6 {
-        for c in 0..=r {
-            let s: f64 = a[r][c] - (0..c).map(|m| l[r][m] * l[c][m]).sum::<f64>();
-            if r == c {
-                if s <= 1e-9 * scale || scale == 0.0 {
-                    return None;
-                }
-                l[r][c] = s.sqrt();
-            } else {
-                l[r][c] = s / l[c][c];
-            }
-        }
-    }
-    let mut y = [0.0f64; 6];
-    for r in 0..6 {
-        y[r] = (b[r] - (0..r).map(|m| l[r][m] * y[m]).sum::<f64>()) / l[r][r];
-    }
-    let mut x = [0.0f64; 6];
-    for r in (0..6).rev() {
-        x[r] = (y[r] - (r + 1..6).map(|m| l[m][r] * x[m]).sum::<f64>()) / l[r][r];
-    }
-    Some(x)
+    crate::linalg::cholesky_solve(&a, &std::array::from_fn(|r| sums[21 + r]))
 }
 
 /// `increment · pose`, the increment `(α, β, γ, tx, ty, tz)` as in [`pose_from`].

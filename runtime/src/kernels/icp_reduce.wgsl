@@ -20,7 +20,6 @@ struct Params {
 @group(0) @binding(6) var<storage, read_write> partial: array<f32>;
 
 const SUMS: u32 = 29u;
-var<workgroup> shared_values: array<f32, 256>;
 
 fn at(image: u32, i: u32, n: u32) -> vec3<f32> {
     if image == 0u { return vec3<f32>(source[i], source[n + i], source[2u * n + i]); }
@@ -32,19 +31,6 @@ fn at(image: u32, i: u32, n: u32) -> vec3<f32> {
 fn transform(v: vec3<f32>, w: f32) -> vec3<f32> {
     let h = vec4<f32>(v, w);
     return vec3<f32>(dot(p.pose0, h), dot(p.pose1, h), dot(p.pose2, h));
-}
-
-/// Sums the 256 values of the workgroup into shared_values[0].
-fn reduce_workgroup(t: u32, value: f32) -> f32 {
-    shared_values[t] = value;
-    workgroupBarrier();
-    for (var stride = 128u; stride > 0u; stride = stride / 2u) {
-        if t < stride { shared_values[t] += shared_values[t + stride]; }
-        workgroupBarrier();
-    }
-    let total = shared_values[0];
-    workgroupBarrier();
-    return total;
 }
 
 @compute @workgroup_size(256)

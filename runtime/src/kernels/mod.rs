@@ -6,6 +6,7 @@
 pub mod car;
 mod filters;
 pub mod icp;
+pub mod integration;
 pub mod motion;
 mod reduce;
 pub mod tof;
@@ -71,6 +72,8 @@ pub enum Kernel {
     IcpReduce { pose: crate::camera::Pose, intrinsics: crate::camera::Intrinsics, max_distance: f32, min_cos: f32 },
     /// Rigid transform of a point cloud: points → points.
     TransformPoints { pose: crate::camera::Pose },
+    /// The next frame's integration time in µs (sec. 5.3): intensity → 1 value.
+    IntegrationTime { t_curr: f32, model: integration::IntegrationModel },
     /// Box mean over a `(2r+1)²` window (chapter 10's mean filter), edges replicated.
     Mean { radius: u32 },
     /// Median over a `(2r+1)²` window, r = 1 (3×3) or 2 (5×5), edges replicated.
@@ -121,6 +124,7 @@ impl Kernel {
             Kernel::Normals => "normals",
             Kernel::IcpReduce { .. } => "icp_reduce",
             Kernel::TransformPoints { .. } => "transform_points",
+            Kernel::IntegrationTime { .. } => "integration_time",
             Kernel::Mean { .. } => "mean",
             Kernel::Median { .. } => "median",
             Kernel::Gaussian { .. } => "gaussian",
@@ -145,7 +149,10 @@ impl Kernel {
             Kernel::ApplyMask => include_str!("apply_mask.wgsl"),
             Kernel::PointCloud => include_str!("point_cloud.wgsl"),
             Kernel::Normals => include_str!("normals.wgsl"),
-            Kernel::IcpReduce { .. } => include_str!("icp_reduce.wgsl"),
+            Kernel::IcpReduce { .. } => concat!(include_str!("workgroup_sum.wgsl"), include_str!("icp_reduce.wgsl")),
+            Kernel::IntegrationTime { .. } => {
+                concat!(include_str!("workgroup_sum.wgsl"), include_str!("integration_time.wgsl"))
+            }
             Kernel::TransformPoints { .. } => include_str!("transform_points.wgsl"),
             Kernel::Mean { .. } => include_str!("mean.wgsl"),
             Kernel::Median { .. } => include_str!("median.wgsl"),
@@ -173,7 +180,7 @@ impl Kernel {
     pub fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
         let first = inputs[0];
         match self {
-            Kernel::FindIndex { .. } => vec![Shape { width: 1, height: 1, planes: 1 }],
+            Kernel::FindIndex { .. } | Kernel::IntegrationTime { .. } => vec![Shape { width: 1, height: 1, planes: 1 }],
             Kernel::Demodulate { .. } => vec![Shape { planes: 1, ..first }; 4],
             Kernel::SubtractBlack | Kernel::CorrectRaw | Kernel::SmoothFlow { .. } => vec![first],
             Kernel::DetectMotion { .. } => vec![Shape { planes: 1, ..first }; 2],
@@ -191,6 +198,10 @@ impl Kernel {
             Kernel::IcpReduce { .. } => {
                 let [x, y, _] = linear(inputs[0].width * inputs[0].height);
                 ((x * y) as usize * icp::SUMS, 0)
+            }
+            Kernel::IntegrationTime { .. } => {
+                let [x, y, _] = linear(inputs[0].width * inputs[0].height);
+                ((x * y) as usize * 2, 0)
             }
             _ => (0, 0),
         }
@@ -239,6 +250,11 @@ impl Kernel {
                 floats.extend([w as f32, h as f32, max_distance, min_cos]);
                 floats.iter().map(|v| v.to_bits()).collect()
             }
+            Kernel::IntegrationTime { t_curr, model: m } => {
+                let floats = [w as f32, h as f32, t_curr, m.i_opt, m.h[0], m.h[1], m.h[2], m.h[3]];
+                let limits = [m.h_range.0, m.h_range.1, m.gain, m.t_range.0, m.t_range.1, 0.0, 0.0, 0.0];
+                floats.iter().chain(&limits).map(|v| v.to_bits()).collect()
+            }
             Kernel::TransformPoints { pose } => {
                 let mut words: Vec<u32> = pose.iter().map(|v| v.to_bits()).collect();
                 words.extend([w, h, 0, 0]);
@@ -257,7 +273,7 @@ impl Kernel {
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
             Kernel::SubtractBlack => vec![Pass { entry: "main", workgroups: linear(inputs[0].len()) }],
-            Kernel::IcpReduce { .. } => vec![
+            Kernel::IcpReduce { .. } | Kernel::IntegrationTime { .. } => vec![
                 Pass { entry: "main", workgroups: linear(inputs[0].width * inputs[0].height) },
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
@@ -292,6 +308,9 @@ impl Kernel {
                 vec![crate::Image::from_plane(icp::SUMS, 1, sums.iter().map(|&v| v as f32).collect())]
             }
             Kernel::TransformPoints { pose } => vec![icp::transform_points(input, &pose)],
+            Kernel::IntegrationTime { t_curr, model } => {
+                vec![crate::Image::from_plane(1, 1, vec![integration::estimate(input, t_curr, &model)])]
+            }
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 vec![tof::correct_intensity(input, inputs[1], q, int_time_calib, int_time)]
             }
