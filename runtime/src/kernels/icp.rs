@@ -90,15 +90,9 @@ fn pair(
 /// Solves the step's 6×6 system (Cholesky) for `(α, β, γ, tx, ty, tz)`; `None` when it is
 /// singular (too few or degenerate pairs).
 pub fn solve(sums: &[f64; SUMS]) -> Option<[f64; 6]> {
-    let mut a = [[0.0f64; 6]; 6];
-    let mut k = 0;
-    for r in 0..6 {
-        for c in r..6 {
-            a[r][c] = sums[k];
-            a[c][r] = sums[k];
-            k += 1;
-        }
-    }
+    // Entry (r, c), r ≤ c, of the upper triangle: after the 6 + 5 + … entries of the rows above.
+    let upper = |r: usize, c: usize| sums[6 * r - r * r.saturating_sub(1) / 2 + c - r];
+    let a: [[f64; 6]; 6] = std::array::from_fn(|r| std::array::from_fn(|c| upper(r.min(c), r.max(c))));
     crate::linalg::cholesky_solve(&a, &std::array::from_fn(|r| sums[21 + r]))
 }
 
