@@ -8,6 +8,8 @@
 
 use std::time::{Duration, Instant};
 
+use gudsl_runtime::camera::{Intrinsics, IDENTITY};
+use gudsl_runtime::kernels::integration::IntegrationModel;
 use gudsl_runtime::{run_cpu, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
 
 /// Deterministic test data (xorshift): raw frames in 0..65535, images in 0..8.
@@ -79,6 +81,46 @@ fn filter_chain(width: usize, height: usize) -> Pipeline {
     p
 }
 
+/// Intrinsics of Table 2.1 stretched to another sensor size.
+fn intrinsics(width: usize, height: usize) -> Intrinsics {
+    Intrinsics { width, height, cx: width as f32 / 2.0, cy: height as f32 / 2.0, ..Intrinsics::CAMCUBE }
+}
+
+/// The chapter 6 chain per frame after motion compensation: demodulation, amplitude mask,
+/// median 5×5, Gaussian σ 4, outlier removal, segmentation with opening and closing, point
+/// cloud, normals, one ICP reduction against the model and the transform of the cloud.
+fn car_chain(width: usize, height: usize) -> Pipeline {
+    let mut p = Pipeline::new();
+    let plane = Shape { width, height, planes: 1 };
+    let cloud = Shape { planes: 3, ..plane };
+    let raw = p.source("raw", Shape { planes: 8, ..plane });
+    let (bg_intensity, bg_distance) = (p.source("background intensity", plane), p.source("background distance", plane));
+    let rays = p.source("rays", cloud);
+    let (model, model_normals) = (p.source("model", cloud), p.source("model normals", cloud));
+    let [_, amplitude, intensity, distance] = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw])[..] else {
+        unreachable!()
+    };
+    let mut d = p.step(Kernel::MaskAmplitude { min: 250.0, max: 60_000.0 }, &[distance, amplitude])[0];
+    d = p.step(Kernel::Median { radius: 2 }, &[d])[0];
+    d = p.step(Kernel::Gaussian { sigma: 4.0 }, &[d])[0];
+    d = p.step(Kernel::RemoveOutliers { range: 0.05, min_similar: 3 }, &[d])[0];
+    let segment = Kernel::Segment { theta_intensity: 100.0, theta_distance: 0.3 };
+    let mut mask = p.step(segment, &[intensity, d, bg_intensity, bg_distance])[0];
+    for dilate in [false, true, true, false] {
+        mask = p.step(Kernel::Morphology { radius: 1, dilate }, &[mask])[0];
+    }
+    d = p.step(Kernel::ApplyMask, &[d, mask])[0];
+    let points = p.step(Kernel::PointCloud, &[d, rays])[0];
+    let normals = p.step(Kernel::Normals, &[points])[0];
+    let icp =
+        Kernel::IcpReduce { pose: IDENTITY, intrinsics: intrinsics(width, height), max_distance: 0.2, min_cos: 0.94 };
+    let sums = p.step(icp, &[points, normals, model, model_normals])[0];
+    let moved = p.step(Kernel::TransformPoints { pose: IDENTITY }, &[points])[0];
+    p.sink(sums);
+    p.sink(moved);
+    p
+}
+
 fn main() {
     let gpu = Gpu::new().map_err(|e| eprintln!("{e}: GPU columns left empty")).ok();
     let device = gpu.as_ref().map_or("none".to_string(), Gpu::describe);
@@ -89,8 +131,15 @@ fn main() {
         let black = random(w, h, 8, 100.0, 2);
         let image = random(w, h, 1, 8.0, 3);
         let intensity = random(w, h, 1, 30_000.0, 4);
+        let intensity_bg = random(w, h, 1, 30_000.0, 6);
         let [_, mask] = gudsl_runtime::kernels::motion::detect(&raw, 655.0);
         let flow = gudsl_runtime::kernels::motion::match_blocks(&raw, &mask, 5, None);
+        let k = intrinsics(w, h);
+        let rays = k.rays();
+        let points = gudsl_runtime::kernels::car::point_cloud(&image, &rays);
+        let normals = gudsl_runtime::kernels::car::normals(&points);
+        let icp = Kernel::IcpReduce { pose: IDENTITY, intrinsics: k, max_distance: 0.2, min_cos: 0.94 };
+        let background = random(w, h, 1, 8.0, 5);
         let cases: Vec<(Kernel, Vec<Image>)> = vec![
             (Kernel::SubtractBlack, vec![raw.clone(), black.clone()]),
             (Kernel::Demodulate { modulation_hz: 20.0e6 }, vec![raw.clone()]),
@@ -109,6 +158,15 @@ fn main() {
             (Kernel::Gaussian { sigma: 1.0 }, vec![image.clone()]),
             (Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.05 }, vec![image.clone()]),
             (Kernel::FindIndex { threshold: 7.9 }, vec![image.clone()]),
+            (Kernel::MaskAmplitude { min: 2.0, max: 6.0 }, vec![image.clone(), image.clone()]),
+            (Kernel::RemoveOutliers { range: 0.05, min_similar: 3 }, vec![image.clone()]),
+            (Kernel::Segment { theta_intensity: 1.0, theta_distance: 1.0 }, vec![image.clone(); 4]),
+            (Kernel::Morphology { radius: 1, dilate: true }, vec![mask.clone()]),
+            (Kernel::PointCloud, vec![image.clone(), rays.clone()]),
+            (Kernel::Normals, vec![points.clone()]),
+            (icp, vec![points.clone(), normals.clone(), points.clone(), normals.clone()]),
+            (Kernel::TransformPoints { pose: IDENTITY }, vec![points.clone()]),
+            (Kernel::IntegrationTime { t_curr: 1000.0, model: IntegrationModel::CAMCUBE }, vec![image.clone()]),
         ];
         let n = repeats(w);
         for (kernel, inputs) in cases {
@@ -129,6 +187,18 @@ fn main() {
         for (label, pipeline, inputs) in [
             ("chain: motion comp. + demod", motion_chain(w, h), vec![raw.clone(), black.clone()]),
             ("chain: demod + 4 filters", filter_chain(w, h), vec![raw.clone()]),
+            (
+                "chain: car (ch. 6, 1 ICP step)",
+                car_chain(w, h),
+                vec![
+                    raw.clone(),
+                    intensity_bg.clone(),
+                    background.clone(),
+                    rays.clone(),
+                    points.clone(),
+                    normals.clone(),
+                ],
+            ),
         ] {
             let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs)))).collect());
             let (gpu_ms, trip) = gpu.as_ref().map_or((None, None), |gpu| {

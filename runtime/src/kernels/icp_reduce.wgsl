@@ -1,7 +1,7 @@
 // One projective point-to-plane ICP step (sec. 6.5.3): per source pixel the pair with the model
 // pixel it projects to, a = [p × n, n], b = n·(d − p); pass `main` reduces the 29 sums (upper
-// triangle of Σ a aᵀ, Σ a b, pairs, Σ b²) per workgroup into scratch, pass `finish` adds the
-// workgroups' sums.
+// triangle of Σ a aᵀ, Σ a b, pairs, Σ b²) of its 64 pixels together, one tree of 6 barriers, into
+// scratch; pass `finish` adds the workgroups' sums.
 struct Params {
     pose0: vec4<f32>,
     pose1: vec4<f32>,
@@ -20,6 +20,8 @@ struct Params {
 @group(0) @binding(6) var<storage, read_write> partial: array<f32>;
 
 const SUMS: u32 = 29u;
+const GROUP: u32 = 64u;
+var<workgroup> values: array<f32, 1856>; // GROUP × SUMS
 
 fn at(image: u32, i: u32, n: u32) -> vec3<f32> {
     if image == 0u { return vec3<f32>(source[i], source[n + i], source[2u * n + i]); }
@@ -33,13 +35,13 @@ fn transform(v: vec3<f32>, w: f32) -> vec3<f32> {
     return vec3<f32>(dot(p.pose0, h), dot(p.pose1, h), dot(p.pose2, h));
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) t: u32,
         @builtin(workgroup_id) group: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let width = u32(p.limits.x);
     let height = u32(p.limits.y);
     let n = width * height;
-    let i = id.y * groups.x * 256u + id.x;
+    let i = id.y * groups.x * GROUP + id.x;
     var a = array<f32, 6>(0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     var b = 0.0;
     var found = false;
@@ -74,31 +76,32 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_
             }
         }
     }
-    let group_index = group.y * groups.x + group.x;
     var k = 0u;
     for (var r = 0u; r < 6u; r++) {
         for (var c = r; c < 6u; c++) {
-            let total = reduce_workgroup(t, a[r] * a[c]);
-            if t == 0u { partial[group_index * SUMS + k] = total; }
+            values[t * SUMS + k] = a[r] * a[c];
             k++;
         }
+        values[t * SUMS + 21u + r] = a[r] * b;
     }
-    for (var r = 0u; r < 6u; r++) {
-        let total = reduce_workgroup(t, a[r] * b);
-        if t == 0u { partial[group_index * SUMS + 21u + r] = total; }
+    values[t * SUMS + 27u] = select(0.0, 1.0, found);
+    values[t * SUMS + 28u] = b * b;
+    workgroupBarrier();
+    for (var stride = GROUP / 2u; stride > 0u; stride = stride / 2u) {
+        if t < stride {
+            for (var m = 0u; m < SUMS; m++) { values[t * SUMS + m] += values[(t + stride) * SUMS + m]; }
+        }
+        workgroupBarrier();
     }
-    let pairs = reduce_workgroup(t, select(0.0, 1.0, found));
-    let error = reduce_workgroup(t, b * b);
-    if t == 0u {
-        partial[group_index * SUMS + 27u] = pairs;
-        partial[group_index * SUMS + 28u] = error;
+    if t < SUMS {
+        partial[(group.y * groups.x + group.x) * SUMS + t] = values[t];
     }
 }
 
 @compute @workgroup_size(256)
 fn finish(@builtin(local_invocation_index) t: u32) {
     let n = u32(p.limits.x) * u32(p.limits.y);
-    let group_count = (n + 255u) / 256u;
+    let group_count = (n + GROUP - 1u) / GROUP;
     for (var k = 0u; k < SUMS; k++) {
         var value = 0.0;
         for (var g = t; g < group_count; g += 256u) {

@@ -99,6 +99,13 @@ fn linear(len: usize) -> [u32; 3] {
     [x as u32, groups.div_ceil(x) as u32, 1]
 }
 
+/// Workgroups of 64 threads covering `len` items, in rows of at most 65535 workgroups.
+fn linear64(len: usize) -> [u32; 3] {
+    let groups = len.div_ceil(64).max(1);
+    let x = groups.min(65_535);
+    [x as u32, groups.div_ceil(x) as u32, 1]
+}
+
 /// Workgroups of 8×8 threads covering a plane.
 fn tiles(shape: Shape) -> [u32; 3] {
     [shape.width.div_ceil(8) as u32, shape.height.div_ceil(8) as u32, 1]
@@ -196,7 +203,7 @@ impl Kernel {
         match self {
             Kernel::FindIndex { .. } => (1, u32::MAX),
             Kernel::IcpReduce { .. } => {
-                let [x, y, _] = linear(inputs[0].width * inputs[0].height);
+                let [x, y, _] = linear64(inputs[0].width * inputs[0].height);
                 ((x * y) as usize * icp::SUMS, 0)
             }
             Kernel::IntegrationTime { .. } => {
@@ -273,7 +280,11 @@ impl Kernel {
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
             Kernel::SubtractBlack => vec![Pass { entry: "main", workgroups: linear(inputs[0].len()) }],
-            Kernel::IcpReduce { .. } | Kernel::IntegrationTime { .. } => vec![
+            Kernel::IcpReduce { .. } => vec![
+                Pass { entry: "main", workgroups: linear64(inputs[0].width * inputs[0].height) },
+                Pass { entry: "finish", workgroups: [1, 1, 1] },
+            ],
+            Kernel::IntegrationTime { .. } => vec![
                 Pass { entry: "main", workgroups: linear(inputs[0].width * inputs[0].height) },
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
