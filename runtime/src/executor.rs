@@ -200,3 +200,30 @@ impl<'g> GpuPipeline<'g> {
         &self.buffers[slot.0]
     }
 }
+
+/// A pipeline ready to run on the GPU when there is one, else on the CPU reference: what a
+/// caller without a guaranteed adapter uses (`Gpu::new()`'s error says why there is none).
+pub enum Prepared<'g> {
+    Gpu(GpuPipeline<'g>),
+    Cpu(Pipeline),
+}
+
+impl<'g> Prepared<'g> {
+    pub fn new(gpu: Option<&'g Gpu>, pipeline: &Pipeline) -> Prepared<'g> {
+        match gpu {
+            Some(gpu) => Prepared::Gpu(GpuPipeline::new(gpu, pipeline)),
+            None => Prepared::Cpu(pipeline.clone()),
+        }
+    }
+
+    pub fn run(&self, sources: &[Image]) -> Vec<Image> {
+        match self {
+            Prepared::Gpu(prepared) => prepared.run(sources),
+            Prepared::Cpu(pipeline) => run_cpu(pipeline, sources),
+        }
+    }
+
+    pub fn on_gpu(&self) -> bool {
+        matches!(self, Prepared::Gpu(_))
+    }
+}

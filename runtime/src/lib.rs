@@ -14,7 +14,7 @@ pub mod pipeline;
 pub mod registration;
 pub mod sim;
 
-pub use executor::{run_cpu, GpuPipeline};
+pub use executor::{run_cpu, GpuPipeline, Prepared};
 pub use gpu::{Gpu, GpuUnavailable};
 pub use image::Image;
 pub use kernels::{Kernel, Shape};

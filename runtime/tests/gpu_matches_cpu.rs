@@ -232,6 +232,25 @@ fn both(gpu: &Gpu, kernel: Kernel, inputs: &[Image]) -> (Image, Image) {
 }
 
 #[test]
+fn without_an_adapter_the_same_pipeline_runs_on_the_cpu_reference() {
+    let image = Random(7).image(64, 48, 1, 1.0);
+    let mut pipeline = Pipeline::new();
+    let input = pipeline.source("in", Shape { width: 64, height: 48, planes: 1 });
+    let out = pipeline.step(Kernel::Gaussian { sigma: 1.5 }, &[input])[0];
+    pipeline.sink(out);
+    let on_cpu = gudsl_runtime::Prepared::new(None, &pipeline);
+    assert!(!on_cpu.on_gpu());
+    let expected = on_cpu.run(std::slice::from_ref(&image)).remove(0);
+    assert_eq!(expected, gudsl_runtime::kernels::gaussian(&image, 1.5));
+    let Some(gpu) = gpu() else { return };
+    let on_gpu = gudsl_runtime::Prepared::new(Some(&gpu), &pipeline);
+    assert!(on_gpu.on_gpu());
+    let actual = on_gpu.run(&[image]).remove(0);
+    let worst = expected.data.iter().zip(&actual.data).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+    assert!(worst < 1e-5, "{worst}");
+}
+
+#[test]
 fn every_kernel_is_valid_wgsl() {
     let kernels = [
         Kernel::Demodulate { modulation_hz: 20.0e6 },
