@@ -38,6 +38,12 @@ impl Image {
         &mut self.data[p * n..(p + 1) * n]
     }
 
+    /// The vector of a 3-plane image (points, normals, rays) at pixel `i`.
+    pub fn vector(&self, i: usize) -> [f32; 3] {
+        let n = self.pixels();
+        [self.data[i], self.data[n + i], self.data[2 * n + i]]
+    }
+
     /// The sample at `(x, y)` of plane `p`, coordinates clamped to the image (edge replication).
     pub fn at_clamped(&self, p: usize, x: isize, y: isize) -> f32 {
         let x = x.clamp(0, self.width as isize - 1) as usize;

@@ -198,9 +198,8 @@ impl Accumulation {
     /// Adds every valid point of `cloud`, moved by `pose` into the model's frame.
     pub fn add(&mut self, cloud: &Cloud, pose: &Pose) {
         let n = cloud.points.pixels();
-        let at = |image: &Image, i: usize| [image.data[i], image.data[n + i], image.data[2 * n + i]];
         for i in 0..n {
-            let (p, normal) = (at(&cloud.points, i), at(&cloud.normals, i));
+            let (p, normal) = (cloud.points.vector(i), cloud.normals.vector(i));
             if p[2] != 0.0 {
                 self.points.push(apply(pose, p, true));
                 self.normals.push(apply(pose, normal, false));

@@ -129,7 +129,7 @@ pub fn point_cloud(distance: &Image, rays: &Image) -> Image {
 pub fn normals(points: &Image) -> Image {
     let (w, h) = (points.width, points.height);
     let n = w * h;
-    let at = |x: usize, y: usize| [points.data[y * w + x], points.data[n + y * w + x], points.data[2 * n + y * w + x]];
+    let at = |x: usize, y: usize| points.vector(y * w + x);
     let mut out = Image::zeros(w, h, 3);
     for y in 1..h.saturating_sub(1) {
         for x in 1..w.saturating_sub(1) {

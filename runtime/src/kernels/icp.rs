@@ -12,11 +12,6 @@ use crate::Image;
 /// the 6 of `Σ a b`, the number of pairs and `Σ b²`.
 pub const SUMS: usize = 29;
 
-fn point(image: &Image, i: usize) -> [f32; 3] {
-    let n = image.pixels();
-    [image.data[i], image.data[n + i], image.data[2 * n + i]]
-}
-
 fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
@@ -63,7 +58,7 @@ fn pair(
     min_cos: f32,
     i: usize,
 ) -> Option<([f32; 6], f32)> {
-    let (s, sn) = (point(source, i), point(source_normals, i));
+    let (s, sn) = (source.vector(i), source_normals.vector(i));
     if s[2] == 0.0 || sn == [0.0; 3] {
         return None;
     }
@@ -75,7 +70,7 @@ fn pair(
         return None;
     }
     let j = v as usize * model.width + u as usize;
-    let (d, n) = (point(model, j), point(model_normals, j));
+    let (d, n) = (model.vector(j), model_normals.vector(j));
     if d[2] == 0.0 || n == [0.0; 3] {
         return None;
     }
@@ -106,7 +101,7 @@ pub fn transform_points(points: &Image, pose: &Pose) -> Image {
     let n = points.pixels();
     let mut out = Image::zeros(points.width, points.height, 3);
     for i in 0..n {
-        let p = point(points, i);
+        let p = points.vector(i);
         if p[2] == 0.0 {
             continue;
         }

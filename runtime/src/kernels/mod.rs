@@ -94,14 +94,12 @@ pub struct Pass {
 
 /// Workgroups of 256 threads covering `len` items, in rows of at most 65535 workgroups.
 fn linear(len: usize) -> [u32; 3] {
-    let groups = len.div_ceil(256).max(1);
-    let x = groups.min(65_535);
-    [x as u32, groups.div_ceil(x) as u32, 1]
+    linear_groups(len, 256)
 }
 
-/// Workgroups of 64 threads covering `len` items, in rows of at most 65535 workgroups.
-fn linear64(len: usize) -> [u32; 3] {
-    let groups = len.div_ceil(64).max(1);
+/// Workgroups of `threads` threads covering `len` items, in rows of at most 65535 workgroups.
+fn linear_groups(len: usize, threads: usize) -> [u32; 3] {
+    let groups = len.div_ceil(threads).max(1);
     let x = groups.min(65_535);
     [x as u32, groups.div_ceil(x) as u32, 1]
 }
@@ -203,7 +201,7 @@ impl Kernel {
         match self {
             Kernel::FindIndex { .. } => (1, u32::MAX),
             Kernel::IcpReduce { .. } => {
-                let [x, y, _] = linear64(inputs[0].width * inputs[0].height);
+                let [x, y, _] = linear_groups(inputs[0].width * inputs[0].height, 64);
                 ((x * y) as usize * icp::SUMS, 0)
             }
             Kernel::IntegrationTime { .. } => {
@@ -281,7 +279,7 @@ impl Kernel {
             ],
             Kernel::SubtractBlack => vec![Pass { entry: "main", workgroups: linear(inputs[0].len()) }],
             Kernel::IcpReduce { .. } => vec![
-                Pass { entry: "main", workgroups: linear64(inputs[0].width * inputs[0].height) },
+                Pass { entry: "main", workgroups: linear_groups(inputs[0].width * inputs[0].height, 64) },
                 Pass { entry: "finish", workgroups: [1, 1, 1] },
             ],
             Kernel::IntegrationTime { .. } => vec![
