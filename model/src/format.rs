@@ -14,55 +14,10 @@ use crate::{
 
 const INDENT: &str = "    ";
 
-/// Nodes that start on a line of their own.
+/// Nodes that start on a line of their own: declarations (but enum values, listed on one line)
+/// and statements (but empty ones).
 fn starts_line(kind: SyntaxKind) -> bool {
-    matches!(
-        kind,
-        CLASS_DIAGRAM
-            | ACTIVITY_DIAGRAM
-            | COMPONENT_DIAGRAM
-            | COMPONENT_INSTANCE_DIAGRAM
-            | IMPORT
-            | CLASS
-            | INTERFACE
-            | ENUM
-            | ATTRIBUTE_DEF
-            | FIELD
-            | METHOD
-            | ASSOCIATION
-            | VARIABLE
-            | SWIMLANE
-            | START_NODE
-            | FINAL_NODE
-            | ACTION_NODE
-            | DECISION_NODE
-            | FORK_NODE
-            | JOIN_NODE
-            | LOOP_NODE
-            | LOOP_WINDOW_NODE
-            | CALC_NODE
-            | CALC_RANGE_NODE
-            | TRANSITION
-            | VAR_DECL
-            | EXPR_STMT
-            | IF_STMT
-            | LOOP_STMT
-            | DO_LOOP_STMT
-            | FOR_STMT
-            | SWITCH_STMT
-            | SWITCH_CASE
-            | RETURN_STMT
-            | BREAK_STMT
-            | CONTINUE_STMT
-            | LOOP_WINDOW_STMT
-            | BLOCK
-            | COMPONENT
-            | PORT
-            | CONNECTION
-            | COMPONENT_INSTANCE
-            | PORT_INSTANCE
-            | BINDING
-    )
+    (kind.is_item() && kind != ENUM_VALUE) || (kind.is_stmt() && kind != EMPTY_STMT) || kind == SWITCH_CASE
 }
 
 /// The outermost node that `token` is the first token of.

@@ -1,85 +1,86 @@
 //! Typed AST: thin, zero-copy wrappers over syntax nodes; every accessor returns `Option` or an
 //! iterator, because half-typed documents are the normal case.
+//!
+//! The node types and their plain accessors are generated from `model/gudsl.ungram`
+//! (`generated.rs`); accessors that need more than "the child of this kind" are written by hand
+//! in `node_ext.rs`.
 
-mod nodes;
+#[rustfmt::skip]
+mod generated;
+mod node_ext;
 #[cfg(test)]
 mod tests;
 
-pub use nodes::*;
+use std::marker::PhantomData;
 
-use crate::syntax::{SyntaxKind, SyntaxNode, SyntaxToken};
+pub use generated::*;
+pub use node_ext::*;
 
-/// A typed view of one kind of syntax node.
+use crate::syntax::{SyntaxKind, SyntaxNode, SyntaxNodeChildren};
+
+/// A typed view of one kind of syntax node (or of several, for enums).
 pub trait AstNode: Sized {
     fn can_cast(kind: SyntaxKind) -> bool;
     fn cast(node: SyntaxNode) -> Option<Self>;
     fn syntax(&self) -> &SyntaxNode;
 }
 
-/// First child node of type `N`.
-pub(crate) fn child<N: AstNode>(parent: &SyntaxNode) -> Option<N> {
-    parent.children().find_map(N::cast)
+/// The child nodes of one AST type, in order.
+#[derive(Debug, Clone)]
+pub struct AstChildren<N> {
+    inner: SyntaxNodeChildren,
+    node: PhantomData<N>,
 }
 
-/// All child nodes of type `N`.
-pub(crate) fn children<N: AstNode>(parent: &SyntaxNode) -> impl Iterator<Item = N> {
-    parent.children().filter_map(N::cast)
+impl<N: AstNode> Iterator for AstChildren<N> {
+    type Item = N;
+    fn next(&mut self) -> Option<N> {
+        self.inner.find_map(N::cast)
+    }
 }
 
-/// First child token of `kind`.
-pub(crate) fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
-    parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
+/// Items with a defining name.
+pub trait HasName: AstNode {
+    fn name(&self) -> Option<Name> {
+        support::child(self.syntax())
+    }
 }
 
-/// Declares a struct wrapping nodes of one kind.
-macro_rules! ast_node {
-    ($(#[$doc:meta])* $name:ident, $kind:ident) => {
-        $(#[$doc])*
-        #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-        pub struct $name {
-            pub(crate) syntax: SyntaxNode,
-        }
-
-        impl AstNode for $name {
-            fn can_cast(kind: SyntaxKind) -> bool {
-                kind == SyntaxKind::$kind
-            }
-            fn cast(node: SyntaxNode) -> Option<Self> {
-                Self::can_cast(node.kind()).then(|| $name { syntax: node })
-            }
-            fn syntax(&self) -> &SyntaxNode {
-                &self.syntax
-            }
-        }
-    };
+/// Items with attribute lists and modifiers in front.
+pub trait HasModifiers: AstNode {
+    fn modifiers(&self) -> Option<Modifiers> {
+        support::child(self.syntax())
+    }
+    fn attribute_lists(&self) -> Vec<AttributeList> {
+        support::children(self.syntax()).collect()
+    }
+    fn has_modifier(&self, kind: SyntaxKind) -> bool {
+        self.modifiers().is_some_and(|m| m.has(kind))
+    }
 }
 
-/// Declares an enum over several node structs.
-macro_rules! ast_enum {
-    ($(#[$doc:meta])* $name:ident { $($variant:ident),* $(,)? }) => {
-        $(#[$doc])*
-        #[derive(Debug, Clone, PartialEq, Eq, Hash)]
-        pub enum $name {
-            $($variant($variant),)*
-        }
+/// The lookups every accessor is made of.
+pub(crate) mod support {
+    use super::{AstChildren, AstNode};
+    use crate::syntax::{SyntaxKind, SyntaxNode, SyntaxToken};
 
-        impl AstNode for $name {
-            fn can_cast(kind: SyntaxKind) -> bool {
-                $($variant::can_cast(kind))||*
-            }
-            fn cast(node: SyntaxNode) -> Option<Self> {
-                $(if $variant::can_cast(node.kind()) {
-                    return Some($name::$variant($variant { syntax: node }));
-                })*
-                None
-            }
-            fn syntax(&self) -> &SyntaxNode {
-                match self {
-                    $($name::$variant(it) => &it.syntax,)*
-                }
-            }
-        }
-    };
+    /// First child node of type `N`.
+    pub(crate) fn child<N: AstNode>(parent: &SyntaxNode) -> Option<N> {
+        parent.children().find_map(N::cast)
+    }
+
+    /// All child nodes of type `N`.
+    pub(crate) fn children<N: AstNode>(parent: &SyntaxNode) -> AstChildren<N> {
+        AstChildren { inner: parent.children(), node: std::marker::PhantomData }
+    }
+
+    /// First child token of `kind`.
+    pub(crate) fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
+        parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
+    }
+
+    /// First child token of any of `kinds`.
+    pub(crate) fn token_of(parent: &SyntaxNode, kinds: &[SyntaxKind]) -> Option<SyntaxToken> {
+        parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| kinds.contains(&t.kind()))
+    }
 }
-
-pub(crate) use {ast_enum, ast_node};

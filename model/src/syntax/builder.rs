@@ -79,7 +79,7 @@ impl Sink<'_> {
             return;
         }
         let n_trivia = (self.token..).take_while(|&i| self.raw_kind(i).is_trivia()).count();
-        let attached = if attaches_comments(kind) { self.n_attached_trivia(n_trivia) } else { 0 };
+        let attached = if kind.is_item() { self.n_attached_trivia(n_trivia) } else { 0 };
         self.eat_trivia(n_trivia - attached);
         self.builder.start_node(kind.into());
         self.depth += 1;
@@ -154,43 +154,4 @@ impl Sink<'_> {
         }
         self.builder.finish()
     }
-}
-
-/// Declarations that own the comments written directly above them.
-fn attaches_comments(kind: SyntaxKind) -> bool {
-    matches!(
-        kind,
-        CLASS_DIAGRAM
-            | ACTIVITY_DIAGRAM
-            | COMPONENT_DIAGRAM
-            | COMPONENT_INSTANCE_DIAGRAM
-            | IMPORT
-            | CLASS
-            | INTERFACE
-            | ENUM
-            | ENUM_VALUE
-            | ATTRIBUTE_DEF
-            | FIELD
-            | METHOD
-            | ASSOCIATION
-            | VARIABLE
-            | SWIMLANE
-            | START_NODE
-            | FINAL_NODE
-            | ACTION_NODE
-            | DECISION_NODE
-            | FORK_NODE
-            | JOIN_NODE
-            | LOOP_NODE
-            | LOOP_WINDOW_NODE
-            | CALC_NODE
-            | CALC_RANGE_NODE
-            | TRANSITION
-            | COMPONENT
-            | PORT
-            | CONNECTION
-            | COMPONENT_INSTANCE
-            | PORT_INSTANCE
-            | BINDING
-    )
 }

@@ -1,0 +1,538 @@
+//! Hand-written accessors: those that need more than "the child of this kind" (position, order,
+//! text, a keyword's meaning), and convenience accessors that reach through a list node.
+
+use super::{support, AstNode, HasModifiers, HasName};
+use super::{
+    ActivityDiagram, ActivityNode, ArgList, Association, AttributeDef, AttributeUse, BinExpr, Binding,
+    CallBehaviorExpr, CallExpr, CallInterfaceExpr, CallMethodExpr, CidConnector, Class, Component, ComponentInstance,
+    Connection, Connector, Expr, ForStmt, IfStmt, Import, IndexExpr, Interface, Literal, LoopHeader, LoopSection,
+    LoopWindowDim, LoopWindowStmt, Member, Method, Modifiers, Multiplicity, Name, NameRef, NamedArg, NodeBody, Param,
+    ParamList, Path, Port, Stmt, SwitchCase, TemplateParam, TernaryExpr, Transition, TypeDecl, TypeRef, VarDecl,
+};
+use crate::syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken};
+
+// ---------------------------------------------------------------- names and paths
+
+impl Name {
+    pub fn text(&self) -> String {
+        self.ident_token().map(|t| t.text().to_string()).unwrap_or_default()
+    }
+}
+
+impl NameRef {
+    pub fn text(&self) -> String {
+        self.ident_token().map(|t| t.text().to_string()).unwrap_or_default()
+    }
+}
+
+impl Path {
+    /// The dotted text without trivia: `A.B.C`.
+    pub fn text(&self) -> String {
+        self.segments().map(|s| s.text()).collect::<Vec<_>>().join(".")
+    }
+    pub fn last_segment(&self) -> Option<NameRef> {
+        self.segments().last()
+    }
+}
+
+/// What an import brings in.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ImportTarget {
+    /// `import A.B;`
+    Name(Path),
+    /// `import A.B.*;`
+    Wildcard(Path),
+    /// `import "<QImage>";` (a C++ header; not resolved).
+    Header(SyntaxToken),
+}
+
+impl Import {
+    pub fn target(&self) -> Option<ImportTarget> {
+        if let Some(lit) = self.literal() {
+            return lit.token().map(ImportTarget::Header);
+        }
+        let path = self.path()?;
+        Some(if self.star_token().is_some() { ImportTarget::Wildcard(path) } else { ImportTarget::Name(path) })
+    }
+}
+
+impl AttributeUse {
+    pub fn args(&self) -> impl Iterator<Item = NamedArg> {
+        self.named_arg_list().into_iter().flat_map(|l| l.args())
+    }
+}
+
+/// Visibility of a declaration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Visibility {
+    Public,
+    Protected,
+    Private,
+}
+
+impl Modifiers {
+    pub fn visibility(&self) -> Option<Visibility> {
+        self.keywords().find_map(|k| match k {
+            PUBLIC_KW => Some(Visibility::Public),
+            PROTECTED_KW => Some(Visibility::Protected),
+            PRIVATE_KW => Some(Visibility::Private),
+            _ => None,
+        })
+    }
+    /// Keyword kinds in order (`PUBLIC_KW`, `CONST_KW`, `GLOBAL_KW`, …).
+    pub fn keywords(&self) -> impl Iterator<Item = SyntaxKind> {
+        self.syntax.children_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).filter(|k| k.is_keyword())
+    }
+    pub fn has(&self, kind: SyntaxKind) -> bool {
+        self.keywords().any(|k| k == kind)
+    }
+}
+
+impl TypeRef {
+    pub fn is_ref(&self) -> bool {
+        self.ref_token().is_some()
+    }
+    pub fn is_unsigned(&self) -> bool {
+        self.unsigned_token().is_some()
+    }
+    pub fn type_args(&self) -> impl Iterator<Item = TypeRef> {
+        self.type_arg_list().into_iter().flat_map(|a| a.type_refs())
+    }
+    /// Number of `[]` suffixes.
+    pub fn array_dims(&self) -> usize {
+        self.syntax.children_with_tokens().filter(|e| e.kind() == L_BRACK).count()
+    }
+}
+
+// ---------------------------------------------------------------- class diagrams
+
+impl TypeDecl {
+    pub fn members(&self) -> impl Iterator<Item = Member> {
+        support::child::<super::MemberList>(self.syntax()).into_iter().flat_map(|l| l.members())
+    }
+}
+
+/// The kind of class: plain or one of the component kinds of chapter 11.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ClassKind {
+    Class,
+    Source,
+    Filter,
+    Sink,
+}
+
+/// The class kind a `class`, `source`, `filter` or `sink` keyword names.
+fn class_kind(keyword: SyntaxKind) -> Option<ClassKind> {
+    match keyword {
+        SOURCE_KW => Some(ClassKind::Source),
+        FILTER_KW => Some(ClassKind::Filter),
+        SINK_KW => Some(ClassKind::Sink),
+        CLASS_KW => Some(ClassKind::Class),
+        _ => None,
+    }
+}
+
+impl Class {
+    pub fn kind(&self) -> ClassKind {
+        self.syntax.children_with_tokens().find_map(|e| class_kind(e.kind())).unwrap_or(ClassKind::Class)
+    }
+    pub fn is_abstract(&self) -> bool {
+        self.has_modifier(ABSTRACT_KW)
+    }
+    pub fn template_params(&self) -> impl Iterator<Item = TemplateParam> {
+        self.template_param_list().into_iter().flat_map(|t| t.params())
+    }
+    pub fn extends(&self) -> impl Iterator<Item = TypeRef> {
+        self.extends_clause().into_iter().flat_map(|c| c.types())
+    }
+    pub fn implements(&self) -> impl Iterator<Item = TypeRef> {
+        self.implements_clause().into_iter().flat_map(|c| c.types())
+    }
+    pub fn members(&self) -> impl Iterator<Item = Member> {
+        self.member_list().into_iter().flat_map(|l| l.members())
+    }
+}
+
+/// The role of an interface with respect to component ports (chapter 11.3.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum InterfaceRole {
+    Plain,
+    Provider,
+    Processor,
+}
+
+impl Interface {
+    pub fn role(&self) -> InterfaceRole {
+        if self.provider_token().is_some() {
+            InterfaceRole::Provider
+        } else if self.processor_token().is_some() {
+            InterfaceRole::Processor
+        } else {
+            InterfaceRole::Plain
+        }
+    }
+    pub fn template_params(&self) -> impl Iterator<Item = TemplateParam> {
+        self.template_param_list().into_iter().flat_map(|t| t.params())
+    }
+    pub fn extends(&self) -> impl Iterator<Item = TypeRef> {
+        self.extends_clause().into_iter().flat_map(|c| c.types())
+    }
+    pub fn members(&self) -> impl Iterator<Item = Member> {
+        self.member_list().into_iter().flat_map(|l| l.members())
+    }
+}
+
+impl AttributeDef {
+    pub fn members(&self) -> impl Iterator<Item = Member> {
+        self.member_list().into_iter().flat_map(|l| l.members())
+    }
+}
+
+impl Method {
+    pub fn params(&self) -> impl Iterator<Item = Param> {
+        self.param_list().into_iter().flat_map(|l| l.params())
+    }
+}
+
+/// Kind of an association end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AssociationKind {
+    Plain,
+    Aggregation,
+    Composition,
+}
+
+impl Association {
+    pub fn kind(&self) -> AssociationKind {
+        if self.aggregation_token().is_some() {
+            AssociationKind::Aggregation
+        } else if self.composition_token().is_some() {
+            AssociationKind::Composition
+        } else {
+            AssociationKind::Plain
+        }
+    }
+    /// Multiplicity of this end (before the role name).
+    pub fn own_multiplicity(&self) -> Option<Multiplicity> {
+        let name_start = self.name()?.syntax.text_range().start();
+        support::children::<Multiplicity>(&self.syntax).find(|m| m.syntax.text_range().end() <= name_start)
+    }
+    /// Multiplicity of the other end (after the type), for bidirectional associations.
+    pub fn target_multiplicity(&self) -> Option<Multiplicity> {
+        let type_end = self.target()?.syntax.text_range().end();
+        support::children::<Multiplicity>(&self.syntax).find(|m| m.syntax.text_range().start() >= type_end)
+    }
+}
+
+impl Multiplicity {
+    /// The bounds as written: `("0", Some("*"))` for `[0 .. *]`.
+    pub fn bounds(&self) -> (Option<String>, Option<String>) {
+        let mut bounds = self
+            .syntax
+            .children_with_tokens()
+            .filter_map(|e| e.into_token())
+            .filter(|t| matches!(t.kind(), INT_NUMBER | STAR))
+            .map(|t| t.text().to_string());
+        (bounds.next(), bounds.next())
+    }
+}
+
+// ---------------------------------------------------------------- activity diagrams
+
+impl ActivityDiagram {
+    pub fn params(&self) -> impl Iterator<Item = Param> {
+        self.param_list().into_iter().flat_map(|l| l.params())
+    }
+    pub fn owner(&self) -> Option<Path> {
+        self.owner_clause().and_then(|o| o.path())
+    }
+}
+
+impl super::Swimlane {
+    pub fn owner(&self) -> Option<Path> {
+        self.owner_clause().and_then(|o| o.path())
+    }
+}
+
+/// The kind of an activity node.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NodeKind {
+    Start,
+    Final,
+    Action,
+    Decision,
+    Fork,
+    Join,
+    Loop,
+    LoopWindow,
+    Calc,
+    CalcRange,
+}
+
+impl ActivityNode {
+    pub fn kind(&self) -> NodeKind {
+        match self {
+            ActivityNode::StartNode(_) => NodeKind::Start,
+            ActivityNode::FinalNode(_) => NodeKind::Final,
+            ActivityNode::ActionNode(_) => NodeKind::Action,
+            ActivityNode::DecisionNode(_) => NodeKind::Decision,
+            ActivityNode::ForkNode(_) => NodeKind::Fork,
+            ActivityNode::JoinNode(_) => NodeKind::Join,
+            ActivityNode::LoopNode(_) => NodeKind::Loop,
+            ActivityNode::LoopWindowNode(_) => NodeKind::LoopWindow,
+            ActivityNode::CalcNode(_) => NodeKind::Calc,
+            ActivityNode::CalcRangeNode(_) => NodeKind::CalcRange,
+        }
+    }
+    pub fn param_list(&self) -> Option<ParamList> {
+        support::child(self.syntax())
+    }
+    pub fn params(&self) -> impl Iterator<Item = Param> {
+        self.param_list().into_iter().flat_map(|l| l.params())
+    }
+    /// `(setup; test; increment)` of loop and loopWindow nodes.
+    pub fn loop_header(&self) -> Option<LoopHeader> {
+        support::child(self.syntax())
+    }
+    /// `final f return expr`
+    pub fn return_value(&self) -> Option<Expr> {
+        support::child(self.syntax())
+    }
+    pub fn body(&self) -> Option<NodeBody> {
+        support::child(self.syntax())
+    }
+    pub fn statements(&self) -> impl Iterator<Item = Stmt> {
+        self.body().into_iter().flat_map(|b| b.statements())
+    }
+    pub fn transitions(&self) -> impl Iterator<Item = Transition> {
+        self.body().into_iter().flat_map(|b| b.transitions())
+    }
+}
+
+/// One part of a loop section, a `for` header or a window range: a declaration or an expression.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum LoopPart {
+    Decl(VarDecl),
+    Expr(Expr),
+}
+
+impl LoopPart {
+    fn cast(node: SyntaxNode) -> Option<LoopPart> {
+        VarDecl::cast(node.clone()).map(LoopPart::Decl).or_else(|| Expr::cast(node).map(LoopPart::Expr))
+    }
+}
+
+impl LoopSection {
+    pub fn parts(&self) -> impl Iterator<Item = LoopPart> {
+        self.syntax.children().filter_map(LoopPart::cast)
+    }
+}
+
+impl Transition {
+    pub fn args(&self) -> impl Iterator<Item = Expr> {
+        self.arg_list().into_iter().flat_map(|l| l.args())
+    }
+}
+
+// ---------------------------------------------------------------- statements
+
+impl VarDecl {
+    /// `const` declarations cannot be assigned again.
+    pub fn is_const(&self) -> bool {
+        self.const_token().is_some() || self.has_modifier(CONST_KW)
+    }
+    pub fn is_ref(&self) -> bool {
+        self.has_modifier(REF_KW) || self.type_ref().is_some_and(|t| t.is_ref())
+    }
+}
+
+impl IfStmt {
+    pub fn else_branch(&self) -> Option<Stmt> {
+        self.else_clause().and_then(|e| e.stmt())
+    }
+}
+
+impl ForStmt {
+    /// `init : step : condition`, in the order written.
+    pub fn sections(&self) -> Vec<LoopPart> {
+        let header_end = self.r_paren_token().map(|t| t.text_range().start());
+        self.syntax
+            .children()
+            .take_while(|n| header_end.is_none_or(|end| n.text_range().end() <= end))
+            .filter_map(LoopPart::cast)
+            .collect()
+    }
+    /// The statement after the header.
+    pub fn body(&self) -> Option<Stmt> {
+        let header_end = self.r_paren_token()?.text_range().end();
+        support::children::<Stmt>(&self.syntax).find(|s| s.syntax().text_range().start() >= header_end)
+    }
+}
+
+impl SwitchCase {
+    pub fn is_default(&self) -> bool {
+        self.default_token().is_some()
+    }
+}
+
+impl LoopWindowStmt {
+    /// 2 for `loopwindow2D`, 3 for `loopwindow3D`.
+    pub fn dimensions(&self) -> usize {
+        if self.loopwindow3d_token().is_some() {
+            3
+        } else {
+            2
+        }
+    }
+}
+
+impl LoopWindowDim {
+    pub fn start(&self) -> Option<LoopPart> {
+        self.syntax.children().find_map(LoopPart::cast)
+    }
+    pub fn end(&self) -> Option<Expr> {
+        support::children::<Expr>(&self.syntax).last().filter(|_| self.syntax.children().count() == 2)
+    }
+}
+
+// ---------------------------------------------------------------- expressions
+
+impl Literal {
+    pub fn token(&self) -> Option<SyntaxToken> {
+        self.syntax.first_token()
+    }
+}
+
+impl BinExpr {
+    pub fn lhs(&self) -> Option<Expr> {
+        support::children(&self.syntax).next()
+    }
+    pub fn rhs(&self) -> Option<Expr> {
+        support::children(&self.syntax).nth(1)
+    }
+    pub fn is_assignment(&self) -> bool {
+        self.op().is_some_and(|t| {
+            matches!(
+                t.kind(),
+                EQ | PLUSEQ | MINUSEQ | STAREQ | SLASHEQ | PERCENTEQ | AMPEQ | PIPEEQ | CARETEQ | SHLEQ | SHREQ
+            )
+        })
+    }
+}
+
+impl TernaryExpr {
+    pub fn condition(&self) -> Option<Expr> {
+        support::children(&self.syntax).next()
+    }
+    pub fn then_expr(&self) -> Option<Expr> {
+        support::children(&self.syntax).nth(1)
+    }
+    pub fn else_expr(&self) -> Option<Expr> {
+        support::children(&self.syntax).nth(2)
+    }
+}
+
+impl IndexExpr {
+    pub fn base(&self) -> Option<Expr> {
+        support::children(&self.syntax).next()
+    }
+    pub fn index(&self) -> Option<Expr> {
+        support::children(&self.syntax).nth(1)
+    }
+}
+
+/// The arguments of an argument list, if there is one.
+fn args_of(list: Option<ArgList>) -> impl Iterator<Item = Expr> {
+    list.into_iter().flat_map(|l| l.args())
+}
+
+impl CallExpr {
+    pub fn args(&self) -> impl Iterator<Item = Expr> {
+        args_of(self.arg_list())
+    }
+}
+
+impl CallBehaviorExpr {
+    pub fn args(&self) -> impl Iterator<Item = Expr> {
+        args_of(self.arg_list())
+    }
+}
+
+impl CallMethodExpr {
+    pub fn args(&self) -> impl Iterator<Item = Expr> {
+        args_of(self.arg_list())
+    }
+}
+
+impl CallInterfaceExpr {
+    pub fn args(&self) -> impl Iterator<Item = Expr> {
+        args_of(self.arg_list())
+    }
+}
+
+// ---------------------------------------------------------------- components
+
+impl Component {
+    pub fn kind(&self) -> ClassKind {
+        self.syntax.first_token().and_then(|t| class_kind(t.kind())).unwrap_or(ClassKind::Class)
+    }
+}
+
+impl Port {
+    pub fn is_async(&self) -> bool {
+        self.async_token().is_some()
+    }
+    pub fn is_buffered(&self) -> bool {
+        self.buffered_token().is_some()
+    }
+}
+
+/// Direction of a connector.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ConnectorRole {
+    Provider,
+    Processor,
+}
+
+fn connector_role(node: &SyntaxNode) -> Option<ConnectorRole> {
+    match node.first_token()?.kind() {
+        PROVIDER_KW => Some(ConnectorRole::Provider),
+        PROCESSOR_KW => Some(ConnectorRole::Processor),
+        _ => None,
+    }
+}
+
+impl Connector {
+    pub fn role(&self) -> Option<ConnectorRole> {
+        connector_role(&self.syntax)
+    }
+}
+
+impl CidConnector {
+    pub fn role(&self) -> Option<ConnectorRole> {
+        connector_role(&self.syntax)
+    }
+    pub fn field_values(&self) -> impl Iterator<Item = NamedArg> {
+        self.named_arg_list().into_iter().flat_map(|l| l.args())
+    }
+}
+
+/// `[Name source a.b ==> target c.d]`, shared by connections and bindings.
+pub trait HasEnds: AstNode {
+    fn source(&self) -> Option<Path> {
+        support::children(self.syntax()).next()
+    }
+    fn target(&self) -> Option<Path> {
+        let arrow = support::token(self.syntax(), LONG_FAT_ARROW)?;
+        support::children::<Path>(self.syntax()).find(|p| p.syntax.text_range().start() >= arrow.text_range().end())
+    }
+}
+
+impl HasEnds for Connection {}
+impl HasEnds for Binding {}
+
+impl ComponentInstance {
+    pub fn field_values(&self) -> impl Iterator<Item = NamedArg> {
+        self.named_arg_list().into_iter().flat_map(|l| l.args())
+    }
+}
