@@ -11,10 +11,7 @@ use std::collections::HashMap;
 use crate::{
     ast::{self, AstNode, HasEnds, HasModifiers, HasName},
     db::{parse, Db, SourceFile, Workspace},
-    hir::{
-        check::{scope_at, Checker},
-        DefKind,
-    },
+    hir::{DefKind, Scope, Semantics},
     syntax::TextRange,
 };
 
@@ -132,16 +129,15 @@ pub struct Graph {
 #[salsa::tracked(returns(ref))]
 pub fn file_graphs(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Graph> {
     let root = parse(db, file).syntax_node();
-    let checker = Checker::resolver(db, workspace, file);
+    let sema = Semantics::new(db, workspace);
     root.descendants()
         .filter_map(ast::Diagram::cast)
         .filter_map(|diagram| {
-            let scope = scope_at(diagram.syntax());
-            let id = scope.namespaces.last()?.clone();
+            let id = Scope::at(diagram.syntax()).namespaces.last()?.clone();
             Some(match &diagram {
-                ast::Diagram::ClassDiagram(d) => class_graph(&checker, id, d),
+                ast::Diagram::ClassDiagram(d) => class_graph(&sema, id, d),
                 ast::Diagram::ActivityDiagram(d) => activity_graph(id, d),
-                ast::Diagram::ComponentDiagram(d) => component_graph(&checker, id, d),
+                ast::Diagram::ComponentDiagram(d) => component_graph(&sema, id, d),
                 ast::Diagram::ComponentInstanceDiagram(d) => instance_graph(id, d),
             })
         })
@@ -161,8 +157,8 @@ fn visibility_mark(node: &impl HasModifiers) -> &'static str {
     }
 }
 
-fn class_graph(checker: &Checker, id: String, diagram: &ast::ClassDiagram) -> Graph {
-    let scope = scope_at(diagram.syntax());
+fn class_graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -> Graph {
+    let scope = Scope::at(diagram.syntax());
     let mut graph =
         Graph { id: id.clone(), kind: GraphKind::Class, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
     let mut known: Vec<String> = Vec::new();
@@ -257,7 +253,7 @@ fn class_graph(checker: &Checker, id: String, diagram: &ast::ClassDiagram) -> Gr
             });
         };
         let resolve =
-            |path: &str| checker.resolve(&scope, path).map(|d| d.fqn.clone()).unwrap_or_else(|| path.to_string());
+            |path: &str| sema.resolve(&scope, path).map(|d| d.fqn.clone()).unwrap_or_else(|| path.to_string());
         let (extends, implements): (Vec<ast::TypeRef>, Vec<ast::TypeRef>) = match &decl {
             ast::TypeDecl::Class(c) => (c.extends().collect(), c.implements().collect()),
             ast::TypeDecl::Interface(i) => (i.extends().collect(), Vec::new()),
@@ -301,7 +297,7 @@ fn class_graph(checker: &Checker, id: String, diagram: &ast::ClassDiagram) -> Gr
         if graph.nodes.iter().any(|n| n.id == target) {
             continue;
         }
-        let is_interface = checker.lookup_one(&target).is_some_and(
+        let is_interface = sema.definition(&target).is_some_and(
             |d| matches!(&d.kind, DefKind::Type(ty) if matches!(ty.kind, crate::hir::items::TypeKind::Interface(_))),
         );
         graph.nodes.push(GraphNode {
@@ -414,8 +410,8 @@ fn activity_graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
     graph
 }
 
-fn component_graph(checker: &Checker, id: String, diagram: &ast::ComponentDiagram) -> Graph {
-    let scope = scope_at(diagram.syntax());
+fn component_graph(sema: &Semantics, id: String, diagram: &ast::ComponentDiagram) -> Graph {
+    let scope = Scope::at(diagram.syntax());
     let mut graph = Graph { id, kind: GraphKind::Component, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
     let mut stack: Vec<ast::Component> = diagram.components().collect();
     stack.reverse();
@@ -426,7 +422,7 @@ fn component_graph(checker: &Checker, id: String, diagram: &ast::ComponentDiagra
         nested.reverse();
         stack.extend(nested);
         let Some(class) = component.class() else { continue };
-        let fqn = checker.resolve(&scope, &class.text()).map(|d| d.fqn.clone()).unwrap_or_else(|| class.text());
+        let fqn = sema.resolve(&scope, &class.text()).map(|d| d.fqn.clone()).unwrap_or_else(|| class.text());
         let mut ports = Vec::new();
         for port in component.ports() {
             let Some(port_name) = port.name().map(|n| n.text()) else { continue };

@@ -6,6 +6,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use super::{
     definitions::{def_map, join, DefKind, DefMap, Fqn},
     items::{item_tree, ComponentItem, DiagramItem, DiagramKind, ImportItem, InterfaceRole, TypeKind, TypeSignature},
+    scope::resolve_path,
 };
 use crate::db::{Db, Workspace};
 
@@ -60,40 +61,6 @@ fn collect(
 #[salsa::tracked(returns(ref))]
 pub fn component_info<'db>(db: &'db dyn Db, workspace: Workspace, class: Fqn<'db>) -> Vec<ComponentInfo> {
     component_index(db, workspace).get(class.text(db)).cloned().unwrap_or_default()
-}
-
-/// Resolves `path` from enclosing `namespaces` (innermost last) and `imports` to the first
-/// fully qualified candidate for which `exists` holds.
-pub fn resolve_path(
-    namespaces: &[String],
-    imports: &[ImportItem],
-    path: &str,
-    mut exists: impl FnMut(&str) -> bool,
-) -> Option<String> {
-    for namespace in namespaces.iter().rev() {
-        let candidate = join(namespace, path);
-        if exists(&candidate) {
-            return Some(candidate);
-        }
-    }
-    for import in imports {
-        let candidate = match import {
-            ImportItem::Wildcard(prefix) => join(prefix, path),
-            ImportItem::Name(name) => {
-                let last = name.rsplit('.').next().unwrap_or(name);
-                let first = path.split('.').next().unwrap_or(path);
-                if last != first {
-                    continue;
-                }
-                format!("{name}{}", &path[first.len()..])
-            }
-            ImportItem::Header => continue,
-        };
-        if exists(&candidate) {
-            return Some(candidate);
-        }
-    }
-    exists(path).then(|| path.to_string())
 }
 
 /// A method signature reduced to what must match between a provider and a processor:

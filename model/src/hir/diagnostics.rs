@@ -1,11 +1,8 @@
-//! Diagnostics: the syntax and semantic problems of one file, each with a stable code, a
-//! severity, a byte range and a message that names the thing.
+//! Diagnostics: what a problem is (a stable code, a severity, a byte range and a message that
+//! names the thing) and the sink rules report into. The query that gathers a file's problems is
+//! `validate::file_diagnostics`.
 
-use crate::{
-    db::{parse, Db, SourceFile, Workspace},
-    syntax::TextRange,
-    SyntaxErrorCode,
-};
+use crate::{syntax::TextRange, SyntaxErrorCode};
 
 /// How bad a problem is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -133,20 +130,25 @@ pub struct Diagnostic {
     pub message: String,
 }
 
-/// Every problem of `file`: syntax errors first, then semantic ones, by position.
-#[salsa::tracked(returns(ref))]
-pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {
-    let mut diagnostics: Vec<Diagnostic> = parse(db, file)
-        .errors()
-        .iter()
-        .map(|e| Diagnostic {
-            code: DiagnosticCode::Syntax(e.code),
-            severity: Severity::Error,
-            range: e.range,
-            message: e.message.clone(),
-        })
-        .collect();
-    diagnostics.extend(super::check::check_file(db, workspace, file).iter().cloned());
-    diagnostics.sort_by_key(|d| (d.range.start(), d.range.end()));
-    diagnostics
+/// Where validation rules and expression typing report problems, in the order found.
+#[derive(Debug, Default)]
+pub struct Diagnostics(Vec<Diagnostic>);
+
+impl Diagnostics {
+    pub fn error(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
+        self.0.push(Diagnostic { code, severity: Severity::Error, range, message });
+    }
+
+    pub fn warn(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
+        self.0.push(Diagnostic { code, severity: Severity::Warning, range, message });
+    }
+
+    pub fn into_vec(self) -> Vec<Diagnostic> {
+        self.0
+    }
+}
+
+/// `1 argument`, `3 arguments`.
+pub(crate) fn arguments(n: usize) -> String {
+    format!("{n} argument{}", if n == 1 { "" } else { "s" })
 }

@@ -1,15 +1,19 @@
 //! Expression typing inside method and node bodies: enough to check guards and conditions,
 //! assignments and initialisers, and the arity and argument types of calls that resolve to a
 //! declared method. Names it cannot type are `Unknown` and never cause a diagnostic of their own.
+//!
+//! An [`InferenceCtx`] reads the model through [`Semantics`] and reports into a [`Diagnostics`]
+//! sink; [`Semantics::type_of_expr`] runs it with a sink nobody reads.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use super::{
-    check::{Checker, Scope},
     definitions::{DefKind, Definition},
-    diagnostics::DiagnosticCode,
-    items::{type_signature, MethodSignature, TypeKind},
-    ty::{self, Ty},
+    diagnostics::{arguments, DiagnosticCode, Diagnostics},
+    items::{type_signature, MethodSignature},
+    scope::Scope,
+    semantics::Semantics,
+    ty::Ty,
 };
 use crate::{
     ast::{self, AstNode, HasName},
@@ -17,16 +21,27 @@ use crate::{
 };
 
 /// Typing context of one body: local names, and the class whose members are in scope.
-pub(crate) struct Body<'c, 'db> {
-    pub(crate) checker: &'c mut Checker<'db>,
-    pub(crate) scope: Scope,
-    pub(crate) locals: HashMap<String, Ty>,
-    pub(crate) owner: Option<&'db Definition>,
+pub struct InferenceCtx<'a, 'db> {
+    sema: Semantics<'db>,
+    sink: &'a mut Diagnostics,
+    scope: Scope,
+    locals: HashMap<String, Ty>,
+    owner: Option<&'db Definition>,
 }
 
-impl<'db> Body<'_, 'db> {
+impl<'a, 'db> InferenceCtx<'a, 'db> {
+    /// A context for a body in `scope` whose members are those of `owner`.
+    pub fn new(
+        sema: Semantics<'db>,
+        sink: &'a mut Diagnostics,
+        scope: Scope,
+        owner: Option<&'db Definition>,
+    ) -> InferenceCtx<'a, 'db> {
+        InferenceCtx { sema, sink, scope, locals: HashMap::new(), owner }
+    }
+
     /// Declares a local (parameter, variable) from its written type.
-    pub(crate) fn declare(&mut self, name: String, ty: Option<ast::TypeRef>) {
+    pub fn declare(&mut self, name: String, ty: Option<ast::TypeRef>) {
         let ty = self.ty_of(ty);
         self.locals.insert(name, ty);
     }
@@ -36,14 +51,12 @@ impl<'db> Body<'_, 'db> {
         if sig.path.as_ref().is_some_and(|p| self.scope.type_params.contains(p)) {
             return Ty::Unknown;
         }
-        let checker = &*self.checker;
-        let scope = &self.scope;
-        ty::from_signature(&sig, &mut |path| checker.resolve(scope, path).map(|d| d.fqn.clone()))
+        self.sema.ty(&sig, &self.scope)
     }
 
-    /// Checks every statement, guard and transition of `node` (a block or a node body).
-    pub(crate) fn check(&mut self, node: &SyntaxNode) {
-        // Declarations first, in order, so that uses anywhere in the body see them.
+    /// Declares the locals a body introduces: its `var` declarations (all of them, so that uses
+    /// anywhere in the body see them) and the window variables of `loopwindow2D(u = -r : r, …)`.
+    fn declare_body(&mut self, node: &SyntaxNode) {
         for decl in node.descendants().filter_map(ast::VarDecl::cast) {
             if let Some(name) = decl.name() {
                 self.declare(name.text(), decl.type_ref());
@@ -59,6 +72,11 @@ impl<'db> Body<'_, 'db> {
                 }
             }
         }
+    }
+
+    /// Checks every statement, guard and transition of `node` (a block or a node body).
+    pub fn check(&mut self, node: &SyntaxNode) {
+        self.declare_body(node);
         for element in node.descendants() {
             match element.kind() {
                 SyntaxKind::VAR_DECL => {
@@ -97,7 +115,7 @@ impl<'db> Body<'_, 'db> {
     fn expect_bool(&mut self, cond: &ast::Expr, what: &str) {
         let ty = self.infer(cond);
         if !Ty::Bool.assignable_to(&ty, &mut |_, _| true) || matches!(ty, Ty::String | Ty::Named(_) | Ty::Vector(..)) {
-            self.checker.error(
+            self.sink.error(
                 DiagnosticCode::NotABoolean,
                 cond.syntax().text_range(),
                 format!("{what} must be a boolean expression, but this is `{ty}`"),
@@ -106,9 +124,9 @@ impl<'db> Body<'_, 'db> {
     }
 
     fn expect_assignable(&mut self, value: &Ty, target: &Ty, at: &SyntaxNode, what: &str) {
-        let checker = &*self.checker;
-        if !value.assignable_to(target, &mut |a, b| checker.is_subtype(a, b)) {
-            self.checker.error(
+        let sema = self.sema;
+        if !value.assignable_to(target, &mut |a, b| sema.is_subtype(a, b)) {
+            self.sink.error(
                 DiagnosticCode::TypeMismatch,
                 at.text_range(),
                 format!("{what} has type `{target}`, but the value is `{value}`"),
@@ -117,7 +135,7 @@ impl<'db> Body<'_, 'db> {
     }
 
     /// The type of an expression, checking calls and assignments inside it on the way.
-    pub(crate) fn infer(&mut self, expr: &ast::Expr) -> Ty {
+    pub fn infer(&mut self, expr: &ast::Expr) -> Ty {
         match expr {
             ast::Expr::Literal(lit) => match lit.token().map(|t| t.kind()) {
                 Some(SyntaxKind::INT_NUMBER | SyntaxKind::CHAR) => Ty::Int,
@@ -210,7 +228,7 @@ impl<'db> Body<'_, 'db> {
             ast::Expr::CallMethodExpr(call) => {
                 let args: Vec<ast::Expr> = call.args().collect();
                 let (Some(class), Some(method)) = (call.class(), call.method()) else { return Ty::Unknown };
-                match self.checker.resolve(&self.scope, &class.text()) {
+                match self.sema.resolve(&self.scope, &class.text()) {
                     Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), false),
                     None => Ty::Unknown,
                 }
@@ -265,11 +283,11 @@ impl<'db> Body<'_, 'db> {
             return ty.clone();
         }
         if let Some(owner) = self.owner {
-            if let Some(ty) = self.member_ty(&owner.fqn.clone(), name) {
+            if let Some(ty) = self.sema.field_ty(&owner.fqn, name) {
                 return ty;
             }
         }
-        match self.checker.resolve(&self.scope, name) {
+        match self.sema.resolve(&self.scope, name) {
             Some(def) if matches!(def.kind, DefKind::Type(_)) => Ty::Named(def.fqn.clone()),
             Some(_) => Ty::Unknown,
             None => {
@@ -277,7 +295,7 @@ impl<'db> Body<'_, 'db> {
                     Some(owner) => format!(" (nor a field of the owner `{}`)", owner.fqn),
                     None => String::new(),
                 };
-                self.checker.error(
+                self.sink.error(
                     DiagnosticCode::UnknownName,
                     at.text_range(),
                     format!("unknown name `{name}`: not a variable, parameter or type in scope{hint}"),
@@ -287,43 +305,13 @@ impl<'db> Body<'_, 'db> {
         }
     }
 
-    /// The type of field `name` of type `fqn` (or its bases); an enum's values are of the enum.
-    /// `None` if the type has no such member.
-    fn member_ty(&mut self, fqn: &str, name: &str) -> Option<Ty> {
-        let mut seen = HashSet::new();
-        let Some((def, field)) = self
-            .checker
-            .find_member(fqn, &mut seen, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()))
-        else {
-            return match self.checker.lookup_one(fqn).map(|d| &d.kind) {
-                Some(DefKind::Type(ty)) if ty.kind == TypeKind::Enum && ty.enum_values.iter().any(|v| v == name) => {
-                    Some(Ty::Named(fqn.to_string()))
-                }
-                _ => None,
-            };
-        };
-        let scope = self.checker.scope_of(def);
-        let checker = &*self.checker;
-        Some(ty::from_signature(&field, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone())))
-    }
-
     /// `receiver.member` on a user type: reports a member the type does not have.
     fn field_ty(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Ty {
-        if let Some(ty) = self.member_ty(fqn, name) {
+        if let Some(ty) = self.sema.field_ty(fqn, name) {
             return ty;
         }
-        let is_method = {
-            let mut seen = HashSet::new();
-            self.checker
-                .find_member(fqn, &mut seen, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(()))
-                .is_some()
-        };
-        if !is_method && self.checker.lookup_one(fqn).is_some() {
-            self.checker.error(
-                DiagnosticCode::UnknownMember,
-                at.text_range(),
-                format!("`{fqn}` has no field `{name}`"),
-            );
+        if !self.sema.has_method(fqn, name) && self.sema.definition(fqn).is_some() {
+            self.sink.error(DiagnosticCode::UnknownMember, at.text_range(), format!("`{fqn}` has no field `{name}`"));
         }
         Ty::Unknown
     }
@@ -336,7 +324,7 @@ impl<'db> Body<'_, 'db> {
                 match self.owner {
                     Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax(), true),
                     None => {
-                        self.checker.error(
+                        self.sink.error(
                             DiagnosticCode::UnknownName,
                             method.syntax().text_range(),
                             format!(
@@ -351,7 +339,7 @@ impl<'db> Body<'_, 'db> {
             Some(ast::Expr::MemberExpr(member)) => {
                 let receiver = member.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
                 match (receiver, member.member()) {
-                    (Ty::Named(fqn), Some(method)) => match self.checker.lookup_one(&fqn) {
+                    (Ty::Named(fqn), Some(method)) => match self.sema.definition(&fqn) {
                         Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
                         None => self.infer_all(&args),
                     },
@@ -361,7 +349,7 @@ impl<'db> Body<'_, 'db> {
             Some(ast::Expr::ScopeExpr(scoped)) => {
                 let scope = scoped.scope().map_or(Ty::Unknown, |r| self.infer(&r));
                 match (scope, scoped.member()) {
-                    (Ty::Named(fqn), Some(method)) => match self.checker.lookup_one(&fqn) {
+                    (Ty::Named(fqn), Some(method)) => match self.sema.definition(&fqn) {
                         Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
                         None => self.infer_all(&args),
                     },
@@ -390,14 +378,12 @@ impl<'db> Body<'_, 'db> {
         report_missing: bool,
     ) -> Ty {
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
-        let mut overloads: Vec<(&'db Definition, MethodSignature)> = Vec::new();
-        let mut seen = HashSet::new();
-        self.checker.collect_methods(def, method, &mut seen, &mut overloads);
+        let overloads: Vec<(&'db Definition, MethodSignature)> = self.sema.methods(def, method);
         if overloads.is_empty() {
             if !report_missing {
                 return Ty::Unknown;
             }
-            self.checker.error(
+            self.sink.error(
                 DiagnosticCode::UnknownMember,
                 at.text_range(),
                 format!("`{}` has no method `{method}`", def.fqn),
@@ -409,24 +395,22 @@ impl<'db> Body<'_, 'db> {
             arities.sort_unstable();
             arities.dedup();
             let expected = match arities.as_slice() {
-                [one] => super::check::arguments(*one),
+                [one] => arguments(*one),
                 _ => format!("{} arguments", arities.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(" or ")),
             };
-            self.checker.error(
+            self.sink.error(
                 DiagnosticCode::CallArity,
                 at.text_range(),
                 format!("`{method}` takes {expected}, {} given", args.len()),
             );
             return Ty::Unknown;
         };
-        let scope = self.checker.scope_of(declaring);
+        let scope = Scope::of(declaring);
+        let sema = self.sema;
         for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
-            let checker = &*self.checker;
-            let param_ty =
-                ty::from_signature(&param.ty, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone()));
-            let checker = &*self.checker;
-            if !arg_ty.assignable_to(&param_ty, &mut |a, b| checker.is_subtype(a, b)) {
-                self.checker.error(
+            let param_ty = sema.ty(&param.ty, &scope);
+            if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
+                self.sink.error(
                     DiagnosticCode::ArgumentType,
                     arg.syntax().text_range(),
                     format!(
@@ -437,13 +421,21 @@ impl<'db> Body<'_, 'db> {
                 );
             }
         }
-        let checker = &*self.checker;
-        ty::from_signature(&signature.ret, &mut |path| checker.resolve(&scope, path).map(|d| d.fqn.clone()))
+        sema.ty(&signature.ret, &scope)
     }
 }
 
+/// The parameters and variables of an activity diagram: the locals every node body sees.
+pub fn diagram_locals(diagram: &ast::ActivityDiagram) -> Vec<(String, Option<ast::TypeRef>)> {
+    let mut locals: Vec<(String, Option<ast::TypeRef>)> =
+        diagram.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
+    locals.extend(diagram.variables().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
+    locals.extend(diagram.var_decls().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
+    locals
+}
+
 /// Names declared by a loop header or a parameter list, for node bodies.
-pub(crate) fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast::TypeRef>)> {
+pub fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast::TypeRef>)> {
     let mut out: Vec<(String, Option<ast::TypeRef>)> =
         node.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
     if let Some(header) = node.loop_header() {
@@ -454,4 +446,48 @@ pub(crate) fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Opti
         }
     }
     out
+}
+
+impl<'db> Semantics<'db> {
+    /// The type of an expression in the context it is written in: the locals, parameters and
+    /// variables in scope there and the members of the owner class. `Unknown` where it cannot be
+    /// known; problems found on the way are not reported (validation reports them).
+    pub fn type_of_expr(&self, expr: &ast::Expr) -> Ty {
+        let node = expr.syntax();
+        let mut scope = Scope::at(node);
+        if let Some(decl) = node.ancestors().find_map(ast::TypeDecl::cast) {
+            let params: Vec<ast::TemplateParam> = match &decl {
+                ast::TypeDecl::Class(c) => c.template_params().collect(),
+                ast::TypeDecl::Interface(i) => i.template_params().collect(),
+                _ => Vec::new(),
+            };
+            scope.type_params.extend(params.iter().filter_map(|t| t.name()).map(|n| n.text()));
+        }
+        let mut sink = Diagnostics::default();
+        let mut ctx = InferenceCtx::new(*self, &mut sink, scope, self.owner_at(node));
+        let mut body = None;
+        if let Some(diagram) = node.ancestors().find_map(ast::ActivityDiagram::cast) {
+            for (name, ty) in diagram_locals(&diagram) {
+                ctx.declare(name, ty);
+            }
+        }
+        if let Some(activity_node) = node.ancestors().find_map(ast::ActivityNode::cast) {
+            for (name, ty) in header_declarations(&activity_node) {
+                ctx.declare(name, ty);
+            }
+            body = activity_node.body().map(|b| b.syntax().clone());
+        }
+        if let Some(method) = node.ancestors().find_map(ast::Method::cast) {
+            for param in method.params() {
+                if let Some(name) = param.name() {
+                    ctx.declare(name.text(), param.type_ref());
+                }
+            }
+            body = method.body().map(|b| b.syntax().clone());
+        }
+        if let Some(body) = body {
+            ctx.declare_body(&body);
+        }
+        ctx.infer(expr)
+    }
 }

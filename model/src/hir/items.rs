@@ -249,7 +249,8 @@ fn component_items(component: &ast::Component, out: &mut Vec<ComponentItem>) {
     }
 }
 
-fn import_item(import: &ast::Import) -> Option<ImportItem> {
+/// What an import statement brings into scope.
+pub(crate) fn import_item(import: &ast::Import) -> Option<ImportItem> {
     Some(match import.target()? {
         ast::ImportTarget::Name(p) => ImportItem::Name(p.text()),
         ast::ImportTarget::Wildcard(p) => ImportItem::Wildcard(p.text()),

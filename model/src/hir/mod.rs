@@ -1,18 +1,32 @@
 //! Semantics: the position-independent item tree of each file, the workspace-wide definition
-//! map, name resolution and validation, all as salsa queries over [`crate::db`].
+//! map, and on top of them one read-only API ([`Semantics`]: names, scopes, types, members,
+//! owners, components) that validation, editor features, the graph view and code generation
+//! share. Validation rules live apart from it (`validate/`), one family of rules a module.
+//!
+//! Layers, each using only those below it: `items` → `definitions` → `scope` → `components` →
+//! `ty` → `semantics` (+ `instances`, `classify`) → `infer` → `validate`; `diagnostics` is the vocabulary of
+//! problems that `infer` and `validate` report.
 
-pub mod check;
+pub mod classify;
 pub mod components;
 pub mod definitions;
 pub mod diagnostics;
 #[cfg(test)]
 mod golden;
 pub mod infer;
+pub mod instances;
 pub mod items;
+pub mod scope;
+pub mod semantics;
 #[cfg(test)]
 mod tests;
 pub mod ty;
+pub mod validate;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};
-pub use diagnostics::{file_diagnostics, Diagnostic, DiagnosticCode, Severity};
+pub use diagnostics::{Diagnostic, DiagnosticCode, Diagnostics, Severity};
 pub use items::{item_tree, ItemTree};
+pub use scope::Scope;
+pub use semantics::Semantics;
+pub use ty::Ty;
+pub use validate::{check_file, file_diagnostics};

@@ -3,6 +3,7 @@
 use salsa::Setter;
 
 use super::*;
+use crate::ast::AstNode;
 use crate::db::{RootDatabase, SourceFile, Workspace};
 
 const DEFS: &str = "ClassDiagram Defs
@@ -146,4 +147,105 @@ fn editing_one_file_keeps_the_other_files_diagnostics() {
     // A declaration changed, so the def map runs; no name the other files use changed.
     assert_eq!(count(&log, "def_map"), 1, "{log:#?}");
     assert_eq!(count(&log, "check_file"), 1, "{log:#?}");
+}
+
+// ---- the Semantics API
+
+/// A database of `files`, and the offset of `needle` in the first one.
+fn workspace_of(files: &[(&str, &str)]) -> (RootDatabase, Workspace, Vec<SourceFile>) {
+    let db = RootDatabase::default();
+    let inputs: Vec<SourceFile> =
+        files.iter().map(|(path, text)| SourceFile::new(&db, path.to_string(), text.to_string())).collect();
+    let workspace = Workspace::new(&db, inputs.clone());
+    (db, workspace, inputs)
+}
+
+/// The node of type `N` whose text is `needle` (or the innermost one where it starts).
+fn node_at<N: crate::ast::AstNode>(db: &RootDatabase, file: SourceFile, needle: &str) -> N {
+    let at = file.text(db).find(needle).unwrap_or_else(|| panic!("`{needle}` not in the file"));
+    let token = crate::db::parse(db, file).syntax_node().token_at_offset((at as u32).into()).right_biased().unwrap();
+    let candidates: Vec<N> = token.parent_ancestors().filter_map(N::cast).collect();
+    let exact = candidates.iter().position(|n| n.syntax().text() == needle.trim_end());
+    candidates.into_iter().nth(exact.unwrap_or(0)).unwrap_or_else(|| panic!("no such node at `{needle}`"))
+}
+
+#[test]
+fn type_of_an_expression_in_its_body() {
+    let (db, ws, files) = workspace_of(&[("user.gudsl", USER), ("defs.gudsl", DEFS)]);
+    let sema = Semantics::new(&db, ws);
+    let ty_of = |needle: &str| sema.type_of_expr(&node_at::<crate::ast::Expr>(&db, files[0], needle)).to_string();
+    // A diagram parameter, arithmetic on it, a local declared in the body.
+    assert_eq!(ty_of("n + 1"), "int");
+    let (db, ws, files) = workspace_of(&[
+        (
+            "ad.gudsl",
+            "ActivityDiagram Ad(Defs.Image img) { swimlane L, owner Defs.Image { start S { var float f = img.width * 0.5; var int a = area(); => f2; } final f2; } }",
+        ),
+        ("defs.gudsl", DEFS),
+    ]);
+    let sema = Semantics::new(&db, ws);
+    let ty_of = |needle: &str| sema.type_of_expr(&node_at::<crate::ast::Expr>(&db, files[0], needle)).to_string();
+    assert_eq!(ty_of("img.width"), "int", "a field of a parameter's class");
+    assert_eq!(ty_of("img.width * 0.5"), "float");
+    assert_eq!(ty_of("img."), "Defs.Image");
+    assert_eq!(ty_of("area()"), "int", "a method of the swimlane's owner");
+}
+
+#[test]
+fn names_classified_where_they_are_written() {
+    use crate::{ast, hir::classify::NameRefClass};
+    let (db, ws, files) = workspace_of(&[("user.gudsl", USER), ("defs.gudsl", DEFS)]);
+    let sema = Semantics::new(&db, ws);
+    let class = |needle: &str| sema.classify_name_ref(&node_at::<ast::NameRef>(&db, files[0], needle));
+    // `Defs.Image`: the first segment is the class diagram, the second the class.
+    assert!(matches!(class("Defs.Image"), Some(NameRefClass::Definition(d)) if d.fqn == "Defs"));
+    assert!(matches!(class("Image\n"), Some(NameRefClass::Definition(d)) if d.fqn == "Defs.Image"));
+    assert!(matches!(class("work; }"), Some(NameRefClass::Node(n)) if n.kind() == ast::NodeKind::Action));
+    assert!(matches!(class("n + 1"), Some(NameRefClass::Local(decl)) if decl.kind() == crate::SyntaxKind::PARAM));
+    let (db, ws, files) = workspace_of(&[
+        ("ad.gudsl", "ActivityDiagram Ad() { swimlane L, owner Defs.Image { start S { width = 2; => f; } final f; } }"),
+        ("defs.gudsl", DEFS),
+    ]);
+    let sema = Semantics::new(&db, ws);
+    match sema.classify_name_ref(&node_at::<ast::NameRef>(&db, files[0], "width")) {
+        Some(NameRefClass::Member { owner, member }) => {
+            assert_eq!(owner.fqn, "Defs.Image");
+            assert_eq!(member.syntax().text().to_string(), "public int width;");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn binding_ends_name_instances_ports_and_connectors() {
+    use crate::hir::instances::{BindingEnd, UnresolvedEnd};
+    let seed = |name: &str| {
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/seed").join(name))
+            .unwrap()
+    };
+    let instances = seed("listing28_component_instance_example.gudsl");
+    let components = seed("listing27_component_example.gudsl");
+    let classes = seed("listing26_component_classes_example.gudsl");
+    let (db, ws, files) = workspace_of(&[("i.gudsl", &instances), ("c.gudsl", &components), ("k.gudsl", &classes)]);
+    let sema = Semantics::new(&db, ws);
+    let diagram: crate::ast::ComponentInstanceDiagram = node_at(&db, files[0], "Camera1 instantiates");
+    let map = sema.instances(&diagram);
+    let camera = map.get("Camera1").unwrap();
+    assert_eq!(camera.class.unwrap().fqn, "ComponentClassDefinitions.Camera");
+    assert!(!camera.components.is_empty());
+    let binding: crate::ast::Binding = node_at(&db, files[0], "source Camera1ProviderPort");
+    use crate::ast::HasEnds;
+    let source = map.binding_end("Camera1", &binding.source().unwrap()).unwrap();
+    let target = map.binding_end("Camera1", &binding.target().unwrap()).unwrap();
+    assert_eq!(source.instance, "Camera1");
+    assert_eq!(target.instance, "MeanFilter1");
+    assert!(map.connects(&source, &target), "{source:?} {target:?}");
+    let elsewhere = BindingEnd { connector: "Nothing".into(), ..target.clone() };
+    assert!(!map.connects(&source, &elsewhere));
+    let missing =
+        crate::parse("ComponentInstanceDiagram X { A instantiates B () { [ source Nobody.P.C ==> target Q.C ] } }");
+    let path =
+        missing.syntax_node().descendants().filter_map(crate::ast::Path::cast).find(|p| p.text() == "Nobody.P.C");
+    let path = path.unwrap();
+    assert_eq!(map.binding_end("Camera1", &path), Err(UnresolvedEnd::NoInstance("Nobody".into())));
 }

@@ -103,7 +103,7 @@ pub fn builtin(name: &str) -> Option<Ty> {
                     }
                 }
             }
-            if super::check::is_builtin_type_name(name) {
+            if is_builtin_type_name(name) {
                 return Some(Ty::Gpu(name.to_string()));
             }
             return None;
@@ -123,4 +123,58 @@ pub fn from_signature(sig: &TypeSignature, resolve: &mut dyn FnMut(&str) -> Opti
         Ty::Unknown
     };
     (0..sig.array_dims).fold(base, |ty, _| Ty::Array(Box::new(ty)))
+}
+
+/// GPU and OpenCL built-in type names of chapter 10 that are written as identifiers:
+/// `(u)char|short|int|long|float|double` with n ∈ {2,3,4,8,16} (and the scalar `uchar`…),
+/// `image2D_t`, `image3D_t`, `buffer2D_tn`, `buffer3D_tn`, `sampler_t`.
+pub fn is_builtin_type_name(name: &str) -> bool {
+    const SCALARS: [&str; 6] = ["char", "short", "int", "long", "float", "double"];
+    const SUFFIXES: [&str; 10] = ["c", "uc", "s", "us", "i", "ui", "l", "ul", "f", "d"];
+    const WIDTHS: [&str; 5] = ["2", "3", "4", "8", "16"];
+    if name == "sampler_t" {
+        return true;
+    }
+    let vector =
+        |rest: &str| SCALARS.iter().any(|s| rest.strip_prefix(s).is_some_and(|n| n.is_empty() || WIDTHS.contains(&n)));
+    if vector(name) || name.strip_prefix('u').is_some_and(|r| r.starts_with(['c', 's', 'i', 'l']) && vector(r)) {
+        return true;
+    }
+    for prefix in ["image2D_", "image3D_"] {
+        if name.strip_prefix(prefix).is_some_and(|t| SUFFIXES.contains(&t)) {
+            return true;
+        }
+    }
+    for prefix in ["buffer2D_", "buffer3D_"] {
+        if let Some(rest) = name.strip_prefix(prefix) {
+            if SUFFIXES.iter().any(|s| rest.strip_prefix(s).is_some_and(|n| WIDTHS.contains(&n))) {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn gpu_type_names() {
+        for yes in [
+            "float4",
+            "uchar16",
+            "int2",
+            "uint",
+            "double8",
+            "image2D_uc",
+            "image3D_f",
+            "buffer2D_ui4",
+            "buffer3D_d16",
+            "sampler_t",
+        ] {
+            assert!(super::is_builtin_type_name(yes), "{yes}");
+        }
+        for no in ["float5", "image2D_x", "buffer2D_f", "Image", "uchar5", "ufloat4"] {
+            assert!(!super::is_builtin_type_name(no), "{no}");
+        }
+    }
 }

@@ -9,10 +9,8 @@ use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, SourceFile, Workspace},
     hir::{
-        check::{scope_at, Checker},
-        def_map,
         items::{InterfaceRole, TypeKind},
-        DefKind,
+        DefKind, Scope, Semantics,
     },
     syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextSize},
 };
@@ -84,7 +82,7 @@ const BUILTIN_TYPES: &[&str] = &[
 /// The proposals at `offset`.
 pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Vec<CompletionItem> {
     let root = parse(db, file).syntax_node();
-    let checker = Checker::resolver(db, workspace, file);
+    let sema = Semantics::new(db, workspace);
     let previous = previous_token(&root, offset);
     let at = previous.as_ref().and_then(|t| t.parent()).unwrap_or_else(|| root.clone());
     // The identifier being typed, if the cursor is right after one.
@@ -123,8 +121,8 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
             if let Some(resolved) =
                 super::navigation::type_of_name_at(db, workspace, file, receiver.text_range().start())
             {
-                if let Some(def) = resolved.qualified.as_deref().and_then(|fqn| checker.lookup_one(fqn)) {
-                    type_members(&checker, def, &mut items);
+                if let Some(def) = resolved.qualified.as_deref().and_then(|fqn| sema.definition(fqn)) {
+                    type_members(&sema, def, &mut items);
                 }
             }
         }
@@ -136,9 +134,8 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
     // `A.B.|` in a qualified name: what the namespace contains.
     if before_kind == Some(DOT) {
         if let Some(prefix) = before.as_ref().and_then(path_before_dot) {
-            let scope = scope_at(&at);
-            let namespace = checker.resolve(&scope, &prefix).map(|d| d.fqn.clone()).unwrap_or(prefix.clone());
-            let map = def_map(db, workspace);
+            let namespace = sema.resolve(&Scope::at(&at), &prefix).map(|d| d.fqn.clone()).unwrap_or(prefix.clone());
+            let map = sema.def_map();
             let children: BTreeSet<(String, bool)> = map
                 .definitions
                 .range(format!("{namespace}.")..)
@@ -153,7 +150,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
                 items.push(item(name, kind, Some(namespace.clone())));
             }
             // An enum's values.
-            if let Some(DefKind::Type(ty)) = checker.lookup_one(&namespace).map(|d| &d.kind) {
+            if let Some(DefKind::Type(ty)) = sema.definition(&namespace).map(|d| &d.kind) {
                 for value in &ty.enum_values {
                     items.push(item(value.clone(), CompletionKind::EnumValue, Some(namespace.clone())));
                 }
@@ -164,7 +161,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
     // `provider name : |` in a port: interfaces of that role.
     if before_kind == Some(COLON) && at.ancestors().any(|a| a.kind() == CONNECTOR || a.kind() == PORT) {
         let role = at.ancestors().find_map(ast::Connector::cast).and_then(|c| c.role());
-        for defs in def_map(db, workspace).definitions.values() {
+        for defs in sema.def_map().definitions.values() {
             let def = &defs[0];
             if let DefKind::Type(ty) = &def.kind {
                 let fits = matches!(
@@ -184,7 +181,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
     if let Some(instance) = at.ancestors().find_map(ast::ComponentInstance::cast) {
         let in_args = at.ancestors().any(|a| a.kind() == NAMED_ARG_LIST);
         if in_args && matches!(before_kind, Some(L_PAREN | COMMA)) {
-            if let Some(def) = instance.component().and_then(|p| checker.resolve(&scope_at(&at), &p.text())) {
+            if let Some(def) = instance.component().and_then(|p| sema.resolve(&Scope::at(&at), &p.text())) {
                 if let DefKind::Type(ty) = &def.kind {
                     for field in &ty.fields {
                         let mut it = item(field.name.clone(), CompletionKind::Field, Some(def.fqn.clone()));
@@ -223,7 +220,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
         for ty in BUILTIN_TYPES {
             items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
         }
-        types_in_scope(db, workspace, &mut items);
+        types_in_scope(&sema, &mut items);
         return finish(items);
     }
     // Inside a node or method body: statements, locals, the owner's members.
@@ -236,7 +233,9 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
             items.push(snippet("[guard] => transition", "[${1:condition}] => ${2:target};", "guarded transition"));
         }
         locals_in_scope(&body, &mut items);
-        owner_members(&checker, &at, &mut items);
+        if let Some(owner) = sema.owner_at(&at) {
+            type_members(&sema, owner, &mut items);
+        }
         return finish(items);
     }
     // Declaration levels: keyword snippets.
@@ -285,7 +284,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
             for ty in BUILTIN_TYPES {
                 items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
             }
-            types_in_scope(db, workspace, &mut items);
+            types_in_scope(&sema, &mut items);
         }
         Some(COMPONENT_DIAGRAM) => {
             for kind in ["source", "filter", "sink", "class"] {
@@ -411,8 +410,8 @@ fn path_before_dot(dot: &SyntaxToken) -> Option<String> {
     (!segments.is_empty()).then(|| segments.join("."))
 }
 
-fn types_in_scope(db: &dyn Db, workspace: Workspace, items: &mut Vec<CompletionItem>) {
-    for (simple, fqns) in &def_map(db, workspace).types_by_simple_name {
+fn types_in_scope(sema: &Semantics, items: &mut Vec<CompletionItem>) {
+    for (simple, fqns) in &sema.def_map().types_by_simple_name {
         for fqn in fqns {
             let label = if fqns.len() == 1 { simple.clone() } else { fqn.clone() };
             items.push(item(label, CompletionKind::Type, Some(fqn.clone())));
@@ -435,22 +434,9 @@ fn locals_in_scope(body: &SyntaxNode, items: &mut Vec<CompletionItem>) {
     }
 }
 
-/// The fields and methods of the swimlane's (or diagram's, or enclosing class's) owner, with
-/// those inherited.
-fn owner_members(checker: &Checker, at: &SyntaxNode, items: &mut Vec<CompletionItem>) {
-    if let Some(owner) = checker.owner_at(at) {
-        type_members(checker, owner, items);
-    }
-}
-
 /// The fields and methods of a type and its bases.
-fn type_members(checker: &Checker, def: &crate::hir::Definition, items: &mut Vec<CompletionItem>) {
-    let mut seen = std::collections::HashSet::new();
-    let mut stack = vec![def];
-    while let Some(def) = stack.pop() {
-        if !seen.insert(def.fqn.clone()) {
-            continue;
-        }
+fn type_members(sema: &Semantics, def: &crate::hir::Definition, items: &mut Vec<CompletionItem>) {
+    for def in sema.type_and_bases(def) {
         let DefKind::Type(ty) = &def.kind else { continue };
         for field in &ty.fields {
             items.push(item(field.name.clone(), CompletionKind::Field, Some(def.fqn.clone())));
@@ -461,12 +447,6 @@ fn type_members(checker: &Checker, def: &crate::hir::Definition, items: &mut Vec
             let mut it = item(method.name.clone(), CompletionKind::Method, Some(def.fqn.clone()));
             it.snippet = Some(format!("{}({})", method.name, params.join(", ")));
             items.push(it);
-        }
-        let base_scope = checker.scope_of(def);
-        for base in ty.extends.iter().chain(&ty.implements).filter_map(|b| b.path.as_deref()) {
-            if let Some(base_def) = checker.resolve(&base_scope, base) {
-                stack.push(base_def);
-            }
         }
     }
 }

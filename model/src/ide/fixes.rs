@@ -6,9 +6,9 @@ use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, SourceFile, Workspace},
     hir::{
-        def_map, file_diagnostics,
+        file_diagnostics,
         items::{InterfaceRole, TypeKind},
-        DefKind, DiagnosticCode,
+        DefKind, DiagnosticCode, Semantics,
     },
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
 };
@@ -70,7 +70,7 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
             }
             DiagnosticCode::UnresolvedType | DiagnosticCode::UnresolvedOwner => {
                 let written = text[diagnostic.range].to_string();
-                let map = def_map(db, workspace);
+                let map = Semantics::new(db, workspace).def_map();
                 let simple = written.rsplit('.').next().unwrap_or(&written).to_string();
                 // Ambiguous: import one of the candidates.
                 if let Some(candidates) =

@@ -4,10 +4,7 @@
 use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, SourceFile, Workspace},
-    hir::{
-        check::{scope_at, Checker},
-        DefKind,
-    },
+    hir::{DefKind, Scope, Semantics},
     syntax::{SyntaxKind, TextRange, TextSize},
 };
 
@@ -91,36 +88,34 @@ pub fn signature_help(db: &dyn Db, workspace: Workspace, file: SourceFile, offse
     let active_parameter =
         list.children_with_tokens().filter(|e| e.kind() == SyntaxKind::COMMA && e.text_range().end() <= offset).count();
     let owner = list.parent()?;
-    let checker = Checker::resolver(db, workspace, file);
+    let sema = Semantics::new(db, workspace);
     let (label, parameters) = match owner.kind() {
         SyntaxKind::TRANSITION => transition_slots(&ast::Transition::cast(owner)?)?,
         SyntaxKind::CALL_BEHAVIOR_EXPR => {
             let call = ast::CallBehaviorExpr::cast(owner.clone())?;
-            let def = checker.resolve(&scope_at(&owner), &call.behavior()?.text())?;
+            let def = sema.resolve(&Scope::at(&owner), &call.behavior()?.text())?;
             let DefKind::Activity(signature) = &def.kind else { return None };
             let params: Vec<String> = signature.params.iter().map(|p| p.name.clone()).collect();
             (format!("ActivityDiagram {}({})", def.fqn, params.join(", ")), params)
         }
         SyntaxKind::CALL_METHOD_EXPR => {
             let call = ast::CallMethodExpr::cast(owner.clone())?;
-            let def = checker.resolve(&scope_at(&owner), &call.class()?.text())?;
-            method_signature(&checker, def, &call.method()?.text())?
+            let def = sema.resolve(&Scope::at(&owner), &call.class()?.text())?;
+            method_signature(&sema, def, &call.method()?.text())?
         }
         SyntaxKind::CALL_EXPR => {
             let call = ast::CallExpr::cast(owner.clone())?;
             let ast::Expr::NameExpr(name) = call.callee()? else { return None };
-            let owner_def = checker.owner_at(&owner)?;
-            method_signature(&checker, owner_def, &name.name_ref()?.text())?
+            let owner_def = sema.owner_at(&owner)?;
+            method_signature(&sema, owner_def, &name.name_ref()?.text())?
         }
         _ => return None,
     };
     Some(SignatureHelp { label, parameters, active_parameter })
 }
 
-fn method_signature(checker: &Checker, def: &crate::hir::Definition, name: &str) -> Option<(String, Vec<String>)> {
-    let mut overloads = Vec::new();
-    checker.collect_methods(def, name, &mut std::collections::HashSet::new(), &mut overloads);
-    let (declaring, method) = overloads.into_iter().next()?;
+fn method_signature(sema: &Semantics, def: &crate::hir::Definition, name: &str) -> Option<(String, Vec<String>)> {
+    let (declaring, method) = sema.methods(def, name).into_iter().next()?;
     let params: Vec<String> = method.params.iter().map(|p| p.name.clone()).collect();
     Some((format!("{}.{}({})", declaring.fqn, method.name, params.join(", ")), params))
 }

@@ -1,13 +1,10 @@
-//! Go to definition and hover: what the name under the cursor refers to, where it is declared,
-//! and how it reads.
+//! Go to definition and hover: what the name under the cursor refers to (asked of
+//! [`Semantics`]), where it is declared, and how it reads.
 
 use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, SourceFile, Workspace},
-    hir::{
-        check::{scope_at, Checker},
-        Definition,
-    },
+    hir::{classify::NameRefClass, Definition, Scope, Semantics},
     syntax::{SyntaxKind, SyntaxNode, SyntaxToken, TextRange, TextSize},
 };
 
@@ -63,9 +60,9 @@ pub(crate) fn type_of_name_at(
     }
     let type_ref = resolved.declaration.children().find_map(ast::TypeRef::cast)?;
     let path = type_ref.path()?;
-    let checker = Checker::resolver(db, workspace, resolved.target.file);
-    let def = checker.resolve(&scope_at(&resolved.declaration), &path.text())?;
-    definition_target(db, def, resolved.reference)
+    let sema = Semantics::new(db, workspace);
+    let def = sema.resolve(&Scope::at(&resolved.declaration), &path.text())?;
+    definition_target(&sema, def, resolved.reference)
 }
 
 /// Hover text (markdown) for the name at `offset`, and the range it applies to.
@@ -91,74 +88,55 @@ fn ident_at(root: &SyntaxNode, offset: TextSize) -> Option<SyntaxToken> {
 
 pub(crate) fn resolve_at(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Option<Resolved> {
     let root = parse(db, file).syntax_node();
-    let token = ident_at(&root, offset)?;
-    let parent = token.parent()?;
-    let checker = Checker::resolver(db, workspace, file);
-    match parent.kind() {
-        // On a declaration's own name: the declaration.
-        SyntaxKind::NAME => {
-            let declaration = parent.parent()?;
-            let is_global = ast::Diagram::can_cast(declaration.kind()) || ast::TypeDecl::can_cast(declaration.kind());
-            let qualified = is_global.then(|| {
-                let scope = scope_at(&declaration);
-                // A diagram's scope includes itself; a type's is its diagram.
-                if ast::Diagram::can_cast(declaration.kind()) {
-                    scope.namespaces.last().cloned().unwrap_or_default()
-                } else {
-                    crate::hir::definitions::join(
-                        scope.namespaces.last().map_or("", |s| s.as_str()),
-                        &parent.text().to_string(),
-                    )
-                }
-            });
+    let parent = ident_at(&root, offset)?.parent()?;
+    if parent.kind() == SyntaxKind::NAME {
+        return Some(declared_at(file, &parent));
+    }
+    let name_ref = ast::NameRef::cast(parent)?;
+    let reference = name_ref.syntax().text_range();
+    let sema = Semantics::new(db, workspace);
+    match sema.classify_name_ref(&name_ref)? {
+        NameRefClass::Definition(def) => definition_target(&sema, def, reference),
+        NameRefClass::Member { owner, member } => {
+            let name = member.name()?;
             Some(Resolved {
-                reference: parent.text_range(),
+                reference,
                 target: NavigationTarget {
-                    file,
-                    full_range: declaration.text_range(),
-                    focus_range: parent.text_range(),
+                    file: owner.file,
+                    full_range: member.syntax().text_range(),
+                    focus_range: name.syntax().text_range(),
                 },
-                declaration,
-                qualified,
+                declaration: member.syntax().clone(),
+                qualified: Some(format!("{}.{}", owner.fqn, name.text())),
             })
         }
-        SyntaxKind::NAME_REF => {
-            let grand = parent.parent()?;
-            match grand.kind() {
-                SyntaxKind::PATH => resolve_path_segment(db, &checker, &parent, &grand),
-                SyntaxKind::TRANSITION => resolve_transition_target(file, &parent, &grand),
-                SyntaxKind::CALL_METHOD_EXPR => {
-                    let class = ast::CallMethodExpr::cast(grand)?.class()?;
-                    let def = checker.resolve(&scope_at(&parent), &class.text())?;
-                    member_of(db, &checker, def, token.text(), parent.text_range())
-                }
-                SyntaxKind::NAME_EXPR => resolve_local(db, &checker, file, &parent, token.text()),
-                _ => None,
-            }
-        }
-        _ => None,
+        NameRefClass::Node(node) => Some(local_target(file, reference, node.syntax().clone())),
+        NameRefClass::Local(declaration) => Some(local_target(file, reference, declaration)),
     }
 }
 
-/// A segment of a qualified name: resolve the path up to that segment.
-fn resolve_path_segment(db: &dyn Db, checker: &Checker, segment: &SyntaxNode, path: &SyntaxNode) -> Option<Resolved> {
-    let path = ast::Path::cast(path.clone())?;
-    let mut prefix = Vec::new();
-    for s in path.segments() {
-        prefix.push(s.text());
-        if s.syntax() == segment {
-            break;
-        }
+/// On a declaration's own name: the declaration (with its fully qualified name if it is a
+/// diagram or type).
+fn declared_at(file: SourceFile, name: &SyntaxNode) -> Resolved {
+    let declaration = name.parent().unwrap_or_else(|| name.clone());
+    let qualified = if ast::Diagram::can_cast(declaration.kind()) {
+        // A diagram's scope includes itself.
+        Some(Scope::at(&declaration).innermost().to_string())
+    } else if ast::TypeDecl::can_cast(declaration.kind()) {
+        Some(Scope::at(&declaration).qualify(&name.text().to_string()))
+    } else {
+        None
+    };
+    Resolved {
+        reference: name.text_range(),
+        target: NavigationTarget { file, full_range: declaration.text_range(), focus_range: name.text_range() },
+        declaration,
+        qualified,
     }
-    let text = prefix.join(".");
-    let scope = scope_at(path.syntax());
-    // `port.connector` and similar paths name no workspace definition: nothing to show.
-    let def = checker.resolve(&scope, &text)?;
-    definition_target(db, def, segment.text_range())
 }
 
-fn definition_target(db: &dyn Db, def: &Definition, reference: TextRange) -> Option<Resolved> {
-    let (declaration, name) = find_declaration(db, def)?;
+fn definition_target(sema: &Semantics, def: &Definition, reference: TextRange) -> Option<Resolved> {
+    let (declaration, name) = sema.declaration(def)?;
     Some(Resolved {
         reference,
         target: NavigationTarget { file: def.file, full_range: declaration.text_range(), focus_range: name },
@@ -167,146 +145,15 @@ fn definition_target(db: &dyn Db, def: &Definition, reference: TextRange) -> Opt
     })
 }
 
-/// The declaration node of a definition, found by walking its file's tree along the name.
-pub(crate) fn find_declaration(db: &dyn Db, def: &Definition) -> Option<(SyntaxNode, TextRange)> {
-    let root = parse(db, def.file).syntax_node();
-    let segments: Vec<&str> = def.fqn.split('.').collect();
-    let mut candidates: Vec<SyntaxNode> = vec![root];
-    let mut found: Option<(SyntaxNode, TextRange)> = None;
-    for segment in segments {
-        let mut next = Vec::new();
-        for parent in &candidates {
-            for child in parent.children() {
-                let name = match ast::Diagram::cast(child.clone()) {
-                    Some(d) => d.name(),
-                    None => ast::TypeDecl::cast(child.clone()).and_then(|t| t.name()),
-                };
-                if let Some(name) = name.filter(|n| n.text() == segment) {
-                    found = Some((child.clone(), name.syntax().text_range()));
-                    next.push(child);
-                }
-            }
-        }
-        if next.is_empty() {
-            return None;
-        }
-        candidates = next;
-    }
-    found
-}
-
-/// A member (field or method) of a type or its bases.
-fn member_of(db: &dyn Db, checker: &Checker, def: &Definition, name: &str, reference: TextRange) -> Option<Resolved> {
-    let mut seen = std::collections::HashSet::new();
-    let (declaring, ()) = checker.find_member(&def.fqn, &mut seen, &|ty| {
-        (ty.fields.iter().any(|f| f.name == name) || ty.methods.iter().any(|m| m.name == name)).then_some(())
-    })?;
-    let (type_node, _) = find_declaration(db, declaring)?;
-    let decl = ast::TypeDecl::cast(type_node)?;
-    let member = decl.members().find(|m| {
-        let member_name = match m {
-            ast::Member::Field(f) => f.name(),
-            ast::Member::Method(m) => m.name(),
-            ast::Member::Association(a) => a.name(),
-        };
-        member_name.is_some_and(|n| n.text() == name)
-    })?;
-    let name_range = member.syntax().children().find(|c| c.kind() == SyntaxKind::NAME)?.text_range();
-    Some(Resolved {
+/// A declaration in the same file (a node, parameter or variable), named by its `NAME` child.
+fn local_target(file: SourceFile, reference: TextRange, declaration: SyntaxNode) -> Resolved {
+    let name = declaration.children().find(|c| c.kind() == SyntaxKind::NAME).map_or(reference, |n| n.text_range());
+    Resolved {
         reference,
-        target: NavigationTarget {
-            file: declaring.file,
-            full_range: member.syntax().text_range(),
-            focus_range: name_range,
-        },
-        declaration: member.syntax().clone(),
-        qualified: Some(format!("{}.{name}", declaring.fqn)),
-    })
-}
-
-/// `=> target`: the node of that name in the same activity diagram.
-fn resolve_transition_target(file: SourceFile, name_ref: &SyntaxNode, _transition: &SyntaxNode) -> Option<Resolved> {
-    let wanted = name_ref.text().to_string();
-    let diagram = name_ref.ancestors().find_map(ast::ActivityDiagram::cast)?;
-    let node = diagram
-        .syntax()
-        .descendants()
-        .filter_map(ast::ActivityNode::cast)
-        .find(|n| n.name().is_some_and(|name| name.text() == wanted))?;
-    let name = node.name()?;
-    Some(Resolved {
-        reference: name_ref.text_range(),
-        target: NavigationTarget {
-            file,
-            full_range: node.syntax().text_range(),
-            focus_range: name.syntax().text_range(),
-        },
-        declaration: node.syntax().clone(),
+        target: NavigationTarget { file, full_range: declaration.text_range(), focus_range: name },
+        declaration,
         qualified: None,
-    })
-}
-
-/// A name in an expression: a local declaration, a parameter or variable of the enclosing
-/// body or diagram, or a field of the owner class.
-fn resolve_local(
-    db: &dyn Db,
-    checker: &Checker,
-    file: SourceFile,
-    name_ref: &SyntaxNode,
-    name: &str,
-) -> Option<Resolved> {
-    let reference = name_ref.text_range();
-    for ancestor in name_ref.ancestors() {
-        let candidates: Vec<SyntaxNode> = match ancestor.kind() {
-            SyntaxKind::BLOCK | SyntaxKind::NODE_BODY | SyntaxKind::SWITCH_CASE => {
-                ancestor.children().filter(|c| c.kind() == SyntaxKind::VAR_DECL).collect()
-            }
-            SyntaxKind::METHOD
-            | SyntaxKind::ACTION_NODE
-            | SyntaxKind::CALC_NODE
-            | SyntaxKind::CALC_RANGE_NODE
-            | SyntaxKind::DECISION_NODE
-            | SyntaxKind::LOOP_NODE
-            | SyntaxKind::LOOP_WINDOW_NODE => ancestor
-                .descendants()
-                .filter(|c| c.kind() == SyntaxKind::PARAM || (c.kind() == SyntaxKind::VAR_DECL && in_loop_header(c)))
-                .collect(),
-            SyntaxKind::ACTIVITY_DIAGRAM => ancestor
-                .children()
-                .filter(|c| matches!(c.kind(), SyntaxKind::VARIABLE | SyntaxKind::VAR_DECL))
-                .chain(ancestor.children().filter(|c| c.kind() == SyntaxKind::PARAM_LIST).flat_map(|l| l.children()))
-                .collect(),
-            _ => continue,
-        };
-        for candidate in candidates {
-            let Some(decl_name) = candidate.children().find(|c| c.kind() == SyntaxKind::NAME) else { continue };
-            if decl_name.text() == name {
-                return Some(Resolved {
-                    reference,
-                    target: NavigationTarget {
-                        file,
-                        full_range: candidate.text_range(),
-                        focus_range: decl_name.text_range(),
-                    },
-                    declaration: candidate,
-                    qualified: None,
-                });
-            }
-        }
     }
-    // A field or method of the owner class (swimlane owner, diagram owner, enclosing class).
-    let scope = scope_at(name_ref);
-    let owner = checker.owner_at(name_ref)?;
-    if let Some(found) = member_of(db, checker, owner, name, reference) {
-        return Some(found);
-    }
-    // A type used as a scope (`HCImageChannelOrder.RGBA`).
-    let def = checker.resolve(&scope, name)?;
-    definition_target(db, def, reference)
-}
-
-fn in_loop_header(node: &SyntaxNode) -> bool {
-    node.ancestors().any(|a| a.kind() == SyntaxKind::LOOP_HEADER)
 }
 
 /// A declaration's header as written, without attributes, comments or body.

@@ -8,7 +8,7 @@
 use crate::{
     ast::{self, AstNode},
     db::{parse, Db, SourceFile, Workspace},
-    hir::check::{scope_at, Checker},
+    hir::{Scope, Semantics},
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
 };
 
@@ -35,21 +35,21 @@ pub fn find_references(
     let mut found = Vec::new();
     let declaration = resolved.declaration.clone();
     if let Some(fqn) = resolved.qualified.as_deref().filter(|_| is_global(&declaration)) {
+        let sema = Semantics::new(db, workspace);
         for &other in workspace.files(db) {
             let root = parse(db, other).syntax_node();
-            let checker = Checker::resolver(db, workspace, other);
             let simple = fqn.rsplit('.').next().unwrap_or(fqn);
             for path in root.descendants().filter_map(ast::Path::cast) {
                 // Only a segment spelled like the declaration can name it: resolve just those.
                 if !path.segments().any(|s| s.text() == simple) {
                     continue;
                 }
-                let scope = scope_at(path.syntax());
+                let scope = Scope::at(path.syntax());
                 let mut prefix = String::new();
                 for segment in path.segments() {
                     let text = segment.text();
                     prefix = if prefix.is_empty() { text.clone() } else { format!("{prefix}.{text}") };
-                    if text == simple && checker.resolve(&scope, &prefix).is_some_and(|d| d.fqn == fqn) {
+                    if text == simple && sema.resolve(&scope, &prefix).is_some_and(|d| d.fqn == fqn) {
                         found.push(FileRange { file: other, range: segment.syntax().text_range() });
                     }
                 }

@@ -4,11 +4,9 @@
 use crate::{
     ast::{self, AstNode},
     db::{parse, Db, SourceFile, Workspace},
-    hir::{def_map, items::TypeKind, DefKind},
+    hir::{items::TypeKind, DefKind, Semantics},
     syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange, TextSize},
 };
-
-use super::navigation::find_declaration;
 
 /// The ranges to grow a selection through at `offset`, innermost first.
 pub fn selection_ranges(root: &SyntaxNode, offset: TextSize) -> Vec<TextRange> {
@@ -48,8 +46,9 @@ pub enum WorkspaceSymbolKind {
 /// at most `limit`.
 pub fn workspace_symbols(db: &dyn Db, workspace: Workspace, query: &str, limit: usize) -> Vec<WorkspaceSymbol> {
     let query = query.to_lowercase();
+    let sema = Semantics::new(db, workspace);
     let mut out = Vec::new();
-    for (fqn, defs) in &def_map(db, workspace).definitions {
+    for (fqn, defs) in &sema.def_map().definitions {
         let name = fqn.rsplit('.').next().unwrap_or(fqn);
         if !name.to_lowercase().contains(&query) {
             continue;
@@ -65,7 +64,7 @@ pub fn workspace_symbols(db: &dyn Db, workspace: Workspace, query: &str, limit: 
                 },
                 _ => WorkspaceSymbolKind::Diagram,
             };
-            let Some((_, focus_range)) = find_declaration(db, def) else { continue };
+            let Some((_, focus_range)) = sema.declaration(def) else { continue };
             out.push(WorkspaceSymbol { name: name.to_string(), fqn: fqn.clone(), kind, file: def.file, focus_range });
             if out.len() >= limit {
                 return out;

@@ -1,0 +1,325 @@
+//! `Semantics`: the one read-only API through which everything above the item tree asks what the
+//! model means: what a name resolves to, which members a type has (inherited ones too), which
+//! class owns a body, what a signature's type is, which components a class is, and where a
+//! definition is declared. Validation, editor features, the graph view and code generation all
+//! ask here; none of them resolves names on its own.
+//!
+//! Cross-file answers go through the per-name [`lookup`] query, so a caller depends on exactly
+//! the names it asks about. Expression types are answered in `infer.rs`
+//! ([`Semantics::type_of_expr`]), name classification for the editor in `classify.rs`.
+
+use std::collections::{BTreeSet, HashSet};
+
+use super::{
+    components::{component_info, processor_signatures, ComponentInfo},
+    definitions::{def_map, lookup, types_named, DefKind, DefMap, Definition, Fqn},
+    items::{MethodSignature, TypeItem, TypeKind, TypeSignature},
+    scope::Scope,
+    ty::{self, Ty},
+};
+use crate::{
+    ast::{self, AstNode, HasName},
+    db::{parse, Db, Workspace},
+    syntax::{SyntaxNode, TextRange},
+};
+
+/// Answers about the workspace's model, for one snapshot of the database.
+#[derive(Clone, Copy)]
+pub struct Semantics<'db> {
+    db: &'db dyn Db,
+    workspace: Workspace,
+}
+
+impl<'db> Semantics<'db> {
+    pub fn new(db: &'db dyn Db, workspace: Workspace) -> Semantics<'db> {
+        Semantics { db, workspace }
+    }
+
+    pub fn db(&self) -> &'db dyn Db {
+        self.db
+    }
+
+    pub fn workspace(&self) -> Workspace {
+        self.workspace
+    }
+
+    // ---- names
+
+    /// Every definition of the workspace, for listings (completion, symbol search, "did you
+    /// mean"). Resolving one name goes through [`Semantics::resolve`], which depends on that
+    /// name only.
+    pub fn def_map(&self) -> &'db DefMap {
+        def_map(self.db, self.workspace)
+    }
+
+    /// Every definition of a fully qualified name (several when it is declared twice).
+    pub fn lookup(&self, fqn: &str) -> &'db [Definition] {
+        lookup(self.db, self.workspace, Fqn::new(self.db, fqn.to_string()))
+    }
+
+    /// The (first) definition of a fully qualified name.
+    pub fn definition(&self, fqn: &str) -> Option<&'db Definition> {
+        self.lookup(fqn).first()
+    }
+
+    /// Resolves a (possibly qualified) name from `scope`: enclosing namespaces innermost first,
+    /// then imports, then the name as a fully qualified one.
+    ///
+    /// A simple name that none of these finds names the workspace's only type of that name, if
+    /// there is exactly one (the dissertation's listings use other diagrams' types unqualified).
+    pub fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
+        if let Some(fqn) = scope.candidate(path, |c| !self.lookup(c).is_empty()) {
+            return self.definition(&fqn);
+        }
+        if path.contains('.') {
+            return None;
+        }
+        match self.candidates(path) {
+            [only] => self.definition(only),
+            _ => None,
+        }
+    }
+
+    /// What a qualified name means where it is written.
+    pub fn resolve_path(&self, path: &ast::Path) -> Option<&'db Definition> {
+        self.resolve(&Scope::at(path.syntax()), &path.text())
+    }
+
+    /// What a path means up to and including `segment` (`A.B` for `B` in `A.B.C`).
+    pub fn resolve_path_segment(&self, path: &ast::Path, segment: &ast::NameRef) -> Option<&'db Definition> {
+        let mut prefix = Vec::new();
+        for s in path.segments() {
+            prefix.push(s.text());
+            if s.syntax() == segment.syntax() {
+                break;
+            }
+        }
+        self.resolve(&Scope::at(path.syntax()), &prefix.join("."))
+    }
+
+    /// The fully qualified names of the types a simple name could mean (all types of that name;
+    /// none for a qualified name), for "ambiguous" messages and fixes.
+    pub fn candidates(&self, path: &str) -> &'db [String] {
+        if path.contains('.') {
+            return &[];
+        }
+        types_named(self.db, self.workspace, Fqn::new(self.db, path.to_string()))
+    }
+
+    /// The type a signature denotes, its names resolved from `scope`.
+    pub fn ty(&self, signature: &TypeSignature, scope: &Scope) -> Ty {
+        ty::from_signature(signature, &mut |path| self.resolve(scope, path).map(|d| d.fqn.clone()))
+    }
+
+    // ---- types and members
+
+    /// The types `def` extends or implements, resolved where it is declared.
+    pub fn bases(&self, def: &'db Definition) -> Vec<&'db Definition> {
+        let DefKind::Type(ty) = &def.kind else { return Vec::new() };
+        let scope = Scope::of(def);
+        ty.extends
+            .iter()
+            .chain(&ty.implements)
+            .filter_map(|b| b.path.as_deref())
+            .filter_map(|base| self.resolve(&scope, base))
+            .collect()
+    }
+
+    /// Whether type `sub` is `sup` or derives from it (`extends`/`implements`, transitively).
+    pub fn is_subtype(&self, sub: &str, sup: &str) -> bool {
+        let mut seen = HashSet::new();
+        let mut stack = vec![sub.to_string()];
+        while let Some(fqn) = stack.pop() {
+            if fqn == sup {
+                return true;
+            }
+            if !seen.insert(fqn.clone()) {
+                continue;
+            }
+            if let Some(def) = self.definition(&fqn) {
+                stack.extend(self.bases(def).into_iter().map(|b| b.fqn.clone()));
+            }
+        }
+        false
+    }
+
+    /// Finds, in type `fqn` or its bases (depth first, in declaration order), the first member
+    /// `pick` returns, with the type that declares it.
+    pub fn find_member<T>(&self, fqn: &str, pick: &dyn Fn(&TypeItem) -> Option<T>) -> Option<(&'db Definition, T)> {
+        self.find_member_in(fqn, &mut HashSet::new(), pick)
+    }
+
+    fn find_member_in<T>(
+        &self,
+        fqn: &str,
+        seen: &mut HashSet<String>,
+        pick: &dyn Fn(&TypeItem) -> Option<T>,
+    ) -> Option<(&'db Definition, T)> {
+        if !seen.insert(fqn.to_string()) {
+            return None;
+        }
+        let def = self.definition(fqn)?;
+        let DefKind::Type(ty) = &def.kind else { return None };
+        if let Some(found) = pick(ty) {
+            return Some((def, found));
+        }
+        self.bases(def).into_iter().find_map(|base| self.find_member_in(&base.fqn, seen, pick))
+    }
+
+    /// The type of field `name` of type `fqn` (or its bases), resolved where it is declared; an
+    /// enum's values are of the enum. `None` if the type has no such member.
+    pub fn field_ty(&self, fqn: &str, name: &str) -> Option<Ty> {
+        let found = self.find_member(fqn, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()));
+        let Some((declaring, field)) = found else {
+            return match self.definition(fqn).map(|d| &d.kind) {
+                Some(DefKind::Type(ty)) if ty.kind == TypeKind::Enum && ty.enum_values.iter().any(|v| v == name) => {
+                    Some(Ty::Named(fqn.to_string()))
+                }
+                _ => None,
+            };
+        };
+        Some(self.ty(&field, &Scope::of(declaring)))
+    }
+
+    /// Whether type `fqn` (or a base) declares a method `name`.
+    pub fn has_method(&self, fqn: &str, name: &str) -> bool {
+        self.find_member(fqn, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(())).is_some()
+    }
+
+    /// Every overload of `name` in `def` and its bases, with the type that declares it.
+    pub fn methods(&self, def: &'db Definition, name: &str) -> Vec<(&'db Definition, MethodSignature)> {
+        let mut out = Vec::new();
+        self.collect_methods(def, name, &mut HashSet::new(), &mut out);
+        out
+    }
+
+    fn collect_methods(
+        &self,
+        def: &'db Definition,
+        name: &str,
+        seen: &mut HashSet<String>,
+        out: &mut Vec<(&'db Definition, MethodSignature)>,
+    ) {
+        if !seen.insert(def.fqn.clone()) {
+            return;
+        }
+        let DefKind::Type(ty) = &def.kind else { return };
+        out.extend(ty.methods.iter().filter(|m| m.name == name).map(|m| (def, m.clone())));
+        for base in self.bases(def) {
+            self.collect_methods(base, name, seen, out);
+        }
+    }
+
+    /// `def` and every type it derives from, each once.
+    pub fn type_and_bases(&self, def: &'db Definition) -> Vec<&'db Definition> {
+        let mut seen = HashSet::new();
+        let mut stack = vec![def];
+        let mut out = Vec::new();
+        while let Some(def) = stack.pop() {
+            if seen.insert(def.fqn.clone()) {
+                out.push(def);
+                stack.extend(self.bases(def));
+            }
+        }
+        out
+    }
+
+    /// Whether a type implements (directly or through its bases) the `OpenCL` interface: its
+    /// methods and activity diagrams are device code (chapter 10.3.2.3).
+    pub fn implements_opencl(&self, scope: &Scope, bases: impl Iterator<Item = ast::TypeRef>) -> bool {
+        let mut seen = HashSet::new();
+        bases
+            .filter_map(|t| t.path())
+            .any(|p| self.resolve(scope, &p.text()).is_some_and(|d| self.reaches_opencl(d, &mut seen)))
+    }
+
+    fn reaches_opencl(&self, def: &'db Definition, seen: &mut HashSet<String>) -> bool {
+        if def.fqn.rsplit('.').next() == Some("OpenCL") {
+            return true;
+        }
+        if !matches!(def.kind, DefKind::Type(_)) || !seen.insert(def.fqn.clone()) {
+            return false;
+        }
+        self.bases(def).into_iter().any(|base| self.reaches_opencl(base, seen))
+    }
+
+    // ---- activity diagrams
+
+    /// The class whose members a body at `node` sees: its swimlane's owner, else its activity
+    /// diagram's owner, else the class the body belongs to.
+    pub fn owner_at(&self, node: &SyntaxNode) -> Option<&'db Definition> {
+        let scope = Scope::at(node);
+        let resolve_owner = |path: Option<ast::Path>| path.and_then(|p| self.resolve(&scope, &p.text()));
+        let lane = node.ancestors().find_map(ast::Swimlane::cast).and_then(|lane| resolve_owner(lane.owner()));
+        let diagram = || node.ancestors().find_map(ast::ActivityDiagram::cast).and_then(|d| resolve_owner(d.owner()));
+        let class = || {
+            let class = node.ancestors().find_map(ast::TypeDecl::cast)?;
+            self.definition(&scope.qualify(&class.name()?.text()))
+        };
+        lane.or_else(diagram).or_else(class).filter(|d| matches!(d.kind, DefKind::Type(_)))
+    }
+
+    // ---- components
+
+    /// The components built on the class `class` (a fully qualified name); empty if none.
+    pub fn components(&self, class: &str) -> &'db [ComponentInfo] {
+        component_info(self.db, self.workspace, Fqn::new(self.db, class.to_string()))
+    }
+
+    /// The `process…` signatures of every processor interface, as `signature_key`s.
+    pub fn processor_signatures(&self) -> &'db BTreeSet<String> {
+        processor_signatures(self.db, self.workspace)
+    }
+
+    // ---- sources
+
+    /// The declaration node of a definition and the range of its name, found by walking its
+    /// file's tree along the fully qualified name.
+    pub fn declaration(&self, def: &Definition) -> Option<(SyntaxNode, TextRange)> {
+        let root = parse(self.db, def.file).syntax_node();
+        let mut candidates: Vec<SyntaxNode> = vec![root];
+        let mut found: Option<(SyntaxNode, TextRange)> = None;
+        for segment in def.fqn.split('.') {
+            let mut next = Vec::new();
+            for parent in &candidates {
+                for child in parent.children() {
+                    let name = match ast::Diagram::cast(child.clone()) {
+                        Some(d) => d.name(),
+                        None => ast::TypeDecl::cast(child.clone()).and_then(|t| t.name()),
+                    };
+                    if let Some(name) = name.filter(|n| n.text() == segment) {
+                        found = Some((child.clone(), name.syntax().text_range()));
+                        next.push(child);
+                    }
+                }
+            }
+            if next.is_empty() {
+                return None;
+            }
+            candidates = next;
+        }
+        found
+    }
+
+    /// The declaration of member `name` (field, method or association) of the type `owner`.
+    pub fn member_declaration(&self, owner: &Definition, name: &str) -> Option<ast::Member> {
+        let (node, _) = self.declaration(owner)?;
+        ast::TypeDecl::cast(node)?.members().find(|m| m.name().is_some_and(|n| n.text() == name))
+    }
+}
+
+/// How a definition reads in a message: "a class", "an activity diagram".
+pub fn describe(kind: &DefKind) -> &'static str {
+    match kind {
+        DefKind::ClassDiagram => "a class diagram",
+        DefKind::ComponentDiagram => "a component diagram",
+        DefKind::ComponentInstanceDiagram => "a component-instance diagram",
+        DefKind::Activity(_) => "an activity diagram",
+        DefKind::Type(ty) => match ty.kind {
+            TypeKind::Class(_) => "a class",
+            TypeKind::Interface(_) => "an interface",
+            TypeKind::Enum => "an enum",
+            TypeKind::Attribute => "an attribute",
+        },
+    }
+}

@@ -1,0 +1,93 @@
+//! Activity diagrams: owners that are classes, parameters and variables, unique swimlanes and
+//! nodes, loopWindow headers, and node bodies (typed against the diagram's locals, the node's
+//! header and the owner's members); then the control flow (`flow`).
+
+use super::{calls, flow, names, types, Ctx, DiagnosticCode, Scope};
+use crate::{
+    ast::{self, AstNode, HasName},
+    hir::{
+        definitions::DefKind,
+        infer::{diagram_locals, header_declarations, InferenceCtx},
+        items::TypeKind,
+        semantics::describe,
+    },
+};
+
+pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram) {
+    types::params(ctx, scope, diagram.param_list());
+    if let Some(owner) = diagram.owner() {
+        owner_is_a_class(ctx, scope, &owner);
+    }
+    let variable_names =
+        diagram.variables().filter_map(|v| v.name()).chain(diagram.var_decls().filter_map(|v| v.name()));
+    names::duplicates(ctx, variable_names, "variable");
+    for variable in diagram.variables() {
+        if let Some(ty) = variable.type_ref() {
+            types::type_ref(ctx, scope, &ty);
+        }
+        if let Some(init) = variable.initializer() {
+            calls::expressions(ctx, scope, init.syntax());
+        }
+    }
+    for decl in diagram.var_decls() {
+        calls::expressions(ctx, scope, decl.syntax());
+    }
+    let mut nodes: Vec<ast::ActivityNode> = Vec::new();
+    names::duplicates(ctx, diagram.swimlanes().filter_map(|s| s.name()), "swimlane");
+    for lane in diagram.swimlanes() {
+        if let Some(owner) = lane.owner() {
+            owner_is_a_class(ctx, scope, &owner);
+        }
+        nodes.extend(lane.nodes());
+    }
+    nodes.extend(diagram.nodes());
+    names::duplicates(ctx, nodes.iter().filter_map(|n| n.name()), "node");
+    let locals = diagram_locals(diagram);
+    for node in &nodes {
+        if node.kind() == ast::NodeKind::LoopWindow {
+            loop_window_sections(ctx, node);
+        }
+        types::params(ctx, scope, node.param_list());
+        if let Some(body) = node.body() {
+            calls::expressions(ctx, scope, body.syntax());
+            let owner = ctx.sema.owner_at(body.syntax());
+            let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+            for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
+                typing.declare(name, ty);
+            }
+            typing.check(body.syntax());
+        }
+    }
+    flow::check(ctx, diagram, &nodes);
+}
+
+/// A diagram's or swimlane's owner names a class.
+fn owner_is_a_class(ctx: &mut Ctx, scope: &Scope, path: &ast::Path) {
+    let text = path.text();
+    let range = path.syntax().text_range();
+    match ctx.sema.resolve(scope, &text).map(|d| &d.kind) {
+        Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {}
+        Some(other) => ctx.sink.error(
+            DiagnosticCode::OwnerNotAClass,
+            range,
+            format!("the owner `{text}` is {}; an owner must be a class", describe(other)),
+        ),
+        None => ctx.sink.error(DiagnosticCode::UnresolvedOwner, range, format!("unknown owner class `{text}`")),
+    }
+}
+
+/// A loopWindow header has as many tests and increments as setups.
+fn loop_window_sections(ctx: &mut Ctx, node: &ast::ActivityNode) {
+    let Some(header) = node.loop_header() else { return };
+    let counts: Vec<usize> = header.sections().map(|s| s.parts().count()).collect();
+    if counts.len() != 3 || counts.windows(2).any(|w| w[0] != w[1]) {
+        ctx.sink.error(
+            DiagnosticCode::LoopWindowMismatch,
+            header.syntax().text_range(),
+            format!(
+                "a loopWindow needs as many tests and increments as setups (setup; test; increment), found {}",
+                counts.iter().map(|c| c.to_string()).collect::<Vec<_>>().join("; ")
+            ),
+        );
+    }
+}

@@ -1,0 +1,131 @@
+//! Class diagrams: unique declarations, their type references and attribute uses, member names,
+//! field initialisers and method bodies (typed), `shared` parameters only in OpenCL classes, and
+//! a processor counterpart for every provider method (chapter 11.3.1).
+
+use super::{calls, names, types, Ctx, DiagnosticCode, Scope};
+use crate::{
+    ast::{self, AstNode, HasModifiers, HasName},
+    hir::{
+        components::signature_key,
+        infer::InferenceCtx,
+        items::{type_signature, InterfaceRole, TypeSignature},
+    },
+    syntax::SyntaxKind,
+};
+
+pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ClassDiagram, nested: &[ast::Diagram]) {
+    let names = diagram.type_decls().filter_map(|t| t.name()).chain(nested.iter().filter_map(|d| d.name()));
+    names::duplicates(ctx, names, "declaration");
+    for decl in diagram.type_decls() {
+        if let Some(name) = decl.name() {
+            names::unique_across_files(ctx, &scope.qualify(&name.text()), &name, "type");
+        }
+        type_decl(ctx, scope, &decl);
+    }
+}
+
+fn type_decl(ctx: &mut Ctx, outer: &Scope, decl: &ast::TypeDecl) {
+    let mut scope = outer.clone();
+    if let ast::TypeDecl::Class(c) = decl {
+        scope.type_params.extend(c.template_params().filter_map(|t| t.name()).map(|n| n.text()));
+        for ty in c.extends().chain(c.implements()) {
+            types::type_ref(ctx, &scope, &ty);
+        }
+    }
+    if let ast::TypeDecl::Interface(i) = decl {
+        scope.type_params.extend(i.template_params().filter_map(|t| t.name()).map(|n| n.text()));
+        for ty in i.extends() {
+            types::type_ref(ctx, &scope, &ty);
+        }
+        if i.role() == InterfaceRole::Provider {
+            provider_methods(ctx, i);
+        }
+    }
+    types::attribute_uses(ctx, &scope, decl.syntax());
+    let gpu_class = match decl {
+        ast::TypeDecl::Class(class) => ctx.sema.implements_opencl(&scope, class.extends().chain(class.implements())),
+        _ => false,
+    };
+    let members: Vec<ast::Member> = decl.members().collect();
+    let field_names = members.iter().filter_map(|m| match m {
+        ast::Member::Field(f) => f.name(),
+        ast::Member::Association(a) => a.name(),
+        ast::Member::Method(_) => None,
+    });
+    names::duplicates(ctx, field_names, "field");
+    for member in &members {
+        match member {
+            ast::Member::Field(f) => {
+                if let Some(ty) = f.type_ref() {
+                    types::type_ref(ctx, &scope, &ty);
+                }
+                if let Some(init) = f.initializer() {
+                    calls::expressions(ctx, &scope, init.syntax());
+                }
+            }
+            ast::Member::Association(a) => {
+                if let Some(ty) = a.target() {
+                    types::type_ref(ctx, &scope, &ty);
+                }
+            }
+            ast::Member::Method(m) => method(ctx, &scope, m, gpu_class),
+        }
+    }
+}
+
+fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
+    if let Some(ty) = method.return_type() {
+        types::type_ref(ctx, scope, &ty);
+    }
+    types::params(ctx, scope, method.param_list());
+    if !gpu_class {
+        shared_params(ctx, method);
+    }
+    if let Some(body) = method.body() {
+        calls::expressions(ctx, scope, body.syntax());
+        let owner = ctx.sema.owner_at(body.syntax());
+        let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+        for param in method.params() {
+            if let Some(name) = param.name() {
+                typing.declare(name.text(), param.type_ref());
+            }
+        }
+        typing.check(body.syntax());
+    }
+}
+
+/// `shared` memory parameters only in classes that implement `OpenCL` (chapter 10.3.2.3).
+fn shared_params(ctx: &mut Ctx, method: &ast::Method) {
+    for param in method.params() {
+        if param.has_modifier(SyntaxKind::SHARED_KW) {
+            let range = param.name().map_or_else(|| param.syntax().text_range(), |n| n.syntax().text_range());
+            ctx.sink.error(
+                DiagnosticCode::SharedOutsideGpuClass,
+                range,
+                "`shared` memory parameters are only allowed in classes that implement the `OpenCL` interface"
+                    .to_string(),
+            );
+        }
+    }
+}
+
+/// A provider interface's `provideX(…)` methods need a processor interface with the
+/// corresponding `processX(…)` signature (chapter 11.3.1).
+fn provider_methods(ctx: &mut Ctx, interface: &ast::Interface) {
+    let processors = ctx.sema.processor_signatures();
+    for member in interface.members() {
+        let ast::Member::Method(method) = member else { continue };
+        let Some(name) = method.name() else { continue };
+        let text = name.text();
+        let Some(suffix) = text.strip_prefix("provide") else { continue };
+        let params: Vec<TypeSignature> = method.params().map(|p| type_signature(p.type_ref())).collect();
+        let key = signature_key(suffix, &params);
+        if !processors.contains(&key) {
+            ctx.sink.error(
+                DiagnosticCode::MissingProcessorSignature,
+                name.syntax().text_range(),
+                format!("provider method `{text}` has no processor counterpart: declare `process{key}` in a processor interface"),
+            );
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! Component-instance diagrams (chapter 11.3.4): instances of components with field values of
+//! the fields' types, port instances of the component's ports, and bindings that a connection of
+//! the component diagram allows.
+
+use super::{names, Ctx, DiagnosticCode, Scope};
+use crate::{
+    ast::{self, AstNode, HasEnds, HasName},
+    hir::{
+        definitions::DefKind,
+        infer::InferenceCtx,
+        instances::{BindingEnd, UnresolvedEnd},
+    },
+};
+
+pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentInstanceDiagram) {
+    names::duplicates(ctx, diagram.instances().filter_map(|i| i.name()), "instance");
+    for instance in diagram.instances() {
+        if instance.name().is_none() {
+            continue;
+        }
+        if let Some(path) = instance.component() {
+            instance_component(ctx, scope, &instance, &path);
+        }
+        names::duplicates(ctx, instance.port_instances().filter_map(|p| p.name()), "port instance");
+        let components = ctx.sema.instance(&instance).components;
+        for port_instance in instance.port_instances() {
+            let (Some(_), Some(port)) = (port_instance.name(), port_instance.port()) else { continue };
+            let Some(first) = components.first() else { continue };
+            if !components.iter().any(|info| info.item.ports.iter().any(|p| p.name == port.text())) {
+                ctx.sink.error(
+                    DiagnosticCode::UnresolvedConnector,
+                    port.syntax().text_range(),
+                    format!("component `{}` has no port `{}`", first.item.class, port.text()),
+                );
+            }
+        }
+    }
+    // Bindings: `[source portInstance.connector ==> target instance.portInstance.connector]`,
+    // allowed only where the component diagram connects the two ports' connectors.
+    let instances = ctx.sema.instances(diagram);
+    for instance in diagram.instances() {
+        let Some(owner) = instance.name().map(|n| n.text()) else { continue };
+        for binding in instance.bindings() {
+            let ends: Vec<Option<BindingEnd>> = [binding.source(), binding.target()]
+                .into_iter()
+                .flatten()
+                .map(|end| match instances.binding_end(&owner, &end) {
+                    Ok(found) => Some(found),
+                    Err(error) => {
+                        let message = match error {
+                            UnresolvedEnd::Malformed => {
+                                "a binding end is `portInstance.connector` or `instance.portInstance.connector`"
+                                    .to_string()
+                            }
+                            UnresolvedEnd::NoInstance(name) => format!("no instance `{name}` in this diagram"),
+                            UnresolvedEnd::NoPortInstance { instance, port_instance } => {
+                                format!("instance `{instance}` has no port instance `{port_instance}`")
+                            }
+                        };
+                        ctx.sink.error(DiagnosticCode::UnresolvedConnector, end.syntax().text_range(), message);
+                        None
+                    }
+                })
+                .collect();
+            if let [Some(source), Some(target)] = ends.as_slice() {
+                if !instances.connects(source, target) {
+                    ctx.sink.error(
+                        DiagnosticCode::BindingNotAllowed,
+                        binding.syntax().text_range(),
+                        format!(
+                            "no connection in the component diagram joins `{}.{}` and `{}.{}`",
+                            source.port, source.connector, target.port, target.connector
+                        ),
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The component an instance instantiates exists, is a component, and its field values are
+/// fields of the class (inherited ones too) of matching types.
+fn instance_component(ctx: &mut Ctx, scope: &Scope, instance: &ast::ComponentInstance, path: &ast::Path) {
+    let text = path.text();
+    let range = path.syntax().text_range();
+    let Some(def) = ctx.sema.resolve(scope, &text) else {
+        ctx.sink.error(DiagnosticCode::InvalidComponent, range, format!("unknown component `{text}`"));
+        return;
+    };
+    if ctx.sema.components(&def.fqn).is_empty() {
+        ctx.sink.error(
+            DiagnosticCode::InvalidComponent,
+            range,
+            format!("`{}` is not a component of any component diagram", def.fqn),
+        );
+        return;
+    }
+    if !matches!(def.kind, DefKind::Type(_)) {
+        return;
+    }
+    for value in instance.field_values() {
+        let Some(field) = value.name() else { continue };
+        let name = field.text();
+        // The field may be inherited; its type is resolved where it is declared.
+        let found =
+            ctx.sema.find_member(&def.fqn, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()));
+        let Some((declaring, field_sig)) = found else {
+            ctx.sink.error(
+                DiagnosticCode::UnknownInstanceField,
+                field.syntax().text_range(),
+                format!("component class `{}` has no field `{name}`", def.fqn),
+            );
+            continue;
+        };
+        let Some(expr) = value.value() else { continue };
+        let field_ty = ctx.sema.ty(&field_sig, &Scope::of(declaring));
+        let sema = ctx.sema;
+        let value_ty = InferenceCtx::new(sema, &mut ctx.sink, scope.clone(), None).infer(&expr);
+        if !value_ty.assignable_to(&field_ty, &mut |a, b| sema.is_subtype(a, b)) {
+            ctx.sink.error(
+                DiagnosticCode::TypeMismatch,
+                expr.syntax().text_range(),
+                format!("field `{name}` of `{}` has type `{field_ty}`, but the value is `{value_ty}`", def.fqn),
+            );
+        }
+    }
+}

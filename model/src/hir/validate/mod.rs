@@ -1,0 +1,93 @@
+//! Validation: the rules every diagram kind states, one family a module, each reading the model
+//! only through [`Semantics`] and reporting into a [`Diagnostics`] sink. [`check_file`] walks a
+//! file's diagrams in order, builds each one's scope, and hands the diagram to the rules of its
+//! kind; [`file_diagnostics`] adds the syntax errors.
+//!
+//! Other files are reached only through `Semantics` (per-name `lookup` queries), so a file is
+//! re-checked exactly when a name it uses changes meaning.
+
+mod activity;
+mod calls;
+mod class_diagram;
+mod component_diagram;
+mod flow;
+mod instance_diagram;
+mod names;
+mod types;
+
+use super::{
+    diagnostics::{Diagnostic, DiagnosticCode, Diagnostics, Severity},
+    scope::Scope,
+    semantics::Semantics,
+};
+use crate::{
+    ast::{self, AstNode, HasName},
+    db::{parse, Db, SourceFile, Workspace},
+};
+
+/// What every rule works with: the model, the file being checked, and the sink.
+pub(crate) struct Ctx<'db> {
+    pub(crate) sema: Semantics<'db>,
+    pub(crate) file: SourceFile,
+    pub(crate) sink: Diagnostics,
+}
+
+/// The semantic diagnostics of one file, in the order the rules found them.
+#[salsa::tracked(returns(ref))]
+pub fn check_file(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {
+    let mut ctx = Ctx { sema: Semantics::new(db, workspace), file, sink: Diagnostics::default() };
+    let source = parse(db, file).source_file();
+    names::duplicates(&mut ctx, source.diagrams().filter_map(|d| d.name()), "diagram");
+    for diagram in source.diagrams() {
+        check_diagram(&mut ctx, &Scope::default(), &diagram);
+    }
+    ctx.sink.into_vec()
+}
+
+/// Every problem of `file`: syntax errors first, then semantic ones, by position.
+#[salsa::tracked(returns(ref))]
+pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {
+    let mut diagnostics: Vec<Diagnostic> = parse(db, file)
+        .errors()
+        .iter()
+        .map(|e| Diagnostic {
+            code: DiagnosticCode::Syntax(e.code),
+            severity: Severity::Error,
+            range: e.range,
+            message: e.message.clone(),
+        })
+        .collect();
+    diagnostics.extend(check_file(db, workspace, file).iter().cloned());
+    diagnostics.sort_by_key(|d| (d.range.start(), d.range.end()));
+    diagnostics
+}
+
+/// A diagram and the diagrams nested in it, each in its own namespace.
+fn check_diagram(ctx: &mut Ctx, outer: &Scope, diagram: &ast::Diagram) {
+    let Some(name) = diagram.name() else { return };
+    let mut scope = outer.clone();
+    scope.enter(&name.text());
+    for import in diagram.syntax().children().filter_map(ast::Import::cast) {
+        names::import(ctx, &mut scope, &import);
+    }
+    let nested: Vec<ast::Diagram> = diagram.syntax().children().filter_map(ast::Diagram::cast).collect();
+    // Class diagrams are namespaces and merge across files; other diagrams must be unique.
+    if !matches!(diagram, ast::Diagram::ClassDiagram(_)) {
+        names::unique_across_files(ctx, scope.innermost(), &name, "diagram");
+    }
+    match diagram {
+        ast::Diagram::ClassDiagram(d) => class_diagram::check(ctx, &scope, d, &nested),
+        ast::Diagram::ActivityDiagram(d) => activity::check(ctx, &scope, d),
+        ast::Diagram::ComponentDiagram(d) => {
+            names::duplicates(ctx, nested.iter().filter_map(|d| d.name()), "diagram");
+            component_diagram::check(ctx, &scope, d);
+        }
+        ast::Diagram::ComponentInstanceDiagram(d) => {
+            names::duplicates(ctx, nested.iter().filter_map(|d| d.name()), "diagram");
+            instance_diagram::check(ctx, &scope, d);
+        }
+    }
+    for nested in &nested {
+        check_diagram(ctx, &scope, nested);
+    }
+}

@@ -1,0 +1,88 @@
+//! Type references (a built-in, a GPU type, a template parameter or a declared type), parameter
+//! lists, and attribute uses (`[A.B(field = value)]`).
+
+use super::{Ctx, DiagnosticCode, Scope};
+use crate::{
+    ast::{self, AstNode, HasName},
+    hir::{definitions::DefKind, items::TypeKind, semantics::describe, ty::is_builtin_type_name},
+    syntax::SyntaxNode,
+};
+
+/// Checks that a type names something, and its type arguments likewise.
+pub(super) fn type_ref(ctx: &mut Ctx, scope: &Scope, ty: &ast::TypeRef) {
+    for arg in ty.type_args() {
+        type_ref(ctx, scope, &arg);
+    }
+    let Some(path) = ty.path() else { return };
+    let text = path.text();
+    if text.is_empty() || is_builtin_type_name(&text) || scope.type_params.contains(&text) {
+        return;
+    }
+    match ctx.sema.resolve(scope, &text) {
+        Some(def) if matches!(def.kind, DefKind::Type(_)) => {}
+        Some(def) => ctx.sink.error(
+            DiagnosticCode::UnresolvedType,
+            path.syntax().text_range(),
+            format!("`{text}` names {} `{}`, not a type", describe(&def.kind), def.fqn),
+        ),
+        None => {
+            let candidates = ctx.sema.candidates(&text);
+            let message = if candidates.len() > 1 {
+                format!("ambiguous type `{text}`: qualify it or import one of {}", candidates.join(", "))
+            } else {
+                format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does")
+            };
+            ctx.sink.error(DiagnosticCode::UnresolvedType, path.syntax().text_range(), message);
+        }
+    }
+}
+
+/// A parameter list: unique names, types that resolve.
+pub(super) fn params(ctx: &mut Ctx, scope: &Scope, list: Option<ast::ParamList>) {
+    let Some(list) = list else { return };
+    super::names::duplicates(ctx, list.params().filter_map(|p| p.name()), "parameter");
+    for param in list.params() {
+        if let Some(ty) = param.type_ref() {
+            type_ref(ctx, scope, &ty);
+        }
+    }
+}
+
+/// `[A.B(field = value)]` before a declaration: the attribute exists and declares each field.
+pub(super) fn attribute_uses(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
+    for list in node.children().filter_map(ast::AttributeList::cast) {
+        for use_ in list.uses() {
+            let Some(path) = use_.path() else { continue };
+            let text = path.text();
+            let attribute = match ctx.sema.resolve(scope, &text).map(|d| &d.kind) {
+                Some(DefKind::Type(ty)) if ty.kind == TypeKind::Attribute => ty.clone(),
+                Some(other) => {
+                    ctx.sink.error(
+                        DiagnosticCode::InvalidAttributeUse,
+                        path.syntax().text_range(),
+                        format!("`{text}` is {}, not an attribute", describe(other)),
+                    );
+                    continue;
+                }
+                None => {
+                    ctx.sink.error(
+                        DiagnosticCode::InvalidAttributeUse,
+                        path.syntax().text_range(),
+                        format!("unknown attribute `{text}`"),
+                    );
+                    continue;
+                }
+            };
+            for arg in use_.args() {
+                let Some(field) = arg.name() else { continue };
+                if !attribute.fields.iter().any(|f| f.name == field.text()) {
+                    ctx.sink.error(
+                        DiagnosticCode::InvalidAttributeUse,
+                        field.syntax().text_range(),
+                        format!("attribute `{text}` has no field `{}`", field.text()),
+                    );
+                }
+            }
+        }
+    }
+}
