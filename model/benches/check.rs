@@ -6,11 +6,7 @@
 
 use std::time::{Duration, Instant};
 
-use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
-    hir::file_diagnostics,
-};
-use salsa::Setter;
+use gudsl_model::{AnalysisHost, FileId};
 
 fn stats(mut samples: Vec<Duration>) -> (f64, f64) {
     samples.sort();
@@ -18,15 +14,13 @@ fn stats(mut samples: Vec<Duration>) -> (f64, f64) {
     (at(0.5), at(0.95))
 }
 
-fn load(files: &[gudsl_model::synth::SynthFile]) -> (RootDatabase, Workspace, Vec<SourceFile>) {
-    let db = RootDatabase::default();
-    let inputs: Vec<SourceFile> = files.iter().map(|f| SourceFile::new(&db, f.path.clone(), f.text.clone())).collect();
-    let workspace = Workspace::new(&db, inputs.clone());
-    (db, workspace, inputs)
+fn load(files: &[gudsl_model::synth::SynthFile]) -> (AnalysisHost, Vec<FileId>) {
+    AnalysisHost::with_files(files.iter().map(|f| (f.path.clone(), f.text.clone())))
 }
 
-fn check_all(db: &RootDatabase, workspace: Workspace, inputs: &[SourceFile]) -> usize {
-    inputs.iter().map(|&f| file_diagnostics(db, workspace, f).len()).sum()
+fn check_all(host: &AnalysisHost, inputs: &[FileId]) -> usize {
+    let analysis = host.analysis();
+    inputs.iter().map(|&f| analysis.diagnostics(f).expect("nothing changes the host meanwhile").0.len()).sum()
 }
 
 fn main() {
@@ -38,8 +32,8 @@ fn main() {
     let cold: Vec<Duration> = (0..10)
         .map(|_| {
             let start = Instant::now();
-            let (db, workspace, inputs) = load(&files);
-            let n = check_all(&db, workspace, &inputs);
+            let (host, inputs) = load(&files);
+            let n = check_all(&host, &inputs);
             assert_eq!(n, 0, "the generated workspace must check clean");
             start.elapsed()
         })
@@ -48,8 +42,8 @@ fn main() {
     println!("{:<52} {m:>8.1}ms {p:>8.1}ms {:>6}", "cold: load + parse + check all 200 files", 10);
 
     // Typing inside a method body of file 100: one character more, then one less, alternating.
-    let (mut db, workspace, inputs) = load(&files);
-    check_all(&db, workspace, &inputs);
+    let (mut host, inputs) = load(&files);
+    check_all(&host, &inputs);
     let target = inputs[100];
     let original = files[100].text.clone();
     let anchor = original.find("var int acc = a * ").expect("a method body") + "var int acc = a * ".len();
@@ -58,8 +52,8 @@ fn main() {
             let text =
                 if i % 2 == 0 { format!("{}1{}", &original[..anchor], &original[anchor..]) } else { original.clone() };
             let start = Instant::now();
-            target.set_text(&mut db).to(text);
-            check_all(&db, workspace, &inputs);
+            host.set_file_text(target, text);
+            check_all(&host, &inputs);
             start.elapsed()
         })
         .collect();
@@ -70,15 +64,15 @@ fn main() {
     for (class, what) in
         [("C100_1", "rename a class no other file uses"), ("Image100", "rename a class another file uses")]
     {
-        target.set_text(&mut db).to(original.clone());
-        check_all(&db, workspace, &inputs);
+        host.set_file_text(target, original.clone());
+        check_all(&host, &inputs);
         let renamed = original.replace(&format!("public class {class}"), &format!("public class {class}X"));
         let rename: Vec<Duration> = (0..30)
             .map(|i| {
                 let text = if i % 2 == 0 { renamed.clone() } else { original.clone() };
                 let start = Instant::now();
-                target.set_text(&mut db).to(text);
-                check_all(&db, workspace, &inputs);
+                host.set_file_text(target, text);
+                check_all(&host, &inputs);
                 start.elapsed()
             })
             .collect();

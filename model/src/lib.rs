@@ -1,6 +1,8 @@
-//! gudsl-model: the GU-DSL language model — lossless syntax tree, typed AST and (later)
-//! workspace-wide semantics. It performs no I/O and knows nothing of editors, SVG or GPUs.
+//! gudsl-model: the GU-DSL language model — lossless syntax tree, typed AST, workspace-wide
+//! semantics and editor features, behind one facade ([`AnalysisHost`] / [`Analysis`]). It
+//! performs no I/O and knows nothing of editors' protocols, SVG or GPUs.
 
+pub mod analysis;
 pub mod ast;
 pub mod db;
 pub mod format;
@@ -11,4 +13,5 @@ pub mod syntax;
 pub mod synth;
 pub mod text;
 
+pub use analysis::{Analysis, AnalysisHost, Cancellable, Cancelled, FileId, LineColEdit};
 pub use syntax::{parse, Parse, SyntaxError, SyntaxErrorCode, SyntaxKind, SyntaxNode, SyntaxToken};

@@ -68,6 +68,11 @@ impl LineIndex {
         Some((end as u32).into())
     }
 
+    /// The length of the text, the offset just past its end.
+    pub fn text_len(&self) -> TextSize {
+        TextSize::of(&*self.text)
+    }
+
     pub fn line_count(&self) -> usize {
         self.line_starts.len()
     }

@@ -2,11 +2,8 @@
 //! truncated samples, samples with garbage inserted, and half-typed constructs.
 
 use gudsl_model::{
-    db::{parse, RootDatabase, SourceFile, Workspace},
-    hir::file_diagnostics,
-    ide,
     syntax::{TextRange, TextSize},
-    text::LineIndex,
+    AnalysisHost,
 };
 
 fn documents() -> Vec<String> {
@@ -35,38 +32,43 @@ fn documents() -> Vec<String> {
 
 #[test]
 fn every_feature_answers_everywhere_on_broken_documents() {
-    let db = RootDatabase::default();
-    let support = SourceFile::new(
-        &db,
-        "framework.gudsl".into(),
-        std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/framework/framework.gudsl"),
-        )
-        .unwrap(),
-    );
+    let framework = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/framework/framework.gudsl"),
+    )
+    .unwrap();
     for (i, text) in documents().into_iter().enumerate() {
-        let file = SourceFile::new(&db, format!("doc{i}.gudsl"), text.clone());
-        let workspace = Workspace::new(&db, vec![file, support]);
-        let _ = file_diagnostics(&db, workspace, file);
-        let tree = parse(&db, file);
-        let _ = ide::document_symbols(&tree.source_file());
-        let _ = ide::folding_ranges(&tree.syntax_node(), &LineIndex::new(&text));
-        let _ = ide::semantic_tokens(&db, file);
-        let _ = gudsl_model::format::format(tree);
+        let (host, files) = AnalysisHost::with_files([
+            (format!("doc{i}.gudsl"), text.clone()),
+            ("framework.gudsl".to_string(), framework.clone()),
+        ]);
+        let (analysis, file) = (host.analysis(), files[0]);
+        analysis.diagnostics(file).unwrap();
+        analysis.document_symbols(file).unwrap();
+        analysis.folding_ranges(file).unwrap();
+        analysis.semantic_tokens(file).unwrap();
+        analysis.format(file).unwrap();
+        analysis.graphs(file).unwrap();
         let whole = TextRange::up_to((text.len() as u32).into());
-        let _ = ide::quick_fixes(&db, workspace, file, whole);
-        let _ = ide::inlay_hints(&db, file, whole);
+        analysis.quick_fixes(file, whole).unwrap();
+        analysis.inlay_hints(file, whole).unwrap();
         let step = (text.len() / 60).max(1);
-        for offset in (0..=text.len()).step_by(step).filter(|&o| text.is_char_boundary(o)) {
-            let at = TextSize::from(offset as u32);
-            let _ = ide::completions(&db, workspace, file, at);
-            let _ = ide::goto_definition(&db, workspace, file, at);
-            let _ = ide::hover(&db, workspace, file, at);
-            let _ = ide::find_references(&db, workspace, file, at, true);
-            let _ = ide::prepare_rename(&db, workspace, file, at);
-            let _ = ide::rename(&db, workspace, file, at, "renamed");
-            let _ = ide::signature_help(&db, workspace, file, at);
-            let _ = ide::selection_ranges(&tree.syntax_node(), at);
+        let offsets: Vec<TextSize> = (0..=text.len())
+            .step_by(step)
+            .filter(|&o| text.is_char_boundary(o))
+            .map(|o| TextSize::from(o as u32))
+            .collect();
+        analysis.selection_ranges(file, &offsets).unwrap();
+        for &at in &offsets {
+            analysis.completions(file, at).unwrap();
+            analysis.goto_definition(file, at).unwrap();
+            analysis.goto_type_definition(file, at).unwrap();
+            analysis.hover(file, at).unwrap();
+            analysis.find_references(file, at, true).unwrap();
+            let _ = analysis.prepare_rename(file, at).unwrap();
+            let _ = analysis.rename(file, at, "renamed").unwrap();
+            analysis.signature_help(file, at).unwrap();
         }
     }
+    let (host, _) = AnalysisHost::with_files([("framework.gudsl".to_string(), framework)]);
+    host.analysis().workspace_symbols("", 100).unwrap();
 }

@@ -39,23 +39,17 @@ fn every_sample_parses_without_diagnostics() {
 /// The whole `samples/` folder as one workspace: every reference resolves, every rule holds.
 #[test]
 fn samples_check_clean_as_one_workspace() {
-    use gudsl_model::{
-        db::{RootDatabase, SourceFile, Workspace},
-        hir::file_diagnostics,
-    };
     let mut paths = Vec::new();
     gudsl_files(&samples(), &mut paths);
     paths.sort();
-    let db = RootDatabase::default();
-    let files: Vec<SourceFile> = paths
-        .iter()
-        .map(|p| SourceFile::new(&db, p.display().to_string(), std::fs::read_to_string(p).unwrap()))
-        .collect();
-    let workspace = Workspace::new(&db, files.clone());
+    let (host, files) = gudsl_model::AnalysisHost::with_files(
+        paths.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).unwrap())),
+    );
+    let analysis = host.analysis();
     let mut problems = Vec::new();
     for &file in &files {
-        for d in file_diagnostics(&db, workspace, file) {
-            problems.push(format!("{} {:?}: {} {}", file.path(&db), d.range, d.code.as_str(), d.message));
+        for d in analysis.diagnostics(file).unwrap().0 {
+            problems.push(format!("{} {:?}: {} {}", analysis.file_path(file), d.range, d.code.as_str(), d.message));
         }
     }
     assert!(problems.is_empty(), "{} diagnostics:\n{}", problems.len(), problems.join("\n"));

@@ -721,26 +721,23 @@ fn draw_node(out: &mut String, node: &GraphNode, content: &Content, at: Point) {
 
 #[cfg(test)]
 mod tests {
-    use gudsl_model::{
-        db::{RootDatabase, SourceFile, Workspace},
-        graph::file_graphs,
-    };
+    use gudsl_model::AnalysisHost;
 
     use super::*;
 
     fn sample_graphs() -> Vec<Graph> {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
-        let db = RootDatabase::default();
         let mut files = Vec::new();
         for dir in ["seed", "framework"] {
             let mut entries: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().flatten().map(|e| e.path()).collect();
             entries.sort();
             for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "gudsl")) {
-                files.push(SourceFile::new(&db, path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
+                files.push((path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
             }
         }
-        let ws = Workspace::new(&db, files.clone());
-        files.iter().flat_map(|&f| file_graphs(&db, ws, f).clone()).collect()
+        let (host, files) = AnalysisHost::with_files(files);
+        let analysis = host.analysis();
+        files.iter().flat_map(|&f| analysis.graphs(f).unwrap().to_vec()).collect()
     }
 
     #[test]

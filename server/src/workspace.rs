@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+use gudsl_model::{AnalysisHost, FileId};
+
 /// A document read from disk.
 pub struct Document {
     /// The path as the user should see it (relative to where it was found).
@@ -40,6 +42,11 @@ pub fn load(paths: &[PathBuf]) -> Result<Vec<Document>, LoadError> {
     }
     files.dedup();
     files.into_iter().map(|path| Ok(Document { text: read_text(&path)?, path })).collect()
+}
+
+/// A host analysing the documents together, in order, each named by its path.
+pub fn analysis_host(documents: &[Document]) -> (AnalysisHost, Vec<FileId>) {
+    AnalysisHost::with_files(documents.iter().map(|d| (d.path.display().to_string(), d.text.clone())))
 }
 
 /// A file's text. Invalid UTF-8 is replaced, not rejected: the parser reports what it cannot read.

@@ -5,11 +5,7 @@
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
-use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
-    hir::file_diagnostics,
-    text::{ColumnUnit, LineIndex},
-};
+use gudsl_model::text::ColumnUnit;
 use serde::Serialize;
 
 use crate::workspace;
@@ -59,18 +55,15 @@ pub fn run(args: &CheckArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    // One salsa database for the whole run: the documents form one workspace.
-    let db = RootDatabase::default();
-    let files: Vec<SourceFile> =
-        documents.iter().map(|d| SourceFile::new(&db, d.path.display().to_string(), d.text.clone())).collect();
-    let workspace = Workspace::new(&db, files.clone());
+    // The documents form one workspace.
+    let (host, files) = workspace::analysis_host(&documents);
+    let analysis = host.analysis();
     let mut diagnostics = Vec::new();
     for (document, &file) in documents.iter().zip(&files) {
-        let found = file_diagnostics(&db, workspace, file);
-        if found.is_empty() {
-            continue;
-        }
-        let index = LineIndex::new(&document.text);
+        let Ok((found, index)) = analysis.diagnostics(file) else {
+            eprintln!("gudsl check: the analysis was cancelled");
+            return ExitCode::from(2);
+        };
         for diagnostic in found {
             let start = index.line_col(diagnostic.range.start(), ColumnUnit::Char);
             let end = index.line_col(diagnostic.range.end(), ColumnUnit::Char);

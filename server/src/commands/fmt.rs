@@ -25,10 +25,15 @@ pub fn run(args: &FmtArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let (host, files) = workspace::analysis_host(&documents);
+    let analysis = host.analysis();
     let mut failed = false;
-    for document in &documents {
-        let parse = gudsl_model::parse(&document.text);
-        let Some(formatted) = gudsl_model::format::format(&parse) else {
+    for (document, &file) in documents.iter().zip(&files) {
+        let (Ok(formatted), Ok(parse)) = (analysis.format(file), analysis.parse(file)) else {
+            eprintln!("gudsl fmt: the analysis was cancelled");
+            return ExitCode::from(2);
+        };
+        let Some(formatted) = formatted else {
             eprintln!(
                 "{}: not formatted: it has {} syntax error(s) (`gudsl check` lists them)",
                 document.path.display(),

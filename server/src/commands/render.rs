@@ -5,10 +5,6 @@
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
-use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
-    graph::file_graphs,
-};
 
 use crate::workspace;
 
@@ -48,13 +44,15 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         eprintln!("gudsl render: {}: {error}", args.output.display());
         return ExitCode::from(2);
     }
-    let db = RootDatabase::default();
-    let files: Vec<SourceFile> =
-        documents.iter().map(|d| SourceFile::new(&db, d.path.display().to_string(), d.text.clone())).collect();
-    let workspace = Workspace::new(&db, files.clone());
+    let (host, files) = workspace::analysis_host(&documents);
+    let analysis = host.analysis();
     let mut written = 0;
     for &file in &files {
-        for graph in file_graphs(&db, workspace, file) {
+        let Ok(graphs) = analysis.graphs(file) else {
+            eprintln!("gudsl render: the analysis was cancelled");
+            return ExitCode::from(2);
+        };
+        for graph in graphs {
             let simple = graph.id.rsplit('.').next().unwrap_or(&graph.id);
             if args.diagram.as_deref().is_some_and(|wanted| wanted != graph.id && wanted != simple) {
                 continue;

@@ -1,40 +1,36 @@
-//! The analysis host: the salsa database and the documents it knows, by URI. Edits are applied
-//! here (on the message loop); requests read immutable snapshots.
+//! The documents the server knows, by URI, and the model's [`AnalysisHost`] they live in. Edits
+//! are applied here (on the message loop); requests read [`Snapshot`]s.
 
-use std::collections::HashMap;
+use std::{collections::HashMap, sync::Arc};
 
-use gudsl_model::{
-    db::{line_index, RootDatabase, SourceFile, Workspace},
-    syntax::TextSize,
-};
-use salsa::Setter;
+use gudsl_model::{Analysis, AnalysisHost, FileId, LineColEdit};
 use tower_lsp_server::ls_types as lsp;
 
-use super::convert::Encoding;
+use super::capabilities::Encoding;
 
 /// A document of the workspace.
 #[derive(Clone)]
 pub struct Document {
     pub uri: lsp::Uri,
-    pub file: SourceFile,
+    pub file: FileId,
     /// The editor's version while the document is open.
     pub version: Option<i32>,
     pub open: bool,
 }
 
+#[derive(Default)]
 pub struct Host {
-    db: RootDatabase,
-    workspace: Workspace,
+    analysis: AnalysisHost,
     documents: HashMap<String, Document>,
 }
 
-/// A read-only view of the analysis at one moment. Queries on it are cancelled (they unwind
-/// with `salsa::Cancelled`) as soon as the host applies a newer edit.
+/// A read-only view of the analysis and the documents at one moment. Its queries return
+/// `Cancelled` as soon as the host applies a newer edit.
 #[derive(Clone)]
 pub struct Snapshot {
-    pub db: RootDatabase,
-    pub workspace: Workspace,
-    pub documents: HashMap<String, Document>,
+    pub analysis: Analysis,
+    pub documents: Arc<HashMap<String, Document>>,
+    pub encoding: Encoding,
 }
 
 impl Snapshot {
@@ -42,16 +38,12 @@ impl Snapshot {
         self.documents.get(uri.as_str())
     }
 
-    pub fn uri_of(&self, file: SourceFile) -> Option<lsp::Uri> {
-        self.documents.values().find(|d| d.file == file).map(|d| d.uri.clone())
+    pub fn file(&self, uri: &lsp::Uri) -> Option<FileId> {
+        self.document(uri).map(|d| d.file)
     }
-}
 
-impl Default for Host {
-    fn default() -> Self {
-        let db = RootDatabase::default();
-        let workspace = Workspace::new(&db, Vec::new());
-        Host { db, workspace, documents: HashMap::new() }
+    pub fn uri_of(&self, file: FileId) -> Option<lsp::Uri> {
+        self.documents.values().find(|d| d.file == file).map(|d| d.uri.clone())
     }
 }
 
@@ -61,29 +53,28 @@ fn display_path(uri: &lsp::Uri) -> String {
 }
 
 impl Host {
-    pub fn snapshot(&self) -> Snapshot {
-        Snapshot { db: self.db.clone(), workspace: self.workspace, documents: self.documents.clone() }
+    pub fn snapshot(&self, encoding: Encoding) -> Snapshot {
+        Snapshot { analysis: self.analysis.analysis(), documents: Arc::new(self.documents.clone()), encoding }
     }
 
+    /// The workspace is every known document, ordered by URI.
     fn sync_workspace(&mut self) {
-        let mut files: Vec<(String, SourceFile)> =
-            self.documents.iter().map(|(uri, d)| (uri.clone(), d.file)).collect();
-        files.sort_by(|a, b| a.0.cmp(&b.0));
-        self.workspace.set_files(&mut self.db).to(files.into_iter().map(|(_, f)| f).collect());
+        let mut files: Vec<(&String, FileId)> = self.documents.iter().map(|(uri, d)| (uri, d.file)).collect();
+        files.sort_by(|a, b| a.0.cmp(b.0));
+        let files = files.into_iter().map(|(_, f)| f).collect();
+        self.analysis.set_workspace(files);
     }
 
     /// Adds or replaces a document's text; `version` is set for documents the editor has open.
-    pub fn set_text(&mut self, uri: &lsp::Uri, text: String, version: Option<i32>, open: bool) -> SourceFile {
+    pub fn set_text(&mut self, uri: &lsp::Uri, text: String, version: Option<i32>, open: bool) -> FileId {
         if let Some(document) = self.documents.get_mut(uri.as_str()) {
             document.version = version;
             document.open = open;
             let file = document.file;
-            if file.text(&self.db) != &text {
-                file.set_text(&mut self.db).to(text);
-            }
+            self.analysis.set_file_text(file, text);
             return file;
         }
-        let file = SourceFile::new(&self.db, display_path(uri), text);
+        let file = self.analysis.add_file(display_path(uri), text);
         self.documents.insert(uri.as_str().to_string(), Document { uri: uri.clone(), file, version, open });
         self.sync_workspace();
         file
@@ -94,26 +85,15 @@ impl Host {
         &mut self,
         uri: &lsp::Uri,
         version: i32,
-        changes: Vec<lsp::TextDocumentContentChangeEvent>,
+        edits: Vec<LineColEdit>,
         encoding: Encoding,
-    ) -> Option<SourceFile> {
-        let document = self.documents.get(uri.as_str())?;
+    ) -> Option<FileId> {
+        let document = self.documents.get_mut(uri.as_str())?;
+        document.version = Some(version);
+        document.open = true;
         let file = document.file;
-        let mut text = file.text(&self.db).clone();
-        for change in changes {
-            match change.range {
-                None => text = change.text,
-                Some(range) => {
-                    // Positions refer to the text as changed so far.
-                    let index = gudsl_model::text::LineIndex::new(&text);
-                    let start: usize = encoding.offset(&index, text.len(), range.start).into();
-                    let end: usize = encoding.offset(&index, text.len(), range.end).into();
-                    let (start, end) = (start.min(end), end.max(start));
-                    text.replace_range(start..end, &change.text);
-                }
-            }
-        }
-        Some(self.set_text(uri, text, Some(version), true))
+        self.analysis.edit_file(file, edits, encoding.0);
+        Some(file)
     }
 
     /// The editor closed the document: it stays in the workspace with its last text (the file
@@ -134,19 +114,13 @@ impl Host {
     pub fn is_open(&self, uri: &lsp::Uri) -> bool {
         self.documents.get(uri.as_str()).is_some_and(|d| d.open)
     }
-
-    /// The byte offset of an LSP position in a document.
-    pub fn offset(snapshot: &Snapshot, file: SourceFile, position: lsp::Position, encoding: Encoding) -> TextSize {
-        let index = line_index(&snapshot.db, file);
-        encoding.offset(index, file.text(&snapshot.db).len(), position)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use gudsl_model::text::ColumnUnit;
 
-    use super::*;
+    use super::{super::from_proto, *};
 
     fn change(range: ((u32, u32), (u32, u32)), text: &str) -> lsp::TextDocumentContentChangeEvent {
         let ((l1, c1), (l2, c2)) = range;
@@ -163,16 +137,10 @@ mod tests {
         let uri: lsp::Uri = "file:///ws/a.gudsl".parse().unwrap();
         host.set_text(&uri, "// 😀 x\nClassDiagram A { }\n".to_string(), Some(1), true);
         // Replace `x` (UTF-16 column 6: the emoji counts 2), then insert a class on line 1.
-        let file = host
-            .change(
-                &uri,
-                2,
-                vec![change(((0, 6), (0, 7)), "y"), change(((1, 16), (1, 16)), " class C { }")],
-                Encoding(ColumnUnit::Utf16),
-            )
-            .unwrap();
-        assert_eq!(file.text(&host.db), "// 😀 y\nClassDiagram A { class C { } }\n");
-        assert_eq!(host.snapshot().document(&uri).unwrap().version, Some(2));
+        let edits = from_proto::edits(vec![change(((0, 6), (0, 7)), "y"), change(((1, 16), (1, 16)), " class C { }")]);
+        let file = host.change(&uri, 2, edits, Encoding(ColumnUnit::Utf16)).unwrap();
+        assert_eq!(host.analysis.file_text(file), "// 😀 y\nClassDiagram A { class C { } }\n");
+        assert_eq!(host.snapshot(Encoding(ColumnUnit::Utf16)).document(&uri).unwrap().version, Some(2));
     }
 
     #[test]
@@ -180,8 +148,9 @@ mod tests {
         let mut host = Host::default();
         let uri: lsp::Uri = "file:///ws/b.gudsl".parse().unwrap();
         host.set_text(&uri, "abc".to_string(), Some(1), true);
-        let file = host.change(&uri, 2, vec![change(((5, 0), (9, 9)), "!")], Encoding(ColumnUnit::Utf8)).unwrap();
-        assert_eq!(file.text(&host.db), "abc!");
+        let edits = from_proto::edits(vec![change(((5, 0), (9, 9)), "!")]);
+        let file = host.change(&uri, 2, edits, Encoding(ColumnUnit::Utf8)).unwrap();
+        assert_eq!(host.analysis.file_text(file), "abc!");
         assert!(host
             .change(&"file:///ws/unknown.gudsl".parse().unwrap(), 1, vec![], Encoding(ColumnUnit::Utf8))
             .is_none());

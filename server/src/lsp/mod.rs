@@ -1,13 +1,15 @@
 //! `gudsl lsp`: the language server over stdio (tower-lsp-server on tokio).
 //!
-//! The analysis host (a salsa database) applies edits; every request runs on a snapshot in a
-//! blocking task, so the message loop never waits for analysis and a newer edit cancels stale
-//! work. See DESIGN.md, "Server conventions".
+//! The model's analysis host applies edits; every request runs on a snapshot in a blocking task,
+//! so the message loop never waits for analysis and a newer edit cancels stale work. Positions
+//! are converted only in `from_proto` and `to_proto`. See ARCHITECTURE.md, "The language server".
 
-mod convert;
+mod capabilities;
+mod from_proto;
 mod handlers;
 mod host;
 mod server;
+mod to_proto;
 
 use std::process::ExitCode;
 

@@ -1,5 +1,5 @@
-//! The LSP message handlers: lifecycle, document sync, workspace loading and watching, and the
-//! table of features (each delegating to `handlers` on a snapshot).
+//! The LSP message loop's side: lifecycle, document sync, workspace loading and watching, and the
+//! table of features (each delegating to `handlers` on a snapshot, off the loop).
 
 use std::{
     collections::HashMap,
@@ -11,7 +11,7 @@ use std::{
     },
 };
 
-use gudsl_model::text::ColumnUnit;
+use gudsl_model::{text::ColumnUnit, Cancellable};
 use tower_lsp_server::{
     jsonrpc::{Error, ErrorCode, Result},
     ls_types as lsp, Client, LanguageServer,
@@ -20,9 +20,10 @@ use tower_lsp_server::{
 use crate::workspace;
 
 use super::{
-    convert::Encoding,
-    handlers,
+    capabilities::{server_capabilities, Encoding},
+    from_proto, handlers,
     host::{Host, Snapshot},
+    to_proto,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -69,12 +70,13 @@ impl Backend {
 
     /// Runs `f` on a snapshot in a blocking task: cancelled by a newer edit (answered with
     /// `ContentModified`), and a panic is answered as an internal error, not a crash.
-    async fn on_snapshot<T: Send + 'static>(&self, f: impl FnOnce(&Snapshot) -> T + Send + 'static) -> Result<T> {
-        let snapshot = lock(&self.host).snapshot();
-        let outcome = tokio::task::spawn_blocking(move || {
-            std::panic::catch_unwind(AssertUnwindSafe(|| salsa::Cancelled::catch(AssertUnwindSafe(|| f(&snapshot)))))
-        })
-        .await;
+    async fn on_snapshot<T: Send + 'static>(
+        &self,
+        f: impl FnOnce(&Snapshot) -> Cancellable<T> + Send + 'static,
+    ) -> Result<T> {
+        let snapshot = lock(&self.host).snapshot(self.encoding());
+        let outcome =
+            tokio::task::spawn_blocking(move || std::panic::catch_unwind(AssertUnwindSafe(|| f(&snapshot)))).await;
         match outcome {
             Ok(Ok(Ok(value))) => Ok(value),
             Ok(Ok(Err(_cancelled))) => Err(Error {
@@ -114,18 +116,14 @@ impl Backend {
                 if current.load(Ordering::SeqCst) != generation {
                     return;
                 }
-                let snapshot = lock(&host).snapshot();
+                let snapshot = lock(&host).snapshot(encoding);
                 let computed = tokio::task::spawn_blocking(move || {
-                    salsa::Cancelled::catch(AssertUnwindSafe(|| {
-                        let mut all: Vec<(lsp::Uri, Option<i32>, Vec<lsp::Diagnostic>)> = snapshot
-                            .documents
-                            .values()
-                            .filter(|d| d.open == open_phase)
-                            .map(|d| (d.uri.clone(), d.version, handlers::diagnostics(&snapshot, d.file, encoding)))
-                            .collect();
-                        all.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
-                        all
-                    }))
+                    let mut all: Vec<(lsp::Uri, Option<i32>, Vec<lsp::Diagnostic>)> = Vec::new();
+                    for d in snapshot.documents.values().filter(|d| d.open == open_phase) {
+                        all.push((d.uri.clone(), d.version, handlers::diagnostics(&snapshot, d.file)?));
+                    }
+                    all.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
+                    Cancellable::Ok(all)
                 })
                 .await;
                 let Ok(Ok(all)) = computed else { return };
@@ -242,51 +240,7 @@ impl LanguageServer for Backend {
                 name: "gudsl".into(),
                 version: Some(env!("CARGO_PKG_VERSION").into()),
             }),
-            capabilities: lsp::ServerCapabilities {
-                position_encoding: Some(encoding.kind()),
-                text_document_sync: Some(lsp::TextDocumentSyncCapability::Options(lsp::TextDocumentSyncOptions {
-                    open_close: Some(true),
-                    change: Some(lsp::TextDocumentSyncKind::INCREMENTAL),
-                    ..Default::default()
-                })),
-                document_symbol_provider: Some(lsp::OneOf::Left(true)),
-                definition_provider: Some(lsp::OneOf::Left(true)),
-                type_definition_provider: Some(lsp::TypeDefinitionProviderCapability::Simple(true)),
-                hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
-                folding_range_provider: Some(lsp::FoldingRangeProviderCapability::Simple(true)),
-                references_provider: Some(lsp::OneOf::Left(true)),
-                completion_provider: Some(lsp::CompletionOptions {
-                    trigger_characters: Some([".", ">", ":", "("].iter().map(|c| c.to_string()).collect()),
-                    ..Default::default()
-                }),
-                document_formatting_provider: Some(lsp::OneOf::Left(true)),
-                inlay_hint_provider: Some(lsp::OneOf::Left(true)),
-                signature_help_provider: Some(lsp::SignatureHelpOptions {
-                    trigger_characters: Some(vec!["(".into(), ",".into()]),
-                    retrigger_characters: None,
-                    work_done_progress_options: Default::default(),
-                }),
-                code_action_provider: Some(lsp::CodeActionProviderCapability::Options(lsp::CodeActionOptions {
-                    code_action_kinds: Some(vec![lsp::CodeActionKind::QUICKFIX]),
-                    ..Default::default()
-                })),
-                selection_range_provider: Some(lsp::SelectionRangeProviderCapability::Simple(true)),
-                workspace_symbol_provider: Some(lsp::OneOf::Left(true)),
-                semantic_tokens_provider: Some(lsp::SemanticTokensServerCapabilities::SemanticTokensOptions(
-                    lsp::SemanticTokensOptions {
-                        legend: handlers::semantic_token_legend(),
-                        full: Some(lsp::SemanticTokensFullOptions::Delta { delta: Some(true) }),
-                        range: None,
-                        work_done_progress_options: Default::default(),
-                    },
-                )),
-                document_highlight_provider: Some(lsp::OneOf::Left(true)),
-                rename_provider: Some(lsp::OneOf::Right(lsp::RenameOptions {
-                    prepare_provider: Some(true),
-                    work_done_progress_options: Default::default(),
-                })),
-                ..Default::default()
-            },
+            capabilities: server_capabilities(encoding),
             ..Default::default()
         })
     }
@@ -309,7 +263,8 @@ impl LanguageServer for Backend {
     async fn did_change(&self, params: lsp::DidChangeTextDocumentParams) {
         let encoding = self.encoding();
         let doc = params.text_document;
-        let applied = lock(&self.host).change(&doc.uri, doc.version, params.content_changes, encoding);
+        let edits = from_proto::edits(params.content_changes);
+        let applied = lock(&self.host).change(&doc.uri, doc.version, edits, encoding);
         if applied.is_none() {
             self.client
                 .log_message(
@@ -356,51 +311,38 @@ impl LanguageServer for Backend {
     }
 
     async fn document_symbol(&self, params: lsp::DocumentSymbolParams) -> Result<Option<lsp::DocumentSymbolResponse>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::document_symbols(s, &params.text_document.uri, encoding)).await
+        self.on_snapshot(move |s| handlers::document_symbols(s, &params.text_document.uri)).await
     }
 
     async fn goto_definition(&self, params: lsp::GotoDefinitionParams) -> Result<Option<lsp::GotoDefinitionResponse>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position_params;
-        self.on_snapshot(move |s| handlers::goto_definition(s, &at.text_document.uri, at.position, encoding)).await
+        self.on_snapshot(move |s| handlers::goto_definition(s, params.text_document_position_params)).await
     }
 
     async fn goto_type_definition(
         &self,
         params: lsp::request::GotoTypeDefinitionParams,
     ) -> Result<Option<lsp::request::GotoTypeDefinitionResponse>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position_params;
-        self.on_snapshot(move |s| handlers::goto_type_definition(s, &at.text_document.uri, at.position, encoding)).await
+        self.on_snapshot(move |s| handlers::goto_type_definition(s, params.text_document_position_params)).await
     }
 
     async fn hover(&self, params: lsp::HoverParams) -> Result<Option<lsp::Hover>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position_params;
-        self.on_snapshot(move |s| handlers::hover(s, &at.text_document.uri, at.position, encoding)).await
+        self.on_snapshot(move |s| handlers::hover(s, params.text_document_position_params)).await
     }
 
     async fn folding_range(&self, params: lsp::FoldingRangeParams) -> Result<Option<Vec<lsp::FoldingRange>>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::folding_ranges(s, &params.text_document.uri, encoding)).await
+        self.on_snapshot(move |s| handlers::folding_ranges(s, &params.text_document.uri)).await
     }
 
     async fn completion(&self, params: lsp::CompletionParams) -> Result<Option<lsp::CompletionResponse>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position;
-        self.on_snapshot(move |s| handlers::completion(s, &at.text_document.uri, at.position, encoding)).await
+        self.on_snapshot(move |s| handlers::completion(s, params.text_document_position)).await
     }
 
     async fn selection_range(&self, params: lsp::SelectionRangeParams) -> Result<Option<Vec<lsp::SelectionRange>>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::selection_ranges(s, &params.text_document.uri, &params.positions, encoding))
-            .await
+        self.on_snapshot(move |s| handlers::selection_ranges(s, params)).await
     }
 
     async fn symbol(&self, params: lsp::WorkspaceSymbolParams) -> Result<Option<lsp::WorkspaceSymbolResponse>> {
-        let encoding = self.encoding();
-        let symbols = self.on_snapshot(move |s| handlers::workspace_symbols(s, &params.query, encoding)).await?;
+        let symbols = self.on_snapshot(move |s| handlers::workspace_symbols(s, &params.query)).await?;
         Ok(Some(lsp::WorkspaceSymbolResponse::Flat(symbols)))
     }
 
@@ -408,14 +350,13 @@ impl LanguageServer for Backend {
         &self,
         params: lsp::SemanticTokensParams,
     ) -> Result<Option<lsp::SemanticTokensResult>> {
-        let encoding = self.encoding();
         let uri = params.text_document.uri;
         let key = uri.as_str().to_string();
-        let Some(data) = self.on_snapshot(move |s| handlers::semantic_token_data(s, &uri, encoding)).await? else {
+        let Some(data) = self.on_snapshot(move |s| handlers::semantic_token_data(s, &uri)).await? else {
             return Ok(None);
         };
         let id = self.next_result_id.fetch_add(1, Ordering::SeqCst).to_string();
-        let tokens = handlers::semantic_token_edit(&[], &data).pop().and_then(|e| e.data).unwrap_or_default();
+        let tokens = to_proto::semantic_tokens(&data);
         lock(&self.semantic_tokens).insert(key, (id.clone(), data));
         Ok(Some(lsp::SemanticTokensResult::Tokens(lsp::SemanticTokens { result_id: Some(id), data: tokens })))
     }
@@ -424,10 +365,9 @@ impl LanguageServer for Backend {
         &self,
         params: lsp::SemanticTokensDeltaParams,
     ) -> Result<Option<lsp::SemanticTokensFullDeltaResult>> {
-        let encoding = self.encoding();
         let uri = params.text_document.uri;
         let key = uri.as_str().to_string();
-        let Some(data) = self.on_snapshot(move |s| handlers::semantic_token_data(s, &uri, encoding)).await? else {
+        let Some(data) = self.on_snapshot(move |s| handlers::semantic_token_data(s, &uri)).await? else {
             return Ok(None);
         };
         let id = self.next_result_id.fetch_add(1, Ordering::SeqCst).to_string();
@@ -435,69 +375,51 @@ impl LanguageServer for Backend {
         Ok(Some(match previous.filter(|(old_id, _)| *old_id == params.previous_result_id) {
             Some((_, old)) => lsp::SemanticTokensFullDeltaResult::TokensDelta(lsp::SemanticTokensDelta {
                 result_id: Some(id),
-                edits: handlers::semantic_token_edit(&old, &data),
+                edits: to_proto::semantic_token_edit(&old, &data),
             }),
-            None => {
-                let tokens = handlers::semantic_token_edit(&[], &data).pop().and_then(|e| e.data).unwrap_or_default();
-                lsp::SemanticTokensFullDeltaResult::Tokens(lsp::SemanticTokens { result_id: Some(id), data: tokens })
-            }
+            None => lsp::SemanticTokensFullDeltaResult::Tokens(lsp::SemanticTokens {
+                result_id: Some(id),
+                data: to_proto::semantic_tokens(&data),
+            }),
         }))
     }
 
     async fn code_action(&self, params: lsp::CodeActionParams) -> Result<Option<lsp::CodeActionResponse>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::code_actions(s, &params.text_document.uri, params.range, encoding)).await
+        self.on_snapshot(move |s| handlers::code_actions(s, params)).await
     }
 
     async fn inlay_hint(&self, params: lsp::InlayHintParams) -> Result<Option<Vec<lsp::InlayHint>>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::inlay_hints(s, &params.text_document.uri, params.range, encoding)).await
+        self.on_snapshot(move |s| handlers::inlay_hints(s, params)).await
     }
 
     async fn signature_help(&self, params: lsp::SignatureHelpParams) -> Result<Option<lsp::SignatureHelp>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position_params;
-        self.on_snapshot(move |s| handlers::signature_help(s, &at.text_document.uri, at.position, encoding)).await
+        self.on_snapshot(move |s| handlers::signature_help(s, params.text_document_position_params)).await
     }
 
     async fn formatting(&self, params: lsp::DocumentFormattingParams) -> Result<Option<Vec<lsp::TextEdit>>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::formatting(s, &params.text_document.uri, encoding)).await
+        self.on_snapshot(move |s| handlers::formatting(s, &params.text_document.uri)).await
     }
 
     async fn references(&self, params: lsp::ReferenceParams) -> Result<Option<Vec<lsp::Location>>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position;
-        let include = params.context.include_declaration;
-        self.on_snapshot(move |s| handlers::references(s, &at.text_document.uri, at.position, include, encoding)).await
+        self.on_snapshot(move |s| handlers::references(s, params)).await
     }
 
     async fn document_highlight(
         &self,
         params: lsp::DocumentHighlightParams,
     ) -> Result<Option<Vec<lsp::DocumentHighlight>>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position_params;
-        self.on_snapshot(move |s| handlers::document_highlight(s, &at.text_document.uri, at.position, encoding)).await
+        self.on_snapshot(move |s| handlers::document_highlight(s, params.text_document_position_params)).await
     }
 
     async fn prepare_rename(
         &self,
         params: lsp::TextDocumentPositionParams,
     ) -> Result<Option<lsp::PrepareRenameResponse>> {
-        let encoding = self.encoding();
-        self.on_snapshot(move |s| handlers::prepare_rename(s, &params.text_document.uri, params.position, encoding))
-            .await?
-            .map_err(invalid_request)
+        self.on_snapshot(move |s| handlers::prepare_rename(s, params)).await?.map_err(invalid_request)
     }
 
     async fn rename(&self, params: lsp::RenameParams) -> Result<Option<lsp::WorkspaceEdit>> {
-        let encoding = self.encoding();
-        let at = params.text_document_position;
-        let new_name = params.new_name;
-        self.on_snapshot(move |s| handlers::rename(s, &at.text_document.uri, at.position, &new_name, encoding))
-            .await?
-            .map_err(invalid_request)
+        self.on_snapshot(move |s| handlers::rename(s, params)).await?.map_err(invalid_request)
     }
 }
 

@@ -1,0 +1,56 @@
+//! LSP → model: positions to byte offsets in the negotiated encoding, and editor changes to
+//! line/column edits. Nothing else in the server reads an LSP position.
+
+use gudsl_model::{
+    syntax::{TextRange, TextSize},
+    text::{LineCol, LineIndex},
+    Cancellable, FileId, LineColEdit,
+};
+use tower_lsp_server::ls_types as lsp;
+
+use super::{capabilities::Encoding, host::Snapshot};
+
+fn line_col(position: lsp::Position) -> LineCol {
+    LineCol { line: position.line, col: position.character }
+}
+
+/// The byte offset of a position; positions past a line's end clamp to it, past the text's end
+/// to the end.
+pub fn offset(index: &LineIndex, position: lsp::Position, encoding: Encoding) -> TextSize {
+    index.offset(line_col(position), encoding.0).unwrap_or_else(|| index.text_len())
+}
+
+/// A range of byte offsets (ordered, whichever way the client wrote it).
+pub fn text_range(index: &LineIndex, range: lsp::Range, encoding: Encoding) -> TextRange {
+    let (start, end) = (offset(index, range.start, encoding), offset(index, range.end, encoding));
+    TextRange::new(start.min(end), end.max(start))
+}
+
+/// The file and byte offset a request points at; `None` for a document the server does not know.
+pub fn file_position(
+    snap: &Snapshot,
+    uri: &lsp::Uri,
+    position: lsp::Position,
+) -> Cancellable<Option<(FileId, TextSize)>> {
+    let Some(file) = snap.file(uri) else { return Ok(None) };
+    let index = snap.analysis.line_index(file)?;
+    Ok(Some((file, offset(index, position, snap.encoding))))
+}
+
+/// The file and byte range a request points at.
+pub fn file_range(snap: &Snapshot, uri: &lsp::Uri, range: lsp::Range) -> Cancellable<Option<(FileId, TextRange)>> {
+    let Some(file) = snap.file(uri) else { return Ok(None) };
+    let index = snap.analysis.line_index(file)?;
+    Ok(Some((file, text_range(index, range, snap.encoding))))
+}
+
+/// An editor's content changes as edits of the model (each against the text changed so far).
+pub fn edits(changes: Vec<lsp::TextDocumentContentChangeEvent>) -> Vec<LineColEdit> {
+    changes
+        .into_iter()
+        .map(|change| LineColEdit {
+            range: change.range.map(|r| (line_col(r.start), line_col(r.end))),
+            text: change.text,
+        })
+        .collect()
+}
