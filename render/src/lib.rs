@@ -1,6 +1,12 @@
-//! gudsl-render: diagram graphs → layered layout → SVG, with text measured in the bundled font.
+//! gudsl-render: diagram graphs → a measured, laid-out scene (`scene`, with the layered layout
+//! of `layout` and text measured in the bundled font) → writers that only draw it: SVG, the
+//! layout JSON of the metrics script, and PNG through resvg.
 
+pub mod json;
 pub mod layout;
 pub mod png;
+pub mod scene;
 pub mod svg;
+#[cfg(test)]
+mod tests;
 pub mod text;

@@ -57,10 +57,11 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             if args.diagram.as_deref().is_some_and(|wanted| wanted != graph.id && wanted != simple) {
                 continue;
             }
+            let scene = gudsl_render::scene::build(graph);
             let (extension, bytes) = match args.format {
-                Format::Svg => ("svg", gudsl_render::svg::render(graph).into_bytes()),
-                Format::LayoutJson => ("json", gudsl_render::svg::layout_json(graph).into_bytes()),
-                Format::Png => match gudsl_render::png::to_png(&gudsl_render::svg::render(graph), 2.0) {
+                Format::Svg => ("svg", gudsl_render::svg::write(&scene).into_bytes()),
+                Format::LayoutJson => ("json", gudsl_render::json::write(&scene).into_bytes()),
+                Format::Png => match gudsl_render::png::to_png(&gudsl_render::svg::write(&scene), 2.0) {
                     Ok(png) => ("png", png),
                     Err(error) => {
                         eprintln!("gudsl render: {}: {error}", graph.id);

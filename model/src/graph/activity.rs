@@ -1,0 +1,105 @@
+//! The graph of an activity diagram: its nodes by kind with their headers and statements, the
+//! transitions with guards and arguments, and the swimlanes as groups.
+
+use std::collections::HashMap;
+
+use super::{
+    edge_id, text, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge, GraphGroup, GraphKind, GraphNode, NodeShape,
+};
+use crate::ast::{self, AstNode, HasName};
+
+pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
+    let mut graph =
+        Graph { id: id.clone(), kind: GraphKind::Activity, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut lanes: Vec<(Option<String>, Vec<ast::ActivityNode>)> = Vec::new();
+    for lane in diagram.swimlanes() {
+        let name = lane.name().map(|n| n.text()).unwrap_or_default();
+        let lane_id = format!("{id}/{name}");
+        graph.groups.push(GraphGroup { id: lane_id.clone(), label: name, owner: lane.owner().map(|p| p.text()) });
+        lanes.push((Some(lane_id), lane.nodes().collect()));
+    }
+    lanes.push((None, diagram.nodes().collect()));
+    let mut node_ids: HashMap<String, String> = HashMap::new();
+    for (lane_id, nodes) in &lanes {
+        for node in nodes {
+            let Some(name) = node.name().map(|n| n.text()) else { continue };
+            let node_id = match lane_id {
+                Some(lane) => format!("{lane}/{name}"),
+                None => format!("{id}/{name}"),
+            };
+            node_ids.entry(name.clone()).or_insert_with(|| node_id.clone());
+            let shape = match node.kind() {
+                ast::NodeKind::Start => NodeShape::Start,
+                ast::NodeKind::Final => NodeShape::Final,
+                ast::NodeKind::Action => NodeShape::Action,
+                ast::NodeKind::Decision => NodeShape::Decision,
+                ast::NodeKind::Fork => NodeShape::Fork,
+                ast::NodeKind::Join => NodeShape::Join,
+                ast::NodeKind::Loop => NodeShape::Loop,
+                ast::NodeKind::LoopWindow => NodeShape::LoopWindow,
+                ast::NodeKind::Calc => NodeShape::Calc,
+                ast::NodeKind::CalcRange => NodeShape::CalcRange,
+            };
+            let stereotype = match node.kind() {
+                ast::NodeKind::Loop => Some("loop".to_string()),
+                ast::NodeKind::LoopWindow => Some("loopWindow".to_string()),
+                ast::NodeKind::Calc => Some("calc".to_string()),
+                ast::NodeKind::CalcRange => Some("calcRange".to_string()),
+                _ => None,
+            };
+            let params: Vec<String> = node.params().map(|p| text(&p)).collect();
+            let label = if params.is_empty() { name.clone() } else { format!("{name}({})", params.join(", ")) };
+            let mut compartments = Vec::new();
+            if let Some(header) = node.loop_header() {
+                let sections: Vec<String> = header.sections().map(|s| text(&s)).collect();
+                compartments.push(Compartment { title: Some("header".into()), lines: sections });
+            }
+            let statements: Vec<String> = node.statements().map(|s| text(&s)).collect();
+            if !statements.is_empty() {
+                compartments.push(Compartment { title: None, lines: statements });
+            }
+            graph.nodes.push(GraphNode {
+                id: node_id,
+                shape,
+                label,
+                stereotype,
+                is_abstract: false,
+                compartments,
+                ports: Vec::new(),
+                group: lane_id.clone(),
+                range: node.syntax().text_range(),
+            });
+        }
+    }
+    for (_, nodes) in &lanes {
+        for node in nodes {
+            let Some(source) = node.name().and_then(|n| node_ids.get(&n.text()).cloned()) else { continue };
+            for transition in node.transitions() {
+                let Some(target_name) = transition.target().map(|t| t.text()) else { continue };
+                // Unknown targets still show, as dangling edges to their name.
+                let target =
+                    EdgeEnd::node(node_ids.get(&target_name).cloned().unwrap_or_else(|| format!("{id}/{target_name}")));
+                let source = EdgeEnd::node(source.clone());
+                let guard = transition.guard().map(|g| match g.condition() {
+                    Some(c) => format!("[{}]", text(&c)),
+                    None => "[]".to_string(),
+                });
+                let args = transition.arg_list().map(|a| text(&a));
+                let label = match (guard, args) {
+                    (Some(g), Some(a)) => Some(format!("{g} {a}")),
+                    (g, a) => g.or(a),
+                };
+                graph.edges.push(GraphEdge {
+                    id: edge_id(&graph, &source, &target, None),
+                    kind: EdgeKind::Transition,
+                    source,
+                    target,
+                    label,
+                    source_label: None,
+                    target_label: None,
+                });
+            }
+        }
+    }
+    graph
+}

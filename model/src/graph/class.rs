@@ -1,0 +1,170 @@
+//! The graph of a class diagram: classes, interfaces, enums and attributes with their members,
+//! generalizations, realizations and associations, and the types of other diagrams they reach.
+
+use super::{
+    edge_id, text, visibility_mark, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge, GraphKind, GraphNode, NodeShape,
+};
+use crate::{
+    ast::{self, AstNode, HasName},
+    hir::{items::TypeKind, DefKind, Scope, Semantics},
+    syntax::TextRange,
+};
+
+pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -> Graph {
+    let scope = Scope::at(diagram.syntax());
+    let mut graph =
+        Graph { id: id.clone(), kind: GraphKind::Class, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut known: Vec<String> = Vec::new();
+    for decl in diagram.type_decls() {
+        let Some(name) = decl.name().map(|n| n.text()) else { continue };
+        let fqn = format!("{id}.{name}");
+        known.push(fqn.clone());
+        let (shape, stereotype, is_abstract, template) = match &decl {
+            ast::TypeDecl::Class(c) => {
+                let stereotype = match c.kind() {
+                    ast::ClassKind::Class => None,
+                    ast::ClassKind::Source => Some("source".to_string()),
+                    ast::ClassKind::Filter => Some("filter".to_string()),
+                    ast::ClassKind::Sink => Some("sink".to_string()),
+                };
+                let params: Vec<String> = c.template_params().filter_map(|t| t.name()).map(|n| n.text()).collect();
+                (NodeShape::Class, stereotype, c.is_abstract(), params)
+            }
+            ast::TypeDecl::Interface(i) => {
+                let stereotype = match i.role() {
+                    ast::InterfaceRole::Plain => "interface",
+                    ast::InterfaceRole::Provider => "provider interface",
+                    ast::InterfaceRole::Processor => "processor interface",
+                };
+                (NodeShape::Interface, Some(stereotype.to_string()), false, Vec::new())
+            }
+            ast::TypeDecl::Enum(_) => (NodeShape::Enum, Some("enumeration".to_string()), false, Vec::new()),
+            ast::TypeDecl::AttributeDef(_) => (NodeShape::Attribute, Some("attribute".to_string()), false, Vec::new()),
+        };
+        let label = if template.is_empty() { name.clone() } else { format!("{name}<{}>", template.join(", ")) };
+        let mut fields = Vec::new();
+        let mut methods = Vec::new();
+        for member in decl.members() {
+            match &member {
+                ast::Member::Field(f) => {
+                    let ty = f.type_ref().map(|t| text(&t)).unwrap_or_default();
+                    let name = f.name().map(|n| n.text()).unwrap_or_default();
+                    fields.push(format!("{}{name} : {ty}", visibility_mark(f)));
+                }
+                ast::Member::Method(m) => {
+                    let ret = m.return_type().map(|t| text(&t)).unwrap_or_default();
+                    let params: Vec<String> = m
+                        .params()
+                        .map(|p| {
+                            format!(
+                                "{} : {}",
+                                p.name().map(|n| n.text()).unwrap_or_default(),
+                                p.type_ref().map(|t| text(&t)).unwrap_or_default()
+                            )
+                        })
+                        .collect();
+                    let name = m.name().map(|n| n.text()).unwrap_or_default();
+                    methods.push(format!("{}{name}({}) : {ret}", visibility_mark(m), params.join(", ")));
+                }
+                ast::Member::Association(_) => {}
+            }
+        }
+        let mut compartments =
+            vec![Compartment { title: None, lines: fields }, Compartment { title: None, lines: methods }];
+        if let ast::TypeDecl::Enum(e) = &decl {
+            compartments = vec![Compartment {
+                title: None,
+                lines: e.values().filter_map(|v| v.name()).map(|n| n.text()).collect(),
+            }];
+        }
+        graph.nodes.push(GraphNode {
+            id: fqn.clone(),
+            shape,
+            label,
+            stereotype,
+            is_abstract,
+            compartments,
+            ports: Vec::new(),
+            group: None,
+            range: decl.syntax().text_range(),
+        });
+        // Edges: generalization, realization, associations.
+        let edge = |graph: &mut Graph,
+                    kind: EdgeKind,
+                    target: String,
+                    label: Option<String>,
+                    ends: (Option<String>, Option<String>)| {
+            let (source, target) = (EdgeEnd::node(fqn.clone()), EdgeEnd::node(target));
+            graph.edges.push(GraphEdge {
+                id: edge_id(graph, &source, &target, Some(kind)),
+                kind,
+                source,
+                target,
+                label,
+                source_label: ends.0,
+                target_label: ends.1,
+            });
+        };
+        let resolve =
+            |path: &str| sema.resolve(&scope, path).map(|d| d.fqn.clone()).unwrap_or_else(|| path.to_string());
+        let (extends, implements): (Vec<ast::TypeRef>, Vec<ast::TypeRef>) = match &decl {
+            ast::TypeDecl::Class(c) => (c.extends().collect(), c.implements().collect()),
+            ast::TypeDecl::Interface(i) => (i.extends().collect(), Vec::new()),
+            _ => (Vec::new(), Vec::new()),
+        };
+        for base in extends.iter().filter_map(|t| t.path()) {
+            edge(&mut graph, EdgeKind::Generalization, resolve(&base.text()), None, (None, None));
+        }
+        for base in implements.iter().filter_map(|t| t.path()) {
+            edge(&mut graph, EdgeKind::Realization, resolve(&base.text()), None, (None, None));
+        }
+        for member in decl.members() {
+            if let ast::Member::Association(a) = member {
+                let Some(target) = a.target().and_then(|t| t.path()) else { continue };
+                let kind = match a.kind() {
+                    ast::AssociationKind::Plain => EdgeKind::Association,
+                    ast::AssociationKind::Aggregation => EdgeKind::Aggregation,
+                    ast::AssociationKind::Composition => EdgeKind::Composition,
+                };
+                let bounds = |m: Option<ast::Multiplicity>| {
+                    m.map(|m| match m.bounds() {
+                        (Some(a), Some(b)) => format!("{a}..{b}"),
+                        (Some(a), None) => a,
+                        _ => String::new(),
+                    })
+                };
+                let role = a.name().map(|n| n.text());
+                edge(
+                    &mut graph,
+                    kind,
+                    resolve(&target.text()),
+                    role,
+                    (bounds(a.target_multiplicity()), bounds(a.own_multiplicity())),
+                );
+            }
+        }
+    }
+    // Types of other diagrams that edges reach.
+    let external: Vec<String> =
+        graph.edges.iter().map(|e| e.target.node.clone()).filter(|t| !known.contains(t)).collect();
+    for target in external {
+        if graph.nodes.iter().any(|n| n.id == target) {
+            continue;
+        }
+        let is_interface = sema
+            .definition(&target)
+            .is_some_and(|d| matches!(&d.kind, DefKind::Type(ty) if matches!(ty.kind, TypeKind::Interface(_))));
+        graph.nodes.push(GraphNode {
+            id: target.clone(),
+            shape: NodeShape::External,
+            label: target.rsplit('.').next().unwrap_or(&target).to_string(),
+            stereotype: is_interface.then(|| "interface".to_string()),
+            is_abstract: false,
+            compartments: Vec::new(),
+            ports: Vec::new(),
+            group: None,
+            range: TextRange::default(),
+        });
+    }
+    graph
+}

@@ -1,0 +1,141 @@
+//! The graphs of component diagrams (components with their ports, connections port to port)
+//! and component-instance diagrams (instances with field values and port instances, bindings).
+
+use std::collections::HashMap;
+
+use super::{
+    edge_id, text, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge, GraphKind, GraphNode, GraphPort, NodeShape,
+};
+use crate::{
+    ast::{self, AstNode, HasEnds, HasName},
+    hir::{Scope, Semantics},
+};
+
+pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::ComponentDiagram) -> Graph {
+    let scope = Scope::at(diagram.syntax());
+    let mut graph = Graph { id, kind: GraphKind::Component, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut stack: Vec<ast::Component> = diagram.components().collect();
+    stack.reverse();
+    // `port.connector` as connections write it -> the end it names.
+    let mut port_owner: HashMap<String, EdgeEnd> = HashMap::new();
+    let mut all = Vec::new();
+    while let Some(component) = stack.pop() {
+        let mut nested: Vec<ast::Component> = component.components().collect();
+        nested.reverse();
+        stack.extend(nested);
+        let Some(class) = component.class() else { continue };
+        let fqn = sema.resolve(&scope, &class.text()).map(|d| d.fqn.clone()).unwrap_or_else(|| class.text());
+        let mut ports = Vec::new();
+        for port in component.ports() {
+            let Some(port_name) = port.name().map(|n| n.text()) else { continue };
+            for connector in port.connectors() {
+                let Some(name) = connector.name().map(|n| n.text()) else { continue };
+                let interface = connector.interface().map(|i| i.text()).unwrap_or_default();
+                let port_id = format!("{fqn}.{port_name}.{name}");
+                let end = EdgeEnd { node: fqn.clone(), port: Some(port_id.clone()) };
+                port_owner.insert(format!("{port_name}.{name}"), end);
+                ports.push(GraphPort {
+                    id: port_id,
+                    label: format!("{port_name}.{name} : {}", interface.rsplit('.').next().unwrap_or(&interface)),
+                    provider: Some(connector.role() == Some(ast::ConnectorRole::Provider)),
+                });
+            }
+        }
+        let stereotype = format!("{:?}", component.kind()).to_lowercase();
+        graph.nodes.push(GraphNode {
+            id: fqn.clone(),
+            shape: NodeShape::Component,
+            label: fqn.rsplit('.').next().unwrap_or(&fqn).to_string(),
+            stereotype: Some(stereotype),
+            is_abstract: false,
+            compartments: Vec::new(),
+            ports,
+            group: None,
+            range: component.syntax().text_range(),
+        });
+        all.push(component);
+    }
+    for component in &all {
+        for connection in component.connections() {
+            let (Some(source), Some(target)) = (connection.source(), connection.target()) else { continue };
+            // A connection end no port declares still shows, dangling, under its name.
+            let end =
+                |path: ast::Path| port_owner.get(&path.text()).cloned().unwrap_or_else(|| EdgeEnd::node(path.text()));
+            let (source, target) = (end(source), end(target));
+            graph.edges.push(GraphEdge {
+                id: edge_id(&graph, &source, &target, None),
+                kind: EdgeKind::Connection,
+                source,
+                target,
+                label: connection.connection_name().map(|n| n.text()),
+                source_label: None,
+                target_label: None,
+            });
+        }
+    }
+    graph
+}
+
+pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram) -> Graph {
+    let mut graph =
+        Graph { id, kind: GraphKind::ComponentInstance, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    for instance in diagram.instances() {
+        let Some(name) = instance.name().map(|n| n.text()) else { continue };
+        let component = instance.component().map(|c| c.text()).unwrap_or_default();
+        let values: Vec<String> = instance.field_values().map(|f| text(&f)).collect();
+        let ports = instance
+            .port_instances()
+            .flat_map(|pi| {
+                let pi_name = pi.name().map(|n| n.text()).unwrap_or_default();
+                let name = name.clone();
+                pi.connectors()
+                    .filter_map(move |c| {
+                        let connector = c.name()?.text();
+                        Some(GraphPort {
+                            id: format!("{name}.{pi_name}.{connector}"),
+                            label: format!("{pi_name}.{connector}"),
+                            provider: Some(c.role() == Some(ast::ConnectorRole::Provider)),
+                        })
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        graph.nodes.push(GraphNode {
+            id: name.clone(),
+            shape: NodeShape::Instance,
+            label: format!("{name} : {}", component.rsplit('.').next().unwrap_or(&component)),
+            stereotype: None,
+            is_abstract: false,
+            compartments: vec![Compartment { title: None, lines: values }],
+            ports,
+            group: None,
+            range: instance.syntax().text_range(),
+        });
+        for binding in instance.bindings() {
+            // `portInstance.connector` in this instance, or `instance.portInstance.connector`.
+            let ends: Vec<EdgeEnd> = [binding.source(), binding.target()]
+                .into_iter()
+                .flatten()
+                .map(|p| {
+                    let mut segments: Vec<String> = p.segments().map(|s| s.text()).collect();
+                    if segments.len() == 2 {
+                        segments.insert(0, name.clone());
+                    }
+                    EdgeEnd { node: segments[0].clone(), port: Some(segments.join(".")) }
+                })
+                .collect();
+            if let [source, target] = ends.as_slice() {
+                graph.edges.push(GraphEdge {
+                    id: edge_id(&graph, source, target, None),
+                    kind: EdgeKind::Binding,
+                    source: source.clone(),
+                    target: target.clone(),
+                    label: None,
+                    source_label: None,
+                    target_label: None,
+                });
+            }
+        }
+    }
+    graph
+}

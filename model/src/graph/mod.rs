@@ -1,0 +1,196 @@
+//! Graph view: every diagram as nodes (with compartments and ports), edges (with kinds, labels
+//! and ends resolved to nodes and ports) and groups (swimlanes), independent of any renderer.
+//! One module a diagram kind builds its graphs.
+//!
+//! Ids come from names, never positions (DESIGN.md, "Identity"): a class is its fully qualified
+//! name, an activity node `Diagram/swimlane/node`, a transition `source->target#k` (k counting
+//! transitions between the same two nodes), a port `Component.port.connector`. They survive
+//! whitespace, comment and reordering edits.
+
+mod activity;
+mod class;
+mod components;
+#[cfg(test)]
+mod tests;
+
+use crate::{
+    ast::{self, AstNode, HasModifiers},
+    db::{parse, Db, SourceFile, Workspace},
+    hir::{Scope, Semantics},
+    syntax::TextRange,
+};
+
+/// The kind of a diagram.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GraphKind {
+    Class,
+    Activity,
+    Component,
+    ComponentInstance,
+}
+
+/// What a node is drawn as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NodeShape {
+    Class,
+    Interface,
+    Enum,
+    Attribute,
+    /// A type of another diagram, drawn for an edge that leaves this one.
+    External,
+    Start,
+    Final,
+    Action,
+    Decision,
+    Fork,
+    Join,
+    Loop,
+    LoopWindow,
+    Calc,
+    CalcRange,
+    Component,
+    Instance,
+}
+
+/// A titled list of text lines inside a node (fields, methods, expressions, values).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Compartment {
+    pub title: Option<String>,
+    pub lines: Vec<String>,
+}
+
+/// A port on a node's boundary.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct GraphPort {
+    pub id: String,
+    pub label: String,
+    /// `provider` (lollipop) or `processor` (socket); `None` for a port instance's own box.
+    pub provider: Option<bool>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct GraphNode {
+    pub id: String,
+    pub shape: NodeShape,
+    pub label: String,
+    /// «interface», «source», «attribute», … or a node kind's header.
+    pub stereotype: Option<String>,
+    pub is_abstract: bool,
+    pub compartments: Vec<Compartment>,
+    pub ports: Vec<GraphPort>,
+    /// The swimlane it belongs to (activity diagrams).
+    pub group: Option<String>,
+    /// Where it is declared, for round trips to the text.
+    pub range: TextRange,
+}
+
+/// The kind of an edge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EdgeKind {
+    Generalization,
+    Realization,
+    Association,
+    Aggregation,
+    Composition,
+    Transition,
+    Connection,
+    Binding,
+}
+
+/// Where an edge starts or ends: a node, and for connections and bindings one of its ports.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct EdgeEnd {
+    /// The node's id: a node of the graph, or (for an edge to something that does not exist) a
+    /// name no node has.
+    pub node: String,
+    /// The port's id, for connections and bindings.
+    pub port: Option<String>,
+}
+
+impl EdgeEnd {
+    fn node(id: impl Into<String>) -> EdgeEnd {
+        EdgeEnd { node: id.into(), port: None }
+    }
+
+    /// The port's id if the end is a port, else the node's.
+    pub fn id(&self) -> &str {
+        self.port.as_deref().unwrap_or(&self.node)
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct GraphEdge {
+    pub id: String,
+    pub kind: EdgeKind,
+    pub source: EdgeEnd,
+    pub target: EdgeEnd,
+    /// `[guard]`, `(args)`, a connection's name, an association's role.
+    pub label: Option<String>,
+    /// Multiplicity at the source and target end.
+    pub source_label: Option<String>,
+    pub target_label: Option<String>,
+}
+
+/// A swimlane.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct GraphGroup {
+    pub id: String,
+    pub label: String,
+    pub owner: Option<String>,
+}
+
+/// One diagram's graph.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Graph {
+    /// The diagram's fully qualified name.
+    pub id: String,
+    pub kind: GraphKind,
+    pub nodes: Vec<GraphNode>,
+    pub edges: Vec<GraphEdge>,
+    pub groups: Vec<GraphGroup>,
+}
+
+/// The graphs of every diagram of a file (nested diagrams included, each its own graph).
+#[salsa::tracked(returns(ref))]
+pub fn file_graphs(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Graph> {
+    let root = parse(db, file).syntax_node();
+    let sema = Semantics::new(db, workspace);
+    root.descendants()
+        .filter_map(ast::Diagram::cast)
+        .filter_map(|diagram| {
+            let id = Scope::at(diagram.syntax()).namespaces.last()?.clone();
+            Some(match &diagram {
+                ast::Diagram::ClassDiagram(d) => class::graph(&sema, id, d),
+                ast::Diagram::ActivityDiagram(d) => activity::graph(id, d),
+                ast::Diagram::ComponentDiagram(d) => components::component_graph(&sema, id, d),
+                ast::Diagram::ComponentInstanceDiagram(d) => components::instance_graph(id, d),
+            })
+        })
+        .collect()
+}
+
+/// A node's text on one line.
+pub(super) fn text(node: &impl AstNode) -> String {
+    node.syntax().text().to_string().split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// UML's mark of a member's visibility.
+pub(super) fn visibility_mark(node: &impl HasModifiers) -> &'static str {
+    match node.modifiers().and_then(|m| m.visibility()) {
+        Some(ast::Visibility::Public) => "+ ",
+        Some(ast::Visibility::Protected) => "# ",
+        Some(ast::Visibility::Private) => "- ",
+        None => "",
+    }
+}
+
+/// The next id of an edge from `source` to `target`: `source->target#k`, k counting the edges
+/// between the two ends so far (of `kind`, when given).
+fn edge_id(graph: &Graph, source: &EdgeEnd, target: &EdgeEnd, kind: Option<EdgeKind>) -> String {
+    let k = graph
+        .edges
+        .iter()
+        .filter(|e| e.source.id() == source.id() && e.target.id() == target.id() && kind.is_none_or(|k| e.kind == k))
+        .count();
+    format!("{}->{}#{k}", source.id(), target.id())
+}

@@ -1,0 +1,110 @@
+//! Graphs of the sample diagrams: ids, stereotypes, compartments, ports and edge ends.
+
+use super::*;
+use crate::db::RootDatabase;
+
+fn seed(name: &str) -> String {
+    std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/seed").join(name))
+        .unwrap()
+}
+
+fn graphs_of(files: &[(&str, String)]) -> Vec<Graph> {
+    let db = RootDatabase::default();
+    let inputs: Vec<SourceFile> = files.iter().map(|(p, t)| SourceFile::new(&db, p.to_string(), t.clone())).collect();
+    let ws = Workspace::new(&db, inputs.clone());
+    file_graphs(&db, ws, inputs[0]).clone()
+}
+
+#[test]
+fn class_graph_of_listing26() {
+    let g = &graphs_of(&[
+        ("a", seed("listing26_component_classes_example.gudsl")),
+        ("b", seed("listing01_type_definitions.gudsl")),
+    ])[0];
+    assert_eq!(g.id, "ComponentClassDefinitions");
+    let camera = g.nodes.iter().find(|n| n.id == "ComponentClassDefinitions.Camera").unwrap();
+    assert_eq!(camera.stereotype.as_deref(), Some("source"));
+    assert_eq!(camera.compartments[0].lines, ["+ width : int", "+ height : int"]);
+    let realizes: Vec<&str> =
+        g.edges.iter().filter(|e| e.kind == EdgeKind::Realization).map(|e| e.id.as_str()).collect();
+    assert!(
+        realizes.contains(&"ComponentClassDefinitions.Camera->ComponentClassDefinitions.IImageProvider#0"),
+        "{realizes:?}"
+    );
+}
+
+#[test]
+fn activity_graph_ids_survive_whitespace_and_comment_edits() {
+    let text = seed("listing08_member_access.gudsl");
+    let before = &graphs_of(&[("a", text.clone())])[0];
+    let edited =
+        text.replace("    swimlane", "  // a comment\n\n    swimlane").replace("=> filterImage;", "=>   filterImage ;");
+    let after = &graphs_of(&[("a", edited)])[0];
+    let ids = |g: &Graph| {
+        (
+            g.nodes.iter().map(|n| n.id.clone()).collect::<Vec<_>>(),
+            g.edges.iter().map(|e| e.id.clone()).collect::<Vec<_>>(),
+        )
+    };
+    assert_eq!(ids(before), ids(after));
+    assert!(before.nodes.iter().any(|n| n.id == "AdMemberAccess/Swimlane1/load"));
+    assert!(before
+        .edges
+        .iter()
+        .any(|e| e.id == "AdMemberAccess/Swimlane1/filterImage->AdMemberAccess/Swimlane1/filterImage#0"
+            && e.label.as_deref() == Some("[i < 10]")));
+    assert_eq!(before.groups[0].owner.as_deref(), Some("TypeDefinitions.Image"));
+}
+
+#[test]
+fn component_and_instance_graphs() {
+    let defs = seed("listing26_component_classes_example.gudsl");
+    let g = &graphs_of(&[("c", seed("listing27_component_example.gudsl")), ("d", defs.clone())])[0];
+    let camera = g.nodes.iter().find(|n| n.id == "ComponentClassDefinitions.Camera").unwrap();
+    assert_eq!(camera.ports[0].id, "ComponentClassDefinitions.Camera.CameraImageProviderPort.CameraImageProviderPort");
+    assert_eq!(camera.ports[0].provider, Some(true));
+    let connection = g.edges.iter().find(|e| e.label.as_deref() == Some("CameraToFilter")).unwrap();
+    assert_eq!(
+        connection.target.id(),
+        "ComponentClassDefinitions.MeanFilter.MeanImageProcessorPort.FilterImageProcessorPort"
+    );
+    let g = &graphs_of(&[("i", seed("listing28_component_instance_example.gudsl"))])[0];
+    assert_eq!(
+        g.nodes.iter().map(|n| n.label.as_str()).collect::<Vec<_>>(),
+        ["Camera1 : Camera", "Camera2 : Camera", "MeanFilter1 : MeanFilter", "Viewer1 : Viewer"]
+    );
+    assert_eq!(g.nodes[0].compartments[0].lines, ["width = 640", "height = 480"]);
+    assert!(g.edges.iter().any(|e| e.source.id() == "Camera1.Camera1ProviderPort.CameraImageProviderPort"
+        && e.target.id() == "MeanFilter1.MeanProcessorPort.MeanImageProcessorPort"));
+}
+
+#[test]
+fn every_sample_diagram_has_a_graph() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
+    let db = RootDatabase::default();
+    let mut files = Vec::new();
+    for dir in ["seed", "framework"] {
+        for entry in std::fs::read_dir(root.join(dir)).unwrap().flatten() {
+            let path = entry.path();
+            if path.extension().is_some_and(|e| e == "gudsl") {
+                files.push(SourceFile::new(&db, path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
+            }
+        }
+    }
+    let ws = Workspace::new(&db, files.clone());
+    let mut total = 0;
+    for file in &files {
+        let diagrams =
+            parse(&db, *file).syntax_node().descendants().filter(|n| ast::Diagram::can_cast(n.kind())).count();
+        let graphs = file_graphs(&db, ws, *file);
+        assert_eq!(graphs.len(), diagrams, "{}", file.path(&db));
+        for graph in graphs {
+            let mut ids: Vec<&str> = graph.nodes.iter().map(|n| n.id.as_str()).collect();
+            ids.sort();
+            ids.dedup();
+            assert_eq!(ids.len(), graph.nodes.len(), "duplicate node ids in {}", graph.id);
+        }
+        total += diagrams;
+    }
+    assert!(total > 40, "{total}");
+}

@@ -1,0 +1,156 @@
+//! Measuring: how large each node is drawn (its header, compartments and port lines in the
+//! bundled font), where its text starts, where its ports sit, and how large an edge label is.
+
+use gudsl_model::graph::{GraphNode, GraphPort, NodeShape};
+
+use super::Point;
+use crate::text::{self, Style};
+
+pub(crate) const FONT_SIZE: f64 = 12.0;
+pub(crate) const PADDING: f64 = 8.0;
+/// Font size of edge labels.
+pub(crate) const LABEL_SIZE: f64 = FONT_SIZE * 0.85;
+/// Font size of port lines.
+pub(crate) const PORT_SIZE: f64 = FONT_SIZE * 0.85;
+/// Font size of association multiplicities.
+pub(crate) const MULTIPLICITY_SIZE: f64 = FONT_SIZE * 0.8;
+/// Lines of an action's body shown before it is collapsed to "…".
+const MAX_BODY_LINES: usize = 6;
+/// Longest body line shown, in characters.
+const MAX_LINE_CHARS: usize = 60;
+/// Edge labels (guards, arguments) wrap at spaces beyond this many characters per line.
+const LABEL_LINE_CHARS: usize = 40;
+
+/// A node's drawn content: header lines (stereotype, name) and compartments of lines.
+pub(crate) struct Content {
+    pub(crate) header: Vec<(String, Style)>,
+    pub(crate) compartments: Vec<Vec<String>>,
+    pub(crate) width: f64,
+    pub(crate) height: f64,
+}
+
+/// A port's line: its notation symbol (provider lollipop ○, processor socket ◐) and label.
+pub(crate) fn port_text(port: &GraphPort) -> String {
+    let symbol = match port.provider {
+        Some(true) => "○",
+        Some(false) => "◐",
+        None => "□",
+    };
+    format!("{symbol} {}", port.label)
+}
+
+/// An edge label as lines of at most `LABEL_LINE_CHARS` characters, broken at spaces (a word
+/// longer than that gets a line of its own).
+pub(crate) fn label_lines(label: &str) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in label.split(' ') {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= LABEL_LINE_CHARS => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
+}
+
+/// The width and height of an edge label as drawn.
+pub(crate) fn label_size(label: &str) -> (f64, f64) {
+    let lines = label_lines(label);
+    let width = lines.iter().map(|line| text::width(line, LABEL_SIZE, Style::Regular)).fold(0.0, f64::max);
+    (width, text::line_height(LABEL_SIZE) * lines.len() as f64)
+}
+
+fn shorten(line: &str) -> String {
+    if line.chars().count() > MAX_LINE_CHARS {
+        format!("{}…", line.chars().take(MAX_LINE_CHARS - 1).collect::<String>())
+    } else {
+        line.to_string()
+    }
+}
+
+/// What a node shows and how large it is.
+pub(crate) fn content(node: &GraphNode) -> Content {
+    let line_h = text::line_height(FONT_SIZE);
+    match node.shape {
+        NodeShape::Start => return Content { header: Vec::new(), compartments: Vec::new(), width: 20.0, height: 20.0 },
+        NodeShape::Final => return Content { header: Vec::new(), compartments: Vec::new(), width: 24.0, height: 24.0 },
+        NodeShape::Fork | NodeShape::Join => {
+            return Content { header: Vec::new(), compartments: Vec::new(), width: 80.0, height: 8.0 };
+        }
+        _ => {}
+    }
+    let mut header = Vec::new();
+    if let Some(stereotype) = &node.stereotype {
+        header.push((format!("«{stereotype}»"), Style::Regular));
+    }
+    let name_style = if node.is_abstract { Style::Oblique } else { Style::Bold };
+    header.push((node.label.clone(), name_style));
+    let mut compartments: Vec<Vec<String>> = node
+        .compartments
+        .iter()
+        .map(|c| {
+            let mut lines: Vec<String> = c.lines.iter().map(|l| shorten(l)).collect();
+            if matches!(
+                node.shape,
+                NodeShape::Action | NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow
+            ) && lines.len() > MAX_BODY_LINES
+            {
+                let hidden = lines.len() - MAX_BODY_LINES + 1;
+                lines.truncate(MAX_BODY_LINES - 1);
+                lines.push(format!("… {hidden} more"));
+            }
+            lines
+        })
+        .collect();
+    if matches!(node.shape, NodeShape::Class | NodeShape::Interface | NodeShape::Enum | NodeShape::Attribute)
+        && compartments.is_empty()
+    {
+        compartments.push(Vec::new());
+    }
+    let widest_header = header.iter().map(|(t, s)| text::width(t, FONT_SIZE, *s)).fold(0.0, f64::max);
+    let widest_line =
+        compartments.iter().flatten().map(|l| text::width(l, FONT_SIZE, Style::Regular)).fold(0.0, f64::max);
+    let ports_width =
+        node.ports.iter().map(|p| text::width(&port_text(p), PORT_SIZE, Style::Regular)).fold(0.0, f64::max);
+    let mut width = widest_header.max(widest_line).max(ports_width) + 2.0 * PADDING;
+    let mut height = text_height(header.len(), &compartments, 0);
+    if node.shape == NodeShape::Decision {
+        // A diamond holds its label in the middle half.
+        width = width * 1.6 + 10.0;
+        height = height * 1.6 + 10.0;
+    }
+    if node.shape == NodeShape::Component {
+        width += 24.0; // the component icon
+    }
+    height += node.ports.len() as f64 * line_h * 0.9;
+    Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
+}
+
+/// The height of a node's text: header lines, compartments (an empty one keeps one line) with
+/// their separators, and the port lines.
+fn text_height(header_lines: usize, compartments: &[Vec<String>], ports: usize) -> f64 {
+    let line_h = text::line_height(FONT_SIZE);
+    let lines = header_lines + compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
+    lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING + ports as f64 * line_h * 0.9
+}
+
+/// Where a node's text starts: its block centred vertically in a box whose top is `top`.
+pub(crate) fn text_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
+    let block = text_height(content.header.len(), &content.compartments, node.ports.len());
+    top + (content.height - block).max(0.0) / 2.0 + PADDING / 2.0
+}
+
+/// Where connections meet each port of a node: just outside its lollipop or socket on the
+/// right border (the rows the port lines are drawn in).
+pub(crate) fn port_anchors(node: &GraphNode, content: &Content, at: Point) -> Vec<Point> {
+    let line_h = text::line_height(FONT_SIZE);
+    let mut cursor = text_top(node, content, at.y) + content.header.len() as f64 * line_h;
+    for compartment in &content.compartments {
+        cursor += PADDING + compartment.len().max(1) as f64 * line_h;
+    }
+    (0..node.ports.len())
+        .map(|i| Point { x: at.x + content.width + 24.0, y: cursor + line_h * 0.45 + i as f64 * line_h * 0.9 })
+        .collect()
+}

@@ -1,0 +1,394 @@
+//! The scene: a diagram measured and laid out, as plain data — every box, text line, port,
+//! edge polyline, label and swimlane at its place (as usvg resolves an SVG into a render tree).
+//! [`build`] makes it from a graph: it sizes each node from its measured text (`measure`),
+//! lays the graph out (`crate::layout`), routes connections port to port, and places the labels
+//! (`labels`). The writers (`svg`, `json`) only draw or serialise it.
+
+pub(crate) mod labels;
+pub(crate) mod measure;
+
+use std::collections::HashMap;
+
+use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, NodeShape};
+
+pub use crate::layout::Point;
+use crate::{
+    layout::{layered, LayoutInput, LayoutNode, Spacing},
+    text::{self, Style},
+};
+use measure::{content, label_lines, label_size, port_anchors, port_text, text_top, Content};
+use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
+
+/// An axis-parallel box: top-left corner and size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rect {
+    pub x: f64,
+    pub y: f64,
+    pub width: f64,
+    pub height: f64,
+}
+
+/// A line of text at its baseline's start (or centre).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TextLine {
+    pub x: f64,
+    pub y: f64,
+    pub text: String,
+    pub style: Style,
+}
+
+/// A laid-out diagram.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    /// The diagram's fully qualified name.
+    pub id: String,
+    pub width: f64,
+    pub height: f64,
+    pub lanes: Vec<Lane>,
+    pub edges: Vec<SceneEdge>,
+    pub nodes: Vec<SceneNode>,
+}
+
+/// A swimlane: a partition around its nodes' column, titled `lane : owner`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lane {
+    pub id: String,
+    pub rect: Rect,
+    /// The title, centred at the top.
+    pub title: TextLine,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneNode {
+    pub id: String,
+    pub shape: NodeShape,
+    pub rect: Rect,
+    /// Stereotype and name, centred.
+    pub header: Vec<TextLine>,
+    pub compartments: Vec<SceneCompartment>,
+    pub ports: Vec<ScenePort>,
+}
+
+/// A compartment: the line above it and its text lines.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneCompartment {
+    pub separator_y: f64,
+    pub lines: Vec<TextLine>,
+}
+
+/// A port: its line of text, and the row on the right border where its symbol sits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScenePort {
+    pub id: String,
+    pub text: TextLine,
+    pub symbol_y: f64,
+    /// `provider` (lollipop) or `processor` (socket); `None`: no symbol.
+    pub provider: Option<bool>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneEdge {
+    pub id: String,
+    pub kind: EdgeKind,
+    /// The ids of its ends (a port's for connections and bindings).
+    pub source: String,
+    pub target: String,
+    /// From the source's border (or port) to the target's.
+    pub points: Vec<Point>,
+    pub label: Option<EdgeLabel>,
+    /// Multiplicities beside the source and target ends.
+    pub multiplicities: Vec<Multiplicity>,
+}
+
+/// An edge label: its box and lines, each with its baseline offset from the previous one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EdgeLabel {
+    pub rect: Rect,
+    pub lines: Vec<(f64, String)>,
+}
+
+/// A multiplicity beside an end of an association; `end_anchored` text ends at `x`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Multiplicity {
+    pub x: f64,
+    pub y: f64,
+    pub text: String,
+    pub end_anchored: bool,
+}
+
+/// A graph's edge with both ends found: node indices, and port indices on them.
+struct ResolvedEdge<'g> {
+    edge: &'g gudsl_model::graph::GraphEdge,
+    from: (usize, Option<usize>),
+    to: (usize, Option<usize>),
+}
+
+/// Measures and lays out a graph.
+pub fn build(graph: &Graph) -> Scene {
+    let contents: Vec<Content> = graph.nodes.iter().map(content).collect();
+    let by_id: HashMap<&str, usize> = graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), i)).collect();
+    let resolve = |end: &EdgeEnd| {
+        let node = *by_id.get(end.node.as_str())?;
+        let port = end.port.as_ref().and_then(|id| graph.nodes[node].ports.iter().position(|p| &p.id == id));
+        Some((node, port))
+    };
+    // Edges whose ends are both in the graph (dangling ones are not drawn).
+    let edges: Vec<ResolvedEdge> = graph
+        .edges
+        .iter()
+        .filter_map(|edge| Some(ResolvedEdge { edge, from: resolve(&edge.source)?, to: resolve(&edge.target)? }))
+        .collect();
+    let mut input = LayoutInput {
+        nodes: contents.iter().map(|c| LayoutNode { width: c.width, height: c.height }).collect(),
+        edges: Vec::new(),
+        groups: graph
+            .nodes
+            .iter()
+            .map(|n| n.group.as_ref().and_then(|g| graph.groups.iter().position(|group| &group.id == g)))
+            .collect(),
+        labels: Vec::new(),
+    };
+    for e in &edges {
+        // Generalization and realization point upwards in UML: lay them out parent first.
+        input.edges.push(match e.edge.kind {
+            EdgeKind::Generalization | EdgeKind::Realization => (e.to.0, e.from.0),
+            _ => (e.from.0, e.to.0),
+        });
+        // The layout makes room for the labels of the edges it routes (not port to port).
+        let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
+        input.labels.push(e.edge.label.as_deref().filter(|_| routed_by_layout).map(label_size));
+    }
+    let mut layout = layered(&input, Spacing::default());
+    for (route, e) in layout.edges.iter_mut().zip(&edges) {
+        if matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
+            route.reverse(); // drawn from the child to the parent
+        }
+    }
+    let anchors: Vec<Vec<Point>> = graph
+        .nodes
+        .iter()
+        .zip(&contents)
+        .zip(&layout.positions)
+        .map(|((node, content), at)| port_anchors(node, content, *at))
+        .collect();
+    let boxes: Vec<Rect> = layout
+        .positions
+        .iter()
+        .zip(&contents)
+        .map(|(p, c)| Rect { x: p.x, y: p.y, width: c.width, height: c.height })
+        .collect();
+    // Connections and bindings run between ports: out of the source port to a vertical lane
+    // right of every box, then into the target port.
+    let right_of_boxes = boxes.iter().map(|b| b.x + b.width).fold(0.0, f64::max) + 40.0;
+    // The gap below (or above) every box that shares `y`'s band: clear of all boxes there.
+    let in_band = |y: f64| boxes.iter().filter(move |b| b.y <= y && y <= b.y + b.height);
+    let below = |y: f64| in_band(y).map(|b| b.y + b.height).fold(y, f64::max) + 16.0;
+    let above = |y: f64| in_band(y).map(|b| b.y).fold(y, f64::min) - 16.0;
+    let mut lane = 0.0;
+    for (route, e) in layout.edges.iter_mut().zip(&edges) {
+        let (Some(from_port), Some(to_port)) = (e.from.1, e.to.1) else { continue };
+        let (from, to) = (anchors[e.from.0][from_port], anchors[e.to.0][to_port]);
+        let x = right_of_boxes + lane;
+        lane += 14.0;
+        // Out of the port, into the gap between the rows, along it to the lane, and back in the
+        // same way to the target port: no segment crosses a box.
+        let (out_y, in_y) = if to.y >= from.y { (below(from.y), above(to.y)) } else { (above(from.y), below(to.y)) };
+        let (fx, tx) = (from.x + 8.0, to.x + 8.0);
+        *route = vec![
+            from,
+            Point { x: fx, y: from.y },
+            Point { x: fx, y: out_y },
+            Point { x, y: out_y },
+            Point { x, y: in_y },
+            Point { x: tx, y: in_y },
+            Point { x: tx, y: to.y },
+            to,
+        ];
+    }
+    layout.width = layout.width.max(right_of_boxes + lane + 20.0);
+    let labels = place_labels(&edges, &layout.edges, &layout.labels, &boxes);
+
+    // The drawing grows to hold edge labels that reach past the boxes, and lane titles.
+    let width = labels.iter().flatten().map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);
+    let height = labels.iter().flatten().map(|l| l.y + l.height + 8.0).fold(layout.height, f64::max);
+    // Room for every lane title (measured as its two runs, `lane` and ` : owner`).
+    let width = graph
+        .groups
+        .iter()
+        .map(|g| {
+            text::width(&g.label, FONT_SIZE, Style::Bold)
+                + g.owner.as_ref().map_or(0.0, |o| text::width(&format!(" : {o}"), FONT_SIZE, Style::Bold))
+        })
+        .fold(width, |w, title| w.max(title + 40.0));
+
+    let lanes = graph
+        .groups
+        .iter()
+        .filter_map(|group| {
+            let members: Vec<&Rect> = graph
+                .nodes
+                .iter()
+                .zip(&boxes)
+                .filter(|(n, _)| n.group.as_ref() == Some(&group.id))
+                .map(|(_, b)| b)
+                .collect();
+            lane_of(group, &members, width, height)
+        })
+        .collect();
+    let scene_edges = edges
+        .iter()
+        .zip(layout.edges)
+        .zip(labels)
+        .map(|((e, points), label)| SceneEdge {
+            id: e.edge.id.clone(),
+            kind: e.edge.kind,
+            source: e.edge.source.id().to_string(),
+            target: e.edge.target.id().to_string(),
+            multiplicities: multiplicities(e.edge, &points),
+            label: e.edge.label.as_ref().zip(label).map(|(text, rect)| edge_label(text, rect)),
+            points,
+        })
+        .collect();
+    let nodes = graph
+        .nodes
+        .iter()
+        .zip(&contents)
+        .zip(&boxes)
+        .map(|((node, content), rect)| scene_node(node, content, *rect))
+        .collect();
+    Scene { id: graph.id.clone(), width, height, lanes, edges: scene_edges, nodes }
+}
+
+/// Each edge's label box: where the layout reserved it, else placed clear of the boxes, the
+/// labels before it and every edge.
+fn place_labels(
+    edges: &[ResolvedEdge],
+    routes: &[Vec<Point>],
+    laid_out: &[Option<Point>],
+    boxes: &[Rect],
+) -> Vec<Option<Rect>> {
+    let all_routes: Vec<&[Point]> = routes.iter().map(Vec::as_slice).collect();
+    let mut placed: Vec<Rect> = Vec::new();
+    let mut labels = Vec::with_capacity(edges.len());
+    for ((e, route), at) in edges.iter().zip(routes).zip(laid_out) {
+        let label = e.edge.label.as_ref().map(|label| {
+            let chosen = match at {
+                Some(at) => {
+                    let (width, height) = label_size(label);
+                    Rect { x: at.x, y: at.y, width, height }
+                }
+                None => labels::place_label(route, label, boxes, &placed, &all_routes),
+            };
+            placed.push(chosen);
+            chosen
+        });
+        labels.push(label);
+    }
+    labels
+}
+
+fn lane_title(group: &gudsl_model::graph::GraphGroup) -> String {
+    match &group.owner {
+        Some(owner) => format!("{} : {owner}", group.label),
+        None => group.label.clone(),
+    }
+}
+
+/// A swimlane's partition around its members, at least as wide as its title, inside the canvas.
+fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[&Rect], width: f64, height: f64) -> Option<Lane> {
+    if members.is_empty() {
+        return None;
+    }
+    let mut left = members.iter().map(|b| b.x).fold(f64::INFINITY, f64::min) - 14.0;
+    let mut right = members.iter().map(|b| b.x + b.width).fold(f64::NEG_INFINITY, f64::max) + 14.0;
+    let title = lane_title(group);
+    let missing = text::width(&title, FONT_SIZE, Style::Bold) + 16.0 - (right - left);
+    if missing > 0.0 {
+        left -= missing / 2.0;
+        right += missing / 2.0;
+    }
+    left = left.max(1.0);
+    right = right.min(width - 1.0);
+    Some(Lane {
+        id: group.id.clone(),
+        rect: Rect { x: left, y: 2.0, width: right - left, height: height - 4.0 },
+        title: TextLine {
+            x: (left + right) / 2.0,
+            y: 2.0 + text::ascent(FONT_SIZE) + 2.0,
+            text: title,
+            style: Style::Bold,
+        },
+    })
+}
+
+/// Multiplicities beside each end of an association (source end, then target end), on the side
+/// the edge turns away to (right of a straight one).
+fn multiplicities(edge: &gudsl_model::graph::GraphEdge, points: &[Point]) -> Vec<Multiplicity> {
+    let ends = [
+        (&edge.source_label, points.first(), points.get(1)),
+        (&edge.target_label, points.last(), points.len().checked_sub(2).and_then(|i| points.get(i))),
+    ];
+    let mut out = Vec::new();
+    for (multiplicity, end, next) in ends {
+        let (Some(text), Some(end), Some(next)) = (multiplicity.as_ref().filter(|m| !m.is_empty()), end, next) else {
+            continue;
+        };
+        let (dx, dy) = (next.x - end.x, next.y - end.y);
+        let len = (dx * dx + dy * dy).sqrt().max(1e-9);
+        let leftwards = dx < -0.5;
+        let side = if leftwards { -6.0 } else { 6.0 };
+        let (px, py) = (end.x + dx / len * 14.0 + side, end.y + dy / len * 14.0);
+        out.push(Multiplicity {
+            x: px,
+            y: py + text::ascent(measure::MULTIPLICITY_SIZE) / 2.0,
+            text: text.clone(),
+            end_anchored: leftwards,
+        });
+    }
+    out
+}
+
+fn edge_label(label: &str, rect: Rect) -> EdgeLabel {
+    let lines = label_lines(label)
+        .into_iter()
+        .enumerate()
+        .map(|(n, line)| (if n == 0 { text::ascent(LABEL_SIZE) } else { text::line_height(LABEL_SIZE) }, line))
+        .collect();
+    EdgeLabel { rect, lines }
+}
+
+/// A node's text lines and port rows at their places: the header centred, compartments
+/// left-aligned under their separators, then the ports.
+fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rect) -> SceneNode {
+    let line_h = text::line_height(FONT_SIZE);
+    let ascent = text::ascent(FONT_SIZE);
+    let mut cursor = text_top(node, content, rect.y);
+    let mut header = Vec::new();
+    for (line, style) in &content.header {
+        header.push(TextLine { x: rect.x + rect.width / 2.0, y: cursor + ascent, text: line.clone(), style: *style });
+        cursor += line_h;
+    }
+    let mut compartments = Vec::new();
+    for compartment in &content.compartments {
+        cursor += PADDING / 2.0;
+        let separator_y = cursor;
+        cursor += PADDING / 2.0;
+        let mut lines = Vec::new();
+        for line in compartment {
+            lines.push(TextLine { x: rect.x + PADDING, y: cursor + ascent, text: line.clone(), style: Style::Regular });
+            cursor += line_h;
+        }
+        if compartment.is_empty() {
+            cursor += line_h;
+        }
+        compartments.push(SceneCompartment { separator_y, lines });
+    }
+    let mut ports = Vec::new();
+    for port in &node.ports {
+        let text =
+            TextLine { x: rect.x + PADDING, y: cursor + ascent * 0.85, text: port_text(port), style: Style::Regular };
+        ports.push(ScenePort { id: port.id.clone(), text, symbol_y: cursor + line_h * 0.45, provider: port.provider });
+        cursor += line_h * 0.9;
+    }
+    SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports }
+}

@@ -1,0 +1,172 @@
+//! Tests over every sample diagram: the scene's geometry (no overlaps, labels clear, edges on
+//! their boxes and ports), text that fits its box, and the writers (SVG deterministic and
+//! rasterizable, layout JSON in the metrics script's format).
+
+use gudsl_model::{graph::Graph, AnalysisHost};
+
+use crate::{
+    json,
+    scene::{
+        self,
+        labels::{intersects, segment_meets_box},
+        measure::{content, port_anchors, port_text, FONT_SIZE, PADDING, PORT_SIZE},
+        Point, Rect,
+    },
+    svg::render,
+    text::{self, Style},
+};
+
+fn sample_graphs() -> Vec<Graph> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
+    let mut files = Vec::new();
+    for dir in ["seed", "framework"] {
+        let mut entries: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().flatten().map(|e| e.path()).collect();
+        entries.sort();
+        for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "gudsl")) {
+            files.push((path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
+        }
+    }
+    let (host, files) = AnalysisHost::with_files(files);
+    let analysis = host.analysis();
+    files.iter().flat_map(|&f| analysis.graphs(f).unwrap().to_vec()).collect()
+}
+
+#[test]
+fn every_sample_diagram_renders_deterministically() {
+    let graphs = sample_graphs();
+    assert!(graphs.len() > 40);
+    for graph in &graphs {
+        let svg = render(graph);
+        assert!(svg.starts_with("<svg ") && svg.ends_with("</svg>\n"), "{}", graph.id);
+        assert_eq!(svg, render(graph), "{}: not deterministic", graph.id);
+        assert_eq!(svg.matches("<g class=\"node\"").count(), graph.nodes.len(), "{}", graph.id);
+        assert!(!svg.contains("NaN") && !svg.contains("inf"), "{}", graph.id);
+    }
+}
+
+#[test]
+fn every_sample_svg_rasterizes_with_resvg() {
+    for graph in sample_graphs().iter() {
+        let png = crate::png::to_png(&render(graph), 1.0).unwrap_or_else(|e| panic!("{}: {e}", graph.id));
+        assert!(png.starts_with(b"\x89PNG"), "{}", graph.id);
+    }
+    for graph in sample_graphs() {
+        crate::png::parse(&render(&graph)).unwrap_or_else(|e| panic!("{}: {e}", graph.id));
+    }
+}
+
+#[test]
+fn layout_json_is_the_metrics_script_format() {
+    for graph in sample_graphs().iter().take(8) {
+        let json = json::write(&scene::build(graph));
+        assert!(json.starts_with("{\"nodes\":[{\"id\":"), "{json}");
+        assert!(json.contains("\"edges\":[") && json.contains("\"labels\":["));
+        assert_eq!(json.matches("\"w\":").count() - json.matches("\"kind\":\"mid\"").count(), graph.nodes.len());
+    }
+}
+
+/// Geometry of every sample diagram: boxes do not overlap, no label covers a box or is crossed
+/// by an edge, and every edge starts and ends on the border of its boxes (or at its ports).
+#[test]
+fn sample_geometry_is_clean() {
+    for graph in sample_graphs() {
+        let scene = scene::build(&graph);
+        let boxes: Vec<Rect> = scene.nodes.iter().map(|n| n.rect).collect();
+        for a in 0..boxes.len() {
+            for b in a + 1..boxes.len() {
+                assert!(
+                    !intersects(boxes[a], boxes[b]),
+                    "{}: {} overlaps {}",
+                    graph.id,
+                    graph.nodes[a].id,
+                    graph.nodes[b].id
+                );
+            }
+        }
+        for edge in &scene.edges {
+            if let Some(label) = &edge.label {
+                for other in &scene.edges {
+                    let crossed = other.points.windows(2).any(|s| segment_meets_box(s[0], s[1], label.rect));
+                    assert!(!crossed, "{}: label of {} is crossed by {}", graph.id, edge.id, other.id);
+                }
+                for (i, b) in boxes.iter().enumerate() {
+                    assert!(
+                        !intersects(label.rect, *b),
+                        "{}: label of {} covers {}",
+                        graph.id,
+                        edge.id,
+                        graph.nodes[i].id
+                    );
+                }
+            }
+        }
+        let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+        for edge in &scene.edges {
+            let route = &edge.points;
+            let (Some(s), Some(t)) = (index_of(&edge.source), index_of(&edge.target)) else { continue };
+            if s == t {
+                continue;
+            }
+            // Port-to-port edges end at the ports' anchors, right of the boxes.
+            let port_anchor = |node: usize, id: &str| {
+                graph.nodes[node].ports.iter().position(|p| p.id == id).map(|i| {
+                    let at = Point { x: boxes[node].x, y: boxes[node].y };
+                    port_anchors(&graph.nodes[node], &content(&graph.nodes[node]), at)[i]
+                })
+            };
+            if let (Some(a), Some(b)) = (port_anchor(s, &edge.source), port_anchor(t, &edge.target)) {
+                assert_eq!(route[0], a, "{}: {} does not start at its port", graph.id, edge.id);
+                assert_eq!(*route.last().unwrap(), b, "{}: {} does not end at its port", graph.id, edge.id);
+                // Axis-parallel segments: none may pass through a box.
+                for segment in route.windows(2) {
+                    let (x0, x1) = (segment[0].x.min(segment[1].x), segment[0].x.max(segment[1].x));
+                    let (y0, y1) = (segment[0].y.min(segment[1].y), segment[0].y.max(segment[1].y));
+                    for (i, bx) in boxes.iter().enumerate() {
+                        let hit = x0 < bx.x + bx.width
+                            && bx.x < x1.max(x0 + 0.01)
+                            && y0 < bx.y + bx.height
+                            && bx.y < y1.max(y0 + 0.01);
+                        assert!(!hit, "{}: {} passes through {}", graph.id, edge.id, graph.nodes[i].id);
+                    }
+                }
+                continue;
+            }
+            let on_border = |p: Point, b: Rect| {
+                let e = 0.01;
+                let inside = p.x >= b.x - e && p.x <= b.x + b.width + e && p.y >= b.y - e && p.y <= b.y + b.height + e;
+                let edge_x = (p.x - b.x).abs() < e || (p.x - b.x - b.width).abs() < e;
+                let edge_y = (p.y - b.y).abs() < e || (p.y - b.y - b.height).abs() < e;
+                inside && (edge_x || edge_y)
+            };
+            assert!(on_border(route[0], boxes[s]), "{}: {} does not start on its box", graph.id, edge.id);
+            assert!(on_border(*route.last().unwrap(), boxes[t]), "{}: {} does not end on its box", graph.id, edge.id);
+        }
+    }
+}
+
+#[test]
+fn text_fits_its_box() {
+    for graph in sample_graphs() {
+        for node in &graph.nodes {
+            let c = content(node);
+            for (line, style) in &c.header {
+                assert!(text::width(line, FONT_SIZE, *style) + 2.0 * PADDING <= c.width + 1e-6, "{}: {line}", node.id);
+            }
+            for line in c.compartments.iter().flatten() {
+                assert!(
+                    text::width(line, FONT_SIZE, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
+                    "{}: {line}",
+                    node.id
+                );
+            }
+            for port in &node.ports {
+                let line = port_text(port);
+                assert!(
+                    text::width(&line, PORT_SIZE, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
+                    "{}: {line}",
+                    node.id
+                );
+            }
+        }
+    }
+}
