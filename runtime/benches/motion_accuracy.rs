@@ -44,16 +44,16 @@ fn pipeline(config: &Config, restriction: Option<(f32, f32)>) -> Pipeline {
     let mut p = Pipeline::new();
     let shape = Shape { width: 200, height: 200, planes: 8 };
     let (raw, black) = (p.source("raw", shape), p.source("black", shape));
-    let raw = p.step(Kernel::SubtractBlack, &[raw, black])[0];
-    let mask = p.step(Kernel::DetectMotion { theta: config.theta_percent / 100.0 * 65535.0 }, &[raw])[1];
-    let mut flow = p.step(Kernel::MatchBlocks { window: config.window, restriction }, &[raw, mask])[0];
+    let raw = p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0];
+    let mask = p.step(Kernel::DetectMotion { theta: config.theta_percent / 100.0 * 65535.0 }, &[raw]).unwrap()[1];
+    let mut flow = p.step(Kernel::MatchBlocks { window: config.window, restriction }, &[raw, mask]).unwrap()[0];
     if config.smooth {
-        flow = p.step(Kernel::SmoothFlow { window: config.window }, &[flow])[0];
+        flow = p.step(Kernel::SmoothFlow { window: config.window }, &[flow]).unwrap()[0];
     }
-    let corrected = p.step(Kernel::CorrectRaw, &[raw, flow])[0];
-    let distance = p.step(Kernel::Demodulate { modulation_hz: MODULATION_HZ }, &[corrected])[3];
-    p.sink(distance);
-    p.sink(flow);
+    let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
+    let distance = p.step(Kernel::Demodulate { modulation_hz: MODULATION_HZ }, &[corrected]).unwrap()[3];
+    p.sink(distance).unwrap();
+    p.sink(flow).unwrap();
     p
 }
 
@@ -61,8 +61,8 @@ fn run(gpu: Option<&Gpu>, pipeline: &Pipeline, frame: &Frame) -> (Vec<Image>, f6
     let inputs = [frame.raw.clone(), frame.black.clone()];
     let start = Instant::now();
     let out = match gpu {
-        Some(gpu) => GpuPipeline::new(gpu, pipeline).run(&inputs),
-        None => run_cpu(pipeline, &inputs),
+        Some(gpu) => GpuPipeline::new(gpu, pipeline).run(&inputs).unwrap(),
+        None => run_cpu(pipeline, &inputs).unwrap(),
     };
     (out, start.elapsed().as_secs_f64() * 1e3)
 }

@@ -47,8 +47,8 @@ fn single(kernel: Kernel, inputs: &[Image]) -> Pipeline {
         .enumerate()
         .map(|(i, im)| p.source(&format!("in{i}"), Shape { width: im.width, height: im.height, planes: im.planes }))
         .collect();
-    for out in p.step(kernel, &sources) {
-        p.sink(out);
+    for out in p.step(kernel, &sources).unwrap() {
+        p.sink(out).unwrap();
     }
     p
 }
@@ -58,13 +58,13 @@ fn motion_chain(width: usize, height: usize) -> Pipeline {
     let mut p = Pipeline::new();
     let shape = Shape { width, height, planes: 8 };
     let (raw, black) = (p.source("raw", shape), p.source("black", shape));
-    let raw = p.step(Kernel::SubtractBlack, &[raw, black])[0];
-    let mask = p.step(Kernel::DetectMotion { theta: 655.0 }, &[raw])[1];
-    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None }, &[raw, mask])[0];
-    let corrected = p.step(Kernel::CorrectRaw, &[raw, flow])[0];
-    let outputs = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]);
-    p.sink(outputs[1]);
-    p.sink(outputs[3]);
+    let raw = p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0];
+    let mask = p.step(Kernel::DetectMotion { theta: 655.0 }, &[raw]).unwrap()[1];
+    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None }, &[raw, mask]).unwrap()[0];
+    let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
+    let outputs = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap();
+    p.sink(outputs[1]).unwrap();
+    p.sink(outputs[3]).unwrap();
     p
 }
 
@@ -72,12 +72,12 @@ fn motion_chain(width: usize, height: usize) -> Pipeline {
 fn filter_chain(width: usize, height: usize) -> Pipeline {
     let mut p = Pipeline::new();
     let raw = p.source("raw", Shape { width, height, planes: 8 });
-    let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw])[3];
-    let a = p.step(Kernel::Median { radius: 1 }, &[distance])[0];
-    let b = p.step(Kernel::Median { radius: 2 }, &[a])[0];
-    let c = p.step(Kernel::Gaussian { sigma: 1.0 }, &[b])[0];
-    let d = p.step(Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.05 }, &[c])[0];
-    p.sink(d);
+    let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[3];
+    let a = p.step(Kernel::Median { radius: 1 }, &[distance]).unwrap()[0];
+    let b = p.step(Kernel::Median { radius: 2 }, &[a]).unwrap()[0];
+    let c = p.step(Kernel::Gaussian { sigma: 1.0 }, &[b]).unwrap()[0];
+    let d = p.step(Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.05 }, &[c]).unwrap()[0];
+    p.sink(d).unwrap();
     p
 }
 
@@ -97,27 +97,28 @@ fn car_chain(width: usize, height: usize) -> Pipeline {
     let (bg_intensity, bg_distance) = (p.source("background intensity", plane), p.source("background distance", plane));
     let rays = p.source("rays", cloud);
     let (model, model_normals) = (p.source("model", cloud), p.source("model normals", cloud));
-    let [_, amplitude, intensity, distance] = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw])[..] else {
+    let [_, amplitude, intensity, distance] = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[..]
+    else {
         unreachable!()
     };
-    let mut d = p.step(Kernel::MaskAmplitude { min: 250.0, max: 60_000.0 }, &[distance, amplitude])[0];
-    d = p.step(Kernel::Median { radius: 2 }, &[d])[0];
-    d = p.step(Kernel::Gaussian { sigma: 4.0 }, &[d])[0];
-    d = p.step(Kernel::RemoveOutliers { range: 0.05, min_similar: 3 }, &[d])[0];
+    let mut d = p.step(Kernel::MaskAmplitude { min: 250.0, max: 60_000.0 }, &[distance, amplitude]).unwrap()[0];
+    d = p.step(Kernel::Median { radius: 2 }, &[d]).unwrap()[0];
+    d = p.step(Kernel::Gaussian { sigma: 4.0 }, &[d]).unwrap()[0];
+    d = p.step(Kernel::RemoveOutliers { range: 0.05, min_similar: 3 }, &[d]).unwrap()[0];
     let segment = Kernel::Segment { theta_intensity: 100.0, theta_distance: 0.3 };
-    let mut mask = p.step(segment, &[intensity, d, bg_intensity, bg_distance])[0];
+    let mut mask = p.step(segment, &[intensity, d, bg_intensity, bg_distance]).unwrap()[0];
     for dilate in [false, true, true, false] {
-        mask = p.step(Kernel::Morphology { radius: 1, dilate }, &[mask])[0];
+        mask = p.step(Kernel::Morphology { radius: 1, dilate }, &[mask]).unwrap()[0];
     }
-    d = p.step(Kernel::ApplyMask, &[d, mask])[0];
-    let points = p.step(Kernel::PointCloud, &[d, rays])[0];
-    let normals = p.step(Kernel::Normals, &[points])[0];
+    d = p.step(Kernel::ApplyMask, &[d, mask]).unwrap()[0];
+    let points = p.step(Kernel::PointCloud, &[d, rays]).unwrap()[0];
+    let normals = p.step(Kernel::Normals, &[points]).unwrap()[0];
     let icp =
         Kernel::IcpReduce { pose: IDENTITY, intrinsics: intrinsics(width, height), max_distance: 0.2, min_cos: 0.94 };
-    let sums = p.step(icp, &[points, normals, model, model_normals])[0];
-    let moved = p.step(Kernel::TransformPoints { pose: IDENTITY }, &[points])[0];
-    p.sink(sums);
-    p.sink(moved);
+    let sums = p.step(icp, &[points, normals, model, model_normals]).unwrap()[0];
+    let moved = p.step(Kernel::TransformPoints { pose: IDENTITY }, &[points]).unwrap()[0];
+    p.sink(sums).unwrap();
+    p.sink(moved).unwrap();
     p
 }
 
@@ -176,11 +177,11 @@ fn main() {
                 other => other.name().to_string(),
             };
             let pipeline = single(kernel, &inputs);
-            let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs)))).collect());
+            let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs).unwrap()))).collect());
             let gpu_ms = gpu.as_ref().map(|gpu| {
                 let prepared = GpuPipeline::new(gpu, &pipeline);
-                prepared.run(&inputs); // warm up: pipelines compiled, buffers touched
-                median_ms((0..n).map(|_| prepared.time_steps(&inputs)[0]).collect())
+                prepared.run(&inputs).unwrap(); // warm up: pipelines compiled, buffers touched
+                median_ms((0..n).map(|_| prepared.time_steps(&inputs).unwrap()[0]).collect())
             });
             row(&label, w, h, cpu, gpu_ms, None);
         }
@@ -200,12 +201,13 @@ fn main() {
                 ],
             ),
         ] {
-            let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs)))).collect());
+            let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs).unwrap()))).collect());
             let (gpu_ms, trip) = gpu.as_ref().map_or((None, None), |gpu| {
                 let prepared = GpuPipeline::new(gpu, &pipeline);
-                prepared.run(&inputs);
-                let steps = median_ms((0..n).map(|_| prepared.time_steps(&inputs).into_iter().sum()).collect());
-                let trip = median_ms((0..n).map(|_| time(|| drop(prepared.run(&inputs)))).collect());
+                prepared.run(&inputs).unwrap();
+                let steps =
+                    median_ms((0..n).map(|_| prepared.time_steps(&inputs).unwrap().into_iter().sum()).collect());
+                let trip = median_ms((0..n).map(|_| time(|| drop(prepared.run(&inputs).unwrap()))).collect());
                 (Some(steps), Some(trip))
             });
             row(label, w, h, cpu, gpu_ms, trip);

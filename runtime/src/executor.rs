@@ -5,13 +5,14 @@
 use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
+use crate::error::PipelineError;
 use crate::gpu::Gpu;
 use crate::pipeline::{Pipeline, Slot};
 use crate::{Image, Kernel};
 
 /// The CPU reference executor.
-pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Vec<Image> {
-    assert_eq!(sources.len(), pipeline.sources.len(), "one image per source");
+pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
+    pipeline.check_sources(sources)?;
     let mut values: Vec<Option<Cow<Image>>> = vec![None; pipeline.slots.len()];
     for (slot, image) in pipeline.sources.iter().zip(sources) {
         values[slot.0] = Some(Cow::Borrowed(image));
@@ -24,7 +25,8 @@ pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Vec<Image> {
             values[slot.0] = Some(Cow::Owned(image));
         }
     }
-    pipeline.sinks.iter().map(|s| values[s.0].as_deref().expect("a computed sink").clone()).collect()
+    // Every step's inputs and every sink were checked to be slots made before them.
+    Ok(pipeline.sinks.iter().map(|s| values[s.0].as_deref().expect("a computed sink").clone()).collect())
 }
 
 /// A pipeline prepared on a GPU: buffers, parameters and bind groups made once.
@@ -60,9 +62,7 @@ impl<'g> GpuPipeline<'g> {
                     mapped_at_creation: false,
                 });
                 gpu.queue.write_buffer(&params, 0, &kernel.params(&shapes));
-                let (scratch_len, scratch_start) = kernel.scratch(&shapes);
-                let scratch =
-                    (scratch_len > 0).then(|| (gpu.storage("scratch", scratch_len), vec![scratch_start; scratch_len]));
+                let scratch = kernel.scratch(&shapes).map(|s| (gpu.storage("scratch", s.len), vec![s.start; s.len]));
                 let outputs = step.outputs.len() + usize::from(scratch.is_some());
                 let layout = gpu.layout(step.inputs.len(), outputs);
                 let passes: Vec<_> = kernel
@@ -99,14 +99,14 @@ impl<'g> GpuPipeline<'g> {
     }
 
     /// Uploads the sources, runs every step and reads the sinks back.
-    pub fn run(&self, sources: &[Image]) -> Vec<Image> {
-        self.upload(sources);
+    pub fn run(&self, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
+        self.upload(sources)?;
         self.rerun()
     }
 
     /// Runs every step again on the sources already on the GPU and reads the sinks back (for
     /// iterations that only change parameters, see [`GpuPipeline::set_kernel`]).
-    pub fn rerun(&self) -> Vec<Image> {
+    pub fn rerun(&self) -> Result<Vec<Image>, PipelineError> {
         self.reset_scratch();
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         for step in &self.steps {
@@ -119,11 +119,19 @@ impl<'g> GpuPipeline<'g> {
             offset += bytes;
         }
         self.gpu.queue.submit([encoder.finish()]);
-        self.staging.map_async(wgpu::MapMode::Read, .., |_| {});
+        let (sender, receiver) = std::sync::mpsc::channel();
+        self.staging.map_async(wgpu::MapMode::Read, .., move |mapped| {
+            let _ = sender.send(mapped);
+        });
         let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        match receiver.try_recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(error)) => return Err(PipelineError::Readback(error.to_string())),
+            Err(_) => return Err(PipelineError::Readback("the device finished without mapping the results".into())),
+        }
         let mut images = Vec::with_capacity(self.pipeline.sinks.len());
         {
-            let view = self.staging.get_mapped_range(..).expect("mapped sinks");
+            let view = self.staging.get_mapped_range(..).map_err(|e| PipelineError::Readback(e.to_string()))?;
             let all: &[f32] = bytemuck::cast_slice(&view);
             let mut start = 0;
             for &sink in &self.pipeline.sinks {
@@ -134,25 +142,29 @@ impl<'g> GpuPipeline<'g> {
             }
         }
         self.staging.unmap();
-        images
+        Ok(images)
     }
 
     /// Changes the parameters of step `index` (same kernel, same shapes), e.g. the pose of an
     /// ICP iteration.
-    pub fn set_kernel(&mut self, index: usize, kernel: Kernel) {
-        let step = &mut self.pipeline.steps[index];
-        assert_eq!(step.kernel.name(), kernel.name(), "set_kernel keeps the kernel, changing its parameters");
+    pub fn set_kernel(&mut self, index: usize, kernel: Kernel) -> Result<(), PipelineError> {
+        let step = self.pipeline.steps.get_mut(index).ok_or(PipelineError::UnknownStep(index))?;
+        if step.kernel.name() != kernel.name() {
+            return Err(PipelineError::KernelChanged { step: index, was: step.kernel.name(), given: kernel.name() });
+        }
         step.kernel = kernel;
         let shapes: Vec<_> = step.inputs.iter().map(|&s| self.pipeline.slots[s.0].1).collect();
         self.gpu.queue.write_buffer(&self.steps[index].params, 0, &kernel.params(&shapes));
+        Ok(())
     }
 
     /// Uploads the sources, then times each step on its own (submit and wait), without readback.
-    pub fn time_steps(&self, sources: &[Image]) -> Vec<Duration> {
-        self.upload(sources);
+    pub fn time_steps(&self, sources: &[Image]) -> Result<Vec<Duration>, PipelineError> {
+        self.upload(sources)?;
         self.reset_scratch();
         let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-        self.steps
+        Ok(self
+            .steps
             .iter()
             .map(|step| {
                 let start = Instant::now();
@@ -162,20 +174,15 @@ impl<'g> GpuPipeline<'g> {
                 let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
                 start.elapsed()
             })
-            .collect()
+            .collect())
     }
 
-    fn upload(&self, sources: &[Image]) {
-        assert_eq!(sources.len(), self.pipeline.sources.len(), "one image per source");
+    fn upload(&self, sources: &[Image]) -> Result<(), PipelineError> {
+        self.pipeline.check_sources(sources)?;
         for (&slot, image) in self.pipeline.sources.iter().zip(sources) {
-            assert_eq!(
-                image.data.len(),
-                self.pipeline.shape(slot).len(),
-                "source {} has the wrong size",
-                self.pipeline.slots[slot.0].0
-            );
             self.gpu.queue.write_buffer(&self.buffers[slot.0], 0, bytemuck::cast_slice(&image.data));
         }
+        Ok(())
     }
 
     fn reset_scratch(&self) {
@@ -216,7 +223,7 @@ impl<'g> Prepared<'g> {
         }
     }
 
-    pub fn run(&self, sources: &[Image]) -> Vec<Image> {
+    pub fn run(&self, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
         match self {
             Prepared::Gpu(prepared) => prepared.run(sources),
             Prepared::Cpu(pipeline) => run_cpu(pipeline, sources),

@@ -3,6 +3,7 @@
 //! the sinks) or, without an adapter, on the CPU reference.
 
 pub mod camera;
+pub mod error;
 pub mod executor;
 pub mod exposure;
 pub mod gpu;
@@ -14,6 +15,7 @@ pub mod pipeline;
 pub mod registration;
 pub mod sim;
 
+pub use error::PipelineError;
 pub use executor::{run_cpu, GpuPipeline, Prepared};
 pub use gpu::{Gpu, GpuUnavailable};
 pub use image::Image;

@@ -1,7 +1,11 @@
 //! A pipeline: named source images, kernel steps between image slots, and the sinks to read.
-//! Shapes flow from the sources through each kernel, so a pipeline is checked when it is built.
+//! Shapes flow from the sources through each kernel, so a pipeline is checked when it is built:
+//! a step given the wrong images is an error, not a panic later.
 
-use crate::kernels::{Kernel, Shape};
+use crate::{
+    error::PipelineError,
+    kernels::{Kernel, Shape},
+};
 
 /// An image slot of a pipeline (a source or a step's output).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -47,10 +51,13 @@ impl Pipeline {
         self.slots[slot.0].1
     }
 
-    /// Runs `kernel` on `inputs`; returns its output slots.
-    pub fn step(&mut self, kernel: Kernel, inputs: &[Slot]) -> Vec<Slot> {
-        assert_eq!(inputs.len(), kernel.inputs(), "{} takes {} input(s)", kernel.name(), kernel.inputs());
-        let shapes: Vec<Shape> = inputs.iter().map(|&s| self.shape(s)).collect();
+    /// Runs `kernel` on `inputs`; returns its output slots, or why the inputs do not fit it.
+    pub fn step(&mut self, kernel: Kernel, inputs: &[Slot]) -> Result<Vec<Slot>, PipelineError> {
+        let shapes = inputs
+            .iter()
+            .map(|s| self.slots.get(s.0).map(|(_, shape)| *shape).ok_or(PipelineError::UnknownSlot(s.0)))
+            .collect::<Result<Vec<Shape>, _>>()?;
+        kernel.check(&shapes)?;
         let outputs: Vec<Slot> = kernel
             .outputs(&shapes)
             .into_iter()
@@ -58,11 +65,31 @@ impl Pipeline {
             .map(|(i, shape)| self.slot(&format!("{}#{}.{i}", kernel.name(), self.steps.len()), shape))
             .collect();
         self.steps.push(Step { kernel, inputs: inputs.to_vec(), outputs: outputs.clone() });
-        outputs
+        Ok(outputs)
     }
 
     /// Reads `slot` back after each run.
-    pub fn sink(&mut self, slot: Slot) {
+    pub fn sink(&mut self, slot: Slot) -> Result<(), PipelineError> {
+        if slot.0 >= self.slots.len() {
+            return Err(PipelineError::UnknownSlot(slot.0));
+        }
         self.sinks.push(slot);
+        Ok(())
+    }
+
+    /// Checks that `sources` fit the pipeline's sources, one image each of the shape it was
+    /// built for.
+    pub fn check_sources(&self, sources: &[crate::Image]) -> Result<(), PipelineError> {
+        if sources.len() != self.sources.len() {
+            return Err(PipelineError::Sources { expected: self.sources.len(), given: sources.len() });
+        }
+        for (&slot, image) in self.sources.iter().zip(sources) {
+            let (name, expected) = &self.slots[slot.0];
+            let given = Shape { width: image.width, height: image.height, planes: image.planes };
+            if given != *expected || image.data.len() != expected.len() {
+                return Err(PipelineError::SourceShape { source: name.clone(), expected: *expected, given });
+            }
+        }
+        Ok(())
     }
 }

@@ -8,7 +8,7 @@ use std::io::{self, Write};
 use crate::camera::{apply, compose, Intrinsics, Pose};
 use crate::kernels::car::{normals, point_cloud};
 use crate::kernels::icp::{self, SUMS};
-use crate::{Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
+use crate::{Gpu, GpuPipeline, Image, Kernel, Pipeline, PipelineError, Shape};
 
 /// A point cloud with its normals, both 3-plane images (x, y, z); a point with z = 0 is invalid.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,10 +24,6 @@ impl Cloud {
         let points = point_cloud(distance, &intrinsics.rays());
         let normals = normals(&points);
         Cloud { points, normals }
-    }
-
-    fn shape(&self) -> Shape {
-        Shape { width: self.points.width, height: self.points.height, planes: 3 }
     }
 }
 
@@ -61,12 +57,14 @@ pub struct Registration {
     pub converged: bool,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum RegistrationError {
     /// The clouds overlap in too few pixels at this pose.
     TooFewPairs { pairs: usize, needed: usize },
     /// The pairs do not fix all six degrees of freedom (e.g. one plane).
     Degenerate,
+    /// The GPU reduction could not run (clouds of another size than the camera's, a lost device).
+    Pipeline(PipelineError),
 }
 
 impl fmt::Display for RegistrationError {
@@ -79,6 +77,7 @@ impl fmt::Display for RegistrationError {
             RegistrationError::Degenerate => {
                 write!(f, "ICP pairs do not fix the pose (a single plane?): the 6×6 system is singular")
             }
+            RegistrationError::Pipeline(error) => write!(f, "ICP on the GPU: {error}"),
         }
     }
 }
@@ -89,11 +88,11 @@ impl std::error::Error for RegistrationError {}
 pub fn iterate(
     settings: &IcpSettings,
     initial: Pose,
-    mut sums_at: impl FnMut(&Pose) -> [f64; SUMS],
+    mut sums_at: impl FnMut(&Pose) -> Result<[f64; SUMS], RegistrationError>,
 ) -> Result<Registration, RegistrationError> {
     let mut pose = initial;
     for iteration in 1..=settings.max_iterations {
-        let sums = sums_at(&pose);
+        let sums = sums_at(&pose)?;
         let pairs = sums[27] as usize;
         if pairs < settings.min_pairs {
             return Err(RegistrationError::TooFewPairs { pairs, needed: settings.min_pairs });
@@ -130,13 +129,13 @@ pub fn register_cpu(
 ) -> Result<Registration, RegistrationError> {
     let min_cos = settings.max_angle_degrees.to_radians().cos();
     iterate(settings, initial, |pose| {
-        icp::reduce(
+        Ok(icp::reduce(
             [&source.points, &source.normals, &model.points, &model.normals],
             pose,
             intrinsics,
             settings.max_distance,
             min_cos,
-        )
+        ))
     })
 }
 
@@ -150,16 +149,20 @@ pub struct GpuRegistration<'g> {
 
 impl<'g> GpuRegistration<'g> {
     /// Buffers for clouds of `intrinsics`' size.
-    pub fn new(gpu: &'g Gpu, intrinsics: &Intrinsics, settings: &IcpSettings) -> GpuRegistration<'g> {
+    pub fn new(
+        gpu: &'g Gpu,
+        intrinsics: &Intrinsics,
+        settings: &IcpSettings,
+    ) -> Result<GpuRegistration<'g>, PipelineError> {
         let shape = Shape { width: intrinsics.width, height: intrinsics.height, planes: 3 };
         let mut pipeline = Pipeline::new();
         let inputs: Vec<_> = ["source", "source normals", "model", "model normals"]
             .iter()
             .map(|name| pipeline.source(name, shape))
             .collect();
-        let sums = pipeline.step(reduce_kernel(settings, intrinsics, crate::camera::IDENTITY), &inputs)[0];
-        pipeline.sink(sums);
-        GpuRegistration { pipeline: GpuPipeline::new(gpu, &pipeline), intrinsics: *intrinsics, settings: *settings }
+        let sums = pipeline.step(reduce_kernel(settings, intrinsics, crate::camera::IDENTITY), &inputs)?[0];
+        pipeline.sink(sums)?;
+        Ok(GpuRegistration { pipeline: GpuPipeline::new(gpu, &pipeline), intrinsics: *intrinsics, settings: *settings })
     }
 
     pub fn register(
@@ -168,13 +171,13 @@ impl<'g> GpuRegistration<'g> {
         model: &Cloud,
         initial: Pose,
     ) -> Result<Registration, RegistrationError> {
-        let shape = Shape { width: self.intrinsics.width, height: self.intrinsics.height, planes: 3 };
-        assert!(source.shape() == shape && model.shape() == shape, "clouds of the camera's size");
         let (settings, intrinsics) = (self.settings, self.intrinsics);
         let mut first = true;
         let pipeline = &mut self.pipeline;
         iterate(&settings, initial, |pose| {
-            pipeline.set_kernel(0, reduce_kernel(&settings, &intrinsics, *pose));
+            pipeline
+                .set_kernel(0, reduce_kernel(&settings, &intrinsics, *pose))
+                .map_err(RegistrationError::Pipeline)?;
             let sums = if std::mem::take(&mut first) {
                 let sources =
                     [source.points.clone(), source.normals.clone(), model.points.clone(), model.normals.clone()];
@@ -182,7 +185,8 @@ impl<'g> GpuRegistration<'g> {
             } else {
                 pipeline.rerun()
             };
-            std::array::from_fn(|k| sums[0].data[k] as f64)
+            let sums = sums.map_err(RegistrationError::Pipeline)?;
+            Ok(std::array::from_fn(|k| sums[0].data[k] as f64))
         })
     }
 }

@@ -47,11 +47,11 @@ fn check(gpu: &Gpu, kernel: Kernel, inputs: &[Image], tolerance: f32) {
             pipeline.source(&format!("in{i}"), shape)
         })
         .collect();
-    for slot in pipeline.step(kernel, &sources) {
-        pipeline.sink(slot);
+    for slot in pipeline.step(kernel, &sources).unwrap() {
+        pipeline.sink(slot).unwrap();
     }
-    let expected = run_cpu(&pipeline, inputs);
-    let actual = GpuPipeline::new(gpu, &pipeline).run(inputs);
+    let expected = run_cpu(&pipeline, inputs).unwrap();
+    let actual = GpuPipeline::new(gpu, &pipeline).run(inputs).unwrap();
     for (e, a) in expected.iter().zip(&actual) {
         assert_eq!((e.width, e.height, e.planes), (a.width, a.height, a.planes));
         let worst = e
@@ -224,10 +224,10 @@ fn both(gpu: &Gpu, kernel: Kernel, inputs: &[Image]) -> (Image, Image) {
             pipeline.source(&format!("in{i}"), Shape { width: im.width, height: im.height, planes: im.planes })
         })
         .collect();
-    let out = pipeline.step(kernel, &sources)[0];
-    pipeline.sink(out);
-    let cpu = run_cpu(&pipeline, inputs).remove(0);
-    let gpu = GpuPipeline::new(gpu, &pipeline).run(inputs).remove(0);
+    let out = pipeline.step(kernel, &sources).unwrap()[0];
+    pipeline.sink(out).unwrap();
+    let cpu = run_cpu(&pipeline, inputs).unwrap().remove(0);
+    let gpu = GpuPipeline::new(gpu, &pipeline).run(inputs).unwrap().remove(0);
     (cpu, gpu)
 }
 
@@ -236,58 +236,16 @@ fn without_an_adapter_the_same_pipeline_runs_on_the_cpu_reference() {
     let image = Random(7).image(64, 48, 1, 1.0);
     let mut pipeline = Pipeline::new();
     let input = pipeline.source("in", Shape { width: 64, height: 48, planes: 1 });
-    let out = pipeline.step(Kernel::Gaussian { sigma: 1.5 }, &[input])[0];
-    pipeline.sink(out);
+    let out = pipeline.step(Kernel::Gaussian { sigma: 1.5 }, &[input]).unwrap()[0];
+    pipeline.sink(out).unwrap();
     let on_cpu = gudsl_runtime::Prepared::new(None, &pipeline);
     assert!(!on_cpu.on_gpu());
-    let expected = on_cpu.run(std::slice::from_ref(&image)).remove(0);
+    let expected = on_cpu.run(std::slice::from_ref(&image)).unwrap().remove(0);
     assert_eq!(expected, gudsl_runtime::kernels::gaussian(&image, 1.5));
     let Some(gpu) = gpu() else { return };
     let on_gpu = gudsl_runtime::Prepared::new(Some(&gpu), &pipeline);
     assert!(on_gpu.on_gpu());
-    let actual = on_gpu.run(&[image]).remove(0);
+    let actual = on_gpu.run(&[image]).unwrap().remove(0);
     let worst = expected.data.iter().zip(&actual.data).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
     assert!(worst < 1e-5, "{worst}");
-}
-
-#[test]
-fn every_kernel_is_valid_wgsl() {
-    let kernels = [
-        Kernel::Demodulate { modulation_hz: 20.0e6 },
-        Kernel::SubtractBlack,
-        Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
-        Kernel::DetectMotion { theta: 0.0 },
-        Kernel::MatchBlocks { window: 5, restriction: None },
-        Kernel::SmoothFlow { window: 5 },
-        Kernel::CorrectRaw,
-        Kernel::MaskAmplitude { min: 0.0, max: 1.0 },
-        Kernel::RemoveOutliers { range: 0.05, min_similar: 3 },
-        Kernel::Segment { theta_intensity: 1.0, theta_distance: 1.0 },
-        Kernel::Morphology { radius: 1, dilate: true },
-        Kernel::ApplyMask,
-        Kernel::PointCloud,
-        Kernel::Normals,
-        Kernel::IcpReduce {
-            pose: gudsl_runtime::camera::IDENTITY,
-            intrinsics: gudsl_runtime::camera::Intrinsics::CAMCUBE,
-            max_distance: 0.2,
-            min_cos: 0.9,
-        },
-        Kernel::TransformPoints { pose: gudsl_runtime::camera::IDENTITY },
-        Kernel::IntegrationTime {
-            t_curr: 1000.0,
-            model: gudsl_runtime::kernels::integration::IntegrationModel::CAMCUBE,
-        },
-        Kernel::Mean { radius: 1 },
-        Kernel::Median { radius: 1 },
-        Kernel::Gaussian { sigma: 1.0 },
-        Kernel::FindIndex { threshold: 0.0 },
-    ];
-    for kernel in kernels {
-        let module = naga::front::wgsl::parse_str(kernel.source())
-            .unwrap_or_else(|e| panic!("{}: {}", kernel.name(), e.emit_to_string(kernel.source())));
-        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{}: {e:?}", kernel.name()));
-    }
 }

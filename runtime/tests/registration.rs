@@ -42,8 +42,10 @@ fn icp_recovers_the_second_views_pose_on_cpu_and_gpu() {
         Err(_) if std::env::var_os("GUDSL_NO_GPU").is_some() => return,
         Err(error) => panic!("{error}"),
     };
-    let on_gpu =
-        GpuRegistration::new(&gpu, &k, &settings).register(&source, &model, IDENTITY).expect("GPU registration");
+    let on_gpu = GpuRegistration::new(&gpu, &k, &settings)
+        .unwrap()
+        .register(&source, &model, IDENTITY)
+        .expect("GPU registration");
     let (angle, distance) = pose_difference(&on_gpu.pose, &cpu.pose);
     assert!(angle < 0.01 && distance < 0.0005, "GPU and CPU ICP differ by {angle}° and {distance} m");
 }

@@ -1,18 +1,26 @@
-//! The kernels: each one a WGSL compute shader beside this file and its CPU reference here, with
-//! the parameters of the dissertation. A kernel reads input images and writes output images of
-//! f32 planes; the executor binds `params` (uniform) at 0, the inputs from 1, then the outputs,
-//! then an optional scratch buffer of u32 (reductions), and runs the kernel's passes in order.
+//! The kernels: each one a module with its WGSL compute shader beside it, a `#[repr(C)]`
+//! parameter block mirroring the shader's `Params`, the images it reads and writes, its passes,
+//! and its CPU reference — grouped by the chapter they implement (`tof`: 2.1, `motion`: 4,
+//! `integration`: 5, `car` and `icp`: 6, `filters` and `find_index`: 10). A kernel reads input
+//! images and writes output images of f32 planes; the executor binds the parameters (uniform) at
+//! 0, the inputs from 1, then the outputs, then an optional scratch buffer of u32 (reductions),
+//! and runs the kernel's passes in order.
+//!
+//! [`Kernel`] is the value a pipeline step holds; it dispatches to its kernel's [`Unit`] in one
+//! exhaustive match.
 
 pub mod car;
-mod filters;
+pub mod filters;
+mod find_index;
 pub mod icp;
 pub mod integration;
 pub mod motion;
-mod reduce;
 pub mod tof;
 
 pub use filters::{bilateral, gaussian, mean, median};
-pub use reduce::find_index;
+pub use find_index::find_index;
+
+use crate::{error::PipelineError, Image};
 
 /// Size of an image: `planes` planes of `width × height`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,6 +37,107 @@ impl Shape {
 
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+}
+
+/// A kernel pass: its entry point and workgroup counts.
+pub struct Pass {
+    pub entry: &'static str,
+    pub workgroups: [u32; 3],
+}
+
+impl Pass {
+    /// Entry point `main` over these workgroups.
+    fn main(workgroups: [u32; 3]) -> Pass {
+        Pass { entry: "main", workgroups }
+    }
+
+    /// Entry point `main` in 8×8 tiles over the plane of `shape`.
+    fn tiles(shape: Shape) -> Pass {
+        Pass::main([shape.width.div_ceil(8) as u32, shape.height.div_ceil(8) as u32, 1])
+    }
+
+    /// A reduction's last pass: entry point `finish`, one workgroup.
+    fn finish() -> Pass {
+        Pass { entry: "finish", workgroups: [1, 1, 1] }
+    }
+}
+
+/// A reduction's u32 scratch buffer: its length and the value each run starts it with.
+pub struct Scratch {
+    pub len: usize,
+    pub start: u32,
+}
+
+/// Workgroups of 256 threads covering `len` items, in rows of at most 65535 workgroups.
+fn linear(len: usize) -> [u32; 3] {
+    linear_groups(len, 256)
+}
+
+/// Workgroups of `threads` threads covering `len` items, in rows of at most 65535 workgroups.
+fn linear_groups(len: usize, threads: usize) -> [u32; 3] {
+    let groups = len.div_ceil(threads).max(1);
+    let x = groups.min(65_535);
+    [x as u32, groups.div_ceil(x) as u32, 1]
+}
+
+/// What a kernel module defines.
+pub(crate) trait Unit {
+    /// A stable name (pipeline cache key and benchmark label).
+    const NAME: &'static str;
+    /// The WGSL source (with the shared code it uses prepended).
+    const SOURCE: &'static str;
+    /// Planes of each input image (`None`: any number); every input has the first's size.
+    const INPUTS: &'static [Option<usize>];
+    /// The uniform block, field for field the shader's `Params`.
+    type Params: bytemuck::Pod;
+
+    fn params(&self, inputs: &[Shape]) -> Self::Params;
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape>;
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass>;
+    fn scratch(&self, _inputs: &[Shape]) -> Option<Scratch> {
+        None
+    }
+    /// The CPU reference: the same computation in plain Rust.
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image>;
+}
+
+/// A [`Unit`] as an object, its parameter block as bytes.
+trait Dispatch {
+    fn name(&self) -> &'static str;
+    fn source(&self) -> &'static str;
+    fn input_planes(&self) -> &'static [Option<usize>];
+    fn params(&self, inputs: &[Shape]) -> Vec<u8>;
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape>;
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass>;
+    fn scratch(&self, inputs: &[Shape]) -> Option<Scratch>;
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image>;
+}
+
+impl<U: Unit> Dispatch for U {
+    fn name(&self) -> &'static str {
+        U::NAME
+    }
+    fn source(&self) -> &'static str {
+        U::SOURCE
+    }
+    fn input_planes(&self) -> &'static [Option<usize>] {
+        U::INPUTS
+    }
+    fn params(&self, inputs: &[Shape]) -> Vec<u8> {
+        bytemuck::bytes_of(&Unit::params(self, inputs)).to_vec()
+    }
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        Unit::outputs(self, inputs)
+    }
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        Unit::passes(self, inputs)
+    }
+    fn scratch(&self, inputs: &[Shape]) -> Option<Scratch> {
+        Unit::scratch(self, inputs)
+    }
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        Unit::cpu(self, inputs)
     }
 }
 
@@ -86,252 +195,133 @@ pub enum Kernel {
     FindIndex { threshold: f32 },
 }
 
-/// A kernel pass: its entry point and workgroup counts.
-pub struct Pass {
-    pub entry: &'static str,
-    pub workgroups: [u32; 3],
-}
-
-/// Workgroups of 256 threads covering `len` items, in rows of at most 65535 workgroups.
-fn linear(len: usize) -> [u32; 3] {
-    linear_groups(len, 256)
-}
-
-/// Workgroups of `threads` threads covering `len` items, in rows of at most 65535 workgroups.
-fn linear_groups(len: usize, threads: usize) -> [u32; 3] {
-    let groups = len.div_ceil(threads).max(1);
-    let x = groups.min(65_535);
-    [x as u32, groups.div_ceil(x) as u32, 1]
-}
-
-/// Workgroups of 8×8 threads covering a plane.
-fn tiles(shape: Shape) -> [u32; 3] {
-    [shape.width.div_ceil(8) as u32, shape.height.div_ceil(8) as u32, 1]
-}
-
 impl Kernel {
-    /// A stable name (pipeline cache key and benchmark label).
-    pub fn name(&self) -> &'static str {
-        match self {
-            Kernel::Demodulate { .. } => "demodulate",
-            Kernel::SubtractBlack => "subtract_black",
-            Kernel::CorrectIntensity { .. } => "correct_intensity",
-            Kernel::DetectMotion { .. } => "detect_motion",
-            Kernel::MatchBlocks { .. } => "match_blocks",
-            Kernel::SmoothFlow { .. } => "smooth_flow",
-            Kernel::CorrectRaw => "correct_raw",
-            Kernel::MaskAmplitude { .. } => "mask_amplitude",
-            Kernel::RemoveOutliers { .. } => "remove_outliers",
-            Kernel::Segment { .. } => "segment",
-            Kernel::Morphology { .. } => "morphology",
-            Kernel::ApplyMask => "apply_mask",
-            Kernel::PointCloud => "point_cloud",
-            Kernel::Normals => "normals",
-            Kernel::IcpReduce { .. } => "icp_reduce",
-            Kernel::TransformPoints { .. } => "transform_points",
-            Kernel::IntegrationTime { .. } => "integration_time",
-            Kernel::Mean { .. } => "mean",
-            Kernel::Median { .. } => "median",
-            Kernel::Gaussian { .. } => "gaussian",
-            Kernel::Bilateral { .. } => "bilateral",
-            Kernel::FindIndex { .. } => "find_index",
+    /// Calls `f` with this kernel's unit.
+    fn unit<R>(&self, f: impl FnOnce(&dyn Dispatch) -> R) -> R {
+        match *self {
+            Kernel::Demodulate { modulation_hz } => f(&tof::Demodulate { modulation_hz }),
+            Kernel::SubtractBlack => f(&tof::SubtractBlack),
+            Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
+                f(&tof::CorrectIntensity { q, int_time_calib, int_time })
+            }
+            Kernel::DetectMotion { theta } => f(&motion::DetectMotion { theta }),
+            Kernel::MatchBlocks { window, restriction } => f(&motion::MatchBlocks { window, restriction }),
+            Kernel::SmoothFlow { window } => f(&motion::SmoothFlow { window }),
+            Kernel::CorrectRaw => f(&motion::CorrectRaw),
+            Kernel::MaskAmplitude { min, max } => f(&car::MaskAmplitude { min, max }),
+            Kernel::RemoveOutliers { range, min_similar } => f(&car::RemoveOutliers { range, min_similar }),
+            Kernel::Segment { theta_intensity, theta_distance } => f(&car::Segment { theta_intensity, theta_distance }),
+            Kernel::Morphology { radius, dilate } => f(&car::Morphology { radius, dilate }),
+            Kernel::ApplyMask => f(&car::ApplyMask),
+            Kernel::PointCloud => f(&car::PointCloud),
+            Kernel::Normals => f(&car::Normals),
+            Kernel::IcpReduce { pose, intrinsics, max_distance, min_cos } => {
+                f(&icp::IcpReduce { pose, intrinsics, max_distance, min_cos })
+            }
+            Kernel::TransformPoints { pose } => f(&icp::TransformPoints { pose }),
+            Kernel::IntegrationTime { t_curr, model } => f(&integration::IntegrationTime { t_curr, model }),
+            Kernel::Mean { radius } => f(&filters::Mean { radius }),
+            Kernel::Median { radius } => f(&filters::Median { radius }),
+            Kernel::Gaussian { sigma } => f(&filters::Gaussian { sigma }),
+            Kernel::Bilateral { radius, sigma_space, sigma_range } => {
+                f(&filters::Bilateral { radius, sigma_space, sigma_range })
+            }
+            Kernel::FindIndex { threshold } => f(&find_index::FindIndex { threshold }),
         }
     }
 
+    /// One kernel of each kind, with typical parameters (for validation and benchmarks).
+    pub fn every_kind() -> Vec<Kernel> {
+        use crate::camera::{Intrinsics, IDENTITY};
+        vec![
+            Kernel::Demodulate { modulation_hz: 20.0e6 },
+            Kernel::SubtractBlack,
+            Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
+            Kernel::DetectMotion { theta: 0.0 },
+            Kernel::MatchBlocks { window: 5, restriction: None },
+            Kernel::SmoothFlow { window: 3 },
+            Kernel::CorrectRaw,
+            Kernel::MaskAmplitude { min: 0.0, max: 1.0 },
+            Kernel::RemoveOutliers { range: 0.05, min_similar: 3 },
+            Kernel::Segment { theta_intensity: 1.0, theta_distance: 0.1 },
+            Kernel::Morphology { radius: 1, dilate: true },
+            Kernel::ApplyMask,
+            Kernel::PointCloud,
+            Kernel::Normals,
+            Kernel::IcpReduce { pose: IDENTITY, intrinsics: Intrinsics::CAMCUBE, max_distance: 0.2, min_cos: 0.9 },
+            Kernel::TransformPoints { pose: IDENTITY },
+            Kernel::IntegrationTime { t_curr: 1000.0, model: integration::IntegrationModel::CAMCUBE },
+            Kernel::Mean { radius: 1 },
+            Kernel::Median { radius: 1 },
+            Kernel::Gaussian { sigma: 1.0 },
+            Kernel::Bilateral { radius: 2, sigma_space: 2.0, sigma_range: 0.5 },
+            Kernel::FindIndex { threshold: 0.0 },
+        ]
+    }
+
+    /// A stable name (pipeline cache key and benchmark label).
+    pub fn name(&self) -> &'static str {
+        self.unit(|u| u.name())
+    }
+
+    /// The WGSL source.
     pub fn source(&self) -> &'static str {
-        match self {
-            Kernel::Demodulate { .. } => include_str!("demodulate.wgsl"),
-            Kernel::SubtractBlack => include_str!("subtract_black.wgsl"),
-            Kernel::CorrectIntensity { .. } => include_str!("correct_intensity.wgsl"),
-            Kernel::DetectMotion { .. } => include_str!("detect_motion.wgsl"),
-            Kernel::MatchBlocks { .. } => include_str!("match_blocks.wgsl"),
-            Kernel::SmoothFlow { .. } => include_str!("smooth_flow.wgsl"),
-            Kernel::CorrectRaw => include_str!("correct_raw.wgsl"),
-            Kernel::MaskAmplitude { .. } => include_str!("mask_amplitude.wgsl"),
-            Kernel::RemoveOutliers { .. } => include_str!("remove_outliers.wgsl"),
-            Kernel::Segment { .. } => include_str!("segment.wgsl"),
-            Kernel::Morphology { .. } => include_str!("morphology.wgsl"),
-            Kernel::ApplyMask => include_str!("apply_mask.wgsl"),
-            Kernel::PointCloud => include_str!("point_cloud.wgsl"),
-            Kernel::Normals => include_str!("normals.wgsl"),
-            Kernel::IcpReduce { .. } => concat!(include_str!("workgroup_sum.wgsl"), include_str!("icp_reduce.wgsl")),
-            Kernel::IntegrationTime { .. } => {
-                concat!(include_str!("workgroup_sum.wgsl"), include_str!("integration_time.wgsl"))
-            }
-            Kernel::TransformPoints { .. } => include_str!("transform_points.wgsl"),
-            Kernel::Mean { .. } => include_str!("mean.wgsl"),
-            Kernel::Median { .. } => include_str!("median.wgsl"),
-            Kernel::Gaussian { .. } | Kernel::Bilateral { .. } => include_str!("weighted.wgsl"),
-            Kernel::FindIndex { .. } => include_str!("find_index.wgsl"),
-        }
+        self.unit(|u| u.source())
     }
 
     /// Number of input images.
     pub fn inputs(&self) -> usize {
-        match self {
-            Kernel::SubtractBlack
-            | Kernel::CorrectIntensity { .. }
-            | Kernel::MatchBlocks { .. }
-            | Kernel::CorrectRaw
-            | Kernel::MaskAmplitude { .. }
-            | Kernel::ApplyMask
-            | Kernel::PointCloud => 2,
-            Kernel::Segment { .. } | Kernel::IcpReduce { .. } => 4,
-            _ => 1,
-        }
+        self.unit(|u| u.input_planes().len())
     }
 
-    /// Shapes of the outputs for inputs of these shapes.
+    /// Whether inputs of these shapes fit: as many as the kernel reads, each with the planes it
+    /// takes, all of one size.
+    pub fn check(&self, inputs: &[Shape]) -> Result<(), PipelineError> {
+        let (kernel, planes) = self.unit(|u| (u.name(), u.input_planes()));
+        if inputs.len() != planes.len() {
+            return Err(PipelineError::Inputs { kernel, expected: planes.len(), given: inputs.len() });
+        }
+        for (input, (shape, expected)) in inputs.iter().zip(planes).enumerate() {
+            if let Some(expected) = *expected {
+                if shape.planes != expected {
+                    return Err(PipelineError::Planes { kernel, input, expected, given: shape.planes });
+                }
+            }
+            let first = inputs[0];
+            if (shape.width, shape.height) != (first.width, first.height) || shape.is_empty() {
+                return Err(PipelineError::Size {
+                    kernel,
+                    input,
+                    expected: (first.width, first.height),
+                    given: (shape.width, shape.height),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Shapes of the outputs for inputs of these shapes (checked with [`Kernel::check`]).
     pub fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
-        let first = inputs[0];
-        match self {
-            Kernel::FindIndex { .. } | Kernel::IntegrationTime { .. } => vec![Shape { width: 1, height: 1, planes: 1 }],
-            Kernel::Demodulate { .. } => vec![Shape { planes: 1, ..first }; 4],
-            Kernel::SubtractBlack | Kernel::CorrectRaw | Kernel::SmoothFlow { .. } => vec![first],
-            Kernel::DetectMotion { .. } => vec![Shape { planes: 1, ..first }; 2],
-            Kernel::MatchBlocks { .. } => vec![Shape { planes: 2, ..first }],
-            Kernel::PointCloud | Kernel::Normals | Kernel::TransformPoints { .. } => vec![Shape { planes: 3, ..first }],
-            Kernel::IcpReduce { .. } => vec![Shape { width: icp::SUMS, height: 1, planes: 1 }],
-            _ => vec![Shape { planes: 1, ..first }],
-        }
+        self.unit(|u| u.outputs(inputs))
     }
 
-    /// Length of the u32 scratch buffer and the value it starts each run with (none: 0).
-    pub fn scratch(&self, inputs: &[Shape]) -> (usize, u32) {
-        match self {
-            Kernel::FindIndex { .. } => (1, u32::MAX),
-            Kernel::IcpReduce { .. } => {
-                let [x, y, _] = linear_groups(inputs[0].width * inputs[0].height, 64);
-                ((x * y) as usize * icp::SUMS, 0)
-            }
-            Kernel::IntegrationTime { .. } => {
-                let [x, y, _] = linear(inputs[0].width * inputs[0].height);
-                ((x * y) as usize * 2, 0)
-            }
-            _ => (0, 0),
-        }
+    /// The u32 scratch buffer a reduction needs, if any.
+    pub fn scratch(&self, inputs: &[Shape]) -> Option<Scratch> {
+        self.unit(|u| u.scratch(inputs))
     }
 
-    /// The uniform parameter block for inputs of these shapes.
+    /// The uniform parameter block for inputs of these shapes, as the shader reads it.
     pub fn params(&self, inputs: &[Shape]) -> Vec<u8> {
-        let s = inputs[0];
-        let (w, h) = (s.width as u32, s.height as u32);
-        let words: Vec<u32> = match *self {
-            Kernel::Demodulate { modulation_hz } => {
-                let range = tof::unambiguous_range(modulation_hz);
-                vec![(s.width * s.height) as u32, w, range.to_bits(), 0, 0, 0, 0, 0]
-            }
-            Kernel::SubtractBlack => vec![s.len() as u32, 0, 0, 0, 0, 0, 0, 0],
-            Kernel::DetectMotion { theta } => vec![w, h, theta.to_bits(), 0, 0, 0, 0, 0],
-            Kernel::MatchBlocks { window, restriction } => {
-                let (restrict, (mean, half)) = (u32::from(restriction.is_some()), restriction.unwrap_or((0.0, 0.0)));
-                vec![w, h, (window - 1) / 2, restrict, mean.to_bits(), half.to_bits(), 0, 0]
-            }
-            Kernel::SmoothFlow { window } => vec![w, h, (window - 1) / 2, 0, 0, 0, 0, 0],
-            Kernel::CorrectRaw | Kernel::Normals => vec![w, h, 0, 0, 0, 0, 0, 0],
-            Kernel::MaskAmplitude { min, max } => vec![w * h, w, min.to_bits(), max.to_bits(), 0, 0, 0, 0],
-            Kernel::RemoveOutliers { range, min_similar } => vec![w, h, range.to_bits(), min_similar, 0, 0, 0, 0],
-            Kernel::Segment { theta_intensity, theta_distance } => {
-                vec![w * h, w, theta_intensity.to_bits(), theta_distance.to_bits(), 0, 0, 0, 0]
-            }
-            Kernel::Morphology { radius, dilate } => vec![w, h, radius, u32::from(dilate), 0, 0, 0, 0],
-            Kernel::ApplyMask | Kernel::PointCloud => vec![w * h, w, 0, 0, 0, 0, 0, 0],
-            Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
-                let scale = int_time_calib / int_time;
-                vec![s.len() as u32, w, q[0].to_bits(), q[1].to_bits(), q[2].to_bits(), scale.to_bits(), 0, 0]
-            }
-            Kernel::Mean { radius } | Kernel::Median { radius } => vec![w, h, radius, 0, 0, 0, 0, 0],
-            Kernel::Gaussian { sigma } => {
-                let radius = filters::gaussian_radius(sigma);
-                // A range sigma of 0 turns the range weight off: a plain Gaussian.
-                vec![w, h, radius, sigma.to_bits(), 0f32.to_bits(), 0, 0, 0]
-            }
-            Kernel::Bilateral { radius, sigma_space, sigma_range } => {
-                vec![w, h, radius, sigma_space.to_bits(), sigma_range.max(f32::MIN_POSITIVE).to_bits(), 0, 0, 0]
-            }
-            Kernel::IcpReduce { pose, intrinsics: k, max_distance, min_cos } => {
-                let mut floats = pose.to_vec();
-                floats.extend([k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2]);
-                floats.extend([w as f32, h as f32, max_distance, min_cos]);
-                floats.iter().map(|v| v.to_bits()).collect()
-            }
-            Kernel::IntegrationTime { t_curr, model: m } => {
-                let floats = [w as f32, h as f32, t_curr, m.i_opt, m.h[0], m.h[1], m.h[2], m.h[3]];
-                let limits = [m.h_range.0, m.h_range.1, m.gain, m.t_range.0, m.t_range.1, 0.0, 0.0, 0.0];
-                floats.iter().chain(&limits).map(|v| v.to_bits()).collect()
-            }
-            Kernel::TransformPoints { pose } => {
-                let mut words: Vec<u32> = pose.iter().map(|v| v.to_bits()).collect();
-                words.extend([w, h, 0, 0]);
-                words
-            }
-            Kernel::FindIndex { threshold } => vec![(s.len()) as u32, threshold.to_bits(), 0, 0, 0, 0, 0, 0],
-        };
-        bytemuck::cast_slice(&words).to_vec()
+        self.unit(|u| u.params(inputs))
     }
 
     /// The passes over inputs of these shapes.
     pub fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
-        match self {
-            Kernel::FindIndex { .. } => vec![
-                Pass { entry: "main", workgroups: linear(inputs[0].len()) },
-                Pass { entry: "finish", workgroups: [1, 1, 1] },
-            ],
-            Kernel::SubtractBlack => vec![Pass { entry: "main", workgroups: linear(inputs[0].len()) }],
-            Kernel::IcpReduce { .. } => vec![
-                Pass { entry: "main", workgroups: linear_groups(inputs[0].width * inputs[0].height, 64) },
-                Pass { entry: "finish", workgroups: [1, 1, 1] },
-            ],
-            Kernel::IntegrationTime { .. } => vec![
-                Pass { entry: "main", workgroups: linear(inputs[0].width * inputs[0].height) },
-                Pass { entry: "finish", workgroups: [1, 1, 1] },
-            ],
-            _ => vec![Pass { entry: "main", workgroups: tiles(inputs[0]) }],
-        }
+        self.unit(|u| u.passes(inputs))
     }
 
     /// The CPU reference: the same computation in plain Rust.
-    pub fn cpu(&self, inputs: &[&crate::Image]) -> Vec<crate::Image> {
-        let input = inputs[0];
-        match *self {
-            Kernel::Demodulate { modulation_hz } => tof::demodulate(input, modulation_hz).into(),
-            Kernel::SubtractBlack => vec![tof::subtract_black(input, inputs[1])],
-            Kernel::DetectMotion { theta } => motion::detect(input, theta).into(),
-            Kernel::MatchBlocks { window, restriction } => {
-                vec![motion::match_blocks(input, inputs[1], window, restriction)]
-            }
-            Kernel::SmoothFlow { window } => vec![motion::smooth_flow(input, window)],
-            Kernel::CorrectRaw => vec![motion::correct_raw(input, inputs[1])],
-            Kernel::MaskAmplitude { min, max } => vec![car::mask_amplitude(input, inputs[1], min, max)],
-            Kernel::RemoveOutliers { range, min_similar } => vec![car::remove_outliers(input, range, min_similar)],
-            Kernel::Segment { theta_intensity, theta_distance } => {
-                vec![car::segment(input, inputs[1], inputs[2], inputs[3], theta_intensity, theta_distance)]
-            }
-            Kernel::Morphology { radius, dilate } => vec![car::morphology(input, radius, dilate)],
-            Kernel::ApplyMask => vec![car::apply_mask(input, inputs[1])],
-            Kernel::PointCloud => vec![car::point_cloud(input, inputs[1])],
-            Kernel::Normals => vec![car::normals(input)],
-            Kernel::IcpReduce { pose, intrinsics, max_distance, min_cos } => {
-                let sums =
-                    icp::reduce([input, inputs[1], inputs[2], inputs[3]], &pose, &intrinsics, max_distance, min_cos);
-                vec![crate::Image::from_plane(icp::SUMS, 1, sums.iter().map(|&v| v as f32).collect())]
-            }
-            Kernel::TransformPoints { pose } => vec![icp::transform_points(input, &pose)],
-            Kernel::IntegrationTime { t_curr, model } => {
-                vec![crate::Image::from_plane(1, 1, vec![integration::estimate(input, t_curr, &model)])]
-            }
-            Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
-                vec![tof::correct_intensity(input, inputs[1], q, int_time_calib, int_time)]
-            }
-            Kernel::Mean { radius } => vec![mean(input, radius)],
-            Kernel::Median { radius } => vec![median(input, radius)],
-            Kernel::Gaussian { sigma } => vec![gaussian(input, sigma)],
-            Kernel::Bilateral { radius, sigma_space, sigma_range } => {
-                vec![bilateral(input, radius, sigma_space, sigma_range)]
-            }
-            Kernel::FindIndex { threshold } => {
-                vec![crate::Image::from_plane(1, 1, vec![find_index(&input.data, threshold) as f32])]
-            }
-        }
+    pub fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        self.unit(|u| u.cpu(inputs))
     }
 }

@@ -1,8 +1,13 @@
 //! Per-pixel automatic integration time (sec. 5.3): the sensor model of Table 5.1 and the
-//! estimate of the next frame's integration time from the current intensity image (eq. 5.4–5.8).
+//! estimate of the next frame's integration time from the current intensity image (eq. 5.4–5.8),
+//! a kernel with its CPU reference.
 
 use crate::linalg::polyval;
-use crate::Image;
+
+pub mod integration_time;
+
+pub use integration_time::estimate;
+pub(crate) use integration_time::IntegrationTime;
 
 /// The sensor model the estimate needs: the optimal intensity, the intensity correction `h`
 /// with its range, the gain, and the integration times the camera can take.
@@ -49,25 +54,4 @@ pub fn weight(x: usize, y: usize, width: usize, height: usize) -> f32 {
     let dx = (x as f32 + 0.5) / width as f32 - 0.5;
     let dy = (y as f32 + 0.5) / height as f32 - 0.5;
     (-(dx * dx + dy * dy) * 8.0).exp()
-}
-
-/// Eq. 5.4–5.8: the integration time for the next frame from the intensity image taken at
-/// `t_curr` µs (pixels without signal carry no weight; each pixel's time is clamped to the
-/// camera's range before the weighted mean).
-pub fn estimate(intensity: &Image, t_curr: f32, model: &IntegrationModel) -> f32 {
-    let (mut weighted, mut weights) = (0.0f64, 0.0f64);
-    for (i, &measured) in intensity.plane(0).iter().enumerate() {
-        if measured <= 0.0 {
-            continue;
-        }
-        let t_opt = (model.i_opt / model.correct(measured) * t_curr).clamp(model.t_range.0, model.t_range.1);
-        let w = weight(i % intensity.width, i / intensity.width, intensity.width, intensity.height) * model.gain;
-        weighted += (w * t_opt) as f64;
-        weights += w as f64;
-    }
-    if weights > 0.0 {
-        (weighted / weights) as f32
-    } else {
-        t_curr
-    }
 }

@@ -1,0 +1,67 @@
+//! Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::{
+    kernels::{Pass, Shape, Unit},
+    Image,
+};
+
+/// The uniform block of `correct_raw.wgsl`, field for field.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Params {
+    width: u32,
+    height: u32,
+    _pad: [u32; 2],
+    _pad2: [u32; 4],
+}
+
+/// Raw phase correction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CorrectRaw;
+
+impl Unit for CorrectRaw {
+    const NAME: &'static str = "correct_raw";
+    const SOURCE: &'static str = include_str!("correct_raw.wgsl");
+    const INPUTS: &'static [Option<usize>] = &[Some(8), Some(2)];
+    type Params = Params;
+
+    fn params(&self, inputs: &[Shape]) -> Params {
+        let s = inputs[0];
+        Params { width: s.width as u32, height: s.height as u32, _pad: [0; 2], _pad2: [0; 4] }
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        vec![inputs[0]]
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        vec![Pass::tiles(inputs[0])]
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        vec![correct_raw(inputs[0], inputs[1])]
+    }
+}
+
+/// Raw phase correction (sec. 4.2.5): `A_i(x, y) ← A_i(x + i·u, y + i·v)` and the same for `B_i`,
+/// with `(u, v)` the pixel's flow, coordinates clamped.
+pub fn correct_raw(raw: &Image, flow: &Image) -> Image {
+    let (w, h) = (raw.width, raw.height);
+    let n = w * h;
+    let mut out = raw.clone();
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            let (u, v) = (flow.data[i] as isize, flow.data[n + i] as isize);
+            for k in 0..4 {
+                let (sx, sy) = (x as isize + k as isize * u, y as isize + k as isize * v);
+                for plane in [2 * k, 2 * k + 1] {
+                    out.data[plane * n + i] = raw.at_clamped(plane, sx, sy);
+                }
+            }
+        }
+    }
+    out
+}

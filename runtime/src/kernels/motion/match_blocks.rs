@@ -1,0 +1,104 @@
+//! Block matching (eq. 4.6–4.10): raw frame, mask → flow (dx, dy per phase image) over a
+//! `window × window` search, optionally restricted to directions near the previous mean.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{allowed, plus};
+use crate::{
+    kernels::{Pass, Shape, Unit},
+    Image,
+};
+
+/// The uniform block of `match_blocks.wgsl`, field for field.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Params {
+    width: u32,
+    height: u32,
+    radius: u32,
+    /// 1 when the search is restricted to directions near `mean_dir`.
+    restricted: u32,
+    mean_dir: f32,
+    half_width: f32,
+    _pad: [u32; 2],
+}
+
+/// Block matching over MWS `window`, the restriction (mean direction, half width) in radians.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct MatchBlocks {
+    pub(crate) window: u32,
+    pub(crate) restriction: Option<(f32, f32)>,
+}
+
+impl Unit for MatchBlocks {
+    const NAME: &'static str = "match_blocks";
+    const SOURCE: &'static str = include_str!("match_blocks.wgsl");
+    const INPUTS: &'static [Option<usize>] = &[Some(8), Some(1)];
+    type Params = Params;
+
+    fn params(&self, inputs: &[Shape]) -> Params {
+        let s = inputs[0];
+        let (mean_dir, half_width) = self.restriction.unwrap_or((0.0, 0.0));
+        Params {
+            width: s.width as u32,
+            height: s.height as u32,
+            radius: (self.window - 1) / 2,
+            restricted: u32::from(self.restriction.is_some()),
+            mean_dir,
+            half_width,
+            _pad: [0; 2],
+        }
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        vec![Shape { planes: 2, ..inputs[0] }]
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        vec![Pass::tiles(inputs[0])]
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        vec![match_blocks(inputs[0], inputs[1], self.window, self.restriction)]
+    }
+}
+
+/// Block matching (eq. 4.6–4.10): for each masked pixel the displacement per phase image
+/// `(dx, dy)` within `±(window−1)/2` minimising `Σ_{i=1..3} (P⁺_0(x,y) − P⁺_i(x+i·dx, y+i·dy))²`
+/// (ties: the shorter vector, then scan order); unmasked pixels get (0, 0). Two planes: dx, dy.
+pub fn match_blocks(raw: &Image, mask: &Image, window: u32, restriction: Option<(f32, f32)>) -> Image {
+    let (w, h) = (raw.width, raw.height);
+    let r = (window as i32 - 1) / 2;
+    let mut flow = Image::zeros(w, h, 2);
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            if mask.data[i] == 0.0 {
+                continue;
+            }
+            let (xi, yi) = (x as isize, y as isize);
+            let p0 = plus(raw, 0, xi, yi);
+            let mut best = (f32::INFINITY, i32::MAX, 0, 0);
+            for dy in -r..=r {
+                for dx in -r..=r {
+                    if !allowed(dx, dy, restriction) {
+                        continue;
+                    }
+                    let ssd: f32 = (1..4)
+                        .map(|k| {
+                            let d = p0 - plus(raw, k, xi + (k as i32 * dx) as isize, yi + (k as i32 * dy) as isize);
+                            d * d
+                        })
+                        .sum();
+                    let length = dx * dx + dy * dy;
+                    if ssd < best.0 || (ssd == best.0 && length < best.1) {
+                        best = (ssd, length, dx, dy);
+                    }
+                }
+            }
+            flow.data[i] = best.2 as f32;
+            flow.data[w * h + i] = best.3 as f32;
+        }
+    }
+    flow
+}

@@ -1,0 +1,82 @@
+//! Motion-artifact compensation (chapter 4), one kernel a module with its CPU reference: motion
+//! detection on the channel sums, per-pixel block matching of the phase images along a
+//! constant-velocity path (SSD over a motion window, optionally restricted to directions near the
+//! previous frame's mean), median smoothing of the flow directions, and correction of the raw
+//! channels along the flow; and the flow statistics the host needs between frames.
+
+use std::f32::consts::PI;
+
+use crate::Image;
+
+pub mod correct_raw;
+pub mod detect_motion;
+pub mod match_blocks;
+pub mod smooth_flow;
+
+pub use correct_raw::correct_raw;
+pub(crate) use correct_raw::CorrectRaw;
+pub use detect_motion::detect;
+pub(crate) use detect_motion::DetectMotion;
+pub use match_blocks::match_blocks;
+pub(crate) use match_blocks::MatchBlocks;
+pub use smooth_flow::smooth_flow;
+pub(crate) use smooth_flow::SmoothFlow;
+
+/// `P⁺_i = A_i + B_i` of phase image `i` at pixel `(x, y)`, coordinates clamped.
+fn plus(raw: &Image, i: usize, x: isize, y: isize) -> f32 {
+    raw.at_clamped(2 * i, x, y) + raw.at_clamped(2 * i + 1, x, y)
+}
+
+/// Whether candidate `(dx, dy)` lies within `half_width` (radians) of direction `mean` (radians);
+/// the zero vector always does.
+pub fn allowed(dx: i32, dy: i32, restriction: Option<(f32, f32)>) -> bool {
+    let Some((mean, half_width)) = restriction else { return true };
+    if dx == 0 && dy == 0 {
+        return true;
+    }
+    let angle = (dy as f32).atan2(dx as f32);
+    let mut diff = (angle - mean).abs() % (2.0 * PI);
+    if diff > PI {
+        diff = 2.0 * PI - diff;
+    }
+    diff <= half_width + 1e-6
+}
+
+/// The direction of `(dx, dy)` in [0, 2π).
+pub fn angle_of(dx: f32, dy: f32) -> f32 {
+    let a = dy.atan2(dx);
+    if a < 0.0 {
+        a + 2.0 * PI
+    } else {
+        a
+    }
+}
+
+/// The mean direction (radians) of the non-zero flow vectors, as a circular mean; `None` when
+/// there are none. The next frame's search is restricted around it.
+pub fn mean_direction(flow: &Image) -> Option<f32> {
+    let n = flow.pixels();
+    let (mut s, mut c, mut count) = (0.0f64, 0.0f64, 0usize);
+    for i in 0..n {
+        let (u, v) = (flow.data[i], flow.data[n + i]);
+        if u != 0.0 || v != 0.0 {
+            let a = angle_of(u, v) as f64;
+            s += a.sin();
+            c += a.cos();
+            count += 1;
+        }
+    }
+    (count > 0).then(|| angle_of(c as f32, s as f32))
+}
+
+/// The share of candidate vectors the direction restriction leaves out, for `moving` masked
+/// pixels (Tables 4.2, 4.3: "rejected directions").
+pub fn rejected_share(window: u32, restriction: Option<(f32, f32)>) -> f32 {
+    let r = (window as i32 - 1) / 2;
+    let total = (window * window) as f32;
+    let kept = (-r..=r)
+        .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
+        .filter(|&(dx, dy)| allowed(dx, dy, restriction))
+        .count();
+    1.0 - kept as f32 / total
+}

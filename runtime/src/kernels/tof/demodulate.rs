@@ -1,0 +1,84 @@
+//! 4-phase demodulation (sec. 2.1.1): a raw frame (8 planes) → phase, amplitude, intensity and
+//! distance images.
+
+use std::f32::consts::PI;
+
+use bytemuck::{Pod, Zeroable};
+
+use super::unambiguous_range;
+use crate::{
+    kernels::{Pass, Shape, Unit},
+    Image,
+};
+
+/// The uniform block of `demodulate.wgsl`, field for field.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Params {
+    pixels: u32,
+    width: u32,
+    /// The unambiguous range δ, metres.
+    range: f32,
+    _pad: u32,
+    _pad2: [u32; 4],
+}
+
+/// Demodulation at a modulation frequency (Hz).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Demodulate {
+    pub(crate) modulation_hz: f32,
+}
+
+impl Unit for Demodulate {
+    const NAME: &'static str = "demodulate";
+    const SOURCE: &'static str = include_str!("demodulate.wgsl");
+    const INPUTS: &'static [Option<usize>] = &[Some(8)];
+    type Params = Params;
+
+    fn params(&self, inputs: &[Shape]) -> Params {
+        let s = inputs[0];
+        let range = unambiguous_range(self.modulation_hz);
+        Params { pixels: (s.width * s.height) as u32, width: s.width as u32, range, _pad: 0, _pad2: [0; 4] }
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        vec![Shape { planes: 1, ..inputs[0] }; 4]
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        vec![Pass::tiles(inputs[0])]
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        demodulate(inputs[0], self.modulation_hz).into()
+    }
+}
+
+/// Phase, amplitude, intensity and distance of one pixel from its eight raw samples:
+/// `φ = atan2(P3 − P1, P0 − P2)` wrapped into [0, 2π), `A = ½·√((P3 − P1)² + (P0 − P2)²)`,
+/// `I = Σ(A_i + B_i)/4` (the channel sums: Σ P_i is 0 by construction), `D = δ·φ/2π`.
+pub fn demodulate_pixel(raw: [f32; 8], modulation_hz: f32) -> [f32; 4] {
+    let p = |i: usize| raw[2 * i] - raw[2 * i + 1];
+    let (y, x) = (p(3) - p(1), p(0) - p(2));
+    let mut phase = y.atan2(x);
+    if phase < 0.0 {
+        phase += 2.0 * PI;
+    }
+    let amplitude = 0.5 * (y * y + x * x).sqrt();
+    let intensity = raw.iter().sum::<f32>() / 4.0;
+    let distance = unambiguous_range(modulation_hz) * phase / (2.0 * PI);
+    [phase, amplitude, intensity, distance]
+}
+
+/// Demodulates a raw frame into phase, amplitude, intensity and distance images.
+pub fn demodulate(raw: &Image, modulation_hz: f32) -> [Image; 4] {
+    let n = raw.pixels();
+    let mut out: [Image; 4] = std::array::from_fn(|_| Image::zeros(raw.width, raw.height, 1));
+    for i in 0..n {
+        let samples: [f32; 8] = std::array::from_fn(|p| raw.data[p * n + i]);
+        for (image, value) in out.iter_mut().zip(demodulate_pixel(samples, modulation_hz)) {
+            image.data[i] = value;
+        }
+    }
+    out
+}
