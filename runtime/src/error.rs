@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use crate::kernels::Shape;
+use crate::image::Shape;
 
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum PipelineError {

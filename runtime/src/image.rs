@@ -1,6 +1,24 @@
 //! Images on the CPU: `planes` planes of `width × height` f32 samples, row-major, plane after
 //! plane (a raw PMD frame is 8 planes: A and B channels of the four phase images).
 
+/// Size of an image: `planes` planes of `width × height`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shape {
+    pub width: usize,
+    pub height: usize,
+    pub planes: usize,
+}
+
+impl Shape {
+    pub fn len(&self) -> usize {
+        self.width * self.height * self.planes
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
 /// A stack of equally sized f32 planes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {

@@ -18,6 +18,6 @@ pub mod sim;
 pub use error::PipelineError;
 pub use executor::{run_cpu, GpuPipeline, Prepared};
 pub use gpu::{Gpu, GpuUnavailable};
-pub use image::Image;
-pub use kernels::{Kernel, Shape};
+pub use image::{Image, Shape};
+pub use kernels::Kernel;
 pub use pipeline::{Pipeline, Slot};

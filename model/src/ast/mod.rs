@@ -16,7 +16,14 @@ use std::marker::PhantomData;
 pub use generated::*;
 pub use node_ext::*;
 
-use crate::syntax::{SyntaxKind, SyntaxNode, SyntaxNodeChildren};
+use crate::syntax::{Parse, SyntaxKind, SyntaxNode, SyntaxNodeChildren};
+
+impl Parse {
+    /// The typed root.
+    pub fn source_file(&self) -> SourceFile {
+        SourceFile { syntax: self.syntax_node() }
+    }
+}
 
 /// A typed view of one kind of syntax node (or of several, for enums).
 pub trait AstNode: Sized {

@@ -52,11 +52,6 @@ impl Parse {
         SyntaxNode::new_root(self.green.clone())
     }
 
-    /// The typed root.
-    pub fn source_file(&self) -> crate::ast::SourceFile {
-        crate::ast::SourceFile { syntax: self.syntax_node() }
-    }
-
     pub fn green(&self) -> &rowan::GreenNode {
         &self.green
     }

@@ -13,6 +13,10 @@ mod rank;
 mod route;
 mod sifting;
 
+use order::Order;
+use proper::Proper;
+use sifting::GlobalOrder;
+
 /// A box to place.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LayoutNode {
@@ -112,7 +116,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         })
         .collect();
     let mut layers = graph.initial_layers();
-    order::minimise_crossings(&mut layers, &graph);
+    minimise_crossings(&mut layers, &graph);
     let x = place::horizontal(&graph, &layers, &extent, spacing);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
     let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing });
@@ -126,6 +130,55 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
     let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
     Layout { positions, edges: routed, labels, width, height: bands.total_height }
+}
+
+/// Reorders every rank of `layers` to reduce crossings: barycentre sweeps with transposition
+/// from a breadth-first start, then global sifting of whole blocks; the order with the fewest
+/// crossings wins.
+fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper) {
+    for layer in layers.iter_mut() {
+        layer.sort_by_key(|&v| graph.group[v]);
+    }
+    let mut order = Order::new(layers.to_vec(), graph.vertices());
+    let mut best = order.layers.clone();
+    let mut best_crossings = order.crossings(graph);
+    // Barycentre sweeps, alternately down and up, each followed by transposition; stop once a
+    // few sweeps in a row bring nothing.
+    let mut fruitless = 0;
+    for sweep in 0..24 {
+        if best_crossings == 0 || fruitless == 3 {
+            break;
+        }
+        order.barycentre_sweep(graph, sweep % 2 == 0);
+        order.transpose(graph);
+        let crossings = order.crossings(graph);
+        if crossings < best_crossings {
+            best_crossings = crossings;
+            best.clone_from(&order.layers);
+            fruitless = 0;
+        } else {
+            fruitless += 1;
+        }
+    }
+    // Global sifting from there: long edges move as a whole, which sweeps cannot do.
+    if best_crossings > 0 {
+        let mut sifted = GlobalOrder::new(&Order::new(best.clone(), graph.vertices()), graph);
+        let mut crossings = sifted.order.crossings(graph);
+        for _ in 0..12 {
+            sifted.sift_all(graph);
+            let now = sifted.order.crossings(graph);
+            if now >= crossings {
+                break;
+            }
+            crossings = now;
+        }
+        let mut order = sifted.order;
+        order.transpose(graph);
+        if order.crossings(graph) < best_crossings {
+            best = order.layers;
+        }
+    }
+    layers.clone_from_slice(&best);
 }
 
 #[cfg(test)]

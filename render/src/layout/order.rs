@@ -1,57 +1,8 @@
-//! Crossing minimisation: the order of the vertices within each rank. Barycentre sweeps with
-//! transposition from a breadth-first start, then global sifting of whole blocks (`sifting`);
-//! the order with the fewest crossings wins. Swimlanes stay contiguous and in lane order within
-//! every rank.
+//! The order of the vertices within each rank, its crossing count, and the local moves that
+//! reduce it: barycentre sweeps and transposition. Swimlanes stay contiguous and in lane order
+//! within every rank.
 
 use super::proper::Proper;
-use super::sifting::GlobalOrder;
-
-/// Reorders every rank of `layers` to reduce crossings.
-pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper) {
-    for layer in layers.iter_mut() {
-        layer.sort_by_key(|&v| graph.group[v]);
-    }
-    let mut order = Order::new(layers.to_vec(), graph.vertices());
-    let mut best = order.layers.clone();
-    let mut best_crossings = order.crossings(graph);
-    // Barycentre sweeps, alternately down and up, each followed by transposition; stop once a
-    // few sweeps in a row bring nothing.
-    let mut fruitless = 0;
-    for sweep in 0..24 {
-        if best_crossings == 0 || fruitless == 3 {
-            break;
-        }
-        order.barycentre_sweep(graph, sweep % 2 == 0);
-        order.transpose(graph);
-        let crossings = order.crossings(graph);
-        if crossings < best_crossings {
-            best_crossings = crossings;
-            best.clone_from(&order.layers);
-            fruitless = 0;
-        } else {
-            fruitless += 1;
-        }
-    }
-    // Global sifting from there: long edges move as a whole, which sweeps cannot do.
-    if best_crossings > 0 {
-        let mut sifted = GlobalOrder::new(&Order::new(best.clone(), graph.vertices()), graph);
-        let mut crossings = sifted.order.crossings(graph);
-        for _ in 0..12 {
-            sifted.sift_all(graph);
-            let now = sifted.order.crossings(graph);
-            if now >= crossings {
-                break;
-            }
-            crossings = now;
-        }
-        let mut order = sifted.order;
-        order.transpose(graph);
-        if order.crossings(graph) < best_crossings {
-            best = order.layers;
-        }
-    }
-    layers.clone_from_slice(&best);
-}
 
 /// Ranks with each vertex's index within its rank.
 pub(super) struct Order {
@@ -132,7 +83,7 @@ impl Order {
 
     /// Sorts each rank by the mean position of its neighbours in the rank before it (sweeping
     /// down) or after it (sweeping up); a vertex without such neighbours keeps its place.
-    fn barycentre_sweep(&mut self, graph: &Proper, downward: bool) {
+    pub(super) fn barycentre_sweep(&mut self, graph: &Proper, downward: bool) {
         let ranks: Vec<usize> = if downward {
             (1..self.layers.len()).collect()
         } else {
@@ -222,7 +173,7 @@ pub(super) mod tests {
         let groups = [0, 0, 1, 1, 0, 0, 1, 1].map(Some);
         let graph = proper(8, &[(0, 5), (1, 4), (2, 7), (3, 6)], &groups);
         let mut layers = vec![vec![0, 2, 1, 3], vec![4, 6, 5, 7]];
-        minimise_crossings(&mut layers, &graph);
+        super::super::minimise_crossings(&mut layers, &graph);
         assert_eq!(Order::new(layers.clone(), 8).crossings(&graph), 0);
         for layer in &layers {
             let lanes: Vec<usize> = layer.iter().map(|&v| graph.group[v]).collect();

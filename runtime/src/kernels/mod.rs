@@ -20,25 +20,8 @@ pub mod tof;
 pub use filters::{bilateral, gaussian, mean, median};
 pub use find_index::find_index;
 
+pub use crate::image::Shape;
 use crate::{error::PipelineError, Image};
-
-/// Size of an image: `planes` planes of `width × height`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shape {
-    pub width: usize,
-    pub height: usize,
-    pub planes: usize,
-}
-
-impl Shape {
-    pub fn len(&self) -> usize {
-        self.width * self.height * self.planes
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-}
 
 /// A kernel pass: its entry point and workgroup counts.
 pub struct Pass {

@@ -3,8 +3,6 @@
 use gudsl_model::text::ColumnUnit;
 use tower_lsp_server::ls_types as lsp;
 
-use super::to_proto;
-
 /// Positions in the encoding negotiated at initialisation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Encoding(pub ColumnUnit);
@@ -62,7 +60,7 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
         workspace_symbol_provider: Some(lsp::OneOf::Left(true)),
         semantic_tokens_provider: Some(lsp::SemanticTokensServerCapabilities::SemanticTokensOptions(
             lsp::SemanticTokensOptions {
-                legend: to_proto::semantic_token_legend(),
+                legend: semantic_token_legend(),
                 full: Some(lsp::SemanticTokensFullOptions::Delta { delta: Some(true) }),
                 range: None,
                 work_done_progress_options: Default::default(),
@@ -74,5 +72,32 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
             work_done_progress_options: Default::default(),
         })),
         ..Default::default()
+    }
+}
+
+/// The token types of the semantic-token legend, in `ide::TokenClass` order.
+pub fn semantic_token_legend() -> lsp::SemanticTokensLegend {
+    use lsp::SemanticTokenType as T;
+    lsp::SemanticTokensLegend {
+        token_types: vec![
+            T::KEYWORD,
+            T::COMMENT,
+            T::STRING,
+            T::NUMBER,
+            T::OPERATOR,
+            T::NAMESPACE,
+            T::CLASS,
+            T::INTERFACE,
+            T::ENUM,
+            T::ENUM_MEMBER,
+            T::TYPE,
+            T::FUNCTION,
+            T::METHOD,
+            T::PROPERTY,
+            T::PARAMETER,
+            T::VARIABLE,
+            T::DECORATOR,
+        ],
+        token_modifiers: vec![lsp::SemanticTokenModifier::DECLARATION],
     }
 }

@@ -219,34 +219,8 @@ pub fn code_action(snap: &Snapshot, index: &LineIndex, fix: ide::QuickFix) -> Ca
     }))
 }
 
-/// The token types of the semantic-token legend, in `ide::TokenClass` order.
-pub fn semantic_token_legend() -> lsp::SemanticTokensLegend {
-    use lsp::SemanticTokenType as T;
-    lsp::SemanticTokensLegend {
-        token_types: vec![
-            T::KEYWORD,
-            T::COMMENT,
-            T::STRING,
-            T::NUMBER,
-            T::OPERATOR,
-            T::NAMESPACE,
-            T::CLASS,
-            T::INTERFACE,
-            T::ENUM,
-            T::ENUM_MEMBER,
-            T::TYPE,
-            T::FUNCTION,
-            T::METHOD,
-            T::PROPERTY,
-            T::PARAMETER,
-            T::VARIABLE,
-            T::DECORATOR,
-        ],
-        token_modifiers: vec![lsp::SemanticTokenModifier::DECLARATION],
-    }
-}
-
-/// Semantic tokens in LSP's relative encoding (a token spanning lines is split per line).
+/// Semantic tokens in LSP's relative encoding (a token spanning lines is split per line); a
+/// token's type is its `ide::TokenClass` as an index into `capabilities::semantic_token_legend`.
 pub fn semantic_token_data(
     text: &str,
     index: &LineIndex,
