@@ -1,5 +1,7 @@
-//! Source hygiene: every Rust file of the project opens with a `//!` line saying what it does, and
-//! the modules of `hir` depend on each other without circles (ARCHITECTURE.md, "Invariants").
+//! Source hygiene (ARCHITECTURE.md, "Invariants"): every Rust file of the project opens with a
+//! `//!` line saying what it does and, unless generated, has at most 600 lines; ARCHITECTURE.md
+//! names every top-level module of every crate; the modules of `hir` depend on each other
+//! without circles.
 
 use std::{
     collections::{BTreeMap, BTreeSet},
@@ -23,11 +25,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 #[test]
 fn every_rust_file_starts_with_a_module_doc() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let mut files = Vec::new();
-    for dir in ["model", "server", "render", "runtime", "tests", "fuzz"] {
-        rust_files(&root.join(dir), &mut files);
-    }
+    let files = project_rust_files();
     assert!(files.len() > 10);
     let undocumented: Vec<String> = files
         .iter()
@@ -35,6 +33,48 @@ fn every_rust_file_starts_with_a_module_doc() {
         .map(|f| f.display().to_string())
         .collect();
     assert!(undocumented.is_empty(), "files without a leading `//!` line:\n{}", undocumented.join("\n"));
+}
+
+fn project_rust_files() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut files = Vec::new();
+    for dir in ["model", "server", "render", "runtime", "tests", "fuzz"] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    files
+}
+
+#[test]
+fn no_hand_written_file_is_longer_than_600_lines() {
+    let long: Vec<String> = project_rust_files()
+        .iter()
+        .filter(|f| !f.ends_with("generated.rs"))
+        .filter_map(|f| {
+            let lines = std::fs::read_to_string(f).unwrap().lines().count();
+            (lines > 600).then(|| format!("{} ({lines} lines)", f.display()))
+        })
+        .collect();
+    assert!(long.is_empty(), "split these by job:\n{}", long.join("\n"));
+}
+
+#[test]
+fn architecture_names_every_top_level_module() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let architecture = std::fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap();
+    let mut missing = Vec::new();
+    for krate in ["model", "server", "render", "runtime"] {
+        for entry in std::fs::read_dir(root.join(krate).join("src")).unwrap().flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if ["lib.rs", "main.rs"].contains(&name.as_str()) {
+                continue;
+            }
+            let written = if entry.path().is_dir() { format!("`{name}/`") } else { format!("`{name}`") };
+            if !architecture.contains(&written) {
+                missing.push(format!("{krate}/src/{name} (as {written})"));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "ARCHITECTURE.md's code map does not name:\n{}", missing.join("\n"));
 }
 
 /// The text of a file without its comments (doc comments name modules in prose).
