@@ -1,7 +1,7 @@
 //! What statements and expressions name: types (`var T x`, `new T(…)`, `x as T`), activity
 //! diagrams (`call behavior X(…)`, with their arity) and class methods (`call Class::m(…)`).
 
-use super::{Ctx, DiagnosticCode, Scope};
+use super::{unresolved_message, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode},
     hir::{definitions::DefKind, diagnostics::arguments, semantics::describe},
@@ -64,12 +64,7 @@ fn call_method(ctx: &mut Ctx, scope: &Scope, call: &ast::CallMethodExpr) {
     let (Some(class), Some(method)) = (call.class(), call.method()) else { return };
     let class_text = class.text();
     let Some(def) = ctx.sema.resolve(scope, &class_text) else {
-        let candidates = ctx.sema.candidates(&class_text);
-        let message = if candidates.len() > 1 {
-            format!("ambiguous class `{class_text}`: qualify it or import one of {}", candidates.join(", "))
-        } else {
-            format!("unknown class `{class_text}`")
-        };
+        let message = unresolved_message(ctx, &class_text, "class", format!("unknown class `{class_text}`"));
         ctx.sink.error(DiagnosticCode::UnresolvedType, class.syntax().text_range(), message);
         return;
     };

@@ -62,6 +62,17 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -> 
     diagnostics
 }
 
+/// The message for a name that resolves to nothing: ambiguous when several types have that
+/// simple name (`what` says what was wanted), else `unknown`.
+fn unresolved_message(ctx: &Ctx, text: &str, what: &str, unknown: String) -> String {
+    let candidates = ctx.sema.candidates(text);
+    if candidates.len() > 1 {
+        format!("ambiguous {what} `{text}`: qualify it or import one of {}", candidates.join(", "))
+    } else {
+        unknown
+    }
+}
+
 /// A diagram and the diagrams nested in it, each in its own namespace.
 fn check_diagram(ctx: &mut Ctx, outer: &Scope, diagram: &ast::Diagram) {
     let Some(name) = diagram.name() else { return };

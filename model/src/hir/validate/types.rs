@@ -1,7 +1,7 @@
 //! Type references (a built-in, a GPU type, a template parameter or a declared type), parameter
 //! lists, and attribute uses (`[A.B(field = value)]`).
 
-use super::{Ctx, DiagnosticCode, Scope};
+use super::{unresolved_message, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasName},
     hir::{definitions::DefKind, items::TypeKind, semantics::describe, ty::is_builtin_type_name},
@@ -26,12 +26,9 @@ pub(super) fn type_ref(ctx: &mut Ctx, scope: &Scope, ty: &ast::TypeRef) {
             format!("`{text}` names {} `{}`, not a type", describe(&def.kind), def.fqn),
         ),
         None => {
-            let candidates = ctx.sema.candidates(&text);
-            let message = if candidates.len() > 1 {
-                format!("ambiguous type `{text}`: qualify it or import one of {}", candidates.join(", "))
-            } else {
-                format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does")
-            };
+            let unknown =
+                format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does");
+            let message = unresolved_message(ctx, &text, "type", unknown);
             ctx.sink.error(DiagnosticCode::UnresolvedType, path.syntax().text_range(), message);
         }
     }
