@@ -392,6 +392,39 @@ impl<'i> Parser<'i> {
 
     // ---- nesting
 
+    /// Whether a chain `links` long (`a + b + …`, `a.b.c…`, `f()()…`: each link nests the tree one
+    /// level deeper) at the current nesting passes the depth limit.
+    pub(crate) fn chain_too_deep(&self, links: usize) -> bool {
+        self.depth as usize + links >= MAX_DEPTH as usize
+    }
+
+    /// Past the depth limit inside a chain: reports it and keeps the rest of the expression (up
+    /// to `;`, `,`, `:`, `=>`, `{` or the enclosing close) in an ERROR node, iteratively.
+    pub(crate) fn skip_deep_chain(&mut self) {
+        let range = self.current_range();
+        let m = self.start();
+        let mut depth = 0usize;
+        loop {
+            let kind = self.current();
+            let ends = matches!(kind, SEMICOLON | COMMA | COLON | FAT_ARROW | L_CURLY) || CLOSERS.contains(kind);
+            if kind == EOF || (depth == 0 && ends) {
+                break;
+            }
+            if OPENERS.contains(kind) {
+                depth += 1;
+            } else if CLOSERS.contains(kind) {
+                depth -= 1;
+            }
+            self.bump_any();
+        }
+        m.complete(self, ERROR);
+        self.push_error(
+            SyntaxErrorCode::NestingTooDeep,
+            format!("an expression chained deeper than {MAX_DEPTH} levels is not analysed"),
+            range,
+        );
+    }
+
     /// Enters a nested construct. Past the depth limit it reports the nesting, keeps the
     /// nested text in an `ERROR` node and returns `false`: the caller must not descend.
     pub(crate) fn enter(&mut self) -> bool {

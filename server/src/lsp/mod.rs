@@ -15,7 +15,8 @@ use std::process::ExitCode;
 
 /// Serves LSP on stdin/stdout until the client exits.
 pub fn run() -> ExitCode {
-    let runtime = match tokio::runtime::Builder::new_multi_thread().enable_all().build() {
+    // Analysis recursion is bounded by the parser's depth limit; the stacks leave room to spare.
+    let runtime = match tokio::runtime::Builder::new_multi_thread().thread_stack_size(16 << 20).enable_all().build() {
         Ok(runtime) => runtime,
         Err(error) => {
             eprintln!("gudsl lsp: cannot start the async runtime: {error}");

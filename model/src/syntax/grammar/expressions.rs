@@ -91,6 +91,11 @@ fn binary_op(p: &Parser) -> Option<(u8, SyntaxKind, bool)> {
 const PREFIX_BP: u8 = 13;
 
 fn expr_bp(p: &mut Parser, min_bp: u8) -> Option<CompletedMarker> {
+    // Too deep: keep the rest of this expression, not of the enclosing block, unanalysed.
+    if p.chain_too_deep(1) {
+        p.skip_deep_chain();
+        return None;
+    }
     if !p.enter() {
         return None;
     }
@@ -101,8 +106,14 @@ fn expr_bp(p: &mut Parser, min_bp: u8) -> Option<CompletedMarker> {
 
 fn expr_bp_inner(p: &mut Parser, min_bp: u8) -> Option<CompletedMarker> {
     let mut lhs = unary(p)?;
+    let mut links = 0;
     while let Some((bp, op, right_assoc)) = binary_op(p) {
         if bp < min_bp {
+            break;
+        }
+        links += 1;
+        if p.chain_too_deep(links) {
+            p.skip_deep_chain();
             break;
         }
         let m = lhs.precede(p);
@@ -169,7 +180,9 @@ fn at_c_cast(p: &Parser) -> bool {
 
 /// Calls, indexing, member and scope access, postfix `++`/`--`.
 fn postfix(p: &mut Parser, mut lhs: CompletedMarker) -> CompletedMarker {
+    let mut links = 0;
     loop {
+        links += 1;
         let kind = match p.current() {
             L_PAREN => CALL_EXPR,
             L_BRACK => INDEX_EXPR,
@@ -178,6 +191,10 @@ fn postfix(p: &mut Parser, mut lhs: CompletedMarker) -> CompletedMarker {
             PLUS2 | MINUS2 => POSTFIX_EXPR,
             _ => return lhs,
         };
+        if p.chain_too_deep(links) {
+            p.skip_deep_chain();
+            return lhs;
+        }
         let m = lhs.precede(p);
         match kind {
             CALL_EXPR => arg_list(p),
