@@ -1,4 +1,5 @@
-//! `gudsl lsp`: the language server over stdio (tower-lsp-server on tokio).
+//! `gudsl lsp`: the language server over stdio (tower-lsp-server on tokio, behind our own
+//! transport: `transport.rs`).
 //!
 //! The model's analysis host applies edits; every request runs on a snapshot in a blocking task,
 //! so the message loop never waits for analysis and a newer edit cancels stale work. Positions
@@ -10,6 +11,7 @@ mod handlers;
 mod host;
 mod server;
 mod to_proto;
+mod transport;
 
 use std::process::ExitCode;
 
@@ -23,9 +25,11 @@ pub fn run() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    runtime.block_on(async {
+    let code = runtime.block_on(async {
         let (service, socket) = tower_lsp_server::LspService::new(server::Backend::new);
-        tower_lsp_server::Server::new(tokio::io::stdin(), tokio::io::stdout(), socket).serve(service).await;
+        transport::serve(service, socket).await
     });
-    ExitCode::SUCCESS
+    // Requests still running and the blocked read of stdin are not waited for.
+    runtime.shutdown_background();
+    code
 }

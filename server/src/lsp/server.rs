@@ -45,6 +45,10 @@ pub struct Backend {
     next_result_id: AtomicU64,
 }
 
+/// How long the server waits for the client's answer to a request of its own before going on
+/// without (progress reporting); a client that never answers must not stall the server.
+const CLIENT_ANSWER: std::time::Duration = std::time::Duration::from_secs(2);
+
 fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
@@ -166,7 +170,9 @@ impl Backend {
         }
         let token = lsp::ProgressToken::String("gudsl/load".to_string());
         let progress_supported = self.progress_supported.load(Ordering::SeqCst)
-            && self.client.create_work_done_progress(token.clone()).await.is_ok();
+            && tokio::time::timeout(CLIENT_ANSWER, self.client.create_work_done_progress(token.clone()))
+                .await
+                .is_ok_and(|answer| answer.is_ok());
         let progress = if progress_supported {
             Some(
                 self.client
@@ -200,22 +206,23 @@ impl Backend {
         }
         self.schedule_diagnostics();
     }
+}
 
-    async fn watch_files(&self) {
-        let options = lsp::DidChangeWatchedFilesRegistrationOptions {
-            watchers: vec![lsp::FileSystemWatcher {
-                glob_pattern: lsp::GlobPattern::String("**/*.gudsl".to_string()),
-                kind: None,
-            }],
-        };
-        let registration = lsp::Registration {
-            id: "gudsl-watch".to_string(),
-            method: "workspace/didChangeWatchedFiles".to_string(),
-            register_options: serde_json::to_value(options).ok(),
-        };
-        // Clients without dynamic registration simply refuse; the server works without it.
-        let _ = self.client.register_capability(vec![registration]).await;
-    }
+/// Asks the client to report changes of `.gudsl` files on disk.
+async fn watch_files(client: &Client) {
+    let options = lsp::DidChangeWatchedFilesRegistrationOptions {
+        watchers: vec![lsp::FileSystemWatcher {
+            glob_pattern: lsp::GlobPattern::String("**/*.gudsl".to_string()),
+            kind: None,
+        }],
+    };
+    let registration = lsp::Registration {
+        id: "gudsl-watch".to_string(),
+        method: "workspace/didChangeWatchedFiles".to_string(),
+        register_options: serde_json::to_value(options).ok(),
+    };
+    // Clients without dynamic registration simply refuse; the server works without it.
+    let _ = client.register_capability(vec![registration]).await;
 }
 
 impl LanguageServer for Backend {
@@ -246,7 +253,10 @@ impl LanguageServer for Backend {
     }
 
     async fn initialized(&self, _: lsp::InitializedParams) {
-        self.watch_files().await;
+        // The registration is not waited for: a client that never answers still gets its
+        // workspace loaded.
+        let client = self.client.clone();
+        tokio::spawn(async move { watch_files(&client).await });
         self.load_workspace().await;
     }
 
