@@ -30,10 +30,167 @@ fn broken_file_reports_path_line_column_code_and_exits_1() {
     let dir = temp_dir("broken");
     let file = dir.join("broken.gudsl");
     std::fs::write(&file, "ClassDiagram D\n{\n    public class C { public int x }\n}\n").unwrap();
-    let out = gudsl().args(["check", file.to_str().unwrap()]).output().unwrap();
+    let out = gudsl().args(["check", "--format", "concise", file.to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(stdout.trim(), format!("{}:3:34: error[E0001]: expected `;` after the field", file.display()));
+    // By default, the source line with the spot marked under it; no colour off a terminal.
+    let out = gudsl().args(["check", file.to_str().unwrap()]).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let expected = format!(
+        "error[E0001]: expected `;` after the field\n  ┌─ {}:3:34\n  │\n3 │     public class C {{ public int x }}\n  │                                  ^\n",
+        file.display()
+    );
+    assert!(stdout.starts_with(&expected), "{stdout}");
+    assert!(!stdout.contains('\x1b'), "no colour when stdout is not a terminal");
+}
+
+#[test]
+fn colour_follows_the_flag_and_no_color() {
+    let dir = temp_dir("colour");
+    std::fs::write(dir.join("a.gudsl"), "ClassDiagram D { class C { int x } }\n").unwrap();
+    let run = |color: &str, no_color: Option<&str>| {
+        let mut command = gudsl();
+        command.args(["check", "--color", color, dir.to_str().unwrap()]);
+        command.env_remove("NO_COLOR");
+        if let Some(value) = no_color {
+            command.env("NO_COLOR", value);
+        }
+        String::from_utf8_lossy(&command.output().unwrap().stdout).into_owned()
+    };
+    assert!(run("always", None).contains("\x1b["), "--color always colours a pipe");
+    assert!(run("always", Some("1")).contains("\x1b["), "an explicit flag beats NO_COLOR");
+    assert!(!run("never", None).contains('\x1b'));
+    assert!(!run("auto", None).contains('\x1b'), "auto: no colour into a pipe");
+}
+
+#[test]
+fn check_defaults_to_the_current_folder() {
+    let dir = temp_dir("default-folder");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    std::fs::write(dir.join("sub/a.gudsl"), "ClassDiagram D { class C { int x } }\n").unwrap();
+    let out = gudsl().args(["check", "--format", "concise"]).current_dir(&dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stdout).starts_with("sub/a.gudsl:1:"),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
+
+#[test]
+fn every_path_is_reported_even_when_another_fails() {
+    let dir = temp_dir("partial");
+    std::fs::write(dir.join("a.gudsl"), "ClassDiagram D { class C { int x } }\n").unwrap();
+    std::fs::write(dir.join("NOTES.md"), "# notes\n\nClassDiagram is not here.\n").unwrap();
+    let out = gudsl()
+        .args([
+            "check",
+            "--format",
+            "concise",
+            dir.to_str().unwrap(),
+            "/nonexistent/gudsl",
+            dir.join("NOTES.md").to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "an unreadable path is exit code 2");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stdout.lines().count(), 1, "the folder is still checked: {stdout}");
+    assert!(stdout.contains("a.gudsl:1:"), "{stdout}");
+    assert!(stderr.contains("/nonexistent/gudsl: No such file"), "{stderr}");
+    assert!(stderr.contains("NOTES.md: not a `.gudsl` file"), "a named non-GU-DSL file is not parsed: {stderr}");
+    assert!(stderr.contains("2 paths could not be read"), "{stderr}");
+}
+
+#[test]
+fn deny_warnings_fails_on_warnings() {
+    let dir = temp_dir("warnings");
+    std::fs::write(
+        dir.join("ad.gudsl"),
+        "ActivityDiagram Ad()\n{\n    swimlane L\n    {\n        start S { => done; }\n        action orphan() { => done; }\n        final done;\n    }\n}\n",
+    )
+    .unwrap();
+    let out = gudsl().args(["check", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "warnings alone pass");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("warning[E0208]"));
+    let out = gudsl().args(["check", "--deny-warnings", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+}
+
+#[test]
+fn github_format_annotates_with_escaped_messages() {
+    let dir = temp_dir("github");
+    std::fs::write(dir.join("a.gudsl"), "ClassDiagram D { public class C { public Missing m; } }\n").unwrap();
+    let out = gudsl().args(["check", "--format", "github", "a.gudsl"]).current_dir(&dir).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.starts_with("::error file=a.gudsl,line=1,col=42,endLine=1,endColumn=49,title=E0201 unknown or ambiguous type::unknown type `Missing`"),
+        "{stdout}"
+    );
+}
+
+/// Runs `tests/sarif/validate.py` (the SARIF 2.1.0 schema, formats included) on `sarif`.
+fn sarif_violations(sarif: &[u8]) -> (bool, String) {
+    let mut child = Command::new("python3")
+        .arg(repo("tests/sarif/validate.py"))
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("python3 runs (the SARIF test needs Python 3 with jsonschema)");
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), sarif).unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !stderr.contains("No module named 'jsonschema'") && out.status.code() != Some(2),
+        "jsonschema is not installed: `python3 -m pip install 'jsonschema[format-nongpl]'` ({stderr}{})",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    (out.status.success(), format!("{}{stderr}", String::from_utf8_lossy(&out.stdout)))
+}
+
+#[test]
+fn sarif_output_is_valid_sarif_2_1_0() {
+    let dir = temp_dir("sarif");
+    std::fs::create_dir_all(dir.join("with space")).unwrap();
+    std::fs::write(dir.join("with space/ä.gudsl"), "ClassDiagram D { public class C { public Missing m; } }\n")
+        .unwrap();
+    std::fs::write(
+        dir.join("ad.gudsl"),
+        "ActivityDiagram Ad()\n{\n    swimlane L\n    {\n        start S { => done; }\n        action orphan() { => done; }\n        final done;\n    }\n}\n",
+    )
+    .unwrap();
+    let out = gudsl()
+        .args(["check", "--format", "sarif", ".", dir.join("ad.gudsl").to_str().unwrap(), "missing.gudsl"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let (valid, report) = sarif_violations(&out.stdout);
+    assert!(valid, "{report}");
+    let log: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let run = &log["runs"][0];
+    assert_eq!(run["tool"]["driver"]["name"], "gudsl");
+    let results = run["results"].as_array().unwrap();
+    assert_eq!(results.len(), 2, "one file reached twice is checked once");
+    let unknown = results.iter().find(|r| r["ruleId"] == "E0201").unwrap();
+    let location = &unknown["locations"][0]["physicalLocation"];
+    assert_eq!(location["artifactLocation"]["uri"], "with%20space/%C3%A4.gudsl");
+    assert_eq!(location["artifactLocation"]["uriBaseId"], "%SRCROOT%");
+    assert_eq!(location["region"]["startColumn"], 42);
+    assert_eq!(run["tool"]["driver"]["rules"][unknown["ruleIndex"].as_u64().unwrap() as usize]["id"], "E0201");
+    assert_eq!(run["invocations"][0]["executionSuccessful"], false);
+    assert!(run["invocations"][0]["toolExecutionNotifications"][0]["message"]["text"]
+        .as_str()
+        .unwrap()
+        .contains("missing.gudsl"));
+    // The control: the validator does reject a broken log.
+    let mut broken = log.clone();
+    broken["runs"][0]["results"][0]["level"] = "fatal".into();
+    assert!(!sarif_violations(&serde_json::to_vec(&broken).unwrap()).0);
 }
 
 #[test]
@@ -62,12 +219,6 @@ fn missing_path_exits_2() {
 }
 
 #[test]
-fn no_path_is_a_usage_error() {
-    let out = gudsl().arg("check").output().unwrap();
-    assert_eq!(out.status.code(), Some(2));
-}
-
-#[test]
 fn semantic_errors_across_files_and_warnings() {
     let dir = temp_dir("semantic");
     std::fs::write(dir.join("defs.gudsl"), "ClassDiagram Defs { public class Image { } }\n").unwrap();
@@ -76,7 +227,7 @@ fn semantic_errors_across_files_and_warnings() {
         "ActivityDiagram Ad()\n{\n    swimlane L, owner Defs.Imag\n    {\n        start S { => done; }\n        action orphan { => done; }\n        final done;\n    }\n}\n",
     )
     .unwrap();
-    let out = gudsl().args(["check", dir.to_str().unwrap()]).output().unwrap();
+    let out = gudsl().args(["check", "--format", "concise", dir.to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let stdout = String::from_utf8_lossy(&out.stdout);
     let ad = dir.join("ad.gudsl");
@@ -153,6 +304,14 @@ fn render_writes_identical_svg_and_png_per_diagram() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no diagram named `NoSuchDiagram`"));
+    // A file with syntax errors: what parsed is drawn, and the run says so and fails.
+    let broken = temp_dir("render-broken");
+    std::fs::write(broken.join("b.gudsl"), "ClassDiagram B { public class C { public int x } }\n").unwrap();
+    let out = gudsl().args(["render", broken.to_str().unwrap(), "-o", out1.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("b.gudsl: 1 syntax error(s); its diagrams are drawn from what parsed"));
+    assert!(out1.join("B.svg").exists());
     let out = gudsl().args(["render", "no/such/path.gudsl", "-o", out1.to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(2), "an unreadable path is exit code 2");
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/path.gudsl"));

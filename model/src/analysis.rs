@@ -36,6 +36,25 @@ pub struct LineColEdit {
     pub text: String,
 }
 
+/// Why an editor's change was refused.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum InvalidEdit {
+    /// Edit number `edit` (from 0) has a range that ends before it starts.
+    ReversedRange { edit: usize, start: LineCol, end: LineCol },
+}
+
+impl std::fmt::Display for InvalidEdit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            InvalidEdit::ReversedRange { edit, start, end } => write!(
+                f,
+                "edit {edit} ends (line {}, column {}) before it starts (line {}, column {})",
+                end.line, end.col, start.line, start.col
+            ),
+        }
+    }
+}
+
 /// Owns the database; applies changes.
 pub struct AnalysisHost {
     db: RootDatabase,
@@ -79,21 +98,25 @@ impl AnalysisHost {
     }
 
     /// Applies editor edits in order, each against the text as changed so far; positions past a
-    /// line's or the text's end clamp to it.
-    pub fn edit_file(&mut self, file: FileId, edits: Vec<LineColEdit>, unit: ColumnUnit) {
+    /// line's or the text's end clamp to it. An edit whose range ends before it starts refuses
+    /// the whole change: nothing of it is applied.
+    pub fn edit_file(&mut self, file: FileId, edits: Vec<LineColEdit>, unit: ColumnUnit) -> Result<(), InvalidEdit> {
         let mut text = file.text(&self.db).clone();
-        for edit in edits {
+        for (i, edit) in edits.into_iter().enumerate() {
             match edit.range {
                 None => text = edit.text,
                 Some((start, end)) => {
+                    if end < start {
+                        return Err(InvalidEdit::ReversedRange { edit: i, start, end });
+                    }
                     let index = LineIndex::new(&text);
                     let offset = |at: LineCol| usize::from(index.offset(at, unit).unwrap_or(TextSize::of(&*text)));
-                    let (start, end) = (offset(start), offset(end));
-                    text.replace_range(start.min(end)..end.max(start), &edit.text);
+                    text.replace_range(offset(start)..offset(end), &edit.text);
                 }
             }
         }
         self.set_file_text(file, text);
+        Ok(())
     }
 
     pub fn file_text(&self, file: FileId) -> &str {
@@ -249,7 +272,19 @@ mod tests {
                 LineColEdit { range: Some((at(1, 9), at(5, 0))), text: "!".into() },
             ],
             ColumnUnit::Utf16,
+        )
+        .unwrap();
+        assert_eq!(host.file_text(files[0]), "// 😀 y\nabc!");
+        // A reversed range refuses the whole change, earlier edits included.
+        let refused = host.edit_file(
+            files[0],
+            vec![
+                LineColEdit { range: Some((at(0, 0), at(0, 0))), text: "lost".into() },
+                LineColEdit { range: Some((at(1, 2), at(1, 1))), text: "?".into() },
+            ],
+            ColumnUnit::Utf16,
         );
+        assert_eq!(refused, Err(InvalidEdit::ReversedRange { edit: 1, start: at(1, 2), end: at(1, 1) }));
         assert_eq!(host.file_text(files[0]), "// 😀 y\nabc!");
     }
 

@@ -5,10 +5,12 @@
 //! ports and bindings start on their own line; blocks indent by four spaces; operators are
 //! spaced as in the dissertation's listings. Line breaks the author wrote inside parentheses
 //! (long argument lists) are kept as continuation lines. A document with syntax errors is not
-//! formatted: `format` returns `None` rather than guess around the broken text.
+//! formatted: `format` returns `None` rather than guess around the broken text. Line endings
+//! follow the document's first line (`\n`, `\r\n` or `\r`), as rustfmt's `Auto` does.
 
 use crate::{
     syntax::{SyntaxKind, SyntaxKind::*, SyntaxToken},
+    text::{line_breaks, line_ending, with_line_ending},
     Parse,
 };
 
@@ -111,10 +113,18 @@ pub fn format(parse: &Parse) -> Option<String> {
         }
     };
 
+    // The output keeps the document's line terminator (that of its first line) and its
+    // byte-order mark.
+    let mut eol = None;
+    let bom = root.text().char_at(0.into()) == Some('\u{feff}');
+
     for token in root.descendants_with_tokens().filter_map(|e| e.into_token()) {
         let kind = token.kind();
+        if eol.is_none() && token.text().contains(['\n', '\r']) {
+            eol = Some(line_ending(token.text()));
+        }
         if kind == WHITESPACE {
-            newlines_before = token.text().matches('\n').count();
+            newlines_before = line_breaks(token.text());
             continue;
         }
         let is_comment = matches!(kind, LINE_COMMENT | BLOCK_COMMENT);
@@ -207,6 +217,10 @@ pub fn format(parse: &Parse) -> Option<String> {
     if out == "\n" {
         out.clear();
     }
+    let mut out = with_line_ending(&out, eol.unwrap_or("\n"));
+    if bom {
+        out.insert(0, '\u{feff}');
+    }
     Some(out)
 }
 
@@ -265,6 +279,22 @@ mod tests {
         );
         assert!(out.contains("        port P(provider p : I);\n        [L source P.p ==> target Q.q]\n"), "{out}");
         assert_eq!(fmt(&out), out, "idempotent");
+    }
+
+    #[test]
+    fn line_endings_and_byte_order_mark_are_kept() {
+        let lf = &fmt(
+            "ClassDiagram D\n{\n    /* one\n       two */\n    public class C { } // c\n\n    public class E { }\n}\n",
+        );
+        assert!(lf.contains("/* one\n       two */"), "{lf}");
+        for eol in ["\r\n", "\r"] {
+            let other = lf.replace('\n', eol);
+            assert_eq!(fmt(&other), other, "{eol:?}");
+        }
+        // Mixed: the first line decides, everywhere (inside block comments too).
+        assert_eq!(fmt(&lf.replacen('\n', "\r\n", 1)), lf.replace('\n', "\r\n"));
+        let bom = format!("\u{feff}{lf}");
+        assert_eq!(fmt(&bom), bom);
     }
 
     #[test]

@@ -13,5 +13,5 @@ pub mod syntax;
 pub mod synth;
 pub mod text;
 
-pub use analysis::{Analysis, AnalysisHost, Cancellable, Cancelled, FileId, LineColEdit};
+pub use analysis::{Analysis, AnalysisHost, Cancellable, Cancelled, FileId, InvalidEdit, LineColEdit};
 pub use syntax::{parse, Parse, SyntaxError, SyntaxErrorCode, SyntaxKind, SyntaxNode, SyntaxToken};

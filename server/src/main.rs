@@ -2,6 +2,7 @@
 
 mod commands;
 mod lsp;
+mod report;
 mod workspace;
 
 use std::process::ExitCode;

@@ -119,6 +119,43 @@ impl DiagnosticCode {
             DiagnosticCode::UnknownMember => "E0229",
         }
     }
+
+    /// What the code means, in a few words (for rule lists such as SARIF's; `docs/diagnostics.md`
+    /// says more).
+    pub fn summary(self) -> &'static str {
+        match self {
+            DiagnosticCode::Syntax(code) => code.summary(),
+            DiagnosticCode::UnresolvedType => "unknown or ambiguous type",
+            DiagnosticCode::UnresolvedOwner => "unknown owner class of a diagram or swimlane",
+            DiagnosticCode::OwnerNotAClass => "the owner is not a class",
+            DiagnosticCode::UnresolvedTransitionTarget => "a transition to a node the diagram does not have",
+            DiagnosticCode::DuplicateName => "a name declared twice",
+            DiagnosticCode::MissingStartNode => "an activity diagram without a start node",
+            DiagnosticCode::DuplicateStartNode => "more than one start node",
+            DiagnosticCode::UnreachableNode => "a node never reached from the start node",
+            DiagnosticCode::NoPathToFinal => "a node from which no final node can be reached",
+            DiagnosticCode::TransitionArity => "wrong number of transition arguments",
+            DiagnosticCode::UnresolvedBehavior => "`call behavior` of something that is no activity diagram",
+            DiagnosticCode::UnresolvedImport => "an import of a name that does not exist",
+            DiagnosticCode::LoopWindowMismatch => "loopWindow sections of different lengths",
+            DiagnosticCode::UnresolvedMethod => "`call Class::m` of a method the class does not have",
+            DiagnosticCode::InvalidComponent => "a component or instance of something that is no component class",
+            DiagnosticCode::InvalidConnectorInterface => "a connector interface its role does not have",
+            DiagnosticCode::UnresolvedConnector => "an unknown port, connector or port instance",
+            DiagnosticCode::MissingProcessorSignature => "a provider method without its processor signature",
+            DiagnosticCode::InvalidConnection => "a connection that does not join a provider and a processor",
+            DiagnosticCode::UnknownInstanceField => "a value for a field the component class does not have",
+            DiagnosticCode::BindingNotAllowed => "a binding no connection of the component diagram allows",
+            DiagnosticCode::InvalidAttributeUse => "an unknown attribute or attribute field",
+            DiagnosticCode::SharedOutsideGpuClass => "a `shared` parameter outside an OpenCL class",
+            DiagnosticCode::NotABoolean => "a guard or condition that is not boolean",
+            DiagnosticCode::TypeMismatch => "a value of an incompatible type",
+            DiagnosticCode::CallArity => "a call with a number of arguments no overload takes",
+            DiagnosticCode::ArgumentType => "a call argument of a type the parameter does not accept",
+            DiagnosticCode::UnknownName => "a name that is no variable, parameter, field or type",
+            DiagnosticCode::UnknownMember => "a field or method the type does not have",
+        }
+    }
 }
 
 /// One problem in one file.

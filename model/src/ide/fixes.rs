@@ -11,6 +11,7 @@ use crate::{
         DefKind, DiagnosticCode, Semantics,
     },
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
+    text::{line_ending, with_line_ending},
 };
 
 use super::references::FileRange;
@@ -29,6 +30,7 @@ pub struct QuickFix {
 pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: TextRange) -> Vec<QuickFix> {
     let root = parse(db, file).syntax_node();
     let text = file.text(db);
+    let eol = line_ending(text);
     let mut fixes = Vec::new();
     for diagnostic in file_diagnostics(db, workspace, file) {
         if diagnostic.range.intersect(range).is_none() && !range.contains_range(diagnostic.range) {
@@ -40,7 +42,10 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                 title,
                 code: diagnostic.code,
                 diagnostic_range: diagnostic.range,
-                edits: edits.into_iter().map(|(range, text)| (FileRange { file, range }, text)).collect(),
+                edits: edits
+                    .into_iter()
+                    .map(|(range, text)| (FileRange { file, range }, with_line_ending(&text, eol)))
+                    .collect(),
             });
         };
         match diagnostic.code {
@@ -87,6 +92,8 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                 }
                 // Misspelt: the closest declared type.
                 let wanted_class = diagnostic.code == DiagnosticCode::UnresolvedOwner;
+                let written_len = written.chars().count();
+                let most = 2.max(written.len() / 4);
                 let best = map
                     .definitions
                     .iter()
@@ -94,12 +101,20 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                         DefKind::Type(ty) => !wanted_class || matches!(ty.kind, TypeKind::Class(_)),
                         _ => false,
                     })
-                    .map(|(fqn, _)| {
-                        let candidate =
-                            if written.contains('.') { fqn.as_str() } else { fqn.rsplit('.').next().unwrap_or(fqn) };
-                        (edit_distance(&written, candidate), candidate.to_string())
-                    })
-                    .filter(|(d, c)| *d > 0 && *d <= 2.max(written.len() / 4) && c != &written)
+                    .map(
+                        |(fqn, _)| {
+                            if written.contains('.') {
+                                fqn.as_str()
+                            } else {
+                                fqn.rsplit('.').next().unwrap_or(fqn)
+                            }
+                        },
+                    )
+                    // The distance is at least the difference in length: a long name is
+                    // compared with nothing rather than with every type.
+                    .filter(|candidate| candidate.chars().count().abs_diff(written_len) <= most)
+                    .map(|candidate| (edit_distance(&written, candidate), candidate.to_string()))
+                    .filter(|(d, c)| *d > 0 && *d <= most && c != &written)
                     .min();
                 if let Some((_, replacement)) = best {
                     push(format!("Change to `{replacement}`"), vec![(diagnostic.range, replacement)]);
@@ -121,15 +136,27 @@ fn covering_node(root: &SyntaxNode, range: TextRange) -> SyntaxNode {
 
 /// The whole lines a range sits on (with its line break), so deleting leaves no blank line.
 fn line_span(text: &str, range: TextRange) -> TextRange {
-    let start = text[..usize::from(range.start())].rfind('\n').map_or(0, |i| i + 1);
-    let end = text[usize::from(range.end())..].find('\n').map_or(text.len(), |i| usize::from(range.end()) + i + 1);
+    let start = line_start(text, range.start().into());
+    let end = next_line_start(text, range.end().into());
     TextRange::new((start as u32).into(), (end as u32).into())
+}
+
+/// Where the line holding `offset` starts.
+fn line_start(text: &str, offset: usize) -> usize {
+    text[..offset].rfind(['\n', '\r']).map_or(0, |i| i + 1)
+}
+
+/// Where the line after the one holding `offset` starts (the text's end on the last line).
+fn next_line_start(text: &str, offset: usize) -> usize {
+    match text[offset..].find(['\n', '\r']) {
+        Some(i) => offset + i + if text[offset + i..].starts_with("\r\n") { 2 } else { 1 },
+        None => text.len(),
+    }
 }
 
 /// The indentation of the line `offset` is on.
 fn indentation_at(text: &str, offset: TextSize) -> String {
-    let start = text[..usize::from(offset)].rfind('\n').map_or(0, |i| i + 1);
-    text[start..].chars().take_while(|c| *c == ' ' || *c == '\t').collect()
+    text[line_start(text, offset.into())..].chars().take_while(|c| *c == ' ' || *c == '\t').collect()
 }
 
 /// `=> missing;`: a new action node `missing` before the end of the transition's swimlane.
@@ -224,7 +251,7 @@ fn import_position(node: &SyntaxNode, text: &str) -> Option<(TextSize, String)> 
     let diagram = node.ancestors().find_map(ast::Diagram::cast)?;
     let open = diagram.syntax().children_with_tokens().find(|e| e.kind() == SyntaxKind::L_CURLY)?;
     let after = usize::from(open.text_range().end());
-    let line_end = text[after..].find('\n').map_or(text.len(), |i| after + i + 1);
+    let line_end = next_line_start(text, after);
     let indent = format!("{}    ", indentation_at(text, diagram.syntax().text_range().start()));
     Some(((line_end as u32).into(), indent))
 }

@@ -96,7 +96,7 @@ impl Sink<'_> {
                     let start: usize =
                         self.offset + self.lexed.tokens[self.token..i].iter().map(|t| t.len as usize).sum::<usize>();
                     let ws = &self.text[start..start + self.lexed.tokens[i].len as usize];
-                    if ws.matches('\n').count() >= 2 {
+                    if crate::text::line_breaks(ws) >= 2 {
                         break;
                     }
                 }

@@ -31,6 +31,18 @@ impl SyntaxErrorCode {
             SyntaxErrorCode::NestingTooDeep => "E0006",
         }
     }
+
+    /// What the code means, in a few words (for rule lists such as SARIF's).
+    pub fn summary(self) -> &'static str {
+        match self {
+            SyntaxErrorCode::UnexpectedToken => "a token the grammar does not allow here, or a missing one",
+            SyntaxErrorCode::UnclosedDelimiter => "a construct without its closing delimiter",
+            SyntaxErrorCode::UnterminatedLiteral => "a string or character literal without its closing quote",
+            SyntaxErrorCode::UnterminatedComment => "a block comment without `*/`",
+            SyntaxErrorCode::UnknownCharacter => "a character that starts no token",
+            SyntaxErrorCode::NestingTooDeep => "nesting deeper than the parser follows",
+        }
+    }
 }
 
 /// One syntax error.

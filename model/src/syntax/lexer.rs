@@ -60,6 +60,11 @@ impl Lexer<'_> {
         let start = self.pos;
         let c = self.peek(0);
         match c {
+            // A byte-order mark opening the text is trivia, as editors treat it.
+            0xEF if start == 0 && self.text.starts_with('\u{feff}') => {
+                self.pos += '\u{feff}'.len_utf8();
+                self.push(WHITESPACE, start);
+            }
             b' ' | b'\t' | b'\n' | b'\r' | b'\x0c' => {
                 while matches!(self.peek(0), b' ' | b'\t' | b'\n' | b'\r' | b'\x0c') {
                     self.pos += 1;
@@ -67,7 +72,8 @@ impl Lexer<'_> {
                 self.push(WHITESPACE, start);
             }
             b'/' if self.peek(1) == b'/' => {
-                while self.pos < self.bytes.len() && self.bytes[self.pos] != b'\n' {
+                // To the line end, which may be `\r\n` or a lone `\r`: never including it.
+                while self.pos < self.bytes.len() && !matches!(self.bytes[self.pos], b'\n' | b'\r') {
                     self.pos += 1;
                 }
                 self.push(LINE_COMMENT, start);
@@ -123,7 +129,7 @@ impl Lexer<'_> {
         while self.pos < self.bytes.len() {
             match self.bytes[self.pos] {
                 b'\\' => self.pos = (self.pos + 2).min(self.bytes.len()),
-                b'\n' => break,
+                b'\n' | b'\r' => break,
                 c if c == quote => {
                     self.pos += 1;
                     self.push(kind, start);
@@ -320,6 +326,38 @@ mod tests {
         assert_eq!(lexed.tokens[0], Token { kind: STRING, len: 4 });
         assert_eq!(lexed.errors.len(), 1);
         assert_eq!(lexed.errors[0].code, SyntaxErrorCode::UnterminatedLiteral);
+    }
+
+    #[test]
+    fn comments_and_literals_end_before_any_line_terminator() {
+        for eol in ["\n", "\r\n", "\r"] {
+            let lexed = lex(&format!("// note{eol}\"abc{eol}'x{eol}x"));
+            let lens: Vec<_> = lexed.tokens.iter().map(|t| (t.kind, t.len)).collect();
+            let eol_len = eol.len() as u32;
+            assert_eq!(
+                lens,
+                [
+                    (LINE_COMMENT, 7),
+                    (WHITESPACE, eol_len),
+                    (STRING, 4),
+                    (WHITESPACE, eol_len),
+                    (CHAR, 2),
+                    (WHITESPACE, eol_len),
+                    (IDENT, 1)
+                ],
+                "{eol:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_leading_byte_order_mark_is_trivia() {
+        let lexed = lex("\u{feff}class");
+        assert_eq!(lexed.tokens, [Token { kind: WHITESPACE, len: 3 }, Token { kind: CLASS_KW, len: 5 }]);
+        assert!(lexed.errors.is_empty());
+        // Elsewhere it is a stray character.
+        assert_eq!(lex("a\u{feff}").errors.len(), 1);
+        assert!(crate::parse("\u{feff}ClassDiagram D { }").errors().is_empty());
     }
 
     #[test]

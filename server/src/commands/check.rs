@@ -1,109 +1,71 @@
-//! `gudsl check PATH…`: reports every syntax and semantic problem in the given files and
-//! folders (checked together as one workspace), for people
-//! (`path:line:col: error[E0001]: message`) or machines (`--format json`).
+//! `gudsl check [PATH…]`: reports every syntax and semantic problem in the given files and
+//! folders (the current folder by default), checked together as one workspace, in the format
+//! asked for (`report`). Exit code: 0 clean, 1 errors (or warnings with `--deny-warnings`),
+//! 2 when a path could not be read (the others are still checked and reported).
 
 use std::{path::PathBuf, process::ExitCode};
 
-use clap::{Args, ValueEnum};
-use gudsl_model::text::ColumnUnit;
-use serde::Serialize;
+use clap::Args;
+use gudsl_model::hir::Severity;
 
-use crate::workspace;
+use crate::{
+    report::{self, CheckedFile, Color, Finding, Format, Report},
+    workspace,
+};
 
 #[derive(Args)]
 pub struct CheckArgs {
-    /// Files or folders (searched recursively for `.gudsl` files).
-    #[arg(required = true)]
+    /// Files or folders (folders are searched for `.gudsl` files, skipping what `.gitignore`
+    /// ignores); the current folder if none.
     paths: Vec<PathBuf>,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Human)]
     format: Format,
-}
-
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum Format {
-    Human,
-    Json,
-}
-
-/// One problem, positioned for people: 1-based lines and columns (columns count characters).
-#[derive(Serialize)]
-struct Diagnostic {
-    path: String,
-    line: u32,
-    column: u32,
-    end_line: u32,
-    end_column: u32,
-    severity: &'static str,
-    code: &'static str,
-    message: String,
-}
-
-#[derive(Serialize)]
-struct Report {
-    files: usize,
-    errors: usize,
-    warnings: usize,
-    diagnostics: Vec<Diagnostic>,
+    /// Colour in the human formats: `auto` colours a terminal unless `NO_COLOR` is set.
+    #[arg(long, value_enum, default_value_t = Color::Auto)]
+    color: Color,
+    /// Exit with 1 when there are warnings, not only when there are errors.
+    #[arg(long)]
+    deny_warnings: bool,
 }
 
 pub fn run(args: &CheckArgs) -> ExitCode {
-    let documents = match workspace::load(&args.paths) {
-        Ok(documents) => documents,
-        Err(error) => {
-            eprintln!("gudsl check: {error}");
-            return ExitCode::from(2);
-        }
-    };
+    let paths = if args.paths.is_empty() { vec![PathBuf::from(".")] } else { args.paths.clone() };
+    let loaded = workspace::load(&paths);
     // The documents form one workspace.
-    let (host, files) = workspace::analysis_host(&documents);
+    let (host, files) = workspace::analysis_host(&loaded.documents);
     let analysis = host.analysis();
-    let mut diagnostics = Vec::new();
-    for (document, &file) in documents.iter().zip(&files) {
+    let mut report = Report { unreadable: loaded.errors, ..Report::default() };
+    for (document, &file) in loaded.documents.into_iter().zip(&files) {
         let Ok((found, index)) = analysis.diagnostics(file) else {
             eprintln!("gudsl check: the analysis was cancelled");
             return ExitCode::from(2);
         };
-        for diagnostic in found {
-            let start = index.line_col(diagnostic.range.start(), ColumnUnit::Char);
-            let end = index.line_col(diagnostic.range.end(), ColumnUnit::Char);
-            diagnostics.push(Diagnostic {
-                path: document.path.display().to_string(),
-                line: start.line + 1,
-                column: start.col + 1,
-                end_line: end.line + 1,
-                end_column: end.col + 1,
-                severity: diagnostic.severity.as_str(),
-                code: diagnostic.code.as_str(),
-                message: diagnostic.message.clone(),
-            });
-        }
+        let file_index = report.files.len();
+        report.findings.extend(found.iter().map(|d| Finding {
+            file: file_index,
+            severity: d.severity,
+            code: d.code,
+            message: d.message.clone(),
+            range: d.range,
+        }));
+        report.files.push(CheckedFile {
+            path: document.path.display().to_string(),
+            text: document.text,
+            index: index.clone(),
+        });
     }
-    let errors = diagnostics.iter().filter(|d| d.severity == "error").count();
-    let warnings = diagnostics.len() - errors;
-    let report = Report { files: documents.len(), errors, warnings, diagnostics };
-    match args.format {
-        Format::Json => match serde_json::to_string_pretty(&report) {
-            Ok(json) => println!("{json}"),
-            Err(error) => {
-                eprintln!("gudsl check: {error}");
-                return ExitCode::from(2);
-            }
-        },
-        Format::Human => {
-            for d in &report.diagnostics {
-                println!("{}:{}:{}: {}[{}]: {}", d.path, d.line, d.column, d.severity, d.code, d.message);
-            }
-            let plural = |n: usize, what: &str| format!("{n} {what}{}", if n == 1 { "" } else { "s" });
-            eprintln!(
-                "checked {}: {}, {}",
-                plural(report.files, "file"),
-                plural(report.errors, "error"),
-                plural(report.warnings, "warning")
-            );
+    if let Err(error) = report::write(&report, args.format, args.color) {
+        // A closed pipe (`gudsl check | head`) is not worth a message.
+        if error.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("gudsl check: {error}");
         }
+        return ExitCode::from(2);
     }
-    if report.errors > 0 {
+    let failing = report.count(Severity::Error) + if args.deny_warnings { report.count(Severity::Warning) } else { 0 };
+    if !report.unreadable.is_empty() {
+        ExitCode::from(2)
+    } else if failing > 0 {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

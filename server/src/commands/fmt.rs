@@ -1,7 +1,13 @@
 //! `gudsl fmt PATH…`: formats GU-DSL files in place (or, with `--check`, lists those that are
-//! not formatted). Files with syntax errors are reported and left untouched.
+//! not formatted). Files with syntax errors are reported and left untouched; files that are not
+//! UTF-8 are refused, never rewritten. A file is replaced atomically (written beside it, then
+//! renamed over it), so a full disk or a crash leaves the original whole.
 
-use std::{path::PathBuf, process::ExitCode};
+use std::{
+    io::{self, Write},
+    path::{Path, PathBuf},
+    process::ExitCode,
+};
 
 use clap::Args;
 
@@ -18,17 +24,15 @@ pub struct FmtArgs {
 }
 
 pub fn run(args: &FmtArgs) -> ExitCode {
-    let documents = match workspace::load(&args.paths) {
-        Ok(documents) => documents,
-        Err(error) => {
-            eprintln!("gudsl fmt: {error}");
-            return ExitCode::from(2);
-        }
-    };
-    let (host, files) = workspace::analysis_host(&documents);
+    let loaded = workspace::load(&args.paths);
+    let mut unwritable = !loaded.errors.is_empty();
+    for error in &loaded.errors {
+        eprintln!("gudsl fmt: {error}");
+    }
+    let (host, files) = workspace::analysis_host(&loaded.documents);
     let analysis = host.analysis();
-    let mut failed = false;
-    for (document, &file) in documents.iter().zip(&files) {
+    let mut unformatted = false;
+    for (document, &file) in loaded.documents.iter().zip(&files) {
         let (Ok(formatted), Ok(parse)) = (analysis.format(file), analysis.parse(file)) else {
             eprintln!("gudsl fmt: the analysis was cancelled");
             return ExitCode::from(2);
@@ -39,7 +43,7 @@ pub fn run(args: &FmtArgs) -> ExitCode {
                 document.path.display(),
                 parse.errors().len()
             );
-            failed = true;
+            unformatted = true;
             continue;
         };
         if formatted == document.text {
@@ -47,15 +51,31 @@ pub fn run(args: &FmtArgs) -> ExitCode {
         }
         if args.check {
             println!("{}", document.path.display());
-            failed = true;
-        } else if let Err(error) = std::fs::write(&document.path, formatted) {
-            eprintln!("gudsl fmt: {}: {error}", document.path.display());
-            return ExitCode::from(2);
+            unformatted = true;
+        } else if let Err(error) = replace_file(&document.path, formatted.as_bytes()) {
+            eprintln!("gudsl fmt: {}: {error} (the file is unchanged)", document.path.display());
+            unwritable = true;
         }
     }
-    if failed {
+    if unwritable {
+        ExitCode::from(2)
+    } else if unformatted {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// Replaces the file `path` leads to (through symbolic links) with `contents`: written to a
+/// temporary file in the same folder, flushed to disk, given the original's permissions, then
+/// renamed over it. On any failure the original is untouched and the temporary file removed.
+fn replace_file(path: &Path, contents: &[u8]) -> io::Result<()> {
+    let target = std::fs::canonicalize(path)?;
+    let folder = target.parent().unwrap_or(Path::new("."));
+    let mut temporary = tempfile::Builder::new().prefix(".gudsl-fmt-").suffix(".tmp").tempfile_in(folder)?;
+    temporary.write_all(contents)?;
+    temporary.as_file().set_permissions(std::fs::metadata(&target)?.permissions())?;
+    temporary.as_file().sync_all()?;
+    temporary.persist(&target).map_err(|error| error.error)?;
+    Ok(())
 }

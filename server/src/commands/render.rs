@@ -1,6 +1,8 @@
 //! `gudsl render PATH… [--diagram NAME] [--format svg|png|layout-json] [-o DIR]`: draws the
 //! diagrams of the given files (resolved together as one workspace) into one file per diagram,
 //! named after the diagram's fully qualified name. Output is byte-identical for identical input.
+//! Exit code: 0 drawn, 1 nothing to draw or a file has syntax errors (what parsed is still
+//! drawn), 2 a path could not be read or an output not written.
 
 use std::{path::PathBuf, process::ExitCode};
 
@@ -33,25 +35,32 @@ enum Format {
 }
 
 pub fn run(args: &RenderArgs) -> ExitCode {
-    let documents = match workspace::load(&args.paths) {
-        Ok(documents) => documents,
-        Err(error) => {
-            eprintln!("gudsl render: {error}");
-            return ExitCode::from(2);
-        }
-    };
+    let loaded = workspace::load(&args.paths);
+    for error in &loaded.errors {
+        eprintln!("gudsl render: {error}");
+    }
     if let Err(error) = std::fs::create_dir_all(&args.output) {
         eprintln!("gudsl render: {}: {error}", args.output.display());
         return ExitCode::from(2);
     }
-    let (host, files) = workspace::analysis_host(&documents);
+    let (host, files) = workspace::analysis_host(&loaded.documents);
     let analysis = host.analysis();
+    // Diagrams of a file with syntax errors are drawn from what parsed, and said so.
+    let mut broken = false;
+    for (document, &file) in loaded.documents.iter().zip(&files) {
+        let Ok(parse) = analysis.parse(file) else { return cancelled() };
+        if !parse.errors().is_empty() {
+            eprintln!(
+                "gudsl render: {}: {} syntax error(s); its diagrams are drawn from what parsed (`gudsl check` lists them)",
+                document.path.display(),
+                parse.errors().len()
+            );
+            broken = true;
+        }
+    }
     let mut written = 0;
     for &file in &files {
-        let Ok(graphs) = analysis.graphs(file) else {
-            eprintln!("gudsl render: the analysis was cancelled");
-            return ExitCode::from(2);
-        };
+        let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
         for graph in graphs {
             let simple = graph.id.rsplit('.').next().unwrap_or(&graph.id);
             if args.diagram.as_deref().is_some_and(|wanted| wanted != graph.id && wanted != simple) {
@@ -82,8 +91,19 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             Some(name) => eprintln!("gudsl render: no diagram named `{name}`"),
             None => eprintln!("gudsl render: no diagrams found"),
         }
-        return ExitCode::from(1);
+    } else {
+        eprintln!("wrote {written} diagram(s) to {}", args.output.display());
     }
-    eprintln!("wrote {written} diagram(s) to {}", args.output.display());
-    ExitCode::SUCCESS
+    if !loaded.errors.is_empty() {
+        ExitCode::from(2)
+    } else if written == 0 || broken {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn cancelled() -> ExitCode {
+    eprintln!("gudsl render: the analysis was cancelled");
+    ExitCode::from(2)
 }

@@ -20,7 +20,20 @@ pub fn offset(index: &LineIndex, position: lsp::Position, encoding: Encoding) ->
     index.offset(line_col(position), encoding.0).unwrap_or_else(|| index.text_len())
 }
 
-/// A range of byte offsets (ordered, whichever way the client wrote it).
+/// A request's range as sent, or why it is refused (one that ends before it starts: the
+/// spec leaves it undefined, so it is not guessed at).
+pub fn ordered_range(range: lsp::Range) -> Result<lsp::Range, String> {
+    let (start, end) = (line_col(range.start), line_col(range.end));
+    if end < start {
+        return Err(format!(
+            "the range ends (line {}, character {}) before it starts (line {}, character {})",
+            end.line, end.col, start.line, start.col
+        ));
+    }
+    Ok(range)
+}
+
+/// A range of byte offsets (of a range checked by [`ordered_range`]; never panics on others).
 pub fn text_range(index: &LineIndex, range: lsp::Range, encoding: Encoding) -> TextRange {
     let (start, end) = (offset(index, range.start, encoding), offset(index, range.end, encoding));
     TextRange::new(start.min(end), end.max(start))

@@ -3,7 +3,7 @@
 
 use std::{collections::HashMap, sync::Arc};
 
-use gudsl_model::{Analysis, AnalysisHost, FileId, LineColEdit};
+use gudsl_model::{Analysis, AnalysisHost, FileId, InvalidEdit, LineColEdit};
 use tower_lsp_server::ls_types as lsp;
 
 use super::capabilities::Encoding;
@@ -16,6 +16,14 @@ pub struct Document {
     /// The editor's version while the document is open.
     pub version: Option<i32>,
     pub open: bool,
+}
+
+/// Why an editor's change was not applied.
+#[derive(Debug, PartialEq, Eq)]
+pub enum ChangeRefused {
+    /// `didChange` for a document without `didOpen` (the spec allows changes to open ones only).
+    NotOpen,
+    Invalid(InvalidEdit),
 }
 
 #[derive(Default)]
@@ -80,20 +88,28 @@ impl Host {
         file
     }
 
-    /// Applies an editor's changes (incremental or full) to an open document.
+    /// Applies an editor's changes (incremental or full) to an open document; refused (nothing
+    /// applied) for a document that is not open or a change with a reversed range.
     pub fn change(
         &mut self,
         uri: &lsp::Uri,
         version: i32,
         edits: Vec<LineColEdit>,
         encoding: Encoding,
-    ) -> Option<FileId> {
-        let document = self.documents.get_mut(uri.as_str())?;
-        document.version = Some(version);
-        document.open = true;
+    ) -> Result<FileId, ChangeRefused> {
+        let document = self.documents.get_mut(uri.as_str()).ok_or(ChangeRefused::NotOpen)?;
+        if !document.open {
+            return Err(ChangeRefused::NotOpen);
+        }
         let file = document.file;
-        self.analysis.edit_file(file, edits, encoding.0);
-        Some(file)
+        self.analysis.edit_file(file, edits, encoding.0).map_err(ChangeRefused::Invalid)?;
+        document.version = Some(version);
+        Ok(file)
+    }
+
+    /// The text the server has for a document (what `gudsl/viewFileText` shows).
+    pub fn text(&self, uri: &lsp::Uri) -> Option<&str> {
+        self.documents.get(uri.as_str()).map(|d| self.analysis.file_text(d.file))
     }
 
     /// The editor closed the document: it stays in the workspace with its last text (the file
@@ -151,8 +167,24 @@ mod tests {
         let edits = from_proto::edits(vec![change(((5, 0), (9, 9)), "!")]);
         let file = host.change(&uri, 2, edits, Encoding(ColumnUnit::Utf8)).unwrap();
         assert_eq!(host.analysis.file_text(file), "abc!");
-        assert!(host
-            .change(&"file:///ws/unknown.gudsl".parse().unwrap(), 1, vec![], Encoding(ColumnUnit::Utf8))
-            .is_none());
+        let unknown = "file:///ws/unknown.gudsl".parse().unwrap();
+        assert_eq!(host.change(&unknown, 1, vec![], Encoding(ColumnUnit::Utf8)), Err(ChangeRefused::NotOpen));
+    }
+
+    #[test]
+    fn changes_to_closed_documents_and_reversed_ranges_are_refused() {
+        let mut host = Host::default();
+        let uri: lsp::Uri = "file:///ws/c.gudsl".parse().unwrap();
+        // Loaded from disk, not opened: a change is not applied, and does not open it.
+        host.set_text(&uri, "abc".to_string(), None, false);
+        let edit = || from_proto::edits(vec![change(((0, 0), (0, 1)), "X")]);
+        assert_eq!(host.change(&uri, 2, edit(), Encoding(ColumnUnit::Utf8)), Err(ChangeRefused::NotOpen));
+        assert!(!host.is_open(&uri));
+        assert_eq!(host.text(&uri), Some("abc"));
+        host.set_text(&uri, "abc".to_string(), Some(1), true);
+        let reversed = from_proto::edits(vec![change(((0, 2), (0, 1)), "X")]);
+        assert!(matches!(host.change(&uri, 2, reversed, Encoding(ColumnUnit::Utf8)), Err(ChangeRefused::Invalid(_))));
+        assert_eq!(host.text(&uri), Some("abc"));
+        assert_eq!(host.snapshot(Encoding(ColumnUnit::Utf8)).document(&uri).unwrap().version, Some(1));
     }
 }

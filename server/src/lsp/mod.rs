@@ -26,7 +26,9 @@ pub fn run() -> ExitCode {
         }
     };
     let code = runtime.block_on(async {
-        let (service, socket) = tower_lsp_server::LspService::new(server::Backend::new);
+        let (service, socket) = tower_lsp_server::LspService::build(server::Backend::new)
+            .custom_method("gudsl/viewFileText", server::Backend::view_file_text)
+            .finish();
         transport::serve(service, socket).await
     });
     // Requests still running and the blocked read of stdin are not waited for.

@@ -2,7 +2,7 @@
 //! table of features (each delegating to `handlers` on a snapshot, off the loop).
 
 use std::{
-    collections::HashMap,
+    collections::{HashMap, HashSet},
     panic::AssertUnwindSafe,
     path::PathBuf,
     sync::{
@@ -22,7 +22,7 @@ use crate::workspace;
 use super::{
     capabilities::{server_capabilities, Encoding},
     from_proto, handlers,
-    host::{Host, Snapshot},
+    host::{ChangeRefused, Host, Snapshot},
     to_proto,
 };
 
@@ -40,6 +40,8 @@ pub struct Backend {
     generation: Arc<AtomicU64>,
     /// What was last published per URI (with the document version), so only changes are sent.
     published: Arc<Mutex<HashMap<String, Published>>>,
+    /// Held while a diagnostics run publishes.
+    publishing: Arc<tokio::sync::Mutex<()>>,
     /// The last semantic tokens sent per URI, with their result id, for delta requests.
     semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
     next_result_id: AtomicU64,
@@ -63,6 +65,7 @@ impl Backend {
             progress_supported: Default::default(),
             generation: Arc::default(),
             published: Arc::default(),
+            publishing: Arc::default(),
             semantic_tokens: Mutex::default(),
             next_result_id: AtomicU64::new(1),
         }
@@ -113,6 +116,7 @@ impl Backend {
         let host = self.host.clone();
         let client = self.client.clone();
         let published = self.published.clone();
+        let publishing = self.publishing.clone();
         let encoding = self.encoding();
         tokio::spawn(async move {
             tokio::task::yield_now().await;
@@ -121,6 +125,7 @@ impl Backend {
                     return;
                 }
                 let snapshot = lock(&host).snapshot(encoding);
+                let known: HashSet<String> = snapshot.documents.keys().cloned().collect();
                 let computed = tokio::task::spawn_blocking(move || {
                     let mut all: Vec<(lsp::Uri, Option<i32>, Vec<lsp::Diagnostic>)> = Vec::new();
                     for d in snapshot.documents.values().filter(|d| d.open == open_phase) {
@@ -131,11 +136,22 @@ impl Backend {
                 })
                 .await;
                 let Ok(Ok(all)) = computed else { return };
+                // One run publishes at a time, and only while it is the newest: an older run
+                // cannot publish after a newer one (stale diagnostics, or ones just cleared).
+                let _publishing = publishing.lock().await;
                 if current.load(Ordering::SeqCst) != generation {
                     return;
                 }
                 let changed: Vec<_> = {
                     let mut published = lock(&published);
+                    // Documents that left the workspace (closed unsaved, deleted): cleared.
+                    let forgotten: Vec<String> =
+                        published.keys().filter(|uri| !known.contains(*uri)).cloned().collect();
+                    let mut cleared = Vec::new();
+                    for uri in forgotten {
+                        published.remove(&uri);
+                        cleared.extend(uri.parse::<lsp::Uri>().ok().map(|uri| (uri, None, Vec::new())));
+                    }
                     // A new version of an open document is always answered, so the editor knows
                     // its diagnostics are current; other documents only when they change.
                     all.into_iter()
@@ -147,6 +163,7 @@ impl Backend {
                             }
                             !unchanged
                         })
+                        .chain(cleared)
                         .collect()
                 };
                 for (uri, version, diagnostics) in changed {
@@ -188,7 +205,13 @@ impl Backend {
         let total = paths.len().max(1);
         for (i, path) in paths.iter().enumerate() {
             let Some(uri) = lsp::Uri::from_file_path(path) else { continue };
-            let Ok(text) = workspace::read_text(path) else { continue };
+            let text = match workspace::read_text(path) {
+                Ok(text) => text,
+                Err(error) => {
+                    self.client.log_message(lsp::MessageType::WARNING, format!("gudsl: {error}: not loaded")).await;
+                    continue;
+                }
+            };
             {
                 let mut host = lock(&self.host);
                 if !host.is_open(&uri) {
@@ -274,22 +297,32 @@ impl LanguageServer for Backend {
         let encoding = self.encoding();
         let doc = params.text_document;
         let edits = from_proto::edits(params.content_changes);
-        let applied = lock(&self.host).change(&doc.uri, doc.version, edits, encoding);
-        if applied.is_none() {
-            self.client
-                .log_message(
-                    lsp::MessageType::WARNING,
-                    format!("gudsl: change to unknown document {}", doc.uri.as_str()),
-                )
-                .await;
+        let refused = lock(&self.host).change(&doc.uri, doc.version, edits, encoding);
+        match refused {
+            Ok(_) => self.schedule_diagnostics(),
+            Err(ChangeRefused::NotOpen) => {
+                let message =
+                    format!("gudsl: ignored a change to {}, which is not open (no didOpen)", doc.uri.as_str());
+                self.client.log_message(lsp::MessageType::WARNING, message).await;
+            }
+            Err(ChangeRefused::Invalid(why)) => {
+                let message = format!(
+                    "gudsl: a change to {} was not applied: {why}. The server's copy may now differ from the editor's: close and reopen the file.",
+                    doc.uri.as_str()
+                );
+                self.client.show_message(lsp::MessageType::ERROR, message).await;
+            }
         }
-        self.schedule_diagnostics();
     }
 
     async fn did_close(&self, params: lsp::DidCloseTextDocumentParams) {
         let uri = params.text_document.uri;
-        // Back to the disk's version (the editor may close without saving).
-        let on_disk = uri.to_file_path().and_then(|p| workspace::read_text(&p).ok());
+        // Back to the disk's version (the editor may close without saving) for a file of the
+        // workspace folders; a file outside them, unsaved or deleted leaves the workspace (and
+        // its diagnostics are cleared).
+        let path = uri.to_file_path().map(|p| p.into_owned());
+        let in_workspace = path.as_ref().is_some_and(|p| lock(&self.roots).iter().any(|root| p.starts_with(root)));
+        let on_disk = path.filter(|_| in_workspace).and_then(|p| workspace::read_text(&p).ok());
         {
             let mut host = lock(&self.host);
             match on_disk {
@@ -395,10 +428,12 @@ impl LanguageServer for Backend {
     }
 
     async fn code_action(&self, params: lsp::CodeActionParams) -> Result<Option<lsp::CodeActionResponse>> {
+        from_proto::ordered_range(params.range).map_err(invalid_params)?;
         self.on_snapshot(move |s| handlers::code_actions(s, params)).await
     }
 
     async fn inlay_hint(&self, params: lsp::InlayHintParams) -> Result<Option<Vec<lsp::InlayHint>>> {
+        from_proto::ordered_range(params.range).map_err(invalid_params)?;
         self.on_snapshot(move |s| handlers::inlay_hints(s, params)).await
     }
 
@@ -425,15 +460,29 @@ impl LanguageServer for Backend {
         &self,
         params: lsp::TextDocumentPositionParams,
     ) -> Result<Option<lsp::PrepareRenameResponse>> {
-        self.on_snapshot(move |s| handlers::prepare_rename(s, params)).await?.map_err(invalid_request)
+        self.on_snapshot(move |s| handlers::prepare_rename(s, params)).await?.map_err(request_failed)
     }
 
     async fn rename(&self, params: lsp::RenameParams) -> Result<Option<lsp::WorkspaceEdit>> {
-        self.on_snapshot(move |s| handlers::rename(s, params)).await?.map_err(invalid_request)
+        self.on_snapshot(move |s| handlers::rename(s, params)).await?.map_err(request_failed)
     }
 }
 
-/// A request the server refuses, with the reason for the user.
-fn invalid_request(message: String) -> Error {
-    Error { code: ErrorCode::InvalidRequest, message: message.into(), data: None }
+/// A request the server understood but cannot do (a rename it refuses), with the reason for
+/// the user: LSP's RequestFailed.
+fn request_failed(message: String) -> Error {
+    Error { code: ErrorCode::ServerError(-32803), message: message.into(), data: None }
+}
+
+/// A request whose parameters are wrong.
+fn invalid_params(message: String) -> Error {
+    Error { code: ErrorCode::InvalidParams, message: message.into(), data: None }
+}
+
+impl Backend {
+    /// `gudsl/viewFileText`: the text the server has for a document, to compare with the
+    /// editor's (as rust-analyzer's `viewFileText`); `null` for a document it does not know.
+    pub async fn view_file_text(&self, params: lsp::TextDocumentIdentifier) -> Result<Option<String>> {
+        Ok(lock(&self.host).text(&params.uri).map(str::to_string))
+    }
 }

@@ -219,7 +219,8 @@ pub fn code_action(snap: &Snapshot, index: &LineIndex, fix: ide::QuickFix) -> Ca
     }))
 }
 
-/// Semantic tokens in LSP's relative encoding (a token spanning lines is split per line); a
+/// Semantic tokens in LSP's relative encoding (a token spanning lines is split per line, line
+/// terminators left out); a
 /// token's type is its `ide::TokenClass` as an index into `capabilities::semantic_token_legend`.
 pub fn semantic_token_data(
     text: &str,
@@ -232,12 +233,9 @@ pub fn semantic_token_data(
     for token in tokens {
         let kind = token.class as u32;
         let modifiers = u32::from(token.declaration);
-        let start: usize = token.range.start().into();
-        let end: usize = token.range.end().into();
-        let mut line_start = start;
-        for piece in text[start..end].split_inclusive('\n') {
-            let piece_text = piece.trim_end_matches(['\n', '\r']);
-            let at = position(index, TextSize::from(line_start as u32), encoding);
+        for piece in index.lines_of(token.range) {
+            let piece_text = &text[piece];
+            let at = position(index, piece.start(), encoding);
             let length = match encoding.0 {
                 ColumnUnit::Utf8 => piece_text.len() as u32,
                 _ => piece_text.encode_utf16().count() as u32,
@@ -249,7 +247,6 @@ pub fn semantic_token_data(
                 last_line = at.line;
                 last_col = at.character;
             }
-            line_start += piece.len();
         }
     }
     data
@@ -301,6 +298,21 @@ mod tests {
         assert!(semantic_token_edit(&old, &old).is_empty());
         let all = semantic_token_edit(&[], &old);
         assert_eq!(all[0].data.as_ref().unwrap().len(), 3);
+    }
+
+    #[test]
+    fn a_token_over_crlf_and_lone_cr_lines_is_split_without_its_terminators() {
+        let text = "x /* ab\r\ncd\ref */";
+        let index = LineIndex::new(text);
+        let comment = ide::HighlightedToken {
+            range: TextRange::new(2.into(), (text.len() as u32).into()),
+            class: ide::TokenClass::Comment,
+            declaration: false,
+        };
+        let data = semantic_token_data(text, &index, &[comment], Encoding(ColumnUnit::Utf16));
+        let class = ide::TokenClass::Comment as u32;
+        // `/* ab` on line 0 from column 2, `cd` on line 1, `ef */` on line 2.
+        assert_eq!(data, [0, 2, 5, class, 0, 1, 0, 2, class, 0, 1, 0, 5, class, 0]);
     }
 
     #[test]

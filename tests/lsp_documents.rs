@@ -1,0 +1,178 @@
+//! `gudsl lsp` keeps the editor's text, exactly: documents with CRLF and lone-CR line ends
+//! edited at positions a client computes, compared with the server's copy after every edit;
+//! workspaces with FIFOs, link loops and device links; diagnostics cleared when a document
+//! leaves; changes the spec does not allow refused, not guessed at.
+
+#[path = "support/raw_lsp.rs"]
+mod raw_lsp;
+
+use std::{os::unix::fs::symlink, path::PathBuf, process::Command};
+
+use raw_lsp::Lsp;
+use serde_json::json;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gudsl-lspdoc-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A client's position of a byte offset: lines end at `\r\n`, `\r` and `\n`; columns count
+/// UTF-16 units.
+fn client_position(text: &str, offset: usize) -> (u32, u32) {
+    let (mut line, mut col) = (0, 0);
+    let mut chars = text[..offset].chars().peekable();
+    while let Some(ch) = chars.next() {
+        match ch {
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\r' | '\n' => (line, col) = (line + 1, 0),
+            _ => col += ch.len_utf16() as u32,
+        }
+    }
+    (line, col)
+}
+
+/// A small deterministic generator (xorshift), so a failure replays.
+struct Rng(u64);
+
+impl Rng {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 % n as u64) as usize
+    }
+}
+
+/// An offset of `text` a client can name: a character boundary, not between `\r` and `\n`.
+fn nameable_offset(text: &str, rng: &mut Rng) -> usize {
+    loop {
+        let offset = rng.below(text.len() + 1);
+        let inside_crlf =
+            offset > 0 && text.as_bytes()[offset - 1] == b'\r' && text.as_bytes().get(offset) == Some(&b'\n');
+        if text.is_char_boundary(offset) && !inside_crlf {
+            return offset;
+        }
+    }
+}
+
+#[test]
+fn edits_on_crlf_and_lone_cr_lines_land_where_the_client_put_them() {
+    let mut lsp = Lsp::start();
+    lsp.initialize();
+    let uri = "file:///ws/lines.gudsl";
+    let mut text = String::from("ClassDiagram D\r{\r\n    // ä😀 note\r    public class C { }\n}\r\n");
+    lsp.open(uri, &text);
+    let pieces = ["\r", "\n", "\r\n", "x", "😀", "ä", " ", "class", "\r\r\n", ""];
+    let mut rng = Rng(0x5eed_1234_5678_9abc);
+    for version in 2..400 {
+        let mut start = nameable_offset(&text, &mut rng);
+        let mut end = nameable_offset(&text, &mut rng);
+        if end < start {
+            std::mem::swap(&mut start, &mut end);
+        }
+        // Mostly small edits.
+        if end - start > 8 {
+            end = start;
+        }
+        let insert = pieces[rng.below(pieces.len())];
+        lsp.change(uri, version, (client_position(&text, start), client_position(&text, end)), insert);
+        text.replace_range(start..end, insert);
+        if version % 20 == 0 {
+            assert_eq!(lsp.server_text(uri), json!(text), "after edit {version}");
+        }
+    }
+    assert_eq!(lsp.server_text(uri), json!(text));
+    // A diagnostic lands on the line and column the client counts.
+    lsp.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": "file:///ws/d.gudsl", "languageId": "gudsl", "version": 1,
+        "text": "ClassDiagram E\r{\r\n    // note\r    public class C { public Missing m; }\r\n    \"open\r\n}\r\n"}}),
+    );
+    let diagnostics = lsp.diagnostics_of("file:///ws/d.gudsl", 20).expect("diagnostics");
+    let ranges: Vec<_> = diagnostics.iter().map(|d| (d["code"].clone(), d["range"].clone())).collect();
+    let range = |l1, c1, l2, c2| json!({"start": {"line": l1, "character": c1}, "end": {"line": l2, "character": c2}});
+    assert!(ranges.contains(&(json!("E0201"), range(3, 28, 3, 35))), "{ranges:?}");
+    // The unterminated string ends before the line's `\r\n`, not a column past it.
+    assert!(ranges.contains(&(json!("E0003"), range(4, 4, 4, 9))), "{ranges:?}");
+}
+
+#[test]
+fn a_workspace_with_a_fifo_link_loops_and_a_device_link_loads_each_file_once() {
+    let root = temp_dir("hostile-ws");
+    std::fs::write(root.join("a.gudsl"), "ClassDiagram D { public class Image { public Missing m; } }\n").unwrap();
+    assert!(Command::new("mkfifo").arg(root.join("x.gudsl")).status().unwrap().success());
+    symlink(".", root.join("loop1")).unwrap();
+    symlink(".", root.join("loop2")).unwrap();
+    symlink("/dev/zero", root.join("zero.gudsl")).unwrap();
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&root));
+    let a = format!("file://{}", root.join("a.gudsl").display());
+    let diagnostics = lsp.diagnostics_of(&a, 20).expect("the workspace loads");
+    assert_eq!(diagnostics.len(), 1, "one E0201, no E0205 from reading the file twice: {diagnostics:?}");
+    let symbols = lsp.request("workspace/symbol", json!({"query": "Image"}));
+    assert_eq!(symbols["result"].as_array().map(Vec::len), Some(1), "{symbols}");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn diagnostics_of_a_document_that_leaves_the_workspace_are_cleared() {
+    let root = temp_dir("leaving");
+    let on_disk = root.join("gone.gudsl");
+    std::fs::write(&on_disk, "ClassDiagram G { public class C { public Missing m; } }\n").unwrap();
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&root));
+    let gone = format!("file://{}", on_disk.display());
+    assert_eq!(lsp.diagnostics_of(&gone, 20).expect("loaded").len(), 1);
+    // Deleted on disk, and the watcher says so.
+    std::fs::remove_file(&on_disk).unwrap();
+    lsp.notify("workspace/didChangeWatchedFiles", json!({"changes": [{"uri": gone, "type": 3}]}));
+    assert_eq!(lsp.diagnostics_of(&gone, 20), Some(vec![]), "cleared on delete");
+    // An unsaved buffer, closed without saving.
+    let untitled = "untitled:Untitled-1";
+    lsp.open(untitled, "ClassDiagram U { public class C { public Missing m; } }\n");
+    assert_eq!(lsp.diagnostics_of(untitled, 20).expect("published").len(), 1);
+    lsp.notify("textDocument/didClose", json!({"textDocument": {"uri": untitled}}));
+    assert_eq!(lsp.diagnostics_of(untitled, 20), Some(vec![]), "cleared on close");
+    // A file outside the workspace folder, closed.
+    let outside = temp_dir("outside").join("o.gudsl");
+    std::fs::write(&outside, "ClassDiagram O { public class C { public Missing m; } }\n").unwrap();
+    let outside = format!("file://{}", outside.display());
+    lsp.open(&outside, "ClassDiagram O { public class C { public Missing m; } }\n");
+    assert_eq!(lsp.diagnostics_of(&outside, 20).expect("published").len(), 1);
+    lsp.notify("textDocument/didClose", json!({"textDocument": {"uri": outside}}));
+    assert_eq!(lsp.diagnostics_of(&outside, 20), Some(vec![]), "cleared on close");
+}
+
+#[test]
+fn changes_the_spec_does_not_allow_are_refused_not_guessed_at() {
+    let root = temp_dir("refused");
+    let path = root.join("a.gudsl");
+    std::fs::write(&path, "ClassDiagram A { public class C { } }\n").unwrap();
+    let uri = format!("file://{}", path.display());
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&root));
+    lsp.diagnostics_of(&uri, 20).expect("loaded");
+    // A change to a document the editor never opened: ignored, and it stays closed.
+    lsp.change(&uri, 2, ((0, 0), (0, 0)), "garbage ");
+    assert_eq!(lsp.server_text(&uri), json!("ClassDiagram A { public class C { } }\n"));
+    // A change whose range ends before it starts: refused, and the user is told.
+    lsp.open(&uri, "ClassDiagram A { public class C { } }\n");
+    lsp.change(&uri, 2, ((0, 10), (0, 5)), "X");
+    let shown = lsp.notification("window/showMessage", 20, |_| true).expect("the user is told");
+    assert!(shown["message"].as_str().unwrap().contains("was not applied"), "{shown}");
+    assert_eq!(lsp.server_text(&uri), json!("ClassDiagram A { public class C { } }\n"));
+    // A request with a reversed range: InvalidParams.
+    let answer = lsp.request(
+        "textDocument/inlayHint",
+        json!({"textDocument": {"uri": uri}, "range": {"start": {"line": 0, "character": 9}, "end": {"line": 0, "character": 1}}}),
+    );
+    assert_eq!(answer["error"]["code"], -32602, "{answer}");
+    // A rename the server refuses: RequestFailed, with the reason.
+    let answer = lsp.request(
+        "textDocument/rename",
+        json!({"textDocument": {"uri": uri}, "position": {"line": 0, "character": 3}, "newName": "B"}),
+    );
+    assert_eq!(answer["error"]["code"], -32803, "{answer}");
+}
