@@ -141,6 +141,12 @@ impl Analysis {
         Cancelled::catch(AssertUnwindSafe(|| f(&self.db, self.workspace)))
     }
 
+    /// `Err(Cancelled)` once a newer change waits for this snapshot: long work outside the
+    /// queries (a conversion of a huge answer) calls it as it goes, so an edit never waits long.
+    pub fn check_cancelled(&self) -> Cancellable<()> {
+        self.with(|db, _| salsa::Database::unwind_if_revision_cancelled(db))
+    }
+
     /// The files analysed together.
     pub fn files(&self) -> &[FileId] {
         self.workspace.files(&self.db)
@@ -180,7 +186,7 @@ impl Analysis {
     }
 
     pub fn document_symbols(&self, file: FileId) -> Cancellable<Vec<ide::Symbol>> {
-        self.with(|db, _| ide::document_symbols(&parse(db, file).source_file()))
+        self.with(|db, _| ide::document_symbols(db, file))
     }
 
     pub fn folding_ranges(&self, file: FileId) -> Cancellable<Vec<ide::Fold>> {

@@ -94,6 +94,7 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                 let wanted_class = diagnostic.code == DiagnosticCode::UnresolvedOwner;
                 let written_len = written.chars().count();
                 let most = 2.max(written.len() / 4);
+                let qualified = written.contains('.');
                 let best = map
                     .definitions
                     .iter()
@@ -101,15 +102,8 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                         DefKind::Type(ty) => !wanted_class || matches!(ty.kind, TypeKind::Class(_)),
                         _ => false,
                     })
-                    .map(
-                        |(fqn, _)| {
-                            if written.contains('.') {
-                                fqn.as_str()
-                            } else {
-                                fqn.rsplit('.').next().unwrap_or(fqn)
-                            }
-                        },
-                    )
+                    .inspect(|_| db.unwind_if_revision_cancelled())
+                    .map(|(fqn, _)| if qualified { fqn.as_str() } else { fqn.rsplit('.').next().unwrap_or(fqn) })
                     // The distance is at least the difference in length: a long name is
                     // compared with nothing rather than with every type.
                     .filter(|candidate| candidate.chars().count().abs_diff(written_len) <= most)

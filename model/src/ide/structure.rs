@@ -108,8 +108,10 @@ pub struct HighlightedToken {
 /// Classifies every token of a file that has a class, in order.
 pub fn semantic_tokens(db: &dyn Db, file: SourceFile) -> Vec<HighlightedToken> {
     let root = parse(db, file).syntax_node();
+    // Unwinds with `Cancelled` at the next token once a newer change is waiting.
     root.descendants_with_tokens()
         .filter_map(|e| e.into_token())
+        .inspect(|_| db.unwind_if_revision_cancelled())
         .filter_map(|token| {
             classify(&token).map(|(class, declaration)| HighlightedToken {
                 range: token.text_range(),

@@ -2,6 +2,7 @@
 
 use crate::{
     ast::{self, AstNode, HasName},
+    db::{parse, Db, SourceFile},
     syntax::{SyntaxNode, TextRange},
 };
 
@@ -49,12 +50,18 @@ fn symbol(node: &SyntaxNode, name: Option<ast::Name>, kind: SymbolKind, detail: 
     })
 }
 
-/// The hierarchical outline of a file.
-pub fn document_symbols(file: &ast::SourceFile) -> Vec<Symbol> {
-    file.diagrams().filter_map(|d| diagram(&d)).collect()
+/// The hierarchical outline of a file. Stops (unwinds with `Cancelled`) at the next declaration
+/// once a newer change is waiting: a file of megabytes has hundreds of thousands.
+pub fn document_symbols(db: &dyn Db, file: SourceFile) -> Vec<Symbol> {
+    outline(&parse(db, file).source_file(), &|| db.unwind_if_revision_cancelled())
 }
 
-fn diagram(diagram: &ast::Diagram) -> Option<Symbol> {
+/// The outline of a parsed file; `checkpoint` runs before each declaration.
+fn outline(file: &ast::SourceFile, checkpoint: &dyn Fn()) -> Vec<Symbol> {
+    file.diagrams().filter_map(|d| diagram(&d, checkpoint)).collect()
+}
+
+fn diagram(diagram: &ast::Diagram, checkpoint: &dyn Fn()) -> Option<Symbol> {
     let kind_text = match diagram {
         ast::Diagram::ClassDiagram(_) => "ClassDiagram",
         ast::Diagram::ActivityDiagram(_) => "ActivityDiagram",
@@ -63,24 +70,37 @@ fn diagram(diagram: &ast::Diagram) -> Option<Symbol> {
     };
     let mut sym = symbol(diagram.syntax(), diagram.name(), SymbolKind::Diagram, Some(kind_text.to_string()))?;
     for nested in diagram.syntax().children().filter_map(ast::Diagram::cast) {
-        sym.children.extend(self::diagram(&nested));
+        sym.children.extend(self::diagram(&nested, checkpoint));
     }
     match diagram {
-        ast::Diagram::ClassDiagram(d) => sym.children.extend(d.type_decls().filter_map(|t| type_decl(&t))),
+        ast::Diagram::ClassDiagram(d) => sym.children.extend(d.type_decls().filter_map(|t| {
+            checkpoint();
+            type_decl(&t)
+        })),
         ast::Diagram::ActivityDiagram(d) => {
             sym.children.extend(d.variables().filter_map(|v| symbol(v.syntax(), v.name(), SymbolKind::Variable, None)));
             for lane in d.swimlanes() {
                 let owner = lane.owner().map(|o| format!("owner {}", o.text()));
                 if let Some(mut lane_sym) = symbol(lane.syntax(), lane.name(), SymbolKind::Swimlane, owner) {
-                    lane_sym.children.extend(lane.nodes().filter_map(|n| node(&n)));
+                    lane_sym.children.extend(lane.nodes().filter_map(|n| {
+                        checkpoint();
+                        node(&n)
+                    }));
                     sym.children.push(lane_sym);
                 }
             }
-            sym.children.extend(d.nodes().filter_map(|n| node(&n)));
+            sym.children.extend(d.nodes().filter_map(|n| {
+                checkpoint();
+                node(&n)
+            }));
         }
-        ast::Diagram::ComponentDiagram(d) => sym.children.extend(d.components().filter_map(|c| component(&c))),
+        ast::Diagram::ComponentDiagram(d) => sym.children.extend(d.components().filter_map(|c| {
+            checkpoint();
+            component(&c)
+        })),
         ast::Diagram::ComponentInstanceDiagram(d) => {
             for instance in d.instances() {
+                checkpoint();
                 let detail = instance.component().map(|c| c.text());
                 if let Some(mut inst) = symbol(instance.syntax(), instance.name(), SymbolKind::Instance, detail) {
                     inst.children.extend(
@@ -154,7 +174,7 @@ pub(crate) fn collapse_whitespace(text: &str) -> String {
 mod tests {
     use super::*;
 
-    fn outline(symbols: &[Symbol], depth: usize, out: &mut String) {
+    fn print(symbols: &[Symbol], depth: usize, out: &mut String) {
         for s in symbols {
             out.push_str(&format!(
                 "{}{:?} {} {}\n",
@@ -163,7 +183,7 @@ mod tests {
                 s.name,
                 s.detail.clone().unwrap_or_default()
             ));
-            outline(&s.children, depth + 1, out);
+            print(&s.children, depth + 1, out);
         }
     }
 
@@ -176,7 +196,7 @@ mod tests {
              ComponentInstanceDiagram Cid { C1 instantiates D.C ( ) { PI : P ( provider p = I() ); } }",
         );
         let mut out = String::new();
-        outline(&document_symbols(&parse.source_file()), 0, &mut out);
+        print(&outline(&parse.source_file(), &|| ()), 0, &mut out);
         assert_eq!(
             out,
             "Diagram D ClassDiagram\n  Class C class\n    Field x int\n    Method m (int a, int b)\n  Enum E enum\n    EnumValue A \n\

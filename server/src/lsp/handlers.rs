@@ -10,14 +10,34 @@ use super::{from_proto, host::Snapshot, to_proto};
 /// The diagnostics to publish for a document.
 pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<lsp::Diagnostic>> {
     let (diagnostics, index) = snap.analysis.diagnostics(file)?;
-    Ok(diagnostics.iter().map(|d| to_proto::diagnostic(index, d, snap.encoding)).collect())
+    convert(snap, diagnostics, |d| to_proto::diagnostic(index, d, snap.encoding))
+}
+
+/// Converts `items` one by one, stopping with `Cancelled` once a newer edit waits for the
+/// snapshot: an answer of hundreds of thousands of items must not hold up typing.
+fn convert<T, U>(
+    snap: &Snapshot,
+    items: impl IntoIterator<Item = T>,
+    mut f: impl FnMut(T) -> U,
+) -> Cancellable<Vec<U>> {
+    items
+        .into_iter()
+        .map(|item| {
+            snap.analysis.check_cancelled()?;
+            Ok(f(item))
+        })
+        .collect()
 }
 
 pub fn document_symbols(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<lsp::DocumentSymbolResponse>> {
     let Some(file) = snap.file(uri) else { return Ok(None) };
     let index = snap.analysis.line_index(file)?;
     let symbols = snap.analysis.document_symbols(file)?;
-    let symbols = symbols.into_iter().map(|s| to_proto::document_symbol(index, s, snap.encoding)).collect();
+    let checkpoint = || snap.analysis.check_cancelled();
+    let symbols = symbols
+        .into_iter()
+        .map(|s| to_proto::document_symbol(index, s, snap.encoding, &checkpoint))
+        .collect::<Cancellable<_>>()?;
     Ok(Some(lsp::DocumentSymbolResponse::Nested(symbols)))
 }
 
@@ -65,7 +85,7 @@ pub fn folding_ranges(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec
     let Some(file) = snap.file(uri) else { return Ok(None) };
     let index = snap.analysis.line_index(file)?;
     let folds = snap.analysis.folding_ranges(file)?;
-    Ok(Some(folds.into_iter().map(|fold| to_proto::folding_range(index, fold, snap.encoding)).collect()))
+    Ok(Some(convert(snap, folds, |fold| to_proto::folding_range(index, fold, snap.encoding))?))
 }
 
 pub fn references(snap: &Snapshot, params: lsp::ReferenceParams) -> Cancellable<Option<Vec<lsp::Location>>> {
@@ -89,13 +109,11 @@ pub fn document_highlight(
     };
     let index = snap.analysis.line_index(file)?;
     let references = snap.analysis.find_references(file, offset, true)?;
-    Ok(Some(
-        references
-            .into_iter()
-            .filter(|r| r.file == file)
-            .map(|r| lsp::DocumentHighlight { range: to_proto::range(index, r.range, snap.encoding), kind: None })
-            .collect(),
-    ))
+    let here = references.into_iter().filter(|r| r.file == file);
+    Ok(Some(convert(snap, here, |r| lsp::DocumentHighlight {
+        range: to_proto::range(index, r.range, snap.encoding),
+        kind: None,
+    })?))
 }
 
 /// The range a rename would change, or why there is nothing to rename here.
@@ -178,7 +196,8 @@ pub fn semantic_token_data(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Optio
     let Some(file) = snap.file(uri) else { return Ok(None) };
     let index = snap.analysis.line_index(file)?;
     let tokens = snap.analysis.semantic_tokens(file)?;
-    Ok(Some(to_proto::semantic_token_data(snap.analysis.file_text(file), index, &tokens, snap.encoding)))
+    let text = snap.analysis.file_text(file);
+    Ok(Some(to_proto::semantic_token_data(text, index, &tokens, snap.encoding, &|| snap.analysis.check_cancelled())?))
 }
 
 pub fn code_actions(

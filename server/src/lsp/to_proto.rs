@@ -58,7 +58,15 @@ pub fn diagnostic(index: &LineIndex, d: &Diagnostic, encoding: Encoding) -> lsp:
 }
 
 #[allow(deprecated)] // `deprecated` is a required field of the LSP type.
-pub fn document_symbol(index: &LineIndex, symbol: ide::Symbol, encoding: Encoding) -> lsp::DocumentSymbol {
+/// A symbol and its children; `checkpoint` runs before each (it stops a conversion that a newer
+/// edit made moot).
+pub fn document_symbol(
+    index: &LineIndex,
+    symbol: ide::Symbol,
+    encoding: Encoding,
+    checkpoint: &dyn Fn() -> Cancellable<()>,
+) -> Cancellable<lsp::DocumentSymbol> {
+    checkpoint()?;
     use ide::SymbolKind as K;
     let kind = match symbol.kind {
         K::Diagram => lsp::SymbolKind::NAMESPACE,
@@ -76,7 +84,12 @@ pub fn document_symbol(index: &LineIndex, symbol: ide::Symbol, encoding: Encodin
         K::Port => lsp::SymbolKind::INTERFACE,
         K::Instance => lsp::SymbolKind::OBJECT,
     };
-    lsp::DocumentSymbol {
+    let children = symbol
+        .children
+        .into_iter()
+        .map(|c| document_symbol(index, c, encoding, checkpoint))
+        .collect::<Cancellable<_>>()?;
+    Ok(lsp::DocumentSymbol {
         name: symbol.name,
         detail: symbol.detail,
         kind,
@@ -84,8 +97,8 @@ pub fn document_symbol(index: &LineIndex, symbol: ide::Symbol, encoding: Encodin
         deprecated: None,
         range: range(index, symbol.range, encoding),
         selection_range: range(index, symbol.selection_range, encoding),
-        children: Some(symbol.children.into_iter().map(|c| document_symbol(index, c, encoding)).collect()),
-    }
+        children: Some(children),
+    })
 }
 
 #[allow(deprecated)] // `deprecated` is a required field of the LSP type.
@@ -227,10 +240,12 @@ pub fn semantic_token_data(
     index: &LineIndex,
     tokens: &[ide::HighlightedToken],
     encoding: Encoding,
-) -> Vec<u32> {
+    checkpoint: &dyn Fn() -> Cancellable<()>,
+) -> Cancellable<Vec<u32>> {
     let mut data = Vec::new();
     let (mut last_line, mut last_col) = (0u32, 0u32);
     for token in tokens {
+        checkpoint()?;
         let kind = token.class as u32;
         let modifiers = u32::from(token.declaration);
         for piece in index.lines_of(token.range) {
@@ -249,7 +264,7 @@ pub fn semantic_token_data(
             }
         }
     }
-    data
+    Ok(data)
 }
 
 /// The edit that turns `old` token data into `new` (common prefix and suffix kept).
@@ -309,7 +324,7 @@ mod tests {
             class: ide::TokenClass::Comment,
             declaration: false,
         };
-        let data = semantic_token_data(text, &index, &[comment], Encoding(ColumnUnit::Utf16));
+        let data = semantic_token_data(text, &index, &[comment], Encoding(ColumnUnit::Utf16), &|| Ok(())).unwrap();
         let class = ide::TokenClass::Comment as u32;
         // `/* ab` on line 0 from column 2, `cd` on line 1, `ef */` on line 2.
         assert_eq!(data, [0, 2, 5, class, 0, 1, 0, 2, class, 0, 1, 0, 5, class, 0]);
