@@ -26,6 +26,11 @@ fn gpu() -> Option<Gpu> {
     match Gpu::new() {
         Ok(gpu) => {
             eprintln!("adapter: {}", gpu.describe());
+            // `scripts/test` runs these tests once more with WGPU_BACKEND=gl: make sure they did.
+            if let Ok(wanted) = std::env::var("WGPU_BACKEND") {
+                let described = gpu.describe().to_lowercase();
+                assert!(described.contains(&format!("({}", wanted.to_lowercase())), "asked for {wanted}, got {described}");
+            }
             Some(gpu)
         }
         Err(error) if std::env::var_os("GUDSL_NO_GPU").is_some() => {

@@ -20,8 +20,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var dy = -r; dy <= r; dy++) {
         for (var dx = -r; dx <= r; dx++) {
             let v = at(i32(id.x) + dx, i32(id.y) + dy);
+            // Two breaks, not `while j > 0u && values[j - 1u] > v` (nor one `||`): llvmpipe's GL
+            // driver runs naga's GLSL of such a condition wrong (docs/runtime.md, "Portability").
             var j = n;
-            while j > 0u && values[j - 1u] > v {
+            loop {
+                if j == 0u { break; }
+                if values[j - 1u] <= v { break; }
                 values[j] = values[j - 1u];
                 j--;
             }

@@ -38,8 +38,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             let b = flow[n + j];
             if a == 0.0 && b == 0.0 { continue; }
             let angle = angle_of(a, b);
+            // Two breaks, not `while k > 0u && angles[k - 1u] > angle`: see median.wgsl.
             var k = count;
-            while k > 0u && angles[k - 1u] > angle {
+            loop {
+                if k == 0u { break; }
+                if angles[k - 1u] <= angle { break; }
                 angles[k] = angles[k - 1u];
                 k--;
             }
