@@ -18,14 +18,12 @@ JSON decoding (pygls needs ~30 s to structure the 500 000 symbols of the 10 MB d
 cannot read a hover's answer meanwhile)."""
 
 import asyncio
-import json
-import re
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-BIG = 1 << 20  # responses larger than this are not decoded
+from lsp_raw import Client
 
 
 def pct(samples):
@@ -39,64 +37,6 @@ def proc_status(pid, key):
         if line.startswith(key + ":"):
             return int(line.split()[1]) / 1024
     return float("nan")
-
-
-class Client:
-    """A JSON-RPC client over the server's stdio: requests are futures of (result, error)."""
-
-    def __init__(self, proc):
-        self.proc = proc
-        self.next_id = 0
-        self.pending = {}
-        self.diagnostics = {}
-        self.reader = asyncio.ensure_future(self.read())
-
-    async def read(self):
-        out = self.proc.stdout
-        while True:
-            length = None
-            while True:
-                line = await out.readline()
-                if not line:
-                    return
-                if line in (b"\r\n", b"\n"):
-                    break
-                name, _, value = line.decode("ascii").partition(":")
-                if name.strip().lower() == "content-length":
-                    length = int(value)
-            body = await out.readexactly(length)
-            if len(body) > BIG and b'"method"' not in body[:40]:
-                # serde_json writes `id` last: {"jsonrpc":"2.0","result":…,"id":N}
-                found = re.search(rb'"id":(\d+)\}\s*$', body[-64:])
-                future = self.pending.pop(int(found.group(1)), None) if found else None
-                if future and not future.done():
-                    future.set_result((f"<{len(body)} bytes>", None))
-                continue
-            message = json.loads(body)
-            if "method" in message and "id" in message:  # a request of the server's
-                self.send({"jsonrpc": "2.0", "id": message["id"], "result": None})
-            elif "method" in message:
-                if message["method"] == "textDocument/publishDiagnostics":
-                    params = message["params"]
-                    self.diagnostics[params["uri"]] = (params.get("version"), params["diagnostics"])
-            else:
-                future = self.pending.pop(message.get("id"), None)
-                if future and not future.done():
-                    future.set_result((message.get("result"), message.get("error")))
-
-    def send(self, message):
-        body = json.dumps(message).encode()
-        self.proc.stdin.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
-
-    def request(self, method, params):
-        self.next_id += 1
-        future = asyncio.get_running_loop().create_future()
-        self.pending[self.next_id] = future
-        self.send({"jsonrpc": "2.0", "id": self.next_id, "method": method, "params": params})
-        return future
-
-    def notify(self, method, params):
-        self.send({"jsonrpc": "2.0", "method": method, "params": params})
 
 
 def types_workspace(root: Path):
