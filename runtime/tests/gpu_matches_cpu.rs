@@ -29,7 +29,10 @@ fn gpu() -> Option<Gpu> {
             // `scripts/test` runs these tests once more with WGPU_BACKEND=gl: make sure they did.
             if let Ok(wanted) = std::env::var("WGPU_BACKEND") {
                 let described = gpu.describe().to_lowercase();
-                assert!(described.contains(&format!("({}", wanted.to_lowercase())), "asked for {wanted}, got {described}");
+                assert!(
+                    described.contains(&format!("({}", wanted.to_lowercase())),
+                    "asked for {wanted}, got {described}"
+                );
             }
             Some(gpu)
         }
