@@ -99,13 +99,15 @@ fn edits_on_crlf_and_lone_cr_lines_land_where_the_client_put_them() {
 }
 
 #[test]
-fn a_workspace_with_a_fifo_link_loops_and_a_device_link_loads_each_file_once() {
+fn a_workspace_with_a_fifo_link_loops_a_device_link_and_a_second_name_loads_each_file_once() {
     let root = temp_dir("hostile-ws");
     std::fs::write(root.join("a.gudsl"), "ClassDiagram D { public class Image { public Missing m; } }\n").unwrap();
     assert!(Command::new("mkfifo").arg(root.join("x.gudsl")).status().unwrap().success());
     symlink(".", root.join("loop1")).unwrap();
     symlink(".", root.join("loop2")).unwrap();
     symlink("/dev/zero", root.join("zero.gudsl")).unwrap();
+    // A second name for a.gudsl: read once, as `gudsl check` does.
+    symlink("a.gudsl", root.join("alias.gudsl")).unwrap();
     let mut lsp = Lsp::start();
     lsp.initialize_in(Some(&root));
     let a = format!("file://{}", root.join("a.gudsl").display());

@@ -46,37 +46,46 @@ pub struct Loaded {
     pub errors: Vec<LoadError>,
 }
 
-/// Reads every `.gudsl` file named or found under the given paths (each folder's files sorted;
-/// one file once, however it was reached). A path that fails is reported; the others are read.
+/// Reads every `.gudsl` file named or found under the given paths (see [`document_paths`]). A
+/// path that fails is reported; the others are read.
 pub fn load(paths: &[PathBuf]) -> Loaded {
     let mut loaded = Loaded::default();
+    for file in document_paths(paths, &mut loaded.errors) {
+        match read_text(&file) {
+            Ok(text) => loaded.documents.push(Document { text, path: file }),
+            Err(e) => loaded.errors.push(e),
+        }
+    }
+    loaded
+}
+
+/// Every `.gudsl` file named or found under the given files and folders (each folder's files
+/// sorted), each once however many paths lead to it (a link, `a/../a`); what cannot be walked,
+/// and a named file that is not `.gudsl`, goes to `errors`. Reads no file.
+pub fn document_paths(paths: &[PathBuf], errors: &mut Vec<LoadError>) -> Vec<PathBuf> {
+    let mut out = Vec::new();
     let mut seen = HashSet::new();
     for path in paths {
         let files = match std::fs::metadata(path) {
-            Ok(meta) if meta.is_dir() => gudsl_files(path, &mut loaded.errors),
+            Ok(meta) if meta.is_dir() => gudsl_files(path, errors),
             Ok(_) if path.extension().is_some_and(|e| e == "gudsl") => vec![path.clone()],
             Ok(_) => {
-                loaded.errors.push(error(path, "not a `.gudsl` file"));
+                errors.push(error(path, "not a `.gudsl` file"));
                 continue;
             }
             Err(e) => {
-                loaded.errors.push(error(path, e.to_string()));
+                errors.push(error(path, e.to_string()));
                 continue;
             }
         };
         for file in files {
-            // Two paths to one file (a link, `a/../a`) read it once.
             let identity = std::fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
-            if !seen.insert(identity) {
-                continue;
-            }
-            match read_text(&file) {
-                Ok(text) => loaded.documents.push(Document { text, path: file }),
-                Err(e) => loaded.errors.push(e),
+            if seen.insert(identity) {
+                out.push(file);
             }
         }
     }
-    loaded
+    out
 }
 
 /// A regular file's text: refused when it is not a regular file, larger than
@@ -107,7 +116,7 @@ pub fn read_text(path: &Path) -> Result<String, LoadError> {
 
 /// Every `.gudsl` file under `dir`, sorted per folder; folders that cannot be read are reported
 /// in `errors` and the walk goes on (symbolic-link loops are cut without a word).
-pub fn gudsl_files(dir: &Path, errors: &mut Vec<LoadError>) -> Vec<PathBuf> {
+fn gudsl_files(dir: &Path, errors: &mut Vec<LoadError>) -> Vec<PathBuf> {
     let walk = ignore::WalkBuilder::new(dir)
         .follow_links(true)
         .filter_entry(|entry| !matches!(entry.file_name().to_str(), Some("target" | "node_modules")))

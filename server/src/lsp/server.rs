@@ -176,11 +176,8 @@ impl Backend {
     /// Loads every `.gudsl` file under the workspace roots, reporting progress.
     async fn load_workspace(&self) {
         let roots = lock(&self.roots).clone();
-        let mut paths = Vec::new();
         let mut errors = Vec::new();
-        for root in &roots {
-            paths.extend(workspace::gudsl_files(root, &mut errors));
-        }
+        let mut paths = workspace::document_paths(&roots, &mut errors);
         paths.sort();
         for error in errors {
             self.client.log_message(lsp::MessageType::WARNING, format!("gudsl: {error}")).await;
