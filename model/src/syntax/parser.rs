@@ -367,10 +367,17 @@ impl<'i> Parser<'i> {
     /// Consumes everything up to (not including) the closing delimiter of the group the parser
     /// is in, iteratively, however deep the text nests.
     fn skip_to_enclosing_close(&mut self) {
+        self.skip_balanced_until(|_| false);
+    }
+
+    /// Consumes tokens, nested groups whole, up to (not including) the first token outside any
+    /// group it opened for which `stop` holds (an enclosing close always stops), or the end.
+    /// Iterative, however deep the text nests.
+    fn skip_balanced_until(&mut self, stop: impl Fn(SyntaxKind) -> bool) {
         let mut depth = 0usize;
         loop {
             let kind = self.current();
-            if kind == EOF || (depth == 0 && CLOSERS.contains(kind)) {
+            if kind == EOF || (depth == 0 && (stop(kind) || CLOSERS.contains(kind))) {
                 return;
             }
             if OPENERS.contains(kind) {
@@ -403,20 +410,7 @@ impl<'i> Parser<'i> {
     pub(crate) fn skip_deep_chain(&mut self) {
         let range = self.current_range();
         let m = self.start();
-        let mut depth = 0usize;
-        loop {
-            let kind = self.current();
-            let ends = matches!(kind, SEMICOLON | COMMA | COLON | FAT_ARROW | L_CURLY) || CLOSERS.contains(kind);
-            if kind == EOF || (depth == 0 && ends) {
-                break;
-            }
-            if OPENERS.contains(kind) {
-                depth += 1;
-            } else if CLOSERS.contains(kind) {
-                depth -= 1;
-            }
-            self.bump_any();
-        }
+        self.skip_balanced_until(|kind| matches!(kind, SEMICOLON | COMMA | COLON | FAT_ARROW | L_CURLY));
         m.complete(self, ERROR);
         self.push_error(
             SyntaxErrorCode::NestingTooDeep,
