@@ -34,6 +34,15 @@ pub(super) struct Frames {
     skipping: bool,
 }
 
+/// What [`Frames::scan`] took off the buffer.
+enum Scanned {
+    /// Bytes outside any frame (a run of them may come in several pieces).
+    Junk,
+    /// A header whose length is not a number: one bad frame.
+    BadHeader,
+    Body(Vec<u8>),
+}
+
 const HEADER: &[u8] = b"content-length:";
 
 fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
@@ -47,6 +56,24 @@ impl Frames {
 
     /// The next frame, if the buffer holds one (or garbage before one); `None`: read more.
     pub(super) fn next(&mut self) -> Option<Frame> {
+        loop {
+            match self.scan()? {
+                Scanned::Junk if self.skipping => continue,
+                Scanned::Junk => {
+                    self.skipping = true;
+                    return Some(Frame::Garbage);
+                }
+                Scanned::BadHeader => return Some(Frame::Garbage),
+                Scanned::Body(body) => {
+                    self.skipping = false;
+                    return Some(Frame::Body(body));
+                }
+            }
+        }
+    }
+
+    /// Takes the next thing off the buffer; `None`: read more.
+    fn scan(&mut self) -> Option<Scanned> {
         let Some(start) = find(&self.buffer, HEADER) else {
             // Keep a tail that may be the start of a header cut by the read.
             let keep = HEADER.len() - 1;
@@ -54,7 +81,7 @@ impl Frames {
                 && self.buffer[..self.buffer.len() - keep].iter().any(|b| !b.is_ascii_whitespace())
             {
                 self.buffer.drain(..self.buffer.len() - keep);
-                return self.garbage();
+                return Some(Scanned::Junk);
             }
             return None;
         };
@@ -62,7 +89,7 @@ impl Frames {
         let before = &self.buffer[..start];
         if before.iter().any(|b| !b.is_ascii_whitespace()) {
             self.buffer.drain(..start);
-            return self.garbage();
+            return Some(Scanned::Junk);
         }
         let end_of_headers = find(&self.buffer[start..], b"\r\n\r\n")? + start;
         let header = &self.buffer[start + HEADER.len()..end_of_headers];
@@ -71,24 +98,14 @@ impl Frames {
         let body_start = end_of_headers + 4;
         let Some(length) = length else {
             self.buffer.drain(..body_start);
-            return Some(Frame::Garbage);
+            return Some(Scanned::BadHeader);
         };
         if self.buffer.len() < body_start + length {
             return None;
         }
         let body = self.buffer[body_start..body_start + length].to_vec();
         self.buffer.drain(..body_start + length);
-        self.skipping = false;
-        Some(Frame::Body(body))
-    }
-
-    /// Garbage was just skipped: reported if it starts a run, else the next frame is looked for.
-    fn garbage(&mut self) -> Option<Frame> {
-        if std::mem::replace(&mut self.skipping, true) {
-            self.next()
-        } else {
-            Some(Frame::Garbage)
-        }
+        Some(Scanned::Body(body))
     }
 
     /// Whatever is left when the input ends (an incomplete frame or trailing garbage).
