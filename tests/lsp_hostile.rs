@@ -85,6 +85,18 @@ fn dollar_requests_are_answered_with_method_not_found() {
     assert!(answer["result"].is_array(), "{answer}");
 }
 
+/// A server past `initialize` and `initialized`, whose own requests (registerCapability) this
+/// client never answers.
+fn initialized_leaving_the_servers_requests_unanswered(root_uri: Value, capabilities: Value) -> Lsp {
+    let mut lsp = Lsp::start();
+    lsp.send(&json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {
+        "processId": null, "rootUri": root_uri, "capabilities": capabilities}}));
+    let answer = lsp.next_message(20).expect("the initialize answer");
+    assert_eq!(answer["id"], 1, "{answer}");
+    lsp.notify("initialized", json!({}));
+    lsp
+}
+
 #[test]
 fn exit_ends_the_process_with_the_code_the_spec_asks_for() {
     // After shutdown: 0.
@@ -95,17 +107,11 @@ fn exit_ends_the_process_with_the_code_the_spec_asks_for() {
     lsp.notify("exit", Value::Null);
     assert_eq!(lsp.exit_code(5), Some(0));
     // Without shutdown: 1, even right after `initialized` with the server's own requests unanswered.
-    let mut lsp = Lsp::start();
-    lsp.send(&json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"processId": null, "rootUri": null, "capabilities": {}}}));
-    assert_eq!(lsp.next_message(20).expect("the initialize answer")["id"], 1);
-    lsp.notify("initialized", json!({}));
+    let mut lsp = initialized_leaving_the_servers_requests_unanswered(Value::Null, json!({}));
     lsp.notify("exit", Value::Null);
     assert_eq!(lsp.exit_code(5), Some(1));
     // The end of the input, right after `initialized`: the process ends too.
-    let mut lsp = Lsp::start();
-    lsp.send(&json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"processId": null, "rootUri": null, "capabilities": {}}}));
-    assert_eq!(lsp.next_message(20).expect("the initialize answer")["id"], 1);
-    lsp.notify("initialized", json!({}));
+    let mut lsp = initialized_leaving_the_servers_requests_unanswered(Value::Null, json!({}));
     lsp.stdin = None;
     assert_eq!(lsp.exit_code(5), Some(1));
 }
@@ -117,13 +123,10 @@ fn a_client_that_never_answers_the_servers_requests_still_gets_its_workspace() {
     std::fs::create_dir_all(&root).unwrap();
     std::fs::write(root.join("broken.gudsl"), "ClassDiagram D { class C { public Missing m; } }\n").unwrap();
     let root_uri = format!("file://{}", root.display());
-    let mut lsp = Lsp::start();
-    lsp.send(&json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {
-        "processId": null, "rootUri": root_uri,
-        "capabilities": {"window": {"workDoneProgress": true}}}}));
-    let answer = lsp.next_message(20).expect("the initialize answer");
-    assert_eq!(answer["id"], 1, "{answer}");
-    lsp.notify("initialized", json!({}));
+    let mut lsp = initialized_leaving_the_servers_requests_unanswered(
+        json!(root_uri),
+        json!({"window": {"workDoneProgress": true}}),
+    );
     // Never answer registerCapability or workDoneProgress/create: diagnostics still come.
     let mut published = None;
     while let Some(message) = lsp.next_message(20) {
