@@ -26,27 +26,38 @@ pub struct Workspace {
 #[salsa::db]
 pub trait Db: salsa::Database {}
 
-/// The database implementation, with an optional log of query executions for tests that
-/// prove an edit recomputes only what it should.
+/// The database implementation. [`RootDatabase::with_execution_log`] builds one that logs
+/// query executions, for tests that prove an edit recomputes only what it should; the default
+/// one installs no event callback at all, so salsa builds no event per memo it verifies
+/// (re-checking every file of the linked 200-file workspace after an edit: 19 ms without,
+/// 25 ms with the logging callback).
 #[salsa::db]
-#[derive(Clone)]
+#[derive(Clone, Default)]
 pub struct RootDatabase {
     storage: salsa::Storage<Self>,
-    executions: Arc<Mutex<Option<Vec<String>>>>,
+    executions: Option<Arc<Mutex<Vec<String>>>>,
 }
 
-impl Default for RootDatabase {
-    fn default() -> Self {
-        let executions: Arc<Mutex<Option<Vec<String>>>> = Arc::default();
+impl RootDatabase {
+    /// A database that records which queries execute ([`RootDatabase::take_executions`]).
+    pub fn with_execution_log() -> RootDatabase {
+        let executions: Arc<Mutex<Vec<String>>> = Arc::default();
         let log = executions.clone();
         let storage = salsa::Storage::new(Some(Box::new(move |event: salsa::Event| {
             if let salsa::EventKind::WillExecute { database_key } = event.kind {
-                if let Some(log) = log.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
-                    log.push(format!("{database_key:?}"));
-                }
+                log.lock().unwrap_or_else(|e| e.into_inner()).push(format!("{database_key:?}"));
             }
         })));
-        RootDatabase { storage, executions }
+        RootDatabase { storage, executions: Some(executions) }
+    }
+
+    /// The queries executed since the last call, as `query_name(id)` strings (none for a
+    /// database built without the log).
+    pub fn take_executions(&self) -> Vec<String> {
+        self.executions
+            .as_ref()
+            .map(|log| std::mem::take(&mut *log.lock().unwrap_or_else(|e| e.into_inner())))
+            .unwrap_or_default()
     }
 }
 
@@ -55,18 +66,6 @@ impl salsa::Database for RootDatabase {}
 
 #[salsa::db]
 impl Db for RootDatabase {}
-
-impl RootDatabase {
-    /// Starts recording which queries execute (for incrementality tests).
-    pub fn record_executions(&self) {
-        *self.executions.lock().unwrap_or_else(|e| e.into_inner()) = Some(Vec::new());
-    }
-
-    /// The queries executed since the last call, as `query_name(id)` strings.
-    pub fn take_executions(&self) -> Vec<String> {
-        self.executions.lock().unwrap_or_else(|e| e.into_inner()).as_mut().map(std::mem::take).unwrap_or_default()
-    }
-}
 
 /// The parse of a file (syntax tree and syntax errors).
 #[salsa::tracked(returns(ref))]

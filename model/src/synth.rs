@@ -5,6 +5,10 @@
 //! all node kinds, guarded transitions with arguments) and, every few files, a component and a
 //! component-instance diagram. Names are unique per file, references cross files, and every
 //! generated file parses without errors.
+//!
+//! [`linked_workspace`] has the shape of the Langium anchor's `dmodel` workload
+//! (`research/lsp-anchors/gen_workspace.py`): many small class diagrams densely linked by
+//! imports, simple, qualified and same-file references, for workspace-scale latency.
 
 use std::fmt::Write;
 
@@ -156,6 +160,73 @@ fn components(out: &mut String, index: usize, pkg: &str) {
     let _ = writeln!(out, "    Sink{index} instantiates {pkg}.C{index}_1 ( )\n    {{\n        InPort : In{index} ( processor In = I{pkg}Processor() );\n    }}\n}}");
 }
 
+/// The data types every linked file imports (the anchor's `base` package).
+pub const LINKED_BASE_TYPES: &[&str] = &["String", "Int", "Bool", "Date", "Decimal"];
+
+/// Classes per file of [`linked_workspace`].
+pub const LINKED_CLASSES: usize = 21;
+
+/// `files` files shaped as the Langium anchor's workload: `base.gudsl` declares five data types;
+/// every other file `fNNN.gudsl` is a class diagram `M<i>` of 21 classes (about 260 lines) that
+/// imports `Base` and three other files. Each class has a doc comment, fields of base types, a
+/// to-many association with a simple name resolved through an import, a qualified reference to
+/// another file's class, a same-file reference to the class before it, two methods, and every
+/// third class `extends` a class of another file (always one with a higher class number, so
+/// inheritance has no cycles). File `f001.gudsl` is the one benchmarks edit.
+pub fn linked_workspace(files: usize) -> Vec<SynthFile> {
+    let files = files.max(2);
+    let mut out = Vec::with_capacity(files);
+    let mut base = String::from("// The data types of the linked workspace.\nClassDiagram Base\n{\n");
+    for ty in LINKED_BASE_TYPES {
+        let _ = writeln!(base, "    public class {ty} {{ }}");
+    }
+    base.push_str("}\n");
+    out.push(SynthFile { path: "base.gudsl".into(), text: base });
+    let mut rng = Rng(42);
+    for i in 1..files {
+        let others: Vec<usize> = (1..files).filter(|&j| j != i).collect();
+        let others = if others.is_empty() { vec![i] } else { others };
+        let mut imports: Vec<usize> = Vec::new();
+        while imports.len() < 3.min(others.len()) {
+            let j = others[rng.below(others.len())];
+            if !imports.contains(&j) {
+                imports.push(j);
+            }
+        }
+        imports.sort_unstable();
+        let mut text = format!("// Linked workspace file {i} of {files}.\nClassDiagram M{i}\n{{\n    import Base.*;\n");
+        for j in &imports {
+            let _ = writeln!(text, "    import M{j}.*;");
+        }
+        for k in 0..LINKED_CLASSES {
+            let j1 = imports[rng.below(imports.len())];
+            let j2 = others[rng.below(others.len())];
+            let (k1, k2, k3) = (rng.below(LINKED_CLASSES), rng.below(LINKED_CLASSES), rng.below(LINKED_CLASSES));
+            let base = if k % 3 == 0 {
+                format!(" extends M{j2}.E{j2}_{}", k + 1 + rng.below(LINKED_CLASSES - 1 - k))
+            } else {
+                String::new()
+            };
+            let _ = writeln!(text, "\n    /** Class E{i}_{k}: generated documentation for hover. */");
+            let _ = writeln!(text, "    public class E{i}_{k}{base} {{");
+            let _ = writeln!(text, "        public String name;\n        public Int count;");
+            let _ = writeln!(text, "        self [1] items : E{j1}_{k2} [0 .. *];");
+            let _ = writeln!(text, "        public M{j2}.E{j2}_{k3} owner;");
+            if k > 0 {
+                let _ = writeln!(text, "        public E{i}_{} prev;", k - 1);
+            } else {
+                let _ = writeln!(text, "        public Bool active;");
+            }
+            let _ = writeln!(text, "        public Base.Date created;");
+            let _ = writeln!(text, "        public Bool compute(Int x, E{j1}_{k1} y);");
+            let _ = writeln!(text, "        public M{j2}.E{j2}_{k2} find(String key);\n    }}");
+        }
+        text.push_str("}\n");
+        out.push(SynthFile { path: format!("f{i:03}.gudsl"), text });
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -164,6 +235,25 @@ mod tests {
         assert_eq!(files.len(), 20);
         let lines: usize = files.iter().map(|f| f.text.lines().count()).sum();
         assert!((4_500..=6_000).contains(&lines), "{lines} lines");
+        let db = crate::db::RootDatabase::default();
+        let inputs: Vec<_> =
+            files.iter().map(|f| crate::db::SourceFile::new(&db, f.path.clone(), f.text.clone())).collect();
+        let workspace = crate::db::Workspace::new(&db, inputs.clone());
+        for (file, &input) in files.iter().zip(&inputs) {
+            let diagnostics = crate::hir::file_diagnostics(&db, workspace, input);
+            assert!(diagnostics.is_empty(), "{}: {:?}", file.path, diagnostics);
+        }
+    }
+
+    #[test]
+    fn linked_workspace_checks_clean_with_the_anchors_shape() {
+        let files = super::linked_workspace(20);
+        assert_eq!(files.len(), 20);
+        let edited = &files[1];
+        assert_eq!(edited.path, "f001.gudsl");
+        let lines = edited.text.lines().count();
+        assert!((240..=280).contains(&lines), "{lines} lines");
+        assert_eq!(edited.text.matches("public class").count(), super::LINKED_CLASSES);
         let db = crate::db::RootDatabase::default();
         let inputs: Vec<_> =
             files.iter().map(|f| crate::db::SourceFile::new(&db, f.path.clone(), f.text.clone())).collect();

@@ -1,12 +1,27 @@
-"""LSP latency benchmark for `gudsl lsp` over the real protocol (pygls client).
+"""LSP latency benchmarks of `gudsl lsp` over the real protocol, in two workload shapes.
 
-usage: python3 bench.py GUDSL_BINARY WORKSPACE_DIR [KEYSTROKES]
+body: python3 bench.py body GUDSL_BINARY WORKSPACE_DIR [KEYSTROKES]
 
-Loads the workspace (e.g. `cargo run --release -p gudsl-model --example synth -- DIR`: 200 files,
-50 000 lines), opens pkg100.gudsl, replays typing (insertions and deletions inside a method body
-and inside a declaration), and measures keystroke -> publishDiagnostics of that version, and
-round trips of completion, hover and references while typing. Prints a table with p50/p95 and
-the server's resident memory (VmRSS) after loading and at the end."""
+  Loads the workspace (e.g. `cargo run --release -p gudsl-model --example synth -- DIR`: 200
+  files, 50 000 lines), opens pkg100.gudsl, replays typing (insertions and deletions inside a
+  method body and inside a declaration), and measures keystroke -> publishDiagnostics of that
+  version, and round trips of completion, hover and references while typing (pygls client).
+
+linked: python3 bench.py linked --gudsl BIN --workspace DIR [--langium CMD --langium-workspace DIR]
+                                [--runs N] [--out FILE.json]
+
+  The workspace-scale scenario of issue 14, the shape of the Langium anchor in
+  `research/lsp-anchors/` (generate ours with `cargo run --release -p gudsl-model --example
+  synth -- --linked DIR 200`, the anchor's with its `gen_workspace.py dmodel DIR 200`): every
+  file opened; 200 keystrokes in f001 in blocks of four — a character into a field's type (the
+  type becomes unknown), a character appended to a class name used in the same file and others,
+  then both deleted; 100 idle completions, hovers, definitions and references. Runs gudsl and,
+  given `--langium`, the anchor on its own workload alternately (N runs each) with one client,
+  and prints the medians side by side. A keystroke's latency is the time from sending didChange
+  to the first publishDiagnostics of the edited file whose content is the expected one (the set
+  of unresolved names), as the anchor measures it (Langium sends no version); for gudsl that
+  publish must also carry the version just sent.
+"""
 
 import asyncio
 import statistics
@@ -153,4 +168,11 @@ async def main(gudsl, root, keystrokes):
 
 
 if __name__ == "__main__":
-    asyncio.run(main(sys.argv[1], sys.argv[2], int(sys.argv[3]) if len(sys.argv) > 3 else 200))
+    if sys.argv[1:2] == ["linked"]:
+        from bench_linked import main as linked_main
+
+        linked_main(sys.argv[2:])
+    elif sys.argv[1:2] == ["body"]:
+        asyncio.run(main(sys.argv[2], sys.argv[3], int(sys.argv[4]) if len(sys.argv) > 4 else 200))
+    else:
+        raise SystemExit(__doc__)

@@ -4,11 +4,11 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{
-    definitions::{def_map, join, DefKind, DefMap, Fqn},
+    definitions::{definitions_named, file_types, join, DefKind, Fqn},
     items::{item_tree, ComponentItem, DiagramItem, DiagramKind, ImportItem, InterfaceRole, TypeKind, TypeSignature},
     scope::resolve_path,
 };
-use crate::db::{Db, Workspace};
+use crate::db::{Db, SourceFile, Workspace};
 
 /// A component as the component diagrams define it, keyed by its class's fully qualified name.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -18,43 +18,68 @@ pub struct ComponentInfo {
     pub item: ComponentItem,
 }
 
-/// Every component of the workspace by the fully qualified name of its class (a class can be
-/// a component in several component diagrams).
+/// A component as a file declares it, with the scope its class name is resolved from.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct DeclaredComponent {
+    /// The enclosing namespaces, innermost last (the component diagram's own is the last).
+    pub namespaces: Vec<String>,
+    pub imports: Vec<ImportItem>,
+    pub item: ComponentItem,
+}
+
+/// The components one file's component diagrams declare: equal, so backdated, unless a
+/// component diagram changed.
 #[salsa::tracked(returns(ref))]
-pub fn component_index(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<ComponentInfo>> {
-    let defs = def_map(db, workspace);
-    let mut index = BTreeMap::new();
-    for &file in workspace.files(db) {
-        for diagram in &item_tree(db, file).diagrams {
-            collect(defs, &mut Vec::new(), &mut Vec::new(), diagram, &mut index);
-        }
+pub fn file_components(db: &dyn Db, file: SourceFile) -> Vec<DeclaredComponent> {
+    let mut out = Vec::new();
+    for diagram in &item_tree(db, file).diagrams {
+        collect(&mut Vec::new(), &mut Vec::new(), diagram, &mut out);
     }
-    index
+    out
 }
 
 fn collect(
-    defs: &DefMap,
     namespaces: &mut Vec<String>,
     imports: &mut Vec<ImportItem>,
     diagram: &DiagramItem,
-    index: &mut BTreeMap<String, Vec<ComponentInfo>>,
+    out: &mut Vec<DeclaredComponent>,
 ) {
     let fqn = join(namespaces.last().map_or("", |s| s.as_str()), &diagram.name);
-    namespaces.push(fqn.clone());
+    namespaces.push(fqn);
     let imports_before = imports.len();
     imports.extend(diagram.imports.iter().cloned());
     if diagram.kind == DiagramKind::Component {
         for component in &diagram.components {
-            let resolved = resolve_path(namespaces, imports, &component.class, |c| defs.definitions.contains_key(c));
-            let class = resolved.unwrap_or_else(|| component.class.clone());
-            index.entry(class).or_default().push(ComponentInfo { diagram: fqn.clone(), item: component.clone() });
+            out.push(DeclaredComponent {
+                namespaces: namespaces.clone(),
+                imports: imports.clone(),
+                item: component.clone(),
+            });
         }
     }
     for nested in &diagram.diagrams {
-        collect(defs, namespaces, imports, nested, index);
+        collect(namespaces, imports, nested, out);
     }
     imports.truncate(imports_before);
     namespaces.pop();
+}
+
+/// Every component of the workspace by the fully qualified name of its class (a class can be
+/// a component in several component diagrams). Class names are resolved through [`lookup`],
+/// so a class edit re-runs it only when a component's class changes meaning.
+#[salsa::tracked(returns(ref))]
+pub fn component_index(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<ComponentInfo>> {
+    let mut index: BTreeMap<String, Vec<ComponentInfo>> = BTreeMap::new();
+    for &file in workspace.files(db) {
+        for declared in file_components(db, file) {
+            let exists = |c: &str| !definitions_named(db, workspace, c).is_empty();
+            let class = resolve_path(&declared.namespaces, &declared.imports, &declared.item.class, exists)
+                .unwrap_or_else(|| declared.item.class.clone());
+            let diagram = declared.namespaces.last().cloned().unwrap_or_default();
+            index.entry(class).or_default().push(ComponentInfo { diagram, item: declared.item.clone() });
+        }
+    }
+    index
 }
 
 /// The components built on the class `class` (a fully qualified name); empty if none.
@@ -83,23 +108,27 @@ fn type_key(ty: &TypeSignature) -> String {
     key
 }
 
-/// The `process…` signatures of every processor interface, as [`signature_key`]s.
+/// The `process…` signatures of one file's processor interfaces, as [`signature_key`]s.
 #[salsa::tracked(returns(ref))]
-pub fn processor_signatures(db: &dyn Db, workspace: Workspace) -> BTreeSet<String> {
+pub fn file_processor_signatures(db: &dyn Db, file: SourceFile) -> BTreeSet<String> {
     let mut keys = BTreeSet::new();
-    for definitions in def_map(db, workspace).definitions.values() {
-        for def in definitions {
-            let DefKind::Type(ty) = &def.kind else { continue };
-            if ty.kind != TypeKind::Interface(InterfaceRole::Processor) {
-                continue;
-            }
-            for method in &ty.methods {
-                if let Some(suffix) = method.name.strip_prefix("process") {
-                    let params: Vec<TypeSignature> = method.params.iter().map(|p| p.ty.clone()).collect();
-                    keys.insert(signature_key(suffix, &params));
-                }
+    for def in file_types(db, file).values().flatten() {
+        let DefKind::Type(ty) = &def.kind else { continue };
+        if ty.kind != TypeKind::Interface(InterfaceRole::Processor) {
+            continue;
+        }
+        for method in &ty.methods {
+            if let Some(suffix) = method.name.strip_prefix("process") {
+                let params: Vec<TypeSignature> = method.params.iter().map(|p| p.ty.clone()).collect();
+                keys.insert(signature_key(suffix, &params));
             }
         }
     }
     keys
+}
+
+/// The `process…` signatures of every processor interface of the workspace.
+#[salsa::tracked(returns(ref))]
+pub fn processor_signatures(db: &dyn Db, workspace: Workspace) -> BTreeSet<String> {
+    workspace.files(db).iter().flat_map(|&file| file_processor_signatures(db, file).iter().cloned()).collect()
 }

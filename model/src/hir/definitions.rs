@@ -1,11 +1,18 @@
-//! Definition map: every fully qualified name of the workspace and what it names, and the
-//! per-name `lookup` query through which all cross-file resolution goes.
+//! Definitions: what every fully qualified name of the workspace names, and the per-name
+//! `lookup` query through which all cross-file resolution goes.
 //!
-//! `def_map` changes whenever any declaration changes, but `lookup(name)` is backdated when the
-//! answer for that one name stays the same, so a file is re-checked only when a name it
-//! actually uses changes meaning.
+//! The layers keep a declaration edit's cost to what it changes: a file's diagrams
+//! (`file_diagrams`) and types (`file_types`) feed the namespaces it declares into
+//! (`namespace_definitions`, which read only the files of that namespace), and `lookup(name)` reads its namespace only and is
+//! backdated when the answer for that one name stays the same — so a file is re-checked only
+//! when a name it uses changes meaning, and no edit rebuilds a workspace-wide map on the way.
+//! `def_map` assembles everything for listings (completion, symbol search); resolution never
+//! reads it.
 
-use std::{collections::BTreeMap, sync::Arc};
+use std::{
+    collections::{BTreeMap, HashMap},
+    sync::Arc,
+};
 
 use super::items::{item_tree, ActivitySignature, DiagramItem, DiagramKind, ImportItem, TypeItem};
 use crate::db::{Db, SourceFile, Workspace};
@@ -39,53 +46,147 @@ pub struct Definition {
 }
 
 /// Every definition of the workspace by fully qualified name (several when duplicated), and
-/// the fully qualified names of the types by their simple name.
+/// the fully qualified names of the types by their simple name: for listings (completion,
+/// symbol search, "did you mean"), not for resolution.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct DefMap {
     pub definitions: BTreeMap<String, Vec<Definition>>,
     pub types_by_simple_name: BTreeMap<String, Vec<String>>,
 }
 
-/// The definition map of the workspace.
+/// The definition map of the workspace, assembled from every file's definitions. It changes
+/// with any declaration; resolution never reads it (see [`lookup`]).
 #[salsa::tracked(returns(ref))]
 pub fn def_map(db: &dyn Db, workspace: Workspace) -> DefMap {
     let mut map = DefMap::default();
     for &file in workspace.files(db) {
-        for diagram in &item_tree(db, file).diagrams {
-            collect(&mut map, file, "", &[], diagram);
+        let diagrams = file_diagrams(db, file).iter().map(|(_, def)| def);
+        for def in diagrams.chain(file_types(db, file).values().flatten()) {
+            map.definitions.entry(def.fqn.clone()).or_default().push(def.clone());
+        }
+    }
+    map.types_by_simple_name = type_names(db, workspace).clone();
+    map
+}
+
+/// The diagrams one file declares (nested ones too), each with the namespace it is declared in
+/// ("" at the top). Equal, so backdated, when an edit changed only what is inside diagrams:
+/// then nothing that depends on the workspace's namespaces runs again.
+#[salsa::tracked(returns(ref))]
+pub fn file_diagrams(db: &dyn Db, file: SourceFile) -> Vec<(String, Definition)> {
+    let mut out = Vec::new();
+    walk_diagrams(file, "", &[], &item_tree(db, file).diagrams, &mut |namespace, def, _| {
+        out.push((namespace.to_string(), def));
+    });
+    out
+}
+
+/// The types one file declares, by the diagram (namespace) that declares them.
+#[salsa::tracked(returns(ref))]
+pub fn file_types(db: &dyn Db, file: SourceFile) -> BTreeMap<String, Vec<Definition>> {
+    let mut map: BTreeMap<String, Vec<Definition>> = BTreeMap::new();
+    walk_diagrams(file, "", &[], &item_tree(db, file).diagrams, &mut |_, diagram, item| {
+        let types = item.types.iter().map(|ty| Definition {
+            fqn: join(&diagram.fqn, &ty.name),
+            file,
+            kind: DefKind::Type(ty.clone()),
+            imports: diagram.imports.clone(),
+        });
+        let types: Vec<Definition> = types.collect();
+        map.entry(diagram.fqn).or_default().extend(types);
+    });
+    map
+}
+
+/// Calls `visit(namespace, definition, item)` for every diagram of `diagrams` and the diagrams
+/// nested in them, outer ones first.
+fn walk_diagrams(
+    file: SourceFile,
+    namespace: &str,
+    outer_imports: &[ImportItem],
+    diagrams: &[DiagramItem],
+    visit: &mut dyn FnMut(&str, Definition, &DiagramItem),
+) {
+    for diagram in diagrams {
+        let fqn = join(namespace, &diagram.name);
+        let imports: Arc<[ImportItem]> = outer_imports.iter().chain(&diagram.imports).cloned().collect();
+        let kind = match (&diagram.kind, &diagram.activity) {
+            (DiagramKind::Activity, Some(signature)) => DefKind::Activity(signature.clone()),
+            (DiagramKind::Component, _) => DefKind::ComponentDiagram,
+            (DiagramKind::ComponentInstance, _) => DefKind::ComponentInstanceDiagram,
+            _ => DefKind::ClassDiagram,
+        };
+        visit(namespace, Definition { fqn: fqn.clone(), file, kind, imports: imports.clone() }, diagram);
+        walk_diagrams(file, &fqn, &imports, &diagram.diagrams, visit);
+    }
+}
+
+/// The files that declare something in each namespace, in workspace order: a file declares
+/// into the namespace each of its diagrams is declared in, and into each of its diagrams. It
+/// reads only the files' diagrams, so a class edit never re-runs it.
+#[salsa::tracked(returns(ref))]
+pub fn namespace_files(db: &dyn Db, workspace: Workspace) -> HashMap<String, Vec<SourceFile>> {
+    let mut map: HashMap<String, Vec<SourceFile>> = HashMap::new();
+    for &file in workspace.files(db) {
+        for (namespace, diagram) in file_diagrams(db, file) {
+            for declared in [namespace, &diagram.fqn] {
+                let files = map.entry(declared.clone()).or_default();
+                if files.last() != Some(&file) {
+                    files.push(file);
+                }
+            }
         }
     }
     map
 }
 
-fn collect(map: &mut DefMap, file: SourceFile, prefix: &str, outer_imports: &[ImportItem], diagram: &DiagramItem) {
-    let fqn = join(prefix, &diagram.name);
-    let imports: Arc<[ImportItem]> = outer_imports.iter().chain(&diagram.imports).cloned().collect();
-    let kind = match (&diagram.kind, &diagram.activity) {
-        (DiagramKind::Activity, Some(signature)) => DefKind::Activity(signature.clone()),
-        (DiagramKind::Component, _) => DefKind::ComponentDiagram,
-        (DiagramKind::ComponentInstance, _) => DefKind::ComponentInstanceDiagram,
-        _ => DefKind::ClassDiagram,
+/// The definitions declared directly in one namespace, by their last name segment: it reads
+/// only the files that declare into that namespace, and the types only of the files whose
+/// diagram it is (so the top namespace, the diagrams of every file, ignores class edits).
+#[salsa::tracked(returns(ref))]
+pub fn namespace_definitions<'db>(
+    db: &'db dyn Db,
+    workspace: Workspace,
+    namespace: Fqn<'db>,
+) -> BTreeMap<String, Vec<Definition>> {
+    let mut map: BTreeMap<String, Vec<Definition>> = BTreeMap::new();
+    let prefix = namespace.text(db);
+    let mut add = |def: &Definition| {
+        let last = def.fqn.rsplit('.').next().unwrap_or(&def.fqn);
+        map.entry(last.to_string()).or_default().push(def.clone());
     };
-    map.definitions.entry(fqn.clone()).or_default().push(Definition {
-        fqn: fqn.clone(),
-        file,
-        kind,
-        imports: imports.clone(),
-    });
-    for ty in &diagram.types {
-        let type_fqn = join(&fqn, &ty.name);
-        map.types_by_simple_name.entry(ty.name.clone()).or_default().push(type_fqn.clone());
-        map.definitions.entry(type_fqn.clone()).or_default().push(Definition {
-            fqn: type_fqn,
-            file,
-            kind: DefKind::Type(ty.clone()),
-            imports: imports.clone(),
-        });
+    let files = namespace_files(db, workspace).get(prefix).map_or(&[][..], |f| f.as_slice());
+    for &file in files {
+        let diagrams = file_diagrams(db, file);
+        if diagrams.iter().any(|(_, d)| d.fqn == *prefix) {
+            file_types(db, file).get(prefix).into_iter().flatten().for_each(&mut add);
+        }
+        diagrams.iter().filter(|(namespace, _)| namespace == prefix).for_each(|(_, def)| add(def));
     }
-    for nested in &diagram.diagrams {
-        collect(map, file, &fqn, &imports, nested);
+    map
+}
+
+/// The types a file declares: (simple name, fully qualified name), in order. Equal, so
+/// backdated, unless a type is added, removed or renamed.
+#[salsa::tracked(returns(ref))]
+pub fn file_type_names(db: &dyn Db, file: SourceFile) -> Vec<(String, String)> {
+    file_types(db, file)
+        .values()
+        .flatten()
+        .map(|def| (def.fqn.rsplit('.').next().unwrap_or(&def.fqn).to_string(), def.fqn.clone()))
+        .collect()
+}
+
+/// The fully qualified names of the workspace's types by their simple name.
+#[salsa::tracked(returns(ref))]
+pub fn type_names(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<String>> {
+    let mut map: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for &file in workspace.files(db) {
+        for (simple, fqn) in file_type_names(db, file) {
+            map.entry(simple.clone()).or_default().push(fqn.clone());
+        }
     }
+    map
 }
 
 /// `prefix.name`, or `name` at the top.
@@ -97,15 +198,30 @@ pub fn join(prefix: &str, name: &str) -> String {
     }
 }
 
-/// The definitions of one fully qualified name.
+/// The definitions of one fully qualified name: it depends on the definitions of its namespace
+/// only, and is backdated when the answer for this name stays the same.
 #[salsa::tracked(returns(ref))]
 pub fn lookup<'db>(db: &'db dyn Db, workspace: Workspace, fqn: Fqn<'db>) -> Vec<Definition> {
-    def_map(db, workspace).definitions.get(fqn.text(db)).cloned().unwrap_or_default()
+    let text = fqn.text(db);
+    let (namespace, last) = text.rsplit_once('.').unwrap_or(("", text));
+    let definitions = namespace_definitions(db, workspace, Fqn::new(db, namespace.to_string()));
+    definitions.get(last).cloned().unwrap_or_default()
+}
+
+/// The definitions of `fqn`, without making a query of a name whose namespace does not exist
+/// (most candidates a qualified name is tried as, `Here.Other.Name` for `Other.Name`): those
+/// depend on the one map of namespaces instead of a memo each.
+pub fn definitions_named<'db>(db: &'db dyn Db, workspace: Workspace, fqn: &str) -> &'db [Definition] {
+    let namespace = fqn.rsplit_once('.').map_or("", |(namespace, _)| namespace);
+    if !namespace_files(db, workspace).contains_key(namespace) {
+        return &[];
+    }
+    lookup(db, workspace, Fqn::new(db, fqn.to_string()))
 }
 
 /// The fully qualified names of the types whose simple name is `name` (for names used without
 /// qualification or import, as the dissertation's listings do across diagrams).
 #[salsa::tracked(returns(ref))]
 pub fn types_named<'db>(db: &'db dyn Db, workspace: Workspace, name: Fqn<'db>) -> Vec<String> {
-    def_map(db, workspace).types_by_simple_name.get(name.text(db)).cloned().unwrap_or_default()
+    type_names(db, workspace).get(name.text(db)).cloned().unwrap_or_default()
 }

@@ -12,7 +12,7 @@ use std::collections::{BTreeSet, HashSet};
 
 use super::{
     components::{component_info, processor_signatures, ComponentInfo},
-    definitions::{def_map, lookup, types_named, DefKind, DefMap, Definition, Fqn},
+    definitions::{def_map, definitions_named, types_named, DefKind, DefMap, Definition, Fqn},
     items::{MethodSignature, TypeItem, TypeKind, TypeSignature},
     scope::Scope,
     ty::{self, Ty},
@@ -54,7 +54,7 @@ impl<'db> Semantics<'db> {
 
     /// Every definition of a fully qualified name (several when it is declared twice).
     pub fn lookup(&self, fqn: &str) -> &'db [Definition] {
-        lookup(self.db, self.workspace, Fqn::new(self.db, fqn.to_string()))
+        definitions_named(self.db, self.workspace, fqn)
     }
 
     /// The (first) definition of a fully qualified name.

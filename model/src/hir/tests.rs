@@ -41,7 +41,7 @@ struct Fixture {
 }
 
 fn fixture() -> Fixture {
-    let db = RootDatabase::default();
+    let db = RootDatabase::with_execution_log();
     let files: Vec<SourceFile> = [("defs.gudsl", DEFS), ("user.gudsl", USER), ("other.gudsl", OTHER)]
         .iter()
         .map(|(path, text)| SourceFile::new(&db, path.to_string(), text.to_string()))
@@ -86,7 +86,7 @@ fn fixture_checks_clean() {
 fn typing_in_a_method_body_reruns_no_def_map_and_no_other_file() {
     let mut f = fixture();
     f.check_all();
-    f.db.record_executions();
+    f.db.take_executions();
     f.edit(0, "return width * width;", "return width * width + 1;");
     f.check_all();
     let log = f.executions();
@@ -103,7 +103,7 @@ fn typing_in_a_method_body_reruns_no_def_map_and_no_other_file() {
 fn typing_in_an_action_body_reruns_no_def_map_and_no_other_file() {
     let mut f = fixture();
     f.check_all();
-    f.db.record_executions();
+    f.db.take_executions();
     f.edit(1, "var int x = n + 1;", "var int x = n + 2; // tweak");
     f.check_all();
     let log = f.executions();
@@ -116,11 +116,14 @@ fn typing_in_an_action_body_reruns_no_def_map_and_no_other_file() {
 fn renaming_a_class_rechecks_exactly_its_dependents() {
     let mut f = fixture();
     f.check_all();
-    f.db.record_executions();
+    f.db.take_executions();
     f.edit(0, "public class Image", "public class Picture");
     let diagnostics = f.check_all();
     let log = f.executions();
-    assert_eq!(count(&log, "def_map"), 1, "{log:#?}");
+    // No workspace-wide map is rebuilt: only the namespace `Defs` is re-read.
+    assert_eq!(count(&log, "def_map"), 0, "{log:#?}");
+    assert_eq!(count(&log, "namespace_files"), 0, "{log:#?}");
+    assert_eq!(count(&log, "namespace_definitions"), 1, "{log:#?}");
     // defs.gudsl (edited) and user.gudsl (uses Defs.Image) are re-checked; other.gudsl is not.
     assert_eq!(count(&log, "check_file"), 2, "{log:#?}");
     assert_eq!(diagnostics, 1, "the owner Defs.Image no longer resolves");
@@ -130,7 +133,7 @@ fn renaming_a_class_rechecks_exactly_its_dependents() {
 fn renaming_an_unused_class_rechecks_only_its_file() {
     let mut f = fixture();
     f.check_all();
-    f.db.record_executions();
+    f.db.take_executions();
     f.edit(0, "public class Unused", "public class NoLongerUsed");
     f.check_all();
     assert_eq!(f.executed("check_file"), 1);
@@ -140,12 +143,12 @@ fn renaming_an_unused_class_rechecks_only_its_file() {
 fn editing_one_file_keeps_the_other_files_diagnostics() {
     let mut f = fixture();
     f.check_all();
-    f.db.record_executions();
+    f.db.take_executions();
     f.edit(2, "public bool flag;", "public bool flag; public int count;");
     f.check_all();
     let log = f.executions();
-    // A declaration changed, so the def map runs; no name the other files use changed.
-    assert_eq!(count(&log, "def_map"), 1, "{log:#?}");
+    // A declaration changed, so its namespace is re-read; no name the other files use changed.
+    assert_eq!(count(&log, "namespace_definitions"), 1, "{log:#?}");
     assert_eq!(count(&log, "check_file"), 1, "{log:#?}");
 }
 

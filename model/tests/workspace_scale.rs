@@ -1,0 +1,135 @@
+//! Incrementality at workspace scale: the declaration edits of `tests/lsp/bench.py linked` in
+//! the densely linked 200-file workspace (`synth::linked_workspace`), counted query by query.
+//! A field's type becoming unknown and a class renamed must re-run the per-file queries of the
+//! edited file only, re-read only the edited namespace, rebuild no workspace-wide map, and
+//! re-check exactly the files that use the changed class.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use gudsl_model::{
+    db::{RootDatabase, SourceFile, Workspace},
+    hir::file_diagnostics,
+};
+use salsa::Setter;
+
+struct Linked {
+    db: RootDatabase,
+    workspace: Workspace,
+    files: Vec<SourceFile>,
+}
+
+impl Linked {
+    fn new(files: usize) -> Linked {
+        let db = RootDatabase::with_execution_log();
+        let files: Vec<SourceFile> = gudsl_model::synth::linked_workspace(files)
+            .into_iter()
+            .map(|f| SourceFile::new(&db, f.path, f.text))
+            .collect();
+        let workspace = Workspace::new(&db, files.clone());
+        Linked { db, workspace, files }
+    }
+
+    /// Replaces the first `from` in the edited file (f001) by `to`.
+    fn edit(&mut self, from: &str, to: &str) {
+        let edited = self.files[1];
+        let text = edited.text(&self.db).replacen(from, to, 1);
+        assert_ne!(&text, edited.text(&self.db), "`{from}` is not in the file");
+        edited.set_text(&mut self.db).to(text);
+    }
+
+    /// The edited file's diagnostics (what the server publishes first), then every file's, with
+    /// the queries each step executed, counted by query.
+    fn check(&self) -> (Vec<String>, Counts, Counts) {
+        let messages = file_diagnostics(&self.db, self.workspace, self.files[1]).iter().map(|d| d.message.clone());
+        let messages = messages.collect();
+        let edited = counts(self.db.take_executions());
+        for &file in &self.files {
+            file_diagnostics(&self.db, self.workspace, file);
+        }
+        (messages, edited, counts(self.db.take_executions()))
+    }
+
+    /// The files other than f001 that write `name` as a whole word (their indexes).
+    fn users_of(&self, name: &str) -> BTreeSet<usize> {
+        let word = |text: &str| {
+            text.match_indices(name).any(|(at, _)| {
+                let after = text[at + name.len()..].chars().next();
+                !after.is_some_and(|c| c.is_alphanumeric() || c == '_')
+            })
+        };
+        (2..self.files.len()).filter(|&i| word(self.files[i].text(&self.db))).collect()
+    }
+}
+
+type Counts = BTreeMap<String, usize>;
+
+fn counts(executions: Vec<String>) -> Counts {
+    let mut counts = Counts::new();
+    for execution in executions {
+        *counts.entry(execution.split('(').next().unwrap_or_default().to_string()).or_default() += 1;
+    }
+    counts
+}
+
+fn ran(counts: &Counts, query: &str) -> usize {
+    counts.get(query).copied().unwrap_or(0)
+}
+
+/// Per-file queries run for the edited file only; no query reads every file.
+fn assert_local(step: &str, edited: &Counts, rest: &Counts) {
+    for query in ["parse", "item_tree", "file_diagrams", "file_types", "file_type_names"] {
+        assert!(ran(edited, query) <= 1, "{step}: {query} ran {} times: {edited:#?}", ran(edited, query));
+        assert_eq!(ran(rest, query), 0, "{step}: {query} ran for other files: {rest:#?}");
+    }
+    for query in ["def_map", "namespace_files"] {
+        assert_eq!(ran(edited, query) + ran(rest, query), 0, "{step}: {query} ran: {edited:#?} {rest:#?}");
+    }
+    // Only the edited file's namespace `M1` is re-read.
+    assert!(ran(edited, "namespace_definitions") + ran(rest, "namespace_definitions") <= 1, "{step}: {edited:#?}");
+    // The lookups re-run are names of `M1`, as many as the files linked to it ask, not more.
+    assert!(ran(edited, "lookup") <= 120, "{step}: {edited:#?}");
+}
+
+#[test]
+fn declaration_edits_in_a_linked_workspace_recompute_only_what_they_change() {
+    let mut ws = Linked::new(200);
+    let (messages, _, _) = ws.check();
+    assert!(messages.is_empty(), "{messages:?}");
+    // A first round builds what only unresolved names ask (the index of type names); the
+    // second is what every later keystroke costs.
+    for round in 0..2 {
+        let step = |what: &str| format!("round {round}: {what}");
+        ws.edit("public String name;", "public StringX name;");
+        let (messages, edited, rest) = ws.check();
+        assert_eq!(messages.len(), 1, "{messages:?}");
+        assert!(messages[0].contains("`StringX`"), "{messages:?}");
+        if round == 1 {
+            assert_local(&step("type made unknown"), &edited, &rest);
+            // The index of type names is rebuilt only when asked after type names changed:
+            // here it catches up with the rename undone at the end of the round before.
+            assert!(ran(&edited, "type_names") <= 1, "{edited:#?}");
+            // The class E1_0 changed (a field's type): the files that use it are re-checked.
+            assert_eq!(ran(&edited, "check_file") + ran(&rest, "check_file"), 1 + ws.users_of("E1_0").len());
+        }
+
+        ws.edit("public class E1_3 ", "public class E1_3Z ");
+        let (messages, edited, rest) = ws.check();
+        assert_eq!(messages.len(), 2, "{messages:?}");
+        assert!(messages.iter().any(|m| m.contains("`E1_3`")), "{messages:?}");
+        if round == 1 {
+            assert_local(&step("class renamed"), &edited, &rest);
+            assert!(ran(&edited, "type_names") <= 1, "{edited:#?}");
+            assert_eq!(ran(&edited, "check_file") + ran(&rest, "check_file"), 1 + ws.users_of("E1_3").len());
+        }
+
+        ws.edit("public StringX name;", "public String name;");
+        ws.edit("public class E1_3Z ", "public class E1_3 ");
+        let (messages, edited, rest) = ws.check();
+        assert!(messages.is_empty(), "{messages:?}");
+        if round == 1 {
+            assert_local(&step("both undone"), &edited, &rest);
+            let users = ws.users_of("E1_0").union(&ws.users_of("E1_3")).count();
+            assert_eq!(ran(&edited, "check_file") + ran(&rest, "check_file"), 1 + users);
+        }
+    }
+}
