@@ -178,3 +178,35 @@ fn changes_the_spec_does_not_allow_are_refused_not_guessed_at() {
     );
     assert_eq!(answer["error"]["code"], -32803, "{answer}");
 }
+
+#[test]
+fn the_edited_document_is_published_before_the_documents_its_edit_breaks() {
+    let root = temp_dir("edited-first");
+    let defs = "ClassDiagram Defs { public class Image { } }\n";
+    let user = |n: u32| format!("ClassDiagram U{n} {{ import Defs.*; public class C {{ public Image i; }} }}\n");
+    // The edited file sorts last, so an order by URI would publish it last.
+    let files = [("a_user.gudsl", user(1)), ("b_user.gudsl", user(2)), ("z_defs.gudsl", defs.to_string())];
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&root));
+    let uri = |name: &str| format!("file://{}", root.join(name).display());
+    for (name, text) in &files {
+        std::fs::write(root.join(name), text).unwrap();
+        lsp.open(&uri(name), text);
+    }
+    let mut unseen: Vec<String> = files.iter().map(|(name, _)| uri(name)).collect();
+    while !unseen.is_empty() {
+        let published = lsp.notification("textDocument/publishDiagnostics", 20, |_| true).expect("published on open");
+        assert_eq!(published["diagnostics"], json!([]), "{published}");
+        unseen.retain(|u| published["uri"] != *u);
+    }
+    // Renaming the class breaks both users; the renamed one's own diagnostics come first.
+    let column = defs.find("Image").unwrap() as u32 + 5;
+    lsp.change(&uri("z_defs.gudsl"), 2, ((0, column), (0, column)), "X");
+    let first = lsp.notification("textDocument/publishDiagnostics", 20, |_| true).expect("a publish");
+    assert_eq!(first["uri"], uri("z_defs.gudsl"), "{first}");
+    assert_eq!(first["version"], 2, "{first}");
+    for name in ["a_user.gudsl", "b_user.gudsl"] {
+        let diagnostics = lsp.diagnostics_of(&uri(name), 20).expect("the user is re-checked");
+        assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    }
+}

@@ -26,10 +26,32 @@ pub enum ChangeRefused {
     Invalid(InvalidEdit),
 }
 
+/// The documents by URI, and the URI of each file.
+#[derive(Clone, Default)]
+pub struct Documents {
+    by_uri: HashMap<String, Document>,
+    uris: HashMap<FileId, lsp::Uri>,
+}
+
+impl Documents {
+    pub fn get(&self, uri: &str) -> Option<&Document> {
+        self.by_uri.get(uri)
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &Document> {
+        self.by_uri.values()
+    }
+
+    pub fn contains(&self, uri: &str) -> bool {
+        self.by_uri.contains_key(uri)
+    }
+}
+
 #[derive(Default)]
 pub struct Host {
     analysis: AnalysisHost,
-    documents: HashMap<String, Document>,
+    /// Shared with snapshots, copied only when changed while a snapshot holds it.
+    documents: Arc<Documents>,
 }
 
 /// A read-only view of the analysis and the documents at one moment. Its queries return
@@ -37,7 +59,7 @@ pub struct Host {
 #[derive(Clone)]
 pub struct Snapshot {
     pub analysis: Analysis,
-    pub documents: Arc<HashMap<String, Document>>,
+    pub documents: Arc<Documents>,
     pub encoding: Encoding,
 }
 
@@ -51,7 +73,7 @@ impl Snapshot {
     }
 
     pub fn uri_of(&self, file: FileId) -> Option<lsp::Uri> {
-        self.documents.values().find(|d| d.file == file).map(|d| d.uri.clone())
+        self.documents.uris.get(&file).cloned()
     }
 }
 
@@ -62,12 +84,12 @@ fn display_path(uri: &lsp::Uri) -> String {
 
 impl Host {
     pub fn snapshot(&self, encoding: Encoding) -> Snapshot {
-        Snapshot { analysis: self.analysis.analysis(), documents: Arc::new(self.documents.clone()), encoding }
+        Snapshot { analysis: self.analysis.analysis(), documents: self.documents.clone(), encoding }
     }
 
     /// The workspace is every known document, ordered by URI.
     fn sync_workspace(&mut self) {
-        let mut files: Vec<(&String, FileId)> = self.documents.iter().map(|(uri, d)| (uri, d.file)).collect();
+        let mut files: Vec<(&String, FileId)> = self.documents.by_uri.iter().map(|(uri, d)| (uri, d.file)).collect();
         files.sort_by(|a, b| a.0.cmp(b.0));
         let files = files.into_iter().map(|(_, f)| f).collect();
         self.analysis.set_workspace(files);
@@ -75,7 +97,8 @@ impl Host {
 
     /// Adds or replaces a document's text; `version` is set for documents the editor has open.
     pub fn set_text(&mut self, uri: &lsp::Uri, text: String, version: Option<i32>, open: bool) -> FileId {
-        if let Some(document) = self.documents.get_mut(uri.as_str()) {
+        let documents = Arc::make_mut(&mut self.documents);
+        if let Some(document) = documents.by_uri.get_mut(uri.as_str()) {
             document.version = version;
             document.open = open;
             let file = document.file;
@@ -83,7 +106,8 @@ impl Host {
             return file;
         }
         let file = self.analysis.add_file(display_path(uri), text);
-        self.documents.insert(uri.as_str().to_string(), Document { uri: uri.clone(), file, version, open });
+        documents.by_uri.insert(uri.as_str().to_string(), Document { uri: uri.clone(), file, version, open });
+        documents.uris.insert(file, uri.clone());
         self.sync_workspace();
         file
     }
@@ -97,13 +121,14 @@ impl Host {
         edits: Vec<LineColEdit>,
         encoding: Encoding,
     ) -> Result<FileId, ChangeRefused> {
-        let document = self.documents.get_mut(uri.as_str()).ok_or(ChangeRefused::NotOpen)?;
-        if !document.open {
-            return Err(ChangeRefused::NotOpen);
-        }
-        let file = document.file;
+        let file = match self.documents.get(uri.as_str()) {
+            Some(document) if document.open => document.file,
+            _ => return Err(ChangeRefused::NotOpen),
+        };
         self.analysis.edit_file(file, edits, encoding.0).map_err(ChangeRefused::Invalid)?;
-        document.version = Some(version);
+        if let Some(document) = Arc::make_mut(&mut self.documents).by_uri.get_mut(uri.as_str()) {
+            document.version = Some(version);
+        }
         Ok(file)
     }
 
@@ -115,14 +140,16 @@ impl Host {
     /// The editor closed the document: it stays in the workspace with its last text (the file
     /// watcher updates it from disk), without a version.
     pub fn close(&mut self, uri: &lsp::Uri) {
-        if let Some(document) = self.documents.get_mut(uri.as_str()) {
+        if let Some(document) = Arc::make_mut(&mut self.documents).by_uri.get_mut(uri.as_str()) {
             document.open = false;
             document.version = None;
         }
     }
 
     pub fn remove(&mut self, uri: &lsp::Uri) {
-        if self.documents.remove(uri.as_str()).is_some() {
+        let documents = Arc::make_mut(&mut self.documents);
+        if let Some(document) = documents.by_uri.remove(uri.as_str()) {
+            documents.uris.remove(&document.file);
             self.sync_workspace();
         }
     }

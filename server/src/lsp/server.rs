@@ -2,7 +2,7 @@
 //! table of features (each delegating to `handlers` on a snapshot, off the loop).
 
 use std::{
-    collections::{HashMap, HashSet},
+    collections::HashMap,
     panic::AssertUnwindSafe,
     path::PathBuf,
     sync::{
@@ -11,7 +11,7 @@ use std::{
     },
 };
 
-use gudsl_model::{text::ColumnUnit, Cancellable};
+use gudsl_model::{text::ColumnUnit, Cancellable, FileId};
 use tower_lsp_server::{
     jsonrpc::{Error, ErrorCode, Result},
     ls_types as lsp, Client, LanguageServer,
@@ -22,7 +22,7 @@ use crate::workspace;
 use super::{
     capabilities::{server_capabilities, Encoding},
     from_proto, handlers,
-    host::{ChangeRefused, Host, Snapshot},
+    host::{ChangeRefused, Document, Host, Snapshot},
     to_proto,
 };
 
@@ -108,9 +108,10 @@ impl Backend {
     }
 
     /// Computes the diagnostics of every document and publishes those that changed, unless a
-    /// newer edit arrives first (then its own run publishes). Open documents go first, so the
-    /// one being typed in is answered before the rest of the workspace is re-checked.
-    fn schedule_diagnostics(&self) {
+    /// newer edit arrives first (then its own run publishes). The document just edited
+    /// (`edited`) is computed and published first, before any other document's work; then the
+    /// other open documents, then the rest of the workspace.
+    fn schedule_diagnostics(&self, edited: Option<FileId>) {
         let generation = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
         let current = self.generation.clone();
         let host = self.host.clone();
@@ -120,18 +121,29 @@ impl Backend {
         let encoding = self.encoding();
         tokio::spawn(async move {
             tokio::task::yield_now().await;
-            for open_phase in [true, false] {
+            let phases: [&(dyn Fn(&Document) -> bool + Sync); 3] =
+                [&|d| Some(d.file) == edited, &|d| d.open && Some(d.file) != edited, &|d| {
+                    !d.open && Some(d.file) != edited
+                }];
+            for (phase, wanted) in phases.into_iter().enumerate() {
                 if current.load(Ordering::SeqCst) != generation {
                     return;
                 }
                 let snapshot = lock(&host).snapshot(encoding);
-                let known: HashSet<String> = snapshot.documents.keys().cloned().collect();
+                let documents = snapshot.documents.clone();
+                let wanted: Vec<&Document> = documents.iter().filter(|d| wanted(d)).collect();
+                let last = phase == phases.len() - 1;
+                if wanted.is_empty() && !last {
+                    continue;
+                }
+                let mut work: Vec<(lsp::Uri, Option<i32>, FileId)> =
+                    wanted.iter().map(|d| (d.uri.clone(), d.version, d.file)).collect();
+                work.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
                 let computed = tokio::task::spawn_blocking(move || {
-                    let mut all: Vec<(lsp::Uri, Option<i32>, Vec<lsp::Diagnostic>)> = Vec::new();
-                    for d in snapshot.documents.values().filter(|d| d.open == open_phase) {
-                        all.push((d.uri.clone(), d.version, handlers::diagnostics(&snapshot, d.file)?));
+                    let mut all = Vec::with_capacity(work.len());
+                    for (uri, version, file) in work {
+                        all.push((uri, version, handlers::diagnostics(&snapshot, file)?));
                     }
-                    all.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
                     Cancellable::Ok(all)
                 })
                 .await;
@@ -144,22 +156,25 @@ impl Backend {
                 }
                 let changed: Vec<_> = {
                     let mut published = lock(&published);
-                    // Documents that left the workspace (closed unsaved, deleted): cleared.
-                    let forgotten: Vec<String> =
-                        published.keys().filter(|uri| !known.contains(*uri)).cloned().collect();
+                    // Documents that left the workspace (closed unsaved, deleted): cleared, once
+                    // every phase has published.
                     let mut cleared = Vec::new();
-                    for uri in forgotten {
-                        published.remove(&uri);
-                        cleared.extend(uri.parse::<lsp::Uri>().ok().map(|uri| (uri, None, Vec::new())));
+                    if last {
+                        let forgotten: Vec<String> =
+                            published.keys().filter(|uri| !documents.contains(uri)).cloned().collect();
+                        for uri in forgotten {
+                            published.remove(&uri);
+                            cleared.extend(uri.parse::<lsp::Uri>().ok().map(|uri| (uri, None, Vec::new())));
+                        }
                     }
                     // A new version of an open document is always answered, so the editor knows
                     // its diagnostics are current; other documents only when they change.
                     all.into_iter()
                         .filter(|(uri, version, diagnostics)| {
-                            let current = (*version, diagnostics.clone());
-                            let unchanged = published.get(uri.as_str()) == Some(&current);
+                            let unchanged =
+                                published.get(uri.as_str()).is_some_and(|(v, d)| v == version && d == diagnostics);
                             if !unchanged {
-                                published.insert(uri.as_str().to_string(), current);
+                                published.insert(uri.as_str().to_string(), (*version, diagnostics.clone()));
                             }
                             !unchanged
                         })
@@ -224,7 +239,7 @@ impl Backend {
         if let Some(progress) = progress {
             progress.finish_with_message(format!("{} files loaded", paths.len())).await;
         }
-        self.schedule_diagnostics();
+        self.schedule_diagnostics(None);
     }
 }
 
@@ -286,8 +301,8 @@ impl LanguageServer for Backend {
 
     async fn did_open(&self, params: lsp::DidOpenTextDocumentParams) {
         let doc = params.text_document;
-        lock(&self.host).set_text(&doc.uri, doc.text, Some(doc.version), true);
-        self.schedule_diagnostics();
+        let file = lock(&self.host).set_text(&doc.uri, doc.text, Some(doc.version), true);
+        self.schedule_diagnostics(Some(file));
     }
 
     async fn did_change(&self, params: lsp::DidChangeTextDocumentParams) {
@@ -296,7 +311,7 @@ impl LanguageServer for Backend {
         let edits = from_proto::edits(params.content_changes);
         let refused = lock(&self.host).change(&doc.uri, doc.version, edits, encoding);
         match refused {
-            Ok(_) => self.schedule_diagnostics(),
+            Ok(file) => self.schedule_diagnostics(Some(file)),
             Err(ChangeRefused::NotOpen) => {
                 let message =
                     format!("gudsl: ignored a change to {}, which is not open (no didOpen)", doc.uri.as_str());
@@ -330,7 +345,7 @@ impl LanguageServer for Backend {
             }
             host.close(&uri);
         }
-        self.schedule_diagnostics();
+        self.schedule_diagnostics(None);
     }
 
     async fn did_change_watched_files(&self, params: lsp::DidChangeWatchedFilesParams) {
@@ -347,7 +362,7 @@ impl LanguageServer for Backend {
                 }
             }
         }
-        self.schedule_diagnostics();
+        self.schedule_diagnostics(None);
     }
 
     async fn document_symbol(&self, params: lsp::DocumentSymbolParams) -> Result<Option<lsp::DocumentSymbolResponse>> {
