@@ -9,6 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use gudsl_model::{
     db::{RootDatabase, SourceFile, Workspace},
     hir::file_diagnostics,
+    ide::find_references,
 };
 use salsa::Setter;
 
@@ -51,14 +52,23 @@ impl Linked {
 
     /// The files other than f001 that write `name` as a whole word (their indexes).
     fn users_of(&self, name: &str) -> BTreeSet<usize> {
-        let word = |text: &str| {
-            text.match_indices(name).any(|(at, _)| {
-                let after = text[at + name.len()..].chars().next();
-                !after.is_some_and(|c| c.is_alphanumeric() || c == '_')
-            })
-        };
-        (2..self.files.len()).filter(|&i| word(self.files[i].text(&self.db))).collect()
+        (2..self.files.len()).filter(|&i| words(self.files[i].text(&self.db), name) > 0).collect()
     }
+}
+
+/// How often `text` writes `name` as a whole word, outside the doc comments.
+fn words(text: &str, name: &str) -> usize {
+    let is_word = |c: char| c.is_alphanumeric() || c == '_';
+    let in_line = |line: &str| {
+        line.match_indices(name)
+            .filter(|(at, _)| {
+                let before = line[..*at].chars().next_back();
+                let after = line[at + name.len()..].chars().next();
+                !before.is_some_and(is_word) && !after.is_some_and(is_word)
+            })
+            .count()
+    };
+    text.lines().filter(|line| !line.trim_start().starts_with("/**")).map(in_line).sum()
 }
 
 type Counts = BTreeMap<String, usize>;
@@ -131,5 +141,30 @@ fn declaration_edits_in_a_linked_workspace_recompute_only_what_they_change() {
             let users = ws.users_of("E1_0").union(&ws.users_of("E1_3")).count();
             assert_eq!(ran(&edited, "check_file") + ran(&rest, "check_file"), 1 + users);
         }
+    }
+}
+
+#[test]
+fn references_resolve_only_the_names_spelled_like_the_declaration() {
+    let mut ws = Linked::new(200);
+    ws.check();
+    let edited = ws.files[1];
+    let references = |ws: &Linked| {
+        let at = ws.files[1].text(&ws.db).find("public class E1_5 ").unwrap() + "public class E".len();
+        find_references(&ws.db, ws.workspace, edited, (at as u32).into(), true)
+    };
+    let found = references(&ws);
+    let written: usize = ws.files.iter().map(|f| words(f.text(&ws.db), "E1_5")).sum();
+    assert_eq!(found.len(), written, "every `E1_5` of the workspace names the class");
+    assert!(found.len() > 2, "the class is used in other files: {found:?}");
+    // After an edit of another file, only that file's names are read again.
+    ws.db.take_executions();
+    let other = ws.files[7];
+    let text = other.text(&ws.db).replacen("public String name;", "public String label;", 1);
+    other.set_text(&mut ws.db).to(text);
+    assert_eq!(references(&ws), found);
+    let ran = counts(ws.db.take_executions());
+    for query in ["parse", "file_name_uses", "file_names_used", "name_index"] {
+        assert!(ran.get(query).copied().unwrap_or(0) <= 1, "{query}: {ran:#?}");
     }
 }

@@ -1,11 +1,12 @@
-//! Semantics: the position-independent item tree of each file, the workspace-wide definition
-//! map, and on top of them one read-only API ([`Semantics`]: names, scopes, types, members,
+//! Semantics: the position-independent item tree of each file, the definitions of each
+//! namespace, and on top of them one read-only API ([`Semantics`]: names, scopes, types, members,
 //! owners, components) that validation, editor features, the graph view and code generation
 //! share. Validation rules live apart from it (`validate/`), one family of rules a module.
 //!
 //! Layers, each using only those below it: `items` → `definitions` → `scope` → `components` →
 //! `ty` → `semantics` (+ `instances`, `classify`) → `infer` → `validate`; `diagnostics` is the vocabulary of
-//! problems that `infer` and `validate` report.
+//! problems that `infer` and `validate` report; `uses` (where each name is written) stands
+//! beside them, on the syntax only.
 
 pub mod classify;
 pub mod components;
@@ -21,6 +22,7 @@ pub mod semantics;
 #[cfg(test)]
 mod tests;
 pub mod ty;
+pub mod uses;
 pub mod validate;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};

@@ -1,14 +1,15 @@
 //! Find references and rename: every place that names the declaration under the cursor.
 //!
 //! Workspace-level declarations (diagrams, classes, interfaces, enums, attributes) are found
-//! through every qualified name of the workspace, resolved from where it is written; activity
+//! through the index of names (`hir::uses`): only the path segments spelled like the
+//! declaration are resolved, from where they are written; activity
 //! nodes through the transitions of their diagram; parameters and variables through the names
 //! of their scope.
 
 use crate::{
     ast::{self, AstNode},
     db::{parse, Db, SourceFile, Workspace},
-    hir::{Scope, Semantics},
+    hir::{uses::segments_named, Semantics},
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
 };
 
@@ -35,24 +36,18 @@ pub fn find_references(
     let mut found = Vec::new();
     let declaration = resolved.declaration.clone();
     if let Some(fqn) = resolved.qualified.as_deref().filter(|_| is_global(&declaration)) {
+        // Only a segment spelled like the declaration can name it: the index of names says
+        // where those are, and only they are resolved.
         let sema = Semantics::new(db, workspace);
-        for &other in workspace.files(db) {
+        let simple = fqn.rsplit('.').next().unwrap_or(fqn);
+        for (other, range) in segments_named(db, workspace, simple) {
             let root = parse(db, other).syntax_node();
-            let simple = fqn.rsplit('.').next().unwrap_or(fqn);
-            for path in root.descendants().filter_map(ast::Path::cast) {
-                // Only a segment spelled like the declaration can name it: resolve just those.
-                if !path.segments().any(|s| s.text() == simple) {
-                    continue;
-                }
-                let scope = Scope::at(path.syntax());
-                let mut prefix = String::new();
-                for segment in path.segments() {
-                    let text = segment.text();
-                    prefix = if prefix.is_empty() { text.clone() } else { format!("{prefix}.{text}") };
-                    if text == simple && sema.resolve(&scope, &prefix).is_some_and(|d| d.fqn == fqn) {
-                        found.push(FileRange { file: other, range: segment.syntax().text_range() });
-                    }
-                }
+            let element = root.covering_element(range);
+            let node = element.as_node().cloned().or_else(|| element.parent());
+            let Some(segment) = node.and_then(|n| n.ancestors().find_map(ast::NameRef::cast)) else { continue };
+            let Some(path) = segment.syntax().parent().and_then(ast::Path::cast) else { continue };
+            if sema.resolve_path_segment(&path, &segment).is_some_and(|d| d.fqn == fqn) {
+                found.push(FileRange { file: other, range });
             }
         }
     } else if ast::ActivityNode::can_cast(declaration.kind()) {
