@@ -240,7 +240,7 @@ impl Analysis {
         self.with(|db, workspace| ide::rename(db, workspace, file, offset, new_name))
     }
 
-    pub fn completions(&self, file: FileId, offset: TextSize) -> Cancellable<Vec<ide::CompletionItem>> {
+    pub fn completions(&self, file: FileId, offset: TextSize) -> Cancellable<ide::Completions> {
         self.with(|db, workspace| ide::completions(db, workspace, file, offset))
     }
 

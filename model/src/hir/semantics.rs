@@ -8,11 +8,13 @@
 //! the names it asks about. Expression types are answered in `infer.rs`
 //! ([`Semantics::type_of_expr`]), name classification for the editor in `classify.rs`.
 
-use std::collections::{BTreeSet, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashSet};
 
 use super::{
     components::{component_info, processor_signatures, ComponentInfo},
-    definitions::{def_map, definitions_named, types_named, DefKind, DefMap, Definition, Fqn},
+    definitions::{
+        def_map, definitions_named, namespace_definitions, type_names, types_named, DefKind, DefMap, Definition, Fqn,
+    },
     items::{MethodSignature, TypeItem, TypeKind, TypeSignature},
     scope::Scope,
     ty::{self, Ty},
@@ -55,6 +57,16 @@ impl<'db> Semantics<'db> {
     /// Every definition of a fully qualified name (several when it is declared twice).
     pub fn lookup(&self, fqn: &str) -> &'db [Definition] {
         definitions_named(self.db, self.workspace, fqn)
+    }
+
+    /// What a namespace declares directly, by last name segment (for listings of a namespace).
+    pub fn namespace_members(&self, namespace: &str) -> &'db BTreeMap<String, Vec<Definition>> {
+        namespace_definitions(self.db, self.workspace, Fqn::new(self.db, namespace.to_string()))
+    }
+
+    /// The fully qualified names of every type of the workspace by simple name (for listings).
+    pub fn types_by_simple_name(&self) -> &'db BTreeMap<String, Vec<String>> {
+        type_names(self.db, self.workspace)
     }
 
     /// The (first) definition of a fully qualified name.

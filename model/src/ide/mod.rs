@@ -13,7 +13,7 @@ mod symbols;
 #[cfg(test)]
 mod test_fixture;
 
-pub use completion::{completions, CompletionItem, CompletionKind};
+pub use completion::{completions, CompletionItem, CompletionKind, Completions};
 pub use fixes::{quick_fixes, QuickFix};
 pub use folding::{folding_ranges, Fold, FoldKind};
 pub use hints::{inlay_hints, signature_help, InlayHint, SignatureHelp};

@@ -162,8 +162,11 @@ pub fn completion(
     let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
         return Ok(None);
     };
-    let items = snap.analysis.completions(file, offset)?.into_iter().map(to_proto::completion_item).collect();
-    Ok(Some(lsp::CompletionResponse::Array(items)))
+    let completions = snap.analysis.completions(file, offset)?;
+    Ok(Some(lsp::CompletionResponse::List(lsp::CompletionList {
+        is_incomplete: completions.incomplete,
+        items: completions.items.into_iter().map(to_proto::completion_item).collect(),
+    })))
 }
 
 pub fn selection_ranges(

@@ -175,7 +175,10 @@ pub fn completion_item(item: ide::CompletionItem) -> lsp::CompletionItem {
     };
     let format =
         if item.snippet.is_some() { lsp::InsertTextFormat::SNIPPET } else { lsp::InsertTextFormat::PLAIN_TEXT };
+    // Names in scope sort before the types of other diagrams.
+    let sort_text = Some(format!("{}{}", u8::from(item.far), item.label));
     lsp::CompletionItem {
+        sort_text,
         label: item.label,
         kind: Some(kind),
         detail: item.detail,

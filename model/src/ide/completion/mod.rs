@@ -3,14 +3,14 @@
 //! interfaces after `:` in ports, fields in `instantiates X (`, and keyword snippets for the
 //! constructs valid at that level.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashSet};
 
 use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, SourceFile, Workspace},
     hir::{
-        items::{InterfaceRole, TypeKind},
-        DefKind, Scope, Semantics,
+        items::{ImportItem, InterfaceRole, TypeKind},
+        DefKind, Definition, Scope, Semantics,
     },
     syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextSize},
 };
@@ -38,10 +38,24 @@ pub struct CompletionItem {
     pub detail: Option<String>,
     /// Text to insert in LSP snippet syntax (`$1`, `${1:name}`), when it differs from the label.
     pub snippet: Option<String>,
+    /// Declared outside what the cursor's scope sees (a type of another diagram that resolves
+    /// by its unique simple name): listed after the names in scope.
+    pub far: bool,
 }
 
+/// The proposals at a position; `incomplete` when a long list was cut to what is typed so far
+/// (the editor asks again as the user types on).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Completions {
+    pub items: Vec<CompletionItem>,
+    pub incomplete: bool,
+}
+
+/// At most this many types of other diagrams are proposed; the names in scope always are.
+const FAR_TYPES: usize = 100;
+
 fn item(label: impl Into<String>, kind: CompletionKind, detail: Option<String>) -> CompletionItem {
-    CompletionItem { label: label.into(), kind, detail, snippet: None }
+    CompletionItem { label: label.into(), kind, detail, snippet: None, far: false }
 }
 
 fn snippet(label: &str, body: &str, detail: &str) -> CompletionItem {
@@ -50,6 +64,7 @@ fn snippet(label: &str, body: &str, detail: &str) -> CompletionItem {
         kind: CompletionKind::Snippet,
         detail: Some(detail.to_string()),
         snippet: Some(body.to_string()),
+        far: false,
     }
 }
 
@@ -80,7 +95,7 @@ const BUILTIN_TYPES: &[&str] = &[
 ];
 
 /// The proposals at `offset`.
-pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Vec<CompletionItem> {
+pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: TextSize) -> Completions {
     let root = parse(db, file).syntax_node();
     let sema = Semantics::new(db, workspace);
     let previous = previous_token(&root, offset);
@@ -92,6 +107,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
         None => previous.clone(),
     };
     let before_kind = before.as_ref().map(|t| t.kind());
+    let typed = typing_ident.map_or("", |t| t.text());
 
     let mut items = Vec::new();
     // `=> |`: the nodes of this activity diagram.
@@ -135,15 +151,10 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
     if before_kind == Some(DOT) {
         if let Some(prefix) = before.as_ref().and_then(path_before_dot) {
             let namespace = sema.resolve(&Scope::at(&at), &prefix).map(|d| d.fqn.clone()).unwrap_or(prefix.clone());
-            let map = sema.def_map();
-            let children: BTreeSet<(String, bool)> = map
-                .definitions
-                .range(format!("{namespace}.")..)
-                .take_while(|(k, _)| k.starts_with(&format!("{namespace}.")))
-                .filter_map(|(k, defs)| {
-                    let rest = &k[namespace.len() + 1..];
-                    (!rest.contains('.')).then(|| (rest.to_string(), matches!(defs[0].kind, DefKind::Type(_))))
-                })
+            let children: BTreeSet<(String, bool)> = sema
+                .namespace_members(&namespace)
+                .iter()
+                .map(|(name, defs)| (name.clone(), matches!(defs[0].kind, DefKind::Type(_))))
                 .collect();
             for (name, is_type) in children {
                 let kind = if is_type { CompletionKind::Type } else { CompletionKind::Namespace };
@@ -220,8 +231,8 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
         for ty in BUILTIN_TYPES {
             items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
         }
-        types_in_scope(&sema, &mut items);
-        return finish(items);
+        let incomplete = types_in_scope(&sema, &Scope::at(&at), typed, &mut items);
+        return Completions { incomplete, ..finish(items) };
     }
     // Inside a node or method body: statements, locals, the owner's members.
     if let Some(body) = at.ancestors().find(|a| matches!(a.kind(), NODE_BODY | BLOCK)) {
@@ -284,7 +295,8 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
             for ty in BUILTIN_TYPES {
                 items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
             }
-            types_in_scope(&sema, &mut items);
+            let incomplete = types_in_scope(&sema, &Scope::at(&at), typed, &mut items);
+            return Completions { incomplete, ..finish(items) };
         }
         Some(COMPONENT_DIAGRAM) => {
             for kind in ["source", "filter", "sink", "class"] {
@@ -308,10 +320,10 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
     finish(items)
 }
 
-fn finish(mut items: Vec<CompletionItem>) -> Vec<CompletionItem> {
+fn finish(mut items: Vec<CompletionItem>) -> Completions {
     items.sort();
     items.dedup_by(|a, b| a.label == b.label && a.kind == b.kind);
-    items
+    Completions { items, incomplete: false }
 }
 
 fn previous_token(root: &SyntaxNode, offset: TextSize) -> Option<SyntaxToken> {
@@ -410,13 +422,54 @@ fn path_before_dot(dot: &SyntaxToken) -> Option<String> {
     (!segments.is_empty()).then(|| segments.join("."))
 }
 
-fn types_in_scope(sema: &Semantics, items: &mut Vec<CompletionItem>) {
-    for (simple, fqns) in &sema.def_map().types_by_simple_name {
-        for fqn in fqns {
-            let label = if fqns.len() == 1 { simple.clone() } else { fqn.clone() };
-            items.push(item(label, CompletionKind::Type, Some(fqn.clone())));
+/// The types for a type position: every type the cursor's scope sees by its simple name (its
+/// diagrams' and its imports'), then the workspace's other types whose name matches what is
+/// typed (`typed` in order, any case), at most [`FAR_TYPES`] of them. Whether some were left out.
+fn types_in_scope(sema: &Semantics, scope: &Scope, typed: &str, items: &mut Vec<CompletionItem>) -> bool {
+    let mut seen: HashSet<String> = HashSet::new();
+    let mut near = |name: &str, def: &Definition, items: &mut Vec<CompletionItem>| {
+        if matches!(def.kind, DefKind::Type(_)) && seen.insert(def.fqn.clone()) {
+            items.push(item(name, CompletionKind::Type, Some(def.fqn.clone())));
+        }
+    };
+    let wildcards = scope.imports.iter().filter_map(|i| match i {
+        ImportItem::Wildcard(prefix) => Some(prefix.as_str()),
+        _ => None,
+    });
+    for namespace in scope.namespaces.iter().map(String::as_str).chain(wildcards) {
+        for (name, defs) in sema.namespace_members(namespace) {
+            near(name, &defs[0], items);
         }
     }
+    for import in &scope.imports {
+        if let ImportItem::Name(fqn) = import {
+            if let Some(def) = sema.definition(fqn) {
+                near(fqn.rsplit('.').next().unwrap_or(fqn), def, items);
+            }
+        }
+    }
+    let mut far = 0;
+    for (simple, fqns) in sema.types_by_simple_name() {
+        if !typed_in(typed, simple) {
+            continue;
+        }
+        for fqn in fqns.iter().filter(|fqn| !seen.contains(*fqn)) {
+            if far == FAR_TYPES {
+                return true;
+            }
+            let label = if fqns.len() == 1 { simple.clone() } else { fqn.clone() };
+            items.push(CompletionItem { far: true, ..item(label, CompletionKind::Type, Some(fqn.clone())) });
+            far += 1;
+        }
+    }
+    false
+}
+
+/// Whether the characters of `typed` appear in `name` in order, ignoring case (as editors
+/// filter completions).
+fn typed_in(typed: &str, name: &str) -> bool {
+    let mut name = name.chars().flat_map(char::to_lowercase);
+    typed.chars().flat_map(char::to_lowercase).all(|t| name.any(|n| n == t))
 }
 
 fn locals_in_scope(body: &SyntaxNode, items: &mut Vec<CompletionItem>) {
@@ -452,89 +505,4 @@ fn type_members(sema: &Semantics, def: &crate::hir::Definition, items: &mut Vec<
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn labels(files: &[(&str, &str)]) -> Vec<String> {
-        let (db, ws, inputs, cursor) = super::super::test_fixture::with_cursor(files);
-        completions(&db, ws, inputs[0], cursor).into_iter().map(|i| i.label).collect()
-    }
-
-    #[test]
-    fn node_names_after_a_transition_arrow() {
-        let found = labels(&[(
-            "a.gudsl",
-            "ActivityDiagram Ad() { swimlane L { start S { => $0 } action work { } final done; } }",
-        )]);
-        assert_eq!(found, ["S", "done", "work"]);
-    }
-
-    #[test]
-    fn qualified_names_after_a_dot_and_enum_values() {
-        let defs = ("d.gudsl", "ClassDiagram Defs { class Image { } enum Mode { Fast, Slow } ClassDiagram Inner { } }");
-        let found = labels(&[("a.gudsl", "ClassDiagram U { class C { public Defs.$0 x; } }"), defs]);
-        assert_eq!(found, ["Image", "Inner", "Mode"]);
-        let found = labels(&[
-            ("a.gudsl", "ActivityDiagram Ad() { swimlane L { start S { var Defs.Mode m = Defs.Mode.$0 } } }"),
-            defs,
-        ]);
-        assert_eq!(found, ["Fast", "Slow"]);
-    }
-
-    #[test]
-    fn owner_members_and_locals_in_an_action() {
-        let found = labels(&[
-            ("a.gudsl", "ActivityDiagram Ad(int n) { swimlane L, owner Defs.Image { start S { => a; } action a(int k) { var int x = 1; $0 } } }"),
-            ("d.gudsl", "ClassDiagram Defs { class Base { public int width; } class Image extends Base { public void grow(int by); } }"),
-        ]);
-        for expected in ["width", "grow", "x", "k", "n", "var", "=> transition"] {
-            assert!(found.contains(&expected.to_string()), "{expected} missing from {found:?}");
-        }
-    }
-
-    #[test]
-    fn members_of_a_variable_after_a_dot() {
-        let found = labels(&[
-            ("a.gudsl", "ActivityDiagram Ad() { swimlane L { start S { var Defs.Image img = null; img.$0 } } }"),
-            ("d.gudsl", "ClassDiagram Defs { class Base { public int id; } class Image extends Base { public int width; public void grow(int by); } }"),
-        ]);
-        assert_eq!(found, ["grow", "id", "width"]);
-    }
-
-    #[test]
-    fn interfaces_after_a_connector_colon_and_fields_in_instantiates() {
-        let defs = (
-            "d.gudsl",
-            "ClassDiagram Defs { interface provider Out { } interface processor In { } source Camera { public int width; public int height; } }",
-        );
-        let found =
-            labels(&[("a.gudsl", "ComponentDiagram C { source Defs.Camera { port P ( provider p : $0 ) } }"), defs]);
-        assert_eq!(found, ["Defs.Out"]);
-        let found = labels(&[("a.gudsl", "ComponentInstanceDiagram I { C1 instantiates Defs.Camera ($0) }"), defs]);
-        assert_eq!(found, ["height", "width"]);
-    }
-
-    #[test]
-    fn port_instances_and_connectors_in_bindings() {
-        let doc = |cursor: &str| {
-            format!(
-                "ComponentInstanceDiagram I {{ C1 instantiates D.Camera ( ) {{ Out : OutPort ( provider Img = IOut() ); [ source {cursor} ] }} V1 instantiates D.Viewer ( ) {{ In : InPort ( processor Img2 = IIn() ); }} }}"
-            )
-        };
-        assert_eq!(labels(&[("a.gudsl", &doc("$0"))]), ["C1", "Out", "V1"]);
-        assert_eq!(labels(&[("a.gudsl", &doc("Out.$0"))]), ["Img"]);
-        assert_eq!(labels(&[("a.gudsl", &doc("Out.Img ==> target V1.$0"))]), ["In"]);
-        assert_eq!(labels(&[("a.gudsl", &doc("Out.Img ==> target V1.In.$0"))]), ["Img2"]);
-    }
-
-    #[test]
-    fn snippets_by_level_and_types_in_type_positions() {
-        assert!(labels(&[("a.gudsl", "$0")]).contains(&"ActivityDiagram".to_string()));
-        let found = labels(&[("a.gudsl", "ClassDiagram D { $0 }")]);
-        assert!(found.contains(&"class".to_string()) && found.contains(&"provider interface".to_string()));
-        let found = labels(&[("a.gudsl", "ActivityDiagram A() { swimlane L { $0 } }")]);
-        assert!(found.contains(&"calcRange".to_string()) && found.contains(&"loopWindow".to_string()));
-        let found = labels(&[("a.gudsl", "ClassDiagram D { class Image { } class C { public $0 } }")]);
-        assert!(found.contains(&"Image".to_string()) && found.contains(&"float4".to_string()));
-    }
-}
+mod tests;
