@@ -20,7 +20,7 @@ class Client:
     def __init__(self, cmd, cwd):
         self.t_launch = time.perf_counter()
         self.proc = subprocess.Popen(cmd, cwd=cwd, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.DEVNULL)
+                                     stderr=open(os.environ.get("LSP_STDERR", os.devnull), "ab"))
         self.next_id = 1
         self.cv = threading.Condition()
         self.responses = {}
@@ -250,6 +250,8 @@ def run_once(kind, cmd, workspace, edited="f001"):
             time.sleep(max(0.0, 0.1 - (time.perf_counter() - sent)))
     assert text == texts[target], "the client's text drifted"
     result["keystroke_to_diagnostics"] = percentiles(latencies)
+    result["keystroke_by_step_ms"] = {name: percentiles(latencies[i::4]) for i, name in
+                                      enumerate(["type made unknown", "class renamed", "type restored", "class restored"])}
     if kind == "gudsl":
         result["matching_publish_with_another_version"] = wrong_versions
     client.wait_quiet()

@@ -166,27 +166,53 @@ pub fn namespace_definitions<'db>(
     map
 }
 
-/// The types a file declares: (simple name, fully qualified name), in order. Equal, so
-/// backdated, unless a type is added, removed or renamed.
-#[salsa::tracked(returns(ref))]
-pub fn file_type_names(db: &dyn Db, file: SourceFile) -> Vec<(String, String)> {
-    file_types(db, file)
-        .values()
-        .flatten()
-        .map(|def| (def.fqn.rsplit('.').next().unwrap_or(&def.fqn).to_string(), def.fqn.clone()))
-        .collect()
+/// Type names are indexed in this many buckets by a hash of the simple name: a renamed type
+/// re-reads the names of its bucket, not every type name of the workspace.
+pub const TYPE_NAME_BUCKETS: u32 = 64;
+
+/// The bucket of a simple name (FNV-1a: the same in every run, on every machine).
+fn bucket_of(name: &str) -> u32 {
+    let hash = name.bytes().fold(0x811c_9dc5_u32, |hash, byte| (hash ^ u32::from(byte)).wrapping_mul(0x0100_0193));
+    hash % TYPE_NAME_BUCKETS
 }
 
-/// The fully qualified names of the workspace's types by their simple name.
+/// The types a file declares: (bucket, simple name, fully qualified name), by bucket and else in
+/// declaration order. Equal, so backdated, unless a type is added, removed or renamed.
 #[salsa::tracked(returns(ref))]
-pub fn type_names(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<String>> {
+pub fn file_type_names(db: &dyn Db, file: SourceFile) -> Vec<(u32, String, String)> {
+    let mut names: Vec<(u32, String, String)> = file_types(db, file)
+        .values()
+        .flatten()
+        .map(|def| {
+            let simple = def.fqn.rsplit('.').next().unwrap_or(&def.fqn).to_string();
+            (bucket_of(&simple), simple, def.fqn.clone())
+        })
+        .collect();
+    names.sort_by_key(|(bucket, _, _)| *bucket);
+    names
+}
+
+/// The fully qualified names of the workspace's types whose simple name falls in `bucket`, by
+/// simple name (in workspace order).
+#[salsa::tracked(returns(ref))]
+pub fn type_names_in_bucket(db: &dyn Db, workspace: Workspace, bucket: u32) -> BTreeMap<String, Vec<String>> {
     let mut map: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for &file in workspace.files(db) {
-        for (simple, fqn) in file_type_names(db, file) {
+        let names = file_type_names(db, file);
+        let start = names.partition_point(|(b, _, _)| *b < bucket);
+        for (_, simple, fqn) in names[start..].iter().take_while(|(b, _, _)| *b == bucket) {
             map.entry(simple.clone()).or_default().push(fqn.clone());
         }
     }
     map
+}
+
+/// The fully qualified names of every type of the workspace by simple name, for listings (it
+/// merges every bucket; resolution reads one bucket through [`types_named`]).
+#[salsa::tracked(returns(ref))]
+pub fn type_names(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<String>> {
+    let buckets = (0..TYPE_NAME_BUCKETS).map(|bucket| type_names_in_bucket(db, workspace, bucket));
+    buckets.flat_map(|names| names.iter().map(|(simple, fqns)| (simple.clone(), fqns.clone()))).collect()
 }
 
 /// `prefix.name`, or `name` at the top.
@@ -223,5 +249,6 @@ pub fn definitions_named<'db>(db: &'db dyn Db, workspace: Workspace, fqn: &str) 
 /// qualification or import, as the dissertation's listings do across diagrams).
 #[salsa::tracked(returns(ref))]
 pub fn types_named<'db>(db: &'db dyn Db, workspace: Workspace, name: Fqn<'db>) -> Vec<String> {
-    type_names(db, workspace).get(name.text(db)).cloned().unwrap_or_default()
+    let name = name.text(db);
+    type_names_in_bucket(db, workspace, bucket_of(name)).get(name).cloned().unwrap_or_default()
 }

@@ -13,7 +13,8 @@ use std::collections::{BTreeMap, BTreeSet, HashSet};
 use super::{
     components::{component_info, processor_signatures, ComponentInfo},
     definitions::{
-        def_map, definitions_named, namespace_definitions, type_names, types_named, DefKind, DefMap, Definition, Fqn,
+        def_map, definitions_named, namespace_definitions, type_names_in_bucket, types_named, DefKind, DefMap,
+        Definition, Fqn, TYPE_NAME_BUCKETS,
     },
     items::{MethodSignature, TypeItem, TypeKind, TypeSignature},
     scope::Scope,
@@ -64,9 +65,12 @@ impl<'db> Semantics<'db> {
         namespace_definitions(self.db, self.workspace, Fqn::new(self.db, namespace.to_string()))
     }
 
-    /// The fully qualified names of every type of the workspace by simple name (for listings).
-    pub fn types_by_simple_name(&self) -> &'db BTreeMap<String, Vec<String>> {
-        type_names(self.db, self.workspace)
+    /// Every simple type name of the workspace with the fully qualified names of its types, in
+    /// no particular order (for listings; read bucket by bucket, so a rename elsewhere costs a
+    /// listing one bucket, not the whole index).
+    pub fn types_by_simple_name(&self) -> impl Iterator<Item = (&'db String, &'db Vec<String>)> + 'db {
+        let (db, workspace) = (self.db, self.workspace);
+        (0..TYPE_NAME_BUCKETS).flat_map(move |bucket| type_names_in_bucket(db, workspace, bucket))
     }
 
     /// The (first) definition of a fully qualified name.

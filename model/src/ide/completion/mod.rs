@@ -448,11 +448,15 @@ fn types_in_scope(sema: &Semantics, scope: &Scope, typed: &str, items: &mut Vec<
             }
         }
     }
+    // Names that start with what is typed first, then the others that contain its letters.
+    let mut matching: Vec<(bool, &String, &Vec<String>)> = sema
+        .types_by_simple_name()
+        .filter(|(simple, _)| typed_in(typed, simple))
+        .map(|(simple, fqns)| (!starts_with_ignoring_case(simple, typed), simple, fqns))
+        .collect();
+    matching.sort_unstable();
     let mut far = 0;
-    for (simple, fqns) in sema.types_by_simple_name() {
-        if !typed_in(typed, simple) {
-            continue;
-        }
+    for (_, simple, fqns) in matching {
         for fqn in fqns.iter().filter(|fqn| !seen.contains(*fqn)) {
             if far == FAR_TYPES {
                 return true;
@@ -463,6 +467,10 @@ fn types_in_scope(sema: &Semantics, scope: &Scope, typed: &str, items: &mut Vec<
         }
     }
     false
+}
+
+fn starts_with_ignoring_case(name: &str, typed: &str) -> bool {
+    name.get(..typed.len()).is_some_and(|head| head.eq_ignore_ascii_case(typed))
 }
 
 /// Whether the characters of `typed` appear in `name` in order, ignoring case (as editors
