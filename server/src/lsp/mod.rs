@@ -15,10 +15,9 @@ mod transport;
 
 use std::process::ExitCode;
 
-/// The fewest blocking threads: tokio reads stdin and writes stdout on two of them, and the
-/// others run requests and diagnostics (a slow request, the diagnostics of an edit and a hover
-/// at once, and one to spare).
-const BLOCKING_THREADS: usize = 6;
+/// The fewest threads requests and diagnostics run on (a slow request, the diagnostics of an
+/// edit and a hover at once, and one to spare). Stdin and stdout have threads of their own.
+const BLOCKING_THREADS: usize = 4;
 
 /// Serves LSP on stdin/stdout until the client exits.
 pub fn run() -> ExitCode {

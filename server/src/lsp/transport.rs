@@ -5,13 +5,17 @@
 //! `Content-Length` header — and reading goes on. A request for a `$/` method is answered with
 //! MethodNotFound (the spec asks for an answer). `exit`, or the end of the input, ends the process
 //! at once: code 0 after `shutdown`, else 1. Everything else goes to tower-lsp-server unchanged,
-//! and every frame either side writes reaches stdout whole.
+//! and every frame either side writes reaches stdout whole. Stdin and stdout are read and
+//! written on two threads of their own, never on tokio's (bounded) blocking pool.
 
-use std::process::ExitCode;
+use std::{
+    io::{Read, Write},
+    process::ExitCode,
+};
 
 use serde_json::{json, Value};
 use tokio::{
-    io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt},
+    io::{AsyncRead, AsyncReadExt, AsyncWriteExt},
     sync::{mpsc, oneshot},
 };
 
@@ -191,10 +195,11 @@ enum Output {
 }
 
 /// Writes whole frames to `out`, in the order they come: each batch of waiting frames in one
-/// write (stdout writes are round trips to a blocking thread).
-async fn write_frames(mut out: impl AsyncWrite + Unpin, mut frames: mpsc::UnboundedReceiver<Output>) {
+/// write. It runs on a thread of its own, so writing never waits for a thread of tokio's
+/// blocking pool, which analysis work may have taken.
+fn write_frames(mut out: impl Write, mut frames: mpsc::UnboundedReceiver<Output>) {
     let mut batch = Vec::new();
-    while let Some(first) = frames.recv().await {
+    while let Some(first) = frames.blocking_recv() {
         let mut next = Some(first);
         let mut flushed = Vec::new();
         while let Some(output) = next {
@@ -207,12 +212,31 @@ async fn write_frames(mut out: impl AsyncWrite + Unpin, mut frames: mpsc::Unboun
             }
             next = frames.try_recv().ok();
         }
-        if !batch.is_empty() && (out.write_all(&batch).await.is_err() || out.flush().await.is_err()) {
+        if !batch.is_empty() && (out.write_all(&batch).is_err() || out.flush().is_err()) {
             return;
         }
         batch.clear();
         for done in flushed {
             let _ = done.send(());
+        }
+    }
+}
+
+/// Reads stdin on a thread of its own (for the same reason as [`write_frames`]) and sends what
+/// it reads, chunk by chunk; the channel closes at the end of the input or on an error.
+fn read_stdin(chunks: mpsc::Sender<Vec<u8>>) {
+    let mut stdin = std::io::stdin().lock();
+    let mut chunk = vec![0u8; 1 << 16];
+    loop {
+        match stdin.read(&mut chunk) {
+            Ok(0) => return,
+            Ok(n) => {
+                if chunks.blocking_send(chunk[..n].to_vec()).is_err() {
+                    return;
+                }
+            }
+            Err(error) if error.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(_) => return,
         }
     }
 }
@@ -245,12 +269,12 @@ pub(super) async fn serve(
     let (server_output, from_server) = tokio::io::duplex(1 << 16);
     tokio::spawn(tower_lsp_server::Server::new(server_input, server_output, socket).serve(service));
     let (output, frames) = mpsc::unbounded_channel();
-    let writer = tokio::spawn(write_frames(tokio::io::stdout(), frames));
+    std::thread::spawn(move || write_frames(std::io::stdout().lock(), frames));
     tokio::spawn(pump(from_server, output.clone()));
+    let (chunks, mut input) = mpsc::channel(16);
+    std::thread::spawn(move || read_stdin(chunks));
 
-    let mut stdin = tokio::io::stdin();
     let mut frames = Frames::default();
-    let mut chunk = vec![0u8; 1 << 16];
     let mut shut_down = false;
     let exit = 'read: loop {
         while let Some(frame) = frames.next() {
@@ -279,15 +303,15 @@ pub(super) async fn serve(
                 Verdict::Forward { .. } => {}
             }
         }
-        match stdin.read(&mut chunk).await {
-            Ok(0) | Err(_) => {
+        match input.recv().await {
+            None => {
                 if frames.has_leftover() {
                     let _ =
                         output.send(Output::Body(error(Value::Null, PARSE_ERROR, "the input ended inside a frame")));
                 }
                 break shut_down;
             }
-            Ok(n) => frames.push(&chunk[..n]),
+            Some(chunk) => frames.push(&chunk),
         }
     };
     // Write what is pending (the shutdown answer, error answers), then leave.
@@ -295,7 +319,6 @@ pub(super) async fn serve(
     if output.send(Output::Flushed(done)).is_ok() {
         let _ = tokio::time::timeout(std::time::Duration::from_secs(2), flushed).await;
     }
-    drop(writer);
     if exit {
         ExitCode::SUCCESS
     } else {
