@@ -139,10 +139,22 @@ def offset(text, ln, ch):
     return sum(len(l) + 1 for l in text.split("\n")[:ln]) + ch
 
 
-def busy_jiffies():
+def cpu_sample(server_pid):
+    """(time, busy jiffies of the machine, jiffies of the server and this client)."""
     with open("/proc/stat") as f:
         v = [int(x) for x in f.readline().split()[1:]]
-    return sum(v) - v[3] - v[4]
+    mine = 0
+    for pid in (server_pid, os.getpid()):
+        with open(f"/proc/{pid}/stat") as f:
+            fields = f.read().rsplit(")", 1)[1].split()
+        mine += int(fields[11]) + int(fields[12])
+    return time.perf_counter(), sum(v) - v[3] - v[4], mine
+
+
+def other_load(a, b):
+    """Cores used by other processes than the server and the client between two samples."""
+    hz = os.sysconf("SC_CLK_TCK")
+    return round(max(0, (b[1] - a[1]) - (b[2] - a[2])) / hz / (b[0] - a[0]), 2)
 
 
 class Language:
@@ -182,8 +194,8 @@ def run_once(kind, cmd, workspace, edited="f001"):
     files = sorted(p for p in Path(workspace).iterdir() if p.suffix == lang.suffix)
     texts = {p: p.read_text() for p in files}
     result = {"server": kind, "files": len(files), "lines": sum(t.count("\n") for t in texts.values())}
-    busy0, t_start = busy_jiffies(), time.perf_counter()
     client = Client(cmd, cwd=str(workspace))
+    load = [cpu_sample(client.proc.pid)]
     root = Path(workspace).resolve().as_uri()
     client.request("initialize", {
         "processId": os.getpid(), "rootUri": root, "workspaceFolders": [{"uri": root, "name": "ws"}],
@@ -208,6 +220,7 @@ def run_once(kind, cmd, workspace, edited="f001"):
     result["initial_diagnostics"] = sum(len(d) for d in last.values())
     result["rss_after_load_mib"] = round(client.rss_mib(), 1)
 
+    load.append(cpu_sample(client.proc.pid))
     target = next(p for p in files if p.stem == edited)
     uri, text = target.resolve().as_uri(), texts[target]
     version, latencies, wrong_versions = 1, [], 0
@@ -254,6 +267,7 @@ def run_once(kind, cmd, workspace, edited="f001"):
                                       enumerate(["type made unknown", "class renamed", "type restored", "class restored"])}
     if kind == "gudsl":
         result["matching_publish_with_another_version"] = wrong_versions
+    load.append(cpu_sample(client.proc.pid))
     client.wait_quiet()
     result["rss_after_typing_mib"] = round(client.rss_mib(), 1)
 
@@ -275,10 +289,10 @@ def run_once(kind, cmd, workspace, edited="f001"):
             len(answer.get("items", [])) if isinstance(answer, dict) and "items" in answer else int(answer is not None)
         result[name] = dict(percentiles(times), answer_size=size)
     result["rss_after_requests_mib"] = round(client.rss_mib(), 1)
+    load.append(cpu_sample(client.proc.pid))
+    result["other_processes_cores"] = {phase: other_load(load[i], load[i + 1])
+                                       for i, phase in enumerate(["load", "typing", "requests"])}
     client.shutdown()
-    seconds = time.perf_counter() - t_start
-    hz = os.sysconf("SC_CLK_TCK")
-    result["machine_busy_cores"] = round((busy_jiffies() - busy0) / hz / seconds, 2)
     return result
 
 
@@ -290,6 +304,7 @@ ROWS = [
     ("references p50 / p95 ms", lambda r: (r["references"]["p50_ms"], r["references"]["p95_ms"])),
     ("cold start (launch -> all diagnostics) ms", lambda r: (r["cold_start_ms"],)),
     ("RSS after load -> after typing MiB", lambda r: (r["rss_after_load_mib"], r["rss_after_typing_mib"])),
+    ("other processes while typing, cores", lambda r: (r["other_processes_cores"]["typing"],)),
 ]
 
 
