@@ -127,11 +127,18 @@ impl Backend {
         let encoding = self.encoding();
         tokio::spawn(async move {
             tokio::task::yield_now().await;
-            let phases: [&(dyn Fn(&Document) -> bool + Sync); 3] =
-                [&|d| Some(d.file) == edited, &|d| d.open && Some(d.file) != edited, &|d| {
-                    !d.open && Some(d.file) != edited
-                }];
-            for (phase, wanted) in phases.into_iter().enumerate() {
+            // Phase 0: the edited document; 1: the other open ones; 2: the rest.
+            let phase_of = |d: &Document| {
+                if Some(d.file) == edited {
+                    0
+                } else if d.open {
+                    1
+                } else {
+                    2
+                }
+            };
+            const LAST_PHASE: usize = 2;
+            for phase in 0..=LAST_PHASE {
                 if phase == 1 && edited.is_some() {
                     tokio::time::sleep(BACKGROUND_DELAY).await;
                 }
@@ -140,8 +147,8 @@ impl Backend {
                 }
                 let snapshot = lock(&host).snapshot(encoding);
                 let documents = snapshot.documents.clone();
-                let wanted: Vec<&Document> = documents.iter().filter(|d| wanted(d)).collect();
-                let last = phase == phases.len() - 1;
+                let wanted: Vec<&Document> = documents.iter().filter(|d| phase_of(d) == phase).collect();
+                let last = phase == LAST_PHASE;
                 if wanted.is_empty() && !last {
                     continue;
                 }
