@@ -65,8 +65,9 @@ fn collect(
 }
 
 /// Every component of the workspace by the fully qualified name of its class (a class can be
-/// a component in several component diagrams). Class names are resolved through [`lookup`],
-/// so a class edit re-runs it only when a component's class changes meaning.
+/// a component in several component diagrams). Class names are resolved through
+/// [`definitions_named`], so a class edit re-runs it only when a component's class changes
+/// meaning.
 #[salsa::tracked(returns(ref))]
 pub fn component_index(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, Vec<ComponentInfo>> {
     let mut index: BTreeMap<String, Vec<ComponentInfo>> = BTreeMap::new();

@@ -3,9 +3,10 @@
 //!
 //! The layers keep a declaration edit's cost to what it changes: a file's diagrams
 //! (`file_diagrams`) and types (`file_types`) feed the namespaces it declares into
-//! (`namespace_definitions`, which read only the files of that namespace), and `lookup(name)` reads its namespace only and is
-//! backdated when the answer for that one name stays the same — so a file is re-checked only
-//! when a name it uses changes meaning, and no edit rebuilds a workspace-wide map on the way.
+//! (`namespace_definitions`, which read only the files of that namespace), and `lookup(name)`
+//! reads its namespace only and is backdated when the answer for that one name stays the same —
+//! so a file is re-checked only when a name it uses changes meaning, and no edit rebuilds a
+//! workspace-wide map on the way.
 //! `def_map` assembles everything for listings (completion, symbol search); resolution never
 //! reads it.
 
@@ -92,8 +93,7 @@ pub fn file_types(db: &dyn Db, file: SourceFile) -> BTreeMap<String, Vec<Definit
             kind: DefKind::Type(ty.clone()),
             imports: diagram.imports.clone(),
         });
-        let types: Vec<Definition> = types.collect();
-        map.entry(diagram.fqn).or_default().extend(types);
+        map.entry(diagram.fqn.clone()).or_default().extend(types);
     });
     map
 }

@@ -4,9 +4,10 @@
 //! definition is declared. Validation, editor features, the graph view and code generation all
 //! ask here; none of them resolves names on its own.
 //!
-//! Cross-file answers go through the per-name [`lookup`] query, so a caller depends on exactly
-//! the names it asks about. Expression types are answered in `infer.rs`
-//! ([`Semantics::type_of_expr`]), name classification for the editor in `classify.rs`.
+//! Cross-file answers go through the per-name [`lookup`](super::definitions::lookup) query, so
+//! a caller depends on exactly the names it asks about. Expression types are answered in
+//! `infer.rs` ([`Semantics::type_of_expr`]), name classification for the editor in
+//! `classify.rs`.
 
 use std::collections::{BTreeMap, BTreeSet, HashSet};
 

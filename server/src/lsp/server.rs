@@ -147,13 +147,15 @@ impl Backend {
                 }
                 let snapshot = lock(&host).snapshot(encoding);
                 let documents = snapshot.documents.clone();
-                let wanted: Vec<&Document> = documents.iter().filter(|d| phase_of(d) == phase).collect();
+                let mut work: Vec<(lsp::Uri, Option<i32>, FileId)> = documents
+                    .iter()
+                    .filter(|d| phase_of(d) == phase)
+                    .map(|d| (d.uri.clone(), d.version, d.file))
+                    .collect();
                 let last = phase == LAST_PHASE;
-                if wanted.is_empty() && !last {
+                if work.is_empty() && !last {
                     continue;
                 }
-                let mut work: Vec<(lsp::Uri, Option<i32>, FileId)> =
-                    wanted.iter().map(|d| (d.uri.clone(), d.version, d.file)).collect();
                 work.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
                 let computed = tokio::task::spawn_blocking(move || {
                     let mut all = Vec::with_capacity(work.len());

@@ -228,11 +228,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
         && at.ancestors().any(|a| a.kind() == PARAM_LIST))
         || at.ancestors().any(|a| a.kind() == TYPE_REF);
     if type_position {
-        for ty in BUILTIN_TYPES {
-            items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
-        }
-        let incomplete = types_in_scope(&sema, &Scope::at(&at), typed, &mut items);
-        return Completions { incomplete, ..finish(items) };
+        return with_types(&sema, &at, typed, items);
     }
     // Inside a node or method body: statements, locals, the owner's members.
     if let Some(body) = at.ancestors().find(|a| matches!(a.kind(), NODE_BODY | BLOCK)) {
@@ -292,11 +288,7 @@ pub fn completions(db: &dyn Db, workspace: Workspace, file: SourceFile, offset: 
             for keyword in ["public", "protected", "private", "const", "ref", "global", "self"] {
                 items.push(item(keyword, CompletionKind::Keyword, None));
             }
-            for ty in BUILTIN_TYPES {
-                items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
-            }
-            let incomplete = types_in_scope(&sema, &Scope::at(&at), typed, &mut items);
-            return Completions { incomplete, ..finish(items) };
+            return with_types(&sema, &at, typed, items);
         }
         Some(COMPONENT_DIAGRAM) => {
             for kind in ["source", "filter", "sink", "class"] {
@@ -420,6 +412,16 @@ fn path_before_dot(dot: &SyntaxToken) -> Option<String> {
     }
     segments.reverse();
     (!segments.is_empty()).then(|| segments.join("."))
+}
+
+/// `items` and every type that fits where a type is written at `at`: the built-in ones, then
+/// those of [`types_in_scope`].
+fn with_types(sema: &Semantics, at: &SyntaxNode, typed: &str, mut items: Vec<CompletionItem>) -> Completions {
+    for ty in BUILTIN_TYPES {
+        items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
+    }
+    let incomplete = types_in_scope(sema, &Scope::at(at), typed, &mut items);
+    Completions { incomplete, ..finish(items) }
 }
 
 /// The types for a type position: every type the cursor's scope sees by its simple name (its
