@@ -456,6 +456,14 @@ fn types_in_scope(sema: &Semantics, scope: &Scope, typed: &str, items: &mut Vec<
         .filter(|(simple, _)| typed_in(typed, simple))
         .map(|(simple, fqns)| (!starts_with_ignoring_case(simple, typed), simple, fqns))
         .collect();
+    // Only the first ones are proposed: each name has a type, and at most `seen.len()` of those
+    // are already listed, so the first `FAR_TYPES + seen.len()` names hold every proposal.
+    let proposed = FAR_TYPES + seen.len();
+    let cut = matching.len() > proposed;
+    if cut {
+        matching.select_nth_unstable(proposed);
+        matching.truncate(proposed);
+    }
     matching.sort_unstable();
     let mut far = 0;
     for (_, simple, fqns) in matching {
@@ -468,7 +476,7 @@ fn types_in_scope(sema: &Semantics, scope: &Scope, typed: &str, items: &mut Vec<
             far += 1;
         }
     }
-    false
+    cut
 }
 
 fn starts_with_ignoring_case(name: &str, typed: &str) -> bool {
