@@ -8,12 +8,12 @@
 
 use std::panic::AssertUnwindSafe;
 
-use salsa::Setter;
+use salsa::{Durability, Setter};
 
 pub use salsa::Cancelled;
 
 use crate::{
-    db::{line_index, parse, RootDatabase, SourceFile, Workspace},
+    db::{line_index, parse, RootDatabase, SourceFile, Workspace, EDITED, UNEDITED},
     graph::{file_graphs, Graph},
     hir::{file_diagnostics, Diagnostic},
     ide,
@@ -80,7 +80,7 @@ impl AnalysisHost {
 
     /// A new file (its path names it in messages). It is analysed once it is in the workspace.
     pub fn add_file(&mut self, path: String, text: String) -> FileId {
-        SourceFile::new(&self.db, path, text)
+        SourceFile::builder(path, text).durability(UNEDITED).new(&self.db)
     }
 
     /// The files analysed together, in order (the first of two equal names is the one found).
@@ -90,10 +90,15 @@ impl AnalysisHost {
         }
     }
 
-    /// Replaces a file's text (nothing is recomputed if it is the same).
+    /// Replaces a file's text (nothing is recomputed if it is the same): a text read from disk
+    /// or opened in the editor ([`UNEDITED`]; edits are [`EDITED`]).
     pub fn set_file_text(&mut self, file: FileId, text: String) {
+        self.replace_text(file, text, UNEDITED);
+    }
+
+    fn replace_text(&mut self, file: FileId, text: String, durability: Durability) {
         if file.text(&self.db) != &text {
-            file.set_text(&mut self.db).to(text);
+            file.set_text(&mut self.db).with_durability(durability).to(text);
         }
     }
 
@@ -115,7 +120,7 @@ impl AnalysisHost {
                 }
             }
         }
-        self.set_file_text(file, text);
+        self.replace_text(file, text, EDITED);
         Ok(())
     }
 

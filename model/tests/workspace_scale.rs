@@ -7,7 +7,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
+    db::{RootDatabase, SourceFile, Workspace, EDITED, UNEDITED},
     hir::file_diagnostics,
     ide::find_references,
 };
@@ -24,30 +24,38 @@ impl Linked {
         let db = RootDatabase::with_execution_log();
         let files: Vec<SourceFile> = gudsl_model::synth::linked_workspace(files)
             .into_iter()
-            .map(|f| SourceFile::new(&db, f.path, f.text))
+            .map(|f| SourceFile::builder(f.path, f.text).durability(UNEDITED).new(&db))
             .collect();
         let workspace = Workspace::new(&db, files.clone());
         Linked { db, workspace, files }
     }
 
-    /// Replaces the first `from` in the edited file (f001) by `to`.
+    /// Replaces the first `from` in the edited file (f001) by `to`, as a keystroke does
+    /// (`AnalysisHost::edit_file`: the text becomes `EDITED`).
     fn edit(&mut self, from: &str, to: &str) {
         let edited = self.files[1];
         let text = edited.text(&self.db).replacen(from, to, 1);
         assert_ne!(&text, edited.text(&self.db), "`{from}` is not in the file");
-        edited.set_text(&mut self.db).to(text);
+        edited.set_text(&mut self.db).with_durability(EDITED).to(text);
     }
 
     /// The edited file's diagnostics (what the server publishes first), then every file's, with
-    /// the queries each step executed, counted by query.
+    /// the queries each step executed, counted by query; and the memos the first step
+    /// validated without executing them.
     fn check(&self) -> (Vec<String>, Counts, Counts) {
+        self.check_validating().0
+    }
+
+    fn check_validating(&self) -> ((Vec<String>, Counts, Counts), Counts) {
+        self.db.take_validations();
         let messages = file_diagnostics(&self.db, self.workspace, self.files[1]).iter().map(|d| d.message.clone());
         let messages = messages.collect();
         let edited = counts(self.db.take_executions());
+        let validated = counts(self.db.take_validations());
         for &file in &self.files {
             file_diagnostics(&self.db, self.workspace, file);
         }
-        (messages, edited, counts(self.db.take_executions()))
+        ((messages, edited, counts(self.db.take_executions())), validated)
     }
 
     /// The files other than f001 that write `name` as a whole word (their indexes).
@@ -124,11 +132,17 @@ fn declaration_edits_in_a_linked_workspace_recompute_only_what_they_change() {
         }
 
         ws.edit("public class E1_3 ", "public class E1_3Z ");
-        let (messages, edited, rest) = ws.check();
+        let ((messages, edited, rest), validated) = ws.check_validating();
         assert_eq!(messages.len(), 2, "{messages:?}");
         assert!(messages.iter().any(|m| m.contains("`E1_3`")), "{messages:?}");
         if round == 1 {
             assert_local(&step("class renamed"), &edited, &rest);
+            // The other files' texts are unedited (durability): the edited file's check finds
+            // their declarations unchanged without walking down to their syntax trees.
+            for query in ["parse", "item_tree"] {
+                assert_eq!(ran(&validated, query), 0, "{query} validated: {validated:#?}");
+            }
+            assert!(ran(&validated, "file_diagrams") >= 199, "{validated:#?}");
             // The buckets of `E1_3Z` (new) and `E1_3` (now unresolved), if they differ.
             assert!(ran(&edited, "type_names_in_bucket") <= 2, "{edited:#?}");
             assert_eq!(ran(&edited, "check_file") + ran(&rest, "check_file"), 1 + ws.users_of("E1_3").len());
