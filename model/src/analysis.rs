@@ -17,6 +17,7 @@ use crate::{
     graph::{file_graphs, Graph},
     hir::{file_diagnostics, Diagnostic},
     ide,
+    library::library_files,
     syntax::{TextRange, TextSize},
     text::{ColumnUnit, LineCol, LineIndex},
     Parse,
@@ -41,6 +42,8 @@ pub struct LineColEdit {
 pub enum InvalidEdit {
     /// Edit number `edit` (from 0) has a range that ends before it starts.
     ReversedRange { edit: usize, start: LineCol, end: LineCol },
+    /// The file is the bundled library's, which is read-only.
+    ReadOnly { path: String },
 }
 
 impl std::fmt::Display for InvalidEdit {
@@ -51,6 +54,9 @@ impl std::fmt::Display for InvalidEdit {
                 "edit {edit} ends (line {}, column {}) before it starts (line {}, column {})",
                 end.line, end.col, start.line, start.col
             ),
+            InvalidEdit::ReadOnly { path } => {
+                write!(f, "{path} is part of gudsl's bundled library, which is read-only")
+            }
         }
     }
 }
@@ -59,13 +65,16 @@ impl std::fmt::Display for InvalidEdit {
 pub struct AnalysisHost {
     db: RootDatabase,
     workspace: Workspace,
+    /// The bundled library's files ([`crate::library`]), first in every workspace.
+    library: Vec<FileId>,
 }
 
 impl Default for AnalysisHost {
     fn default() -> Self {
         let db = RootDatabase::default();
-        let workspace = Workspace::new(&db, Vec::new());
-        AnalysisHost { db, workspace }
+        let library = library_files(&db);
+        let workspace = Workspace::new(&db, library.clone());
+        AnalysisHost { db, workspace, library }
     }
 }
 
@@ -83,20 +92,31 @@ impl AnalysisHost {
         SourceFile::builder(path, text).durability(UNEDITED).new(&self.db)
     }
 
-    /// The files analysed together, in order (the first of two equal names is the one found).
+    /// The files analysed together, in order (the first of two equal names is the one found),
+    /// after the library's.
     pub fn set_workspace(&mut self, files: Vec<FileId>) {
+        let files: Vec<FileId> = self.library.iter().copied().chain(files).collect();
         if self.workspace.files(&self.db) != &files {
             self.workspace.set_files(&mut self.db).to(files);
         }
     }
 
     /// Replaces a file's text (nothing is recomputed if it is the same): a text read from disk
-    /// or opened in the editor ([`UNEDITED`]; edits are [`EDITED`]).
+    /// or opened in the editor ([`UNEDITED`]; edits are [`EDITED`]). The library's files are
+    /// read-only: their text is never replaced.
     pub fn set_file_text(&mut self, file: FileId, text: String) {
         self.replace_text(file, text, UNEDITED);
     }
 
+    /// The bundled library's files ([`crate::library`]), which every workspace has.
+    pub fn library_files(&self) -> &[FileId] {
+        &self.library
+    }
+
     fn replace_text(&mut self, file: FileId, text: String, durability: Durability) {
+        if self.library.contains(&file) {
+            return;
+        }
         if file.text(&self.db) != &text {
             file.set_text(&mut self.db).with_durability(durability).to(text);
         }
@@ -106,6 +126,9 @@ impl AnalysisHost {
     /// line's or the text's end clamp to it. An edit whose range ends before it starts refuses
     /// the whole change: nothing of it is applied.
     pub fn edit_file(&mut self, file: FileId, edits: Vec<LineColEdit>, unit: ColumnUnit) -> Result<(), InvalidEdit> {
+        if self.library.contains(&file) {
+            return Err(InvalidEdit::ReadOnly { path: file.path(&self.db).clone() });
+        }
         let mut text = file.text(&self.db).clone();
         for (i, edit) in edits.into_iter().enumerate() {
             match edit.range {

@@ -9,6 +9,7 @@ pub mod format;
 pub mod graph;
 pub mod hir;
 pub mod ide;
+pub mod library;
 pub mod syntax;
 pub mod synth;
 pub mod text;

@@ -26,7 +26,10 @@ impl Linked {
             .into_iter()
             .map(|f| SourceFile::builder(f.path, f.text).durability(UNEDITED).new(&db))
             .collect();
-        let workspace = Workspace::new(&db, files.clone());
+        // The bundled library first, as every workspace has it: the counts below prove that
+        // no edit re-checks it.
+        let library = gudsl_model::library::library_files(&db);
+        let workspace = Workspace::new(&db, library.into_iter().chain(files.iter().copied()).collect());
         Linked { db, workspace, files }
     }
 
@@ -52,7 +55,7 @@ impl Linked {
         let messages = messages.collect();
         let edited = counts(self.db.take_executions());
         let validated = counts(self.db.take_validations());
-        for &file in &self.files {
+        for &file in self.workspace.files(&self.db) {
             file_diagnostics(&self.db, self.workspace, file);
         }
         ((messages, edited, counts(self.db.take_executions())), validated)

@@ -31,7 +31,8 @@ pub(crate) fn render(text: &str) -> String {
     let db = RootDatabase::default();
     let files: Vec<(SourceFile, String)> =
         split_fixture(text).into_iter().map(|(path, body)| (SourceFile::new(&db, path, body.clone()), body)).collect();
-    let workspace = Workspace::new(&db, files.iter().map(|(f, _)| *f).collect());
+    let library = crate::library::library_files(&db);
+    let workspace = Workspace::new(&db, library.into_iter().chain(files.iter().map(|(f, _)| *f)).collect());
     let mut out = String::new();
     for (file, body) in &files {
         let index = LineIndex::new(body);

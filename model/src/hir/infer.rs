@@ -390,7 +390,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             );
             return Ty::Unknown;
         }
-        let Some((declaring, signature)) = overloads.iter().find(|(_, m)| m.params.len() == args.len()).cloned() else {
+        let same_arity: Vec<&(&'db Definition, MethodSignature)> =
+            overloads.iter().filter(|(_, m)| m.params.len() == args.len()).collect();
+        if same_arity.is_empty() {
             let mut arities: Vec<usize> = overloads.iter().map(|(_, m)| m.params.len()).collect();
             arities.sort_unstable();
             arities.dedup();
@@ -404,24 +406,68 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 format!("`{method}` takes {expected}, {} given", args.len()),
             );
             return Ty::Unknown;
-        };
-        let scope = Scope::of(declaring);
+        }
         let sema = self.sema;
-        for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
-            let param_ty = sema.ty(&param.ty, &scope);
-            if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
-                self.sink.error(
-                    DiagnosticCode::ArgumentType,
-                    arg.syntax().text_range(),
-                    format!(
-                        "argument {} of `{method}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
-                        i + 1,
-                        param.name
-                    ),
-                );
+        let param_tys = |(declaring, signature): &(&'db Definition, MethodSignature)| -> Vec<Ty> {
+            let scope = Scope::of(declaring);
+            signature.params.iter().map(|p| sema.ty(&p.ty, &scope)).collect()
+        };
+        let return_ty = |(declaring, signature): &(&'db Definition, MethodSignature)| {
+            sema.ty(&signature.ret, &Scope::of(declaring))
+        };
+        if let [only] = same_arity.as_slice() {
+            for (i, ((arg, arg_ty), param_ty)) in args.iter().zip(&arg_tys).zip(param_tys(only)).enumerate() {
+                if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
+                    self.sink.error(
+                        DiagnosticCode::ArgumentType,
+                        arg.syntax().text_range(),
+                        format!(
+                            "argument {} of `{method}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
+                            i + 1,
+                            only.1.params[i].name
+                        ),
+                    );
+                }
+            }
+            return return_ty(only);
+        }
+        // Overloads (`exp(float)`, `exp(float4)`, …): the one that takes these arguments, the
+        // one with the most arguments of exactly its parameter types if several do, the first
+        // declared of those.
+        let mut best: Option<(usize, &(&'db Definition, MethodSignature))> = None;
+        for &overload in &same_arity {
+            let params = param_tys(overload);
+            if !arg_tys.iter().zip(&params).all(|(a, p)| a.assignable_to(p, &mut |x, y| sema.is_subtype(x, y))) {
+                continue;
+            }
+            let exact = arg_tys.iter().zip(&params).filter(|(a, p)| a == p).count();
+            if best.is_none_or(|(score, _)| exact > score) {
+                best = Some((exact, overload));
             }
         }
-        sema.ty(&signature.ret, &scope)
+        if let Some((_, chosen)) = best {
+            return return_ty(chosen);
+        }
+        let given: Vec<String> = arg_tys.iter().map(|t| format!("`{t}`")).collect();
+        let mut offered: Vec<String> = same_arity
+            .iter()
+            .map(|o| format!("({})", param_tys(o).iter().map(|t| t.to_string()).collect::<Vec<_>>().join(", ")))
+            .collect();
+        if offered.len() > 6 {
+            let more = offered.len() - 5;
+            offered.truncate(5);
+            offered.push(format!("{more} more"));
+        }
+        let range = match (args.first(), args.last()) {
+            (Some(first), Some(last)) => first.syntax().text_range().cover(last.syntax().text_range()),
+            _ => at.text_range(),
+        };
+        self.sink.error(
+            DiagnosticCode::ArgumentType,
+            range,
+            format!("no overload of `{method}` takes ({}): it takes {}", given.join(", "), offered.join(", ")),
+        );
+        Ty::Unknown
     }
 }
 

@@ -24,6 +24,7 @@ use super::{
 use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, Workspace},
+    library::is_library,
     syntax::{SyntaxNode, TextRange},
 };
 
@@ -83,7 +84,8 @@ impl<'db> Semantics<'db> {
     /// then imports, then the name as a fully qualified one.
     ///
     /// A simple name that none of these finds names the workspace's only type of that name, if
-    /// there is exactly one (the dissertation's listings use other diagrams' types unqualified).
+    /// there is exactly one (the dissertation's listings use other diagrams' types unqualified);
+    /// a type of the bundled library counts only if the user's files declare none.
     pub fn resolve(&self, scope: &Scope, path: &str) -> Option<&'db Definition> {
         if let Some(fqn) = scope.candidate(path, |c| !self.lookup(c).is_empty()) {
             return self.definition(&fqn);
@@ -93,7 +95,16 @@ impl<'db> Semantics<'db> {
         }
         match self.candidates(path) {
             [only] => self.definition(only),
-            _ => None,
+            [] => None,
+            several => {
+                // The workspace's own type wins over the bundled library's of the same name.
+                let mut own =
+                    several.iter().filter_map(|fqn| self.definition(fqn)).filter(|d| !is_library(self.db, d.file));
+                match (own.next(), own.next()) {
+                    (Some(only), None) => Some(only),
+                    _ => None,
+                }
+            }
         }
     }
 

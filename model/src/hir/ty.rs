@@ -54,6 +54,11 @@ impl Ty {
             // A host container passed to a kernel's image or buffer parameter: the framework's
             // KernelCall hands over its device memory (Sec. 10.3.1).
             (Ty::Named(_), Ty::Gpu(_)) => true,
+            // `image2D_t` / `image3D_t` (the library's built-ins take them): any image of that
+            // dimension, whatever its texel type.
+            (Ty::Gpu(image), Ty::Gpu(any)) => {
+                any.strip_suffix("_t").is_some_and(|kind| image.strip_prefix(kind).is_some_and(|t| t.starts_with('_')))
+            }
             _ => false,
         }
     }
@@ -127,12 +132,14 @@ pub fn from_signature(sig: &TypeSignature, resolve: &mut dyn FnMut(&str) -> Opti
 
 /// GPU and OpenCL built-in type names of chapter 10 that are written as identifiers:
 /// `(u)char|short|int|long|float|double` with n ∈ {2,3,4,8,16} (and the scalar `uchar`…),
-/// `image2D_t`, `image3D_t`, `buffer2D_tn`, `buffer3D_tn`, `sampler_t`.
+/// `image2D_t`, `image3D_t` (the text's typed images: `t` a texel type such as `uc`; the
+/// literal `image2D_t`/`image3D_t` are OpenCL's untyped ones, any image of that dimension),
+/// `buffer2D_tn`, `buffer3D_tn`, `sampler_t`.
 pub fn is_builtin_type_name(name: &str) -> bool {
     const SCALARS: [&str; 6] = ["char", "short", "int", "long", "float", "double"];
     const SUFFIXES: [&str; 10] = ["c", "uc", "s", "us", "i", "ui", "l", "ul", "f", "d"];
     const WIDTHS: [&str; 5] = ["2", "3", "4", "8", "16"];
-    if name == "sampler_t" {
+    if matches!(name, "sampler_t" | "image2D_t" | "image3D_t") {
         return true;
     }
     let vector =
@@ -170,11 +177,25 @@ mod tests {
             "buffer2D_ui4",
             "buffer3D_d16",
             "sampler_t",
+            "image2D_t",
         ] {
             assert!(super::is_builtin_type_name(yes), "{yes}");
         }
         for no in ["float5", "image2D_x", "buffer2D_f", "Image", "uchar5", "ufloat4"] {
             assert!(!super::is_builtin_type_name(no), "{no}");
         }
+    }
+
+    #[test]
+    fn any_image_of_a_dimension_passes_as_its_untyped_image() {
+        use super::Ty;
+        let gpu = |n: &str| Ty::Gpu(n.to_string());
+        let fits = |a: &str, b: &str| gpu(a).assignable_to(&gpu(b), &mut |_, _| false);
+        assert!(fits("image2D_uc", "image2D_t"));
+        assert!(fits("image3D_f", "image3D_t"));
+        assert!(!fits("image3D_f", "image2D_t"));
+        assert!(!fits("buffer2D_f4", "image2D_t"));
+        assert!(!fits("image2D_t", "image2D_uc"));
+        assert!(!fits("image2D_uc", "image2D_f"));
     }
 }

@@ -10,6 +10,7 @@ use crate::{
     ast::{self, AstNode},
     db::{parse, Db, SourceFile, Workspace},
     hir::{uses::segments_named, Semantics},
+    library::is_library,
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
 };
 
@@ -115,6 +116,13 @@ pub fn prepare_rename(
 ) -> Result<TextRange, RenameError> {
     let resolved =
         resolve_at(db, workspace, file, offset).ok_or_else(|| RenameError("no renameable name here".into()))?;
+    if is_library(db, resolved.target.file) {
+        return Err(RenameError(format!(
+            "`{}` is declared in gudsl's bundled library ({}), which is read-only",
+            &file.text(db)[resolved.reference],
+            resolved.target.file.path(db)
+        )));
+    }
     let declaration = &resolved.declaration;
     let renameable = is_global(declaration)
         || ast::ActivityNode::can_cast(declaration.kind())
@@ -152,6 +160,21 @@ mod tests {
 
     fn texts(db: &RootDatabase, refs: &[FileRange]) -> Vec<(String, String)> {
         refs.iter().map(|r| (r.file.path(db).clone(), r.file.text(db)[r.range].to_string())).collect()
+    }
+
+    #[test]
+    fn a_declaration_of_the_library_is_not_renamed() {
+        let (db, _, files, at) = setup(&[(
+            "k.gudsl",
+            "ClassDiagram K { import OpenCL.GPU.*; class C implements Open$0CL { public void m() { } } }",
+        )]);
+        let library = crate::library::library_files(&db);
+        let ws = Workspace::new(&db, library.into_iter().chain(files.iter().copied()).collect());
+        let refused = rename(&db, ws, files[0], at, "Renamed").unwrap_err();
+        assert_eq!(
+            refused.0,
+            "`OpenCL` is declared in gudsl's bundled library (gudsl:/lib/opencl.gudsl), which is read-only"
+        );
     }
 
     #[test]

@@ -5,6 +5,7 @@ use crate::{
     ast::{self, AstNode},
     db::{parse, Db, SourceFile, Workspace},
     hir::{items::TypeKind, DefKind, Semantics},
+    library::is_library,
     syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange, TextSize},
 };
 
@@ -43,17 +44,24 @@ pub enum WorkspaceSymbolKind {
 }
 
 /// Diagrams and types whose name contains `query` (case-insensitive; all for an empty query),
-/// at most `limit`.
+/// at most `limit`: the workspace's own first, then the bundled library's.
 pub fn workspace_symbols(db: &dyn Db, workspace: Workspace, query: &str, limit: usize) -> Vec<WorkspaceSymbol> {
     let query = query.to_lowercase();
     let sema = Semantics::new(db, workspace);
+    let matching = || {
+        sema.def_map()
+            .definitions
+            .iter()
+            .map(|(fqn, defs)| (fqn, fqn.rsplit('.').next().unwrap_or(fqn), defs))
+            .filter(|(_, name, _)| name.to_lowercase().contains(&query))
+            .flat_map(|(fqn, name, defs)| defs.iter().map(move |def| (fqn, name, def)))
+    };
     let mut out = Vec::new();
-    for (fqn, defs) in &sema.def_map().definitions {
-        let name = fqn.rsplit('.').next().unwrap_or(fqn);
-        if !name.to_lowercase().contains(&query) {
-            continue;
-        }
-        for def in defs {
+    for library in [false, true] {
+        for (fqn, name, def) in matching().filter(|(_, _, def)| is_library(db, def.file) == library) {
+            if out.len() >= limit {
+                return out;
+            }
             let kind = match &def.kind {
                 DefKind::Activity(_) => WorkspaceSymbolKind::Activity,
                 DefKind::Type(ty) => match ty.kind {
@@ -66,9 +74,6 @@ pub fn workspace_symbols(db: &dyn Db, workspace: Workspace, query: &str, limit: 
             };
             let Some((_, focus_range)) = sema.declaration(def) else { continue };
             out.push(WorkspaceSymbol { name: name.to_string(), fqn: fqn.clone(), kind, file: def.file, focus_range });
-            if out.len() >= limit {
-                return out;
-            }
         }
     }
     out
