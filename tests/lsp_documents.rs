@@ -114,7 +114,10 @@ fn a_workspace_with_a_fifo_link_loops_a_device_link_and_a_second_name_loads_each
     let diagnostics = lsp.diagnostics_of(&a, 20).expect("the workspace loads");
     assert_eq!(diagnostics.len(), 1, "one E0201, no E0205 from reading the file twice: {diagnostics:?}");
     let symbols = lsp.request("workspace/symbol", json!({"query": "Image"}));
-    assert_eq!(symbols["result"].as_array().map(Vec::len), Some(1), "{symbols}");
+    // The workspace's own `Image` once (the bundled library's `ImageContainer`, `QImage`, … too).
+    let found = symbols["result"].as_array().expect("symbols");
+    let own = found.iter().filter(|s| s["location"]["uri"].as_str().unwrap().starts_with("file:")).count();
+    assert_eq!(own, 1, "{symbols}");
     let _ = std::fs::remove_dir_all(&root);
 }
 
@@ -209,4 +212,58 @@ fn the_edited_document_is_published_before_the_documents_its_edit_breaks() {
         let diagnostics = lsp.diagnostics_of(&uri(name), 20).expect("the user is re-checked");
         assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
     }
+}
+
+#[test]
+fn the_bundled_library_is_a_read_only_document_definitions_lead_to() {
+    let root = temp_dir("library");
+    let kernel = "ClassDiagram K\n{\n    import OpenCL.GPU.*;\n    public class C implements OpenCL\n    {\n        public void m() { var int i = get_global_id(0); }\n    }\n}\n";
+    let path = root.join("k.gudsl");
+    std::fs::write(&path, kernel).unwrap();
+    let uri = format!("file://{}", path.display());
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&root));
+    lsp.open(&uri, kernel);
+    assert_eq!(lsp.diagnostics_of(&uri, 20), Some(vec![]), "the author's import and a built-in resolve");
+    // Go to the definition of `get_global_id`: the library's virtual document.
+    let (line, character) = client_position(kernel, kernel.find("get_global_id").unwrap());
+    let answer = lsp.request(
+        "textDocument/definition",
+        json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": character}}),
+    );
+    let location = &answer["result"][0];
+    let library = location["uri"].as_str().expect("a location").to_string();
+    assert_eq!(library, "gudsl:/lib/opencl.gudsl", "{answer}");
+    // Its text, for a client's read-only view.
+    let text = lsp.server_text(&library);
+    let text = text.as_str().expect("the library's text");
+    let at = location["range"]["start"]["line"].as_u64().unwrap() as usize;
+    assert!(
+        text.lines().nth(at).unwrap().contains("get_global_id(int dimension)"),
+        "{}",
+        text.lines().nth(at).unwrap()
+    );
+    // Opened in the editor, it is not analysed as a second copy, nor published...
+    lsp.open(&library, text);
+    let published = lsp.notification("textDocument/publishDiagnostics", 3, |p| p["uri"] == library);
+    assert_eq!(published, None, "the library is never published");
+    // ...and hovering in it works.
+    let (line, character) = client_position(text, text.find("get_local_id").unwrap());
+    let hover = lsp.hover(&library, line, character);
+    assert!(hover["result"]["contents"]["value"].as_str().unwrap_or_default().contains("get_local_id"), "{hover}");
+    // A change is refused, and the user is told why.
+    lsp.change(&library, 2, ((0, 0), (0, 0)), "garbage ");
+    let shown = lsp.notification("window/showMessage", 20, |_| true).expect("the user is told");
+    assert!(shown["message"].as_str().unwrap().contains("read-only"), "{shown}");
+    assert_eq!(lsp.server_text(&library).as_str(), Some(text));
+    // The user's file still resolves against the library (no duplicate of it was added).
+    lsp.change(&uri, 2, ((0, 0), (0, 0)), " ");
+    assert_eq!(lsp.diagnostics_of(&uri, 20), Some(vec![]));
+    // Renaming a library declaration is refused with the reason.
+    let (line, character) = client_position(kernel, kernel.find("get_global_id").unwrap());
+    let answer = lsp.request(
+        "textDocument/rename",
+        json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": character + 1}, "newName": "x"}),
+    );
+    assert!(answer["error"]["message"].as_str().unwrap_or_default().contains("read-only"), "{answer}");
 }

@@ -245,8 +245,11 @@ async def main(gudsl):
     if depth < 5:
         fail(f"selection range chain too short: {depth}")
     symbols = await client.workspace_symbol_async(t.WorkspaceSymbolParams(query="imag"))
-    if [s.name for s in symbols] != ["Image"]:
-        fail(f"workspace symbols: {[s.name for s in symbols]}")
+    # The workspace's `Image` first, then the bundled library's (`ImageContainer`, `QImage`, …).
+    own = [s.name for s in symbols if not s.location.uri.startswith("gudsl:/lib/")]
+    library = [s.location.uri for s in symbols[len(own):]]
+    if own != ["Image"] or symbols[0].name != "Image" or not all(u.startswith("gudsl:/lib/") for u in library):
+        fail(f"workspace symbols: {[(s.name, s.location.uri) for s in symbols]}")
 
     # Formatting returns the canonical text as one edit.
     edits = await client.text_document_formatting_async(

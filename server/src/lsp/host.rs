@@ -23,14 +23,18 @@ pub struct Document {
 pub enum ChangeRefused {
     /// `didChange` for a document without `didOpen` (the spec allows changes to open ones only).
     NotOpen,
+    /// A file of the bundled library, which is read-only.
+    ReadOnly,
     Invalid(InvalidEdit),
 }
 
-/// The documents by URI, and the URI of each file.
+/// The documents by URI, and the URI of each file (the bundled library's too: `gudsl:/lib/…`,
+/// read-only, never published).
 #[derive(Clone, Default)]
 pub struct Documents {
     by_uri: HashMap<String, Document>,
     uris: HashMap<FileId, lsp::Uri>,
+    library: HashMap<String, FileId>,
 }
 
 impl Documents {
@@ -47,11 +51,27 @@ impl Documents {
     }
 }
 
-#[derive(Default)]
 pub struct Host {
     analysis: AnalysisHost,
     /// Shared with snapshots, copied only when changed while a snapshot holds it.
     documents: Arc<Documents>,
+}
+
+impl Default for Host {
+    fn default() -> Host {
+        let analysis = AnalysisHost::default();
+        let mut documents = Documents::default();
+        let snapshot = analysis.analysis();
+        for &file in analysis.library_files() {
+            let path = snapshot.file_path(file);
+            if let Ok(uri) = path.parse::<lsp::Uri>() {
+                documents.uris.insert(file, uri);
+                documents.library.insert(path.to_string(), file);
+            }
+        }
+        drop(snapshot);
+        Host { analysis, documents: Arc::new(documents) }
+    }
 }
 
 /// A read-only view of the analysis and the documents at one moment. Its queries return
@@ -68,8 +88,9 @@ impl Snapshot {
         self.documents.get(uri.as_str())
     }
 
+    /// The file of a document, or of the bundled library.
     pub fn file(&self, uri: &lsp::Uri) -> Option<FileId> {
-        self.document(uri).map(|d| d.file)
+        self.document(uri).map(|d| d.file).or_else(|| self.documents.library.get(uri.as_str()).copied())
     }
 
     pub fn uri_of(&self, file: FileId) -> Option<lsp::Uri> {
@@ -96,7 +117,11 @@ impl Host {
     }
 
     /// Adds or replaces a document's text; `version` is set for documents the editor has open.
+    /// A file of the bundled library keeps its text (an editor opens it to read it).
     pub fn set_text(&mut self, uri: &lsp::Uri, text: String, version: Option<i32>, open: bool) -> FileId {
+        if let Some(&file) = self.documents.library.get(uri.as_str()) {
+            return file;
+        }
         let documents = Arc::make_mut(&mut self.documents);
         if let Some(document) = documents.by_uri.get_mut(uri.as_str()) {
             document.version = version;
@@ -123,6 +148,7 @@ impl Host {
     ) -> Result<FileId, ChangeRefused> {
         let file = match self.documents.get(uri.as_str()) {
             Some(document) if document.open => document.file,
+            _ if self.documents.library.contains_key(uri.as_str()) => return Err(ChangeRefused::ReadOnly),
             _ => return Err(ChangeRefused::NotOpen),
         };
         self.analysis.edit_file(file, edits, encoding.0).map_err(ChangeRefused::Invalid)?;
@@ -134,7 +160,8 @@ impl Host {
 
     /// The text the server has for a document (what `gudsl/viewFileText` shows).
     pub fn text(&self, uri: &lsp::Uri) -> Option<&str> {
-        self.documents.get(uri.as_str()).map(|d| self.analysis.file_text(d.file))
+        let file = self.documents.get(uri.as_str()).map(|d| d.file);
+        file.or_else(|| self.documents.library.get(uri.as_str()).copied()).map(|file| self.analysis.file_text(file))
     }
 
     /// The editor closed the document: it stays in the workspace with its last text (the file

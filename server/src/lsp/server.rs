@@ -330,6 +330,13 @@ impl LanguageServer for Backend {
         let refused = lock(&self.host).change(&doc.uri, doc.version, edits, encoding);
         match refused {
             Ok(file) => self.schedule_diagnostics(Some(file)),
+            Err(ChangeRefused::ReadOnly) => {
+                let message = format!(
+                    "gudsl: {} is part of gudsl's bundled library, which is read-only: the change was not applied",
+                    doc.uri.as_str()
+                );
+                self.client.show_message(lsp::MessageType::WARNING, message).await;
+            }
             Err(ChangeRefused::NotOpen) => {
                 let message =
                     format!("gudsl: ignored a change to {}, which is not open (no didOpen)", doc.uri.as_str());
