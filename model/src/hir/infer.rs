@@ -155,7 +155,12 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 let operand = p.operand().map_or(Ty::Unknown, |e| self.infer(&e));
                 match p.op().map(|t| t.kind()) {
                     Some(SyntaxKind::BANG) => Ty::Bool,
-                    _ => operand,
+                    // `ref g`: a reference to what `g` holds.
+                    Some(SyntaxKind::REF_KW) => match operand {
+                        Ty::Ref { .. } | Ty::Unknown => operand,
+                        value => Ty::Ref { global: false, inner: Box::new(value) },
+                    },
+                    _ => operand.dereferenced().clone(),
                 }
             }
             ast::Expr::PostfixExpr(p) => p.operand().map_or(Ty::Unknown, |e| self.infer(&e)),
@@ -186,16 +191,23 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 if let Some(index) = i.index() {
                     self.infer(&index);
                 }
-                match i.base().map(|b| self.infer(&b)) {
-                    Some(Ty::Array(inner)) => *inner,
-                    Some(Ty::Vector(base, _)) => *base,
+                let base = i.base().map_or(Ty::Unknown, |b| self.infer(&b));
+                match base {
+                    // `elements[i]` of a `global ref unsigned int` buffer: its elements.
+                    Ty::Ref { inner, .. } => match *inner {
+                        Ty::Array(element) => *element,
+                        Ty::Vector(element, _) => *element,
+                        element => element,
+                    },
+                    Ty::Array(inner) => *inner,
+                    Ty::Vector(base, _) => *base,
                     _ => Ty::Unknown,
                 }
             }
             ast::Expr::MemberExpr(m) => {
                 let receiver = m.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
                 let Some(member) = m.member() else { return Ty::Unknown };
-                match receiver {
+                match receiver.dereferenced().clone() {
                     // Swizzles: `v._x`, `v.x`, `v.xy`.
                     Ty::Vector(base, _) => *base,
                     Ty::Named(fqn) => self.field_ty(&fqn, &member.text(), member.syntax()),
@@ -251,29 +263,39 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     fn binary(&mut self, bin: &ast::BinExpr) -> Ty {
         let lhs = bin.lhs().map_or(Ty::Unknown, |e| self.infer(&e));
         let rhs = bin.rhs().map_or(Ty::Unknown, |e| self.infer(&e));
-        let Some(op) = bin.op().map(|t| t.kind()) else { return Ty::Unknown };
         if bin.is_assignment() {
-            if op == SyntaxKind::EQ {
-                if let Some(rhs_expr) = bin.rhs() {
-                    let target = bin.lhs().map_or("the target".to_string(), |l| format!("`{}`", l.syntax().text()));
-                    self.expect_assignable(&rhs, &lhs, rhs_expr.syntax(), &target);
-                }
-            }
-            return lhs;
+            return self.assignment(bin, lhs, rhs);
         }
+        // Arithmetic reads through references.
+        let (lhs, rhs) = (lhs.dereferenced().clone(), rhs.dereferenced().clone());
+        let Some(op) = bin.op().map(|t| t.kind()) else { return Ty::Unknown };
         use SyntaxKind::*;
         match op {
             EQ2 | NEQ | L_ANGLE | LTEQ | R_ANGLE | GTEQ | AMP2 | PIPE2 => Ty::Bool,
             _ => match (&lhs, &rhs) {
                 (Ty::String, _) | (_, Ty::String) if op == PLUS => Ty::String,
-                (Ty::Float, Ty::Int) | (Ty::Int, Ty::Float) => Ty::Float,
+                (Ty::Float, Ty::Int | Ty::UInt) | (Ty::Int | Ty::UInt, Ty::Float) => Ty::Float,
+                // C's usual arithmetic conversions: unsigned wins.
+                (Ty::Int, Ty::UInt) | (Ty::UInt, Ty::Int) => Ty::UInt,
                 (Ty::Vector(..), _) => lhs,
                 (_, Ty::Vector(..)) => rhs,
-                (Ty::Int | Ty::Float, _) if lhs == rhs => lhs,
+                (Ty::Int | Ty::UInt | Ty::Float, _) if lhs == rhs => lhs,
                 (Ty::Array(_), _) => lhs,
                 _ => Ty::Unknown,
             },
         }
+    }
+
+    /// `target = value` (and `+=`, …): the value must fit the target; a reference target
+    /// takes a value of what it refers to.
+    fn assignment(&mut self, bin: &ast::BinExpr, target: Ty, value: Ty) -> Ty {
+        if bin.op().is_some_and(|t| t.kind() == SyntaxKind::EQ) {
+            if let Some(rhs) = bin.rhs() {
+                let what = bin.lhs().map_or("the target".to_string(), |l| format!("`{}`", l.syntax().text()));
+                self.expect_assignable(&value, &target, rhs.syntax(), &what);
+            }
+        }
+        target
     }
 
     /// A local, a field of the owner (or its bases), or a type used as a scope; anything else
@@ -440,7 +462,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             if !arg_tys.iter().zip(&params).all(|(a, p)| a.assignable_to(p, &mut |x, y| sema.is_subtype(x, y))) {
                 continue;
             }
-            let exact = arg_tys.iter().zip(&params).filter(|(a, p)| a == p).count();
+            let exact = arg_tys.iter().zip(&params).filter(|(a, p)| a.dereferenced() == p.dereferenced()).count();
             if best.is_none_or(|(score, _)| exact > score) {
                 best = Some((exact, overload));
             }

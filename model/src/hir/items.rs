@@ -7,6 +7,7 @@
 use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     db::{parse, Db, SourceFile},
+    syntax::SyntaxKind,
 };
 
 pub use crate::ast::{ClassKind, ConnectorRole, InterfaceRole, NodeKind};
@@ -113,7 +114,11 @@ pub struct TypeSignature {
     pub builtin: Option<String>,
     /// `A.B.C` for named types.
     pub path: Option<String>,
+    /// `ref T`, written in the type or among the declaration's qualifiers (`global ref int p`).
     pub is_ref: bool,
+    /// `global` among the declaration's qualifiers: the global memory of a kernel parameter
+    /// (`global ref unsigned int`), a static field or method on the host.
+    pub is_global: bool,
     pub is_unsigned: bool,
     pub args: Vec<TypeSignature>,
     pub array_dims: usize,
@@ -261,10 +266,19 @@ pub(crate) fn import_item(import: &ast::Import) -> Option<ImportItem> {
 /// The signature of a type reference (an absent type reads as the empty signature).
 pub fn type_signature(ty: Option<ast::TypeRef>) -> TypeSignature {
     let Some(ty) = ty else { return TypeSignature::default() };
+    // The qualifiers of the declaration the type is written in (`global ref` before a
+    // parameter's type); none for a type argument.
+    let qualifier = |keyword: SyntaxKind| {
+        ty.syntax()
+            .parent()
+            .and_then(|parent| parent.children().find_map(ast::Modifiers::cast))
+            .is_some_and(|m| m.has(keyword))
+    };
     TypeSignature {
         builtin: ty.builtin().map(|t| t.text().to_string()),
         path: ty.path().map(|p| p.text()),
-        is_ref: ty.is_ref(),
+        is_ref: ty.is_ref() || qualifier(SyntaxKind::REF_KW),
+        is_global: qualifier(SyntaxKind::GLOBAL_KW),
         is_unsigned: ty.is_unsigned(),
         args: ty.type_args().map(|t| type_signature(Some(t))).collect(),
         array_dims: ty.array_dims(),

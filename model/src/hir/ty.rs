@@ -12,8 +12,10 @@ pub enum Ty {
     Unknown,
     Void,
     Bool,
-    /// `byte`, `char`, `short`, `int`, `long` and their `unsigned` forms.
+    /// `byte`, `char`, `short`, `int`, `long`.
     Int,
+    /// Their `unsigned` forms (`unsigned int`, `uint`, `uchar`, …).
+    UInt,
     /// `float`, `real`, `double`.
     Float,
     String,
@@ -25,11 +27,26 @@ pub enum Ty {
     /// A declared class, interface or enum, by fully qualified name.
     Named(std::string::String),
     Array(Box<Ty>),
+    /// `ref T` and `global ref T`: memory that holds a `T` (a kernel's buffer parameter, a
+    /// host pointer). A `T`, an array of `T` and `null` bind to it; a host container binds to
+    /// a `global` one (the framework's KernelCall hands over its device memory, Sec. 10.3.1).
+    Ref {
+        global: bool,
+        inner: Box<Ty>,
+    },
 }
 
 impl Ty {
     pub fn is_numeric(&self) -> bool {
-        matches!(self, Ty::Int | Ty::Float)
+        matches!(self, Ty::Int | Ty::UInt | Ty::Float)
+    }
+
+    /// The type a reference refers to; the type itself otherwise.
+    pub fn dereferenced(&self) -> &Ty {
+        match self {
+            Ty::Ref { inner, .. } => inner,
+            other => other,
+        }
     }
 
     /// Whether a value of type `self` may be assigned to (or passed as) `target`. Numbers convert
@@ -39,6 +56,13 @@ impl Ty {
         match (self, target) {
             (Ty::Unknown, _) | (_, Ty::Unknown) => true,
             (a, b) if a == b => true,
+            (Ty::Null, Ty::Ref { .. }) => true,
+            // A host container's device memory binds to a kernel's `global ref T`.
+            (Ty::Named(_), Ty::Ref { global: true, .. }) => true,
+            (Ty::Ref { inner: a, .. }, Ty::Ref { inner: b, .. }) => a.assignable_to(b, subtype),
+            // A value (or an array of them) binds to a reference; a reference reads as its value.
+            (a, Ty::Ref { inner, .. }) => a.assignable_to(inner, subtype),
+            (Ty::Ref { inner, .. }, b) => inner.assignable_to(b, subtype),
             (a, b) if a.is_numeric() && b.is_numeric() => true,
             // C's implicit conversions between numbers and booleans.
             (Ty::Bool, b) | (b, Ty::Bool) if b.is_numeric() => true,
@@ -71,12 +95,18 @@ impl fmt::Display for Ty {
             Ty::Void => write!(f, "void"),
             Ty::Bool => write!(f, "bool"),
             Ty::Int => write!(f, "int"),
+            Ty::UInt => write!(f, "unsigned int"),
             Ty::Float => write!(f, "float"),
             Ty::String => write!(f, "string"),
             Ty::Null => write!(f, "null"),
-            Ty::Vector(base, n) => write!(f, "{base}{n}"),
+            Ty::Vector(base, n) => match **base {
+                Ty::UInt => write!(f, "uint{n}"),
+                _ => write!(f, "{base}{n}"),
+            },
             Ty::Gpu(name) | Ty::Named(name) => write!(f, "{name}"),
             Ty::Array(inner) => write!(f, "{inner}[]"),
+            Ty::Ref { global: true, inner } => write!(f, "global ref {inner}"),
+            Ty::Ref { global: false, inner } => write!(f, "ref {inner}"),
         }
     }
 }
@@ -85,16 +115,17 @@ impl fmt::Display for Ty {
 pub fn builtin(name: &str) -> Option<Ty> {
     Some(match name {
         "bool" => Ty::Bool,
-        "byte" | "char" | "short" | "int" | "long" | "uchar" | "ushort" | "uint" | "ulong" => Ty::Int,
+        "byte" | "char" | "short" | "int" | "long" => Ty::Int,
+        "uchar" | "ushort" | "uint" | "ulong" => Ty::UInt,
         "float" | "real" | "double" => Ty::Float,
         "string" => Ty::String,
         "void" => Ty::Void,
         _ => {
             for (prefix, base) in [
-                ("uchar", Ty::Int),
-                ("ushort", Ty::Int),
-                ("uint", Ty::Int),
-                ("ulong", Ty::Int),
+                ("uchar", Ty::UInt),
+                ("ushort", Ty::UInt),
+                ("uint", Ty::UInt),
+                ("ulong", Ty::UInt),
                 ("char", Ty::Int),
                 ("short", Ty::Int),
                 ("int", Ty::Int),
@@ -119,15 +150,22 @@ pub fn builtin(name: &str) -> Option<Ty> {
 /// The type a signature denotes, given how to resolve a path to a fully qualified name.
 pub fn from_signature(sig: &TypeSignature, resolve: &mut dyn FnMut(&str) -> Option<String>) -> Ty {
     let base = if let Some(builtin_name) = &sig.builtin {
-        builtin(builtin_name).unwrap_or(Ty::Unknown)
+        match builtin(builtin_name).unwrap_or(Ty::Unknown) {
+            Ty::Int if sig.is_unsigned => Ty::UInt,
+            ty => ty,
+        }
     } else if sig.is_unsigned && sig.path.is_none() {
-        Ty::Int
+        Ty::UInt
     } else if let Some(path) = &sig.path {
         builtin(path).or_else(|| resolve(path).map(Ty::Named)).unwrap_or(Ty::Unknown)
     } else {
         Ty::Unknown
     };
-    (0..sig.array_dims).fold(base, |ty, _| Ty::Array(Box::new(ty)))
+    let ty = (0..sig.array_dims).fold(base, |ty, _| Ty::Array(Box::new(ty)));
+    match sig.is_ref {
+        true => Ty::Ref { global: sig.is_global, inner: Box::new(ty) },
+        false => ty,
+    }
 }
 
 /// GPU and OpenCL built-in type names of chapter 10 that are written as identifiers:
