@@ -82,6 +82,12 @@ pub enum DiagnosticCode {
     UnknownName,
     /// A field or method a type does not have.
     UnknownMember,
+    /// A class extending an interface or implementing a class, an interface extending a class.
+    InvalidInheritance,
+    /// A type that derives from itself.
+    InheritanceCycle,
+    /// A generic type with the wrong number of template arguments.
+    TemplateArity,
 }
 
 impl DiagnosticCode {
@@ -117,6 +123,9 @@ impl DiagnosticCode {
             DiagnosticCode::ArgumentType => "E0227",
             DiagnosticCode::UnknownName => "E0228",
             DiagnosticCode::UnknownMember => "E0229",
+            DiagnosticCode::InvalidInheritance => "E0230",
+            DiagnosticCode::InheritanceCycle => "E0231",
+            DiagnosticCode::TemplateArity => "E0232",
         }
     }
 
@@ -154,6 +163,9 @@ impl DiagnosticCode {
             DiagnosticCode::ArgumentType => "a call argument of a type the parameter does not accept",
             DiagnosticCode::UnknownName => "a name that is no variable, parameter, field or type",
             DiagnosticCode::UnknownMember => "a field or method the type does not have",
+            DiagnosticCode::InvalidInheritance => "a base of the wrong kind (extends vs implements)",
+            DiagnosticCode::InheritanceCycle => "a type that derives from itself",
+            DiagnosticCode::TemplateArity => "the wrong number of template arguments",
         }
     }
 }

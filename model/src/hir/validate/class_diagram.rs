@@ -2,7 +2,7 @@
 //! field initialisers and method bodies (typed), `shared` parameters only in OpenCL classes, and
 //! a processor counterpart for every provider method (chapter 11.3.1).
 
-use super::{calls, names, types, Ctx, DiagnosticCode, Scope};
+use super::{calls, inheritance, names, types, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
@@ -18,7 +18,9 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ClassDiagram, n
     names::duplicates(ctx, names, "declaration");
     for decl in diagram.type_decls() {
         if let Some(name) = decl.name() {
-            names::unique_across_files(ctx, &scope.qualify(&name.text()), &name, "type");
+            let fqn = scope.qualify(&name.text());
+            names::unique_across_files(ctx, &fqn, &name, "type");
+            inheritance::bases(ctx, scope, &fqn, &decl);
         }
         type_decl(ctx, scope, &decl);
     }

@@ -11,6 +11,7 @@ mod calls;
 mod class_diagram;
 mod component_diagram;
 mod flow;
+mod inheritance;
 mod instance_diagram;
 mod names;
 mod types;

@@ -19,7 +19,7 @@ pub(super) fn type_ref(ctx: &mut Ctx, scope: &Scope, ty: &ast::TypeRef) {
         return;
     }
     match ctx.sema.resolve(scope, &text) {
-        Some(def) if matches!(def.kind, DefKind::Type(_)) => {}
+        Some(def) if matches!(def.kind, DefKind::Type(_)) => super::inheritance::template_arguments(ctx, ty, def),
         Some(def) => ctx.sink.error(
             DiagnosticCode::UnresolvedType,
             path.syntax().text_range(),
