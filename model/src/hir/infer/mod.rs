@@ -5,12 +5,14 @@
 //! An [`InferenceCtx`] reads the model through [`Semantics`] and reports into a [`Diagnostics`]
 //! sink; [`Semantics::type_of_expr`] runs it with a sink nobody reads.
 
+mod calls;
+
 use std::collections::HashMap;
 
 use super::{
     definitions::{DefKind, Definition},
-    diagnostics::{arguments, DiagnosticCode, Diagnostics},
-    items::{type_signature, MethodSignature},
+    diagnostics::{DiagnosticCode, Diagnostics},
+    items::type_signature,
     scope::Scope,
     semantics::Semantics,
     ty::Ty,
@@ -335,160 +337,6 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         if !self.sema.has_method(fqn, name) && self.sema.definition(fqn).is_some() {
             self.sink.error(DiagnosticCode::UnknownMember, at.text_range(), format!("`{fqn}` has no field `{name}`"));
         }
-        Ty::Unknown
-    }
-
-    fn call(&mut self, call: &ast::CallExpr) -> Ty {
-        let args: Vec<ast::Expr> = call.args().collect();
-        match call.callee() {
-            Some(ast::Expr::NameExpr(name)) => {
-                let Some(method) = name.name_ref() else { return Ty::Unknown };
-                match self.owner {
-                    Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax(), true),
-                    None => {
-                        self.sink.error(
-                            DiagnosticCode::UnknownName,
-                            method.syntax().text_range(),
-                            format!(
-                                "unknown function `{}`: without an owner class, call methods as `Class::{0}(…)`",
-                                method.text()
-                            ),
-                        );
-                        self.infer_all(&args)
-                    }
-                }
-            }
-            Some(ast::Expr::MemberExpr(member)) => {
-                let receiver = member.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
-                match (receiver, member.member()) {
-                    (Ty::Named(fqn), Some(method)) => match self.sema.definition(&fqn) {
-                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
-                        None => self.infer_all(&args),
-                    },
-                    _ => self.infer_all(&args),
-                }
-            }
-            Some(ast::Expr::ScopeExpr(scoped)) => {
-                let scope = scoped.scope().map_or(Ty::Unknown, |r| self.infer(&r));
-                match (scope, scoped.member()) {
-                    (Ty::Named(fqn), Some(method)) => match self.sema.definition(&fqn) {
-                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
-                        None => self.infer_all(&args),
-                    },
-                    _ => self.infer_all(&args),
-                }
-            }
-            _ => self.infer_all(&args),
-        }
-    }
-
-    fn infer_all(&mut self, args: &[ast::Expr]) -> Ty {
-        for arg in args {
-            self.infer(arg);
-        }
-        Ty::Unknown
-    }
-
-    /// Checks a call of `method` on type `def` (with its bases): arity against the overloads,
-    /// then argument types against the overload of that arity. Returns the result type.
-    fn check_call(
-        &mut self,
-        def: &'db Definition,
-        method: &str,
-        args: &[ast::Expr],
-        at: &SyntaxNode,
-        report_missing: bool,
-    ) -> Ty {
-        let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
-        let overloads: Vec<(&'db Definition, MethodSignature)> = self.sema.methods(def, method);
-        if overloads.is_empty() {
-            if !report_missing {
-                return Ty::Unknown;
-            }
-            self.sink.error(
-                DiagnosticCode::UnknownMember,
-                at.text_range(),
-                format!("`{}` has no method `{method}`", def.fqn),
-            );
-            return Ty::Unknown;
-        }
-        let same_arity: Vec<&(&'db Definition, MethodSignature)> =
-            overloads.iter().filter(|(_, m)| m.params.len() == args.len()).collect();
-        if same_arity.is_empty() {
-            let mut arities: Vec<usize> = overloads.iter().map(|(_, m)| m.params.len()).collect();
-            arities.sort_unstable();
-            arities.dedup();
-            let expected = match arities.as_slice() {
-                [one] => arguments(*one),
-                _ => format!("{} arguments", arities.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(" or ")),
-            };
-            self.sink.error(
-                DiagnosticCode::CallArity,
-                at.text_range(),
-                format!("`{method}` takes {expected}, {} given", args.len()),
-            );
-            return Ty::Unknown;
-        }
-        let sema = self.sema;
-        let param_tys = |(declaring, signature): &(&'db Definition, MethodSignature)| -> Vec<Ty> {
-            let scope = Scope::of(declaring);
-            signature.params.iter().map(|p| sema.ty(&p.ty, &scope)).collect()
-        };
-        let return_ty = |(declaring, signature): &(&'db Definition, MethodSignature)| {
-            sema.ty(&signature.ret, &Scope::of(declaring))
-        };
-        if let [only] = same_arity.as_slice() {
-            for (i, ((arg, arg_ty), param_ty)) in args.iter().zip(&arg_tys).zip(param_tys(only)).enumerate() {
-                if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
-                    self.sink.error(
-                        DiagnosticCode::ArgumentType,
-                        arg.syntax().text_range(),
-                        format!(
-                            "argument {} of `{method}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
-                            i + 1,
-                            only.1.params[i].name
-                        ),
-                    );
-                }
-            }
-            return return_ty(only);
-        }
-        // Overloads (`exp(float)`, `exp(float4)`, …): the one that takes these arguments, the
-        // one with the most arguments of exactly its parameter types if several do, the first
-        // declared of those.
-        let mut best: Option<(usize, &(&'db Definition, MethodSignature))> = None;
-        for &overload in &same_arity {
-            let params = param_tys(overload);
-            if !arg_tys.iter().zip(&params).all(|(a, p)| a.assignable_to(p, &mut |x, y| sema.is_subtype(x, y))) {
-                continue;
-            }
-            let exact = arg_tys.iter().zip(&params).filter(|(a, p)| a.dereferenced() == p.dereferenced()).count();
-            if best.is_none_or(|(score, _)| exact > score) {
-                best = Some((exact, overload));
-            }
-        }
-        if let Some((_, chosen)) = best {
-            return return_ty(chosen);
-        }
-        let given: Vec<String> = arg_tys.iter().map(|t| format!("`{t}`")).collect();
-        let mut offered: Vec<String> = same_arity
-            .iter()
-            .map(|o| format!("({})", param_tys(o).iter().map(|t| t.to_string()).collect::<Vec<_>>().join(", ")))
-            .collect();
-        if offered.len() > 6 {
-            let more = offered.len() - 5;
-            offered.truncate(5);
-            offered.push(format!("{more} more"));
-        }
-        let range = match (args.first(), args.last()) {
-            (Some(first), Some(last)) => first.syntax().text_range().cover(last.syntax().text_range()),
-            _ => at.text_range(),
-        };
-        self.sink.error(
-            DiagnosticCode::ArgumentType,
-            range,
-            format!("no overload of `{method}` takes ({}): it takes {}", given.join(", "), offered.join(", ")),
-        );
         Ty::Unknown
     }
 }
