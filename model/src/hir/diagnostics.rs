@@ -88,6 +88,12 @@ pub enum DiagnosticCode {
     InheritanceCycle,
     /// A generic type with the wrong number of template arguments.
     TemplateArity,
+    /// An assignment to a `const` local, parameter or field.
+    AssignToConst,
+    /// A `return` that does not fit the method's return type.
+    ReturnType,
+    /// A method with a return type whose body can end without `return`.
+    MissingReturn,
 }
 
 impl DiagnosticCode {
@@ -126,6 +132,9 @@ impl DiagnosticCode {
             DiagnosticCode::InvalidInheritance => "E0230",
             DiagnosticCode::InheritanceCycle => "E0231",
             DiagnosticCode::TemplateArity => "E0232",
+            DiagnosticCode::AssignToConst => "E0233",
+            DiagnosticCode::ReturnType => "E0234",
+            DiagnosticCode::MissingReturn => "E0235",
         }
     }
 
@@ -166,6 +175,9 @@ impl DiagnosticCode {
             DiagnosticCode::InvalidInheritance => "a base of the wrong kind (extends vs implements)",
             DiagnosticCode::InheritanceCycle => "a type that derives from itself",
             DiagnosticCode::TemplateArity => "the wrong number of template arguments",
+            DiagnosticCode::AssignToConst => "an assignment to something `const`",
+            DiagnosticCode::ReturnType => "a `return` that does not fit the return type",
+            DiagnosticCode::MissingReturn => "a method body that can end without `return`",
         }
     }
 }

@@ -209,6 +209,14 @@ impl<'db> Semantics<'db> {
         Some(self.ty(&field, &Scope::of(declaring)))
     }
 
+    /// The type declaring field `name` of `fqn` (or of a base), if that field is `const`.
+    pub fn const_field(&self, fqn: &str, name: &str) -> Option<&'db str> {
+        let found =
+            self.find_member(fqn, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.qualifiers.clone()));
+        let (declaring, qualifiers) = found?;
+        qualifiers.iter().any(|q| q == "const").then_some(declaring.fqn.as_str())
+    }
+
     /// Whether type `fqn` (or a base) declares a method `name`.
     pub fn has_method(&self, fqn: &str, name: &str) -> bool {
         self.find_member(fqn, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(())).is_some()

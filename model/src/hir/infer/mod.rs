@@ -7,7 +7,7 @@
 
 mod calls;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use super::{
     definitions::{DefKind, Definition},
@@ -28,6 +28,10 @@ pub struct InferenceCtx<'a, 'db> {
     sink: &'a mut Diagnostics,
     scope: Scope,
     locals: HashMap<String, Ty>,
+    /// The locals and parameters declared `const`.
+    constants: HashSet<String>,
+    /// The method whose body this is and its return type, for `return` statements.
+    returns: Option<(String, Ty)>,
     owner: Option<&'db Definition>,
 }
 
@@ -39,13 +43,25 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         scope: Scope,
         owner: Option<&'db Definition>,
     ) -> InferenceCtx<'a, 'db> {
-        InferenceCtx { sema, sink, scope, locals: HashMap::new(), owner }
+        InferenceCtx { sema, sink, scope, locals: HashMap::new(), constants: HashSet::new(), returns: None, owner }
     }
 
-    /// Declares a local (parameter, variable) from its written type.
+    /// Declares a local (parameter, variable) from its written type (`const` if its
+    /// declaration says so).
     pub fn declare(&mut self, name: String, ty: Option<ast::TypeRef>) {
+        if ty.as_ref().is_some_and(declared_const) {
+            self.constants.insert(name.clone());
+        } else {
+            self.constants.remove(&name);
+        }
         let ty = self.ty_of(ty);
         self.locals.insert(name, ty);
+    }
+
+    /// The body is method `name`'s, which returns `ty`: `return` statements are checked.
+    pub fn expect_returns(&mut self, name: String, ty: Option<ast::TypeRef>) {
+        let ty = self.ty_of(ty);
+        self.returns = Some((name, ty));
     }
 
     fn ty_of(&self, ty: Option<ast::TypeRef>) -> Ty {
@@ -89,11 +105,12 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                         self.expect_assignable(&value, &target, init.syntax(), &format!("`{}`", name.text()));
                     }
                 }
-                SyntaxKind::EXPR_STMT | SyntaxKind::RETURN_STMT => {
+                SyntaxKind::EXPR_STMT => {
                     if let Some(expr) = element.children().find_map(ast::Expr::cast) {
                         self.infer(&expr);
                     }
                 }
+                SyntaxKind::RETURN_STMT => self.return_stmt(&element),
                 SyntaxKind::GUARD => {
                     if let Some(cond) = ast::Guard::cast(element).and_then(|g| g.condition()) {
                         self.expect_bool(&cond, "a transition guard");
@@ -154,8 +171,12 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             ast::Expr::ThisExpr(_) => self.owner.map_or(Ty::Unknown, |o| Ty::Named(o.fqn.clone())),
             ast::Expr::ParenExpr(p) => p.expr().map_or(Ty::Unknown, |e| self.infer(&e)),
             ast::Expr::PrefixExpr(p) => {
+                let op = p.op().map(|t| t.kind());
+                if let (Some(SyntaxKind::PLUS2 | SyntaxKind::MINUS2), Some(target)) = (op, p.operand()) {
+                    self.expect_mutable(&target);
+                }
                 let operand = p.operand().map_or(Ty::Unknown, |e| self.infer(&e));
-                match p.op().map(|t| t.kind()) {
+                match op {
                     Some(SyntaxKind::BANG) => Ty::Bool,
                     // `ref g`: a reference to what `g` holds.
                     Some(SyntaxKind::REF_KW) => match operand {
@@ -165,7 +186,13 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                     _ => operand.dereferenced().clone(),
                 }
             }
-            ast::Expr::PostfixExpr(p) => p.operand().map_or(Ty::Unknown, |e| self.infer(&e)),
+            ast::Expr::PostfixExpr(p) => {
+                let operand = p.operand();
+                if let Some(target) = &operand {
+                    self.expect_mutable(target);
+                }
+                operand.map_or(Ty::Unknown, |e| self.infer(&e))
+            }
             ast::Expr::BinExpr(bin) => self.binary(bin),
             ast::Expr::TernaryExpr(t) => {
                 if let Some(cond) = t.condition() {
@@ -288,9 +315,77 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         }
     }
 
+    /// An assignment's (or `++`'s) target must not be `const`: a local, a parameter or a field.
+    fn expect_mutable(&mut self, target: &ast::Expr) {
+        let (name, field_of) = match target {
+            ast::Expr::NameExpr(n) => match n.name_ref() {
+                Some(name) if self.locals.contains_key(&name.text()) => {
+                    if self.constants.contains(&name.text()) {
+                        self.sink.error(
+                            DiagnosticCode::AssignToConst,
+                            target.syntax().text_range(),
+                            format!("`{}` is `const`: it cannot be assigned after its declaration", name.text()),
+                        );
+                    }
+                    return;
+                }
+                Some(name) => (name, self.owner.map(|o| o.fqn.clone())),
+                None => return,
+            },
+            ast::Expr::MemberExpr(m) => {
+                let receiver = m.receiver().map_or(Ty::Unknown, |r| self.type_of_silently(&r));
+                match (m.member(), receiver.dereferenced()) {
+                    (Some(name), Ty::Named(fqn)) => (name, Some(fqn.clone())),
+                    _ => return,
+                }
+            }
+            _ => return,
+        };
+        let Some(fqn) = field_of else { return };
+        if let Some(declaring) = self.sema.const_field(&fqn, &name.text()) {
+            self.sink.error(
+                DiagnosticCode::AssignToConst,
+                target.syntax().text_range(),
+                format!("the field `{declaring}.{}` is `const`: it cannot be assigned", name.text()),
+            );
+        }
+    }
+
+    /// The type of an expression already checked once (its problems are not reported again).
+    fn type_of_silently(&mut self, expr: &ast::Expr) -> Ty {
+        let reported = std::mem::take(self.sink);
+        let ty = self.infer(expr);
+        *self.sink = reported;
+        ty
+    }
+
+    /// `return` and `return value;` against the method's return type.
+    fn return_stmt(&mut self, stmt: &SyntaxNode) {
+        let value = stmt.children().find_map(ast::Expr::cast);
+        let value_ty = value.as_ref().map(|v| self.infer(v));
+        let Some((method, expected)) = self.returns.clone() else { return };
+        let sema = self.sema;
+        let problem = match (&expected, value_ty) {
+            (Ty::Void, Some(_)) => Some(format!("`{method}` returns `void`: this `return` must not give a value")),
+            (Ty::Void | Ty::Unknown, None) => None,
+            (_, None) => Some(format!("`{method}` returns `{expected}`: give this `return` a value")),
+            (_, Some(ty)) if !ty.assignable_to(&expected, &mut |a, b| sema.is_subtype(a, b)) => {
+                Some(format!("`{method}` returns `{expected}`, but this is `{ty}`"))
+            }
+            _ => None,
+        };
+        if let Some(message) = problem {
+            let range = value.map_or_else(|| stmt.text_range(), |v| v.syntax().text_range());
+            self.sink.error(DiagnosticCode::ReturnType, range, message);
+        }
+    }
+
     /// `target = value` (and `+=`, …): the value must fit the target; a reference target
     /// takes a value of what it refers to.
     fn assignment(&mut self, bin: &ast::BinExpr, target: Ty, value: Ty) -> Ty {
+        if let Some(lhs) = bin.lhs() {
+            self.expect_mutable(&lhs);
+        }
         if bin.op().is_some_and(|t| t.kind() == SyntaxKind::EQ) {
             if let Some(rhs) = bin.rhs() {
                 let what = bin.lhs().map_or("the target".to_string(), |l| format!("`{}`", l.syntax().text()));
@@ -362,6 +457,36 @@ pub fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast:
         }
     }
     out
+}
+
+/// Whether the declaration a type is written in is `const` (`const int x = 1;`, a `const`
+/// parameter).
+fn declared_const(ty: &ast::TypeRef) -> bool {
+    let Some(declaration) = ty.syntax().parent() else { return false };
+    if let Some(decl) = ast::VarDecl::cast(declaration.clone()) {
+        return decl.is_const();
+    }
+    declaration.children().find_map(ast::Modifiers::cast).is_some_and(|m| m.has(SyntaxKind::CONST_KW))
+}
+
+/// Whether a body (a block) ends in `return` on every path: a `return`, a block that does, or
+/// an `if` whose both branches do.
+pub fn returns_on_every_path(block: &SyntaxNode) -> bool {
+    block.children().any(|stmt| match stmt.kind() {
+        SyntaxKind::RETURN_STMT => true,
+        SyntaxKind::BLOCK => returns_on_every_path(&stmt),
+        SyntaxKind::IF_STMT => {
+            let if_stmt = ast::IfStmt::cast(stmt).expect("kind checked");
+            let branch_returns = |branch: Option<ast::Stmt>| {
+                branch.is_some_and(|b| match b.syntax().kind() {
+                    SyntaxKind::RETURN_STMT => true,
+                    _ => returns_on_every_path(b.syntax()),
+                })
+            };
+            branch_returns(if_stmt.then_branch()) && branch_returns(if_stmt.else_branch())
+        }
+        _ => false,
+    })
 }
 
 impl<'db> Semantics<'db> {

@@ -50,6 +50,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         types::params(ctx, scope, node.param_list());
         if let Some(body) = node.body() {
             calls::expressions(ctx, scope, body.syntax());
+            names::duplicate_locals(ctx, body.syntax());
             let owner = ctx.sema.owner_at(body.syntax());
             let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
             for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {

@@ -7,7 +7,7 @@ use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         components::signature_key,
-        infer::InferenceCtx,
+        infer::{returns_on_every_path, InferenceCtx},
         items::{type_signature, InterfaceRole, TypeSignature},
     },
     syntax::SyntaxKind,
@@ -85,14 +85,26 @@ fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
     }
     if let Some(body) = method.body() {
         calls::expressions(ctx, scope, body.syntax());
+        names::duplicate_locals(ctx, body.syntax());
         let owner = ctx.sema.owner_at(body.syntax());
+        let name = method.name().map(|n| n.text()).unwrap_or_default();
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
         for param in method.params() {
             if let Some(name) = param.name() {
                 typing.declare(name.text(), param.type_ref());
             }
         }
+        typing.expect_returns(name.clone(), method.return_type());
         typing.check(body.syntax());
+        let returns_a_value = method.return_type().is_some_and(|t| t.builtin().is_none_or(|b| b.text() != "void"));
+        if returns_a_value && !returns_on_every_path(body.syntax()) {
+            let end = body.syntax().last_token().map_or_else(|| body.syntax().text_range(), |t| t.text_range());
+            ctx.sink.error(
+                DiagnosticCode::MissingReturn,
+                end,
+                format!("`{name}` returns a value, but its body can end without `return`"),
+            );
+        }
     }
 }
 

@@ -5,7 +5,7 @@ use std::collections::HashSet;
 
 use super::{Ctx, DiagnosticCode, Scope};
 use crate::{
-    ast::{self, AstNode},
+    ast::{self, AstNode, HasName},
     hir::items::import_item,
 };
 
@@ -51,4 +51,11 @@ pub(super) fn import(ctx: &mut Ctx, scope: &mut Scope, import: &ast::Import) {
         );
     }
     scope.imports.extend(import_item(import));
+}
+
+/// Two local variables of one name in one block of a body.
+pub(super) fn duplicate_locals(ctx: &mut Ctx, body: &crate::syntax::SyntaxNode) {
+    for block in body.descendants().filter(|n| n == body || ast::Block::can_cast(n.kind())) {
+        duplicates(ctx, block.children().filter_map(ast::VarDecl::cast).filter_map(|d| d.name()), "variable");
+    }
 }
