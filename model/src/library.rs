@@ -22,6 +22,13 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ("gudsl:/lib/framework.gudsl", include_str!("../lib/framework.gudsl")),
 ];
 
+/// The interface every component class implements without saying so: `init()`, `process()`
+/// and `cleanup()` (Sec. 11.3.5).
+pub const COMPONENT_BASE: &str = "Framework.CBSE.Component";
+
+/// The interface a GPU class implements, with the OpenCL built-ins (Listing 14).
+pub const OPENCL_INTERFACE: &str = "OpenCL.GPU.OpenCL";
+
 /// Whether a file path names a library file.
 pub fn is_library_path(path: &str) -> bool {
     path.starts_with(LIBRARY_PREFIX)

@@ -17,14 +17,14 @@ use super::{
         def_map, definitions_named, namespace_definitions, type_names_in_bucket, types_named, DefKind, DefMap,
         Definition, Fqn, TYPE_NAME_BUCKETS,
     },
-    items::{MethodSignature, TypeItem, TypeKind, TypeSignature},
+    items::{ClassKind, MethodSignature, TypeItem, TypeKind, TypeSignature},
     scope::Scope,
     ty::{self, Ty},
 };
 use crate::{
     ast::{self, AstNode, HasName},
     db::{parse, Db, Workspace},
-    library::is_library,
+    library::{is_library, COMPONENT_BASE},
     syntax::{SyntaxNode, TextRange},
 };
 
@@ -141,16 +141,22 @@ impl<'db> Semantics<'db> {
 
     // ---- types and members
 
-    /// The types `def` extends or implements, resolved where it is declared.
+    /// The types `def` extends or implements, resolved where it is declared; a component class
+    /// also implements the library's [`COMPONENT_BASE`] (its `init`, `process`, `cleanup`).
     pub fn bases(&self, def: &'db Definition) -> Vec<&'db Definition> {
         let DefKind::Type(ty) = &def.kind else { return Vec::new() };
         let scope = Scope::of(def);
-        ty.extends
+        let mut bases: Vec<&'db Definition> = ty
+            .extends
             .iter()
             .chain(&ty.implements)
             .filter_map(|b| b.path.as_deref())
             .filter_map(|base| self.resolve(&scope, base))
-            .collect()
+            .collect();
+        if matches!(ty.kind, TypeKind::Class(ClassKind::Source | ClassKind::Filter | ClassKind::Sink)) {
+            bases.extend(self.definition(COMPONENT_BASE));
+        }
+        bases
     }
 
     /// Whether type `sub` is `sup` or derives from it (`extends`/`implements`, transitively).

@@ -12,6 +12,7 @@ use crate::{
         scope::Scope,
         ty::Ty,
     },
+    library::OPENCL_INTERFACE,
     syntax::SyntaxNode,
 };
 
@@ -27,10 +28,16 @@ impl<'db> InferenceCtx<'_, 'db> {
                         self.sink.error(
                             DiagnosticCode::UnknownName,
                             method.syntax().text_range(),
-                            format!(
-                                "unknown function `{}`: without an owner class, call methods as `Class::{0}(…)`",
-                                method.text()
-                            ),
+                            match self.opencl_builtin(&method.text()) {
+                                true => format!(
+                                    "`{}` is an OpenCL built-in: it is called in a body whose owner class implements `OpenCL` (give the swimlane or diagram such an owner)",
+                                    method.text()
+                                ),
+                                false => format!(
+                                    "unknown function `{}`: without an owner class, call methods as `Class::{0}(…)`",
+                                    method.text()
+                                ),
+                            },
                         );
                         self.infer_all(&args)
                     }
@@ -83,11 +90,14 @@ impl<'db> InferenceCtx<'_, 'db> {
             if !report_missing {
                 return Ty::Unknown;
             }
-            self.sink.error(
-                DiagnosticCode::UnknownMember,
-                at.text_range(),
-                format!("`{}` has no method `{method}`", def.fqn),
-            );
+            let message = match self.opencl_builtin(method) {
+                true => format!(
+                    "`{method}` is an OpenCL built-in, and `{}` does not implement `OpenCL`: add `implements OpenCL` (with `import OpenCL.GPU.*;`) to call it",
+                    def.fqn
+                ),
+                false => format!("`{}` has no method `{method}`", def.fqn),
+            };
+            self.sink.error(DiagnosticCode::UnknownMember, at.text_range(), message);
             return Ty::Unknown;
         }
         let same_arity: Vec<&(&'db Definition, MethodSignature)> =
@@ -168,5 +178,10 @@ impl<'db> InferenceCtx<'_, 'db> {
             format!("no overload of `{method}` takes ({}): it takes {}", given.join(", "), offered.join(", ")),
         );
         Ty::Unknown
+    }
+
+    /// Whether `name` is one of the OpenCL built-ins of the bundled library.
+    fn opencl_builtin(&self, name: &str) -> bool {
+        self.sema.definition(OPENCL_INTERFACE).is_some_and(|opencl| !self.sema.methods(opencl, name).is_empty())
     }
 }
