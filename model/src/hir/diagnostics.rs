@@ -94,6 +94,12 @@ pub enum DiagnosticCode {
     ReturnType,
     /// A method with a return type whose body can end without `return`.
     MissingReturn,
+    /// A transition into a start node or out of a final node.
+    InvalidTransition,
+    /// A decision node none of whose transitions has a guard.
+    UnguardedDecision,
+    /// A join node with a single incoming transition.
+    JoinOfOneFlow,
 }
 
 impl DiagnosticCode {
@@ -135,6 +141,9 @@ impl DiagnosticCode {
             DiagnosticCode::AssignToConst => "E0233",
             DiagnosticCode::ReturnType => "E0234",
             DiagnosticCode::MissingReturn => "E0235",
+            DiagnosticCode::InvalidTransition => "E0236",
+            DiagnosticCode::UnguardedDecision => "E0237",
+            DiagnosticCode::JoinOfOneFlow => "E0238",
         }
     }
 
@@ -178,6 +187,9 @@ impl DiagnosticCode {
             DiagnosticCode::AssignToConst => "an assignment to something `const`",
             DiagnosticCode::ReturnType => "a `return` that does not fit the return type",
             DiagnosticCode::MissingReturn => "a method body that can end without `return`",
+            DiagnosticCode::InvalidTransition => "a transition into a start node or out of a final node",
+            DiagnosticCode::UnguardedDecision => "a decision without a guarded transition",
+            DiagnosticCode::JoinOfOneFlow => "a join with a single incoming transition",
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Control flow of an activity diagram: one start node, transitions to nodes that exist with the
-//! arguments their targets take, every node reachable from the start, and a final node reachable
-//! from every node.
+//! arguments their targets take (never into the start node, never out of a final one), guarded
+//! transitions out of decisions, joins of several flows, every node reachable from the start,
+//! and a final node reachable from every node.
 
 use std::collections::{HashMap, HashSet, VecDeque};
 
@@ -48,8 +49,17 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
             };
             edges.entry(source.clone()).or_default().push(target_name.clone());
             transition_arity(ctx, &transition, &target, target_node);
+            if target_node.kind() == ast::NodeKind::Start {
+                ctx.sink.error(
+                    DiagnosticCode::InvalidTransition,
+                    target.syntax().text_range(),
+                    format!("no transition enters the start node `{target_name}`: it only begins the activity"),
+                );
+            }
         }
+        node_transitions(ctx, node, &source);
     }
+    joins_of_one_flow(ctx, nodes, &edges);
     // Reachability from the start node(s).
     let reachable = reach(starts.iter().filter_map(|s| s.name().map(|n| n.text())), &edges);
     if !starts.is_empty() {
@@ -81,6 +91,51 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
                 DiagnosticCode::NoPathToFinal,
                 name.syntax().text_range(),
                 format!("no path leads from node `{}` to a final node", name.text()),
+            );
+        }
+    }
+}
+
+/// A final node has no way out; a decision chooses by guards.
+fn node_transitions(ctx: &mut Ctx, node: &ast::ActivityNode, name: &str) {
+    match node.kind() {
+        ast::NodeKind::Final => {
+            for transition in node.transitions() {
+                ctx.sink.error(
+                    DiagnosticCode::InvalidTransition,
+                    transition.syntax().text_range(),
+                    format!("the final node `{name}` ends the activity: no transition leaves it"),
+                );
+            }
+        }
+        ast::NodeKind::Decision => {
+            let guarded = node.transitions().any(|t| t.guard().is_some_and(|g| g.condition().is_some()));
+            if !guarded {
+                let range = node.name().map_or_else(|| node.syntax().text_range(), |n| n.syntax().text_range());
+                ctx.sink.error(
+                    DiagnosticCode::UnguardedDecision,
+                    range,
+                    format!("decision `{name}` has no guarded transition: guard them (`[condition] => node;`, `[] => otherwise;`)"),
+                );
+            }
+        }
+        _ => {}
+    }
+}
+
+/// A join waits for the flows a fork started: one incoming transition is a mistake.
+fn joins_of_one_flow(ctx: &mut Ctx, nodes: &[ast::ActivityNode], edges: &HashMap<String, Vec<String>>) {
+    for join in nodes.iter().filter(|n| n.kind() == ast::NodeKind::Join) {
+        let Some(name) = join.name() else { continue };
+        let incoming = edges.values().flatten().filter(|target| **target == name.text()).count();
+        if incoming == 1 {
+            ctx.sink.warn(
+                DiagnosticCode::JoinOfOneFlow,
+                name.syntax().text_range(),
+                format!(
+                    "join `{}` has one incoming transition: a join waits for several flows (those a fork starts)",
+                    name.text()
+                ),
             );
         }
     }
