@@ -58,6 +58,18 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         self.locals.insert(name, ty);
     }
 
+    /// A value given where a declaration of type `ty` is initialised (a field's `= value`, an
+    /// attribute field's, an enum value's): typed, and it must fit.
+    pub fn check_value(&mut self, ty: &Ty, value: &ast::Expr, what: &str) {
+        let value_ty = self.infer(value);
+        self.expect_assignable(&value_ty, ty, value.syntax(), what);
+    }
+
+    /// The type written at `ty`, in this context's scope.
+    pub fn written_type(&self, ty: Option<ast::TypeRef>) -> Ty {
+        self.ty_of(ty)
+    }
+
     /// The body is method `name`'s, which returns `ty`: `return` statements are checked.
     pub fn expect_returns(&mut self, name: String, ty: Option<ast::TypeRef>) {
         let ty = self.ty_of(ty);

@@ -9,6 +9,7 @@ use crate::{
         components::signature_key,
         infer::{returns_on_every_path, InferenceCtx},
         items::{type_signature, InterfaceRole, TypeSignature},
+        ty::Ty,
     },
     syntax::SyntaxKind,
 };
@@ -23,6 +24,9 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ClassDiagram, n
             inheritance::bases(ctx, scope, &fqn, &decl);
         }
         type_decl(ctx, scope, &decl);
+        if let ast::TypeDecl::Enum(e) = &decl {
+            enum_values(ctx, scope, e);
+        }
     }
 }
 
@@ -63,6 +67,11 @@ fn type_decl(ctx: &mut Ctx, outer: &Scope, decl: &ast::TypeDecl) {
                 }
                 if let Some(init) = f.initializer() {
                     calls::expressions(ctx, &scope, init.syntax());
+                    let owner = ctx.sema.owner_at(init.syntax());
+                    let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+                    let field_ty = typing.written_type(f.type_ref());
+                    let name = f.name().map(|n| n.text()).unwrap_or_default();
+                    typing.check_value(&field_ty, &init, &format!("field `{name}`"));
                 }
             }
             ast::Member::Association(a) => {
@@ -72,6 +81,15 @@ fn type_decl(ctx: &mut Ctx, outer: &Scope, decl: &ast::TypeDecl) {
             }
             ast::Member::Method(m) => method(ctx, &scope, m, gpu_class),
         }
+    }
+}
+
+/// An enum's values: unique names, integer values (`A = 1`) of names that exist.
+fn enum_values(ctx: &mut Ctx, scope: &Scope, decl: &ast::Enum) {
+    names::duplicates(ctx, decl.values().filter_map(|v| v.name()), "enum value");
+    for value in decl.values().filter_map(|v| v.value()) {
+        let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), None);
+        typing.check_value(&Ty::Int, &value, "an enum value");
     }
 }
 

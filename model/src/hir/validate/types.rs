@@ -4,7 +4,7 @@
 use super::{unresolved_message, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasName},
-    hir::{definitions::DefKind, items::TypeKind, semantics::describe, ty::is_builtin_type_name},
+    hir::{definitions::DefKind, infer::InferenceCtx, items::TypeKind, semantics::describe, ty::is_builtin_type_name},
     syntax::SyntaxNode,
 };
 
@@ -72,13 +72,18 @@ pub(super) fn attribute_uses(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
             };
             for arg in use_.args() {
                 let Some(field) = arg.name() else { continue };
-                if !attribute.fields.iter().any(|f| f.name == field.text()) {
+                let Some(declared) = attribute.fields.iter().find(|f| f.name == field.text()) else {
                     ctx.sink.error(
                         DiagnosticCode::InvalidAttributeUse,
                         field.syntax().text_range(),
                         format!("attribute `{text}` has no field `{}`", field.text()),
                     );
-                }
+                    continue;
+                };
+                let (Some(value), Some(def)) = (arg.value(), ctx.sema.resolve(scope, &text)) else { continue };
+                let field_ty = ctx.sema.ty(&declared.ty, &Scope::of(def));
+                let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), None);
+                typing.check_value(&field_ty, &value, &format!("attribute field `{}`", field.text()));
             }
         }
     }
