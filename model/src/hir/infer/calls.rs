@@ -4,9 +4,9 @@
 
 use super::InferenceCtx;
 use crate::{
-    ast::{self, AstNode},
+    ast::{self, AstNode, HasName},
     hir::{
-        definitions::Definition,
+        definitions::{DefKind, Definition},
         diagnostics::{arguments, DiagnosticCode},
         items::MethodSignature,
         scope::Scope,
@@ -183,5 +183,80 @@ impl<'db> InferenceCtx<'_, 'db> {
     /// Whether `name` is one of the OpenCL built-ins of the bundled library.
     fn opencl_builtin(&self, name: &str) -> bool {
         self.sema.definition(OPENCL_INTERFACE).is_some_and(|opencl| !self.sema.methods(opencl, name).is_empty())
+    }
+
+    /// `call behavior Ad(args)`: each argument fits the activity diagram's parameter (the
+    /// number of arguments is validation's, E0210).
+    pub(super) fn call_behavior(&mut self, call: &ast::CallBehaviorExpr) -> Ty {
+        let args: Vec<ast::Expr> = call.args().collect();
+        let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
+        let Some(path) = call.behavior() else { return Ty::Void };
+        let sema = self.sema;
+        let Some(def) = sema.resolve(&self.scope, &path.text()) else { return Ty::Void };
+        let DefKind::Activity(signature) = &def.kind else { return Ty::Void };
+        if signature.params.len() != args.len() {
+            return Ty::Void;
+        }
+        let scope = Scope::of(def);
+        for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
+            let param_ty = sema.ty(&param.ty, &scope);
+            if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
+                self.sink.error(
+                    DiagnosticCode::ArgumentType,
+                    arg.syntax().text_range(),
+                    format!(
+                        "argument {} of `{}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
+                        i + 1,
+                        def.fqn,
+                        param.name
+                    ),
+                );
+            }
+        }
+        Ty::Void
+    }
+
+    /// `=> node(args)`: the work sizes of a calc node (3) or the ranges of a calcRange node
+    /// (2, 4 or 6) are integers, the other arguments fit the node's parameters (the number of
+    /// arguments is validation's, E0210).
+    pub(super) fn transition(&mut self, transition: &ast::Transition) {
+        let args: Vec<ast::Expr> = transition.args().collect();
+        let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
+        let Some(target) = transition.target().map(|t| t.text()) else { return };
+        let Some(node) = self.nodes.get(&target).cloned() else { return };
+        let params: Vec<(String, Ty)> = node
+            .params()
+            .map(|p| (p.name().map(|n| n.text()).unwrap_or_default(), self.written_type(p.type_ref())))
+            .collect();
+        let leading = match node.kind() {
+            ast::NodeKind::Calc => 3,
+            ast::NodeKind::CalcRange => args.len().saturating_sub(params.len()),
+            _ => 0,
+        };
+        if args.len() != leading + params.len() {
+            return;
+        }
+        let sema = self.sema;
+        for (i, (arg, arg_ty)) in args.iter().zip(&arg_tys).enumerate() {
+            let problem = match i.checked_sub(leading) {
+                None if !matches!(arg_ty.dereferenced(), Ty::Int | Ty::UInt | Ty::Unknown) => Some(format!(
+                    "argument {} of `{target}` is a work size or range: an integer, but this is `{arg_ty}`",
+                    i + 1
+                )),
+                None => None,
+                Some(p) => {
+                    let (name, param_ty) = &params[p];
+                    (!arg_ty.assignable_to(param_ty, &mut |a, b| sema.is_subtype(a, b))).then(|| {
+                        format!(
+                            "argument {} of `{target}` (`{name}`) expects `{param_ty}`, but this is `{arg_ty}`",
+                            i + 1
+                        )
+                    })
+                }
+            };
+            if let Some(message) = problem {
+                self.sink.error(DiagnosticCode::ArgumentType, arg.syntax().text_range(), message);
+            }
+        }
     }
 }

@@ -32,6 +32,8 @@ pub struct InferenceCtx<'a, 'db> {
     constants: HashSet<String>,
     /// The method whose body this is and its return type, for `return` statements.
     returns: Option<(String, Ty)>,
+    /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
+    nodes: HashMap<String, ast::ActivityNode>,
     owner: Option<&'db Definition>,
 }
 
@@ -43,7 +45,16 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         scope: Scope,
         owner: Option<&'db Definition>,
     ) -> InferenceCtx<'a, 'db> {
-        InferenceCtx { sema, sink, scope, locals: HashMap::new(), constants: HashSet::new(), returns: None, owner }
+        InferenceCtx {
+            sema,
+            sink,
+            scope,
+            locals: HashMap::new(),
+            constants: HashSet::new(),
+            returns: None,
+            nodes: HashMap::new(),
+            owner,
+        }
     }
 
     /// Declares a local (parameter, variable) from its written type (`const` if its
@@ -58,6 +69,31 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         self.locals.insert(name, ty);
     }
 
+    /// `var int x = value;`: the value fits the variable.
+    fn var_decl(&mut self, decl: &ast::VarDecl) {
+        if let (Some(init), Some(name)) = (decl.initializer(), decl.name()) {
+            let target = self.locals.get(&name.text()).cloned().unwrap_or(Ty::Unknown);
+            let value = self.infer(&init);
+            self.expect_assignable(&value, &target, init.syntax(), &format!("`{}`", name.text()));
+        }
+    }
+
+    /// A loop or loopWindow node's header, `(setup; test; increment)` or `(test)`: the test
+    /// (each of a loopWindow's tests) is boolean, the rest is typed.
+    pub fn check_loop_header(&mut self, header: &ast::LoopHeader) {
+        let sections: Vec<ast::LoopSection> = header.sections().collect();
+        let test = usize::from(sections.len() > 1);
+        for (i, section) in sections.iter().enumerate() {
+            for part in section.parts() {
+                match part {
+                    ast::LoopPart::Expr(e) if i == test => self.expect_bool(&e, "a loop test"),
+                    ast::LoopPart::Expr(e) => drop(self.infer(&e)),
+                    ast::LoopPart::Decl(d) => self.var_decl(&d),
+                }
+            }
+        }
+    }
+
     /// A value given where a declaration of type `ty` is initialised (a field's `= value`, an
     /// attribute field's, an enum value's): typed, and it must fit.
     pub fn check_value(&mut self, ty: &Ty, value: &ast::Expr, what: &str) {
@@ -68,6 +104,12 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     /// The type written at `ty`, in this context's scope.
     pub fn written_type(&self, ty: Option<ast::TypeRef>) -> Ty {
         self.ty_of(ty)
+    }
+
+    /// The body is a node of a diagram with these nodes: transitions' arguments are checked
+    /// against their targets' parameters (and a calc node's work sizes are integers).
+    pub fn expect_transitions_to(&mut self, nodes: &[ast::ActivityNode]) {
+        self.nodes = nodes.iter().filter_map(|n| Some((n.name()?.text(), n.clone()))).collect();
     }
 
     /// The body is method `name`'s, which returns `ty`: `return` statements are checked.
@@ -109,14 +151,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         self.declare_body(node);
         for element in node.descendants() {
             match element.kind() {
-                SyntaxKind::VAR_DECL => {
-                    let decl = ast::VarDecl::cast(element).expect("kind checked");
-                    if let (Some(init), Some(name)) = (decl.initializer(), decl.name()) {
-                        let target = self.locals.get(&name.text()).cloned().unwrap_or(Ty::Unknown);
-                        let value = self.infer(&init);
-                        self.expect_assignable(&value, &target, init.syntax(), &format!("`{}`", name.text()));
-                    }
-                }
+                SyntaxKind::VAR_DECL => self.var_decl(&ast::VarDecl::cast(element).expect("kind checked")),
                 SyntaxKind::EXPR_STMT => {
                     if let Some(expr) = element.children().find_map(ast::Expr::cast) {
                         self.infer(&expr);
@@ -133,11 +168,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                         self.expect_bool(&cond, "a condition");
                     }
                 }
-                SyntaxKind::TRANSITION => {
-                    for arg in ast::Transition::cast(element).into_iter().flat_map(|t| t.args().collect::<Vec<_>>()) {
-                        self.infer(&arg);
-                    }
-                }
+                SyntaxKind::TRANSITION => self.transition(&ast::Transition::cast(element).expect("kind checked")),
                 _ => {}
             }
         }
@@ -286,12 +317,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                     None => Ty::Unknown,
                 }
             }
-            ast::Expr::CallBehaviorExpr(call) => {
-                for arg in call.args() {
-                    self.infer(&arg);
-                }
-                Ty::Void
-            }
+            ast::Expr::CallBehaviorExpr(call) => self.call_behavior(call),
             ast::Expr::CallInterfaceExpr(call) => {
                 for arg in call.args() {
                     self.infer(&arg);

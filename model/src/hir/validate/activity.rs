@@ -56,6 +56,10 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
             for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
                 typing.declare(name, ty);
             }
+            typing.expect_transitions_to(&nodes);
+            if let Some(header) = node.loop_header() {
+                typing.check_loop_header(&header);
+            }
             typing.check(body.syntax());
         }
     }
