@@ -100,6 +100,8 @@ pub enum DiagnosticCode {
     UnguardedDecision,
     /// A join node with a single incoming transition.
     JoinOfOneFlow,
+    /// A `read` image written, or a `write` image read.
+    ImageAccess,
 }
 
 impl DiagnosticCode {
@@ -144,6 +146,7 @@ impl DiagnosticCode {
             DiagnosticCode::InvalidTransition => "E0236",
             DiagnosticCode::UnguardedDecision => "E0237",
             DiagnosticCode::JoinOfOneFlow => "E0238",
+            DiagnosticCode::ImageAccess => "E0239",
         }
     }
 
@@ -190,6 +193,7 @@ impl DiagnosticCode {
             DiagnosticCode::InvalidTransition => "a transition into a start node or out of a final node",
             DiagnosticCode::UnguardedDecision => "a decision without a guarded transition",
             DiagnosticCode::JoinOfOneFlow => "a join with a single incoming transition",
+            DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
         }
     }
 }

@@ -275,6 +275,11 @@ impl<'db> Semantics<'db> {
             .any(|p| self.resolve(scope, &p.text()).is_some_and(|d| self.reaches_opencl(d, &mut seen)))
     }
 
+    /// Whether a class is a GPU class: it implements `OpenCL`, directly or through its bases.
+    pub fn is_gpu_class(&self, def: &'db Definition) -> bool {
+        self.reaches_opencl(def, &mut HashSet::new())
+    }
+
     fn reaches_opencl(&self, def: &'db Definition, seen: &mut HashSet<String>) -> bool {
         if def.fqn.rsplit('.').next() == Some("OpenCL") {
             return true;

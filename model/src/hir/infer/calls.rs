@@ -13,7 +13,7 @@ use crate::{
         ty::Ty,
     },
     library::OPENCL_INTERFACE,
-    syntax::SyntaxNode,
+    syntax::{SyntaxKind, SyntaxNode},
 };
 
 impl<'db> InferenceCtx<'_, 'db> {
@@ -85,6 +85,7 @@ impl<'db> InferenceCtx<'_, 'db> {
         report_missing: bool,
     ) -> Ty {
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
+        self.image_access(method, args);
         let overloads: Vec<(&'db Definition, MethodSignature)> = self.sema.methods(def, method);
         if overloads.is_empty() {
             if !report_missing {
@@ -257,6 +258,27 @@ impl<'db> InferenceCtx<'_, 'db> {
             if let Some(message) = problem {
                 self.sink.error(DiagnosticCode::ArgumentType, arg.syntax().text_range(), message);
             }
+        }
+    }
+
+    /// `read_image…` of a `write` image or `write_image…` of a `read` one (Sec. 10.2.1.5).
+    fn image_access(&mut self, method: &str, args: &[ast::Expr]) {
+        let (forbidden, what) = if method.starts_with("read_image") {
+            (SyntaxKind::WRITE_KW, "write")
+        } else if method.starts_with("write_image") {
+            (SyntaxKind::READ_KW, "read")
+        } else {
+            return;
+        };
+        let Some(ast::Expr::NameExpr(image)) = args.first() else { return };
+        let Some(name) = image.name_ref().map(|n| n.text()) else { return };
+        if self.access.get(&name) == Some(&forbidden) && self.opencl_builtin(method) {
+            let verb = if what == "write" { "read" } else { "written" };
+            self.sink.error(
+                DiagnosticCode::ImageAccess,
+                image.syntax().text_range(),
+                format!("`{name}` is a `{what}` image: it cannot be {verb} (declare it `read write` to do both)"),
+            );
         }
     }
 }

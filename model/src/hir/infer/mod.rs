@@ -30,6 +30,8 @@ pub struct InferenceCtx<'a, 'db> {
     locals: HashMap<String, Ty>,
     /// The locals and parameters declared `const`.
     constants: HashSet<String>,
+    /// The image parameters declared `read` or `write` (the keyword's kind).
+    access: HashMap<String, SyntaxKind>,
     /// The method whose body this is and its return type, for `return` statements.
     returns: Option<(String, Ty)>,
     /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
@@ -51,6 +53,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             scope,
             locals: HashMap::new(),
             constants: HashSet::new(),
+            access: HashMap::new(),
             returns: None,
             nodes: HashMap::new(),
             owner,
@@ -65,6 +68,10 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         } else {
             self.constants.remove(&name);
         }
+        match ty.as_ref().and_then(declared_access) {
+            Some(access) => self.access.insert(name.clone(), access),
+            None => self.access.remove(&name),
+        };
         let ty = self.ty_of(ty);
         self.locals.insert(name, ty);
     }
@@ -158,6 +165,24 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                     }
                 }
                 SyntaxKind::RETURN_STMT => self.return_stmt(&element),
+                SyntaxKind::LOOP_WINDOW_STMT => {
+                    let window = ast::LoopWindowStmt::cast(element).expect("kind checked");
+                    let (keyword, wanted) = match window.loopwindow3d_token() {
+                        Some(_) => ("loopwindow3D", 3),
+                        None => ("loopwindow2D", 2),
+                    };
+                    let given = window.ranges().count();
+                    if given != wanted {
+                        self.sink.error(
+                            DiagnosticCode::LoopWindowMismatch,
+                            window
+                                .loopwindow2d_token()
+                                .or(window.loopwindow3d_token())
+                                .map_or_else(|| window.syntax().text_range(), |t| t.text_range()),
+                            format!("`{keyword}` takes {wanted} window ranges (`u = -r : r, …`), {given} given"),
+                        );
+                    }
+                }
                 SyntaxKind::GUARD => {
                     if let Some(cond) = ast::Guard::cast(element).and_then(|g| g.condition()) {
                         self.expect_bool(&cond, "a transition guard");
@@ -505,6 +530,16 @@ fn declared_const(ty: &ast::TypeRef) -> bool {
         return decl.is_const();
     }
     declaration.children().find_map(ast::Modifiers::cast).is_some_and(|m| m.has(SyntaxKind::CONST_KW))
+}
+
+/// `read` or `write` (not both) among the qualifiers of the declaration a type is written in.
+fn declared_access(ty: &ast::TypeRef) -> Option<SyntaxKind> {
+    let modifiers = ty.syntax().parent()?.children().find_map(ast::Modifiers::cast)?;
+    match (modifiers.has(SyntaxKind::READ_KW), modifiers.has(SyntaxKind::WRITE_KW)) {
+        (true, false) => Some(SyntaxKind::READ_KW),
+        (false, true) => Some(SyntaxKind::WRITE_KW),
+        _ => None,
+    }
 }
 
 /// Whether a body (a block) ends in `return` on every path: a `return`, a block that does, or

@@ -4,13 +4,14 @@
 
 use super::{calls, flow, names, types, Ctx, DiagnosticCode, Scope};
 use crate::{
-    ast::{self, AstNode, HasName},
+    ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         definitions::DefKind,
         infer::{diagram_locals, header_declarations, InferenceCtx},
         items::TypeKind,
         semantics::describe,
     },
+    syntax::SyntaxKind,
 };
 
 pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram) {
@@ -32,6 +33,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
     for decl in diagram.var_decls() {
         calls::expressions(ctx, scope, decl.syntax());
     }
+    shared_params(ctx, scope, diagram);
     let mut nodes: Vec<ast::ActivityNode> = Vec::new();
     names::duplicates(ctx, diagram.swimlanes().filter_map(|s| s.name()), "swimlane");
     for lane in diagram.swimlanes() {
@@ -64,6 +66,29 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         }
     }
     flow::check(ctx, diagram, &nodes);
+}
+
+/// `shared` memory parameters only in diagrams owned by a class that implements `OpenCL`
+/// (Sec. 10.2.1.5, 10.3.2.3).
+fn shared_params(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram) {
+    let shared: Vec<ast::Param> = diagram.params().filter(|p| p.has_modifier(SyntaxKind::SHARED_KW)).collect();
+    if shared.is_empty() {
+        return;
+    }
+    let owners = diagram.owner().into_iter().chain(diagram.swimlanes().filter_map(|l| l.owner()));
+    let sema = ctx.sema;
+    if owners.filter_map(|o| sema.resolve(scope, &o.text())).any(|owner| sema.is_gpu_class(owner)) {
+        return;
+    }
+    for param in shared {
+        let range = param.name().map_or_else(|| param.syntax().text_range(), |n| n.syntax().text_range());
+        ctx.sink.error(
+            DiagnosticCode::SharedOutsideGpuClass,
+            range,
+            "`shared` memory parameters are only allowed in diagrams owned by a class that implements `OpenCL`"
+                .to_string(),
+        );
+    }
 }
 
 /// A diagram's or swimlane's owner names a class.

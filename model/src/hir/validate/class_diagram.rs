@@ -59,6 +59,19 @@ fn type_decl(ctx: &mut Ctx, outer: &Scope, decl: &ast::TypeDecl) {
         ast::Member::Method(_) => None,
     });
     names::duplicates(ctx, field_names, "field");
+    if !gpu_class {
+        let fields = members.iter().filter_map(|m| match m {
+            ast::Member::Field(f) if f.has_modifier(SyntaxKind::SHARED_KW) => f.name(),
+            _ => None,
+        });
+        for name in fields {
+            ctx.sink.error(
+                DiagnosticCode::SharedOutsideGpuClass,
+                name.syntax().text_range(),
+                "`shared` memory is only allowed in classes that implement the `OpenCL` interface".to_string(),
+            );
+        }
+    }
     for member in &members {
         match member {
             ast::Member::Field(f) => {
