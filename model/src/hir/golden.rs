@@ -12,7 +12,7 @@ use crate::{
 };
 
 /// Splits a fixture into `(path, text)` files.
-fn split_fixture(text: &str) -> Vec<(String, String)> {
+pub(crate) fn split_fixture(text: &str) -> Vec<(String, String)> {
     let mut files: Vec<(String, String)> = Vec::new();
     for line in text.split_inclusive('\n') {
         if let Some(path) = line.strip_prefix("//- ") {
@@ -52,8 +52,8 @@ pub(crate) fn render(text: &str) -> String {
     out
 }
 
-#[test]
-fn diagnostics_golden() {
+/// The golden cases, `test_data/diagnostics/*.gudsl`, in name order.
+pub(crate) fn cases() -> Vec<std::path::PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("test_data/diagnostics");
     let mut cases: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -61,6 +61,12 @@ fn diagnostics_golden() {
         .filter(|p| p.extension().is_some_and(|e| e == "gudsl"))
         .collect();
     cases.sort();
+    cases
+}
+
+#[test]
+fn diagnostics_golden() {
+    let cases = cases();
     assert!(cases.len() >= 20, "only {} cases", cases.len());
     let mut failures = Vec::new();
     for case in &cases {

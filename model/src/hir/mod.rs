@@ -13,12 +13,13 @@ pub mod components;
 pub mod definitions;
 pub mod diagnostics;
 #[cfg(test)]
-mod golden;
+pub(crate) mod golden;
 pub mod infer;
 pub mod instances;
 pub mod items;
 pub mod scope;
 pub mod semantics;
+pub mod spelling;
 #[cfg(test)]
 mod tests;
 pub mod ty;

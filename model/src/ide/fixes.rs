@@ -8,6 +8,7 @@ use crate::{
     hir::{
         file_diagnostics,
         items::{InterfaceRole, TypeKind},
+        spelling::{closest, edit_distance, typo_distance},
         DefKind, DiagnosticCode, Semantics,
     },
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
@@ -50,17 +51,31 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
         };
         match diagnostic.code {
             DiagnosticCode::UnresolvedTransitionTarget => {
-                if let Some((title, edit)) = create_node(&node, text) {
-                    push(title, vec![edit]);
+                // A typo of an existing node is corrected, not created a second time.
+                let written = &text[diagnostic.range];
+                let names = node_names(&node);
+                match closest(written, names.iter().map(String::as_str)) {
+                    Some(name) => push(format!("Change to `{name}`"), vec![(diagnostic.range, name.to_string())]),
+                    None => {
+                        if let Some((title, edit)) = create_node(&node, text) {
+                            push(title, vec![edit]);
+                        }
+                    }
                 }
             }
             DiagnosticCode::UnreachableNode => {
+                // Not a final node (removing it never helps), nor one a mistyped transition
+                // was meant to reach.
                 if let Some(node) = node.ancestors().find_map(ast::ActivityNode::cast) {
                     let name = node.name().map(|n| n.text()).unwrap_or_default();
-                    push(
-                        format!("Remove unreachable node `{name}`"),
-                        vec![(line_span(text, node.syntax().text_range()), String::new())],
-                    );
+                    let missing = unresolved_targets(&node);
+                    let meant = missing.iter().any(|target| closest(target, [name.as_str()]).is_some());
+                    if node.kind() != ast::NodeKind::Final && !meant {
+                        push(
+                            format!("Remove unreachable node `{name}`"),
+                            vec![(line_span(text, node.syntax().text_range()), String::new())],
+                        );
+                    }
                 }
             }
             DiagnosticCode::TransitionArity => {
@@ -81,11 +96,11 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                 if let Some(candidates) =
                     map.types_by_simple_name.get(&simple).filter(|c| c.len() > 1 && !written.contains('.'))
                 {
-                    if let Some((at, indent)) = import_position(&node, text) {
+                    if let Some((at, before, after)) = import_position(&node, text) {
                         for fqn in candidates {
                             push(
                                 format!("Import `{fqn}`"),
-                                vec![(TextRange::empty(at), format!("{indent}import {fqn};\n"))],
+                                vec![(TextRange::empty(at), format!("{before}import {fqn};{after}"))],
                             );
                         }
                     }
@@ -93,7 +108,7 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                 // Misspelt: the closest declared type.
                 let wanted_class = diagnostic.code == DiagnosticCode::UnresolvedOwner;
                 let written_len = written.chars().count();
-                let most = 2.max(written.len() / 4);
+                let most = typo_distance(&written);
                 let qualified = written.contains('.');
                 let best = map
                     .definitions
@@ -186,6 +201,25 @@ fn create_node(node: &SyntaxNode, text: &str) -> Option<(String, (TextRange, Str
     Some((format!("Create action node `{target}`"), (TextRange::empty(insert_at), new_node)))
 }
 
+/// The names of the nodes of the activity diagram around `node`.
+fn node_names(node: &SyntaxNode) -> Vec<String> {
+    let Some(diagram) = node.ancestors().find_map(ast::ActivityDiagram::cast) else { return Vec::new() };
+    diagram.syntax().descendants().filter_map(ast::ActivityNode::cast).filter_map(|n| Some(n.name()?.text())).collect()
+}
+
+/// The transition targets of the diagram around `node` that name no node.
+fn unresolved_targets(node: &ast::ActivityNode) -> Vec<String> {
+    let names = node_names(node.syntax());
+    let Some(diagram) = node.syntax().ancestors().find_map(ast::ActivityDiagram::cast) else { return Vec::new() };
+    diagram
+        .syntax()
+        .descendants()
+        .filter_map(ast::Transition::cast)
+        .filter_map(|t| t.target().map(|target| target.text()))
+        .filter(|target| !names.contains(target))
+        .collect()
+}
+
 /// Rewrites a transition's argument list to what its target node takes.
 fn fix_arguments(node: &SyntaxNode) -> Option<(String, (TextRange, String))> {
     let transition = node.ancestors().find_map(ast::Transition::cast)?;
@@ -196,19 +230,23 @@ fn fix_arguments(node: &SyntaxNode) -> Option<(String, (TextRange, String))> {
         .descendants()
         .filter_map(ast::ActivityNode::cast)
         .find(|n| n.name().is_some_and(|name| name.text() == target.text()))?;
-    let mut args: Vec<String> = match target_node.kind() {
-        ast::NodeKind::Calc => vec!["width".into(), "height".into(), "1".into()],
-        ast::NodeKind::CalcRange => {
-            vec!["globalX".into(), "1".into(), "1".into(), "localX".into(), "1".into(), "1".into()]
-        }
-        _ => Vec::new(),
+    // Work sizes (a calc node's 3) and ranges (a calcRange node's: global and local, 1D) as
+    // written, else 1; then each parameter's argument as written, else a value of its type.
+    let leading = match target_node.kind() {
+        ast::NodeKind::Calc => 3,
+        ast::NodeKind::CalcRange => 2,
+        _ => 0,
     };
+    // Arguments as many as the parameters are the parameters' (the work sizes were left out).
     let existing: Vec<String> = transition.args().map(|a| a.syntax().text().to_string()).collect();
-    let params: Vec<String> = target_node.params().filter_map(|p| p.name()).map(|n| n.text()).collect();
-    // Keep the arguments written for the parameters, fill the rest with the parameter names.
-    let skip = args.len();
+    let params: Vec<ast::Param> = target_node.params().collect();
+    let (sizes, values) = match existing.len() == params.len() {
+        true => (&[][..], &existing[..]),
+        false => existing.split_at(leading.min(existing.len())),
+    };
+    let mut args: Vec<String> = (0..leading).map(|i| sizes.get(i).cloned().unwrap_or_else(|| "1".into())).collect();
     for (i, param) in params.iter().enumerate() {
-        args.push(existing.get(skip + i).cloned().unwrap_or_else(|| param.clone()));
+        args.push(values.get(i).cloned().unwrap_or_else(|| default_value(param.type_ref())));
     }
     let new_list = format!("({})", args.join(", "));
     let range = match transition.arg_list() {
@@ -216,6 +254,24 @@ fn fix_arguments(node: &SyntaxNode) -> Option<(String, (TextRange, String))> {
         None => TextRange::empty(target.syntax().text_range().end()),
     };
     Some((format!("Pass {} argument(s) to `{}`", args.len(), target.text()), (range, new_list)))
+}
+
+/// A value of a type, for an argument the user has still to write: `0`, `0.0f`, `false`,
+/// `""`, a vector of zeros, or `null` (references and declared types).
+fn default_value(ty: Option<ast::TypeRef>) -> String {
+    let ty = crate::hir::items::type_signature(ty);
+    let name = ty.builtin.or(ty.path).unwrap_or_default();
+    if ty.is_ref || ty.array_dims > 0 {
+        return "null".into();
+    }
+    match crate::hir::ty::builtin(&name) {
+        Some(crate::hir::ty::Ty::Int | crate::hir::ty::Ty::UInt) => "0".into(),
+        Some(crate::hir::ty::Ty::Float) => "0.0f".into(),
+        Some(crate::hir::ty::Ty::Bool) => "false".into(),
+        Some(crate::hir::ty::Ty::String) => "\"\"".into(),
+        Some(crate::hir::ty::Ty::Vector(..)) => format!("new {name}(0)"),
+        _ => "null".into(),
+    }
 }
 
 /// `provideX(…)` without `processX(…)`: add the signature to the file's processor interface.
@@ -240,30 +296,19 @@ fn add_processor_signature(root: &SyntaxNode, node: &SyntaxNode, text: &str) -> 
     Some((format!("Add `process{suffix}` to processor interface `{interface}`"), edit))
 }
 
-/// Where an import goes in the diagram around `node`: after its `{`, with the indentation.
-fn import_position(node: &SyntaxNode, text: &str) -> Option<(TextSize, String)> {
+/// Where an import goes in the diagram around `node` and how it is written around it: on a
+/// line of its own after the diagram's `{`, indented; right after the `{` when the diagram
+/// goes on on that line.
+fn import_position(node: &SyntaxNode, text: &str) -> Option<(TextSize, String, String)> {
     let diagram = node.ancestors().find_map(ast::Diagram::cast)?;
     let open = diagram.syntax().children_with_tokens().find(|e| e.kind() == SyntaxKind::L_CURLY)?;
     let after = usize::from(open.text_range().end());
     let line_end = next_line_start(text, after);
-    let indent = format!("{}    ", indentation_at(text, diagram.syntax().text_range().start()));
-    Some(((line_end as u32).into(), indent))
-}
-
-/// Levenshtein distance, for "did you mean" fixes.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut previous = row[0];
-        row[0] = i + 1;
-        for j in 0..b.len() {
-            let current = row[j + 1];
-            row[j + 1] = (current + 1).min(row[j] + 1).min(previous + usize::from(ca != b[j]));
-            previous = current;
-        }
+    if !text[after..line_end].trim().is_empty() {
+        return Some(((after as u32).into(), " ".into(), String::new()));
     }
-    row[b.len()]
+    let indent = format!("{}    ", indentation_at(text, diagram.syntax().text_range().start()));
+    Some(((line_end as u32).into(), indent, "\n".into()))
 }
 
 #[cfg(test)]
@@ -323,12 +368,29 @@ mod tests {
     }
 
     #[test]
+    fn a_typo_of_a_node_is_corrected_not_created_and_its_target_not_removed() {
+        let text = "ActivityDiagram Ad()\n{\n    swimlane L\n    {\n        start S { => work; }\n        action work { => finsh; }\n        final finish;\n    }\n}\n";
+        let out = apply(&[("a.gudsl", text)], "Change to `finish`");
+        assert!(out[0].contains("=> finish;"), "{}", out[0]);
+        assert_eq!(out[1], "[]");
+        let db = RootDatabase::default();
+        let file = SourceFile::new(&db, "a.gudsl".into(), text.into());
+        let ws = Workspace::new(&db, vec![file]);
+        let titles: Vec<String> = quick_fixes(&db, ws, file, TextRange::up_to((text.len() as u32).into()))
+            .into_iter()
+            .map(|f| f.title)
+            .collect();
+        assert_eq!(titles, ["Change to `finish`"]);
+    }
+
+    #[test]
     fn fix_transition_arguments() {
         let out = apply(
             &[("a.gudsl", "ActivityDiagram Ad(int w)\n{\n    swimlane L\n    {\n        start S { => filter(w); }\n        calc filter(int radius) { => done; }\n        final done;\n    }\n}\n")],
             "Pass 4 argument(s)",
         );
-        assert!(out[0].contains("=> filter(width, height, 1, radius);"), "{}", out[0]);
+        assert!(out[0].contains("=> filter(1, 1, 1, w);"), "{}", out[0]);
+        assert_eq!(out[1], "[]");
     }
 
     #[test]
@@ -358,5 +420,68 @@ mod tests {
         assert!(out[0].starts_with("ClassDiagram U\n{\n    import A.Image;\n"), "{}", out[0]);
         let out = apply(&files, "Change to `Pixel`");
         assert!(out[0].contains("public Pixel p;"), "{}", out[0]);
+    }
+
+    /// Every fix offered for every diagnostic of every `err_` golden case, applied: the
+    /// diagnostic it targets is gone and no problem (error or warning) appears that was not
+    /// there before.
+    #[test]
+    fn every_fix_of_every_golden_case_removes_its_diagnostic_and_adds_no_error() {
+        use std::collections::BTreeMap;
+        type Found = BTreeMap<(String, &'static str, String), usize>;
+        let check = |files: &[(String, String)]| -> (RootDatabase, Workspace, Vec<SourceFile>, Found) {
+            let db = RootDatabase::default();
+            let inputs: Vec<SourceFile> =
+                files.iter().map(|(p, t)| SourceFile::new(&db, p.clone(), t.clone())).collect();
+            let library = crate::library::library_files(&db);
+            let ws = Workspace::new(&db, library.into_iter().chain(inputs.iter().copied()).collect());
+            let mut found = Found::new();
+            for &file in &inputs {
+                for d in file_diagnostics(&db, ws, file) {
+                    *found.entry((file.path(&db).clone(), d.code.as_str(), d.message.clone())).or_default() += 1;
+                }
+            }
+            (db, ws, inputs, found)
+        };
+        let mut failures = Vec::new();
+        let mut applied = 0;
+        for case in crate::hir::golden::cases() {
+            let name = case.file_stem().unwrap().to_string_lossy().into_owned();
+            if !name.starts_with("err_") {
+                continue;
+            }
+            let files = crate::hir::golden::split_fixture(&std::fs::read_to_string(&case).unwrap());
+            let (db, ws, inputs, before) = check(&files);
+            for (index, &file) in inputs.iter().enumerate() {
+                for diagnostic in file_diagnostics(&db, ws, file) {
+                    let target = (file.path(&db).clone(), diagnostic.code.as_str(), diagnostic.message.clone());
+                    for fix in quick_fixes(&db, ws, file, diagnostic.range)
+                        .into_iter()
+                        .filter(|f| f.code == diagnostic.code && f.diagnostic_range == diagnostic.range)
+                    {
+                        applied += 1;
+                        let mut fixed = files.clone();
+                        let mut edits = fix.edits.clone();
+                        edits.sort_by_key(|(r, _)| std::cmp::Reverse(r.range.start()));
+                        for (place, new) in edits {
+                            let at = inputs.iter().position(|f| *f == place.file).unwrap_or(index);
+                            fixed[at].1.replace_range(std::ops::Range::<usize>::from(place.range), &new);
+                        }
+                        let (_, _, _, after) = check(&fixed);
+                        let still = after.get(&target).copied().unwrap_or(0);
+                        if still >= before.get(&target).copied().unwrap_or(0) && before.contains_key(&target) {
+                            failures.push(format!("{name}: `{}` leaves {target:?}", fix.title));
+                        }
+                        for (key, count) in &after {
+                            if *count > before.get(key).copied().unwrap_or(0) {
+                                failures.push(format!("{name}: `{}` adds {key:?}", fix.title));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(applied >= 10, "only {applied} fixes applied");
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
 }

@@ -8,7 +8,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use super::{Ctx, DiagnosticCode};
 use crate::{
     ast::{self, AstNode, HasName},
-    hir::diagnostics::arguments,
+    hir::{diagnostics::arguments, spelling::closest},
 };
 
 /// Start nodes, transition targets and arities, reachability and paths to a final node.
@@ -40,10 +40,12 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
             let Some(target) = transition.target() else { continue };
             let target_name = target.text();
             let Some(target_node) = by_name.get(&target_name) else {
+                let suggestion = closest(&target_name, by_name.keys().map(String::as_str))
+                    .map_or_else(String::new, |name| format!("; did you mean `{name}`?"));
                 ctx.sink.error(
                     DiagnosticCode::UnresolvedTransitionTarget,
                     target.syntax().text_range(),
-                    format!("no node `{target_name}` in activity diagram `{diagram_name}`"),
+                    format!("no node `{target_name}` in activity diagram `{diagram_name}`{suggestion}"),
                 );
                 continue;
             };
