@@ -205,6 +205,8 @@ pub struct Diagnostic {
     pub severity: Severity,
     pub range: TextRange,
     pub message: String,
+    /// The name the range was most likely meant to be ("did you mean"): a quick fix writes it.
+    pub suggestion: Option<String>,
 }
 
 /// Where validation rules and expression typing report problems, in the order found.
@@ -213,11 +215,28 @@ pub struct Diagnostics(Vec<Diagnostic>);
 
 impl Diagnostics {
     pub fn error(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
-        self.0.push(Diagnostic { code, severity: Severity::Error, range, message });
+        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion: None });
     }
 
     pub fn warn(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
-        self.0.push(Diagnostic { code, severity: Severity::Warning, range, message });
+        self.0.push(Diagnostic { code, severity: Severity::Warning, range, message, suggestion: None });
+    }
+
+    /// An error whose range was most likely meant to be `suggestion` (a close name that
+    /// exists): the message says "did you mean", a quick fix writes it.
+    pub fn error_with_suggestion(
+        &mut self,
+        code: DiagnosticCode,
+        range: TextRange,
+        message: String,
+        suggestion: Option<&str>,
+    ) {
+        let message = match suggestion {
+            Some(name) => format!("{message}; did you mean `{name}`?"),
+            None => message,
+        };
+        let suggestion = suggestion.map(str::to_string);
+        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion });
     }
 
     pub fn into_vec(self) -> Vec<Diagnostic> {

@@ -223,6 +223,23 @@ impl<'db> Semantics<'db> {
         qualifiers.iter().any(|q| q == "const").then_some(declaring.fqn.as_str())
     }
 
+    /// The names of the fields (`fields`) or methods of type `fqn` and its bases, and an
+    /// enum's values with its fields, for "did you mean".
+    pub fn member_names(&self, fqn: &str, fields: bool) -> Vec<String> {
+        let Some(def) = self.definition(fqn) else { return Vec::new() };
+        let mut names = Vec::new();
+        for def in self.type_and_bases(def) {
+            let DefKind::Type(ty) = &def.kind else { continue };
+            if fields {
+                names.extend(ty.fields.iter().map(|f| f.name.clone()));
+                names.extend(ty.enum_values.iter().cloned());
+            } else {
+                names.extend(ty.methods.iter().map(|m| m.name.clone()));
+            }
+        }
+        names
+    }
+
     /// Whether type `fqn` (or a base) declares a method `name`.
     pub fn has_method(&self, fqn: &str, name: &str) -> bool {
         self.find_member(fqn, &|ty| ty.methods.iter().any(|m| m.name == name).then_some(())).is_some()

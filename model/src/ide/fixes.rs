@@ -50,17 +50,15 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
             });
         };
         match diagnostic.code {
+            // A typo of something that exists: write what was meant.
+            _ if diagnostic.suggestion.is_some() => {
+                let name = diagnostic.suggestion.clone().unwrap_or_default();
+                push(format!("Change to `{name}`"), vec![(diagnostic.range, name)]);
+            }
+            // A transition to a node that does not exist (and is no typo): create it.
             DiagnosticCode::UnresolvedTransitionTarget => {
-                // A typo of an existing node is corrected, not created a second time.
-                let written = &text[diagnostic.range];
-                let names = node_names(&node);
-                match closest(written, names.iter().map(String::as_str)) {
-                    Some(name) => push(format!("Change to `{name}`"), vec![(diagnostic.range, name.to_string())]),
-                    None => {
-                        if let Some((title, edit)) = create_node(&node, text) {
-                            push(title, vec![edit]);
-                        }
-                    }
+                if let Some((title, edit)) = create_node(&node, text) {
+                    push(title, vec![edit]);
                 }
             }
             DiagnosticCode::UnreachableNode => {

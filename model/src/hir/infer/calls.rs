@@ -10,6 +10,7 @@ use crate::{
         diagnostics::{arguments, DiagnosticCode},
         items::MethodSignature,
         scope::Scope,
+        spelling::closest,
         ty::Ty,
     },
     library::OPENCL_INTERFACE,
@@ -98,7 +99,9 @@ impl<'db> InferenceCtx<'_, 'db> {
                 ),
                 false => format!("`{}` has no method `{method}`", def.fqn),
             };
-            self.sink.error(DiagnosticCode::UnknownMember, at.text_range(), message);
+            let methods = self.sema.member_names(&def.fqn, false);
+            let suggestion = closest(method, methods.iter().map(String::as_str));
+            self.sink.error_with_suggestion(DiagnosticCode::UnknownMember, at.text_range(), message, suggestion);
             return Ty::Unknown;
         }
         let same_arity: Vec<&(&'db Definition, MethodSignature)> =

@@ -19,6 +19,7 @@ use super::{
     items::type_signature,
     scope::Scope,
     semantics::Semantics,
+    spelling::closest,
     ty::Ty,
 };
 use crate::{
@@ -376,10 +377,16 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                     Some(owner) => format!(" (nor a field of the owner `{}`)", owner.fqn),
                     None => String::new(),
                 };
-                self.sink.error(
+                let mut known: Vec<String> = self.locals.keys().cloned().collect();
+                known.sort();
+                if let Some(owner) = self.owner {
+                    known.extend(self.sema.member_names(&owner.fqn, true));
+                }
+                self.sink.error_with_suggestion(
                     DiagnosticCode::UnknownName,
                     at.text_range(),
                     format!("unknown name `{name}`: not a variable, parameter or type in scope{hint}"),
+                    closest(name, known.iter().map(String::as_str)),
                 );
                 Ty::Unknown
             }
@@ -392,7 +399,13 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             return ty;
         }
         if !self.sema.has_method(fqn, name) && self.sema.definition(fqn).is_some() {
-            self.sink.error(DiagnosticCode::UnknownMember, at.text_range(), format!("`{fqn}` has no field `{name}`"));
+            let fields = self.sema.member_names(fqn, true);
+            self.sink.error_with_suggestion(
+                DiagnosticCode::UnknownMember,
+                at.text_range(),
+                format!("`{fqn}` has no field `{name}`"),
+                closest(name, fields.iter().map(String::as_str)),
+            );
         }
         Ty::Unknown
     }

@@ -40,12 +40,13 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
             let Some(target) = transition.target() else { continue };
             let target_name = target.text();
             let Some(target_node) = by_name.get(&target_name) else {
-                let suggestion = closest(&target_name, by_name.keys().map(String::as_str))
-                    .map_or_else(String::new, |name| format!("; did you mean `{name}`?"));
-                ctx.sink.error(
+                let mut names: Vec<&str> = by_name.keys().map(String::as_str).collect();
+                names.sort_unstable();
+                ctx.sink.error_with_suggestion(
                     DiagnosticCode::UnresolvedTransitionTarget,
                     target.syntax().text_range(),
-                    format!("no node `{target_name}` in activity diagram `{diagram_name}`{suggestion}"),
+                    format!("no node `{target_name}` in activity diagram `{diagram_name}`"),
+                    closest(&target_name, names),
                 );
                 continue;
             };

@@ -56,6 +56,7 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -> 
             severity: Severity::Error,
             range: e.range,
             message: e.message.clone(),
+            suggestion: None,
         })
         .collect();
     diagnostics.extend(check_file(db, workspace, file).iter().cloned());
