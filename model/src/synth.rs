@@ -66,7 +66,9 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
         let base = if class_index > 0 { format!(" extends Image{index}") } else { String::new() };
         let _ = writeln!(out, "    /// Class {class_index} of {pkg}.");
         let _ = writeln!(out, "    [GeneratorVisibility(visible = true)]");
-        let _ = writeln!(out, "    public class {name}{base}\n    {{");
+        // Class 0 and 1 are the source and the sink of the file's component diagram.
+        let kind = ["source", "sink"].get(class_index).unwrap_or(&"class");
+        let _ = writeln!(out, "    public {kind} {name}{base}\n    {{");
         for f in 0..4 {
             let ty = TYPES[rng.below(TYPES.len())];
             let _ = writeln!(out, "        public {ty} field{f};");

@@ -1,6 +1,7 @@
-//! Component diagrams (chapter 11.3.2–11.3.3): components built on classes, unique ports,
-//! connectors typed by an interface of their role, and connections that join a provider and a
-//! processor connector of the diagram.
+//! Component diagrams (chapter 11.3.2–11.3.3): components built on classes of their kind,
+//! unique ports and connection names, connectors typed by an interface of their role (sources
+//! only provide, sinks only process), and connections that join a provider and a processor
+//! connector of the diagram whose interfaces correspond (Sec. 11.3.1).
 
 use std::collections::HashMap;
 
@@ -8,8 +9,9 @@ use super::{names, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasEnds, HasName},
     hir::{
+        components::signature_key,
         definitions::DefKind,
-        items::{ConnectorRole, InterfaceRole, TypeKind},
+        items::{ClassKind, ConnectorRole, InterfaceRole, TypeKind},
         semantics::describe,
     },
 };
@@ -21,13 +23,14 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
         stack.extend(component.components());
         components.push(component);
     }
-    // Every port.connector of the diagram, for connection ends.
-    let mut connectors: HashMap<String, ConnectorRole> = HashMap::new();
+    // Every port.connector of the diagram, for connection ends: its role and interface.
+    let mut connectors: HashMap<String, (ConnectorRole, String)> = HashMap::new();
     for component in &components {
         if let Some(class) = component.class() {
-            component_class(ctx, scope, &class);
+            component_class(ctx, scope, component.kind(), &class);
         }
         names::duplicates(ctx, component.ports().filter_map(|p| p.name()), "port");
+        names::duplicates(ctx, component.connections().filter_map(|c| c.connection_name()), "connection");
         for port in component.ports() {
             let Some(port_name) = port.name().map(|n| n.text()) else { continue };
             for connector in port.connectors() {
@@ -36,17 +39,18 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
                 else {
                     continue;
                 };
-                connectors.insert(format!("{port_name}.{}", name.text()), role);
+                connectors.insert(format!("{port_name}.{}", name.text()), (role, interface.text()));
                 connector_interface(ctx, scope, role, &interface);
+                role_of_kind(ctx, component.kind(), role, &name);
             }
         }
     }
     for component in &components {
         for connection in component.connections() {
-            let mut roles = Vec::new();
+            let mut ends = Vec::new();
             for end in [connection.source(), connection.target()].into_iter().flatten() {
                 match connectors.get(&end.text()) {
-                    Some(&role) => roles.push(role),
+                    Some(connector) => ends.push(connector.clone()),
                     None => ctx.sink.error(
                         DiagnosticCode::UnresolvedConnector,
                         end.syntax().text_range(),
@@ -54,24 +58,103 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
                     ),
                 }
             }
-            if let [source, target] = roles[..] {
-                if source == target {
-                    ctx.sink.error(
-                        DiagnosticCode::InvalidConnection,
-                        connection.syntax().text_range(),
-                        format!("a connection joins a provider and a processor, not two {}s", role_name(source)),
-                    );
-                }
+            let [(source, source_interface), (target, target_interface)] = &ends[..] else { continue };
+            if source == target {
+                ctx.sink.error(
+                    DiagnosticCode::InvalidConnection,
+                    connection.syntax().text_range(),
+                    format!("a connection joins a provider and a processor, not two {}s", role_name(*source)),
+                );
+                continue;
             }
+            let (provider, processor) = match source {
+                ConnectorRole::Provider => (source_interface, target_interface),
+                ConnectorRole::Processor => (target_interface, source_interface),
+            };
+            corresponding_interfaces(ctx, scope, &connection, provider, processor);
         }
     }
 }
 
-/// A component is built on a class.
-fn component_class(ctx: &mut Ctx, scope: &Scope, class: &ast::Path) {
+/// A source only provides data and a sink only processes it (Sec. 11.3.2).
+fn role_of_kind(ctx: &mut Ctx, kind: ClassKind, role: ConnectorRole, name: &ast::Name) {
+    let wrong = match (kind, role) {
+        (ClassKind::Source, ConnectorRole::Processor) => "a source only provides data: it has no processor connector",
+        (ClassKind::Sink, ConnectorRole::Provider) => "a sink only processes data: it has no provider connector",
+        _ => return,
+    };
+    ctx.sink.error(DiagnosticCode::InvalidConnectorInterface, name.syntax().text_range(), wrong.to_string());
+}
+
+/// The provider and the processor of a connection form a pair (Sec. 11.3.1): every
+/// `provideX(…)` of the provider interface has its `processX(…)` in the processor interface.
+fn corresponding_interfaces(
+    ctx: &mut Ctx,
+    scope: &Scope,
+    connection: &ast::Connection,
+    provider: &str,
+    processor: &str,
+) {
+    let (Some(provider_def), Some(processor_def)) =
+        (ctx.sema.resolve(scope, provider), ctx.sema.resolve(scope, processor))
+    else {
+        return;
+    };
+    let keys = |def, prefix: &str| -> Vec<String> {
+        let DefKind::Type(ty) = &def else { return Vec::new() };
+        ty.methods
+            .iter()
+            .filter_map(|m| {
+                let suffix = m.name.strip_prefix(prefix)?;
+                let params: Vec<_> = m.params.iter().map(|p| p.ty.clone()).collect();
+                Some(signature_key(suffix, &params))
+            })
+            .collect()
+    };
+    let offered = keys(provider_def.kind.clone(), "provide");
+    let accepted = keys(processor_def.kind.clone(), "process");
+    let missing: Vec<String> =
+        offered.iter().filter(|k| !accepted.contains(k)).map(|k| format!("process{k}")).collect();
+    if !missing.is_empty() && !offered.is_empty() {
+        ctx.sink.error(
+            DiagnosticCode::InvalidConnection,
+            connection.syntax().text_range(),
+            format!(
+                "provider `{}` and processor `{}` do not correspond: the processor lacks {}",
+                provider_def.fqn,
+                processor_def.fqn,
+                missing.join(", ")
+            ),
+        );
+    }
+}
+
+/// A component is built on a class, of the kind its keyword says (`sink` on a sink class).
+fn component_class(ctx: &mut Ctx, scope: &Scope, kind: ClassKind, class: &ast::Path) {
     let text = class.text();
     match ctx.sema.resolve(scope, &text).map(|d| &d.kind) {
-        Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {}
+        Some(DefKind::Type(ty)) if ty.kind == TypeKind::Class(kind) || kind == ClassKind::Class => {}
+        Some(DefKind::Type(ty)) if ty.kind == TypeKind::Class(ClassKind::Class) => ctx.sink.error(
+            DiagnosticCode::InvalidComponent,
+            class.syntax().text_range(),
+            format!(
+                "`{text}` is a plain class, not a component class: declare it `public {} …` in its class diagram",
+                kind_name(kind)
+            ),
+        ),
+        Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {
+            let TypeKind::Class(declared) = ty.kind else { return };
+            ctx.sink.error(
+                DiagnosticCode::InvalidComponent,
+                class.syntax().text_range(),
+                format!(
+                    "`{text}` is declared as a {} class, not a {}: write `{} {text}`",
+                    kind_name(declared),
+                    kind_name(kind),
+                    kind_name(declared)
+                ),
+            );
+        }
         Some(other) => ctx.sink.error(
             DiagnosticCode::InvalidComponent,
             class.syntax().text_range(),
@@ -106,6 +189,16 @@ fn connector_interface(ctx: &mut Ctx, scope: &Scope, role: ConnectorRole, interf
             format!("`{text}` is {}, not an interface", describe(other)),
         ),
         None => ctx.sink.error(DiagnosticCode::InvalidConnectorInterface, range, format!("unknown interface `{text}`")),
+    }
+}
+
+/// The keyword of a class kind.
+fn kind_name(kind: ClassKind) -> &'static str {
+    match kind {
+        ClassKind::Class => "class",
+        ClassKind::Source => "source",
+        ClassKind::Filter => "filter",
+        ClassKind::Sink => "sink",
     }
 }
 
