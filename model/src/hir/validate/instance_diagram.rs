@@ -9,6 +9,8 @@ use crate::{
         definitions::DefKind,
         infer::InferenceCtx,
         instances::{BindingEnd, UnresolvedEnd},
+        items::{ConnectorRole, PortItem},
+        spelling::closest,
     },
 };
 
@@ -26,14 +28,16 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentInstan
         for port_instance in instance.port_instances() {
             let (Some(_), Some(port)) = (port_instance.name(), port_instance.port()) else { continue };
             let Some(first) = components.first() else { continue };
-            if !components.iter().any(|info| info.item.ports.iter().any(|p| p.name == port.text())) {
-                ctx.sink.error(
+            match components.iter().flat_map(|info| &info.item.ports).find(|p| p.name == port.text()) {
+                Some(declared) => connector_instances(ctx, scope, &port_instance, declared),
+                None => ctx.sink.error(
                     DiagnosticCode::UnresolvedConnector,
                     port.syntax().text_range(),
                     format!("component `{}` has no port `{}`", first.item.class, port.text()),
-                );
+                ),
             }
         }
+        field_values_once(ctx, &instance);
     }
     // Bindings: `[source portInstance.connector ==> target instance.portInstance.connector]`,
     // allowed only where the component diagram connects the two ports' connectors.
@@ -75,6 +79,85 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentInstan
                 }
             }
         }
+    }
+}
+
+/// The connectors of a port instance instantiate the port's (Sec. 11.3.4; their names are the
+/// instance's own): each matches a connector of the port by role word and interface, and gives
+/// values only to the interface's fields.
+fn connector_instances(ctx: &mut Ctx, scope: &Scope, port_instance: &ast::PortInstance, port: &PortItem) {
+    let simple = |path: &str| path.rsplit('.').next().unwrap_or(path).to_string();
+    let offered: Vec<String> =
+        port.connectors.iter().map(|c| format!("{} {} : {}", role_word(c.role), c.name, c.interface)).collect();
+    for connector in port_instance.connectors() {
+        let (Some(name), Some(role), Some(interface)) = (connector.name(), connector.role(), connector.interface())
+        else {
+            continue;
+        };
+        let same_interface: Vec<_> =
+            port.connectors.iter().filter(|c| simple(&c.interface) == simple(&interface.text())).collect();
+        if same_interface.is_empty() {
+            ctx.sink.error(
+                DiagnosticCode::InvalidConnectorInterface,
+                interface.syntax().text_range(),
+                format!(
+                    "port `{}` has no connector of interface `{}` (it has {})",
+                    port.name,
+                    interface.text(),
+                    offered.join(", ")
+                ),
+            );
+            continue;
+        }
+        if !same_interface.iter().any(|c| c.role == role) {
+            ctx.sink.error(
+                DiagnosticCode::InvalidConnectorInterface,
+                name.syntax().text_range(),
+                format!(
+                    "port `{}` connects `{}` as a {}, not a {}: write `{} {} = …`",
+                    port.name,
+                    interface.text(),
+                    role_word(same_interface[0].role),
+                    role_word(role),
+                    role_word(same_interface[0].role),
+                    name.text()
+                ),
+            );
+        }
+        let Some(def) = ctx.sema.resolve(scope, &interface.text()) else { continue };
+        let fields = ctx.sema.member_names(&def.fqn, true);
+        for value in connector.field_values() {
+            let Some(field) = value.name() else { continue };
+            if !fields.contains(&field.text()) {
+                ctx.sink.error_with_suggestion(
+                    DiagnosticCode::UnknownInstanceField,
+                    field.syntax().text_range(),
+                    format!("interface `{}` has no field `{}`", def.fqn, field.text()),
+                    closest(&field.text(), fields.iter().map(String::as_str)),
+                );
+            }
+        }
+    }
+}
+
+/// `Camera1 instantiates Camera(exposure = 1, exposure = 2)`: a field is given one value.
+fn field_values_once(ctx: &mut Ctx, instance: &ast::ComponentInstance) {
+    let mut seen = std::collections::HashSet::new();
+    for field in instance.field_values().filter_map(|v| v.name()) {
+        if !seen.insert(field.text()) {
+            ctx.sink.error(
+                DiagnosticCode::DuplicateName,
+                field.syntax().text_range(),
+                format!("field `{}` is given a value more than once", field.text()),
+            );
+        }
+    }
+}
+
+fn role_word(role: ConnectorRole) -> &'static str {
+    match role {
+        ConnectorRole::Provider => "provider",
+        ConnectorRole::Processor => "processor",
     }
 }
 
