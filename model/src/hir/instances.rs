@@ -47,6 +47,12 @@ pub enum UnresolvedEnd {
         instance: String,
         port_instance: String,
     },
+    /// A connector neither the port instance nor its port has; `known` are those they have.
+    NoConnector {
+        port_instance: String,
+        connector: String,
+        known: Vec<String>,
+    },
 }
 
 /// The instances of one component-instance diagram, by name (the last of a duplicated name).
@@ -114,7 +120,28 @@ impl<'db> Instances<'db> {
         let Some(port) = found.ports.get(&port_instance) else {
             return Err(UnresolvedEnd::NoPortInstance { instance, port_instance });
         };
-        let connector = port.connectors.get(&connector).cloned().unwrap_or(connector);
+        // The instance's name for a connector, or the port's own name for it.
+        let declared: Vec<&str> = found
+            .components
+            .iter()
+            .flat_map(|info| &info.item.ports)
+            .filter(|p| p.name == port.port)
+            .flat_map(|p| p.connectors.iter().map(|c| c.name.as_str()))
+            .collect();
+        let connector = match port.connectors.get(&connector) {
+            Some(declared_name) => declared_name.clone(),
+            None if declared.contains(&connector.as_str()) || found.components.is_empty() => connector,
+            None => {
+                let mut known: Vec<String> = port.connectors.keys().cloned().collect();
+                known.sort();
+                for name in declared {
+                    if !known.iter().any(|k| k == name) {
+                        known.push(name.to_string());
+                    }
+                }
+                return Err(UnresolvedEnd::NoConnector { port_instance, connector, known });
+            }
+        };
         Ok(BindingEnd { instance, port_instance, port: port.port.clone(), connector })
     }
 

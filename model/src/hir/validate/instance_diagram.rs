@@ -60,6 +60,22 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentInstan
                             UnresolvedEnd::NoPortInstance { instance, port_instance } => {
                                 format!("instance `{instance}` has no port instance `{port_instance}`")
                             }
+                            UnresolvedEnd::NoConnector { port_instance, connector, known } => {
+                                let segment = end
+                                    .segments()
+                                    .last()
+                                    .map_or(end.syntax().text_range(), |s| s.syntax().text_range());
+                                ctx.sink.error_with_suggestion(
+                                    DiagnosticCode::UnresolvedConnector,
+                                    segment,
+                                    format!(
+                                        "port instance `{port_instance}` has no connector `{connector}` (it has {})",
+                                        known.join(", ")
+                                    ),
+                                    closest(&connector, known.iter().map(String::as_str)),
+                                );
+                                return None;
+                            }
                         };
                         ctx.sink.error(DiagnosticCode::UnresolvedConnector, end.syntax().text_range(), message);
                         None
