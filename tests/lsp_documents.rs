@@ -267,3 +267,19 @@ fn the_bundled_library_is_a_read_only_document_definitions_lead_to() {
     );
     assert!(answer["error"]["message"].as_str().unwrap_or_default().contains("read-only"), "{answer}");
 }
+
+#[test]
+fn a_duplicate_is_published_with_the_first_declaration_as_related_information() {
+    let root = temp_dir("related");
+    let text = "ClassDiagram A\n{\n    public class C { }\n    public class C { }\n}\n";
+    let uri = format!("file://{}", root.join("a.gudsl").display());
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&root));
+    lsp.open(&uri, text);
+    let diagnostics = lsp.diagnostics_of(&uri, 20).expect("published");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    let related = &diagnostics[0]["relatedInformation"][0];
+    assert_eq!(related["location"]["uri"], json!(uri), "{diagnostics:?}");
+    assert_eq!(related["location"]["range"]["start"], json!({"line": 2, "character": 17}), "{diagnostics:?}");
+    assert!(related["message"].as_str().unwrap().contains("first declared here"), "{related}");
+}

@@ -2,7 +2,7 @@
 //! names the thing) and the sink rules report into. The query that gathers a file's problems is
 //! `validate::file_diagnostics`.
 
-use crate::{syntax::TextRange, SyntaxErrorCode};
+use crate::{db::SourceFile, syntax::TextRange, SyntaxErrorCode};
 
 /// How bad a problem is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -207,6 +207,16 @@ pub struct Diagnostic {
     pub message: String,
     /// The name the range was most likely meant to be ("did you mean"): a quick fix writes it.
     pub suggestion: Option<String>,
+    /// Other places that explain it (the first declaration of a duplicate).
+    pub related: Vec<Related>,
+}
+
+/// A place a diagnostic points to besides its own range.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Related {
+    pub file: SourceFile,
+    pub range: TextRange,
+    pub message: String,
 }
 
 /// Where validation rules and expression typing report problems, in the order found.
@@ -215,11 +225,25 @@ pub struct Diagnostics(Vec<Diagnostic>);
 
 impl Diagnostics {
     pub fn error(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
-        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion: None });
+        self.0.push(Diagnostic {
+            code,
+            severity: Severity::Error,
+            range,
+            message,
+            suggestion: None,
+            related: Vec::new(),
+        });
     }
 
     pub fn warn(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
-        self.0.push(Diagnostic { code, severity: Severity::Warning, range, message, suggestion: None });
+        self.0.push(Diagnostic {
+            code,
+            severity: Severity::Warning,
+            range,
+            message,
+            suggestion: None,
+            related: Vec::new(),
+        });
     }
 
     /// An error whose range was most likely meant to be `suggestion` (a close name that
@@ -236,7 +260,18 @@ impl Diagnostics {
             None => message,
         };
         let suggestion = suggestion.map(str::to_string);
-        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion });
+        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion, related: Vec::new() });
+    }
+
+    /// An error with other places that explain it.
+    pub fn error_with_related(
+        &mut self,
+        code: DiagnosticCode,
+        range: TextRange,
+        message: String,
+        related: Vec<Related>,
+    ) {
+        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion: None, related });
     }
 
     pub fn into_vec(self) -> Vec<Diagnostic> {

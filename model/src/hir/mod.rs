@@ -27,7 +27,7 @@ pub mod uses;
 pub mod validate;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};
-pub use diagnostics::{Diagnostic, DiagnosticCode, Diagnostics, Severity};
+pub use diagnostics::{Diagnostic, DiagnosticCode, Diagnostics, Related, Severity};
 pub use items::{item_tree, ItemTree};
 pub use scope::Scope;
 pub use semantics::Semantics;

@@ -252,3 +252,31 @@ fn binding_ends_name_instances_ports_and_connectors() {
     let path = path.unwrap();
     assert_eq!(map.binding_end("Camera1", &path), Err(UnresolvedEnd::NoInstance("Nobody".into())));
 }
+
+#[test]
+fn a_duplicate_points_to_the_first_declaration_in_its_file_or_another() {
+    let db = RootDatabase::default();
+    let a = SourceFile::new(&db, "a.gudsl".into(), "ClassDiagram A { public class C { } public class C { } }".into());
+    let b = SourceFile::new(
+        &db,
+        "b.gudsl".into(),
+        "ActivityDiagram Ad() { swimlane L { start S { => f; } final f; } }".into(),
+    );
+    let c = SourceFile::new(
+        &db,
+        "c.gudsl".into(),
+        "ActivityDiagram Ad() { swimlane L { start S { => f; } final f; } }".into(),
+    );
+    let workspace = Workspace::new(&db, vec![a, b, c]);
+    let in_a = file_diagnostics(&db, workspace, a);
+    assert_eq!(in_a.len(), 1, "{in_a:?}");
+    let related = &in_a[0].related;
+    assert_eq!(related.len(), 1);
+    assert_eq!((related[0].file, &a.text(&db)[related[0].range]), (a, "C"));
+    assert!(related[0].range.start() < in_a[0].range.start(), "the first one: {in_a:?}");
+    let in_b = file_diagnostics(&db, workspace, b);
+    let across =
+        in_b.iter().find(|d| d.message.contains("also declared in c.gudsl")).expect("a duplicate across files");
+    assert_eq!(across.related[0].file, c);
+    assert_eq!(&c.text(&db)[across.related[0].range], "Ad");
+}

@@ -10,7 +10,7 @@ use super::{from_proto, host::Snapshot, to_proto};
 /// The diagnostics to publish for a document.
 pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<lsp::Diagnostic>> {
     let (diagnostics, index) = snap.analysis.diagnostics(file)?;
-    convert(snap, diagnostics, |d| to_proto::diagnostic(index, d, snap.encoding))
+    convert(snap, diagnostics, |d| to_proto::diagnostic(snap, index, d))
 }
 
 /// Converts `items` one by one, stopping with `Cancelled` once a newer edit waits for the

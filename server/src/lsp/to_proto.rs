@@ -43,8 +43,24 @@ pub fn workspace_edit(snap: &Snapshot, edits: Vec<(ide::FileRange, String)>) -> 
     Ok(lsp::WorkspaceEdit { changes: Some(changes), ..Default::default() })
 }
 
-pub fn diagnostic(index: &LineIndex, d: &Diagnostic, encoding: Encoding) -> lsp::Diagnostic {
+/// A diagnostic of a document; its related places (the first declaration of a duplicate) are
+/// located in whichever document holds them.
+pub fn diagnostic(snap: &Snapshot, index: &LineIndex, d: &Diagnostic) -> lsp::Diagnostic {
+    let encoding = snap.encoding;
+    let related: Vec<lsp::DiagnosticRelatedInformation> = d
+        .related
+        .iter()
+        .filter_map(|r| {
+            let uri = snap.uri_of(r.file)?;
+            let index = snap.analysis.line_index(r.file).ok()?;
+            Some(lsp::DiagnosticRelatedInformation {
+                location: lsp::Location { uri, range: range(index, r.range, encoding) },
+                message: r.message.clone(),
+            })
+        })
+        .collect();
     lsp::Diagnostic {
+        related_information: (!related.is_empty()).then_some(related),
         range: range(index, d.range, encoding),
         severity: Some(match d.severity {
             Severity::Error => lsp::DiagnosticSeverity::ERROR,

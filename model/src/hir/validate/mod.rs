@@ -57,6 +57,7 @@ pub fn file_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -> 
             range: e.range,
             message: e.message.clone(),
             suggestion: None,
+            related: Vec::new(),
         })
         .collect();
     diagnostics.extend(check_file(db, workspace, file).iter().cloned());

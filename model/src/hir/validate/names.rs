@@ -1,25 +1,29 @@
 //! Names: two things of one name in one scope, a diagram or type declared in another file too,
 //! and imports of names that do not exist.
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 use super::{Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasName},
     hir::items::import_item,
 };
+use crate::{hir::diagnostics::Related, syntax::TextRange};
 
 /// Reports every name of `names` after the first of its spelling.
 pub(super) fn duplicates(ctx: &mut Ctx, names: impl Iterator<Item = ast::Name>, what: &str) {
-    let mut seen: HashSet<String> = HashSet::new();
+    let mut first: HashMap<String, TextRange> = HashMap::new();
     for name in names {
         let text = name.text();
-        if !seen.insert(text.clone()) {
-            ctx.sink.error(
+        let range = name.syntax().text_range();
+        match first.get(&text) {
+            Some(&declared) => ctx.sink.error_with_related(
                 DiagnosticCode::DuplicateName,
-                name.syntax().text_range(),
+                range,
                 format!("{what} `{text}` is declared more than once in this scope"),
-            );
+                vec![Related { file: ctx.file, range: declared, message: format!("`{text}` is first declared here") }],
+            ),
+            None => drop(first.insert(text, range)),
         }
     }
 }
@@ -29,10 +33,16 @@ pub(super) fn unique_across_files(ctx: &mut Ctx, fqn: &str, name: &ast::Name, wh
     let here = ctx.file;
     let db = ctx.sema.db();
     if let Some(other) = ctx.sema.lookup(fqn).iter().find(|d| d.file != here) {
-        ctx.sink.error(
+        let related = ctx.sema.declaration(other).map(|(_, focus)| Related {
+            file: other.file,
+            range: focus,
+            message: format!("`{fqn}` is also declared here"),
+        });
+        ctx.sink.error_with_related(
             DiagnosticCode::DuplicateName,
             name.syntax().text_range(),
             format!("{what} `{fqn}` is also declared in {}", other.file.path(db)),
+            related.into_iter().collect(),
         );
     }
 }
