@@ -4,7 +4,10 @@
 use super::{unresolved_message, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasName},
-    hir::{definitions::DefKind, infer::InferenceCtx, items::TypeKind, semantics::describe, ty::is_builtin_type_name},
+    hir::{
+        definitions::DefKind, infer::InferenceCtx, items::TypeKind, semantics::describe, spelling::closest,
+        ty::is_builtin_type_name,
+    },
     syntax::SyntaxNode,
 };
 
@@ -73,10 +76,11 @@ pub(super) fn attribute_uses(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
             for arg in use_.args() {
                 let Some(field) = arg.name() else { continue };
                 let Some(declared) = attribute.fields.iter().find(|f| f.name == field.text()) else {
-                    ctx.sink.error(
+                    ctx.sink.error_with_suggestion(
                         DiagnosticCode::InvalidAttributeUse,
                         field.syntax().text_range(),
                         format!("attribute `{text}` has no field `{}`", field.text()),
+                        closest(&field.text(), attribute.fields.iter().map(|f| f.name.as_str())),
                     );
                     continue;
                 };
