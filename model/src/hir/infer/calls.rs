@@ -46,25 +46,24 @@ impl<'db> InferenceCtx<'_, 'db> {
             }
             Some(ast::Expr::MemberExpr(member)) => {
                 let receiver = member.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
-                match (receiver, member.member()) {
-                    (Ty::Named(fqn), Some(method)) => match self.sema.definition(&fqn) {
-                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
-                        None => self.infer_all(&args),
-                    },
-                    _ => self.infer_all(&args),
-                }
+                self.call_on(receiver, member.member(), &args)
             }
             Some(ast::Expr::ScopeExpr(scoped)) => {
                 let scope = scoped.scope().map_or(Ty::Unknown, |r| self.infer(&r));
-                match (scope, scoped.member()) {
-                    (Ty::Named(fqn), Some(method)) => match self.sema.definition(&fqn) {
-                        Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), true),
-                        None => self.infer_all(&args),
-                    },
-                    _ => self.infer_all(&args),
-                }
+                self.call_on(scope, scoped.member(), &args)
             }
             _ => self.infer_all(&args),
+        }
+    }
+
+    /// `receiver.method(args)` and `Type::method(args)`: a method of the receiver's type.
+    fn call_on(&mut self, receiver: Ty, method: Option<ast::NameRef>, args: &[ast::Expr]) -> Ty {
+        match (receiver.dereferenced(), method) {
+            (Ty::Named(fqn), Some(method)) => match self.sema.definition(fqn) {
+                Some(def) => self.check_call(def, &method.text(), args, method.syntax(), true),
+                None => self.infer_all(args),
+            },
+            _ => self.infer_all(args),
         }
     }
 
