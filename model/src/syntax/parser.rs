@@ -19,6 +19,8 @@ pub(crate) struct Input<'t> {
     /// Token `i` is immediately followed by token `i + 1` (no trivia between).
     joint: Vec<bool>,
     text_len: u32,
+    /// Every `{` of the text has its `}`.
+    braces_balanced: bool,
 }
 
 impl<'t> Input<'t> {
@@ -31,6 +33,7 @@ impl<'t> Input<'t> {
             ranges: Vec::with_capacity(n / 2),
             joint: Vec::with_capacity(n / 2),
             text_len: text.len() as u32,
+            braces_balanced: false,
         };
         let mut offset = 0u32;
         let mut previous_was_token = false;
@@ -56,6 +59,12 @@ impl<'t> Input<'t> {
             input.ranges.push(range);
             input.joint.push(false);
         }
+        let depth = input.kinds.iter().fold(0i64, |depth, kind| match kind {
+            L_CURLY => depth + 1,
+            R_CURLY => depth - 1,
+            _ => depth,
+        });
+        input.braces_balanced = depth == 0;
         input
     }
 
@@ -390,6 +399,12 @@ impl<'i> Parser<'i> {
     }
 
     /// Source text of the current token (empty at the end).
+    /// Whether every `{` of the text has its `}`: then a declaration inside a body is nested
+    /// on purpose, not the next one after a missing `}`.
+    pub(crate) fn braces_balanced(&self) -> bool {
+        self.input.braces_balanced
+    }
+
     pub(crate) fn current_text(&self) -> &'i str {
         match self.input.ranges.get(self.pos) {
             Some(range) => &self.input.text[*range],

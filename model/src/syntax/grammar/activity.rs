@@ -201,6 +201,8 @@ fn node_body(p: &mut Parser, what: &str) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if at_transition(p) {
                 transition(p);
+            } else if at_node(p).is_some() && p.braces_balanced() {
+                nested_node(p, what);
             } else if at_activity_level_start(p) {
                 break;
             } else {
@@ -228,6 +230,17 @@ fn node_body(p: &mut Parser, what: &str) {
         }
     }
     m.complete(p, NODE_BODY);
+}
+
+/// A node inside a node's body (the node container of loop and conditional nodes, Sec.
+/// 9.2.2.3): parsed whole, as one error, so that nothing after it is misread.
+fn nested_node(p: &mut Parser, outer: &str) {
+    p.error_here(format!(
+        "nested nodes (a node container, Sec. 9.2.2.3) are not supported yet: move this node out of {outer} and connect them with transitions"
+    ));
+    let m = p.start();
+    node(p);
+    m.complete(p, ERROR);
 }
 
 fn at_transition(p: &Parser) -> bool {
