@@ -316,3 +316,20 @@ fn render_writes_identical_svg_and_png_per_diagram() {
     assert_eq!(out.status.code(), Some(2), "an unreadable path is exit code 2");
     assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/path.gudsl"));
 }
+
+#[test]
+fn a_duplicate_across_files_shows_where_the_other_declaration_is() {
+    let dir = temp_dir("duplicate");
+    std::fs::write(dir.join("a.gudsl"), "ActivityDiagram Ad()\n{\n    swimlane L { start S { => f; } final f; }\n}\n")
+        .unwrap();
+    std::fs::write(dir.join("b.gudsl"), "ActivityDiagram Ad()\n{\n    swimlane L { start S { => f; } final f; }\n}\n")
+        .unwrap();
+    let out = gudsl().args(["check", dir.to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    // Each report points to the other file's declaration with a secondary label.
+    assert!(stdout.contains("also declared in"), "{stdout}");
+    assert_eq!(stdout.matches("`Ad` is also declared here").count(), 2, "{stdout}");
+    assert!(stdout.contains(&format!("┌─ {}:1:17", dir.join("a.gudsl").display())), "{stdout}");
+    assert!(stdout.contains(&format!("┌─ {}:1:17", dir.join("b.gudsl").display())), "{stdout}");
+}

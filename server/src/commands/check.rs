@@ -42,12 +42,19 @@ pub fn run(args: &CheckArgs) -> ExitCode {
             return ExitCode::from(2);
         };
         let file_index = report.files.len();
-        report.findings.extend(found.iter().map(|d| Finding {
-            file: file_index,
-            severity: d.severity,
-            code: d.code,
-            message: d.message.clone(),
-            range: d.range,
+        report.findings.extend(found.iter().map(|d| {
+            Finding {
+                file: file_index,
+                severity: d.severity,
+                code: d.code,
+                message: d.message.clone(),
+                range: d.range,
+                related: d
+                    .related
+                    .iter()
+                    .filter_map(|r| Some((files.iter().position(|f| *f == r.file)?, r.range, r.message.clone())))
+                    .collect(),
+            }
         }));
         report.files.push(CheckedFile {
             path: document.path.display().to_string(),

@@ -71,7 +71,16 @@ pub fn write(report: &Report, style: Style, color: Color) -> io::Result<()> {
         }
         .with_code(finding.code.as_str())
         .with_message(&finding.message)
-        .with_labels(vec![Label::primary(finding.file, finding.range)]);
+        .with_labels(
+            std::iter::once(Label::primary(finding.file, finding.range))
+                .chain(
+                    finding
+                        .related
+                        .iter()
+                        .map(|(file, range, message)| Label::secondary(*file, *range).with_message(message.clone())),
+                )
+                .collect(),
+        );
         emit(&mut stdout, &config, &files, &diagnostic)?;
     }
     let mut stderr = color.stderr();

@@ -35,6 +35,9 @@ pub struct Finding {
     pub code: DiagnosticCode,
     pub message: String,
     pub range: TextRange,
+    /// Other places that explain it (file index, range, message): a duplicate's first
+    /// declaration.
+    pub related: Vec<(usize, TextRange, String)>,
 }
 
 /// Everything one run found: the files checked, their problems (in file order, each file's in
