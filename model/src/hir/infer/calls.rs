@@ -130,17 +130,7 @@ impl<'db> InferenceCtx<'_, 'db> {
         };
         if let [only] = same_arity.as_slice() {
             for (i, ((arg, arg_ty), param_ty)) in args.iter().zip(&arg_tys).zip(param_tys(only)).enumerate() {
-                if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
-                    self.sink.error(
-                        DiagnosticCode::ArgumentType,
-                        arg.syntax().text_range(),
-                        format!(
-                            "argument {} of `{method}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
-                            i + 1,
-                            only.1.params[i].name
-                        ),
-                    );
-                }
+                self.expect_argument(method, i, &only.1.params[i].name, &param_ty, arg, arg_ty);
             }
             return return_ty(only);
         }
@@ -203,18 +193,7 @@ impl<'db> InferenceCtx<'_, 'db> {
         let scope = Scope::of(def);
         for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
             let param_ty = sema.ty(&param.ty, &scope);
-            if !arg_ty.assignable_to(&param_ty, &mut |a, b| sema.is_subtype(a, b)) {
-                self.sink.error(
-                    DiagnosticCode::ArgumentType,
-                    arg.syntax().text_range(),
-                    format!(
-                        "argument {} of `{}` (`{}`) expects `{param_ty}`, but this is `{arg_ty}`",
-                        i + 1,
-                        def.fqn,
-                        param.name
-                    ),
-                );
-            }
+            self.expect_argument(&def.fqn, i, &param.name, &param_ty, arg, arg_ty);
         }
         Ty::Void
     }
@@ -239,27 +218,45 @@ impl<'db> InferenceCtx<'_, 'db> {
         if args.len() != leading + params.len() {
             return;
         }
-        let sema = self.sema;
         for (i, (arg, arg_ty)) in args.iter().zip(&arg_tys).enumerate() {
-            let problem = match i.checked_sub(leading) {
-                None if !matches!(arg_ty.dereferenced(), Ty::Int | Ty::UInt | Ty::Unknown) => Some(format!(
-                    "argument {} of `{target}` is a work size or range: an integer, but this is `{arg_ty}`",
-                    i + 1
-                )),
-                None => None,
+            match i.checked_sub(leading) {
+                None if !matches!(arg_ty.dereferenced(), Ty::Int | Ty::UInt | Ty::Unknown) => self.sink.error(
+                    DiagnosticCode::ArgumentType,
+                    arg.syntax().text_range(),
+                    format!(
+                        "argument {} of `{target}` is a work size or range: an integer, but this is `{arg_ty}`",
+                        i + 1
+                    ),
+                ),
+                None => {}
                 Some(p) => {
                     let (name, param_ty) = &params[p];
-                    (!arg_ty.assignable_to(param_ty, &mut |a, b| sema.is_subtype(a, b))).then(|| {
-                        format!(
-                            "argument {} of `{target}` (`{name}`) expects `{param_ty}`, but this is `{arg_ty}`",
-                            i + 1
-                        )
-                    })
+                    self.expect_argument(&target, i, name, param_ty, arg, arg_ty);
                 }
-            };
-            if let Some(message) = problem {
-                self.sink.error(DiagnosticCode::ArgumentType, arg.syntax().text_range(), message);
             }
+        }
+    }
+
+    /// Argument `index` (from 0) of `callee`, of type `arg_ty`, fits parameter `param`.
+    fn expect_argument(
+        &mut self,
+        callee: &str,
+        index: usize,
+        param: &str,
+        param_ty: &Ty,
+        arg: &ast::Expr,
+        arg_ty: &Ty,
+    ) {
+        let sema = self.sema;
+        if !arg_ty.assignable_to(param_ty, &mut |a, b| sema.is_subtype(a, b)) {
+            self.sink.error(
+                DiagnosticCode::ArgumentType,
+                arg.syntax().text_range(),
+                format!(
+                    "argument {} of `{callee}` (`{param}`) expects `{param_ty}`, but this is `{arg_ty}`",
+                    index + 1
+                ),
+            );
         }
     }
 
