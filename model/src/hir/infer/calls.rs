@@ -205,7 +205,7 @@ impl<'db> InferenceCtx<'_, 'db> {
         let args: Vec<ast::Expr> = transition.args().collect();
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
         let Some(target) = transition.target().map(|t| t.text()) else { return };
-        let Some(node) = self.nodes.get(&target).cloned() else { return };
+        let Some(node) = self.nodes.and_then(|nodes| nodes.get(&target)).cloned() else { return };
         let params: Vec<(String, Ty)> = node
             .params()
             .map(|p| (p.name().map(|n| n.text()).unwrap_or_default(), self.written_type(p.type_ref())))

@@ -40,7 +40,7 @@ pub struct InferenceCtx<'a, 'db> {
     /// The method whose body this is and its return type, for `return` statements.
     returns: Option<(String, Ty)>,
     /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
-    nodes: HashMap<String, ast::ActivityNode>,
+    nodes: Option<&'a HashMap<String, ast::ActivityNode>>,
     owner: Option<&'db Definition>,
 }
 
@@ -60,7 +60,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             constants: HashSet::new(),
             access: HashMap::new(),
             returns: None,
-            nodes: HashMap::new(),
+            nodes: None,
             owner,
         }
     }
@@ -93,10 +93,10 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         self.ty_of(ty)
     }
 
-    /// The body is a node of a diagram with these nodes: transitions' arguments are checked
+    /// The body is a node of a diagram with these nodes (by name): transitions' arguments are checked
     /// against their targets' parameters (and a calc node's work sizes are integers).
-    pub fn expect_transitions_to(&mut self, nodes: &[ast::ActivityNode]) {
-        self.nodes = nodes.iter().filter_map(|n| Some((n.name()?.text(), n.clone()))).collect();
+    pub fn expect_transitions_to(&mut self, nodes: &'a HashMap<String, ast::ActivityNode>) {
+        self.nodes = Some(nodes);
     }
 
     /// The body is method `name`'s, which returns `ty`: `return` statements are checked.

@@ -2,6 +2,8 @@
 //! nodes, loopWindow headers, and node bodies (typed against the diagram's locals, the node's
 //! header and the owner's members); then the control flow (`flow`).
 
+use std::collections::HashMap;
+
 use super::{calls, flow, names, types, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
@@ -45,6 +47,8 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
     nodes.extend(diagram.nodes());
     names::duplicates(ctx, nodes.iter().filter_map(|n| n.name()), "node");
     let locals = diagram_locals(diagram);
+    let by_name: HashMap<String, ast::ActivityNode> =
+        nodes.iter().filter_map(|n| Some((n.name()?.text(), n.clone()))).collect();
     for node in &nodes {
         if node.kind() == ast::NodeKind::LoopWindow {
             loop_window_sections(ctx, node);
@@ -58,7 +62,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
             for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
                 typing.declare(name, ty);
             }
-            typing.expect_transitions_to(&nodes);
+            typing.expect_transitions_to(&by_name);
             if let Some(header) = node.loop_header() {
                 typing.check_loop_header(&header);
             }
