@@ -494,6 +494,16 @@ pub enum ConnectorRole {
     Processor,
 }
 
+impl ConnectorRole {
+    /// The keyword that writes it: `provider` or `processor`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            ConnectorRole::Provider => "provider",
+            ConnectorRole::Processor => "processor",
+        }
+    }
+}
+
 fn connector_role(node: &SyntaxNode) -> Option<ConnectorRole> {
     match node.first_token()?.kind() {
         PROVIDER_KW => Some(ConnectorRole::Provider),

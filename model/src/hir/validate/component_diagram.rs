@@ -63,7 +63,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
                 ctx.sink.error(
                     DiagnosticCode::InvalidConnection,
                     connection.syntax().text_range(),
-                    format!("a connection joins a provider and a processor, not two {}s", role_name(*source)),
+                    format!("a connection joins a provider and a processor, not two {}s", source.keyword()),
                 );
                 continue;
             }
@@ -181,7 +181,7 @@ fn connector_interface(ctx: &mut Ctx, scope: &Scope, role: ConnectorRole, interf
         Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Interface(_)) => ctx.sink.error(
             DiagnosticCode::InvalidConnectorInterface,
             range,
-            format!("a {0} connector needs a `{0}` interface; `{text}` is not one", role_name(role)),
+            format!("a {0} connector needs a `{0}` interface; `{text}` is not one", role.keyword()),
         ),
         Some(other) => ctx.sink.error(
             DiagnosticCode::InvalidConnectorInterface,
@@ -199,13 +199,5 @@ fn kind_name(kind: ClassKind) -> &'static str {
         ClassKind::Source => "source",
         ClassKind::Filter => "filter",
         ClassKind::Sink => "sink",
-    }
-}
-
-/// The message-ready name of a connector role.
-fn role_name(role: ConnectorRole) -> &'static str {
-    match role {
-        ConnectorRole::Provider => "provider",
-        ConnectorRole::Processor => "processor",
     }
 }

@@ -9,7 +9,7 @@ use crate::{
         definitions::DefKind,
         infer::InferenceCtx,
         instances::{BindingEnd, UnresolvedEnd},
-        items::{ConnectorRole, PortItem},
+        items::PortItem,
         spelling::closest,
     },
 };
@@ -104,7 +104,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentInstan
 fn connector_instances(ctx: &mut Ctx, scope: &Scope, port_instance: &ast::PortInstance, port: &PortItem) {
     let simple = |path: &str| path.rsplit('.').next().unwrap_or(path).to_string();
     let offered: Vec<String> =
-        port.connectors.iter().map(|c| format!("{} {} : {}", role_word(c.role), c.name, c.interface)).collect();
+        port.connectors.iter().map(|c| format!("{} {} : {}", c.role.keyword(), c.name, c.interface)).collect();
     for connector in port_instance.connectors() {
         let (Some(name), Some(role), Some(interface)) = (connector.name(), connector.role(), connector.interface())
         else {
@@ -133,9 +133,9 @@ fn connector_instances(ctx: &mut Ctx, scope: &Scope, port_instance: &ast::PortIn
                     "port `{}` connects `{}` as a {}, not a {}: write `{} {} = …`",
                     port.name,
                     interface.text(),
-                    role_word(same_interface[0].role),
-                    role_word(role),
-                    role_word(same_interface[0].role),
+                    same_interface[0].role.keyword(),
+                    role.keyword(),
+                    same_interface[0].role.keyword(),
                     name.text()
                 ),
             );
@@ -167,13 +167,6 @@ fn field_values_once(ctx: &mut Ctx, instance: &ast::ComponentInstance) {
                 format!("field `{}` is given a value more than once", field.text()),
             );
         }
-    }
-}
-
-fn role_word(role: ConnectorRole) -> &'static str {
-    match role {
-        ConnectorRole::Provider => "provider",
-        ConnectorRole::Processor => "processor",
     }
 }
 
