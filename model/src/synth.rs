@@ -67,8 +67,11 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
         let _ = writeln!(out, "    /// Class {class_index} of {pkg}.");
         let _ = writeln!(out, "    [GeneratorVisibility(visible = true)]");
         // Class 0 and 1 are the source and the sink of the file's component diagram.
+        // They implement the interfaces of their ports.
         let kind = ["source", "sink"].get(class_index).unwrap_or(&"class");
-        let _ = writeln!(out, "    public {kind} {name}{base}\n    {{");
+        let interfaces = ["Provider", "Processor"].get(class_index).map(|i| format!(" implements I{pkg}{i}"));
+        let interfaces = interfaces.unwrap_or_default();
+        let _ = writeln!(out, "    public {kind} {name}{base}{interfaces}\n    {{");
         for f in 0..4 {
             let ty = TYPES[rng.below(TYPES.len())];
             let _ = writeln!(out, "        public {ty} field{f};");

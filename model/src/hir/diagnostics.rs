@@ -102,6 +102,9 @@ pub enum DiagnosticCode {
     JoinOfOneFlow,
     /// A `read` image written, or a `write` image read.
     ImageAccess,
+    /// A port's connector interface the component's class does not implement (an anonymous
+    /// interface, Sec. 11.3.2.1).
+    InterfaceNotImplemented,
 }
 
 impl DiagnosticCode {
@@ -147,6 +150,7 @@ impl DiagnosticCode {
             DiagnosticCode::UnguardedDecision => "E0237",
             DiagnosticCode::JoinOfOneFlow => "E0238",
             DiagnosticCode::ImageAccess => "E0239",
+            DiagnosticCode::InterfaceNotImplemented => "E0240",
         }
     }
 
@@ -194,6 +198,7 @@ impl DiagnosticCode {
             DiagnosticCode::UnguardedDecision => "a decision without a guarded transition",
             DiagnosticCode::JoinOfOneFlow => "a join with a single incoming transition",
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
+            DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
         }
     }
 }

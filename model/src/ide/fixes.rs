@@ -1,6 +1,7 @@
 //! Quick fixes for diagnostics: create a missing node, remove an unreachable one, fix a
-//! transition's arguments, add the processor signature a provider method needs, import an
-//! ambiguous type, and correct a misspelt type or owner name.
+//! transition's arguments, add the processor signature a provider method needs, implement a
+//! port's interface in the component's class, import an ambiguous type, and correct a
+//! misspelt name.
 
 use crate::{
     ast::{self, AstNode, HasName},
@@ -9,7 +10,7 @@ use crate::{
         file_diagnostics,
         items::{InterfaceRole, TypeKind},
         spelling::{closest, edit_distance, typo_distance},
-        DefKind, DiagnosticCode, Semantics,
+        DefKind, DiagnosticCode, Scope, Semantics,
     },
     syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
     text::{line_ending, with_line_ending},
@@ -84,6 +85,16 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
             DiagnosticCode::MissingProcessorSignature => {
                 if let Some((title, edit)) = add_processor_signature(&root, &node, text) {
                     push(title, vec![edit]);
+                }
+            }
+            DiagnosticCode::InterfaceNotImplemented => {
+                if let Some((title, edit)) = implement_interface(db, workspace, &node) {
+                    fixes.push(QuickFix {
+                        title,
+                        code: diagnostic.code,
+                        diagnostic_range: diagnostic.range,
+                        edits: vec![edit],
+                    });
                 }
             }
             DiagnosticCode::UnresolvedType | DiagnosticCode::UnresolvedOwner => {
@@ -294,6 +305,42 @@ fn add_processor_signature(root: &SyntaxNode, node: &SyntaxNode, text: &str) -> 
     Some((format!("Add `process{suffix}` to processor interface `{interface}`"), edit))
 }
 
+/// A port's interface its component's class does not implement: add it to the class's
+/// `implements` clause (in the class diagram's file), by the name the class's scope sees.
+fn implement_interface(db: &dyn Db, workspace: Workspace, node: &SyntaxNode) -> Option<(String, (FileRange, String))> {
+    let sema = Semantics::new(db, workspace);
+    let interface = node.ancestors().find_map(ast::Path::cast)?;
+    let component = node.ancestors().find_map(ast::Component::cast)?;
+    let scope = Scope::at(component.syntax());
+    let interface = sema.resolve(&scope, &interface.text())?;
+    let class = sema.resolve(&scope, &component.class()?.text())?;
+    if crate::library::is_library(db, class.file) {
+        return None;
+    }
+    let (declaration, _) = sema.declaration(class)?;
+    let declaration = ast::Class::cast(declaration)?;
+    let class_scope = Scope::at(declaration.syntax());
+    let simple = interface.fqn.rsplit('.').next().unwrap_or(&interface.fqn);
+    let written = match sema.resolve(&class_scope, simple) {
+        Some(def) if def.fqn == interface.fqn => simple.to_string(),
+        _ => interface.fqn.clone(),
+    };
+    let edit = match declaration.implements_clause() {
+        Some(clause) => (TextRange::empty(clause.syntax().text_range().end()), format!(", {written}")),
+        None => {
+            let after = declaration
+                .extends_clause()
+                .map(|c| c.syntax().clone())
+                .or_else(|| declaration.template_param_list().map(|t| t.syntax().clone()))
+                .map(|n| n.text_range().end())
+                .or_else(|| declaration.name().map(|n| n.syntax().text_range().end()))?;
+            (TextRange::empty(after), format!(" implements {written}"))
+        }
+    };
+    let class_name = declaration.name()?.text();
+    Some((format!("Implement `{written}` in `{class_name}`"), (FileRange { file: class.file, range: edit.0 }, edit.1)))
+}
+
 /// Where an import goes in the diagram around `node` and how it is written around it: on a
 /// line of its own after the diagram's `{`, indented; right after the `{` when the diagram
 /// goes on on that line.
@@ -418,6 +465,16 @@ mod tests {
         assert!(out[0].starts_with("ClassDiagram U\n{\n    import A.Image;\n"), "{}", out[0]);
         let out = apply(&files, "Change to `Pixel`");
         assert!(out[0].contains("public Pixel p;"), "{}", out[0]);
+    }
+
+    #[test]
+    fn implement_a_port_interface_in_the_component_class() {
+        let text = "ClassDiagram D\n{\n    public interface provider IP { public void provideX(int x); }\n    public interface processor IQ { public void processX(int x); }\n    public source Cam { }\n    public filter F implements IQ { }\n}\nComponentDiagram C\n{\n    source D.Cam { port Out ( provider X : D.IP ); }\n    filter D.F { port In ( processor X : D.IQ ); port Res ( provider Y : D.IP ); }\n}\n";
+        let out = apply(&[("a.gudsl", text)], "Implement `IP` in `Cam`");
+        assert!(out[0].contains("public source Cam implements IP { }"), "{}", out[0]);
+        assert_eq!(out[1], "[\"E0240\"]", "the other class's warning stays");
+        let out = apply(&[("a.gudsl", text)], "Implement `IP` in `F`");
+        assert!(out[0].contains("public filter F implements IQ, IP { }"), "{}", out[0]);
     }
 
     /// Every fix offered for every diagnostic of every `err_` golden case, applied: the

@@ -10,7 +10,7 @@ use crate::{
     ast::{self, AstNode, HasEnds, HasName},
     hir::{
         components::signature_key,
-        definitions::DefKind,
+        definitions::{DefKind, Definition},
         items::{ClassKind, ConnectorRole, InterfaceRole, TypeKind},
         semantics::describe,
     },
@@ -29,6 +29,8 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
         if let Some(class) = component.class() {
             component_class(ctx, scope, component.kind(), &class);
         }
+        let class = component.class().and_then(|c| ctx.sema.resolve(scope, &c.text()));
+        let class = class.filter(|c| matches!(&c.kind, DefKind::Type(ty) if matches!(ty.kind, TypeKind::Class(_))));
         names::duplicates(ctx, component.ports().filter_map(|p| p.name()), "port");
         names::duplicates(ctx, component.connections().filter_map(|c| c.connection_name()), "connection");
         for port in component.ports() {
@@ -40,8 +42,11 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
                     continue;
                 };
                 connectors.insert(format!("{port_name}.{}", name.text()), (role, interface.text()));
-                connector_interface(ctx, scope, role, &interface);
+                let fits = connector_interface(ctx, scope, role, &interface);
                 role_of_kind(ctx, component.kind(), role, &name);
+                if let (Some(class), Some(interface_def)) = (class, fits) {
+                    implemented_by(ctx, &class.fqn, interface_def, &interface);
+                }
             }
         }
     }
@@ -74,6 +79,27 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
             corresponding_interfaces(ctx, scope, &connection, provider, processor);
         }
     }
+}
+
+/// The component's class implements the interfaces of its ports (Sec. 11.3.2.1: "interfaces by
+/// inheritance", the default). One it does not implement is an anonymous interface, which the
+/// text allows but whose methods the class then cannot call directly: a warning.
+fn implemented_by(ctx: &mut Ctx, class: &str, def: &Definition, interface: &ast::Path) {
+    if ctx.sema.is_subtype(class, &def.fqn) {
+        return;
+    }
+    let simple = |fqn: &str| fqn.rsplit('.').next().unwrap_or(fqn).to_string();
+    ctx.sink.warn(
+        DiagnosticCode::InterfaceNotImplemented,
+        interface.syntax().text_range(),
+        format!(
+            "`{}` does not implement `{}`: the port uses it as an anonymous interface (Sec. 11.3.2.1); \
+             add `implements {}` to the class to call its methods directly",
+            simple(class),
+            simple(&def.fqn),
+            simple(&def.fqn)
+        ),
+    );
 }
 
 /// A source only provides data and a sink only processes it (Sec. 11.3.2).
@@ -168,16 +194,22 @@ fn component_class(ctx: &mut Ctx, scope: &Scope, kind: ClassKind, class: &ast::P
     }
 }
 
-/// A connector's interface is an interface of the connector's role.
-fn connector_interface(ctx: &mut Ctx, scope: &Scope, role: ConnectorRole, interface: &ast::Path) {
+/// A connector's interface is an interface of the connector's role: that interface, if it is.
+fn connector_interface<'db>(
+    ctx: &mut Ctx<'db>,
+    scope: &Scope,
+    role: ConnectorRole,
+    interface: &ast::Path,
+) -> Option<&'db Definition> {
     let text = interface.text();
     let range = interface.syntax().text_range();
     let expected = match role {
         ConnectorRole::Provider => InterfaceRole::Provider,
         ConnectorRole::Processor => InterfaceRole::Processor,
     };
-    match ctx.sema.resolve(scope, &text).map(|d| &d.kind) {
-        Some(DefKind::Type(ty)) if ty.kind == TypeKind::Interface(expected) => {}
+    let def = ctx.sema.resolve(scope, &text);
+    match def.map(|d| &d.kind) {
+        Some(DefKind::Type(ty)) if ty.kind == TypeKind::Interface(expected) => return def,
         Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Interface(_)) => ctx.sink.error(
             DiagnosticCode::InvalidConnectorInterface,
             range,
@@ -190,6 +222,7 @@ fn connector_interface(ctx: &mut Ctx, scope: &Scope, role: ConnectorRole, interf
         ),
         None => ctx.sink.error(DiagnosticCode::InvalidConnectorInterface, range, format!("unknown interface `{text}`")),
     }
+    None
 }
 
 /// The keyword of a class kind.
