@@ -5,11 +5,13 @@
 use super::InferenceCtx;
 use crate::{
     ast::{self, AstNode, HasName},
+    db::{Db, Workspace},
     hir::{
-        definitions::{DefKind, Definition},
+        definitions::{DefKind, Definition, Fqn},
         diagnostics::{arguments, DiagnosticCode},
         items::MethodSignature,
         scope::Scope,
+        semantics::Semantics,
         spelling::closest,
         ty::Ty,
     },
@@ -183,19 +185,19 @@ impl<'db> InferenceCtx<'_, 'db> {
     pub(super) fn call_behavior(&mut self, call: &ast::CallBehaviorExpr) -> Ty {
         let args: Vec<ast::Expr> = call.args().collect();
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
-        let Some(path) = call.behavior() else { return Ty::Void };
+        // What is no behavior is validation's (E0211), and so is the number of arguments (E0210).
+        let Some(path) = call.behavior() else { return Ty::Unknown };
         let sema = self.sema;
-        let Some(def) = sema.resolve(&self.scope, &path.text()) else { return Ty::Void };
-        let DefKind::Activity(signature) = &def.kind else { return Ty::Void };
-        if signature.params.len() != args.len() {
-            return Ty::Void;
+        let Some(def) = sema.resolve(&self.scope, &path.text()) else { return Ty::Unknown };
+        let DefKind::Activity(signature) = &def.kind else { return Ty::Unknown };
+        if signature.params.len() == args.len() {
+            let scope = Scope::of(def);
+            for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
+                let param_ty = sema.ty(&param.ty, &scope);
+                self.expect_argument(&def.fqn, i, &param.name, &param_ty, arg, arg_ty);
+            }
         }
-        let scope = Scope::of(def);
-        for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
-            let param_ty = sema.ty(&param.ty, &scope);
-            self.expect_argument(&def.fqn, i, &param.name, &param_ty, arg, arg_ty);
-        }
-        Ty::Void
+        behavior_result(sema.db(), sema.workspace(), Fqn::new(sema.db(), def.fqn.clone())).clone()
     }
 
     /// `=> node(args)`: the work sizes of a calc node (3) or the ranges of a calcRange node
@@ -280,4 +282,26 @@ impl<'db> InferenceCtx<'_, 'db> {
             );
         }
     }
+}
+
+/// What `call behavior` of a diagram yields: the value its final nodes return (the first one's
+/// type; validation checks that they agree), `void` if they return none. A value that is itself
+/// the result of a behavior is not followed (`Unknown`): no chain of diagrams, no cycle.
+/// A query, so that a caller is re-checked when the result changes, not on every edit of the
+/// diagram's file.
+#[salsa::tracked(returns(ref))]
+pub(crate) fn behavior_result<'db>(db: &'db dyn Db, workspace: Workspace, diagram: Fqn<'db>) -> Ty {
+    let sema = Semantics::new(db, workspace);
+    let Some(def) = sema.definition(diagram.text(db)) else { return Ty::Unknown };
+    let Some(diagram) = sema.declaration(def).and_then(|(node, _)| ast::ActivityDiagram::cast(node)) else {
+        return Ty::Unknown;
+    };
+    let finals = diagram.swimlanes().flat_map(|lane| lane.nodes().collect::<Vec<_>>()).chain(diagram.nodes());
+    let Some(value) = finals.filter(|n| n.kind() == ast::NodeKind::Final).find_map(|n| n.return_value()) else {
+        return Ty::Void;
+    };
+    if value.syntax().descendants().any(|n| n.kind() == SyntaxKind::CALL_BEHAVIOR_EXPR) {
+        return Ty::Unknown;
+    }
+    sema.type_of_expr(&value)
 }

@@ -12,6 +12,7 @@ use crate::{
         infer::{diagram_locals, header_declarations, InferenceCtx},
         items::TypeKind,
         semantics::describe,
+        ty::Ty,
     },
     syntax::SyntaxKind,
 };
@@ -49,27 +50,81 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
     let locals = diagram_locals(diagram);
     let by_name: HashMap<String, ast::ActivityNode> =
         nodes.iter().filter_map(|n| Some((n.name()?.text(), n.clone()))).collect();
+    let mut results: Vec<(ast::ActivityNode, Option<Ty>)> = Vec::new();
     for node in &nodes {
         if node.kind() == ast::NodeKind::LoopWindow {
             loop_window_sections(ctx, node);
         }
         types::params(ctx, scope, node.param_list());
-        if let Some(body) = node.body() {
-            calls::expressions(ctx, scope, body.syntax());
+        let body = node.body();
+        let value = node.return_value();
+        for part in body.iter().map(|b| b.syntax()).chain(value.iter().map(|v| v.syntax())) {
+            calls::expressions(ctx, scope, part);
+        }
+        if let Some(body) = &body {
             names::duplicate_locals(ctx, body.syntax());
-            let owner = ctx.sema.owner_at(body.syntax());
-            let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
-            for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
-                typing.declare(name, ty);
-            }
-            typing.expect_transitions_to(&by_name);
-            if let Some(header) = node.loop_header() {
-                typing.check_loop_header(&header);
-            }
+        }
+        let owner = ctx.sema.owner_at(node.syntax());
+        let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+        for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
+            typing.declare(name, ty);
+        }
+        typing.expect_transitions_to(&by_name);
+        if let Some(header) = node.loop_header() {
+            typing.check_loop_header(&header);
+        }
+        if let Some(body) = &body {
             typing.check(body.syntax());
         }
+        if node.kind() == ast::NodeKind::Final {
+            results.push((node.clone(), value.map(|v| typing.infer(&v))));
+        }
     }
+    final_results(ctx, &results);
     flow::check(ctx, diagram, &nodes);
+}
+
+/// The final nodes of a diagram end it alike (`final f return expr`, grammar of appendix B): if
+/// one returns a value, every one does, and the values are of one type (the first's) — what
+/// `call behavior` of the diagram yields.
+fn final_results(ctx: &mut Ctx, results: &[(ast::ActivityNode, Option<Ty>)]) {
+    let name = |node: &ast::ActivityNode| node.name().map(|n| n.text()).unwrap_or_default();
+    let Some((first, first_ty)) = results.iter().find_map(|(node, ty)| Some((node, ty.as_ref()?))) else { return };
+    let sema = ctx.sema;
+    let returned = match first_ty {
+        Ty::Unknown => "a value".to_string(),
+        ty => format!("`{ty}`"),
+    };
+    for (node, ty) in results {
+        let range = node.name().map_or_else(|| node.syntax().text_range(), |n| n.syntax().text_range());
+        match ty {
+            None => ctx.sink.error(
+                DiagnosticCode::ReturnType,
+                range,
+                format!(
+                    "final node `{}` returns nothing, but `{}` returns {returned}: write `final {} return …` \
+                     (the final nodes of a diagram return values of one type)",
+                    name(node),
+                    name(first),
+                    name(node)
+                ),
+            ),
+            Some(ty) if !ty.assignable_to(first_ty, &mut |a, b| sema.is_subtype(a, b)) => {
+                let value = node.return_value().map_or(range, |v| v.syntax().text_range());
+                ctx.sink.error(
+                    DiagnosticCode::ReturnType,
+                    value,
+                    format!(
+                        "final node `{}` returns `{ty}`, but `{}` returns `{first_ty}` (the final nodes of a diagram \
+                         return values of one type)",
+                        name(node),
+                        name(first)
+                    ),
+                );
+            }
+            Some(_) => {}
+        }
+    }
 }
 
 /// `shared` memory parameters only in diagrams owned by a class that implements `OpenCL`
