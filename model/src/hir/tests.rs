@@ -152,6 +152,54 @@ fn editing_one_file_keeps_the_other_files_diagnostics() {
     assert_eq!(count(&log, "check_file"), 1, "{log:#?}");
 }
 
+#[test]
+fn a_caller_of_a_behavior_is_rechecked_when_its_result_changes_not_on_every_edit() {
+    let db = RootDatabase::with_execution_log();
+    let callee = "ActivityDiagram AdCount(int n)
+{
+    var int count = 0;
+    swimlane L
+    {
+        start S { => work; }
+        action work { count = n * 2; => done; }
+        final done return count;
+    }
+}
+";
+    let caller = "ActivityDiagram AdUse()
+{
+    var int total;
+    swimlane L
+    {
+        start S { => use; }
+        action use { total = call behavior AdCount(3); => done; }
+        final done;
+    }
+}
+";
+    let files = vec![
+        SourceFile::new(&db, "callee.gudsl".into(), callee.into()),
+        SourceFile::new(&db, "caller.gudsl".into(), caller.into()),
+    ];
+    let mut f = Fixture { workspace: Workspace::new(&db, files.clone()), db, files };
+    assert_eq!(f.check_all(), 0);
+    f.db.take_executions();
+    // The callee's body changes, its result (`int`) does not: the caller is not re-checked.
+    f.edit(0, "count = n * 2;", "count = n * 3;");
+    assert_eq!(f.check_all(), 0);
+    let log = f.executions();
+    assert_eq!(count(&log, "behavior_result"), 1, "{log:#?}");
+    assert_eq!(count(&log, "check_file"), 1, "{log:#?}");
+    // The result becomes a string: the caller is re-checked and its assignment is an error.
+    f.edit(0, "final done return count;", "final done return \"many\";");
+    assert_eq!(f.check_all(), 1);
+    let log = f.executions();
+    assert_eq!(count(&log, "check_file"), 2, "{log:#?}");
+    let messages: Vec<String> =
+        file_diagnostics(&f.db, f.workspace, f.files[1]).iter().map(|d| d.message.clone()).collect();
+    assert!(messages[0].contains("`total` has type `int`, but the value is `string`"), "{messages:?}");
+}
+
 // ---- the Semantics API
 
 /// A database of `files`, and the offset of `needle` in the first one.
