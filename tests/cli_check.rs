@@ -332,4 +332,30 @@ fn a_duplicate_across_files_shows_where_the_other_declaration_is() {
     assert_eq!(stdout.matches("`Ad` is also declared here").count(), 2, "{stdout}");
     assert!(stdout.contains(&format!("┌─ {}:1:17", dir.join("a.gudsl").display())), "{stdout}");
     assert!(stdout.contains(&format!("┌─ {}:1:17", dir.join("b.gudsl").display())), "{stdout}");
+
+    // SARIF: the other declaration is a related location (valid SARIF 2.1.0).
+    let out = gudsl().args(["check", "--format", "sarif", "."]).current_dir(&dir).output().unwrap();
+    let (valid, report) = sarif_violations(&out.stdout);
+    assert!(valid, "{report}");
+    let log: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let results = log["runs"][0]["results"].as_array().unwrap();
+    assert_eq!(results.len(), 2);
+    for result in results {
+        let own = &result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"];
+        let related = &result["relatedLocations"][0];
+        let other = &related["physicalLocation"]["artifactLocation"]["uri"];
+        assert_ne!(own, other, "{result}");
+        assert_eq!(related["physicalLocation"]["region"]["startLine"], 1, "{result}");
+        assert_eq!(related["physicalLocation"]["region"]["startColumn"], 17, "{result}");
+        assert!(related["message"]["text"].as_str().unwrap().contains("`Ad`"), "{result}");
+    }
+
+    // JSON: the same, as `related`.
+    let out = gudsl().args(["check", "--format", "json", "."]).current_dir(&dir).output().unwrap();
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let first = &report["diagnostics"][0];
+    assert!(first["path"].as_str().unwrap().ends_with("a.gudsl"), "{first}");
+    let related = &first["related"][0];
+    assert!(related["path"].as_str().unwrap().ends_with("b.gudsl"), "{first}");
+    assert_eq!((related["line"].as_u64(), related["column"].as_u64()), (Some(1), Some(17)), "{first}");
 }

@@ -1,6 +1,6 @@
 //! The report as one JSON document, for scripts: every problem with its path, 1-based start
-//! and end (columns count characters), severity, code and message, the counts, and the paths
-//! that could not be read.
+//! and end (columns count characters), severity, code, message and related places, the counts,
+//! and the paths that could not be read.
 
 use std::io;
 
@@ -18,6 +18,18 @@ struct Diagnostic<'a> {
     end_column: u32,
     severity: &'static str,
     code: &'static str,
+    message: &'a str,
+    /// Other places that explain it (a duplicate's first declaration).
+    related: Vec<Related<'a>>,
+}
+
+#[derive(Serialize)]
+struct Related<'a> {
+    path: &'a str,
+    line: u32,
+    column: u32,
+    end_line: u32,
+    end_column: u32,
     message: &'a str,
 }
 
@@ -51,6 +63,21 @@ pub fn write(report: &Report, out: &mut impl io::Write) -> io::Result<()> {
                 severity: finding.severity.as_str(),
                 code: finding.code.as_str(),
                 message: &finding.message,
+                related: finding
+                    .related
+                    .iter()
+                    .map(|(file, range, message)| {
+                        let (start, end) = report.span_in(*file, *range);
+                        Related {
+                            path: &report.files[*file].path,
+                            line: start.line,
+                            column: start.column,
+                            end_line: end.line,
+                            end_column: end.column,
+                            message,
+                        }
+                    })
+                    .collect(),
             }
         })
         .collect();

@@ -63,12 +63,17 @@ impl Report {
 
     /// Where a finding starts and ends.
     pub fn span(&self, finding: &Finding) -> (Position, Position) {
-        let index = &self.files[finding.file].index;
+        self.span_in(finding.file, finding.range)
+    }
+
+    /// Where `range` of checked file `file` starts and ends.
+    pub fn span_in(&self, file: usize, range: TextRange) -> (Position, Position) {
+        let index = &self.files[file].index;
         let at = |offset| {
             let at = index.line_col(offset, ColumnUnit::Char);
             Position { line: at.line + 1, column: at.col + 1 }
         };
-        (at(finding.range.start()), at(finding.range.end()))
+        (at(range.start()), at(range.end()))
     }
 
     pub fn path(&self, finding: &Finding) -> &str {

@@ -1,11 +1,15 @@
 //! The report as SARIF 2.1.0 (the format GitHub code scanning uploads), through `serde-sarif`'s
 //! types: one run of `gudsl`, a rule per code that occurs, a result per problem with its region
-//! (columns counted in Unicode code points, said in `columnKind`), and the paths that could not
-//! be read as tool execution notifications.
+//! (columns counted in Unicode code points, said in `columnKind`) and its related locations (a
+//! duplicate's first declaration), and the paths that could not be read as tool execution
+//! notifications.
 
 use std::{collections::BTreeMap, io, path::Path};
 
-use gudsl_model::hir::{DiagnosticCode, Severity};
+use gudsl_model::{
+    hir::{DiagnosticCode, Severity},
+    syntax::TextRange,
+};
 use serde_json::json;
 use serde_sarif::sarif::{
     ArtifactLocation, Invocation, Location, Message, MultiformatMessageString, Notification, PhysicalLocation, Region,
@@ -44,6 +48,18 @@ fn artifact(path: &Path) -> ArtifactLocation {
     }
 }
 
+/// `range` of checked file `file`: its artifact and region.
+fn physical_location(report: &Report, file: usize, range: TextRange) -> PhysicalLocation {
+    let (start, end) = report.span_in(file, range);
+    let region = Region::builder()
+        .start_line(i64::from(start.line))
+        .start_column(i64::from(start.column))
+        .end_line(i64::from(end.line))
+        .end_column(i64::from(end.column))
+        .build();
+    PhysicalLocation::builder().artifact_location(artifact(Path::new(&report.files[file].path))).region(region).build()
+}
+
 pub fn write(report: &Report, out: &mut impl io::Write) -> io::Result<()> {
     // The rules: each code that occurs, in code order.
     let mut codes: Vec<DiagnosticCode> = report.findings.iter().map(|f| f.code).collect();
@@ -64,24 +80,30 @@ pub fn write(report: &Report, out: &mut impl io::Write) -> io::Result<()> {
         .findings
         .iter()
         .map(|finding| {
-            let (start, end) = report.span(finding);
-            let region = Region::builder()
-                .start_line(i64::from(start.line))
-                .start_column(i64::from(start.column))
-                .end_line(i64::from(end.line))
-                .end_column(i64::from(end.column))
-                .build();
-            let location = PhysicalLocation::builder()
-                .artifact_location(artifact(Path::new(report.path(finding))))
-                .region(region)
-                .build();
-            SarifResult::builder()
+            let related: Vec<Location> = finding
+                .related
+                .iter()
+                .enumerate()
+                .map(|(id, (file, range, message))| {
+                    Location::builder()
+                        .id(id as i64)
+                        .physical_location(physical_location(report, *file, *range))
+                        .message(Message::builder().text(message).build())
+                        .build()
+                })
+                .collect();
+            let location = physical_location(report, finding.file, finding.range);
+            let result = SarifResult::builder()
                 .rule_id(finding.code.as_str())
                 .rule_index(codes.iter().position(|c| *c == finding.code).unwrap_or(0) as i64)
                 .level(level(finding.severity))
                 .message(Message::builder().text(&finding.message).build())
-                .locations(vec![Location::builder().physical_location(location).build()])
-                .build()
+                .locations(vec![Location::builder().physical_location(location).build()]);
+            if related.is_empty() {
+                result.build()
+            } else {
+                result.related_locations(related).build()
+            }
         })
         .collect();
     let notifications: Vec<Notification> = report
