@@ -210,7 +210,8 @@ pub struct Diagnostic {
     pub severity: Severity,
     pub range: TextRange,
     pub message: String,
-    /// The name the range was most likely meant to be ("did you mean"): a quick fix writes it.
+    /// What the range was most likely meant to read (a close name that exists, "did you mean";
+    /// the keyword the rule asks for): a quick fix writes it.
     pub suggestion: Option<String>,
     /// Other places that explain it (the first declaration of a duplicate).
     pub related: Vec<Related>,
@@ -265,6 +266,19 @@ impl Diagnostics {
             None => message,
         };
         let suggestion = suggestion.map(str::to_string);
+        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion, related: Vec::new() });
+    }
+
+    /// An error whose range must read `replacement` (a keyword the rule asks for; the message
+    /// says so): a quick fix writes it.
+    pub fn error_with_replacement(
+        &mut self,
+        code: DiagnosticCode,
+        range: TextRange,
+        message: String,
+        replacement: &str,
+    ) {
+        let suggestion = Some(replacement.to_string());
         self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion, related: Vec::new() });
     }
 

@@ -26,9 +26,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
     // Every port.connector of the diagram, for connection ends: its role and interface.
     let mut connectors: HashMap<String, (ConnectorRole, String)> = HashMap::new();
     for component in &components {
-        if let Some(class) = component.class() {
-            component_class(ctx, scope, component.kind(), &class);
-        }
+        component_class(ctx, scope, component);
         let class = component.class().and_then(|c| ctx.sema.resolve(scope, &c.text()));
         let class = class.filter(|c| matches!(&c.kind, DefKind::Type(ty) if matches!(ty.kind, TypeKind::Class(_))));
         names::duplicates(ctx, component.ports().filter_map(|p| p.name()), "port");
@@ -156,7 +154,9 @@ fn corresponding_interfaces(
 }
 
 /// A component is built on a class, of the kind its keyword says (`sink` on a sink class).
-fn component_class(ctx: &mut Ctx, scope: &Scope, kind: ClassKind, class: &ast::Path) {
+fn component_class(ctx: &mut Ctx, scope: &Scope, component: &ast::Component) {
+    let Some(class) = component.class() else { return };
+    let kind = component.kind();
     let text = class.text();
     match ctx.sema.resolve(scope, &text).map(|d| &d.kind) {
         Some(DefKind::Type(ty)) if ty.kind == TypeKind::Class(kind) || kind == ClassKind::Class => {}
@@ -170,15 +170,19 @@ fn component_class(ctx: &mut Ctx, scope: &Scope, kind: ClassKind, class: &ast::P
         ),
         Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {
             let TypeKind::Class(declared) = ty.kind else { return };
-            ctx.sink.error(
+            // The keyword is what is wrong: the quick fix writes the class's kind.
+            let keyword = [component.source_token(), component.filter_token(), component.sink_token()];
+            let range = keyword.into_iter().flatten().next().map_or(class.syntax().text_range(), |t| t.text_range());
+            ctx.sink.error_with_replacement(
                 DiagnosticCode::InvalidComponent,
-                class.syntax().text_range(),
+                range,
                 format!(
                     "`{text}` is declared as a {} class, not a {}: write `{} {text}`",
                     kind_name(declared),
                     kind_name(kind),
                     kind_name(declared)
                 ),
+                kind_name(declared),
             );
         }
         Some(other) => ctx.sink.error(

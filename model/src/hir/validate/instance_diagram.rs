@@ -126,9 +126,10 @@ fn connector_instances(ctx: &mut Ctx, scope: &Scope, port_instance: &ast::PortIn
             continue;
         }
         if !same_interface.iter().any(|c| c.role == role) {
-            ctx.sink.error(
+            let role_word = connector.provider_token().or_else(|| connector.processor_token());
+            ctx.sink.error_with_replacement(
                 DiagnosticCode::InvalidConnectorInterface,
-                name.syntax().text_range(),
+                role_word.map_or_else(|| name.syntax().text_range(), |t| t.text_range()),
                 format!(
                     "port `{}` connects `{}` as a {}, not a {}: write `{} {} = …`",
                     port.name,
@@ -138,6 +139,7 @@ fn connector_instances(ctx: &mut Ctx, scope: &Scope, port_instance: &ast::PortIn
                     same_interface[0].role.keyword(),
                     name.text()
                 ),
+                same_interface[0].role.keyword(),
             );
         }
         let Some(def) = ctx.sema.resolve(scope, &interface.text()) else { continue };
