@@ -243,6 +243,44 @@ fn type_of_an_expression_in_its_body() {
 }
 
 #[test]
+fn body_types_give_every_expression_of_a_node_and_its_locals() {
+    let text = "ActivityDiagram Ad(int4 pixel, int n)
+{
+    var float scale = 0.5f;
+    swimlane L
+    {
+        start S { => work; }
+        loopWindow work(var int u = -n; u <= n; u = u + 1)
+        {
+            var float3 f = new float3(pixel._x / 255.0f, pixel.y, 1.0f);
+            var int2 xy = pixel.xy;
+            var float s = f.s0 * scale + u;
+            [u > 0] => done;
+        }
+        final done;
+    }
+}
+";
+    let (db, ws, files) = workspace_of(&[("ad.gudsl", text)]);
+    let sema = Semantics::new(&db, ws);
+    let body: crate::ast::NodeBody = node_at(&db, files[0], "{\n            var float3");
+    let types = sema.body_types(body.syntax());
+    let expr = |needle: &str| node_at::<crate::ast::Expr>(&db, files[0], needle);
+    let ty = |needle: &str| types.of(&expr(needle)).to_string();
+    assert_eq!(ty("pixel._x / 255.0f"), "float");
+    assert_eq!(ty("pixel._x"), "int");
+    assert_eq!(ty("pixel.xy"), "int2", "a swizzle of two components is a vector");
+    assert_eq!(ty("f.s0 * scale + u"), "float");
+    assert_eq!(ty("u > 0"), "bool", "guards are typed");
+    assert_eq!(ty("-n"), "int", "the loop header is typed");
+    assert_eq!(types.locals.get("xy").map(|t| t.to_string()).as_deref(), Some("int2"));
+    assert_eq!(types.locals.get("scale").map(|t| t.to_string()).as_deref(), Some("float"));
+    assert_eq!(types.of(&expr("0.5f")).to_string(), "?", "the variable section is another body");
+    let diagram: crate::ast::ActivityDiagram = node_at(&db, files[0], "ActivityDiagram Ad");
+    assert_eq!(sema.body_types(diagram.syntax()).of(&expr("0.5f")).to_string(), "float");
+}
+
+#[test]
 fn names_classified_where_they_are_written() {
     use crate::{ast, hir::classify::NameRefClass};
     let (db, ws, files) = workspace_of(&[("user.gudsl", USER), ("defs.gudsl", DEFS)]);

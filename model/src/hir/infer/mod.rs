@@ -24,7 +24,7 @@ use super::{
 };
 use crate::{
     ast::{self, AstNode, HasName},
-    syntax::{SyntaxKind, SyntaxNode},
+    syntax::{SyntaxKind, SyntaxNode, TextRange},
 };
 
 /// Typing context of one body: local names, and the class whose members are in scope.
@@ -42,6 +42,28 @@ pub struct InferenceCtx<'a, 'db> {
     /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
     nodes: Option<&'a HashMap<String, ast::ActivityNode>>,
     owner: Option<&'db Definition>,
+    /// The type of every expression inferred, when asked for ([`Semantics::body_types`]).
+    record: Option<HashMap<ExprKey, Ty>>,
+}
+
+/// An expression by its syntax kind and range (unique within a file).
+type ExprKey = (SyntaxKind, TextRange);
+
+/// The types of the expressions of one body (an activity node's, with its header, guards and
+/// transitions; a method's; a diagram's variable section) and of its locals, as the checks saw
+/// them: what a code generator reads.
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+pub struct BodyTypes {
+    exprs: HashMap<ExprKey, Ty>,
+    /// Parameters, diagram variables and the body's own `var`s.
+    pub locals: HashMap<String, Ty>,
+}
+
+impl BodyTypes {
+    /// The type of `expr`; `Unknown` for one outside the body.
+    pub fn of(&self, expr: &ast::Expr) -> &Ty {
+        self.exprs.get(&(expr.syntax().kind(), expr.syntax().text_range())).unwrap_or(&Ty::Unknown)
+    }
 }
 
 impl<'a, 'db> InferenceCtx<'a, 'db> {
@@ -62,6 +84,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             returns: None,
             nodes: None,
             owner,
+            record: None,
         }
     }
 
@@ -203,6 +226,14 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
 
     /// The type of an expression, checking calls and assignments inside it on the way.
     pub fn infer(&mut self, expr: &ast::Expr) -> Ty {
+        let ty = self.infer_expr(expr);
+        if let Some(record) = &mut self.record {
+            record.insert((expr.syntax().kind(), expr.syntax().text_range()), ty.clone());
+        }
+        ty
+    }
+
+    fn infer_expr(&mut self, expr: &ast::Expr) -> Ty {
         match expr {
             ast::Expr::Literal(lit) => match lit.token().map(|t| t.kind()) {
                 Some(SyntaxKind::INT_NUMBER | SyntaxKind::CHAR) => Ty::Int,
@@ -285,8 +316,11 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 let receiver = m.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
                 let Some(member) = m.member() else { return Ty::Unknown };
                 match receiver.dereferenced().clone() {
-                    // Swizzles: `v._x`, `v.x`, `v.xy`.
-                    Ty::Vector(base, _) => *base,
+                    // Swizzles: `v._x`, `v.x`, `v.xy`, `v.s01`, `v.lo`.
+                    Ty::Vector(base, width) => match swizzle_width(&member.text(), width) {
+                        Some(1) | None => *base,
+                        Some(n) => Ty::Vector(base, n),
+                    },
                     Ty::Named(fqn) => self.field_ty(&fqn, &member.text(), member.syntax()),
                     _ => Ty::Unknown,
                 }
@@ -434,12 +468,72 @@ pub fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast:
     out
 }
 
+/// How many components the swizzle `name` of a `width`-wide vector selects (OpenCL C 6.1.7:
+/// `xyzw`/`rgba` letters, `s` and hex digits, `lo`/`hi`/`even`/`odd`; the dissertation writes
+/// `_x`); `None` if it is none.
+pub fn swizzle_width(name: &str, width: u8) -> Option<u8> {
+    let name = name.strip_prefix('_').unwrap_or(name);
+    let count = |n: usize| u8::try_from(n).ok().filter(|n| (1..=16).contains(n));
+    if matches!(name, "lo" | "hi" | "even" | "odd") {
+        return Some((width / 2).max(1));
+    }
+    if let Some(digits) = name.strip_prefix(['s', 'S']).filter(|d| !d.is_empty()) {
+        if digits.chars().all(|c| c.is_ascii_hexdigit()) {
+            return count(digits.len());
+        }
+    }
+    if name.chars().all(|c| "xyzw".contains(c)) || name.chars().all(|c| "rgba".contains(c)) {
+        return count(name.len());
+    }
+    None
+}
+
 impl<'db> Semantics<'db> {
     /// The type of an expression in the context it is written in: the locals, parameters and
     /// variables in scope there and the members of the owner class. `Unknown` where it cannot be
     /// known; problems found on the way are not reported (validation reports them).
     pub fn type_of_expr(&self, expr: &ast::Expr) -> Ty {
-        let node = expr.syntax();
+        let mut sink = Diagnostics::default();
+        let (mut ctx, body) = self.context_at(expr.syntax(), &mut sink);
+        if let Some(body) = body {
+            ctx.declare_body(&body);
+        }
+        ctx.infer(expr)
+    }
+
+    /// The types of the expressions of the body `node` is or is in — an activity node's (its
+    /// loop header, statements, guards, transitions and returned value), a method's, or, for an
+    /// activity diagram, its variable section — and of the locals it sees.
+    pub fn body_types(&self, node: &SyntaxNode) -> BodyTypes {
+        let mut sink = Diagnostics::default();
+        let (mut ctx, body) = self.context_at(node, &mut sink);
+        ctx.record = Some(HashMap::new());
+        if let Some(activity_node) = node.ancestors().find_map(ast::ActivityNode::cast) {
+            if let Some(header) = activity_node.loop_header() {
+                ctx.check_loop_header(&header);
+            }
+            if let Some(value) = activity_node.return_value() {
+                ctx.infer(&value);
+            }
+        } else if let Some(diagram) = ast::ActivityDiagram::cast(node.clone()) {
+            let values = diagram.variables().filter_map(|v| v.initializer());
+            for value in values.chain(diagram.var_decls().filter_map(|v| v.initializer())) {
+                ctx.infer(&value);
+            }
+        }
+        if let Some(body) = body {
+            ctx.check(&body);
+        }
+        BodyTypes { exprs: ctx.record.take().unwrap_or_default(), locals: ctx.locals.clone() }
+    }
+
+    /// A typing context for what is written at `node`: the diagram's locals, the activity node's
+    /// header or the method's parameters, the owner; and the body `node` is in.
+    fn context_at<'a>(
+        &self,
+        node: &SyntaxNode,
+        sink: &'a mut Diagnostics,
+    ) -> (InferenceCtx<'a, 'db>, Option<SyntaxNode>) {
         let mut scope = Scope::at(node);
         if let Some(decl) = node.ancestors().find_map(ast::TypeDecl::cast) {
             let params: Vec<ast::TemplateParam> = match &decl {
@@ -449,8 +543,7 @@ impl<'db> Semantics<'db> {
             };
             scope.type_params.extend(params.iter().filter_map(|t| t.name()).map(|n| n.text()));
         }
-        let mut sink = Diagnostics::default();
-        let mut ctx = InferenceCtx::new(*self, &mut sink, scope, self.owner_at(node));
+        let mut ctx = InferenceCtx::new(*self, sink, scope, self.owner_at(node));
         let mut body = None;
         if let Some(diagram) = node.ancestors().find_map(ast::ActivityDiagram::cast) {
             for (name, ty) in diagram_locals(&diagram) {
@@ -471,9 +564,6 @@ impl<'db> Semantics<'db> {
             }
             body = method.body().map(|b| b.syntax().clone());
         }
-        if let Some(body) = body {
-            ctx.declare_body(&body);
-        }
-        ctx.infer(expr)
+        (ctx, body)
     }
 }
