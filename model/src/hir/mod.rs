@@ -28,6 +28,7 @@ pub mod validate;
 
 pub use definitions::{def_map, lookup, DefKind, DefMap, Definition, Fqn};
 pub use diagnostics::{Diagnostic, DiagnosticCode, Diagnostics, Related, Severity};
+pub use infer::BodyTypes;
 pub use items::{item_tree, ItemTree};
 pub use scope::Scope;
 pub use semantics::Semantics;

@@ -1,0 +1,197 @@
+//! The state of generating one kernel: the model, the types of the body being written, how each
+//! name of the diagram is reached in WGSL, the text written so far and the errors found.
+
+use std::collections::HashMap;
+
+use gudsl_model::{
+    ast,
+    db::SourceFile,
+    hir::{BodyTypes, Semantics, Ty},
+    syntax::SyntaxNode,
+};
+
+use crate::{Binding, CodegenError, KernelParam};
+
+/// WGSL's keywords and reserved words that a GU-DSL name may be: such a name gets a `_` appended.
+const RESERVED: &[&str] = &[
+    "alias",
+    "array",
+    "atomic",
+    "bitcast",
+    "bool",
+    "break",
+    "case",
+    "const",
+    "const_assert",
+    "continue",
+    "continuing",
+    "default",
+    "diagnostic",
+    "discard",
+    "else",
+    "enable",
+    "f16",
+    "f32",
+    "fn",
+    "for",
+    "i32",
+    "if",
+    "let",
+    "loop",
+    "mat2x2",
+    "mat3x3",
+    "mat4x4",
+    "override",
+    "ptr",
+    "requires",
+    "return",
+    "sampler",
+    "struct",
+    "switch",
+    "texture_2d",
+    "true",
+    "false",
+    "u32",
+    "var",
+    "vec2",
+    "vec3",
+    "vec4",
+    "while",
+    "params",
+    "main",
+    "select",
+    "min",
+    "max",
+    "clamp",
+    "abs",
+    "dot",
+    "cross",
+    "length",
+    "distance",
+    "normalize",
+    "floor",
+    "ceil",
+    "exp",
+    "log",
+    "pow",
+    "sqrt",
+    "sin",
+    "cos",
+    "tan",
+    "atan2",
+    "mix",
+    "step",
+    "sign",
+    "any",
+    "all",
+    "self",
+    "target",
+    "type",
+    "module",
+    "handle",
+    "storage",
+    "uniform",
+    "workgroup",
+    "private",
+    "function",
+];
+
+/// Names the generator itself declares start with this; a user name that does is renamed.
+pub(crate) const GENERATED: &str = "gudsl_";
+
+/// A GU-DSL name as a WGSL identifier.
+pub(crate) fn ident(name: &str) -> String {
+    if RESERVED.contains(&name) || name.starts_with(GENERATED) || name.starts_with("__") {
+        format!("{name}_")
+    } else {
+        name.to_string()
+    }
+}
+
+pub(crate) struct Emitter<'db> {
+    pub sema: Semantics<'db>,
+    pub file: SourceFile,
+    /// The types of the body being written.
+    pub types: BodyTypes,
+    /// The diagram's parameters by name.
+    pub params: HashMap<String, KernelParam>,
+    pub errors: Vec<CodegenError>,
+    pub uses_barriers: bool,
+    out: String,
+    indent: usize,
+}
+
+impl<'db> Emitter<'db> {
+    pub fn new(sema: Semantics<'db>, file: SourceFile, params: HashMap<String, KernelParam>) -> Emitter<'db> {
+        Emitter {
+            sema,
+            file,
+            types: BodyTypes::default(),
+            params,
+            errors: Vec::new(),
+            uses_barriers: false,
+            out: String::new(),
+            indent: 0,
+        }
+    }
+
+    /// Writes one line at the current indentation.
+    pub fn line(&mut self, text: impl AsRef<str>) {
+        for _ in 0..self.indent {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(text.as_ref());
+        self.out.push('\n');
+    }
+
+    /// Writes `open`, the lines `body` writes one level deeper, then `}`.
+    pub fn block(&mut self, open: impl AsRef<str>, body: impl FnOnce(&mut Self)) {
+        self.line(open);
+        self.indent += 1;
+        body(self);
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    pub fn take_output(&mut self) -> String {
+        std::mem::take(&mut self.out)
+    }
+
+    /// Records that `node` cannot be generated; the placeholder keeps the output well formed
+    /// (it is never used: a kernel with errors is not handed out).
+    pub fn unsupported(&mut self, node: &SyntaxNode, message: impl Into<String>) -> String {
+        self.errors.push(CodegenError { file: self.file, range: node.text_range(), message: message.into() });
+        "0".into()
+    }
+
+    /// The type of an expression of the current body.
+    pub fn ty(&self, expr: &ast::Expr) -> Ty {
+        self.types.of(expr).clone()
+    }
+
+    /// How a parameter is bound, if `name` is one.
+    pub fn binding(&self, name: &str) -> Option<&Binding> {
+        self.params.get(name).map(|p| &p.binding)
+    }
+
+    /// The WGSL that reads the name `name` (a parameter, variable or local).
+    pub fn name(&self, name: &str) -> String {
+        match self.binding(name) {
+            Some(Binding::Uniform) => match self.params.get(name).map(|p| p.ty.dereferenced()) {
+                Some(Ty::Bool) => format!("(params.{} != 0u)", ident(name)),
+                _ => format!("params.{}", ident(name)),
+            },
+            _ => ident(name),
+        }
+    }
+
+    /// Whether `expr` names an image parameter, and which.
+    pub fn image_param(&self, expr: &ast::Expr) -> Option<(String, crate::ImageType)> {
+        let ast::Expr::NameExpr(name) = expr else { return None };
+        let name = name.name_ref()?.text();
+        match self.binding(&name) {
+            Some(Binding::Image { image, .. }) => Some((name, *image)),
+            _ => None,
+        }
+    }
+}

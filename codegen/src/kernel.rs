@@ -1,0 +1,255 @@
+//! One device diagram as one WGSL module: its parameters as bindings (a uniform block for
+//! values, storage buffers, textures, work-group memory sized by pipeline constants), its
+//! variables as the work-item's private variables, its nodes as the entry point's control flow,
+//! the work-group size as pipeline constants; then naga validates the module.
+
+use std::collections::HashMap;
+
+use gudsl_model::{
+    ast::{self, AstNode, HasModifiers, HasName},
+    hir::{Definition, Semantics, Ty},
+    syntax::{SyntaxKind, SyntaxNode},
+};
+
+use crate::{
+    emitter::{ident, Emitter, GENERATED},
+    types::{value_type, ImageType},
+    validate, Binding, CodegenError, Kernel, KernelParam,
+};
+
+pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel, Vec<CodegenError>> {
+    let diagram = sema.declaration(def).and_then(|(node, _)| ast::ActivityDiagram::cast(node));
+    let Some(diagram) = diagram else {
+        let error = CodegenError { file: def.file, range: Default::default(), message: "no activity diagram".into() };
+        return Err(vec![error]);
+    };
+    let diagram_types = sema.body_types(diagram.syntax());
+    let mut errors = Vec::new();
+    let params = parameters(def, &diagram, &diagram_types, &mut errors);
+    let by_name: HashMap<String, KernelParam> = params.iter().map(|p| (p.name.clone(), p.clone())).collect();
+    let mut emitter = Emitter::new(*sema, def.file, by_name);
+    emitter.errors = errors;
+
+    // The entry point's body first: it tells whether the kernel synchronises.
+    let nodes: Vec<ast::ActivityNode> =
+        diagram.swimlanes().flat_map(|lane| lane.nodes().collect::<Vec<_>>()).chain(diagram.nodes()).collect();
+    emitter.types = diagram_types.clone();
+    variables(&mut emitter, &diagram);
+    emitter.control_flow(&diagram, &nodes);
+    let body = emitter.take_output();
+
+    let entry_point = ident(def.fqn.rsplit('.').next().unwrap_or("main"));
+    let wgsl = module(&def.fqn, &entry_point, &params, emitter.uses_barriers, &body);
+    if !emitter.errors.is_empty() {
+        return Err(emitter.errors);
+    }
+    if let Err(message) = validate::validate(&wgsl) {
+        let range = diagram.name().map(|n| n.syntax().text_range()).unwrap_or_default();
+        let message = format!("the generated WGSL does not validate (a generator bug, please report it): {message}");
+        return Err(vec![CodegenError { file: def.file, range, message }]);
+    }
+    Ok(Kernel { diagram: def.fqn.clone(), entry_point, wgsl, params, uses_barriers: emitter.uses_barriers })
+}
+
+/// How each parameter of the diagram is bound.
+fn parameters(
+    def: &Definition,
+    diagram: &ast::ActivityDiagram,
+    types: &gudsl_model::hir::BodyTypes,
+    errors: &mut Vec<CodegenError>,
+) -> Vec<KernelParam> {
+    let mut next_binding = 1;
+    let mut binding = || {
+        next_binding += 1;
+        next_binding - 1
+    };
+    let mut out = Vec::new();
+    for param in diagram.params() {
+        let Some(name) = param.name().map(|n| n.text()) else { continue };
+        let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+        let kind = if param.has_modifier(SyntaxKind::SHARED_KW) {
+            Some(Binding::Workgroup)
+        } else if matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
+            storage_element(&ty)
+                .map(|_| Binding::Storage { binding: binding(), writable: written(diagram.syntax(), &name) })
+        } else {
+            match &ty {
+                Ty::Gpu(gpu) if gpu == "sampler_t" => Some(Binding::Sampler),
+                Ty::Gpu(gpu) if gpu.starts_with("image") => ImageType::parse(gpu).map(|image| {
+                    let (read, written) = image_use(diagram.syntax(), &name);
+                    Binding::Image { binding: binding(), image, read, written }
+                }),
+                Ty::Gpu(gpu) if gpu.starts_with("buffer") => {
+                    Some(Binding::Storage { binding: binding(), writable: written(diagram.syntax(), &name) })
+                }
+                _ if value_type(&ty).is_some() => Some(Binding::Uniform),
+                _ => None,
+            }
+        };
+        match kind {
+            Some(binding) => out.push(KernelParam { name, ty, binding }),
+            None => errors.push(CodegenError {
+                file: def.file,
+                range: param.syntax().text_range(),
+                message: format!("a `{ty}` parameter cannot be handed to a GPU kernel"),
+            }),
+        }
+    }
+    out
+}
+
+/// The element of a buffer parameter (`global ref unsigned int` → `u32`, `buffer2D_f4` →
+/// `vec4<f32>`).
+fn storage_element(ty: &Ty) -> Option<String> {
+    match ty {
+        Ty::Ref { inner, .. } => storage_element(inner),
+        Ty::Array(inner) => storage_element(inner),
+        Ty::Gpu(name) => {
+            let rest = name.strip_prefix("buffer2D_").or_else(|| name.strip_prefix("buffer3D_"))?;
+            let digits = rest.trim_start_matches(|c: char| c.is_ascii_alphabetic());
+            let suffix = &rest[..rest.len() - digits.len()];
+            let scalar = match suffix {
+                "f" => "f32",
+                "i" | "c" | "s" => "i32",
+                "ui" | "uc" | "us" => "u32",
+                _ => return None,
+            };
+            match digits {
+                "" | "1" => Some(scalar.into()),
+                "2" | "3" | "4" => Some(format!("vec{digits}<{scalar}>")),
+                _ => None,
+            }
+        }
+        Ty::Bool => None,
+        other => value_type(other),
+    }
+}
+
+/// Whether the diagram reads and writes the image `name` (`read_image…`, `write_image…`).
+fn image_use(root: &SyntaxNode, name: &str) -> (bool, bool) {
+    let (mut read, mut written) = (false, false);
+    for call in root.descendants().filter_map(ast::CallExpr::cast) {
+        let Some(ast::Expr::NameExpr(callee)) = call.callee() else { continue };
+        let callee = callee.name_ref().map(|n| n.text()).unwrap_or_default();
+        let first = call.args().next().map(|a| a.syntax().text().to_string());
+        if first.as_deref() != Some(name) {
+            continue;
+        }
+        read |= callee.starts_with("read_image");
+        written |= callee.starts_with("write_image");
+    }
+    (read, written)
+}
+
+/// Whether the diagram writes into the buffer `name` (`name[i] = …`, `name[i]++`).
+fn written(root: &SyntaxNode, name: &str) -> bool {
+    let target_is_name = |target: Option<ast::Expr>| {
+        let mut target = target;
+        while let Some(ast::Expr::IndexExpr(index)) = &target {
+            target = index.base();
+        }
+        matches!(target, Some(ast::Expr::NameExpr(n)) if n.name_ref().is_some_and(|r| r.text() == name))
+    };
+    root.descendants().filter_map(ast::Expr::cast).any(|expr| match expr {
+        ast::Expr::BinExpr(bin) => bin.is_assignment() && target_is_name(bin.lhs()),
+        ast::Expr::PostfixExpr(postfix) => target_is_name(postfix.operand()),
+        ast::Expr::PrefixExpr(prefix) => {
+            prefix.op().is_some_and(|t| matches!(t.kind(), SyntaxKind::PLUS2 | SyntaxKind::MINUS2))
+                && target_is_name(prefix.operand())
+        }
+        _ => false,
+    })
+}
+
+/// The diagram's variables: private to the work-item, zero unless initialised.
+fn variables(emitter: &mut Emitter<'_>, diagram: &ast::ActivityDiagram) {
+    for variable in diagram.variables() {
+        let Some(name) = variable.name().map(|n| n.text()) else { continue };
+        let ty = emitter.types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+        if matches!(&ty, Ty::Gpu(gpu) if gpu == "sampler_t") {
+            // Texels are loaded at integer coordinates, clamped: a sampler has nothing to hold.
+            continue;
+        }
+        let Some(wgsl) = value_type(&ty) else {
+            emitter.unsupported(variable.syntax(), format!("a `{ty}` variable has no WGSL value type"));
+            continue;
+        };
+        match variable.initializer() {
+            Some(value) => {
+                let value = emitter.expr_as(&value, &ty);
+                emitter.line(format!("var {}: {wgsl} = {value};", ident(&name)));
+            }
+            None => emitter.line(format!("var {}: {wgsl};", ident(&name))),
+        }
+    }
+    for decl in diagram.var_decls() {
+        emitter.var_decl(&decl);
+    }
+}
+
+/// The whole module around the entry point's body.
+fn module(fqn: &str, entry_point: &str, params: &[KernelParam], barriers: bool, body: &str) -> String {
+    let mut out = format!("// Generated by gudsl from the activity diagram `{fqn}`.\n\n");
+    out.push_str("struct Params {\n");
+    for param in params.iter().filter(|p| p.binding == Binding::Uniform) {
+        let ty = match param.ty.dereferenced() {
+            Ty::Bool => "u32".to_string(),
+            other => value_type(other).unwrap_or_default(),
+        };
+        out.push_str(&format!("    {}: {ty},\n", ident(&param.name)));
+    }
+    out.push_str(&format!("    {GENERATED}global_size: vec3<u32>,\n    {GENERATED}work_dim: u32,\n}}\n\n"));
+    out.push_str("@group(0) @binding(0) var<uniform> params: Params;\n");
+    for param in params {
+        let name = ident(&param.name);
+        match &param.binding {
+            Binding::Storage { binding, writable } => {
+                let access = if *writable { "read_write" } else { "read" };
+                let element = storage_element(&param.ty).unwrap_or_default();
+                out.push_str(&format!(
+                    "@group(0) @binding({binding}) var<storage, {access}> {name}: array<{element}>;\n"
+                ));
+            }
+            Binding::Image { binding, image, read, written } => {
+                let dims = image.dimensions;
+                let ty = match (read, written) {
+                    (_, false) => format!("texture_{dims}d<{}>", image.texel),
+                    (false, true) => format!("texture_storage_{dims}d<{}, write>", image.format),
+                    (true, true) => format!("texture_storage_{dims}d<{}, read_write>", image.format),
+                };
+                out.push_str(&format!("@group(0) @binding({binding}) var {name}: {ty};\n"));
+            }
+            Binding::Workgroup => {
+                let element = storage_element(&param.ty).unwrap_or_else(|| "i32".into());
+                out.push_str(&format!(
+                    "override {GENERATED}{name}_length: u32 = 256u;\nvar<workgroup> {name}: array<{element}, {GENERATED}{name}_length>;\n"
+                ));
+            }
+            Binding::Uniform | Binding::Sampler => {}
+        }
+    }
+    out.push_str(&format!(
+        "override {GENERATED}local_size_x: u32 = 64u;\noverride {GENERATED}local_size_y: u32 = 1u;\noverride {GENERATED}local_size_z: u32 = 1u;\n\n"
+    ));
+    out.push_str(&format!(
+        "@compute @workgroup_size({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z)\n\
+         fn {entry_point}(\n    @builtin(global_invocation_id) {GENERATED}global_id: vec3<u32>,\n    \
+         @builtin(local_invocation_id) {GENERATED}local_id: vec3<u32>,\n    @builtin(workgroup_id) {GENERATED}group_id: vec3<u32>,\n    \
+         @builtin(num_workgroups) {GENERATED}num_groups: vec3<u32>,\n) {{\n"
+    ));
+    out.push_str(&format!(
+        "    let {GENERATED}local_size = vec3<u32>({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z);\n"
+    ));
+    if !barriers {
+        out.push_str(&format!(
+            "    // Work-items past the global size (the last work-groups' spare ones) do nothing.\n    if any({GENERATED}global_id >= params.{GENERATED}global_size) {{ return; }}\n"
+        ));
+    }
+    for line in body.lines() {
+        out.push_str("    ");
+        out.push_str(line);
+        out.push('\n');
+    }
+    out.push_str("}\n");
+    out
+}

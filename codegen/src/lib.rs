@@ -1,0 +1,101 @@
+//! gudsl-codegen: the GPGPU extension's device code (chapter 10) as WGSL. Every activity diagram
+//! owned by a class that implements `OpenCL` becomes one compute entry point whose parameters
+//! are bindings (`Kernel::params` says how the host binds each), its variables and node bodies
+//! private code, its control flow a state loop over its nodes; every module is validated with
+//! naga before it is handed out. What cannot be generated is a [`CodegenError`] with the range
+//! of the construct, for the editor and the CLI.
+
+mod builtins;
+mod emitter;
+mod expr;
+mod flow;
+mod kernel;
+mod stmt;
+mod types;
+mod validate;
+
+use gudsl_model::{
+    db::SourceFile,
+    hir::{DefKind, Definition, Semantics, Ty},
+    syntax::TextRange,
+};
+
+pub use types::ImageType;
+
+/// A generated compute shader and how the host binds it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Kernel {
+    /// The activity diagram's fully qualified name.
+    pub diagram: String,
+    /// The entry point's name in [`Kernel::wgsl`].
+    pub entry_point: String,
+    pub wgsl: String,
+    /// The diagram's parameters, in order, with their bindings.
+    pub params: Vec<KernelParam>,
+    /// Whether the kernel synchronises its work-group (`barrier`): then every work-item of a
+    /// group must run it, so the global size must be a multiple of the work-group size (as in
+    /// OpenCL); otherwise work-items past the global size return at once.
+    pub uses_barriers: bool,
+}
+
+/// One parameter of a kernel.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct KernelParam {
+    pub name: String,
+    pub ty: Ty,
+    pub binding: Binding,
+}
+
+/// How the host hands a parameter to the kernel.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Binding {
+    /// A field of the uniform block `params` at `@group(0) @binding(0)` (scalars and vectors;
+    /// `bool` as `u32`).
+    Uniform,
+    /// A storage buffer (`global ref T`, `buffer2D_*`): `array<T>` at this binding.
+    Storage { binding: u32, writable: bool },
+    /// A typed image: a texture when only read, a storage texture when written.
+    Image { binding: u32, image: ImageType, read: bool, written: bool },
+    /// `shared` work-group memory, sized by the pipeline constant `<name>_length` (elements).
+    Workgroup,
+    /// A `sampler_t`: nothing to bind (texels are loaded at integer coordinates, clamped to the
+    /// edge).
+    Sampler,
+}
+
+/// Something the generator cannot turn into WGSL, where it is written.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CodegenError {
+    pub file: SourceFile,
+    pub range: TextRange,
+    pub message: String,
+}
+
+/// The activity diagrams that are device code: owned (the diagram or one of its swimlanes) by a
+/// class that implements `OpenCL`. Library diagrams are not among them.
+pub fn device_diagrams<'db>(sema: &Semantics<'db>) -> Vec<&'db Definition> {
+    let mut out: Vec<&'db Definition> = sema
+        .def_map()
+        .definitions
+        .values()
+        .flatten()
+        .filter(|def| matches!(def.kind, DefKind::Activity(_)))
+        .filter(|def| !gudsl_model::library::is_library(sema.db(), def.file))
+        .filter(|def| is_device_diagram(sema, def))
+        .collect();
+    out.sort_by(|a, b| a.fqn.cmp(&b.fqn));
+    out
+}
+
+/// Whether an activity diagram is device code (see [`device_diagrams`]).
+pub fn is_device_diagram(sema: &Semantics<'_>, def: &Definition) -> bool {
+    let DefKind::Activity(signature) = &def.kind else { return false };
+    let scope = gudsl_model::hir::Scope::of(def);
+    let owners = signature.owner.iter().chain(signature.swimlanes.iter().filter_map(|lane| lane.owner.as_ref()));
+    owners.filter_map(|owner| sema.resolve(&scope, owner)).any(|owner| sema.is_gpu_class(owner))
+}
+
+/// The kernel of a device diagram, validated; or what could not be generated.
+pub fn generate(sema: &Semantics<'_>, diagram: &Definition) -> Result<Kernel, Vec<CodegenError>> {
+    kernel::generate(sema, diagram)
+}
