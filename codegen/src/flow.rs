@@ -78,9 +78,11 @@ impl Emitter<'_> {
             ast::NodeKind::Loop | ast::NodeKind::LoopWindow => self.loop_node(node),
             ast::NodeKind::Fork | ast::NodeKind::Join => {
                 self.unsupported(node.syntax(), "forks and joins run in parallel: a work-item has one flow");
+                return;
             }
             ast::NodeKind::Calc | ast::NodeKind::CalcRange => {
                 self.unsupported(node.syntax(), "calc and calcRange nodes start kernels: they belong to host diagrams");
+                return;
             }
             _ => self.statements(node),
         }

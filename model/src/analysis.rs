@@ -203,6 +203,12 @@ impl Analysis {
         self.with(|db, workspace| (file_diagnostics(db, workspace, file).as_slice(), line_index(db, file)))
     }
 
+    /// Runs `f` on the semantic model of the workspace: how crates built on the model (the code
+    /// generator) read it.
+    pub fn with_semantics<T>(&self, f: impl FnOnce(&crate::hir::Semantics<'_>) -> T) -> Cancellable<T> {
+        self.with(|db, workspace| f(&crate::hir::Semantics::new(db, workspace)))
+    }
+
     /// Every diagram of a file as a graph (nested diagrams included).
     pub fn graphs(&self, file: FileId) -> Cancellable<&[Graph]> {
         self.with(|db, workspace| file_graphs(db, workspace, file).as_slice())

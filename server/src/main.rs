@@ -24,6 +24,8 @@ enum Command {
     Fmt(commands::fmt::FmtArgs),
     /// Draw diagrams as SVG or PNG (or their geometry as JSON).
     Render(commands::render::RenderArgs),
+    /// Print or write the WGSL generated from the device diagrams (activity diagrams of OpenCL classes).
+    Wgsl(commands::wgsl::WgslArgs),
     /// Run the language server on stdin/stdout (for editors).
     Lsp,
 }
@@ -34,6 +36,7 @@ fn main() -> ExitCode {
         Command::Check(args) => commands::check::run(&args),
         Command::Fmt(args) => commands::fmt::run(&args),
         Command::Render(args) => commands::render::run(&args),
+        Command::Wgsl(args) => commands::wgsl::run(&args),
         Command::Lsp => lsp::run(),
     }
 }

@@ -105,6 +105,8 @@ pub enum DiagnosticCode {
     /// A port's connector interface the component's class does not implement (an anonymous
     /// interface, Sec. 11.3.2.1).
     InterfaceNotImplemented,
+    /// Device code the GPU code generator cannot generate (reported by `gudsl-codegen`).
+    NotGenerated,
 }
 
 impl DiagnosticCode {
@@ -151,6 +153,7 @@ impl DiagnosticCode {
             DiagnosticCode::JoinOfOneFlow => "E0238",
             DiagnosticCode::ImageAccess => "E0239",
             DiagnosticCode::InterfaceNotImplemented => "E0240",
+            DiagnosticCode::NotGenerated => "E0301",
         }
     }
 
@@ -199,6 +202,7 @@ impl DiagnosticCode {
             DiagnosticCode::JoinOfOneFlow => "a join with a single incoming transition",
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
             DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
+            DiagnosticCode::NotGenerated => "device code the GPU code generator cannot generate",
         }
     }
 }

@@ -6,7 +6,7 @@
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::Args;
-use gudsl_model::hir::Severity;
+use gudsl_model::{hir::Severity, Analysis, FileId};
 
 use crate::{
     report::{self, CheckedFile, Color, Finding, Format, Report},
@@ -34,13 +34,33 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     let loaded = workspace::load(&paths);
     // The documents form one workspace.
     let (host, files) = workspace::analysis_host(&loaded.documents);
-    let analysis = host.analysis();
+    let Some(report) = diagnose(loaded, &host.analysis(), &files) else {
+        eprintln!("gudsl check: the analysis was cancelled");
+        return ExitCode::from(2);
+    };
+    if let Err(error) = report::write(&report, args.format, args.color) {
+        // A closed pipe (`gudsl check | head`) is not worth a message.
+        if error.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("gudsl check: {error}");
+        }
+        return ExitCode::from(2);
+    }
+    let failing = report.count(Severity::Error) + if args.deny_warnings { report.count(Severity::Warning) } else { 0 };
+    if !report.unreadable.is_empty() {
+        ExitCode::from(2)
+    } else if failing > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Every problem of the loaded documents (one workspace, `files` in the same order), with the
+/// paths that could not be read; `None` if the analysis was cancelled.
+pub(crate) fn diagnose(loaded: workspace::Loaded, analysis: &Analysis, files: &[FileId]) -> Option<Report> {
     let mut report = Report { unreadable: loaded.errors, ..Report::default() };
-    for (document, &file) in loaded.documents.into_iter().zip(&files) {
-        let Ok((found, index)) = analysis.diagnostics(file) else {
-            eprintln!("gudsl check: the analysis was cancelled");
-            return ExitCode::from(2);
-        };
+    for (document, &file) in loaded.documents.into_iter().zip(files) {
+        let (found, index) = analysis.diagnostics(file).ok()?;
         let file_index = report.files.len();
         report.findings.extend(found.iter().map(|d| {
             Finding {
@@ -62,19 +82,5 @@ pub fn run(args: &CheckArgs) -> ExitCode {
             index: index.clone(),
         });
     }
-    if let Err(error) = report::write(&report, args.format, args.color) {
-        // A closed pipe (`gudsl check | head`) is not worth a message.
-        if error.kind() != std::io::ErrorKind::BrokenPipe {
-            eprintln!("gudsl check: {error}");
-        }
-        return ExitCode::from(2);
-    }
-    let failing = report.count(Severity::Error) + if args.deny_warnings { report.count(Severity::Warning) } else { 0 };
-    if !report.unreadable.is_empty() {
-        ExitCode::from(2)
-    } else if failing > 0 {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    }
+    Some(report)
 }

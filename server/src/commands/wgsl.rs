@@ -1,0 +1,125 @@
+//! `gudsl wgsl PATH… [--diagram NAME] [-o DIR]`: the WGSL the code generator makes of the device
+//! diagrams (activity diagrams owned by an `OpenCL` class) of the given files, checked together
+//! as one workspace; printed, or written as `DIR/<diagram>.wgsl`. A model with errors is refused
+//! with its diagnostics, and so is a construct the generator cannot generate (E0301). Exit code:
+//! 0 generated, 1 errors in the model or nothing to generate, 2 a path could not be read or an
+//! output not written.
+
+use std::{io::Write, path::PathBuf, process::ExitCode};
+
+use clap::Args;
+use gudsl_model::hir::{DiagnosticCode, Severity};
+
+use crate::{
+    commands::check::diagnose,
+    report::{self, Color, Finding, Format},
+    workspace,
+};
+
+#[derive(Args)]
+pub struct WgslArgs {
+    /// Files or folders (searched recursively for `.gudsl` files).
+    #[arg(required = true)]
+    paths: Vec<PathBuf>,
+    /// Only the diagram with this name (simple or fully qualified).
+    #[arg(long)]
+    diagram: Option<String>,
+    /// Write `<diagram>.wgsl` files into this folder (created if missing) instead of printing.
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+}
+
+pub fn run(args: &WgslArgs) -> ExitCode {
+    let loaded = workspace::load(&args.paths);
+    let unreadable = !loaded.errors.is_empty();
+    let (host, files) = workspace::analysis_host(&loaded.documents);
+    let analysis = host.analysis();
+    let Some(mut report) = diagnose(loaded, &analysis, &files) else { return cancelled() };
+    if unreadable || report.count(Severity::Error) > 0 {
+        eprintln!("gudsl wgsl: the model has errors; nothing is generated");
+        return refuse(&report, if unreadable { 2 } else { 1 });
+    }
+    let generated = analysis.with_semantics(|sema| {
+        gudsl_codegen::device_diagrams(sema)
+            .into_iter()
+            .filter(|def| {
+                let simple = def.fqn.rsplit('.').next().unwrap_or(&def.fqn);
+                args.diagram.as_deref().is_none_or(|wanted| wanted == def.fqn || wanted == simple)
+            })
+            .map(|def| gudsl_codegen::generate(sema, def))
+            .collect::<Vec<_>>()
+    });
+    let Ok(generated) = generated else { return cancelled() };
+    if generated.is_empty() {
+        match &args.diagram {
+            Some(name) => {
+                eprintln!("gudsl wgsl: no device diagram named `{name}` (an activity diagram owned by an OpenCL class)")
+            }
+            None => {
+                eprintln!("gudsl wgsl: no device diagrams (activity diagrams owned by a class that implements OpenCL)")
+            }
+        }
+        return ExitCode::from(1);
+    }
+    let mut kernels = Vec::new();
+    for result in generated {
+        match result {
+            Ok(kernel) => kernels.push(kernel),
+            Err(errors) => report.findings.extend(errors.into_iter().filter_map(|error| {
+                Some(Finding {
+                    file: files.iter().position(|f| *f == error.file)?,
+                    severity: Severity::Error,
+                    code: DiagnosticCode::NotGenerated,
+                    message: error.message,
+                    range: error.range,
+                    related: Vec::new(),
+                })
+            })),
+        }
+    }
+    if report.count(Severity::Error) > 0 {
+        report.findings.retain(|f| f.severity == Severity::Error);
+        report.findings.sort_by_key(|f| (f.file, f.range.start()));
+        eprintln!("gudsl wgsl: some device code cannot be generated");
+        return refuse(&report, 1);
+    }
+    match &args.output {
+        None => {
+            let mut stdout = std::io::stdout().lock();
+            for kernel in &kernels {
+                if writeln!(stdout, "{}", kernel.wgsl).is_err() {
+                    return ExitCode::from(2);
+                }
+            }
+        }
+        Some(folder) => {
+            if let Err(error) = std::fs::create_dir_all(folder) {
+                eprintln!("gudsl wgsl: {}: {error}", folder.display());
+                return ExitCode::from(2);
+            }
+            for kernel in &kernels {
+                let path = folder.join(format!("{}.wgsl", kernel.diagram));
+                if let Err(error) = std::fs::write(&path, &kernel.wgsl) {
+                    eprintln!("gudsl wgsl: {}: {error}", path.display());
+                    return ExitCode::from(2);
+                }
+            }
+            eprintln!("wrote {} kernel(s) to {}", kernels.len(), folder.display());
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// Prints the problems (as `gudsl check` does) and exits with `code`.
+fn refuse(report: &report::Report, code: u8) -> ExitCode {
+    for unreadable in &report.unreadable {
+        eprintln!("gudsl wgsl: {unreadable}");
+    }
+    let _ = report::write(report, Format::Human, Color::Auto);
+    ExitCode::from(code)
+}
+
+fn cancelled() -> ExitCode {
+    eprintln!("gudsl wgsl: the analysis was cancelled");
+    ExitCode::from(2)
+}
