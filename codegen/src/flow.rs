@@ -8,7 +8,7 @@ use std::collections::HashMap;
 
 use gudsl_model::{
     ast::{self, AstNode, HasName},
-    hir::Ty,
+    hir::{BodyTypes, Ty},
 };
 
 use crate::{
@@ -25,16 +25,17 @@ impl Emitter<'_> {
         let graph = Graph {
             nodes: nodes.to_vec(),
             index: nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect(),
+            types: nodes.iter().map(|n| self.sema.body_types(n.syntax())).collect(),
         };
         let Some(start) = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start) else {
             self.unsupported(diagram.syntax(), "a diagram without a start node cannot run");
             return;
         };
         // The parameters of nodes that take arguments, declared once for all cases.
-        for node in nodes {
+        for (node, types) in nodes.iter().zip(&graph.types) {
             for param in node.params() {
                 let Some(name) = param.name().map(|n| n.text()) else { continue };
-                let ty = self.sema.body_types(param.syntax()).locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+                let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
                 match value_type(&ty) {
                     Some(wgsl) => self.line(format!("var {}: {wgsl};", carrier(node, &name))),
                     None => {
@@ -50,6 +51,7 @@ impl Emitter<'_> {
                 for (i, node) in nodes.iter().enumerate() {
                     let name = node.name().map(|n| n.text()).unwrap_or_default();
                     e.line(format!("// {} `{name}`", keyword(node.kind())));
+                    e.types = graph.types[i].clone();
                     e.block(format!("case {i}u: {{"), |e| e.node(node, &graph));
                 }
                 e.line(format!("default: {{ {GENERATED}state = {DONE}; }}"));
@@ -57,10 +59,8 @@ impl Emitter<'_> {
         });
     }
 
-    /// One node's case.
+    /// One node's case (`self.types` are the node's).
     fn node(&mut self, node: &ast::ActivityNode, graph: &Graph) {
-        let anchor = node.body().map(|b| b.syntax().clone()).unwrap_or_else(|| node.syntax().clone());
-        self.types = self.sema.body_types(&anchor);
         for param in node.params() {
             if let Some(name) = param.name().map(|n| n.text()) {
                 self.line(format!("var {} = {};", ident(&name), carrier(node, &name)));
@@ -115,22 +115,7 @@ impl Emitter<'_> {
             }
             [inits, tests, steps] if inits.len() == tests.len() && tests.len() == steps.len() => {
                 for ((init, test), step) in inits.iter().zip(tests).zip(steps) {
-                    let init = match init {
-                        ast::LoopPart::Decl(decl) => {
-                            let name = decl.name().map(|n| n.text()).unwrap_or_default();
-                            let ty = self.types.locals.get(&name).cloned().unwrap_or(Ty::Int);
-                            let value = match decl.initializer() {
-                                Some(value) => self.expr_as(&value, &ty),
-                                None => "0".into(),
-                            };
-                            format!(
-                                "var {}: {} = {value}",
-                                ident(&name),
-                                value_type(&ty).unwrap_or_else(|| "i32".into())
-                            )
-                        }
-                        ast::LoopPart::Expr(expr) => self.expr_statement(expr),
-                    };
+                    let init = self.loop_init(init);
                     let test = match test {
                         ast::LoopPart::Expr(test) => self.expr_as(test, &Ty::Bool),
                         ast::LoopPart::Decl(decl) => self.unsupported(decl.syntax(), "a declaration as a loop test"),
@@ -186,7 +171,7 @@ impl Emitter<'_> {
         let params: Vec<ast::Param> = target_node.params().collect();
         for (arg, param) in transition.args().zip(&params) {
             let Some(name) = param.name().map(|n| n.text()) else { continue };
-            let ty = self.sema.body_types(param.syntax()).locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+            let ty = graph.types[state].locals.get(&name).cloned().unwrap_or(Ty::Unknown);
             let value = self.expr_as(&arg, &ty);
             self.line(format!("{} = {value};", carrier(target_node, &name)));
         }
@@ -194,10 +179,12 @@ impl Emitter<'_> {
     }
 }
 
-/// The nodes of a diagram, and their indexes (the states) by name.
+/// The nodes of a diagram, their indexes (the states) by name, and the types of each one's
+/// body (computed once: a node's own case and the transitions into it read them).
 struct Graph {
     nodes: Vec<ast::ActivityNode>,
     index: HashMap<String, usize>,
+    types: Vec<BodyTypes>,
 }
 
 /// The variable that carries a node parameter between cases.

@@ -165,21 +165,12 @@ fn written(root: &SyntaxNode, name: &str) -> bool {
 fn variables(emitter: &mut Emitter<'_>, diagram: &ast::ActivityDiagram) {
     for variable in diagram.variables() {
         let Some(name) = variable.name().map(|n| n.text()) else { continue };
-        let ty = emitter.types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
-        if matches!(&ty, Ty::Gpu(gpu) if gpu == "sampler_t") {
+        if matches!(emitter.types.locals.get(&name), Some(Ty::Gpu(gpu)) if gpu == "sampler_t") {
             // Texels are loaded at integer coordinates, clamped: a sampler has nothing to hold.
             continue;
         }
-        let Some(wgsl) = value_type(&ty) else {
-            emitter.unsupported(variable.syntax(), format!("a `{ty}` variable has no WGSL value type"));
-            continue;
-        };
-        match variable.initializer() {
-            Some(value) => {
-                let value = emitter.expr_as(&value, &ty);
-                emitter.line(format!("var {}: {wgsl} = {value};", ident(&name)));
-            }
-            None => emitter.line(format!("var {}: {wgsl};", ident(&name))),
+        if let Some(declaration) = emitter.declaration("var", &name, variable.initializer(), variable.syntax()) {
+            emitter.line(format!("{declaration};"));
         }
     }
     for decl in diagram.var_decls() {

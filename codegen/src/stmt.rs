@@ -86,18 +86,41 @@ impl Emitter<'_> {
     /// `var T x = v;` as `var x: T = v;` (`let` for a `const` one).
     pub fn var_decl(&mut self, decl: &ast::VarDecl) {
         let Some(name) = decl.name().map(|n| n.text()) else { return };
-        let ty = self.types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+        let keyword = if decl.is_const() && decl.initializer().is_some() { "let" } else { "var" };
+        if let Some(declaration) = self.declaration(keyword, &name, decl.initializer(), decl.syntax()) {
+            self.line(format!("{declaration};"));
+        }
+    }
+
+    /// `var name: T = value` (no `;`) for a local, variable or loop variable `name` of the
+    /// current body, its value converted to its type; `None`, reported, when the type has no
+    /// WGSL value type.
+    pub fn declaration(
+        &mut self,
+        keyword: &str,
+        name: &str,
+        initializer: Option<ast::Expr>,
+        at: &gudsl_model::syntax::SyntaxNode,
+    ) -> Option<String> {
+        let ty = self.types.locals.get(name).cloned().unwrap_or(Ty::Unknown);
         let Some(wgsl_ty) = value_type(&ty) else {
-            self.unsupported(decl.syntax(), format!("`{name}` is a `{ty}`, which has no WGSL value type"));
-            return;
+            self.unsupported(at, format!("`{name}` is a `{ty}`, which has no WGSL value type"));
+            return None;
         };
-        let keyword = if decl.is_const() { "let" } else { "var" };
-        match decl.initializer() {
-            Some(value) => {
-                let value = self.expr_as(&value, &ty);
-                self.line(format!("{keyword} {}: {wgsl_ty} = {value};", ident(&name)));
+        Some(match initializer {
+            Some(value) => format!("{keyword} {}: {wgsl_ty} = {}", ident(name), self.expr_as(&value, &ty)),
+            None => format!("{keyword} {}: {wgsl_ty}", ident(name)),
+        })
+    }
+
+    /// The first section of a `for` or loop node: a declaration or an expression statement.
+    pub fn loop_init(&mut self, part: &ast::LoopPart) -> String {
+        match part {
+            ast::LoopPart::Decl(decl) => {
+                let name = decl.name().map(|n| n.text()).unwrap_or_default();
+                self.declaration("var", &name, decl.initializer(), decl.syntax()).unwrap_or_default()
             }
-            None => self.line(format!("var {}: {wgsl_ty};", ident(&name))),
+            ast::LoopPart::Expr(expr) => self.expr_statement(expr),
         }
     }
 
@@ -166,25 +189,13 @@ impl Emitter<'_> {
             self.unsupported(stmt.syntax(), "a `for` needs `init : step : test`");
             return;
         };
-        let (init_code, variable) = match init {
-            ast::LoopPart::Decl(decl) => {
-                let name = decl.name().map(|n| n.text()).unwrap_or_default();
-                let ty = self.types.locals.get(&name).cloned().unwrap_or(Ty::Int);
-                let wgsl_ty = value_type(&ty).unwrap_or_else(|| "i32".into());
-                let value = match decl.initializer() {
-                    Some(value) => self.expr_as(&value, &ty),
-                    None => "0".into(),
-                };
-                (format!("var {}: {wgsl_ty} = {value}", ident(&name)), Some(ident(&name)))
-            }
-            ast::LoopPart::Expr(expr) => {
-                let variable = match expr {
-                    ast::Expr::BinExpr(bin) => bin.lhs().map(|l| self.expr(&l)),
-                    _ => None,
-                };
-                (self.expr_statement(expr), variable)
-            }
+        // The loop variable, for a numeric step.
+        let variable = match init {
+            ast::LoopPart::Decl(decl) => decl.name().map(|n| ident(&n.text())),
+            ast::LoopPart::Expr(ast::Expr::BinExpr(bin)) => bin.lhs().map(|l| self.expr(&l)),
+            ast::LoopPart::Expr(_) => None,
         };
+        let init_code = self.loop_init(init);
         let step_code = match step {
             ast::LoopPart::Expr(
                 expr @ (ast::Expr::BinExpr(_) | ast::Expr::PostfixExpr(_) | ast::Expr::PrefixExpr(_)),
