@@ -234,26 +234,24 @@ pub struct Related {
 pub struct Diagnostics(Vec<Diagnostic>);
 
 impl Diagnostics {
+    fn push(
+        &mut self,
+        severity: Severity,
+        code: DiagnosticCode,
+        range: TextRange,
+        message: String,
+        suggestion: Option<String>,
+        related: Vec<Related>,
+    ) {
+        self.0.push(Diagnostic { code, severity, range, message, suggestion, related });
+    }
+
     pub fn error(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
-        self.0.push(Diagnostic {
-            code,
-            severity: Severity::Error,
-            range,
-            message,
-            suggestion: None,
-            related: Vec::new(),
-        });
+        self.push(Severity::Error, code, range, message, None, Vec::new());
     }
 
     pub fn warn(&mut self, code: DiagnosticCode, range: TextRange, message: String) {
-        self.0.push(Diagnostic {
-            code,
-            severity: Severity::Warning,
-            range,
-            message,
-            suggestion: None,
-            related: Vec::new(),
-        });
+        self.push(Severity::Warning, code, range, message, None, Vec::new());
     }
 
     /// An error whose range was most likely meant to be `suggestion` (a close name that
@@ -269,8 +267,7 @@ impl Diagnostics {
             Some(name) => format!("{message}; did you mean `{name}`?"),
             None => message,
         };
-        let suggestion = suggestion.map(str::to_string);
-        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion, related: Vec::new() });
+        self.push(Severity::Error, code, range, message, suggestion.map(str::to_string), Vec::new());
     }
 
     /// An error whose range must read `replacement` (a keyword the rule asks for; the message
@@ -282,8 +279,7 @@ impl Diagnostics {
         message: String,
         replacement: &str,
     ) {
-        let suggestion = Some(replacement.to_string());
-        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion, related: Vec::new() });
+        self.push(Severity::Error, code, range, message, Some(replacement.to_string()), Vec::new());
     }
 
     /// An error with other places that explain it.
@@ -294,7 +290,7 @@ impl Diagnostics {
         message: String,
         related: Vec<Related>,
     ) {
-        self.0.push(Diagnostic { code, severity: Severity::Error, range, message, suggestion: None, related });
+        self.push(Severity::Error, code, range, message, None, related);
     }
 
     pub fn into_vec(self) -> Vec<Diagnostic> {

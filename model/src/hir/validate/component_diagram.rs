@@ -26,9 +26,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
     // Every port.connector of the diagram, for connection ends: its role and interface.
     let mut connectors: HashMap<String, (ConnectorRole, String)> = HashMap::new();
     for component in &components {
-        component_class(ctx, scope, component);
-        let class = component.class().and_then(|c| ctx.sema.resolve(scope, &c.text()));
-        let class = class.filter(|c| matches!(&c.kind, DefKind::Type(ty) if matches!(ty.kind, TypeKind::Class(_))));
+        let class = component_class(ctx, scope, component);
         names::duplicates(ctx, component.ports().filter_map(|p| p.name()), "port");
         names::duplicates(ctx, component.connections().filter_map(|c| c.connection_name()), "connection");
         for port in component.ports() {
@@ -153,12 +151,15 @@ fn corresponding_interfaces(
     }
 }
 
-/// A component is built on a class, of the kind its keyword says (`sink` on a sink class).
-fn component_class(ctx: &mut Ctx, scope: &Scope, component: &ast::Component) {
-    let Some(class) = component.class() else { return };
+/// A component is built on a class, of the kind its keyword says (`sink` on a sink class): that
+/// class, if it is one (of any kind).
+fn component_class<'db>(ctx: &mut Ctx<'db>, scope: &Scope, component: &ast::Component) -> Option<&'db Definition> {
+    let class = component.class()?;
     let kind = component.kind();
     let text = class.text();
-    match ctx.sema.resolve(scope, &text).map(|d| &d.kind) {
+    let def = ctx.sema.resolve(scope, &text);
+    let is_class = def.filter(|d| matches!(&d.kind, DefKind::Type(ty) if matches!(ty.kind, TypeKind::Class(_))));
+    match def.map(|d| &d.kind) {
         Some(DefKind::Type(ty)) if ty.kind == TypeKind::Class(kind) || kind == ClassKind::Class => {}
         Some(DefKind::Type(ty)) if ty.kind == TypeKind::Class(ClassKind::Class) => ctx.sink.error(
             DiagnosticCode::InvalidComponent,
@@ -169,7 +170,7 @@ fn component_class(ctx: &mut Ctx, scope: &Scope, component: &ast::Component) {
             ),
         ),
         Some(DefKind::Type(ty)) if matches!(ty.kind, TypeKind::Class(_)) => {
-            let TypeKind::Class(declared) = ty.kind else { return };
+            let TypeKind::Class(declared) = ty.kind else { return is_class };
             // The keyword is what is wrong: the quick fix writes the class's kind.
             let keyword = [component.source_token(), component.filter_token(), component.sink_token()];
             let range = keyword.into_iter().flatten().next().map_or(class.syntax().text_range(), |t| t.text_range());
@@ -196,6 +197,7 @@ fn component_class(ctx: &mut Ctx, scope: &Scope, component: &ast::Component) {
             format!("unknown component class `{text}`"),
         ),
     }
+    is_class
 }
 
 /// A connector's interface is an interface of the connector's role: that interface, if it is.
