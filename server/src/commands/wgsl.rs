@@ -35,9 +35,13 @@ pub fn run(args: &WgslArgs) -> ExitCode {
     let (host, files) = workspace::analysis_host(&loaded.documents);
     let analysis = host.analysis();
     let Some(mut report) = diagnose(loaded, &analysis, &files) else { return cancelled() };
-    if unreadable || report.count(Severity::Error) > 0 {
+    if unreadable {
+        eprintln!("gudsl wgsl: a path could not be read; nothing is generated");
+        return refuse(&report, 2);
+    }
+    if report.count(Severity::Error) > 0 {
         eprintln!("gudsl wgsl: the model has errors; nothing is generated");
-        return refuse(&report, if unreadable { 2 } else { 1 });
+        return refuse(&report, 1);
     }
     let generated = analysis.with_semantics(|sema| {
         gudsl_codegen::device_diagrams(sema)
@@ -110,11 +114,8 @@ pub fn run(args: &WgslArgs) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// Prints the problems (as `gudsl check` does) and exits with `code`.
+/// Prints the problems and the unreadable paths (as `gudsl check` does) and exits with `code`.
 fn refuse(report: &report::Report, code: u8) -> ExitCode {
-    for unreadable in &report.unreadable {
-        eprintln!("gudsl wgsl: {unreadable}");
-    }
     let _ = report::write(report, Format::Human, Color::Auto);
     ExitCode::from(code)
 }
