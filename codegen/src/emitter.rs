@@ -177,7 +177,7 @@ impl<'db> Emitter<'db> {
     /// The WGSL that reads the name `name` (a parameter, variable or local).
     pub fn name(&self, name: &str) -> String {
         match self.binding(name) {
-            Some(Binding::Uniform) => match self.params.get(name).map(|p| p.ty.dereferenced()) {
+            Some(Binding::Uniform { .. }) => match self.params.get(name).map(|p| p.ty.dereferenced()) {
                 Some(Ty::Bool) => format!("(params.{} != 0u)", ident(name)),
                 _ => format!("params.{}", ident(name)),
             },

@@ -36,6 +36,19 @@ pub struct Kernel {
     /// group must run it, so the global size must be a multiple of the work-group size (as in
     /// OpenCL); otherwise work-items past the global size return at once.
     pub uses_barriers: bool,
+    /// The uniform block at `@group(0) @binding(0)`.
+    pub uniform: UniformBlock,
+}
+
+/// The layout of the uniform block `params` (WGSL's uniform layout rules, as naga computes them):
+/// each value parameter's offset is in its [`Binding::Uniform`]; the host also fills the global
+/// size (`vec3<u32>`) and the number of work dimensions (`u32`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct UniformBlock {
+    /// Bytes, padded as WGSL requires.
+    pub size: u32,
+    pub global_size_offset: u32,
+    pub work_dim_offset: u32,
 }
 
 /// One parameter of a kernel.
@@ -49,15 +62,17 @@ pub struct KernelParam {
 /// How the host hands a parameter to the kernel.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Binding {
-    /// A field of the uniform block `params` at `@group(0) @binding(0)` (scalars and vectors;
-    /// `bool` as `u32`).
-    Uniform,
+    /// A field of the uniform block `params` at `@group(0) @binding(0)`, `offset` bytes into it
+    /// (scalars and vectors of 32-bit components; `bool` as `u32`).
+    Uniform { offset: u32 },
     /// A storage buffer (`global ref T`, `buffer2D_*`): `array<T>` at this binding.
     Storage { binding: u32, writable: bool },
     /// A typed image: a texture when only read, a storage texture when written.
     Image { binding: u32, image: ImageType, read: bool, written: bool },
-    /// `shared` work-group memory, sized by the pipeline constant `<name>_length` (elements).
-    Workgroup,
+    /// `shared` work-group memory of elements of `element_size` bytes, sized by the pipeline
+    /// constant `length_constant` (elements). The host passes bytes, as OpenCL's
+    /// `clSetKernelArg(…, size, NULL)` does.
+    Workgroup { length_constant: String, element_size: u32 },
     /// A `sampler_t`: nothing to bind (texels are loaded at integer coordinates, clamped to the
     /// edge).
     Sampler,

@@ -55,6 +55,31 @@ impl Gpu {
         Ok(Gpu { device, queue, adapter: adapter.get_info(), pipelines: RefCell::new(HashMap::new()) })
     }
 
+    /// The device tests run on: `None` only where `GUDSL_NO_GPU=1` says the machine has no
+    /// adapter on purpose (otherwise a missing adapter is a failure, not a skipped test); when
+    /// `WGPU_BACKEND` asks for a backend, asserts that it is the one wgpu picked (`scripts/test`
+    /// runs the GPU tests once more on OpenGL).
+    pub fn for_tests() -> Option<Gpu> {
+        match Gpu::new() {
+            Ok(gpu) => {
+                eprintln!("adapter: {}", gpu.describe());
+                if let Ok(wanted) = std::env::var("WGPU_BACKEND") {
+                    let described = gpu.describe().to_lowercase();
+                    assert!(
+                        described.contains(&format!("({}", wanted.to_lowercase())),
+                        "asked for {wanted}, got {described}"
+                    );
+                }
+                Some(gpu)
+            }
+            Err(error) if std::env::var_os("GUDSL_NO_GPU").is_some() => {
+                eprintln!("skipped: {error}");
+                None
+            }
+            Err(error) => panic!("{error}; set GUDSL_NO_GPU=1 on a machine without one"),
+        }
+    }
+
     /// "name (backend, device type)".
     pub fn describe(&self) -> String {
         format!("{} ({:?}, {:?})", self.adapter.name, self.adapter.backend, self.adapter.device_type)

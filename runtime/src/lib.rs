@@ -1,6 +1,7 @@
 //! gudsl-runtime: the ToF algorithms of the dissertation as WGSL compute kernels on wgpu, each
 //! with a CPU reference; pipelines of kernels run on the GPU (data kept there, one readback at
-//! the sinks) or, without an adapter, on the CPU reference.
+//! the sinks) or, without an adapter, on the CPU reference. Programs written elsewhere (the code
+//! generator's kernels) run through [`program`].
 
 pub mod camera;
 pub mod error;
@@ -10,8 +11,10 @@ pub mod gpu;
 pub mod image;
 pub mod kernels;
 pub mod linalg;
+pub mod listings;
 pub mod npy;
 pub mod pipeline;
+pub mod program;
 pub mod registration;
 pub mod sim;
 
@@ -21,3 +24,4 @@ pub use gpu::{Gpu, GpuUnavailable};
 pub use image::{Image, Shape};
 pub use kernels::Kernel;
 pub use pipeline::{Pipeline, Slot};
+pub use program::{BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Program, ProgramError, Resource, TexelFormat};

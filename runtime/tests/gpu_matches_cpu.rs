@@ -23,25 +23,7 @@ impl Random {
 }
 
 fn gpu() -> Option<Gpu> {
-    match Gpu::new() {
-        Ok(gpu) => {
-            eprintln!("adapter: {}", gpu.describe());
-            // `scripts/test` runs these tests once more with WGPU_BACKEND=gl: make sure they did.
-            if let Ok(wanted) = std::env::var("WGPU_BACKEND") {
-                let described = gpu.describe().to_lowercase();
-                assert!(
-                    described.contains(&format!("({}", wanted.to_lowercase())),
-                    "asked for {wanted}, got {described}"
-                );
-            }
-            Some(gpu)
-        }
-        Err(error) if std::env::var_os("GUDSL_NO_GPU").is_some() => {
-            eprintln!("skipped: {error}");
-            None
-        }
-        Err(error) => panic!("{error}; set GUDSL_NO_GPU=1 on a machine without one"),
-    }
+    Gpu::for_tests()
 }
 
 /// Runs `kernel` on `inputs` on both and compares every output sample.

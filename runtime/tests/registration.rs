@@ -37,11 +37,7 @@ fn icp_recovers_the_second_views_pose_on_cpu_and_gpu() {
     eprintln!("CPU: off by {angle}° and {distance} m: {cpu:?}");
     assert!(angle < 0.25 && distance < 0.01, "CPU ICP is off by {angle}° and {distance} m: {cpu:?}");
     assert!(cpu.rms < 0.02, "point-to-plane rms {} m", cpu.rms);
-    let gpu = match Gpu::new() {
-        Ok(gpu) => gpu,
-        Err(_) if std::env::var_os("GUDSL_NO_GPU").is_some() => return,
-        Err(error) => panic!("{error}"),
-    };
+    let Some(gpu) = Gpu::for_tests() else { return };
     let on_gpu = GpuRegistration::new(&gpu, &k, &settings)
         .unwrap()
         .register(&source, &model, IDENTITY)

@@ -1,7 +1,7 @@
 //! The kernels' WGSL, without a GPU: every `.wgsl` file under `src/kernels` is some kernel's
 //! shader (or shared code prepended to one), every kernel's source parses and validates with naga
 //! (the compiler wgpu uses), and every kernel's parameter block is exactly as large as its
-//! shader's `Params` struct.
+//! shader's `Params` struct; so do the hand-written listings (`src/listings`).
 
 use std::path::{Path, PathBuf};
 
@@ -70,5 +70,30 @@ fn every_parameter_block_is_the_size_of_its_shaders_params() {
         };
         let bytes = kernel.params(&vec![image; kernel.inputs()]).len();
         assert_eq!(bytes, span as usize, "{}: the Rust block is {bytes} bytes, the WGSL Params {span}", kernel.name());
+    }
+}
+
+#[test]
+fn the_listings_shaders_validate_and_their_parameter_blocks_fit() {
+    use gudsl_runtime::listings;
+    let blocks = [
+        (listings::MEAN_WGSL, listings::mean_params(5, 64, 48)),
+        (listings::BILATERAL_WGSL, listings::bilateral_params(5.0, 10.0, 50.0, 64, 48)),
+    ];
+    for (source, block) in blocks {
+        let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+        let span = module
+            .types
+            .iter()
+            .find_map(|(_, ty)| match &ty.inner {
+                naga::TypeInner::Struct { span, .. } if ty.name.as_deref() == Some("Params") => Some(*span),
+                _ => None,
+            })
+            .expect("a Params struct");
+        assert_eq!(block.len(), span as usize);
+        assert!(module.entry_points.iter().any(|e| e.name == listings::ENTRY_POINT));
     }
 }
