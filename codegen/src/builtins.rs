@@ -9,7 +9,11 @@ use gudsl_model::{
     library::OPENCL_INTERFACE,
 };
 
-use crate::{emitter::Emitter, types::convert, Binding};
+use crate::{
+    emitter::{bare, Emitter},
+    types::convert,
+    Binding,
+};
 
 /// OpenCL math and geometric functions and their WGSL names.
 const MATH: &[(&str, &str)] = &[
@@ -93,7 +97,7 @@ impl Emitter<'_> {
             }
             _ => match MATH.iter().find(|(opencl, _)| *opencl == name) {
                 Some((_, wgsl)) => {
-                    let parts: Vec<String> = args.iter().map(|arg| self.math_argument(arg, &result)).collect();
+                    let parts: Vec<String> = args.iter().map(|arg| bare(self.math_argument(arg, &result))).collect();
                     format!("{wgsl}({})", parts.join(", "))
                 }
                 None => self.unsupported(call.syntax(), format!("`{name}` has no WGSL form in the generator yet")),

@@ -99,6 +99,27 @@ const RESERVED: &[&str] = &[
 /// Names the generator itself declares start with this; a user name that does is renamed.
 pub(crate) const GENERATED: &str = "gudsl_";
 
+/// `code` without the parentheses around the whole of it (where it stands alone: a statement's
+/// value, an argument, a condition).
+pub(crate) fn bare(code: String) -> String {
+    let enclosed = code.starts_with('(') && {
+        let mut depth = 0;
+        code.char_indices().all(|(at, c)| {
+            match c {
+                '(' => depth += 1,
+                ')' => depth -= 1,
+                _ => {}
+            }
+            depth > 0 || at == code.len() - 1
+        })
+    };
+    if enclosed {
+        code[1..code.len() - 1].to_string()
+    } else {
+        code
+    }
+}
+
 /// A GU-DSL name as a WGSL identifier.
 pub(crate) fn ident(name: &str) -> String {
     if RESERVED.contains(&name) || name.starts_with(GENERATED) || name.starts_with("__") {
@@ -144,6 +165,11 @@ impl<'db> Emitter<'db> {
         self.out.push('\n');
     }
 
+    /// Moves the indentation `levels` levels in (or out, when negative).
+    pub fn shift(&mut self, levels: isize) {
+        self.indent = self.indent.saturating_add_signed(levels);
+    }
+
     /// Writes `open`, the lines `body` writes one level deeper, then `}`.
     pub fn block(&mut self, open: impl AsRef<str>, body: impl FnOnce(&mut Self)) {
         self.line(open);
@@ -151,6 +177,16 @@ impl<'db> Emitter<'db> {
         body(self);
         self.indent -= 1;
         self.line("}");
+    }
+
+    /// Where the output and the errors stand, to [`Emitter::restore`] an attempt that failed.
+    pub fn checkpoint(&self) -> (usize, usize) {
+        (self.out.len(), self.errors.len())
+    }
+
+    pub fn restore(&mut self, (out, errors): (usize, usize)) {
+        self.out.truncate(out);
+        self.errors.truncate(errors);
     }
 
     pub fn take_output(&mut self) -> String {

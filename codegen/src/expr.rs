@@ -9,7 +9,7 @@ use gudsl_model::{
 };
 
 use crate::{
-    emitter::Emitter,
+    emitter::{bare, Emitter},
     types::{common, convert, value_type},
 };
 
@@ -24,7 +24,7 @@ impl Emitter<'_> {
                 None => self.unsupported(expr.syntax(), "an incomplete name"),
             },
             ParenExpr(paren) => match paren.expr() {
-                Some(inner) => format!("({})", self.expr(&inner)),
+                Some(inner) => format!("({})", bare(self.expr(&inner))),
                 None => self.unsupported(expr.syntax(), "an empty parenthesis"),
             },
             BinExpr(bin) => self.binary(bin),
@@ -206,9 +206,9 @@ impl Emitter<'_> {
             .map(|arg| match self.ty(arg).dereferenced() {
                 Ty::Vector(_, n) => {
                     let as_elements = Ty::Vector(element.clone(), *n);
-                    self.expr_as(arg, &as_elements)
+                    bare(self.expr_as(arg, &as_elements))
                 }
-                _ => self.expr_as(arg, &element),
+                _ => bare(self.expr_as(arg, &element)),
             })
             .collect();
         if parts.is_empty() {

@@ -1,8 +1,9 @@
-//! An activity diagram's control flow as WGSL: a state loop over its nodes (correct for any
-//! graph). Each node is a `case` that runs its statements — inside the loops of a loop or
-//! loopWindow node — then takes the first transition whose guard holds, the unguarded one
-//! otherwise; a final node, or no transition to take, ends the work-item. Transition arguments
-//! go to the target node's parameters, which live across cases.
+//! An activity diagram's control flow as WGSL: structured (`structured.rs`) where the graph
+//! allows it, otherwise a state loop over its nodes (correct for any graph). Either way a node
+//! runs its statements — inside the loops of a loop or loopWindow node — then takes the first
+//! transition whose guard holds, the unguarded one otherwise; a final node, or no transition to
+//! take, ends the work-item. Transition arguments go to the target node's parameters, which live
+//! across nodes. In the state loop each node is a `case`.
 
 use std::collections::HashMap;
 
@@ -12,7 +13,7 @@ use gudsl_model::{
 };
 
 use crate::{
-    emitter::{ident, Emitter, GENERATED},
+    emitter::{bare, ident, Emitter, GENERATED},
     types::value_type,
 };
 
@@ -22,9 +23,16 @@ const DONE: &str = "0xffffffffu";
 impl Emitter<'_> {
     /// The body of the entry point for `nodes` (all nodes of the diagram, swimlanes flattened).
     pub fn control_flow(&mut self, diagram: &ast::ActivityDiagram, nodes: &[ast::ActivityNode]) {
+        let index: HashMap<String, usize> =
+            nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect();
+        let targets = nodes
+            .iter()
+            .map(|n| n.transitions().map(|t| t.target().and_then(|t| index.get(&t.text()).copied())).collect())
+            .collect();
         let graph = Graph {
             nodes: nodes.to_vec(),
-            index: nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect(),
+            index,
+            targets,
             types: nodes.iter().map(|n| self.sema.body_types(n.syntax())).collect(),
         };
         let Some(start) = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start) else {
@@ -44,6 +52,17 @@ impl Emitter<'_> {
                 }
             }
         }
+        let checkpoint = self.checkpoint();
+        if self.structured(&graph, start).is_some() {
+            return;
+        }
+        self.restore(checkpoint);
+        self.state_loop(&graph, start);
+    }
+
+    /// The general form: `loop { switch state { case node: … } }`.
+    fn state_loop(&mut self, graph: &Graph, start: usize) {
+        let nodes = &graph.nodes;
         self.line(format!("var {GENERATED}state: u32 = {start}u;"));
         self.block("loop {", |e| {
             e.line(format!("if {GENERATED}state == {DONE} {{ break; }}"));
@@ -52,7 +71,7 @@ impl Emitter<'_> {
                     let name = node.name().map(|n| n.text()).unwrap_or_default();
                     e.line(format!("// {} `{name}`", keyword(node.kind())));
                     e.types = graph.types[i].clone();
-                    e.block(format!("case {i}u: {{"), |e| e.node(node, &graph));
+                    e.block(format!("case {i}u: {{"), |e| e.node(node, graph));
                 }
                 e.line(format!("default: {{ {GENERATED}state = {DONE}; }}"));
             });
@@ -61,6 +80,16 @@ impl Emitter<'_> {
 
     /// One node's case (`self.types` are the node's).
     fn node(&mut self, node: &ast::ActivityNode, graph: &Graph) {
+        if self.node_body(node) {
+            self.transitions(node, graph);
+        } else {
+            self.line(format!("{GENERATED}state = {DONE};"));
+        }
+    }
+
+    /// A node's parameters and statements (`self.types` are the node's); whether transitions
+    /// follow (not after a final node, nor after one that cannot be generated).
+    pub(crate) fn node_body(&mut self, node: &ast::ActivityNode) -> bool {
         for param in node.params() {
             if let Some(name) = param.name().map(|n| n.text()) {
                 self.line(format!("var {} = {};", ident(&name), carrier(node, &name)));
@@ -72,21 +101,20 @@ impl Emitter<'_> {
                     self.unsupported(value.syntax(), "a kernel returns no value");
                 }
                 self.statements(node);
-                self.line(format!("{GENERATED}state = {DONE};"));
-                return;
+                return false;
             }
             ast::NodeKind::Loop | ast::NodeKind::LoopWindow => self.loop_node(node),
             ast::NodeKind::Fork | ast::NodeKind::Join => {
                 self.unsupported(node.syntax(), "forks and joins run in parallel: a work-item has one flow");
-                return;
+                return false;
             }
             ast::NodeKind::Calc | ast::NodeKind::CalcRange => {
                 self.unsupported(node.syntax(), "calc and calcRange nodes start kernels: they belong to host diagrams");
-                return;
+                return false;
             }
             _ => self.statements(node),
         }
-        self.transitions(node, graph);
+        true
     }
 
     fn statements(&mut self, node: &ast::ActivityNode) {
@@ -117,7 +145,7 @@ impl Emitter<'_> {
                 for ((init, test), step) in inits.iter().zip(tests).zip(steps) {
                     let init = self.loop_init(init);
                     let test = match test {
-                        ast::LoopPart::Expr(test) => self.expr_as(test, &Ty::Bool),
+                        ast::LoopPart::Expr(test) => bare(self.expr_as(test, &Ty::Bool)),
                         ast::LoopPart::Decl(decl) => self.unsupported(decl.syntax(), "a declaration as a loop test"),
                     };
                     let step = match step {
@@ -160,31 +188,40 @@ impl Emitter<'_> {
         }
     }
 
-    /// Moves to a transition's target, handing its arguments to the target's parameters.
+    /// Moves to a transition's target.
     fn take(&mut self, transition: &ast::Transition, graph: &Graph) {
+        if let Some(state) = self.hand_over(transition, graph) {
+            self.line(format!("{GENERATED}state = {state}u;"));
+        }
+    }
+
+    /// Hands a transition's arguments to its target's parameters; the target.
+    pub(crate) fn hand_over(&mut self, transition: &ast::Transition, graph: &Graph) -> Option<usize> {
         let target = transition.target().map(|t| t.text()).unwrap_or_default();
         let Some(&state) = graph.index.get(&target) else {
             self.unsupported(transition.syntax(), format!("no node `{target}`"));
-            return;
+            return None;
         };
         let target_node = &graph.nodes[state];
         let params: Vec<ast::Param> = target_node.params().collect();
         for (arg, param) in transition.args().zip(&params) {
             let Some(name) = param.name().map(|n| n.text()) else { continue };
             let ty = graph.types[state].locals.get(&name).cloned().unwrap_or(Ty::Unknown);
-            let value = self.expr_as(&arg, &ty);
+            let value = bare(self.expr_as(&arg, &ty));
             self.line(format!("{} = {value};", carrier(target_node, &name)));
         }
-        self.line(format!("{GENERATED}state = {state}u;"));
+        Some(state)
     }
 }
 
-/// The nodes of a diagram, their indexes (the states) by name, and the types of each one's
-/// body (computed once: a node's own case and the transitions into it read them).
-struct Graph {
-    nodes: Vec<ast::ActivityNode>,
-    index: HashMap<String, usize>,
-    types: Vec<BodyTypes>,
+/// The nodes of a diagram, their indexes by name, the node each transition leads to (in the
+/// order written; `None` for an unknown name), and the types of each one's body (computed
+/// once: a node's own code and the transitions into it read them).
+pub(crate) struct Graph {
+    pub nodes: Vec<ast::ActivityNode>,
+    pub index: HashMap<String, usize>,
+    pub targets: Vec<Vec<Option<usize>>>,
+    pub types: Vec<BodyTypes>,
 }
 
 /// The variable that carries a node parameter between cases.
@@ -193,7 +230,7 @@ fn carrier(node: &ast::ActivityNode, param: &str) -> String {
     format!("{GENERATED}{node}_{param}")
 }
 
-fn keyword(kind: ast::NodeKind) -> &'static str {
+pub(crate) fn keyword(kind: ast::NodeKind) -> &'static str {
     use ast::NodeKind::*;
     match kind {
         Start => "start",

@@ -261,15 +261,30 @@ fn module(fqn: &str, entry_point: &str, params: &[KernelParam], barriers: bool, 
     out.push_str(&format!(
         "override {GENERATED}local_size_x: u32 = 64u;\noverride {GENERATED}local_size_y: u32 = 1u;\noverride {GENERATED}local_size_z: u32 = 1u;\n\n"
     ));
+    // The built-in values the body reads (and the guard below), one per line when several.
+    let builtins: Vec<String> = [
+        ("global_invocation_id", "global_id"),
+        ("local_invocation_id", "local_id"),
+        ("workgroup_id", "group_id"),
+        ("num_workgroups", "num_groups"),
+    ]
+    .into_iter()
+    .filter(|(_, name)| uses(body, &format!("{GENERATED}{name}")) || (*name == "global_id" && !barriers))
+    .map(|(builtin, name)| format!("@builtin({builtin}) {GENERATED}{name}: vec3<u32>"))
+    .collect();
+    let signature = match &builtins[..] {
+        [] => String::new(),
+        [one] => one.clone(),
+        several => format!("\n    {},\n", several.join(",\n    ")),
+    };
     out.push_str(&format!(
-        "@compute @workgroup_size({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z)\n\
-         fn {entry_point}(\n    @builtin(global_invocation_id) {GENERATED}global_id: vec3<u32>,\n    \
-         @builtin(local_invocation_id) {GENERATED}local_id: vec3<u32>,\n    @builtin(workgroup_id) {GENERATED}group_id: vec3<u32>,\n    \
-         @builtin(num_workgroups) {GENERATED}num_groups: vec3<u32>,\n) {{\n"
+        "@compute @workgroup_size({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z)\nfn {entry_point}({signature}) {{\n"
     ));
-    out.push_str(&format!(
-        "    let {GENERATED}local_size = vec3<u32>({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z);\n"
-    ));
+    if uses(body, &format!("{GENERATED}local_size")) {
+        out.push_str(&format!(
+            "    let {GENERATED}local_size = vec3<u32>({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z);\n"
+        ));
+    }
     if !barriers {
         out.push_str(&format!(
             "    // Work-items past the global size (the last work-groups' spare ones) do nothing.\n    if any({GENERATED}global_id >= params.{GENERATED}global_size) {{ return; }}\n"
@@ -282,4 +297,10 @@ fn module(fqn: &str, entry_point: &str, params: &[KernelParam], barriers: bool, 
     }
     out.push_str("}\n");
     out
+}
+
+/// Whether `code` names the generated identifier `name` (not one it is a prefix of).
+fn uses(code: &str, name: &str) -> bool {
+    code.match_indices(name)
+        .any(|(at, _)| !code[at + name.len()..].starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_'))
 }

@@ -11,6 +11,7 @@ mod expr;
 mod flow;
 mod kernel;
 mod stmt;
+mod structured;
 mod types;
 mod validate;
 

@@ -9,7 +9,7 @@ use gudsl_model::{
 };
 
 use crate::{
-    emitter::{ident, Emitter},
+    emitter::{bare, ident, Emitter},
     types::{common, convert, value_type},
 };
 
@@ -108,7 +108,7 @@ impl Emitter<'_> {
             return None;
         };
         Some(match initializer {
-            Some(value) => format!("{keyword} {}: {wgsl_ty} = {}", ident(name), self.expr_as(&value, &ty)),
+            Some(value) => format!("{keyword} {}: {wgsl_ty} = {}", ident(name), bare(self.expr_as(&value, &ty))),
             None => format!("{keyword} {}: {wgsl_ty}", ident(name)),
         })
     }
@@ -167,7 +167,7 @@ impl Emitter<'_> {
         let target_ty = self.ty(&target);
         let place = self.expr(&target);
         if op.kind() == SyntaxKind::EQ {
-            let value = self.expr_as(&value, &target_ty);
+            let value = bare(self.expr_as(&value, &target_ty));
             return format!("{place} = {value}");
         }
         let operator = op.text().trim_end_matches('=').to_string();
@@ -209,7 +209,7 @@ impl Emitter<'_> {
             ast::LoopPart::Decl(decl) => self.unsupported(decl.syntax(), "a declaration as the step of a `for`"),
         };
         let test_code = match test {
-            ast::LoopPart::Expr(test) => self.expr_as(test, &Ty::Bool),
+            ast::LoopPart::Expr(test) => bare(self.expr_as(test, &Ty::Bool)),
             ast::LoopPart::Decl(decl) => self.unsupported(decl.syntax(), "a declaration as the test of a `for`"),
         };
         self.block(format!("for ({init_code}; {test_code}; {step_code}) {{"), |e| e.nested(stmt.body()));

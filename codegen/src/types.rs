@@ -3,6 +3,8 @@
 
 use gudsl_model::hir::Ty;
 
+use crate::emitter::bare;
+
 /// The WGSL type of a value type: `int` → `i32`, `uint4` → `vec4<u32>`; `None` for what WGSL has
 /// no value type for (vectors of 8 or 16, strings, classes).
 pub fn value_type(ty: &Ty) -> Option<String> {
@@ -46,9 +48,9 @@ pub fn convert(code: String, from: &Ty, to: &Ty) -> String {
             _ => code,
         },
         (Ty::Bool, _) => format!("select({}, {}, {code})", zero(to), one(to)),
-        (Ty::Vector(..), Ty::Vector(..)) => format!("{target}({code})"),
-        (_, Ty::Vector(base, _)) => format!("{target}({})", convert(code, from, base)),
-        _ => format!("{target}({code})"),
+        (Ty::Vector(..), Ty::Vector(..)) => format!("{target}({})", bare(code)),
+        (_, Ty::Vector(base, _)) => format!("{target}({})", bare(convert(code, from, base))),
+        _ => format!("{target}({})", bare(code)),
     }
 }
 
