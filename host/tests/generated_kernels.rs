@@ -5,121 +5,13 @@
 //! runtime's own mean and bilateral kernels (f32 planes) in the interior; the findIndex reduction
 //! against the runtime's findIndex kernel and the CPU, including no match.
 
-use gudsl_codegen::Kernel;
+mod support;
+
 use gudsl_host::{Arg, Launcher, Number, WorkRange};
-use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
-    hir::Semantics,
-    library,
-};
 use gudsl_runtime::{
-    listings,
-    sim::{simulate, Camera, Motion, Scene},
-    DeviceBuffer, DeviceImage, Gpu, GpuPipeline, Image, Pipeline, Program, Resource, Shape, TexelFormat,
+    listings, DeviceBuffer, DeviceImage, Gpu, GpuPipeline, Image, Pipeline, Program, Shape, TexelFormat,
 };
-
-const SAMPLES: [&str; 4] = [
-    "framework/framework.gudsl",
-    "seed/listing15_mean_filter.gudsl",
-    "seed/listing16_bilateral_filter.gudsl",
-    "gpu/find_index.gudsl",
-];
-
-/// The kernel generated from the diagram `name` of the samples.
-fn generated(name: &str) -> Kernel {
-    let db = RootDatabase::default();
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
-    let mut files = library::library_files(&db);
-    for sample in SAMPLES {
-        let path = root.join(sample);
-        let text = std::fs::read_to_string(&path).unwrap();
-        files.push(SourceFile::new(&db, path.display().to_string(), text));
-    }
-    let workspace = Workspace::new(&db, files);
-    let sema = Semantics::new(&db, workspace);
-    let diagram = gudsl_codegen::device_diagrams(&sema).into_iter().find(|d| d.fqn == name).expect(name);
-    gudsl_codegen::generate(&sema, diagram).unwrap_or_else(|e| panic!("{name}: {e:?}"))
-}
-
-/// Deterministic bytes (xorshift).
-fn random_bytes(len: usize, seed: u64) -> Vec<u8> {
-    let mut state = seed | 1;
-    (0..len)
-        .map(|_| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 56) as u8
-        })
-        .collect()
-}
-
-/// An RGBA8 image.
-struct Rgba {
-    width: usize,
-    height: usize,
-    texels: Vec<u8>,
-}
-
-impl Rgba {
-    fn random(width: usize, height: usize, seed: u64) -> Rgba {
-        let mut texels = random_bytes(4 * width * height, seed);
-        texels.iter_mut().skip(3).step_by(4).for_each(|alpha| *alpha = 255);
-        Rgba { width, height, texels }
-    }
-
-    /// The amplitude of a simulated ToF frame (the sphere scene), as grey levels.
-    fn amplitude() -> Rgba {
-        let camera = Camera { supersampling: 1, ..Camera::default() };
-        let frame = simulate(&Scene::sphere(), Motion::Still, &camera, 0);
-        let raw = gudsl_runtime::kernels::tof::subtract_black(&frame.raw, &frame.black);
-        let [_, amplitude, _, _] = gudsl_runtime::kernels::tof::demodulate(&raw, camera.modulation_hz);
-        let brightest = amplitude.data.iter().copied().fold(0.0f32, f32::max);
-        let texels = amplitude.data.iter().flat_map(|&a| {
-            let grey = (a / brightest * 255.0).round() as u8;
-            [grey, grey, grey, 255]
-        });
-        Rgba { width: amplitude.width, height: amplitude.height, texels: texels.collect() }
-    }
-
-    /// Its first channel as an f32 plane.
-    fn red_plane(&self) -> Image {
-        let data = self.texels.iter().step_by(4).map(|&v| v as f32).collect();
-        Image::from_plane(self.width, self.height, data)
-    }
-
-    fn upload(&self, gpu: &Gpu) -> DeviceImage {
-        let image = self.empty(gpu);
-        image.write(gpu, &self.texels).unwrap();
-        image
-    }
-
-    fn empty(&self, gpu: &Gpu) -> DeviceImage {
-        let size = [self.width as u32, self.height as u32, 1];
-        DeviceImage::new(gpu, "image", TexelFormat::Rgba8Uint, 2, size).unwrap()
-    }
-}
-
-/// Runs a generated image filter (input image, output image, then `values`) on `image`.
-fn run_generated(gpu: &Gpu, kernel: &Kernel, image: &Rgba, values: &[Number]) -> Vec<u8> {
-    let launcher = Launcher::new(gpu, kernel).unwrap();
-    let (input, output) = (image.upload(gpu), image.empty(gpu));
-    let mut args = vec![Arg::Image(&input), Arg::Image(&output)];
-    args.extend(values.iter().map(|&v| Arg::Number(v)));
-    args.extend(std::iter::repeat_n(Arg::None, kernel.params.len() - args.len()));
-    let range = WorkRange::planar(image.width as u32, image.height as u32, None);
-    launcher.launch(gpu, &args, &range).unwrap();
-    output.read(gpu).unwrap()
-}
-
-/// Runs a hand-written listing filter on `image`.
-fn run_handwritten(gpu: &Gpu, source: &str, params: &[u8], image: &Rgba) -> Vec<u8> {
-    let program = Program::new(gpu, "listing", source, listings::ENTRY_POINT, &listings::BINDINGS).unwrap();
-    let (input, output) = (image.upload(gpu), image.empty(gpu));
-    let resources = [(0, Resource::Uniform(params)), (1, Resource::Image(&input)), (2, Resource::Image(&output))];
-    program.dispatch(gpu, &[], &resources, listings::workgroups(image.width as u32, image.height as u32)).unwrap();
-    output.read(gpu).unwrap()
-}
+use support::{generated, random_bytes, run_generated, run_handwritten, FindIndex, Rgba};
 
 /// Runs one of the runtime's own kernels on an f32 plane.
 fn run_runtime(gpu: &Gpu, kernel: gudsl_runtime::Kernel, plane: &Image) -> Image {
@@ -220,48 +112,10 @@ fn the_generated_bilateral_filter_matches_the_hand_written_one_and_the_cpu() {
     assert_truncates(&ours, &runtime, 5, "bilateral");
 }
 
-/// findIndex as Main's calcRange nodes run it (Listing 32): work sizes from the device's
-/// largest work-group, stage 1 over the elements, stage 2 over the groups' results.
-fn find_index_generated(gpu: &Gpu, first: &Launcher, second: &Launcher, elements: &[u32], value: u32) -> i32 {
-    let n = elements.len() as u32;
-    let local = gpu.device.limits().max_compute_invocations_per_workgroup.min(256);
-    let needed = n.next_power_of_two();
-    let groups = (needed / local).clamp(1, local);
-    let per_item = (needed / groups / local).max(1);
-    let bytes = |values: &[u32]| values.iter().flat_map(|v| v.to_le_bytes()).collect::<Vec<u8>>();
-    let input = DeviceBuffer::new(gpu, "elements", 4 * n as u64).unwrap();
-    input.write(gpu, &bytes(elements)).unwrap();
-    let minima = DeviceBuffer::new(gpu, "minima", 4 * groups as u64).unwrap();
-    let last = DeviceBuffer::new(gpu, "last", 4).unwrap();
-    let int = |v: u32| Arg::Number(Number::Int(v as i64));
-    let args = [
-        Arg::Buffer(&input),
-        Arg::Buffer(&minima),
-        int(n),
-        int(local * 4),
-        int(local),
-        Arg::Number(Number::UInt(value as u64)),
-        int(per_item),
-    ];
-    first.launch(gpu, &args, &WorkRange::linear(groups * local, Some(local))).unwrap();
-    let args = [
-        Arg::Buffer(&input),
-        Arg::Buffer(&minima),
-        Arg::Buffer(&last),
-        int(groups),
-        int(groups * 4),
-        int(groups),
-        Arg::Number(Number::UInt(value as u64)),
-    ];
-    second.launch(gpu, &args, &WorkRange::linear(groups, Some(groups))).unwrap();
-    i32::from_le_bytes(last.read(gpu).unwrap()[..4].try_into().unwrap())
-}
-
 #[test]
 fn the_generated_find_index_equals_the_runtimes_kernel_and_the_cpu() {
     let Some(gpu) = Gpu::for_tests() else { return };
-    let first = Launcher::new(&gpu, &generated("AdFindMinimumIndexFirstStage")).unwrap();
-    let second = Launcher::new(&gpu, &generated("AdFindMinimumIndexSecondStage")).unwrap();
+    let find_index = FindIndex::new(&gpu);
     // A shuffled permutation as Main builds it, and random values with repeats; sizes that are
     // and are not powers of two.
     let mut cases = Vec::new();
@@ -278,9 +132,10 @@ fn the_generated_find_index_equals_the_runtimes_kernel_and_the_cpu() {
     for elements in &cases {
         let as_floats = Image::from_plane(elements.len(), 1, elements.iter().map(|&v| v as f32).collect());
         let len = elements.len() as u32;
+        let input = FindIndex::upload(&gpu, elements);
         for value in [0, 200, 255, 4711, len - 1, len + 1, u32::MAX] {
             let cpu = elements.iter().position(|&v| v >= value);
-            let ours = find_index_generated(&gpu, &first, &second, elements, value);
+            let (ours, _) = find_index.run(&gpu, &input, value);
             assert_eq!(ours, cpu.map_or(-1, |i| i as i32), "value {value} in {} elements", elements.len());
             if value < 1 << 24 {
                 // The runtime's kernel works on floats: exact for these values. It answers the

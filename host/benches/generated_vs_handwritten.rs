@@ -1,0 +1,116 @@
+//! Generated against hand-written WGSL, side by side in one run on the adapter wgpu finds
+//! (lavapipe without a GPU): the samples' mean (Listing 15, kernelSize 10) and bilateral
+//! (Listing 16, radius 5, σs 10, σr 50) filters at 512×512 and 1024×1024 against the runtime's
+//! hand-written WGSL of the listings, and the two-stage findIndex reduction over 1 048 576
+//! shuffled elements against the runtime's hand-written findIndex kernel. Times are
+//! submit-to-done of one dispatch (both stages for findIndex), data already on the device,
+//! medians of runs that alternate the two; lines are the WGSL's non-blank, non-comment lines (the
+//! author's generated OpenCL had 23–70 % more than hand-written, 10.4.5).
+//!
+//! `cargo bench -p gudsl-host --bench generated_vs_handwritten`
+
+#[path = "../tests/support/mod.rs"]
+mod support;
+
+use std::time::Duration;
+
+use gudsl_host::{Launcher, Number};
+use gudsl_runtime::{listings, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
+use support::{dispatch_listing, generated, launch_filter, listing, random_bytes, FindIndex, Rgba};
+
+fn median_ms(mut samples: Vec<Duration>) -> f64 {
+    samples.sort();
+    samples[samples.len() / 2].as_secs_f64() * 1e3
+}
+
+fn code_lines(wgsl: &str) -> usize {
+    wgsl.lines().map(str::trim).filter(|line| !line.is_empty() && !line.starts_with("//")).count()
+}
+
+/// Times `a` and `b` alternately, `runs` times each after one warm-up each.
+fn side_by_side(runs: usize, mut a: impl FnMut() -> Duration, mut b: impl FnMut() -> Duration) -> (f64, f64) {
+    a();
+    b();
+    let (mut times_a, mut times_b) = (Vec::new(), Vec::new());
+    for _ in 0..runs {
+        times_a.push(a());
+        times_b.push(b());
+    }
+    (median_ms(times_a), median_ms(times_b))
+}
+
+fn row(kernel: &str, size: &str, (hand, generated): (f64, f64), (hand_lines, generated_lines): (usize, usize)) {
+    println!(
+        "| {kernel:<9} | {size:>9} | {hand:>10.2} | {generated:>10.2} | {:>+6.1} % | {hand_lines:>4} | {generated_lines:>4} ({:+.0} %) |",
+        (generated / hand - 1.0) * 100.0,
+        (generated_lines as f64 / hand_lines as f64 - 1.0) * 100.0
+    );
+}
+
+fn main() {
+    let gpu = match Gpu::new() {
+        Ok(gpu) => gpu,
+        Err(error) => {
+            eprintln!("{error}");
+            std::process::exit(1);
+        }
+    };
+    println!("adapter: {}\n", gpu.describe());
+    println!(
+        "| kernel    |      size | hand-written ms | generated ms | generated vs hand | lines hand | lines generated |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    let mean = generated("AdFilterMean");
+    let bilateral = generated("AdFilterBilateral");
+    let (mean_launcher, bilateral_launcher) =
+        (Launcher::new(&gpu, &mean).unwrap(), Launcher::new(&gpu, &bilateral).unwrap());
+    let (mean_listing, bilateral_listing) =
+        (listing(&gpu, listings::MEAN_WGSL), listing(&gpu, listings::BILATERAL_WGSL));
+    for side in [512usize, 1024] {
+        let runs = if side > 600 { 7 } else { 11 };
+        let image = Rgba::random(side, side, 5);
+        let (input, output) = (image.upload(&gpu), image.empty(&gpu));
+        let size = format!("{side}×{side}");
+        let params = listings::mean_params(10, side as u32, side as u32);
+        let times = side_by_side(
+            runs,
+            || dispatch_listing(&gpu, &mean_listing, &params, &input, &output),
+            || launch_filter(&gpu, &mean_launcher, &input, &output, &[Number::Int(10)]),
+        );
+        row("mean", &size, times, (code_lines(listings::MEAN_WGSL), code_lines(&mean.wgsl)));
+        let params = listings::bilateral_params(5.0, 10.0, 50.0, side as u32, side as u32);
+        let values = [Number::Float(5.0), Number::Float(10.0), Number::Float(50.0)];
+        let times = side_by_side(
+            runs,
+            || dispatch_listing(&gpu, &bilateral_listing, &params, &input, &output),
+            || launch_filter(&gpu, &bilateral_launcher, &input, &output, &values),
+        );
+        row("bilateral", &size, times, (code_lines(listings::BILATERAL_WGSL), code_lines(&bilateral.wgsl)));
+    }
+
+    // findIndex over Main's 1 048 576 shuffled elements, for the value at index 4711.
+    let len = 1usize << 20;
+    let mut elements: Vec<u32> = (0..len as u32).collect();
+    let swaps = random_bytes(8 * len, 9);
+    for i in 0..len {
+        let j = u64::from_le_bytes(swaps[8 * i..8 * i + 8].try_into().unwrap()) as usize % len;
+        elements.swap(i, j);
+    }
+    let value = elements[4711];
+    let find_index = FindIndex::new(&gpu);
+    let input = FindIndex::upload(&gpu, &elements);
+    let mut pipeline = Pipeline::new();
+    let source = pipeline.source("values", Shape { width: 1024, height: 1024, planes: 1 });
+    let found = pipeline.step(Kernel::FindIndex { threshold: value as f32 }, &[source]).unwrap()[0];
+    pipeline.sink(found).unwrap();
+    let runtime = GpuPipeline::new(&gpu, &pipeline);
+    let floats = [Image { width: 1024, height: 1024, planes: 1, data: elements.iter().map(|&v| v as f32).collect() }];
+    let expected = elements.iter().position(|&v| v >= value).unwrap();
+    assert_eq!(find_index.run(&gpu, &input, value).0 as usize, expected);
+    assert_eq!(runtime.run(&floats).unwrap()[0].data[0] as usize, expected);
+    let times = side_by_side(9, || runtime.time_steps(&floats).unwrap()[0], || find_index.run(&gpu, &input, value).1);
+    let first = generated("AdFindMinimumIndexFirstStage").wgsl;
+    let second = generated("AdFindMinimumIndexSecondStage").wgsl;
+    let hand_lines = code_lines(include_str!("../../runtime/src/kernels/find_index.wgsl"));
+    row("findIndex", "1048576", times, (hand_lines, code_lines(&first) + code_lines(&second)));
+}

@@ -1,0 +1,222 @@
+//! What the generated-kernel tests and the benchmark share: the samples' kernels, RGBA8 test
+//! images (random, and a simulated ToF amplitude image), and running a generated or a
+//! hand-written image filter.
+
+#![allow(dead_code)] // each user takes what it needs
+use std::time::Duration;
+
+use gudsl_codegen::Kernel;
+use gudsl_host::{Arg, Launcher, Number, WorkRange};
+use gudsl_model::{
+    db::{RootDatabase, SourceFile, Workspace},
+    hir::Semantics,
+    library,
+};
+use gudsl_runtime::{
+    listings,
+    sim::{simulate, Camera, Motion, Scene},
+    DeviceBuffer, DeviceImage, Gpu, Image, Program, Resource, TexelFormat,
+};
+
+const SAMPLES: [&str; 4] = [
+    "framework/framework.gudsl",
+    "seed/listing15_mean_filter.gudsl",
+    "seed/listing16_bilateral_filter.gudsl",
+    "gpu/find_index.gudsl",
+];
+
+/// The kernel generated from the diagram `name` of the samples.
+pub fn generated(name: &str) -> Kernel {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
+    let sources: Vec<(String, String)> = SAMPLES
+        .iter()
+        .map(|sample| {
+            let path = root.join(sample);
+            (path.display().to_string(), std::fs::read_to_string(&path).unwrap())
+        })
+        .collect();
+    generated_from(&sources, name)
+}
+
+/// The kernel generated from the diagram `name` of these `(path, text)` files.
+pub fn generated_from(sources: &[(String, String)], name: &str) -> Kernel {
+    let db = RootDatabase::default();
+    let mut files = library::library_files(&db);
+    for (path, text) in sources {
+        files.push(SourceFile::new(&db, path.clone(), text.clone()));
+    }
+    let workspace = Workspace::new(&db, files);
+    let sema = Semantics::new(&db, workspace);
+    let diagram = gudsl_codegen::device_diagrams(&sema).into_iter().find(|d| d.fqn == name).expect(name);
+    gudsl_codegen::generate(&sema, diagram).unwrap_or_else(|e| panic!("{name}: {e:?}"))
+}
+
+/// Deterministic bytes (xorshift).
+pub fn random_bytes(len: usize, seed: u64) -> Vec<u8> {
+    let mut state = seed | 1;
+    (0..len)
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 56) as u8
+        })
+        .collect()
+}
+
+/// An RGBA8 image.
+pub struct Rgba {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<u8>,
+}
+
+impl Rgba {
+    pub fn random(width: usize, height: usize, seed: u64) -> Rgba {
+        let mut texels = random_bytes(4 * width * height, seed);
+        texels.iter_mut().skip(3).step_by(4).for_each(|alpha| *alpha = 255);
+        Rgba { width, height, texels }
+    }
+
+    /// The amplitude of a simulated ToF frame (the sphere scene), as grey levels.
+    pub fn amplitude() -> Rgba {
+        let camera = Camera { supersampling: 1, ..Camera::default() };
+        let frame = simulate(&Scene::sphere(), Motion::Still, &camera, 0);
+        let raw = gudsl_runtime::kernels::tof::subtract_black(&frame.raw, &frame.black);
+        let [_, amplitude, _, _] = gudsl_runtime::kernels::tof::demodulate(&raw, camera.modulation_hz);
+        let brightest = amplitude.data.iter().copied().fold(0.0f32, f32::max);
+        let texels = amplitude.data.iter().flat_map(|&a| {
+            let grey = (a / brightest * 255.0).round() as u8;
+            [grey, grey, grey, 255]
+        });
+        Rgba { width: amplitude.width, height: amplitude.height, texels: texels.collect() }
+    }
+
+    /// Its first channel as an f32 plane.
+    pub fn red_plane(&self) -> Image {
+        let data = self.texels.iter().step_by(4).map(|&v| v as f32).collect();
+        Image::from_plane(self.width, self.height, data)
+    }
+
+    pub fn upload(&self, gpu: &Gpu) -> DeviceImage {
+        let image = self.empty(gpu);
+        image.write(gpu, &self.texels).unwrap();
+        image
+    }
+
+    pub fn empty(&self, gpu: &Gpu) -> DeviceImage {
+        let size = [self.width as u32, self.height as u32, 1];
+        DeviceImage::new(gpu, "image", TexelFormat::Rgba8Uint, 2, size).unwrap()
+    }
+}
+
+/// Launches a generated image filter (input image, output image, then `values`); its time.
+pub fn launch_filter(
+    gpu: &Gpu,
+    launcher: &Launcher,
+    input: &DeviceImage,
+    output: &DeviceImage,
+    values: &[Number],
+) -> Duration {
+    let mut args = vec![Arg::Image(input), Arg::Image(output)];
+    args.extend(values.iter().map(|&v| Arg::Number(v)));
+    args.extend(std::iter::repeat_n(Arg::None, launcher.kernel().params.len() - args.len()));
+    let [width, height, _] = input.size();
+    launcher.launch(gpu, &args, &WorkRange::planar(width, height, None)).unwrap()
+}
+
+/// Dispatches a hand-written listing filter with its parameter block; its time.
+pub fn dispatch_listing(
+    gpu: &Gpu,
+    program: &Program,
+    params: &[u8],
+    input: &DeviceImage,
+    output: &DeviceImage,
+) -> Duration {
+    let resources = [(0, Resource::Uniform(params)), (1, Resource::Image(input)), (2, Resource::Image(output))];
+    let [width, height, _] = input.size();
+    program.dispatch(gpu, &[], &resources, listings::workgroups(width, height)).unwrap()
+}
+
+/// Compiles a hand-written listing filter.
+pub fn listing(gpu: &Gpu, source: &str) -> Program {
+    Program::new(gpu, "listing", source, listings::ENTRY_POINT, &listings::BINDINGS).unwrap()
+}
+
+/// Runs a generated image filter on `image`.
+pub fn run_generated(gpu: &Gpu, kernel: &Kernel, image: &Rgba, values: &[Number]) -> Vec<u8> {
+    let launcher = Launcher::new(gpu, kernel).unwrap();
+    let (input, output) = (image.upload(gpu), image.empty(gpu));
+    launch_filter(gpu, &launcher, &input, &output, values);
+    output.read(gpu).unwrap()
+}
+
+/// Runs a hand-written listing filter on `image`.
+pub fn run_handwritten(gpu: &Gpu, source: &str, params: &[u8], image: &Rgba) -> Vec<u8> {
+    let (input, output) = (image.upload(gpu), image.empty(gpu));
+    dispatch_listing(gpu, &listing(gpu, source), params, &input, &output);
+    output.read(gpu).unwrap()
+}
+
+/// The two generated findIndex kernels, run as Main's calcRange nodes run them (Listing 32):
+/// work sizes from the device's largest work-group (at most 256), stage 1 over the elements,
+/// stage 2 over the groups' results.
+pub struct FindIndex {
+    first: Launcher,
+    second: Launcher,
+}
+
+/// The elements on the device and the work sizes for them.
+pub struct FindIndexInput {
+    elements: DeviceBuffer,
+    minima: DeviceBuffer,
+    last: DeviceBuffer,
+    len: u32,
+    local: u32,
+    groups: u32,
+    per_item: u32,
+}
+
+impl FindIndex {
+    pub fn new(gpu: &Gpu) -> FindIndex {
+        let first = Launcher::new(gpu, &generated("AdFindMinimumIndexFirstStage")).unwrap();
+        let second = Launcher::new(gpu, &generated("AdFindMinimumIndexSecondStage")).unwrap();
+        FindIndex { first, second }
+    }
+
+    pub fn upload(gpu: &Gpu, elements: &[u32]) -> FindIndexInput {
+        let len = elements.len() as u32;
+        let local = gpu.device.limits().max_compute_invocations_per_workgroup.min(256);
+        let needed = len.next_power_of_two();
+        let groups = (needed / local).clamp(1, local);
+        let per_item = (needed / groups / local).max(1);
+        let bytes: Vec<u8> = elements.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let input = DeviceBuffer::new(gpu, "elements", 4 * len as u64).unwrap();
+        input.write(gpu, &bytes).unwrap();
+        let minima = DeviceBuffer::new(gpu, "minima", 4 * groups as u64).unwrap();
+        let last = DeviceBuffer::new(gpu, "last", 4).unwrap();
+        FindIndexInput { elements: input, minima, last, len, local, groups, per_item }
+    }
+
+    /// The first index of an element >= `value` (-1 for none), and the time of both stages.
+    pub fn run(&self, gpu: &Gpu, input: &FindIndexInput, value: u32) -> (i32, Duration) {
+        let int = |v: u32| Arg::Number(Number::Int(v as i64));
+        let value = Arg::Number(Number::UInt(value as u64));
+        let FindIndexInput { elements, minima, last, len, local, groups, per_item } = input;
+        let args =
+            [Arg::Buffer(elements), Arg::Buffer(minima), int(*len), int(local * 4), int(*local), value, int(*per_item)];
+        let first = self.first.launch(gpu, &args, &WorkRange::linear(groups * local, Some(*local))).unwrap();
+        let args = [
+            Arg::Buffer(elements),
+            Arg::Buffer(minima),
+            Arg::Buffer(last),
+            int(*groups),
+            int(groups * 4),
+            int(*groups),
+            value,
+        ];
+        let second = self.second.launch(gpu, &args, &WorkRange::linear(*groups, Some(*groups))).unwrap();
+        let index = i32::from_le_bytes(last.read(gpu).unwrap()[..4].try_into().unwrap());
+        (index, first + second)
+    }
+}
