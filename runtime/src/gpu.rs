@@ -168,7 +168,12 @@ impl Gpu {
 
     /// Reads `len` f32 samples of `buffer` back to the CPU (waits for the queue).
     pub fn read(&self, buffer: &wgpu::Buffer, len: usize) -> Vec<f32> {
-        let size = (len.max(1) * 4) as u64;
+        let bytes = self.download(buffer, (len.max(1) * 4) as u64).expect("a mapped readback buffer");
+        bytemuck::cast_slice::<u8, f32>(&bytes)[..len].to_vec()
+    }
+
+    /// The first `size` bytes of `buffer` (a multiple of 4), copied back to the CPU (waits).
+    pub(crate) fn download(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, String> {
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size,
@@ -178,13 +183,23 @@ impl Gpu {
         let mut encoder = self.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
         self.queue.submit([encoder.finish()]);
-        staging.map_async(wgpu::MapMode::Read, .., |_| {});
-        let _ = self.device.poll(wgpu::PollType::wait_indefinitely());
-        let data = {
-            let view = staging.get_mapped_range(..).expect("a mapped readback buffer");
-            bytemuck::cast_slice::<u8, f32>(&view)[..len].to_vec()
-        };
+        self.map_read(&staging)
+    }
+
+    /// The contents of a `MAP_READ` buffer once the queue has written it (waits).
+    pub(crate) fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, String> {
+        let (sender, receiver) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |result| {
+            let _ = sender.send(result);
+        });
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
+        match receiver.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(e.to_string()),
+            Err(_) => return Err("the readback was dropped".into()),
+        }
+        let bytes = staging.get_mapped_range(..).map_err(|e| e.to_string())?.to_vec();
         staging.unmap();
-        data
+        Ok(bytes)
     }
 }

@@ -394,26 +394,6 @@ fn layout_entry(spec: &BindingSpec) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry { binding: spec.binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
 }
 
-/// Waits for `buffer`'s mapping and copies `len` bytes out of it.
-fn map_read(gpu: &Gpu, buffer: &wgpu::Buffer, len: usize) -> Result<Vec<u8>, ProgramError> {
-    let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
-        let _ = sender.send(result);
-    });
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| ProgramError::Device(e.to_string()))?;
-    match receiver.recv() {
-        Ok(Ok(())) => {}
-        Ok(Err(e)) => return Err(ProgramError::Device(e.to_string())),
-        Err(_) => return Err(ProgramError::Device("the readback was dropped".into())),
-    }
-    let bytes = {
-        let view = buffer.get_mapped_range(..).map_err(|e| ProgramError::Device(e.to_string()))?;
-        view[..len].to_vec()
-    };
-    buffer.unmap();
-    Ok(bytes)
-}
-
 /// Bytes in device memory that programs read and write (`array<T>` bindings).
 #[derive(Debug)]
 pub struct DeviceBuffer {
@@ -463,17 +443,9 @@ impl DeviceBuffer {
 
     /// Its contents (waits for the device).
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<u8>, ProgramError> {
-        let size = self.buffer.size();
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        encoder.copy_buffer_to_buffer(&self.buffer, 0, &staging, 0, size);
-        gpu.queue.submit([encoder.finish()]);
-        map_read(gpu, &staging, self.len as usize)
+        let mut bytes = gpu.download(&self.buffer, self.buffer.size()).map_err(ProgramError::Device)?;
+        bytes.truncate(self.len as usize);
+        Ok(bytes)
     }
 }
 
@@ -584,7 +556,7 @@ impl DeviceImage {
             self.extent(),
         );
         gpu.queue.submit([encoder.finish()]);
-        let padded = map_read(gpu, &staging, padded_row * rows)?;
+        let padded = gpu.map_read(&staging).map_err(ProgramError::Device)?;
         Ok(padded.chunks(padded_row).flat_map(|line| &line[..row]).copied().collect())
     }
 }
