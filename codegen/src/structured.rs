@@ -102,22 +102,26 @@ impl Shape {
             })
             .collect();
 
-        // Reducible: every back transition goes to a node that dominates its source.
+        // Reducible: every back transition goes to a node that dominates its source (over all
+        // transitions, iterated to the fixed point).
         let all: BTreeSet<usize> = order.iter().copied().collect();
         let mut dominators: Vec<BTreeSet<usize>> = vec![all.clone(); count];
         dominators[start] = BTreeSet::from([start]);
-        for &n in order.iter().skip(1) {
-            let preds = order.iter().filter(|&&p| forward[p].contains(&Target::Node(n)));
-            let mut common: Option<BTreeSet<usize>> = None;
-            for &p in preds {
-                common = Some(match common {
-                    None => dominators[p].clone(),
-                    Some(c) => c.intersection(&dominators[p]).copied().collect(),
-                });
+        let mut changed = true;
+        while changed {
+            changed = false;
+            for &n in order.iter().skip(1) {
+                let preds = order.iter().filter(|&&p| succ[p].contains(&Target::Node(n)));
+                let mut own = preds
+                    .map(|&p| dominators[p].clone())
+                    .reduce(|a, b| a.intersection(&b).copied().collect())
+                    .unwrap_or_default();
+                own.insert(n);
+                if own != dominators[n] {
+                    dominators[n] = own;
+                    changed = true;
+                }
             }
-            let mut own = common.unwrap_or_default();
-            own.insert(n);
-            dominators[n] = own;
         }
         if back.iter().any(|(from, to)| !dominators[*from].contains(to)) {
             return None;
