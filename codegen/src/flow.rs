@@ -25,14 +25,25 @@ impl Emitter<'_> {
     pub fn control_flow(&mut self, diagram: &ast::ActivityDiagram, nodes: &[ast::ActivityNode]) {
         let index: HashMap<String, usize> =
             nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect();
-        let targets = nodes
+        let edges = nodes
             .iter()
-            .map(|n| n.transitions().map(|t| t.target().and_then(|t| index.get(&t.text()).copied())).collect())
+            .map(|node| {
+                let mut edges: Vec<Edge> = node
+                    .transitions()
+                    .map(|transition| Edge {
+                        condition: transition.guard().and_then(|g| g.condition()),
+                        target: transition.target().and_then(|t| index.get(&t.text()).copied()),
+                        transition,
+                    })
+                    .collect();
+                // Stable: the guarded ones as written, then the unguarded one.
+                edges.sort_by_key(|edge| edge.condition.is_none());
+                edges
+            })
             .collect();
         let graph = Graph {
             nodes: nodes.to_vec(),
-            index,
-            targets,
+            edges,
             types: nodes.iter().map(|n| self.sema.body_types(n.syntax())).collect(),
         };
         let Some(start) = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start) else {
@@ -71,7 +82,7 @@ impl Emitter<'_> {
                     let name = node.name().map(|n| n.text()).unwrap_or_default();
                     e.line(format!("// {} `{name}`", keyword(node.kind())));
                     e.types = graph.types[i].clone();
-                    e.block(format!("case {i}u: {{"), |e| e.node(node, graph));
+                    e.block(format!("case {i}u: {{"), |e| e.node(i, graph));
                 }
                 e.line(format!("default: {{ {GENERATED}state = {DONE}; }}"));
             });
@@ -79,9 +90,9 @@ impl Emitter<'_> {
     }
 
     /// One node's case (`self.types` are the node's).
-    fn node(&mut self, node: &ast::ActivityNode, graph: &Graph) {
-        if self.node_body(node) {
-            self.transitions(node, graph);
+    fn node(&mut self, n: usize, graph: &Graph) {
+        if self.node_body(&graph.nodes[n]) {
+            self.transitions(n, graph);
         } else {
             self.line(format!("{GENERATED}state = {DONE};"));
         }
@@ -164,41 +175,46 @@ impl Emitter<'_> {
     }
 
     /// The first transition whose guard holds is taken; an unguarded one is the else branch.
-    fn transitions(&mut self, node: &ast::ActivityNode, graph: &Graph) {
-        let transitions: Vec<ast::Transition> = node.transitions().collect();
-        let (guarded, unguarded): (Vec<_>, Vec<_>) =
-            transitions.iter().partition(|t| t.guard().and_then(|g| g.condition()).is_some());
-        if unguarded.len() > 1 {
-            self.unsupported(node.syntax(), "several unguarded transitions fork the flow: a work-item has one flow");
+    fn transitions(&mut self, n: usize, graph: &Graph) {
+        let edges = &graph.edges[n];
+        if graph.forks(n) {
+            let message = "several unguarded transitions fork the flow: a work-item has one flow";
+            self.unsupported(graph.nodes[n].syntax(), message);
             return;
         }
         let mut first = true;
-        for transition in &guarded {
-            let Some(cond) = transition.guard().and_then(|g| g.condition()) else { continue };
-            let cond = self.expr_as(&cond, &Ty::Bool);
-            let opener = if first { format!("if {cond} {{") } else { format!("else if {cond} {{") };
+        for edge in edges {
+            match &edge.condition {
+                Some(condition) => {
+                    let condition = self.expr_as(condition, &Ty::Bool);
+                    let opener = if first { format!("if {condition} {{") } else { format!("else if {condition} {{") };
+                    self.block(opener, |e| e.take(edge, graph));
+                }
+                None if first => self.take(edge, graph),
+                None => self.block("else {", |e| e.take(edge, graph)),
+            }
             first = false;
-            self.block(opener, |e| e.take(transition, graph));
         }
-        match unguarded.first() {
-            Some(transition) if first => self.take(transition, graph),
-            Some(transition) => self.block("else {", |e| e.take(transition, graph)),
-            None if first => self.line(format!("{GENERATED}state = {DONE};")),
-            None => self.line(format!("else {{ {GENERATED}state = {DONE}; }}")),
+        if !graph.has_else(n) {
+            match first {
+                true => self.line(format!("{GENERATED}state = {DONE};")),
+                false => self.line(format!("else {{ {GENERATED}state = {DONE}; }}")),
+            }
         }
     }
 
     /// Moves to a transition's target.
-    fn take(&mut self, transition: &ast::Transition, graph: &Graph) {
-        if let Some(state) = self.hand_over(transition, graph) {
+    fn take(&mut self, edge: &Edge, graph: &Graph) {
+        if let Some(state) = self.hand_over(edge, graph) {
             self.line(format!("{GENERATED}state = {state}u;"));
         }
     }
 
     /// Hands a transition's arguments to its target's parameters; the target.
-    pub(crate) fn hand_over(&mut self, transition: &ast::Transition, graph: &Graph) -> Option<usize> {
-        let target = transition.target().map(|t| t.text()).unwrap_or_default();
-        let Some(&state) = graph.index.get(&target) else {
+    pub(crate) fn hand_over(&mut self, edge: &Edge, graph: &Graph) -> Option<usize> {
+        let transition = &edge.transition;
+        let Some(state) = edge.target else {
+            let target = transition.target().map(|t| t.text()).unwrap_or_default();
             self.unsupported(transition.syntax(), format!("no node `{target}`"));
             return None;
         };
@@ -214,14 +230,33 @@ impl Emitter<'_> {
     }
 }
 
-/// The nodes of a diagram, their indexes by name, the node each transition leads to (in the
-/// order written; `None` for an unknown name), and the types of each one's body (computed
-/// once: a node's own code and the transitions into it read them).
+/// The nodes of a diagram, each one's transitions in the order their guards are tried, and the
+/// types of each one's body (computed once: a node's own code and the transitions into it read
+/// them).
 pub(crate) struct Graph {
     pub nodes: Vec<ast::ActivityNode>,
-    pub index: HashMap<String, usize>,
-    pub targets: Vec<Vec<Option<usize>>>,
+    pub edges: Vec<Vec<Edge>>,
     pub types: Vec<BodyTypes>,
+}
+
+/// A transition: its guard's condition (`None`: unguarded, the else branch) and the index of
+/// the node it leads to (`None` for an unknown name).
+pub(crate) struct Edge {
+    pub transition: ast::Transition,
+    pub condition: Option<ast::Expr>,
+    pub target: Option<usize>,
+}
+
+impl Graph {
+    /// Whether node `n` has an unguarded transition, taken when no guard holds.
+    pub fn has_else(&self, n: usize) -> bool {
+        self.edges[n].last().is_some_and(|edge| edge.condition.is_none())
+    }
+
+    /// Whether node `n` has several unguarded transitions: a fork, not one flow.
+    pub fn forks(&self, n: usize) -> bool {
+        self.edges[n].iter().filter(|edge| edge.condition.is_none()).count() > 1
+    }
 }
 
 /// The variable that carries a node parameter between cases.

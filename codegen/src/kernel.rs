@@ -14,7 +14,7 @@ use gudsl_model::{
 use crate::{
     emitter::{ident, Emitter, GENERATED},
     types::{value_type, ImageType},
-    validate, Binding, CodegenError, Kernel, KernelParam, UniformBlock,
+    validate, Binding, CodegenError, Kernel, KernelParam, UniformBlock, LOCAL_SIZE_CONSTANTS,
 };
 
 pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel, Vec<CodegenError>> {
@@ -258,9 +258,11 @@ fn module(fqn: &str, entry_point: &str, params: &[KernelParam], barriers: bool, 
             Binding::Uniform { .. } | Binding::Sampler => {}
         }
     }
-    out.push_str(&format!(
-        "override {GENERATED}local_size_x: u32 = 64u;\noverride {GENERATED}local_size_y: u32 = 1u;\noverride {GENERATED}local_size_z: u32 = 1u;\n\n"
-    ));
+    for (constant, default) in LOCAL_SIZE_CONSTANTS.iter().zip([64, 1, 1]) {
+        out.push_str(&format!("override {constant}: u32 = {default}u;\n"));
+    }
+    out.push('\n');
+    let [x, y, z] = LOCAL_SIZE_CONSTANTS;
     // The built-in values the body reads (and the guard below), one per line when several.
     let builtins: Vec<String> = [
         ("global_invocation_id", "global_id"),
@@ -277,13 +279,9 @@ fn module(fqn: &str, entry_point: &str, params: &[KernelParam], barriers: bool, 
         [one] => one.clone(),
         several => format!("\n    {},\n", several.join(",\n    ")),
     };
-    out.push_str(&format!(
-        "@compute @workgroup_size({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z)\nfn {entry_point}({signature}) {{\n"
-    ));
+    out.push_str(&format!("@compute @workgroup_size({x}, {y}, {z})\nfn {entry_point}({signature}) {{\n"));
     if uses(body, &format!("{GENERATED}local_size")) {
-        out.push_str(&format!(
-            "    let {GENERATED}local_size = vec3<u32>({GENERATED}local_size_x, {GENERATED}local_size_y, {GENERATED}local_size_z);\n"
-        ));
+        out.push_str(&format!("    let {GENERATED}local_size = vec3<u32>({x}, {y}, {z});\n"));
     }
     if !barriers {
         out.push_str(&format!(

@@ -41,6 +41,10 @@ pub struct Kernel {
     pub uniform: UniformBlock,
 }
 
+/// The pipeline constants (`override`) that give every kernel its work-group size, x, y and z;
+/// the host sets them at each launch.
+pub const LOCAL_SIZE_CONSTANTS: [&str; 3] = ["gudsl_local_size_x", "gudsl_local_size_y", "gudsl_local_size_z"];
+
 /// The layout of the uniform block `params` (WGSL's uniform layout rules, as naga computes them):
 /// each value parameter's offset is in its [`Binding::Uniform`]; the host also fills the global
 /// size (`vec3<u32>`) and the number of work dimensions (`u32`).

@@ -43,20 +43,12 @@ fn successors(graph: &Graph, n: usize) -> Option<Vec<Target>> {
         ast::NodeKind::Fork | ast::NodeKind::Join | ast::NodeKind::Calc | ast::NodeKind::CalcRange => return None,
         _ => {}
     }
-    let transitions: Vec<ast::Transition> = node.transitions().collect();
-    let guarded = |t: &ast::Transition| t.guard().and_then(|g| g.condition()).is_some();
-    let mut out = Vec::new();
-    for pass_guarded in [true, false] {
-        for (transition, target) in transitions.iter().zip(&graph.targets[n]) {
-            if guarded(transition) == pass_guarded {
-                out.push(Target::Node((*target)?));
-            }
-        }
-    }
-    if transitions.iter().filter(|t| !guarded(t)).count() > 1 {
+    if graph.forks(n) {
         return None;
     }
-    if transitions.iter().all(guarded) {
+    let mut out: Vec<Target> =
+        graph.edges[n].iter().map(|edge| edge.target.map(Target::Node)).collect::<Option<_>>()?;
+    if !graph.has_else(n) {
         out.push(Target::Exit);
     }
     Some(out)
@@ -266,45 +258,38 @@ impl Emitter<'_> {
     /// merge point; where the flow goes on.
     fn branches(&mut self, walk: &mut Walk<'_>, n: usize, stop: Target) -> Option<Option<Target>> {
         let graph = walk.graph;
-        let node = &graph.nodes[n];
-        let transitions: Vec<(ast::Transition, usize)> = node
-            .transitions()
-            .zip(&graph.targets[n])
-            .map(|(t, target)| Some((t, (*target)?)))
-            .collect::<Option<_>>()?;
-        let (guarded, unguarded): (Vec<_>, Vec<_>) =
-            transitions.into_iter().partition(|(t, _)| t.guard().and_then(|g| g.condition()).is_some());
-        if guarded.is_empty() {
-            let Some((transition, target)) = unguarded.into_iter().next() else {
-                // No transition: the work-item ends here.
-                if !walk.at_tail(stop) {
-                    self.line("return;");
-                }
-                return Some(None);
-            };
-            self.hand_over(&transition, graph);
-            return self.jump(walk, n, target);
+        let edges = &graph.edges[n];
+        let Some(first) = edges.first() else {
+            // No transition: the work-item ends here.
+            if !walk.at_tail(stop) {
+                self.line("return;");
+            }
+            return Some(None);
+        };
+        if first.condition.is_none() {
+            self.hand_over(first, graph);
+            return self.jump(walk, n, first.target?);
         }
         let merge = walk.shape.merge[n];
         let region_end = merge.unwrap_or(Target::Exit);
-        for (i, (transition, target)) in guarded.iter().enumerate() {
-            let condition = transition.guard().and_then(|g| g.condition())?;
-            let condition = self.expr_as(&condition, &gudsl_model::hir::Ty::Bool);
+        let guarded = edges.iter().filter_map(|edge| Some((edge, edge.condition.as_ref()?)));
+        for (i, (edge, condition)) in guarded.enumerate() {
+            let condition = self.expr_as(condition, &gudsl_model::hir::Ty::Bool);
             let opener = if i == 0 { format!("if {condition} {{") } else { format!("}} else if {condition} {{") };
             self.line(opener);
             self.shift(1);
-            self.hand_over(transition, graph);
-            self.branch(walk, n, *target, region_end)?;
+            self.hand_over(edge, graph);
+            self.branch(walk, n, edge.target?, region_end)?;
             self.shift(-1);
         }
         let checkpoint = self.checkpoint();
         self.line("} else {");
         self.shift(1);
         let before_else = self.checkpoint();
-        match unguarded.into_iter().next() {
-            Some((transition, target)) => {
-                self.hand_over(&transition, graph);
-                self.branch(walk, n, target, region_end)?;
+        match edges.last().filter(|edge| edge.condition.is_none()) {
+            Some(edge) => {
+                self.hand_over(edge, graph);
+                self.branch(walk, n, edge.target?, region_end)?;
             }
             None => self.region(walk, Target::Exit, region_end)?,
         }

@@ -5,7 +5,7 @@
 
 use std::{fmt, time::Duration};
 
-use gudsl_codegen::{Binding, Kernel, KernelParam};
+use gudsl_codegen::{Binding, Kernel, KernelParam, LOCAL_SIZE_CONSTANTS};
 use gudsl_model::hir::Ty;
 use gudsl_runtime::{
     BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Gpu, Program, ProgramError, Resource, TexelFormat,
@@ -207,11 +207,8 @@ impl Launcher {
         uniform[at..at + 4].copy_from_slice(&range.dimensions.to_le_bytes());
         resources.push((0, Resource::Uniform(&uniform)));
 
-        let mut constants: Vec<(&str, f64)> = ["gudsl_local_size_x", "gudsl_local_size_y", "gudsl_local_size_z"]
-            .into_iter()
-            .zip(local)
-            .map(|(name, size)| (name, size as f64))
-            .collect();
+        let mut constants: Vec<(&str, f64)> =
+            LOCAL_SIZE_CONSTANTS.into_iter().zip(local).map(|(name, size)| (name, size as f64)).collect();
         constants.extend(lengths.iter().map(|(name, length)| (name.as_str(), *length)));
         let workgroups = [0, 1, 2].map(|d| range.global[d].div_ceil(local[d]));
         Ok(self.program.dispatch(gpu, &constants, &resources, workgroups)?)

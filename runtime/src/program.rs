@@ -197,11 +197,6 @@ impl Program {
         })
     }
 
-    /// The label it was compiled under.
-    pub fn label(&self) -> &str {
-        &self.label
-    }
-
     /// The pipeline for these pipeline constants, built the first time they are asked for.
     fn pipeline(&self, gpu: &Gpu, constants: &[(&str, f64)]) -> Result<wgpu::ComputePipeline, ProgramError> {
         let mut key: Vec<(String, u64)> =
@@ -497,10 +492,6 @@ impl DeviceImage {
     /// Width, height and depth in texels.
     pub fn size(&self) -> [u32; 3] {
         self.size
-    }
-
-    pub fn format(&self) -> TexelFormat {
-        self.format
     }
 
     fn bytes(&self) -> u64 {
