@@ -1,21 +1,11 @@
 //! End-to-end tests of `gudsl check`: run the built binary on files and folders, as CI does.
 
-use std::{path::Path, process::Command};
+#[path = "support/cli.rs"]
+mod cli;
 
-fn gudsl() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_gudsl"))
-}
+use cli::{gudsl, repo, temp_dir};
 
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path).to_string_lossy().into_owned()
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("gudsl-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use std::process::Command;
 
 #[test]
 fn samples_check_clean() {

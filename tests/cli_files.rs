@@ -3,23 +3,17 @@
 //! byte-order mark, and a disk that fills up mid-write. Nothing may hang, read a file twice,
 //! or lose a byte of what the user wrote.
 
+#[path = "support/cli.rs"]
+mod cli;
+
+use cli::{gudsl, temp_dir};
+
 use std::{
     os::unix::fs::symlink,
-    path::{Path, PathBuf},
+    path::Path,
     process::{Command, Output, Stdio},
     time::{Duration, Instant},
 };
-
-fn gudsl() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_gudsl"))
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gudsl-files-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// Runs `command`, failing the test if it takes longer than `seconds` (a hang).
 fn run_within(mut command: Command, seconds: u64) -> Output {

@@ -1,22 +1,10 @@
 //! End-to-end tests of `gudsl wgsl`: the built binary generates the samples' device diagrams,
 //! and refuses a model with errors, a construct it cannot generate, and nothing to generate.
 
-use std::{path::Path, process::Command};
+#[path = "support/cli.rs"]
+mod cli;
 
-fn gudsl() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_gudsl"))
-}
-
-fn repo(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path).to_string_lossy().into_owned()
-}
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("gudsl-wgsl-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use cli::{gudsl, repo, temp_dir};
 
 const GPU_CLASS: &str = "ClassDiagram K { import OpenCL.GPU.*; public class Gpu implements OpenCL { } }\n";
 

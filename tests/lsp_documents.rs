@@ -3,20 +3,18 @@
 //! workspaces with FIFOs, link loops and device links; diagnostics cleared when a document
 //! leaves; changes the spec does not allow refused, not guessed at.
 
+#[path = "support/cli.rs"]
+mod cli;
+
+use cli::temp_dir;
+
 #[path = "support/raw_lsp.rs"]
 mod raw_lsp;
 
-use std::{os::unix::fs::symlink, path::PathBuf, process::Command};
+use std::{os::unix::fs::symlink, process::Command};
 
 use raw_lsp::Lsp;
 use serde_json::json;
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gudsl-lspdoc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// A client's position of a byte offset: lines end at `\r\n`, `\r` and `\n`; columns count
 /// UTF-16 units.
