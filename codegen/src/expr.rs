@@ -76,8 +76,8 @@ impl Emitter<'_> {
     pub fn expr_as(&mut self, expr: &ast::Expr, ty: &Ty) -> String {
         let from = self.ty(expr);
         if let ast::Expr::Literal(literal) = expr {
-            if let (Some(digits), Ty::Float) = (integer_text(literal), ty.dereferenced()) {
-                return format!("{digits}.0");
+            if let (Some(ast::LiteralValue::Int { value, .. }), Ty::Float) = (literal.value(), ty.dereferenced()) {
+                return format!("{value}.0");
             }
         }
         let code = self.expr(expr);
@@ -85,46 +85,19 @@ impl Emitter<'_> {
     }
 
     fn literal(&mut self, literal: &ast::Literal) -> String {
-        let Some(token) = literal.token() else { return "0".into() };
-        let text = token.text();
-        match token.kind() {
-            SyntaxKind::INT_NUMBER => {
-                let digits = text.trim_end_matches(['l', 'L', 'u', 'U']);
-                let value = match digits.strip_prefix("0x").or_else(|| digits.strip_prefix("0X")) {
-                    Some(hex) => u64::from_str_radix(hex, 16).ok(),
-                    None => digits.parse::<u64>().ok(),
-                };
-                let unsigned = text.ends_with(['u', 'U']) || value.is_some_and(|v| v > i32::MAX as u64);
-                match value {
-                    Some(v) if v > u32::MAX as u64 => {
-                        self.unsupported(literal.syntax(), "an integer wider than 32 bits (WGSL has none)")
-                    }
-                    _ if unsigned => format!("{digits}u"),
-                    _ => format!("{digits}i"),
-                }
+        match literal.value() {
+            Some(ast::LiteralValue::Int { value, .. }) if value > u32::MAX as u64 => {
+                self.unsupported(literal.syntax(), "an integer wider than 32 bits (WGSL has none)")
             }
-            SyntaxKind::FLOAT_NUMBER => {
-                let digits = text.trim_end_matches(['f', 'F', 'd', 'D']);
-                if digits.contains(['.', 'e', 'E']) {
-                    format!("{digits}f")
-                } else {
-                    format!("{digits}.0f")
-                }
+            Some(ast::LiteralValue::Int { value, unsigned: true }) => format!("{value}u"),
+            Some(ast::LiteralValue::Int { value, unsigned: false }) => format!("{value}i"),
+            Some(ast::LiteralValue::Float(value)) => format!("{value:?}f"),
+            Some(ast::LiteralValue::Char(code)) => format!("{code}i"),
+            Some(ast::LiteralValue::Bool(value)) => value.to_string(),
+            None => self.unsupported(literal.syntax(), "an integer wider than 64 bits"),
+            Some(ast::LiteralValue::Str(_) | ast::LiteralValue::Null) => {
+                self.unsupported(literal.syntax(), "strings and `null` do not exist on the GPU")
             }
-            SyntaxKind::CHAR => {
-                let inner = text.trim_matches('\'');
-                let code = match inner.strip_prefix('\\') {
-                    Some("n") => 10,
-                    Some("t") => 9,
-                    Some("0") => 0,
-                    Some(other) => other.chars().next().map_or(0, |c| c as u32),
-                    None => inner.chars().next().map_or(0, |c| c as u32),
-                };
-                format!("{code}i")
-            }
-            SyntaxKind::TRUE_KW => "true".into(),
-            SyntaxKind::FALSE_KW => "false".into(),
-            _ => self.unsupported(literal.syntax(), "strings and `null` do not exist on the GPU"),
         }
     }
 
@@ -217,13 +190,6 @@ impl Emitter<'_> {
         let _ = width;
         format!("{target}({})", parts.join(", "))
     }
-}
-
-/// The digits of an integer literal without suffix, if it is a decimal one.
-fn integer_text(literal: &ast::Literal) -> Option<String> {
-    let token = literal.token().filter(|t| t.kind() == SyntaxKind::INT_NUMBER)?;
-    let digits = token.text().trim_end_matches(['l', 'L', 'u', 'U']).to_string();
-    digits.chars().all(|c| c.is_ascii_digit()).then_some(digits)
 }
 
 /// An OpenCL swizzle as WGSL's `xyzw` letters; `None` if it names no component of a

@@ -109,10 +109,63 @@ pub fn device_diagrams<'db>(sema: &Semantics<'db>) -> Vec<&'db Definition> {
 
 /// Whether an activity diagram is device code (see [`device_diagrams`]).
 pub fn is_device_diagram(sema: &Semantics<'_>, def: &Definition) -> bool {
-    let DefKind::Activity(signature) = &def.kind else { return false };
+    owners(sema, def).into_iter().any(|owner| sema.is_gpu_class(owner))
+}
+
+/// The classes that own an activity diagram or one of its swimlanes.
+fn owners<'db>(sema: &Semantics<'db>, def: &Definition) -> Vec<&'db Definition> {
+    let DefKind::Activity(signature) = &def.kind else { return Vec::new() };
     let scope = gudsl_model::hir::Scope::of(def);
     let owners = signature.owner.iter().chain(signature.swimlanes.iter().filter_map(|lane| lane.owner.as_ref()));
-    owners.filter_map(|owner| sema.resolve(&scope, owner)).any(|owner| sema.is_gpu_class(owner))
+    owners.filter_map(|owner| sema.resolve(&scope, owner)).collect()
+}
+
+/// The device diagram that implements the method `method` of the OpenCL class `class` (what a
+/// calc node's `call Class::method(…)` launches): owned by the class, with the method's
+/// parameter names in order. Otherwise a message that says what is missing.
+pub fn implementation<'db>(
+    sema: &Semantics<'db>,
+    class: &'db Definition,
+    method: &str,
+) -> Result<&'db Definition, String> {
+    let signatures = sema.methods(class, method);
+    let Some((_, signature)) = signatures.first() else {
+        return Err(format!("`{}` has no method `{method}`", class.fqn));
+    };
+    let names: Vec<&str> = signature.params.iter().map(|p| p.name.as_str()).collect();
+    let owned: Vec<&'db Definition> = device_diagrams(sema)
+        .into_iter()
+        .filter(|def| owners(sema, def).iter().any(|owner| owner.fqn == class.fqn))
+        .collect();
+    let matching: Vec<&'db Definition> = owned
+        .iter()
+        .copied()
+        .filter(|def| {
+            let DefKind::Activity(activity) = &def.kind else { return false };
+            activity.params.iter().map(|p| p.name.as_str()).eq(names.iter().copied())
+        })
+        .collect();
+    match matching[..] {
+        [diagram] => Ok(diagram),
+        [] if owned.is_empty() => Err(format!(
+            "no device diagram implements `{}::{method}`: an activity diagram owned by `{}` (`swimlane …, owner {}`) with the parameters ({}) does",
+            class.fqn,
+            class.fqn,
+            class.fqn,
+            names.join(", ")
+        )),
+        [] => Err(format!(
+            "no device diagram owned by `{}` has the parameters of `{method}` ({}); it owns {}",
+            class.fqn,
+            names.join(", "),
+            owned.iter().map(|d| format!("`{}`", d.fqn)).collect::<Vec<_>>().join(", ")
+        )),
+        _ => Err(format!(
+            "several device diagrams implement `{}::{method}`: {}",
+            class.fqn,
+            matching.iter().map(|d| format!("`{}`", d.fqn)).collect::<Vec<_>>().join(", ")
+        )),
+    }
 }
 
 /// The kernel of a device diagram, validated; or what could not be generated.

@@ -1,7 +1,9 @@
 //! gudsl-host: the host side of GU-DSL's GPGPU extension (chapter 10.3): the device diagrams'
 //! generated kernels compiled once and launched on the runtime's wgpu device with host arguments
-//! and work ranges, as the framework's calc and calcRange nodes launch them.
+//! and work ranges, as the framework's calc and calcRange nodes launch them; host activity
+//! diagrams (`Main`) run by an interpreter that drives them (`run`).
 
 pub mod launch;
+pub mod run;
 
 pub use launch::{Arg, LaunchError, Launcher, Number, WorkRange};

@@ -196,6 +196,34 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                         self.expect_bool(&cond, "a condition");
                     }
                 }
+                // `for (init : step : test)`: the test is boolean, the other parts are typed
+                // (a declaration among them is a VAR_DECL, checked above).
+                SyntaxKind::FOR_STMT => {
+                    let sections = ast::ForStmt::cast(element).expect("kind checked").sections();
+                    for (i, part) in sections.iter().enumerate() {
+                        match part {
+                            ast::LoopPart::Expr(e) if i == 2 => self.expect_bool(e, "a `for` test"),
+                            ast::LoopPart::Expr(e) => drop(self.infer(e)),
+                            ast::LoopPart::Decl(_) => {}
+                        }
+                    }
+                }
+                SyntaxKind::SWITCH_STMT => {
+                    let switch = ast::SwitchStmt::cast(element).expect("kind checked");
+                    let labels = switch.cases().filter_map(|case| case.label());
+                    for expr in switch.scrutinee().into_iter().chain(labels) {
+                        self.infer(&expr);
+                    }
+                }
+                SyntaxKind::LOOP_WINDOW_DIM => {
+                    let dim = ast::LoopWindowDim::cast(element).expect("kind checked");
+                    if let Some(ast::LoopPart::Expr(start)) = dim.start() {
+                        self.infer(&start);
+                    }
+                    if let Some(end) = dim.end() {
+                        self.infer(&end);
+                    }
+                }
                 SyntaxKind::TRANSITION => self.transition(&ast::Transition::cast(element).expect("kind checked")),
                 _ => {}
             }

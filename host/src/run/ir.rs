@@ -1,0 +1,165 @@
+//! What a host diagram is lowered to before it runs: nodes, transitions, statements and
+//! expressions with every name resolved to a slot, every operator to its C arithmetic and every
+//! call to the framework method or kernel it reaches. It holds no syntax tree and no database,
+//! so a run needs neither (an editor goes on editing while it runs).
+
+use gudsl_model::{db::SourceFile, syntax::TextRange};
+
+use super::{framework::Method, value::Scalar, value::Value};
+
+/// Where something is written: for errors at run time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Span {
+    pub file: SourceFile,
+    pub range: TextRange,
+}
+
+/// A variable's index in the run's frame (diagram variables, node parameters and every local).
+pub type Slot = usize;
+
+/// The C arithmetic an operator is done in (the operands' usual arithmetic conversion).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Arith {
+    Int,
+    UInt,
+    Float,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Rem,
+    Shl,
+    Shr,
+    BitAnd,
+    BitOr,
+    BitXor,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CmpOp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+/// What a value is converted to when it is stored or passed (C's implicit conversions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Conv {
+    /// Kept as it is (strings, objects, unknown types).
+    Keep,
+    Bool,
+    Int,
+    UInt,
+    Float,
+    /// A pointer to elements of this scalar (`ref unsigned byte p = q`).
+    Pointer(Scalar),
+}
+
+pub enum Expr {
+    Const(Value),
+    Var(Slot),
+    Binary(BinOp, Arith, Box<Expr>, Box<Expr>, Span),
+    Compare(CmpOp, Arith, Box<Expr>, Box<Expr>),
+    /// Equality of non-numbers (pointers, objects, `null`).
+    Same(bool, Box<Expr>, Box<Expr>),
+    And(Box<Expr>, Box<Expr>),
+    Or(Box<Expr>, Box<Expr>),
+    Not(Box<Expr>),
+    Negate(Arith, Box<Expr>),
+    BitNot(Arith, Box<Expr>),
+    Convert(Conv, Box<Expr>),
+    /// `p + n` / `p - n` on a pointer.
+    Offset(Box<Expr>, Box<Expr>, bool),
+    Index(Box<Expr>, Box<Expr>, Span),
+    Assign(Box<Place>, Box<Expr>),
+    /// `x op= v`, `++x`, `x++`: the place, the operation and operand, whether the old value
+    /// is the result.
+    Update(Box<Place>, BinOp, Arith, Box<Expr>, bool, Span),
+    Ternary(Box<Expr>, Box<Expr>, Box<Expr>),
+    /// A framework method or function: its receiver (if any) first among the arguments.
+    Call(Method, Vec<Expr>, Span),
+    /// `new T[n]`: `n` zeroed elements.
+    NewArray(Scalar, Box<Expr>, Span),
+    /// `call C::m(…)` in a calc or calcRange node: kernel `kernel` of the run's table.
+    Launch(usize, Vec<Expr>, Span),
+}
+
+/// What can be assigned to: a variable (with the conversion its type asks) or an element.
+pub enum Place {
+    Var(Slot, Conv),
+    Index(Expr, Expr, Span),
+}
+
+pub enum Stmt {
+    Expr(Expr),
+    /// `var T x = init;` or a declaration without one (the type's zero).
+    Declare(Slot, Expr),
+    If(Expr, Vec<Stmt>, Vec<Stmt>),
+    /// A loop of any form: `init`, then while `test` holds, the body then `step`.
+    Loop {
+        test: Option<Expr>,
+        body: Vec<Stmt>,
+        step: Vec<Stmt>,
+        test_after: bool,
+    },
+    /// `switch v { case … }`: the cases' labels and statements, then the default's (each
+    /// case ends where the next begins).
+    Switch(Expr, Vec<(i32, Vec<Stmt>)>, Vec<Stmt>),
+    Return,
+    Break,
+    Continue,
+    Block(Vec<Stmt>),
+}
+
+/// How a node is entered and left.
+pub struct Node {
+    pub name: String,
+    pub kind: NodeKind,
+    pub span: Span,
+    /// Its statements (a loop node's inside its loops).
+    pub body: Vec<Stmt>,
+    pub edges: Vec<Edge>,
+    /// `out` parameters: written back to the caller's variable when the node has run.
+    pub outs: Vec<Slot>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeKind {
+    Start,
+    Final,
+    Action,
+    Loop,
+    Calc,
+    CalcRange,
+}
+
+/// A transition: taken when its guard holds (no guard: when none of the others does).
+pub struct Edge {
+    pub guard: Option<Expr>,
+    pub target: usize,
+    /// The target's parameters and the values they get.
+    pub args: Vec<(Slot, Expr)>,
+    /// Work sizes of a calc node, ranges of a calcRange node.
+    pub work: Vec<Expr>,
+    /// For each `out` parameter of the target: where its value goes when the target has run.
+    pub outs: Vec<Place>,
+}
+
+/// A lowered diagram.
+pub struct Program {
+    pub diagram: String,
+    pub nodes: Vec<Node>,
+    pub start: usize,
+    /// The diagram variables' initialisation, in order.
+    pub init: Vec<Stmt>,
+    pub slots: usize,
+    /// Names of the diagram variables and their slots (a finished run can be inspected).
+    pub variables: Vec<(String, Slot)>,
+}

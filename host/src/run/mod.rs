@@ -1,0 +1,231 @@
+//! Running host activity diagrams (chapter 10.3): `Main` and any other diagram without
+//! parameters. [`prepare`] lowers the diagram (everything that cannot run is an error with its
+//! range, before anything runs) and generates the kernels its calc nodes launch; [`Prepared::run`]
+//! then runs it on a wgpu device without the model — viewer images go to the output folder, and
+//! the [`Report`] says how the run ended, what each calc node took and what was printed.
+
+mod device;
+mod exec;
+mod framework;
+mod ir;
+mod lower;
+mod printf;
+mod value;
+
+use std::{
+    fmt,
+    path::{Path, PathBuf},
+    time::{Duration, Instant},
+};
+
+use gudsl_codegen::Kernel;
+use gudsl_model::{
+    db::SourceFile,
+    hir::{Definition, Semantics},
+};
+use gudsl_runtime::Gpu;
+
+pub use ir::Span;
+pub use value::Value;
+
+use crate::launch::Launcher;
+
+/// A diagram ready to run: lowered, its kernels generated.
+pub struct Prepared {
+    program: ir::Program,
+    kernels: Vec<Kernel>,
+    /// Where relative file names (`image.load("x.png")`) are found: the diagram file's folder.
+    base_dir: PathBuf,
+}
+
+/// Lowers the activity diagram `def` and generates its kernels; or every construct that
+/// cannot run.
+pub fn prepare(sema: &Semantics<'_>, def: &Definition) -> Result<Prepared, Vec<RunError>> {
+    let lowered = lower::lower(sema, def)?;
+    let path = def.file.path(sema.db());
+    let base_dir = Path::new(path).parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok(Prepared { program: lowered.program, kernels: lowered.kernels, base_dir })
+}
+
+/// What a run tells as it goes, and how it is stopped.
+pub trait Observer {
+    /// A node is about to run.
+    fn node(&mut self, _name: &str) {}
+    /// `printf` wrote `text`.
+    fn printed(&mut self, _text: &str) {}
+    /// A calc node's kernel ran for `device` on the device.
+    fn launched(&mut self, _node: &str, _kernel: &str, _device: Duration) {}
+    /// Whether to stop (asked between nodes, and every 65 536 loop iterations).
+    fn cancelled(&mut self) -> bool {
+        false
+    }
+}
+
+/// An observer that is told nothing and never stops a run.
+impl Observer for () {}
+
+/// What a run did.
+#[derive(Debug)]
+pub struct Report {
+    pub diagram: String,
+    /// How the run ended: at a node, or with an error (what was done until then is reported).
+    pub outcome: Result<Ending, RunError>,
+    pub device: String,
+    pub nodes_run: u64,
+    /// Each calc node's launches, in the order they first ran.
+    pub calcs: Vec<CalcReport>,
+    /// The viewer's images, as written.
+    pub images: Vec<PathBuf>,
+    pub printed: Vec<String>,
+    /// Compiling the kernels for the device.
+    pub compile: Duration,
+    /// The whole run, compilation included.
+    pub total: Duration,
+    /// The diagram's variables when the run ended.
+    pub variables: Vec<(String, Value)>,
+}
+
+/// Where a run ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Ending {
+    /// At this final node.
+    Final(String),
+    /// At this node: none of its transitions could be taken.
+    NoTransition(String),
+}
+
+/// The launches of one kernel by one calc node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalcReport {
+    pub node: String,
+    pub kernel: String,
+    pub launches: u32,
+    /// Submission to completion on the device.
+    pub device: Duration,
+    /// On the host, arguments and synchronisation included.
+    pub wall: Duration,
+}
+
+/// Why a diagram did not run, or stopped.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RunError {
+    pub kind: RunErrorKind,
+    /// Where: the construct, the node, or nothing (the device, the output folder).
+    pub span: Option<Span>,
+    pub message: String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunErrorKind {
+    /// The construct cannot run on the host (found before the run).
+    NotRunnable,
+    /// The run stopped here (a file that cannot be read, an index out of range, a kernel
+    /// that cannot be launched).
+    Failed,
+    /// Stopped on request, before this node.
+    Cancelled,
+}
+
+impl RunError {
+    fn not_runnable(span: Option<Span>, message: String) -> RunError {
+        RunError { kind: RunErrorKind::NotRunnable, span, message }
+    }
+
+    fn failed(span: Option<Span>, message: String) -> RunError {
+        RunError { kind: RunErrorKind::Failed, span, message }
+    }
+
+    fn cancelled(node: &str) -> RunError {
+        RunError { kind: RunErrorKind::Cancelled, span: None, message: format!("cancelled before node `{node}`") }
+    }
+
+    /// The file the error is in, if it has a place.
+    pub fn file(&self) -> Option<SourceFile> {
+        self.span.map(|s| s.file)
+    }
+}
+
+impl fmt::Display for RunError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for RunError {}
+
+impl Prepared {
+    pub fn diagram(&self) -> &str {
+        &self.program.diagram
+    }
+
+    /// The kernels the calc nodes launch.
+    pub fn kernels(&self) -> &[Kernel] {
+        &self.kernels
+    }
+
+    /// Runs the diagram on `gpu`; the viewer's images are written into `out_dir` (made if
+    /// missing) when the run ends, however it ends.
+    pub fn run(&self, gpu: &Gpu, out_dir: &Path, observer: &mut dyn Observer) -> Report {
+        let started = Instant::now();
+        let mut report = Report {
+            diagram: self.program.diagram.clone(),
+            outcome: Ok(Ending::Final(String::new())),
+            device: gpu.describe(),
+            nodes_run: 0,
+            calcs: Vec::new(),
+            images: Vec::new(),
+            printed: Vec::new(),
+            compile: Duration::ZERO,
+            total: Duration::ZERO,
+            variables: Vec::new(),
+        };
+        let launchers: Result<Vec<Launcher>, RunError> = self
+            .kernels
+            .iter()
+            .map(|kernel| {
+                Launcher::new(gpu, kernel).map_err(|e| {
+                    RunError::failed(
+                        None,
+                        format!("the kernel of `{}` does not compile on this device: {e}", kernel.diagram),
+                    )
+                })
+            })
+            .collect();
+        report.compile = started.elapsed();
+        let launchers = match launchers {
+            Ok(launchers) => launchers,
+            Err(error) => {
+                report.outcome = Err(error);
+                report.total = started.elapsed();
+                return report;
+            }
+        };
+        let framework = framework::Framework::new(gpu, self.base_dir.clone());
+        let mut machine = exec::Machine::new(&self.program, framework, &launchers, observer);
+        report.outcome = machine.run().map_err(|error| {
+            let mut error = *error;
+            // An error without a place of its own is placed on the node that was running.
+            if error.span.is_none() && error.kind == RunErrorKind::Failed {
+                error.span = Some(self.program.nodes[machine.node].span);
+            }
+            error
+        });
+        report.nodes_run = machine.nodes_run;
+        report.calcs = std::mem::take(&mut machine.calcs);
+        report.printed = std::mem::take(&mut machine.framework.printed);
+        report.variables =
+            self.program.variables.iter().map(|(name, slot)| (name.clone(), machine.frame[*slot].clone())).collect();
+        let written = std::fs::create_dir_all(out_dir)
+            .map_err(|e| format!("{}: {e}", out_dir.display()))
+            .and_then(|()| machine.framework.write_viewers(out_dir));
+        match written {
+            Ok(images) => report.images = images,
+            Err(message) if report.outcome.is_ok() => {
+                report.outcome = Err(RunError::failed(None, format!("the viewer's images were not written: {message}")))
+            }
+            Err(_) => {}
+        }
+        report.total = started.elapsed();
+        report
+    }
+}

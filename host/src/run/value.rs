@@ -1,0 +1,286 @@
+//! The host interpreter's values: C's `int` and `unsigned int` (32 bits, wrapping), floating
+//! point, booleans, strings, pointers into host memory (typed by their element, as C pointers
+//! are), framework objects and `null`.
+
+use std::{cell::RefCell, fmt, rc::Rc};
+
+use gudsl_model::ast::{self, AstNode};
+
+use super::framework::Object;
+
+/// A scalar as it is stored in host memory: what a pointer's element is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    /// Bytes of one element.
+    pub fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::F64 => 8,
+        }
+    }
+
+    /// The element a written type denotes: `unsigned byte` → `U8`, `int` → `I32`, `uchar`,
+    /// `float`, …; `void` and everything else (classes) are bytes.
+    pub fn of_type_ref(ty: &ast::TypeRef) -> Scalar {
+        let unsigned = ty.is_unsigned();
+        let name = match ty.path() {
+            Some(path) => path.text(),
+            None => ty
+                .syntax()
+                .children_with_tokens()
+                .filter_map(|t| t.into_token())
+                .filter(|t| t.kind().is_keyword() && !matches!(t.text(), "ref" | "unsigned"))
+                .map(|t| t.text().to_string())
+                .last()
+                .unwrap_or_default(),
+        };
+        Scalar::named(&name, unsigned)
+    }
+
+    /// The element called `name` (`unsigned` written before it or not).
+    pub fn named(name: &str, unsigned: bool) -> Scalar {
+        let signed = match name {
+            "bool" | "byte" | "char" | "void" => Scalar::I8,
+            "uchar" => return Scalar::U8,
+            "short" => Scalar::I16,
+            "ushort" => return Scalar::U16,
+            "int" | "long" => Scalar::I32,
+            "uint" | "ulong" => return Scalar::U32,
+            "float" | "real" => return Scalar::F32,
+            "double" => return Scalar::F64,
+            _ => Scalar::U8,
+        };
+        match (signed, unsigned || name == "void") {
+            (Scalar::I8, true) => Scalar::U8,
+            (Scalar::I16, true) => Scalar::U16,
+            (Scalar::I32, true) => Scalar::U32,
+            (other, _) => other,
+        }
+    }
+
+    /// The value stored in `bytes` (exactly [`Scalar::size`] of them).
+    fn load(self, bytes: &[u8]) -> Value {
+        let array = |n: usize| {
+            let mut out = [0u8; 8];
+            out[..n].copy_from_slice(&bytes[..n]);
+            out
+        };
+        match self {
+            Scalar::I8 => Value::Int(bytes[0] as i8 as i32),
+            Scalar::U8 => Value::UInt(bytes[0] as u32),
+            Scalar::I16 => Value::Int(i16::from_le_bytes([bytes[0], bytes[1]]) as i32),
+            Scalar::U16 => Value::UInt(u16::from_le_bytes([bytes[0], bytes[1]]) as u32),
+            Scalar::I32 => Value::Int(i32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])),
+            Scalar::U32 => Value::UInt(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])),
+            Scalar::F32 => Value::Float(f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as f64),
+            Scalar::F64 => Value::Float(f64::from_le_bytes(array(8))),
+        }
+    }
+
+    /// Writes `value`, converted as C converts on assignment, into `bytes`.
+    fn store(self, value: &Value, bytes: &mut [u8]) -> Result<(), String> {
+        let number =
+            value.number().ok_or_else(|| format!("a {} cannot be stored in memory of numbers", value.kind()))?;
+        match self {
+            Scalar::I8 | Scalar::U8 => bytes[0] = number.as_i64() as u8,
+            Scalar::I16 | Scalar::U16 => bytes[..2].copy_from_slice(&(number.as_i64() as u16).to_le_bytes()),
+            Scalar::I32 | Scalar::U32 => bytes[..4].copy_from_slice(&(number.as_i64() as u32).to_le_bytes()),
+            Scalar::F32 => bytes[..4].copy_from_slice(&(number.as_f64() as f32).to_le_bytes()),
+            Scalar::F64 => bytes[..8].copy_from_slice(&number.as_f64().to_le_bytes()),
+        }
+        Ok(())
+    }
+}
+
+/// A block of host memory (`new unsigned int[n]`, an image's pixels, a container's host copy).
+pub type Memory = Rc<RefCell<Vec<u8>>>;
+
+/// A fresh zeroed block of `bytes` bytes.
+pub fn memory(bytes: usize) -> Memory {
+    Rc::new(RefCell::new(vec![0; bytes]))
+}
+
+/// A C pointer: a block, a byte offset into it and the element it points to.
+#[derive(Clone)]
+pub struct Pointer {
+    pub memory: Memory,
+    pub offset: i64,
+    pub element: Scalar,
+}
+
+impl Pointer {
+    pub fn to(memory: Memory, element: Scalar) -> Pointer {
+        Pointer { memory, offset: 0, element }
+    }
+
+    /// `p + n`: `n` elements further.
+    pub fn add(&self, elements: i64) -> Pointer {
+        Pointer { offset: self.offset + elements * self.element.size() as i64, ..self.clone() }
+    }
+
+    /// The same address, read as `element`s (`p as ref int`).
+    pub fn cast(&self, element: Scalar) -> Pointer {
+        Pointer { element, ..self.clone() }
+    }
+
+    /// The byte range of `count` elements from element `index`, checked against the block.
+    fn span(&self, index: i64, count: usize) -> Result<std::ops::Range<usize>, String> {
+        let size = self.element.size() as i64;
+        let start = self.offset + index * size;
+        let end = start + count as i64 * size;
+        let len = self.memory.borrow().len() as i64;
+        if start < 0 || end > len {
+            return Err(format!(
+                "element {index} is outside the memory it points into ({} element(s) of {size} byte(s) from the pointer)",
+                (len - self.offset).max(0) / size
+            ));
+        }
+        Ok(start as usize..end as usize)
+    }
+
+    /// `p[index]`.
+    pub fn read(&self, index: i64) -> Result<Value, String> {
+        let range = self.span(index, 1)?;
+        Ok(self.element.load(&self.memory.borrow()[range]))
+    }
+
+    /// `p[index] = value`.
+    pub fn write(&self, index: i64, value: &Value) -> Result<(), String> {
+        let range = self.span(index, 1)?;
+        self.element.store(value, &mut self.memory.borrow_mut()[range])
+    }
+
+    /// A copy of `bytes` bytes from the pointer on.
+    pub fn bytes(&self, bytes: usize) -> Result<Vec<u8>, String> {
+        let start = self.offset;
+        let len = self.memory.borrow().len() as i64;
+        if start < 0 || start + bytes as i64 > len {
+            return Err(format!("{bytes} bytes from the pointer: only {} are there", (len - start).max(0)));
+        }
+        Ok(self.memory.borrow()[start as usize..start as usize + bytes].to_vec())
+    }
+
+    /// Copies `bytes` into memory from the pointer on.
+    pub fn put(&self, bytes: &[u8]) -> Result<(), String> {
+        let start = self.offset;
+        let len = self.memory.borrow().len() as i64;
+        if start < 0 || start + bytes.len() as i64 > len {
+            return Err(format!("{} bytes to the pointer: only {} fit", bytes.len(), (len - start).max(0)));
+        }
+        self.memory.borrow_mut()[start as usize..start as usize + bytes.len()].copy_from_slice(bytes);
+        Ok(())
+    }
+}
+
+/// A value of the host interpreter.
+#[derive(Clone, Default)]
+pub enum Value {
+    /// What a `void` call gives, and a variable not yet assigned.
+    #[default]
+    Void,
+    Null,
+    Bool(bool),
+    /// `int` (also `char`, `short`, `long` and enum constants, as C computes them).
+    Int(i32),
+    UInt(u32),
+    Float(f64),
+    Str(Rc<str>),
+    Ptr(Pointer),
+    Object(Rc<RefCell<Object>>),
+}
+
+/// A number, for conversions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Number {
+    Int(i64),
+    Float(f64),
+}
+
+impl Number {
+    pub fn as_i64(self) -> i64 {
+        match self {
+            Number::Int(v) => v,
+            Number::Float(v) => v as i64,
+        }
+    }
+
+    pub fn as_f64(self) -> f64 {
+        match self {
+            Number::Int(v) => v as f64,
+            Number::Float(v) => v,
+        }
+    }
+}
+
+impl Value {
+    /// The number a value is, if it is one (`bool` is 0 or 1).
+    pub fn number(&self) -> Option<Number> {
+        Some(match self {
+            Value::Bool(b) => Number::Int(*b as i64),
+            Value::Int(v) => Number::Int(*v as i64),
+            Value::UInt(v) => Number::Int(*v as i64),
+            Value::Float(v) => Number::Float(*v),
+            _ => return None,
+        })
+    }
+
+    /// What kind of value it is, for messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Value::Void => "value not set",
+            Value::Null => "null",
+            Value::Bool(_) => "bool",
+            Value::Int(_) => "int",
+            Value::UInt(_) => "unsigned int",
+            Value::Float(_) => "float",
+            Value::Str(_) => "string",
+            Value::Ptr(_) => "pointer",
+            Value::Object(object) => object.borrow().class(),
+        }
+    }
+}
+
+impl fmt::Debug for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Void => write!(f, "void"),
+            Value::Null => write!(f, "null"),
+            Value::Bool(v) => write!(f, "{v}"),
+            Value::Int(v) => write!(f, "{v}"),
+            Value::UInt(v) => write!(f, "{v}u"),
+            Value::Float(v) => write!(f, "{v}"),
+            Value::Str(v) => write!(f, "{v:?}"),
+            Value::Ptr(p) => write!(f, "pointer({:?} at byte {})", p.element, p.offset),
+            Value::Object(object) => write!(f, "{}", object.borrow().class()),
+        }
+    }
+}
+
+impl Value {
+    /// Element `index` of what the value points to or holds on the host: a pointer's memory,
+    /// an `ImageContainer`'s or `BufferContainer`'s host copy.
+    pub fn element(&self, index: i64) -> Option<Value> {
+        match self {
+            Value::Ptr(pointer) => pointer.read(index).ok(),
+            Value::Object(object) => match &*object.borrow() {
+                Object::Images(c) => Pointer::to(c.host.clone(), c.element).read(index).ok(),
+                Object::Buffer(c) => Pointer::to(c.host.clone(), c.element).read(index).ok(),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+}
