@@ -26,6 +26,8 @@ enum Command {
     Render(commands::render::RenderArgs),
     /// Print or write the WGSL generated from the device diagrams (activity diagrams of OpenCL classes).
     Wgsl(commands::wgsl::WgslArgs),
+    /// Run a host activity diagram (e.g. `Main`): its calc nodes' kernels on the GPU (lavapipe without one).
+    Run(commands::run::RunArgs),
     /// Run the language server on stdin/stdout (for editors).
     Lsp,
 }
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
         Command::Fmt(args) => commands::fmt::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Wgsl(args) => commands::wgsl::run(&args),
+        Command::Run(args) => commands::run::run(&args),
         Command::Lsp => lsp::run(),
     }
 }

@@ -4,7 +4,7 @@
 //! and expressions are evaluated over one frame of slots; the observer is told of every node
 //! and asked between nodes (and every 65 536 loop iterations) whether to stop.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::launch::Launcher;
 
@@ -39,6 +39,8 @@ pub(super) struct Machine<'r, 'g> {
     pub node: usize,
     pub nodes_run: u64,
     pub calcs: Vec<CalcReport>,
+    /// Per node: how often it ran, for how long in all, and the order it first ran in.
+    pub times: Vec<(u32, Duration, usize)>,
     iterations: u32,
 }
 
@@ -59,6 +61,7 @@ impl<'r, 'g> Machine<'r, 'g> {
             node: program.start,
             nodes_run: 0,
             calcs: Vec::new(),
+            times: vec![(0, Duration::ZERO, usize::MAX); program.nodes.len()],
             iterations: 0,
         }
     }
@@ -78,7 +81,15 @@ impl<'r, 'g> Machine<'r, 'g> {
             self.node = current;
             self.nodes_run += 1;
             self.observer.node(&node.name);
-            self.exec(&node.body)?;
+            let started = Instant::now();
+            let ran = self.exec(&node.body);
+            let time = &mut self.times[current];
+            if time.0 == 0 {
+                time.2 = self.nodes_run as usize;
+            }
+            time.0 += 1;
+            time.1 += started.elapsed();
+            ran?;
             if let Some((from, edge)) = entered {
                 let edge = &program.nodes[from].edges[edge];
                 for (slot, place) in node.outs.iter().zip(&edge.outs) {
@@ -92,7 +103,7 @@ impl<'r, 'g> Machine<'r, 'g> {
             let mut taken = None;
             for (i, edge) in node.edges.iter().enumerate() {
                 let holds = match &edge.guard {
-                    Some(guard) => truthy(&self.eval(guard)?),
+                    Some(guard) => self.truth(guard)?,
                     None => true,
                 };
                 if holds {
@@ -133,13 +144,13 @@ impl<'r, 'g> Machine<'r, 'g> {
                 self.frame[*slot] = value;
             }
             Stmt::If(condition, then, other) => {
-                let branch = if truthy(&self.eval(condition)?) { then } else { other };
+                let branch = if self.truth(condition)? { then } else { other };
                 return self.exec(branch);
             }
             Stmt::Loop { test, body, step, test_after } => loop {
                 if !test_after {
                     if let Some(test) = test {
-                        if !truthy(&self.eval(test)?) {
+                        if !self.truth(test)? {
                             break;
                         }
                     }
@@ -152,7 +163,7 @@ impl<'r, 'g> Machine<'r, 'g> {
                 self.exec(step)?;
                 if *test_after {
                     if let Some(test) = test {
-                        if !truthy(&self.eval(test)?) {
+                        if !self.truth(test)? {
                             break;
                         }
                     }
@@ -182,21 +193,18 @@ impl<'r, 'g> Machine<'r, 'g> {
         Ok(match expr {
             Expr::Const(value) => value.clone(),
             Expr::Var(slot) => self.frame[*slot].clone(),
-            Expr::Binary(op, arith, l, r, span) => {
-                let (l, r) = (self.eval(l)?, self.eval(r)?);
-                binary(*op, *arith, &l, &r).map_err(|m| failed(*span, m))?
+            Expr::Binary(_, Arith::Int, ..) => Value::Int(self.int(expr)?),
+            Expr::Binary(_, Arith::UInt, ..) => Value::UInt(self.int(expr)? as u32),
+            Expr::Binary(op, Arith::Float, l, r, span) => {
+                let (l, r) = (self.float(l)?, self.float(r)?);
+                binary(*op, Arith::Float, &Value::Float(l), &Value::Float(r)).map_err(|m| failed(*span, m))?
             }
-            Expr::Compare(op, arith, l, r) => {
-                let (l, r) = (self.eval(l)?, self.eval(r)?);
-                Value::Bool(compare(*op, *arith, &l, &r))
-            }
+            Expr::Compare(..) => Value::Bool(self.truth(expr)?),
             Expr::Same(equal, l, r) => {
                 let (l, r) = (self.eval(l)?, self.eval(r)?);
                 Value::Bool(same(&l, &r) == *equal)
             }
-            Expr::And(l, r) => Value::Bool(truthy(&self.eval(l)?) && truthy(&self.eval(r)?)),
-            Expr::Or(l, r) => Value::Bool(truthy(&self.eval(l)?) || truthy(&self.eval(r)?)),
-            Expr::Not(v) => Value::Bool(!truthy(&self.eval(v)?)),
+            Expr::And(..) | Expr::Or(..) | Expr::Not(_) => Value::Bool(self.truth(expr)?),
             Expr::Negate(arith, v) => {
                 let v = self.eval(v)?;
                 match arith {
@@ -229,7 +237,7 @@ impl<'r, 'g> Machine<'r, 'g> {
                 }
             }
             Expr::Index(base, at, span) => {
-                let at = int(&self.eval(at)?) as i64;
+                let at = self.int(at)? as i64;
                 match base.as_ref() {
                     Expr::Var(slot) => read(&self.frame[*slot], at).map_err(|m| failed(*span, m))?,
                     base => {
@@ -242,6 +250,16 @@ impl<'r, 'g> Machine<'r, 'g> {
                 let value = self.eval(value)?;
                 self.store(place, value.clone())?;
                 value
+            }
+            Expr::Update(place, op, Arith::Int, operand, postfix, span)
+                if matches!(place.as_ref(), Place::Var(_, Conv::Int)) =>
+            {
+                let Place::Var(slot, _) = place.as_ref() else { unreachable!("matched above") };
+                let operand = self.int(operand)?;
+                let old = int(&self.frame[*slot]);
+                let new = int_binary(*op, old, operand).map_err(|m| failed(*span, m))?;
+                self.frame[*slot] = Value::Int(new);
+                Value::Int(if *postfix { old } else { new })
             }
             Expr::Update(place, op, arith, operand, postfix, span) => {
                 let operand = self.eval(operand)?;
@@ -262,7 +280,7 @@ impl<'r, 'g> Machine<'r, 'g> {
                 }
             }
             Expr::Ternary(c, a, b) => {
-                if truthy(&self.eval(c)?) {
+                if self.truth(c)? {
                     self.eval(a)?
                 } else {
                     self.eval(b)?
@@ -300,6 +318,69 @@ impl<'r, 'g> Machine<'r, 'g> {
         })
     }
 
+    /// `expr` as a C `int` (the bits of an `unsigned int`), without making values where the
+    /// arithmetic allows: the interpreter's hot path.
+    fn int(&mut self, expr: &Expr) -> Outcome<i32> {
+        Ok(match expr {
+            Expr::Const(value) => int(value),
+            Expr::Var(slot) => int(&self.frame[*slot]),
+            Expr::Binary(op, Arith::Int, l, r, span) => {
+                let (l, r) = (self.int(l)?, self.int(r)?);
+                int_binary(*op, l, r).map_err(|m| failed(*span, m))?
+            }
+            Expr::Binary(op, Arith::UInt, l, r, span) => {
+                let (l, r) = (self.int(l)? as u32, self.int(r)? as u32);
+                uint_binary(*op, l, r).map_err(|m| failed(*span, m))? as i32
+            }
+            Expr::Convert(Conv::Int | Conv::UInt, inner) => self.int(inner)?,
+            Expr::Index(base, at, span) => {
+                let at = self.int(at)? as i64;
+                let value = match base.as_ref() {
+                    Expr::Var(slot) => read(&self.frame[*slot], at),
+                    base => {
+                        let base = self.eval(base)?;
+                        read(&base, at)
+                    }
+                };
+                int(&value.map_err(|m| failed(*span, m))?)
+            }
+            other => int(&self.eval(other)?),
+        })
+    }
+
+    fn float(&mut self, expr: &Expr) -> Outcome<f64> {
+        Ok(match expr {
+            Expr::Const(value) => float(value),
+            Expr::Var(slot) => float(&self.frame[*slot]),
+            Expr::Convert(Conv::Float, inner) => self.float(inner)?,
+            other => float(&self.eval(other)?),
+        })
+    }
+
+    /// `expr` as a condition.
+    fn truth(&mut self, expr: &Expr) -> Outcome<bool> {
+        Ok(match expr {
+            Expr::Compare(op, Arith::Int, l, r) => {
+                let (l, r) = (self.int(l)?, self.int(r)?);
+                ordered(*op, l.cmp(&r))
+            }
+            Expr::Compare(op, Arith::UInt, l, r) => {
+                let (l, r) = (self.int(l)? as u32, self.int(r)? as u32);
+                ordered(*op, l.cmp(&r))
+            }
+            Expr::Compare(op, Arith::Float, l, r) => {
+                let (l, r) = (self.float(l)?, self.float(r)?);
+                // NaN: only `!=` holds.
+                l.partial_cmp(&r).map_or(*op == CmpOp::Ne, |ordering| ordered(*op, ordering))
+            }
+            Expr::And(l, r) => self.truth(l)? && self.truth(r)?,
+            Expr::Or(l, r) => self.truth(l)? || self.truth(r)?,
+            Expr::Not(v) => !self.truth(v)?,
+            Expr::Convert(Conv::Bool, inner) => self.truth(inner)?,
+            other => truthy(&self.eval(other)?),
+        })
+    }
+
     /// Stores `value` where `place` says.
     fn store(&mut self, place: &Place, value: Value) -> Outcome<()> {
         match place {
@@ -307,12 +388,15 @@ impl<'r, 'g> Machine<'r, 'g> {
                 self.frame[*slot] = convert(*conv, value).map_err(|m| Box::new(RunError::failed(None, m)))?;
             }
             Place::Index(base, at, span) => {
-                let at = int(&self.eval(at)?) as i64;
-                let base = self.eval(base)?;
-                match base {
-                    Value::Ptr(p) => p.write(at, &value).map_err(|m| failed(*span, m))?,
-                    other => return Err(failed(*span, format!("indexing a {}", describe(&other)))),
-                }
+                let at = self.int(at)? as i64;
+                let written = match base {
+                    Expr::Var(slot) => write(&self.frame[*slot], at, &value),
+                    base => {
+                        let base = self.eval(base)?;
+                        write(&base, at, &value)
+                    }
+                };
+                written.map_err(|m| failed(*span, m))?;
             }
         }
         Ok(())
@@ -327,6 +411,14 @@ pub(super) fn failed(span: Span, message: String) -> Box<RunError> {
 fn read(base: &Value, at: i64) -> Result<Value, String> {
     match base {
         Value::Ptr(p) => p.read(at),
+        other => Err(format!("indexing a {}", describe(other))),
+    }
+}
+
+/// `base[at] = value`.
+fn write(base: &Value, at: i64, value: &Value) -> Result<(), String> {
+    match base {
+        Value::Ptr(p) => p.write(at, value),
         other => Err(format!("indexing a {}", describe(other))),
     }
 }
@@ -395,38 +487,8 @@ pub(super) fn convert(conv: Conv, value: Value) -> Result<Value, String> {
 
 fn binary(op: BinOp, arith: Arith, l: &Value, r: &Value) -> Result<Value, String> {
     Ok(match arith {
-        Arith::Int => {
-            let (a, b) = (int(l), int(r));
-            Value::Int(match op {
-                BinOp::Add => a.wrapping_add(b),
-                BinOp::Sub => a.wrapping_sub(b),
-                BinOp::Mul => a.wrapping_mul(b),
-                BinOp::Div | BinOp::Rem if b == 0 => return Err("division by zero".into()),
-                BinOp::Div => a.wrapping_div(b),
-                BinOp::Rem => a.wrapping_rem(b),
-                BinOp::Shl => a.wrapping_shl(b as u32),
-                BinOp::Shr => a.wrapping_shr(b as u32),
-                BinOp::BitAnd => a & b,
-                BinOp::BitOr => a | b,
-                BinOp::BitXor => a ^ b,
-            })
-        }
-        Arith::UInt => {
-            let (a, b) = (int(l) as u32, int(r) as u32);
-            Value::UInt(match op {
-                BinOp::Add => a.wrapping_add(b),
-                BinOp::Sub => a.wrapping_sub(b),
-                BinOp::Mul => a.wrapping_mul(b),
-                BinOp::Div | BinOp::Rem if b == 0 => return Err("division by zero".into()),
-                BinOp::Div => a / b,
-                BinOp::Rem => a % b,
-                BinOp::Shl => a.wrapping_shl(b),
-                BinOp::Shr => a.wrapping_shr(b),
-                BinOp::BitAnd => a & b,
-                BinOp::BitOr => a | b,
-                BinOp::BitXor => a ^ b,
-            })
-        }
+        Arith::Int => Value::Int(int_binary(op, int(l), int(r))?),
+        Arith::UInt => Value::UInt(uint_binary(op, int(l) as u32, int(r) as u32)?),
         Arith::Float => {
             let (a, b) = (float(l), float(r));
             Value::Float(match op {
@@ -441,16 +503,41 @@ fn binary(op: BinOp, arith: Arith, l: &Value, r: &Value) -> Result<Value, String
     })
 }
 
-fn compare(op: CmpOp, arith: Arith, l: &Value, r: &Value) -> bool {
-    let ordering = match arith {
-        Arith::Int => int(l).cmp(&int(r)),
-        Arith::UInt => (int(l) as u32).cmp(&(int(r) as u32)),
-        Arith::Float => match float(l).partial_cmp(&float(r)) {
-            Some(ordering) => ordering,
-            // NaN: only `!=` holds.
-            None => return op == CmpOp::Ne,
-        },
-    };
+/// C's `int` arithmetic (wrapping; shifts by the amount modulo 32).
+fn int_binary(op: BinOp, a: i32, b: i32) -> Result<i32, String> {
+    Ok(match op {
+        BinOp::Add => a.wrapping_add(b),
+        BinOp::Sub => a.wrapping_sub(b),
+        BinOp::Mul => a.wrapping_mul(b),
+        BinOp::Div | BinOp::Rem if b == 0 => return Err("division by zero".into()),
+        BinOp::Div => a.wrapping_div(b),
+        BinOp::Rem => a.wrapping_rem(b),
+        BinOp::Shl => a.wrapping_shl(b as u32),
+        BinOp::Shr => a.wrapping_shr(b as u32),
+        BinOp::BitAnd => a & b,
+        BinOp::BitOr => a | b,
+        BinOp::BitXor => a ^ b,
+    })
+}
+
+/// C's `unsigned int` arithmetic.
+fn uint_binary(op: BinOp, a: u32, b: u32) -> Result<u32, String> {
+    Ok(match op {
+        BinOp::Add => a.wrapping_add(b),
+        BinOp::Sub => a.wrapping_sub(b),
+        BinOp::Mul => a.wrapping_mul(b),
+        BinOp::Div | BinOp::Rem if b == 0 => return Err("division by zero".into()),
+        BinOp::Div => a / b,
+        BinOp::Rem => a % b,
+        BinOp::Shl => a.wrapping_shl(b),
+        BinOp::Shr => a.wrapping_shr(b),
+        BinOp::BitAnd => a & b,
+        BinOp::BitOr => a | b,
+        BinOp::BitXor => a ^ b,
+    })
+}
+
+fn ordered(op: CmpOp, ordering: std::cmp::Ordering) -> bool {
     match op {
         CmpOp::Eq => ordering.is_eq(),
         CmpOp::Ne => ordering.is_ne(),

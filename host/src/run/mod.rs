@@ -72,6 +72,8 @@ pub struct Report {
     pub outcome: Result<Ending, RunError>,
     pub device: String,
     pub nodes_run: u64,
+    /// Each node that ran, in the order they first ran.
+    pub nodes: Vec<NodeReport>,
     /// Each calc node's launches, in the order they first ran.
     pub calcs: Vec<CalcReport>,
     /// The viewer's images, as written.
@@ -92,6 +94,15 @@ pub enum Ending {
     Final(String),
     /// At this node: none of its transitions could be taken.
     NoTransition(String),
+}
+
+/// How often a node ran and how long it took in all (its statements; the transitions out of
+/// it not included).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeReport {
+    pub name: String,
+    pub runs: u32,
+    pub wall: Duration,
 }
 
 /// The launches of one kernel by one calc node.
@@ -172,6 +183,7 @@ impl Prepared {
             outcome: Ok(Ending::Final(String::new())),
             device: gpu.describe(),
             nodes_run: 0,
+            nodes: Vec::new(),
             calcs: Vec::new(),
             images: Vec::new(),
             printed: Vec::new(),
@@ -211,6 +223,12 @@ impl Prepared {
             error
         });
         report.nodes_run = machine.nodes_run;
+        let mut ran: Vec<(usize, NodeReport)> = (machine.times.iter().zip(&self.program.nodes))
+            .filter(|((runs, _, _), _)| *runs > 0)
+            .map(|(&(runs, wall, first), node)| (first, NodeReport { name: node.name.clone(), runs, wall }))
+            .collect();
+        ran.sort_by_key(|(first, _)| *first);
+        report.nodes = ran.into_iter().map(|(_, node)| node).collect();
         report.calcs = std::mem::take(&mut machine.calcs);
         report.printed = std::mem::take(&mut machine.framework.printed);
         report.variables =

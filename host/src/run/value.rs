@@ -136,31 +136,31 @@ impl Pointer {
         Pointer { element, ..self.clone() }
     }
 
-    /// The byte range of `count` elements from element `index`, checked against the block.
-    fn span(&self, index: i64, count: usize) -> Result<std::ops::Range<usize>, String> {
+    /// The byte range of element `index` in a block of `len` bytes, if it lies inside.
+    fn at(&self, index: i64, len: usize) -> Result<std::ops::Range<usize>, String> {
         let size = self.element.size() as i64;
         let start = self.offset + index * size;
-        let end = start + count as i64 * size;
-        let len = self.memory.borrow().len() as i64;
-        if start < 0 || end > len {
+        if start < 0 || start + size > len as i64 {
             return Err(format!(
                 "element {index} is outside the memory it points into ({} element(s) of {size} byte(s) from the pointer)",
-                (len - self.offset).max(0) / size
+                (len as i64 - self.offset).max(0) / size
             ));
         }
-        Ok(start as usize..end as usize)
+        Ok(start as usize..(start + size) as usize)
     }
 
     /// `p[index]`.
     pub fn read(&self, index: i64) -> Result<Value, String> {
-        let range = self.span(index, 1)?;
-        Ok(self.element.load(&self.memory.borrow()[range]))
+        let memory = self.memory.borrow();
+        let range = self.at(index, memory.len())?;
+        Ok(self.element.load(&memory[range]))
     }
 
     /// `p[index] = value`.
     pub fn write(&self, index: i64, value: &Value) -> Result<(), String> {
-        let range = self.span(index, 1)?;
-        self.element.store(value, &mut self.memory.borrow_mut()[range])
+        let mut memory = self.memory.borrow_mut();
+        let range = self.at(index, memory.len())?;
+        self.element.store(value, &mut memory[range])
     }
 
     /// A copy of `bytes` bytes from the pointer on.

@@ -107,6 +107,10 @@ pub enum DiagnosticCode {
     InterfaceNotImplemented,
     /// Device code the GPU code generator cannot generate (reported by `gudsl-codegen`).
     NotGenerated,
+    /// Host code the interpreter cannot run (reported by `gudsl-host` before a run).
+    NotRunnable,
+    /// Where a run stopped with an error (reported by `gudsl run`).
+    RunFailed,
 }
 
 impl DiagnosticCode {
@@ -154,6 +158,8 @@ impl DiagnosticCode {
             DiagnosticCode::ImageAccess => "E0239",
             DiagnosticCode::InterfaceNotImplemented => "E0240",
             DiagnosticCode::NotGenerated => "E0301",
+            DiagnosticCode::NotRunnable => "E0302",
+            DiagnosticCode::RunFailed => "E0303",
         }
     }
 
@@ -203,6 +209,8 @@ impl DiagnosticCode {
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
             DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
             DiagnosticCode::NotGenerated => "device code the GPU code generator cannot generate",
+            DiagnosticCode::NotRunnable => "host code the interpreter cannot run",
+            DiagnosticCode::RunFailed => "where a run stopped with an error",
         }
     }
 }

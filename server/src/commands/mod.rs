@@ -1,6 +1,45 @@
-//! One module per `gudsl` subcommand.
+//! One module per `gudsl` subcommand, and what the commands that act on a model share: loading
+//! and checking it, refusing one with errors.
 
 pub mod check;
 pub mod fmt;
 pub mod render;
+pub mod run;
 pub mod wgsl;
+
+use std::{path::PathBuf, process::ExitCode};
+
+use gudsl_model::{analysis::FileId, hir::Severity, AnalysisHost};
+
+use crate::{
+    report::{self, Color, Format},
+    workspace,
+};
+
+/// The files under `paths`, loaded into one workspace and checked; or, when a path could not be
+/// read (exit code 2) or the model has errors (1), the exit code after printing why `command`
+/// does nothing.
+pub fn checked_model(paths: &[PathBuf], command: &str) -> Result<(AnalysisHost, Vec<FileId>, report::Report), ExitCode> {
+    let loaded = workspace::load(paths);
+    let unreadable = !loaded.errors.is_empty();
+    let (host, files) = workspace::analysis_host(&loaded.documents);
+    let Some(report) = check::diagnose(loaded, &host.analysis(), &files) else {
+        eprintln!("gudsl {command}: the analysis was cancelled");
+        return Err(ExitCode::from(2));
+    };
+    if unreadable {
+        eprintln!("gudsl {command}: a path could not be read; nothing is done");
+        return Err(refuse(&report, 2));
+    }
+    if report.count(Severity::Error) > 0 {
+        eprintln!("gudsl {command}: the model has errors; nothing is done");
+        return Err(refuse(&report, 1));
+    }
+    Ok((host, files, report))
+}
+
+/// Prints the problems and the unreadable paths (as `gudsl check` does) and exits with `code`.
+pub fn refuse(report: &report::Report, code: u8) -> ExitCode {
+    let _ = report::write(report, Format::Human, Color::Auto);
+    ExitCode::from(code)
+}

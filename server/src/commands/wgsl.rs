@@ -10,11 +10,7 @@ use std::{io::Write, path::PathBuf, process::ExitCode};
 use clap::Args;
 use gudsl_model::hir::{DiagnosticCode, Severity};
 
-use crate::{
-    commands::check::diagnose,
-    report::{self, Color, Finding, Format},
-    workspace,
-};
+use crate::report::Finding;
 
 #[derive(Args)]
 pub struct WgslArgs {
@@ -30,19 +26,11 @@ pub struct WgslArgs {
 }
 
 pub fn run(args: &WgslArgs) -> ExitCode {
-    let loaded = workspace::load(&args.paths);
-    let unreadable = !loaded.errors.is_empty();
-    let (host, files) = workspace::analysis_host(&loaded.documents);
+    let (host, files, mut report) = match super::checked_model(&args.paths, "wgsl") {
+        Ok(checked) => checked,
+        Err(code) => return code,
+    };
     let analysis = host.analysis();
-    let Some(mut report) = diagnose(loaded, &analysis, &files) else { return cancelled() };
-    if unreadable {
-        eprintln!("gudsl wgsl: a path could not be read; nothing is generated");
-        return refuse(&report, 2);
-    }
-    if report.count(Severity::Error) > 0 {
-        eprintln!("gudsl wgsl: the model has errors; nothing is generated");
-        return refuse(&report, 1);
-    }
     let generated = analysis.with_semantics(|sema| {
         gudsl_codegen::device_diagrams(sema)
             .into_iter()
@@ -85,7 +73,7 @@ pub fn run(args: &WgslArgs) -> ExitCode {
         report.findings.retain(|f| f.severity == Severity::Error);
         report.findings.sort_by_key(|f| (f.file, f.range.start()));
         eprintln!("gudsl wgsl: some device code cannot be generated");
-        return refuse(&report, 1);
+        return super::refuse(&report, 1);
     }
     match &args.output {
         None => {
@@ -112,12 +100,6 @@ pub fn run(args: &WgslArgs) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
-}
-
-/// Prints the problems and the unreadable paths (as `gudsl check` does) and exits with `code`.
-fn refuse(report: &report::Report, code: u8) -> ExitCode {
-    let _ = report::write(report, Format::Human, Color::Auto);
-    ExitCode::from(code)
 }
 
 fn cancelled() -> ExitCode {

@@ -33,8 +33,11 @@ impl Lowering<'_, '_> {
 
     pub(super) fn converted_to(&mut self, expr: &ast::Expr, conv: Conv) -> Expr {
         let lowered = self.expr(expr);
+        // A number already of the type it is converted to stays as it is.
+        let already = matches!(conv, Conv::Bool | Conv::Int | Conv::UInt | Conv::Float) && conv_to(&self.ty(expr)) == conv;
         match (conv, &lowered) {
             (Conv::Keep, _) => lowered,
+            _ if already => lowered,
             // Constants are converted once, here.
             (_, Expr::Const(value)) => match super::super::exec::convert(conv, value.clone()) {
                 Ok(value) => Expr::Const(value),

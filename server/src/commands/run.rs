@@ -1,0 +1,260 @@
+//! `gudsl run PATH… --diagram NAME [-o DIR]`: runs a host activity diagram without parameters
+//! (`Main`) of the given files, checked together as one workspace: its calc nodes' kernels on
+//! the first wgpu adapter (Mesa's lavapipe without a GPU). Nodes are shown on stderr as they
+//! start, `printf` output on stdout as it is written; then a report — how the run ended, what
+//! each calc node and the slowest nodes took — on stdout, and as `DIR/report.json` beside the
+//! viewer's images. A model with errors is refused with its diagnostics, and so is a diagram
+//! with constructs that cannot run (E0302); an error during the run is shown where it happened
+//! (E0303). Exit code: 0 the run reached a final node, 1 errors in the model or the run, 2 a path
+//! could not be read, no device, or the output not written.
+
+use std::{
+    io::{IsTerminal, Write},
+    path::PathBuf,
+    process::ExitCode,
+    time::Duration,
+};
+
+use clap::Args;
+use gudsl_host::run::{Ending, Observer, Report, RunError, RunErrorKind};
+use gudsl_model::{
+    analysis::FileId,
+    hir::{DefKind, DiagnosticCode, Severity},
+};
+
+use crate::report::{self, Finding};
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// Files or folders (searched recursively for `.gudsl` files).
+    #[arg(required = true)]
+    paths: Vec<PathBuf>,
+    /// The activity diagram to run (simple or fully qualified name), e.g. `Main`.
+    #[arg(long)]
+    diagram: String,
+    /// Write the viewer's images and `report.json` into this folder (created if missing).
+    #[arg(short = 'o', long = "output", default_value = ".")]
+    output: PathBuf,
+}
+
+pub fn run(args: &RunArgs) -> ExitCode {
+    let (host, files, mut checked) = match super::checked_model(&args.paths, "run") {
+        Ok(checked) => checked,
+        Err(code) => return code,
+    };
+    let analysis = host.analysis();
+    let prepared = analysis.with_semantics(|sema| {
+        let candidates: Vec<_> = sema
+            .def_map()
+            .definitions
+            .values()
+            .flatten()
+            .filter(|def| matches!(def.kind, DefKind::Activity(_)) && files.contains(&def.file))
+            .collect();
+        let named: Vec<_> = candidates
+            .iter()
+            .filter(|def| def.fqn == args.diagram || def.fqn.rsplit('.').next() == Some(args.diagram.as_str()))
+            .collect();
+        match named[..] {
+            [def] => Ok(gudsl_host::run::prepare(sema, def)),
+            [] => {
+                let mut runnable: Vec<&str> = candidates
+                    .iter()
+                    .filter(|def| matches!(&def.kind, DefKind::Activity(a) if a.params.is_empty()))
+                    .filter(|def| !gudsl_codegen::is_device_diagram(sema, def))
+                    .map(|def| def.fqn.as_str())
+                    .collect();
+                runnable.sort();
+                Err(format!(
+                    "no activity diagram named `{}`; diagrams that can run: {}",
+                    args.diagram,
+                    if runnable.is_empty() { "none".to_string() } else { runnable.join(", ") }
+                ))
+            }
+            _ => Err(format!(
+                "several activity diagrams are named `{}`: {}; name one fully qualified",
+                args.diagram,
+                named.iter().map(|d| d.fqn.as_str()).collect::<Vec<_>>().join(", ")
+            )),
+        }
+    });
+    let prepared = match prepared {
+        Err(_) => {
+            eprintln!("gudsl run: the analysis was cancelled");
+            return ExitCode::from(2);
+        }
+        Ok(Err(message)) => {
+            eprintln!("gudsl run: {message}");
+            return ExitCode::from(1);
+        }
+        Ok(Ok(Err(errors))) => {
+            add_findings(&mut checked, &files, &errors, DiagnosticCode::NotRunnable);
+            eprintln!("gudsl run: `{}` cannot run", args.diagram);
+            return super::refuse(&checked, 1);
+        }
+        Ok(Ok(Ok(prepared))) => prepared,
+    };
+    let gpu = match gudsl_runtime::Gpu::new() {
+        Ok(gpu) => gpu,
+        Err(error) => {
+            eprintln!(
+                "gudsl run: no GPU adapter ({error}); without a GPU, install Mesa's Vulkan driver (Debian: mesa-vulkan-drivers)"
+            );
+            return ExitCode::from(2);
+        }
+    };
+    eprintln!("running {} on {}", prepared.diagram(), gpu.describe());
+    let mut progress = Progress { terminal: std::io::stderr().is_terminal() };
+    let report = prepared.run(&gpu, &args.output, &mut progress);
+    progress.done();
+    print_report(&report);
+    let json = serde_json::to_string_pretty(&report_json(&report)).expect("a report serialises");
+    let report_path = args.output.join("report.json");
+    if let Err(error) = std::fs::create_dir_all(&args.output).and_then(|()| std::fs::write(&report_path, json + "\n")) {
+        eprintln!("gudsl run: {}: {error}", report_path.display());
+        return ExitCode::from(2);
+    }
+    match &report.outcome {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(error) => {
+            let placed = error.span.is_some_and(|s| files.contains(&s.file));
+            if placed {
+                checked.findings.clear();
+                add_findings(&mut checked, &files, std::slice::from_ref(error), DiagnosticCode::RunFailed);
+                let _ = report::write(&checked, report::Format::Human, report::Color::Auto);
+            } else {
+                eprintln!("error: {error}");
+            }
+            ExitCode::from(if error.kind == RunErrorKind::Failed && !placed { 2 } else { 1 })
+        }
+    }
+}
+
+/// The run's errors as findings of the report `gudsl check` writes.
+fn add_findings(report: &mut report::Report, files: &[FileId], errors: &[RunError], code: DiagnosticCode) {
+    for error in errors {
+        let Some(span) = error.span else {
+            eprintln!("error: {error}");
+            continue;
+        };
+        let Some(file) = files.iter().position(|f| *f == span.file) else {
+            eprintln!("error: {error}");
+            continue;
+        };
+        report.findings.push(Finding {
+            file,
+            severity: Severity::Error,
+            code,
+            message: error.message.clone(),
+            range: span.range,
+            related: Vec::new(),
+        });
+    }
+    report.findings.sort_by_key(|f| (f.file, f.range.start()));
+}
+
+/// Nodes on stderr as they start (one line each, or one line rewritten on a terminal), and
+/// `printf` output on stdout.
+struct Progress {
+    terminal: bool,
+}
+
+impl Observer for Progress {
+    fn node(&mut self, name: &str) {
+        if self.terminal {
+            eprint!("\r\x1b[2K  node {name}");
+        } else {
+            eprintln!("  node {name}");
+        }
+    }
+
+    fn printed(&mut self, text: &str) {
+        self.done();
+        let mut stdout = std::io::stdout().lock();
+        let _ = stdout.write_all(text.as_bytes());
+        let _ = stdout.flush();
+    }
+}
+
+impl Progress {
+    /// Ends the rewritten line on a terminal.
+    fn done(&mut self) {
+        if self.terminal {
+            eprint!("\r\x1b[2K");
+        }
+    }
+}
+
+fn print_report(report: &Report) {
+    let ended = match &report.outcome {
+        Ok(Ending::Final(node)) => format!("ran {} to final node `{node}`", report.diagram),
+        Ok(Ending::NoTransition(node)) => {
+            format!("ran {} until `{node}`, which has no transition whose guard holds", report.diagram)
+        }
+        Err(error) if error.kind == RunErrorKind::Cancelled => format!("{}: {error}", report.diagram),
+        Err(_) => format!("{} stopped with an error", report.diagram),
+    };
+    println!(
+        "{ended} in {} ({} nodes; kernels compiled in {}) on {}",
+        ms(report.total),
+        report.nodes_run,
+        ms(report.compile),
+        report.device
+    );
+    if !report.calcs.is_empty() {
+        let node_width = report.calcs.iter().map(|c| c.node.len()).max().unwrap_or(0).max(9);
+        let kernel_width = report.calcs.iter().map(|c| c.kernel.len()).max().unwrap_or(0).max(6);
+        println!("{:node_width$}  {:kernel_width$}  launches  {:>10}  {:>10}", "calc node", "kernel", "device", "wall");
+        for calc in &report.calcs {
+            println!(
+                "{:node_width$}  {:kernel_width$}  {:>8}  {:>10}  {:>10}",
+                calc.node,
+                calc.kernel,
+                calc.launches,
+                ms(calc.device),
+                ms(calc.wall)
+            );
+        }
+    }
+    let mut slowest: Vec<_> = report.nodes.iter().filter(|n| !n.wall.is_zero()).collect();
+    slowest.sort_by(|a, b| b.wall.cmp(&a.wall));
+    let slowest: Vec<String> = slowest.iter().take(3).map(|n| format!("{} {}", n.name, ms(n.wall))).collect();
+    if !slowest.is_empty() {
+        println!("slowest nodes: {}", slowest.join(", "));
+    }
+    for image in &report.images {
+        println!("wrote {}", image.display());
+    }
+}
+
+fn ms(duration: Duration) -> String {
+    format!("{:.1} ms", duration.as_secs_f64() * 1000.0)
+}
+
+/// `report.json`: what the run did, for scripts.
+fn report_json(report: &Report) -> serde_json::Value {
+    let millis = |d: Duration| d.as_secs_f64() * 1000.0;
+    let (ended_at, error) = match &report.outcome {
+        Ok(Ending::Final(node)) | Ok(Ending::NoTransition(node)) => (Some(node.clone()), None),
+        Err(error) => (None, Some(error.message.clone())),
+    };
+    serde_json::json!({
+        "diagram": report.diagram,
+        "device": report.device,
+        "ended_at": ended_at,
+        "reached_final_node": matches!(report.outcome, Ok(Ending::Final(_))),
+        "error": error,
+        "nodes_run": report.nodes_run,
+        "compile_ms": millis(report.compile),
+        "total_ms": millis(report.total),
+        "nodes": report.nodes.iter().map(|n| serde_json::json!({
+            "name": n.name, "runs": n.runs, "wall_ms": millis(n.wall),
+        })).collect::<Vec<_>>(),
+        "calcs": report.calcs.iter().map(|c| serde_json::json!({
+            "node": c.node, "kernel": c.kernel, "launches": c.launches,
+            "device_ms": millis(c.device), "wall_ms": millis(c.wall),
+        })).collect::<Vec<_>>(),
+        "images": report.images.iter().map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned())).collect::<Vec<_>>(),
+        "printed": report.printed,
+    })
+}
