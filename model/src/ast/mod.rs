@@ -3,10 +3,11 @@
 //!
 //! The node types and their plain accessors are generated from `model/gudsl.ungram`
 //! (`generated.rs`); accessors that need more than "the child of this kind" are written by hand
-//! in `node_ext.rs`.
+//! in `node_ext.rs`, what a literal denotes in `literal.rs`.
 
 #[rustfmt::skip]
 mod generated;
+mod literal;
 mod node_ext;
 #[cfg(test)]
 mod tests;
@@ -14,6 +15,7 @@ mod tests;
 use std::marker::PhantomData;
 
 pub use generated::*;
+pub use literal::LiteralValue;
 pub use node_ext::*;
 
 use crate::syntax::{Parse, SyntaxKind, SyntaxNode, SyntaxNodeChildren};

@@ -19,7 +19,10 @@ use crate::{
 /// The files under `paths`, loaded into one workspace and checked; or, when a path could not be
 /// read (exit code 2) or the model has errors (1), the exit code after printing why `command`
 /// does nothing.
-pub fn checked_model(paths: &[PathBuf], command: &str) -> Result<(AnalysisHost, Vec<FileId>, report::Report), ExitCode> {
+pub fn checked_model(
+    paths: &[PathBuf],
+    command: &str,
+) -> Result<(AnalysisHost, Vec<FileId>, report::Report), ExitCode> {
     let loaded = workspace::load(paths);
     let unreadable = !loaded.errors.is_empty();
     let (host, files) = workspace::analysis_host(&loaded.documents);

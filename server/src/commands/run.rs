@@ -217,7 +217,7 @@ fn print_report(report: &Report) {
         }
     }
     let mut slowest: Vec<_> = report.nodes.iter().filter(|n| !n.wall.is_zero()).collect();
-    slowest.sort_by(|a, b| b.wall.cmp(&a.wall));
+    slowest.sort_by_key(|n| std::cmp::Reverse(n.wall));
     let slowest: Vec<String> = slowest.iter().take(3).map(|n| format!("{} {}", n.name, ms(n.wall))).collect();
     if !slowest.is_empty() {
         println!("slowest nodes: {}", slowest.join(", "));

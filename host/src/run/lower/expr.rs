@@ -34,7 +34,8 @@ impl Lowering<'_, '_> {
     pub(super) fn converted_to(&mut self, expr: &ast::Expr, conv: Conv) -> Expr {
         let lowered = self.expr(expr);
         // A number already of the type it is converted to stays as it is.
-        let already = matches!(conv, Conv::Bool | Conv::Int | Conv::UInt | Conv::Float) && conv_to(&self.ty(expr)) == conv;
+        let already =
+            matches!(conv, Conv::Bool | Conv::Int | Conv::UInt | Conv::Float) && conv_to(&self.ty(expr)) == conv;
         match (conv, &lowered) {
             (Conv::Keep, _) => lowered,
             _ if already => lowered,
