@@ -253,16 +253,11 @@ impl Emitter<'_> {
         let ranges: Vec<ast::LoopWindowDim> = window.ranges().collect();
         let mut headers = Vec::new();
         for range in &ranges {
-            let Some(ast::LoopPart::Expr(ast::Expr::BinExpr(start))) = range.start() else {
+            let Some((name, first, last)) = range.bounds() else {
                 self.unsupported(range.syntax(), "a window range is `name = start : end`");
                 return;
             };
-            let (Some(ast::Expr::NameExpr(name)), Some(first), Some(last)) = (start.lhs(), start.rhs(), range.end())
-            else {
-                self.unsupported(range.syntax(), "a window range is `name = start : end`");
-                return;
-            };
-            let name = ident(&name.name_ref().map(|n| n.text()).unwrap_or_default());
+            let name = ident(&name);
             let (first, last) = (self.expr_as(&first, &Ty::Int), self.expr_as(&last, &Ty::Int));
             headers.push(format!("for (var {name}: i32 = {first}; {name} <= {last}; {name}++) {{"));
         }

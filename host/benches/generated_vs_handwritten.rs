@@ -15,13 +15,10 @@ mod support;
 use std::time::Duration;
 
 use gudsl_host::{Launcher, Number};
-use gudsl_runtime::{listings, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
-use support::{dispatch_listing, generated, launch_filter, listing, random_bytes, FindIndex, Rgba};
-
-fn median_ms(mut samples: Vec<Duration>) -> f64 {
-    samples.sort();
-    samples[samples.len() / 2].as_secs_f64() * 1e3
-}
+use gudsl_runtime::{listings, GpuPipeline, Image, Kernel, Pipeline, Shape};
+use support::{
+    bench_gpu, dispatch_listing, generated, launch_filter, listing, median_ms, random_bytes, FindIndex, Rgba,
+};
 
 fn code_lines(wgsl: &str) -> usize {
     wgsl.lines().map(str::trim).filter(|line| !line.is_empty() && !line.starts_with("//")).count()
@@ -48,14 +45,7 @@ fn row(kernel: &str, size: &str, (hand, generated): (f64, f64), (hand_lines, gen
 }
 
 fn main() {
-    let gpu = match Gpu::new() {
-        Ok(gpu) => gpu,
-        Err(error) => {
-            eprintln!("{error}");
-            std::process::exit(1);
-        }
-    };
-    println!("adapter: {}\n", gpu.describe());
+    let gpu = bench_gpu();
     println!(
         "| kernel    |      size | hand-written ms | generated ms | generated vs hand | lines hand | lines generated |"
     );

@@ -17,41 +17,11 @@ use std::{
     time::{Duration, Instant},
 };
 
-use gudsl_host::{
-    run::{prepare, Prepared},
-    Arg, Launcher, Number, WorkRange,
-};
-use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
-    hir::Semantics,
-    library,
-};
+use gudsl_host::{Arg, Launcher, Number, WorkRange};
 use gudsl_runtime::{DeviceBuffer, DeviceImage, Gpu, TexelFormat};
-use support::generated;
+use support::{bench_gpu, generated, main_sources, median_ms, prepared, samples};
 
 const ELEMENTS: usize = 1_048_576;
-
-fn samples() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples")
-}
-
-fn prepared_main() -> Prepared {
-    let db = RootDatabase::default();
-    let mut files = library::library_files(&db);
-    for sample in [
-        "framework/framework.gudsl",
-        "seed/listing15_mean_filter.gudsl",
-        "seed/listing16_bilateral_filter.gudsl",
-        "gpu/find_index.gudsl",
-        "seed/main_full.gudsl",
-    ] {
-        let path = samples().join(sample);
-        files.push(SourceFile::new(&db, path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
-    }
-    let sema = Semantics::new(&db, Workspace::new(&db, files));
-    let main = sema.def_map().definitions.get("Main").and_then(|d| d.first()).expect("Main");
-    prepare(&sema, main).unwrap_or_else(|e| panic!("{e:?}"))
-}
 
 /// The kernels of `Main`, compiled once (the interpreter compiles its own at each run).
 struct Kernels {
@@ -139,21 +109,9 @@ fn main_in_rust(gpu: &Gpu, kernels: &Kernels, out: &Path) -> (Duration, Duration
     (started.elapsed(), shuffle)
 }
 
-fn median_ms(mut samples: Vec<Duration>) -> f64 {
-    samples.sort();
-    samples[samples.len() / 2].as_secs_f64() * 1e3
-}
-
 fn main() {
-    let gpu = match Gpu::new() {
-        Ok(gpu) => gpu,
-        Err(error) => {
-            eprintln!("{error}");
-            std::process::exit(1);
-        }
-    };
-    println!("adapter: {}\n", gpu.describe());
-    let main = prepared_main();
+    let gpu = bench_gpu();
+    let main = prepared(&main_sources(|text| text), "Main").unwrap_or_else(|e| panic!("{e:?}"));
     let kernels = Kernels {
         bilateral: Launcher::new(&gpu, &generated("AdFilterBilateral")).unwrap(),
         mean: Launcher::new(&gpu, &generated("AdFilterMean")).unwrap(),

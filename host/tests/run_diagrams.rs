@@ -7,49 +7,15 @@ mod support;
 
 use std::path::{Path, PathBuf};
 
-use gudsl_host::run::{prepare, Ending, Observer, Prepared, RunError, RunErrorKind, Value};
-use gudsl_model::{
-    db::{RootDatabase, SourceFile, Workspace},
-    hir::Semantics,
-    library,
-};
+use gudsl_host::run::{Ending, Observer, RunErrorKind, Value};
 use gudsl_runtime::{listings, Gpu};
-
-const SAMPLES: [&str; 5] = [
-    "framework/framework.gudsl",
-    "seed/listing15_mean_filter.gudsl",
-    "seed/listing16_bilateral_filter.gudsl",
-    "gpu/find_index.gudsl",
-    "seed/main_full.gudsl",
-];
-
-fn samples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples")
-}
+use support::{main_sources, prepared, samples};
 
 /// The samples (with `edit` applied to each text) and `extra` files, as `(path, text)`.
 fn sources(edit: impl Fn(String) -> String, extra: &[(&str, &str)]) -> Vec<(String, String)> {
-    let mut out: Vec<(String, String)> = SAMPLES
-        .iter()
-        .map(|sample| {
-            let path = samples().join(sample);
-            (path.display().to_string(), edit(std::fs::read_to_string(&path).unwrap()))
-        })
-        .collect();
+    let mut out = main_sources(edit);
     out.extend(extra.iter().map(|(path, text)| (samples().join(path).display().to_string(), text.to_string())));
     out
-}
-
-/// The diagram `name` of these files, prepared to run.
-fn prepared(sources: &[(String, String)], name: &str) -> Result<Prepared, Vec<RunError>> {
-    let db = RootDatabase::default();
-    let mut files = library::library_files(&db);
-    for (path, text) in sources {
-        files.push(SourceFile::new(&db, path.clone(), text.clone()));
-    }
-    let sema = Semantics::new(&db, Workspace::new(&db, files));
-    let def = sema.def_map().definitions.get(name).and_then(|d| d.first()).unwrap_or_else(|| panic!("no {name}"));
-    prepare(&sema, def)
 }
 
 fn out_dir(name: &str) -> PathBuf {
@@ -159,6 +125,9 @@ fn host_code_computes_as_c_does() {
             loop (k < 3) { k++; if (k == 2) { continue; } sum = sum + 100; }
             switch sum: { case 213: CPPMethods::printf("case %d\n", sum); break; default: CPPMethods::printf("default\n"); }
             CPPMethods::printf("%d %d\n", sum, numbers[4]);
+            var int window = 0;
+            loopwindow2D(u = -1 : 1, v = -2 : 2) { window = window + 1 + u * v; }
+            CPPMethods::printf("window %d\n", window);
             => search(n, found);
         }
         action search(int n, out int index)
@@ -188,6 +157,7 @@ fn host_code_computes_as_c_does() {
             "3.00 3.50 -3\n",
             "case 213\n",
             "213 16\n",
+            "window 15\n",
             "0:3 ",
             "1:3 ",
             "2:3 "

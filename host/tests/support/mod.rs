@@ -6,10 +6,13 @@
 use std::time::Duration;
 
 use gudsl_codegen::Kernel;
-use gudsl_host::{Arg, Launcher, Number, WorkRange};
+use gudsl_host::{
+    run::{prepare, Prepared, RunError},
+    Arg, Launcher, Number, WorkRange,
+};
 use gudsl_model::{
     db::{RootDatabase, SourceFile, Workspace},
-    hir::Semantics,
+    hir::{Definition, Semantics},
     library,
 };
 use gudsl_runtime::{
@@ -18,6 +21,7 @@ use gudsl_runtime::{
     DeviceBuffer, DeviceImage, Gpu, Image, Program, Resource, TexelFormat,
 };
 
+/// The samples the kernels come from.
 const SAMPLES: [&str; 4] = [
     "framework/framework.gudsl",
     "seed/listing15_mean_filter.gudsl",
@@ -25,30 +29,72 @@ const SAMPLES: [&str; 4] = [
     "gpu/find_index.gudsl",
 ];
 
-/// The kernel generated from the diagram `name` of the samples.
-pub fn generated(name: &str) -> Kernel {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
-    let sources: Vec<(String, String)> = SAMPLES
-        .iter()
-        .map(|sample| {
-            let path = root.join(sample);
-            (path.display().to_string(), std::fs::read_to_string(&path).unwrap())
-        })
-        .collect();
-    generated_from(&sources, name)
+/// The samples' folder.
+pub fn samples() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples")
 }
 
-/// The kernel generated from the diagram `name` of these `(path, text)` files.
-pub fn generated_from(sources: &[(String, String)], name: &str) -> Kernel {
+/// The kernels' samples and `Main` (`seed/main_full.gudsl`), as `(path, text)` with `edit`
+/// applied to each text.
+pub fn main_sources(edit: impl Fn(String) -> String) -> Vec<(String, String)> {
+    SAMPLES
+        .iter()
+        .chain(&["seed/main_full.gudsl"])
+        .map(|sample| {
+            let path = samples().join(sample);
+            (path.display().to_string(), edit(std::fs::read_to_string(&path).unwrap()))
+        })
+        .collect()
+}
+
+/// The diagram `name` of these `(path, text)` files in one workspace with the bundled library.
+fn with_diagram<T>(sources: &[(String, String)], name: &str, f: impl FnOnce(&Semantics<'_>, &Definition) -> T) -> T {
     let db = RootDatabase::default();
     let mut files = library::library_files(&db);
     for (path, text) in sources {
         files.push(SourceFile::new(&db, path.clone(), text.clone()));
     }
-    let workspace = Workspace::new(&db, files);
-    let sema = Semantics::new(&db, workspace);
-    let diagram = gudsl_codegen::device_diagrams(&sema).into_iter().find(|d| d.fqn == name).expect(name);
-    gudsl_codegen::generate(&sema, diagram).unwrap_or_else(|e| panic!("{name}: {e:?}"))
+    let sema = Semantics::new(&db, Workspace::new(&db, files));
+    let def = sema.def_map().definitions.get(name).and_then(|d| d.first()).unwrap_or_else(|| panic!("no {name}"));
+    f(&sema, def)
+}
+
+/// The kernel generated from the diagram `name` of the samples.
+pub fn generated(name: &str) -> Kernel {
+    let sources: Vec<(String, String)> = main_sources(|text| text);
+    generated_from(&sources, name)
+}
+
+/// The kernel generated from the diagram `name` of these `(path, text)` files.
+pub fn generated_from(sources: &[(String, String)], name: &str) -> Kernel {
+    with_diagram(sources, name, |sema, diagram| {
+        gudsl_codegen::generate(sema, diagram).unwrap_or_else(|e| panic!("{name}: {e:?}"))
+    })
+}
+
+/// The host diagram `name` of these `(path, text)` files, prepared to run.
+pub fn prepared(sources: &[(String, String)], name: &str) -> Result<Prepared, Vec<RunError>> {
+    with_diagram(sources, name, prepare)
+}
+
+/// The device a benchmark runs on; exits when there is none.
+pub fn bench_gpu() -> Gpu {
+    match Gpu::new() {
+        Ok(gpu) => {
+            println!("adapter: {}\n", gpu.describe());
+            gpu
+        }
+        Err(error) => {
+            eprintln!("{error}");
+            std::process::exit(1);
+        }
+    }
+}
+
+/// The median of `samples`, in milliseconds.
+pub fn median_ms(mut samples: Vec<Duration>) -> f64 {
+    samples.sort();
+    samples[samples.len() / 2].as_secs_f64() * 1e3
 }
 
 /// Deterministic bytes (xorshift).

@@ -393,6 +393,15 @@ impl LoopWindowDim {
     pub fn end(&self) -> Option<Expr> {
         support::children::<Expr>(&self.syntax).last().filter(|_| self.syntax.children().count() == 2)
     }
+    /// `name = first : last`: the window variable's name, its first and its last value; `None`
+    /// for a range written otherwise.
+    pub fn bounds(&self) -> Option<(String, Expr, Expr)> {
+        let Some(LoopPart::Expr(Expr::BinExpr(start))) = self.start() else { return None };
+        let (Some(Expr::NameExpr(name)), Some(first), Some(last)) = (start.lhs(), start.rhs(), self.end()) else {
+            return None;
+        };
+        Some((name.name_ref()?.text(), first, last))
+    }
 }
 
 // ---------------------------------------------------------------- expressions

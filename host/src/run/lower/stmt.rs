@@ -181,16 +181,10 @@ impl Lowering<'_, '_> {
         self.scopes.push(HashMap::new());
         let mut levels = Vec::new();
         for range in window.ranges() {
-            let Some(ast::LoopPart::Expr(ast::Expr::BinExpr(start))) = range.start() else {
+            let Some((name, first, last)) = range.bounds() else {
                 self.error(range.syntax(), "a window range is `name = start : end`");
                 continue;
             };
-            let (Some(ast::Expr::NameExpr(name)), Some(first), Some(last)) = (start.lhs(), start.rhs(), range.end())
-            else {
-                self.error(range.syntax(), "a window range is `name = start : end`");
-                continue;
-            };
-            let name = name.name_ref().map(|n| n.text()).unwrap_or_default();
             let first = self.converted_to(&first, Conv::Int);
             let last = self.converted_to(&last, Conv::Int);
             let slot = self.declare(&name, &Ty::Int, None);
