@@ -286,6 +286,15 @@ impl<'r, 'g> Machine<'r, 'g> {
                     self.eval(b)?
                 }
             }
+            Expr::Call(..) | Expr::NewArray(..) | Expr::Launch(..) => self.cold(expr)?,
+        })
+    }
+
+    /// The expressions that do more than compute (framework calls, allocation, kernel
+    /// launches), apart so that `eval` stays small.
+    #[inline(never)]
+    fn cold(&mut self, expr: &Expr) -> Outcome<Value> {
+        Ok(match expr {
             Expr::Call(method, args, span) => {
                 let args = args.iter().map(|a| self.eval(a)).collect::<Outcome<Vec<_>>>()?;
                 let result = self.framework.call(*method, &args).map_err(|m| failed(*span, m))?;
@@ -315,6 +324,7 @@ impl<'r, 'g> Machine<'r, 'g> {
                 self.record(*kernel, took, started.elapsed());
                 Value::Void
             }
+            _ => unreachable!("only calls, allocations and launches are cold"),
         })
     }
 
