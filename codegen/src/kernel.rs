@@ -31,8 +31,7 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
     emitter.errors = errors;
 
     // The entry point's body first: it tells whether the kernel synchronises.
-    let nodes: Vec<ast::ActivityNode> =
-        diagram.swimlanes().flat_map(|lane| lane.nodes().collect::<Vec<_>>()).chain(diagram.nodes()).collect();
+    let nodes: Vec<ast::ActivityNode> = diagram.all_nodes().collect();
     emitter.types = diagram_types.clone();
     variables(&mut emitter, &diagram);
     emitter.control_flow(&diagram, &nodes);

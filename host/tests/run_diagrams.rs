@@ -128,6 +128,10 @@ fn host_code_computes_as_c_does() {
             var int window = 0;
             loopwindow2D(u = -1 : 1, v = -2 : 2) { window = window + 1 + u * v; }
             CPPMethods::printf("window %d\n", window);
+            var int m = 0;
+            numbers[m++] += 1000;
+            CPPMethods::printf("%d %d %d\n", m, numbers[0], numbers[1]);
+            numbers[0] -= 1000;
             => search(n, found);
         }
         action search(int n, out int index)
@@ -158,6 +162,7 @@ fn host_code_computes_as_c_does() {
             "case 213\n",
             "213 16\n",
             "window 15\n",
+            "1 1000 1\n",
             "0:3 ",
             "1:3 ",
             "2:3 "

@@ -197,7 +197,7 @@ impl<'r, 'g> Machine<'r, 'g> {
             Expr::Binary(_, Arith::UInt, ..) => Value::UInt(self.int(expr)? as u32),
             Expr::Binary(op, Arith::Float, l, r, span) => {
                 let (l, r) = (self.float(l)?, self.float(r)?);
-                binary(*op, Arith::Float, &Value::Float(l), &Value::Float(r)).map_err(|m| failed(*span, m))?
+                Value::Float(float_binary(*op, l, r).map_err(|m| failed(*span, m))?)
             }
             Expr::Compare(..) => Value::Bool(self.truth(expr)?),
             Expr::Same(equal, l, r) => {
@@ -236,16 +236,7 @@ impl<'r, 'g> Machine<'r, 'g> {
                     }
                 }
             }
-            Expr::Index(base, at, span) => {
-                let at = self.int(at)? as i64;
-                match base.as_ref() {
-                    Expr::Var(slot) => read(&self.frame[*slot], at).map_err(|m| failed(*span, m))?,
-                    base => {
-                        let base = self.eval(base)?;
-                        read(&base, at).map_err(|m| failed(*span, m))?
-                    }
-                }
-            }
+            Expr::Index(base, at, span) => self.element(base, at, *span)?,
             Expr::Assign(place, value) => {
                 let value = self.eval(value)?;
                 self.store(place, value.clone())?;
@@ -263,16 +254,24 @@ impl<'r, 'g> Machine<'r, 'g> {
             }
             Expr::Update(place, op, arith, operand, postfix, span) => {
                 let operand = self.eval(operand)?;
-                let old = match place.as_ref() {
-                    Place::Var(slot, _) => self.frame[*slot].clone(),
-                    Place::Index(base, at, span) => {
-                        let at = int(&self.eval(at)?) as i64;
+                let combine = |old: &Value| binary(*op, *arith, old, &operand).map_err(|m| failed(*span, m));
+                // The place is evaluated once: `a[i++] += 1` steps `i` once, as in C.
+                let (old, new) = match place.as_ref() {
+                    Place::Var(slot, conv) => {
+                        let old = self.frame[*slot].clone();
+                        let new = combine(&old)?;
+                        self.frame[*slot] = convert(*conv, new.clone()).map_err(|m| failed(*span, m))?;
+                        (old, new)
+                    }
+                    Place::Index(base, at, at_span) => {
+                        let at = self.int(at)? as i64;
                         let base = self.eval(base)?;
-                        read(&base, at).map_err(|m| failed(*span, m))?
+                        let old = read(&base, at).map_err(|m| failed(*at_span, m))?;
+                        let new = combine(&old)?;
+                        write(&base, at, &new).map_err(|m| failed(*at_span, m))?;
+                        (old, new)
                     }
                 };
-                let new = binary(*op, *arith, &old, &operand).map_err(|m| failed(*span, m))?;
-                self.store(place, new.clone())?;
                 if *postfix {
                     old
                 } else {
@@ -343,19 +342,22 @@ impl<'r, 'g> Machine<'r, 'g> {
                 uint_binary(*op, l, r).map_err(|m| failed(*span, m))? as i32
             }
             Expr::Convert(Conv::Int | Conv::UInt, inner) => self.int(inner)?,
-            Expr::Index(base, at, span) => {
-                let at = self.int(at)? as i64;
-                let value = match base.as_ref() {
-                    Expr::Var(slot) => read(&self.frame[*slot], at),
-                    base => {
-                        let base = self.eval(base)?;
-                        read(&base, at)
-                    }
-                };
-                int(&value.map_err(|m| failed(*span, m))?)
-            }
+            Expr::Index(base, at, span) => int(&self.element(base, at, *span)?),
             other => int(&self.eval(other)?),
         })
+    }
+
+    /// `base[at]` (a pointer in a variable is read where it is, not copied).
+    fn element(&mut self, base: &Expr, at: &Expr, span: Span) -> Outcome<Value> {
+        let at = self.int(at)? as i64;
+        let value = match base {
+            Expr::Var(slot) => read(&self.frame[*slot], at),
+            base => {
+                let base = self.eval(base)?;
+                read(&base, at)
+            }
+        };
+        value.map_err(|m| failed(span, m))
     }
 
     fn float(&mut self, expr: &Expr) -> Outcome<f64> {
@@ -499,17 +501,19 @@ fn binary(op: BinOp, arith: Arith, l: &Value, r: &Value) -> Result<Value, String
     Ok(match arith {
         Arith::Int => Value::Int(int_binary(op, int(l), int(r))?),
         Arith::UInt => Value::UInt(uint_binary(op, int(l) as u32, int(r) as u32)?),
-        Arith::Float => {
-            let (a, b) = (float(l), float(r));
-            Value::Float(match op {
-                BinOp::Add => a + b,
-                BinOp::Sub => a - b,
-                BinOp::Mul => a * b,
-                BinOp::Div => a / b,
-                BinOp::Rem => a % b,
-                _ => return Err("a bit operation on floating-point numbers".into()),
-            })
-        }
+        Arith::Float => Value::Float(float_binary(op, float(l), float(r))?),
+    })
+}
+
+/// C's floating-point arithmetic (`%` as `fmod`).
+fn float_binary(op: BinOp, a: f64, b: f64) -> Result<f64, String> {
+    Ok(match op {
+        BinOp::Add => a + b,
+        BinOp::Sub => a - b,
+        BinOp::Mul => a * b,
+        BinOp::Div => a / b,
+        BinOp::Rem => a % b,
+        _ => return Err("a bit operation on floating-point numbers".into()),
     })
 }
 

@@ -41,6 +41,15 @@ impl Object {
             Object::Device { .. } => "HCDevicePtr",
         }
     }
+
+    /// A container's host copy, as a pointer to its elements.
+    pub fn host(&self) -> Option<Pointer> {
+        match self {
+            Object::Images(c) => Some(Pointer::to(c.host.clone(), c.element)),
+            Object::Buffer(c) => Some(Pointer::to(c.host.clone(), c.element)),
+            _ => None,
+        }
+    }
 }
 
 /// A `QImage`: 8-bit RGBA pixels, rows top to bottom (a null image has no pixels). Its scan
@@ -381,15 +390,10 @@ impl<'g> Framework<'g> {
                 container.device = None;
                 Ok(Value::Void)
             }
-            (Fill, Object::Images(container)) => {
-                let bytes = pointer_arg(args, 0)?.bytes(container.bytes())?;
-                container.host.borrow_mut().copy_from_slice(&bytes);
-                Ok(Value::Void)
-            }
-            (Fill, Object::Buffer(container)) => {
-                let len = container.host.borrow().len();
-                let bytes = pointer_arg(args, 0)?.bytes(len)?;
-                container.host.borrow_mut().copy_from_slice(&bytes);
+            (Fill, container @ (Object::Images(_) | Object::Buffer(_))) => {
+                let host = container.host().expect("a container");
+                let len = host.memory.borrow().len();
+                host.put(&pointer_arg(args, 0)?.bytes(len)?)?;
                 Ok(Value::Void)
             }
             (SyncToGpu, Object::Images(container)) => {
@@ -412,11 +416,8 @@ impl<'g> Framework<'g> {
                 container.host.borrow_mut().copy_from_slice(&bytes);
                 Ok(Value::Void)
             }
-            (HostPointer, Object::Images(container)) => {
-                Ok(Value::Ptr(Pointer::to(container.host.clone(), container.element)))
-            }
-            (HostPointer, Object::Buffer(container)) => {
-                Ok(Value::Ptr(Pointer::to(container.host.clone(), container.element)))
+            (HostPointer, container @ (Object::Images(_) | Object::Buffer(_))) => {
+                Ok(Value::Ptr(container.host().expect("a container")))
             }
             (NumberOfElements, Object::Images(container)) => {
                 Ok(Value::Int((container.width * container.height) as i32))

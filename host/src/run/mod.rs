@@ -19,10 +19,7 @@ use std::{
 };
 
 use gudsl_codegen::Kernel;
-use gudsl_model::{
-    db::SourceFile,
-    hir::{Definition, Semantics},
-};
+use gudsl_model::hir::{Definition, Semantics};
 use gudsl_runtime::Gpu;
 
 pub use ir::Span;
@@ -148,11 +145,6 @@ impl RunError {
 
     fn cancelled(node: &str) -> RunError {
         RunError { kind: RunErrorKind::Cancelled, span: None, message: format!("cancelled before node `{node}`") }
-    }
-
-    /// The file the error is in, if it has a place.
-    pub fn file(&self) -> Option<SourceFile> {
-        self.span.map(|s| s.file)
     }
 }
 

@@ -275,11 +275,7 @@ impl Value {
     pub fn element(&self, index: i64) -> Option<Value> {
         match self {
             Value::Ptr(pointer) => pointer.read(index).ok(),
-            Value::Object(object) => match &*object.borrow() {
-                Object::Images(c) => Pointer::to(c.host.clone(), c.element).read(index).ok(),
-                Object::Buffer(c) => Pointer::to(c.host.clone(), c.element).read(index).ok(),
-                _ => None,
-            },
+            Value::Object(object) => object.borrow().host()?.read(index).ok(),
             _ => None,
         }
     }

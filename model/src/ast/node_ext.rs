@@ -246,6 +246,10 @@ impl ActivityDiagram {
     pub fn owner(&self) -> Option<Path> {
         self.owner_clause().and_then(|o| o.path())
     }
+    /// Every node: the swimlanes' in order, then those outside any swimlane.
+    pub fn all_nodes(&self) -> impl Iterator<Item = ActivityNode> {
+        self.swimlanes().flat_map(|lane| lane.nodes()).chain(self.nodes())
+    }
 }
 
 impl super::Swimlane {

@@ -41,6 +41,11 @@ pub fn checked_model(
     Ok((host, files, report))
 }
 
+/// Whether `--diagram wanted` names the diagram `fqn`: its fully qualified or its simple name.
+pub fn names_diagram(wanted: &str, fqn: &str) -> bool {
+    wanted == fqn || fqn.rsplit('.').next() == Some(wanted)
+}
+
 /// Prints the problems and the unreadable paths (as `gudsl check` does) and exits with `code`.
 pub fn refuse(report: &report::Report, code: u8) -> ExitCode {
     let _ = report::write(report, Format::Human, Color::Auto);

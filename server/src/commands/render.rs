@@ -62,8 +62,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     for &file in &files {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
         for graph in graphs {
-            let simple = graph.id.rsplit('.').next().unwrap_or(&graph.id);
-            if args.diagram.as_deref().is_some_and(|wanted| wanted != graph.id && wanted != simple) {
+            if args.diagram.as_deref().is_some_and(|wanted| !super::names_diagram(wanted, &graph.id)) {
                 continue;
             }
             let scene = gudsl_render::scene::build(graph);

@@ -51,10 +51,7 @@ pub fn run(args: &RunArgs) -> ExitCode {
             .flatten()
             .filter(|def| matches!(def.kind, DefKind::Activity(_)) && files.contains(&def.file))
             .collect();
-        let named: Vec<_> = candidates
-            .iter()
-            .filter(|def| def.fqn == args.diagram || def.fqn.rsplit('.').next() == Some(args.diagram.as_str()))
-            .collect();
+        let named: Vec<_> = candidates.iter().filter(|def| super::names_diagram(&args.diagram, &def.fqn)).collect();
         match named[..] {
             [def] => Ok(gudsl_host::run::prepare(sema, def)),
             [] => {

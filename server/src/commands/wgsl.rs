@@ -34,10 +34,7 @@ pub fn run(args: &WgslArgs) -> ExitCode {
     let generated = analysis.with_semantics(|sema| {
         gudsl_codegen::device_diagrams(sema)
             .into_iter()
-            .filter(|def| {
-                let simple = def.fqn.rsplit('.').next().unwrap_or(&def.fqn);
-                args.diagram.as_deref().is_none_or(|wanted| wanted == def.fqn || wanted == simple)
-            })
+            .filter(|def| args.diagram.as_deref().is_none_or(|wanted| super::names_diagram(wanted, &def.fqn)))
             .map(|def| gudsl_codegen::generate(sema, def))
             .collect::<Vec<_>>()
     });

@@ -104,8 +104,7 @@ impl<'db> Lowering<'_, 'db> {
             variables.push((name, slot));
         }
 
-        let nodes: Vec<ast::ActivityNode> =
-            diagram.swimlanes().flat_map(|lane| lane.nodes().collect::<Vec<_>>()).chain(diagram.nodes()).collect();
+        let nodes: Vec<ast::ActivityNode> = diagram.all_nodes().collect();
         let index: HashMap<String, usize> =
             nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect();
         let types: Vec<BodyTypes> = nodes.iter().map(|n| self.sema.body_types(n.syntax())).collect();

@@ -296,7 +296,7 @@ pub(crate) fn behavior_result<'db>(db: &'db dyn Db, workspace: Workspace, diagra
     let Some(diagram) = sema.declaration(def).and_then(|(node, _)| ast::ActivityDiagram::cast(node)) else {
         return Ty::Unknown;
     };
-    let finals = diagram.swimlanes().flat_map(|lane| lane.nodes().collect::<Vec<_>>()).chain(diagram.nodes());
+    let finals = diagram.all_nodes();
     let Some(value) = finals.filter(|n| n.kind() == ast::NodeKind::Final).find_map(|n| n.return_value()) else {
         return Ty::Void;
     };
