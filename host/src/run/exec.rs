@@ -191,7 +191,7 @@ impl<'r, 'g> Machine<'r, 'g> {
 
     fn eval(&mut self, expr: &Expr) -> Outcome<Value> {
         Ok(match expr {
-            Expr::Const(value) => value.clone(),
+            Expr::Const(value) => value.value(),
             Expr::Var(slot) => self.frame[*slot].clone(),
             Expr::Binary(_, Arith::Int, ..) => Value::Int(self.int(expr)?),
             Expr::Binary(_, Arith::UInt, ..) => Value::UInt(self.int(expr)? as u32),
@@ -331,7 +331,7 @@ impl<'r, 'g> Machine<'r, 'g> {
     /// arithmetic allows: the interpreter's hot path.
     fn int(&mut self, expr: &Expr) -> Outcome<i32> {
         Ok(match expr {
-            Expr::Const(value) => int(value),
+            Expr::Const(value) => int(&value.value()),
             Expr::Var(slot) => int(&self.frame[*slot]),
             Expr::Binary(op, Arith::Int, l, r, span) => {
                 let (l, r) = (self.int(l)?, self.int(r)?);
@@ -362,7 +362,7 @@ impl<'r, 'g> Machine<'r, 'g> {
 
     fn float(&mut self, expr: &Expr) -> Outcome<f64> {
         Ok(match expr {
-            Expr::Const(value) => float(value),
+            Expr::Const(value) => float(&value.value()),
             Expr::Var(slot) => float(&self.frame[*slot]),
             Expr::Convert(Conv::Float, inner) => self.float(inner)?,
             other => float(&self.eval(other)?),

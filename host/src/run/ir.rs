@@ -5,7 +5,10 @@
 
 use gudsl_model::{db::SourceFile, syntax::TextRange};
 
-use super::{framework::Method, value::Scalar, value::Value};
+use super::{
+    framework::Method,
+    value::{Constant, Scalar},
+};
 
 /// Where something is written: for errors at run time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,7 +66,7 @@ pub enum Conv {
 }
 
 pub enum Expr {
-    Const(Value),
+    Const(Constant),
     Var(Slot),
     Binary(BinOp, Arith, Box<Expr>, Box<Expr>, Span),
     Compare(CmpOp, Arith, Box<Expr>, Box<Expr>),

@@ -2,7 +2,7 @@
 //! point, booleans, strings, pointers into host memory (typed by their element, as C pointers
 //! are), framework objects and `null`.
 
-use std::{cell::RefCell, fmt, rc::Rc};
+use std::{cell::RefCell, fmt, rc::Rc, sync::Arc};
 
 use gudsl_model::ast::{self, AstNode};
 
@@ -185,6 +185,47 @@ impl Pointer {
     }
 }
 
+/// A value known before a run (a literal, a variable's first value): what a lowered program
+/// holds, so that it can move to the thread that runs it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Constant {
+    Void,
+    Null,
+    Bool(bool),
+    Int(i32),
+    UInt(u32),
+    Float(f64),
+    Str(Arc<str>),
+}
+
+impl Constant {
+    pub fn value(&self) -> Value {
+        match self {
+            Constant::Void => Value::Void,
+            Constant::Null => Value::Null,
+            Constant::Bool(v) => Value::Bool(*v),
+            Constant::Int(v) => Value::Int(*v),
+            Constant::UInt(v) => Value::UInt(*v),
+            Constant::Float(v) => Value::Float(*v),
+            Constant::Str(v) => Value::Str(v.clone()),
+        }
+    }
+
+    /// The constant a value is, if it is one (no pointer, no object).
+    pub fn of(value: Value) -> Option<Constant> {
+        Some(match value {
+            Value::Void => Constant::Void,
+            Value::Null => Constant::Null,
+            Value::Bool(v) => Constant::Bool(v),
+            Value::Int(v) => Constant::Int(v),
+            Value::UInt(v) => Constant::UInt(v),
+            Value::Float(v) => Constant::Float(v),
+            Value::Str(v) => Constant::Str(v),
+            Value::Ptr(_) | Value::Object(_) => return None,
+        })
+    }
+}
+
 /// A value of the host interpreter.
 #[derive(Clone, Default)]
 pub enum Value {
@@ -197,7 +238,7 @@ pub enum Value {
     Int(i32),
     UInt(u32),
     Float(f64),
-    Str(Rc<str>),
+    Str(Arc<str>),
     Ptr(Pointer),
     Object(Rc<RefCell<Object>>),
 }

@@ -23,7 +23,7 @@ use super::{
 };
 use crate::{
     ast::{self, AstNode, HasName},
-    db::{parse, Db, Workspace},
+    db::{parse, Db, SourceFile, Workspace},
     library::{is_library, COMPONENT_BASE},
     syntax::{SyntaxNode, TextRange},
 };
@@ -55,6 +55,12 @@ impl<'db> Semantics<'db> {
     /// name only.
     pub fn def_map(&self) -> &'db DefMap {
         def_map(self.db, self.workspace)
+    }
+
+    /// The diagrams `file` declares (nested ones included): what a per-file feature reads
+    /// instead of [`Semantics::def_map`], so that it runs again only when this file changes.
+    pub fn file_diagrams(&self, file: SourceFile) -> impl Iterator<Item = &'db Definition> + 'db {
+        super::definitions::file_diagrams(self.db, file).iter().map(|(_, def)| def)
     }
 
     /// Every definition of a fully qualified name (several when it is declared twice).

@@ -10,16 +10,16 @@
 
 use std::{
     io::{IsTerminal, Write},
-    path::PathBuf,
+    path::{Path, PathBuf},
     process::ExitCode,
     time::Duration,
 };
 
 use clap::Args;
-use gudsl_host::run::{Ending, Observer, Report, RunError, RunErrorKind};
+use gudsl_host::run::{Ending, Observer, Prepared, Report, RunError, RunErrorKind};
 use gudsl_model::{
     analysis::FileId,
-    hir::{DefKind, DiagnosticCode, Severity},
+    hir::{DefKind, Definition, DiagnosticCode, Semantics, Severity},
 };
 
 use crate::report::{self, Finding};
@@ -43,38 +43,7 @@ pub fn run(args: &RunArgs) -> ExitCode {
         Err(code) => return code,
     };
     let analysis = host.analysis();
-    let prepared = analysis.with_semantics(|sema| {
-        let candidates: Vec<_> = sema
-            .def_map()
-            .definitions
-            .values()
-            .flatten()
-            .filter(|def| matches!(def.kind, DefKind::Activity(_)) && files.contains(&def.file))
-            .collect();
-        let named: Vec<_> = candidates.iter().filter(|def| super::names_diagram(&args.diagram, &def.fqn)).collect();
-        match named[..] {
-            [def] => Ok(gudsl_host::run::prepare(sema, def)),
-            [] => {
-                let mut runnable: Vec<&str> = candidates
-                    .iter()
-                    .filter(|def| matches!(&def.kind, DefKind::Activity(a) if a.params.is_empty()))
-                    .filter(|def| !gudsl_codegen::is_device_diagram(sema, def))
-                    .map(|def| def.fqn.as_str())
-                    .collect();
-                runnable.sort();
-                Err(format!(
-                    "no activity diagram named `{}`; diagrams that can run: {}",
-                    args.diagram,
-                    if runnable.is_empty() { "none".to_string() } else { runnable.join(", ") }
-                ))
-            }
-            _ => Err(format!(
-                "several activity diagrams are named `{}`: {}; name one fully qualified",
-                args.diagram,
-                named.iter().map(|d| d.fqn.as_str()).collect::<Vec<_>>().join(", ")
-            )),
-        }
-    });
+    let prepared = analysis.with_semantics(|sema| prepare_named(sema, &files, &args.diagram));
     let prepared = match prepared {
         Err(_) => {
             eprintln!("gudsl run: the analysis was cancelled");
@@ -105,10 +74,8 @@ pub fn run(args: &RunArgs) -> ExitCode {
     let report = prepared.run(&gpu, &args.output, &mut progress);
     progress.done();
     print_report(&report);
-    let json = serde_json::to_string_pretty(&report_json(&report)).expect("a report serialises");
-    let report_path = args.output.join("report.json");
-    if let Err(error) = std::fs::create_dir_all(&args.output).and_then(|()| std::fs::write(&report_path, json + "\n")) {
-        eprintln!("gudsl run: {}: {error}", report_path.display());
+    if let Err(error) = write_report(&report, &args.output) {
+        eprintln!("gudsl run: {error}");
         return ExitCode::from(2);
     }
     match &report.outcome {
@@ -124,6 +91,56 @@ pub fn run(args: &RunArgs) -> ExitCode {
             }
             ExitCode::from(if error.kind == RunErrorKind::Failed && !placed { 2 } else { 1 })
         }
+    }
+}
+
+/// The activity diagram of `files` named `name` (simple or fully qualified), prepared to run;
+/// `Err` says why no diagram is meant (none or several have the name, listing those that can
+/// run), `Ok(Err)` what in the diagram cannot run.
+pub fn prepare_named(
+    sema: &Semantics<'_>,
+    files: &[FileId],
+    name: &str,
+) -> Result<Result<Prepared, Vec<RunError>>, String> {
+    let candidates: Vec<_> = sema
+        .def_map()
+        .definitions
+        .values()
+        .flatten()
+        .filter(|def| matches!(def.kind, DefKind::Activity(_)) && files.contains(&def.file))
+        .collect();
+    let named: Vec<_> = candidates.iter().filter(|def| super::names_diagram(name, &def.fqn)).collect();
+    match named[..] {
+        [def] => Ok(gudsl_host::run::prepare(sema, def)),
+        [] => {
+            let mut runnable: Vec<&str> =
+                candidates.iter().filter(|def| is_runnable(sema, def)).map(|def| def.fqn.as_str()).collect();
+            runnable.sort();
+            Err(format!(
+                "no activity diagram named `{name}`; diagrams that can run: {}",
+                if runnable.is_empty() { "none".to_string() } else { runnable.join(", ") }
+            ))
+        }
+        _ => Err(format!(
+            "several activity diagrams are named `{name}`: {}; name one fully qualified",
+            named.iter().map(|d| d.fqn.as_str()).collect::<Vec<_>>().join(", ")
+        )),
+    }
+}
+
+/// Whether `def` is a host activity diagram without parameters (what `run` offers to run).
+pub fn is_runnable(sema: &Semantics<'_>, def: &Definition) -> bool {
+    matches!(&def.kind, DefKind::Activity(a) if a.params.is_empty()) && !gudsl_codegen::is_device_diagram(sema, def)
+}
+
+/// Writes `report.json` into `output` (created if missing); the report as written.
+pub fn write_report(report: &Report, output: &Path) -> Result<serde_json::Value, String> {
+    let json = report_json(report);
+    let text = serde_json::to_string_pretty(&json).expect("a report serialises");
+    let path = output.join("report.json");
+    match std::fs::create_dir_all(output).and_then(|()| std::fs::write(&path, text + "\n")) {
+        Ok(()) => Ok(json),
+        Err(error) => Err(format!("{}: {error}", path.display())),
     }
 }
 
@@ -182,7 +199,8 @@ impl Progress {
     }
 }
 
-fn print_report(report: &Report) {
+/// One line: how the run ended, in how long, on which device.
+pub fn summary(report: &Report) -> String {
     let ended = match &report.outcome {
         Ok(Ending::Final(node)) => format!("ran {} to final node `{node}`", report.diagram),
         Ok(Ending::NoTransition(node)) => {
@@ -191,13 +209,17 @@ fn print_report(report: &Report) {
         Err(error) if error.kind == RunErrorKind::Cancelled => format!("{}: {error}", report.diagram),
         Err(_) => format!("{} stopped with an error", report.diagram),
     };
-    println!(
+    format!(
         "{ended} in {} ({} nodes; kernels compiled in {}) on {}",
         ms(report.total),
         report.nodes_run,
         ms(report.compile),
         report.device
-    );
+    )
+}
+
+fn print_report(report: &Report) {
+    println!("{}", summary(report));
     if !report.calcs.is_empty() {
         let node_width = report.calcs.iter().map(|c| c.node.len()).max().unwrap_or(0).max(9);
         let kernel_width = report.calcs.iter().map(|c| c.kernel.len()).max().unwrap_or(0).max(6);

@@ -2,15 +2,61 @@
 //! question to the snapshot's [`Analysis`](gudsl_model::Analysis), the answer back to LSP
 //! (`to_proto`). A handler returns `Err(Cancelled)` when a newer edit made its answer moot.
 
-use gudsl_model::{syntax::TextRange, Cancellable, FileId};
+use gudsl_model::{
+    hir::{DefKind, Severity},
+    syntax::TextRange,
+    Cancellable, FileId,
+};
 use tower_lsp_server::ls_types as lsp;
 
-use super::{from_proto, host::Snapshot, to_proto};
+use super::{from_proto, host::Snapshot, run, to_proto, wgsl};
 
-/// The diagnostics to publish for a document.
+/// The diagnostics to publish for a document: the model's, and when it has no errors, what of
+/// its device diagrams cannot be generated (E0301).
 pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<lsp::Diagnostic>> {
     let (diagnostics, index) = snap.analysis.diagnostics(file)?;
-    convert(snap, diagnostics, |d| to_proto::diagnostic(snap, index, d))
+    let mut out = convert(snap, diagnostics, |d| to_proto::diagnostic(snap, index, d))?;
+    if !diagnostics.iter().any(|d| d.severity == Severity::Error) {
+        let generation = wgsl::diagnostics(snap, file)?;
+        out.extend(generation.iter().map(|d| to_proto::diagnostic(snap, index, d)));
+    }
+    Ok(out)
+}
+
+/// Above each activity diagram of a document: "▶ Run" for a host diagram without parameters,
+/// "Show generated WGSL" for a device diagram.
+pub fn code_lenses(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec<lsp::CodeLens>>> {
+    let Some(file) = snap.file(uri) else { return Ok(None) };
+    let index = snap.analysis.line_index(file)?;
+    let lenses = snap.analysis.with_semantics(|sema| {
+        let mut lenses = Vec::new();
+        for def in sema.file_diagrams(file).filter(|def| matches!(def.kind, DefKind::Activity(_))) {
+            let (title, command) = if gudsl_codegen::is_device_diagram(sema, def) {
+                ("Show generated WGSL", wgsl::SHOW_WGSL)
+            } else if crate::commands::run::is_runnable(sema, def) {
+                ("▶ Run", run::RUN)
+            } else {
+                continue;
+            };
+            let Some((_, name)) = sema.declaration(def) else { continue };
+            lenses.push((name, title, command, def.fqn.clone()));
+        }
+        lenses
+    })?;
+    let mut lenses: Vec<lsp::CodeLens> = lenses
+        .into_iter()
+        .map(|(name, title, command, diagram)| lsp::CodeLens {
+            range: to_proto::range(index, name, snap.encoding),
+            command: Some(lsp::Command {
+                title: title.to_string(),
+                command: command.to_string(),
+                arguments: Some(vec![serde_json::json!({ "diagram": diagram })]),
+            }),
+            data: None,
+        })
+        .collect();
+    lenses.sort_by_key(|lens| (lens.range.start.line, lens.range.start.character));
+    Ok(Some(lenses))
 }
 
 /// Converts `items` one by one, stopping with `Cancelled` once a newer edit waits for the

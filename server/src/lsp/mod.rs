@@ -9,9 +9,11 @@ mod capabilities;
 mod from_proto;
 mod handlers;
 mod host;
+mod run;
 mod server;
 mod to_proto;
 mod transport;
+mod wgsl;
 
 use std::process::ExitCode;
 
@@ -41,6 +43,7 @@ pub fn run() -> ExitCode {
     let code = runtime.block_on(async {
         let (service, socket) = tower_lsp_server::LspService::build(server::Backend::new)
             .custom_method("gudsl/viewFileText", server::Backend::view_file_text)
+            .custom_method("window/workDoneProgress/cancel", server::Backend::work_done_progress_cancel)
             .finish();
         transport::serve(service, socket).await
     });

@@ -23,7 +23,7 @@ use super::{
     capabilities::{server_capabilities, Encoding},
     from_proto, handlers,
     host::{ChangeRefused, Document, Host, Snapshot},
-    to_proto,
+    run, to_proto, wgsl,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -45,6 +45,8 @@ pub struct Backend {
     /// The last semantic tokens sent per URI, with their result id, for delta requests.
     semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
     next_result_id: AtomicU64,
+    /// The diagrams running now (▶ Run), to cancel them.
+    runs: Arc<run::Runs>,
 }
 
 /// How long after publishing an edited document's diagnostics the other documents' are
@@ -57,7 +59,7 @@ const BACKGROUND_DELAY: std::time::Duration = std::time::Duration::from_millis(1
 /// without (progress reporting); a client that never answers must not stall the server.
 const CLIENT_ANSWER: std::time::Duration = std::time::Duration::from_secs(2);
 
-fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+pub(super) fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
@@ -74,6 +76,7 @@ impl Backend {
             publishing: Arc::default(),
             semantic_tokens: Mutex::default(),
             next_result_id: AtomicU64::new(1),
+            runs: Arc::default(),
         }
     }
 
@@ -503,6 +506,29 @@ impl LanguageServer for Backend {
     async fn rename(&self, params: lsp::RenameParams) -> Result<Option<lsp::WorkspaceEdit>> {
         self.on_snapshot(move |s| handlers::rename(s, params)).await?.map_err(request_failed)
     }
+
+    async fn code_lens(&self, params: lsp::CodeLensParams) -> Result<Option<Vec<lsp::CodeLens>>> {
+        self.on_snapshot(move |s| handlers::code_lenses(s, &params.text_document.uri)).await
+    }
+
+    async fn execute_command(&self, params: lsp::ExecuteCommandParams) -> Result<Option<lsp::LSPAny>> {
+        let argument = params.arguments.into_iter().next();
+        match params.command.as_str() {
+            run::RUN => {
+                let request = run::RunRequest::parse(argument.as_ref()).map_err(invalid_params)?;
+                self.run(request, params.work_done_progress_params.work_done_token).await.map(Some)
+            }
+            wgsl::SHOW_WGSL => {
+                let argument = argument.unwrap_or_default();
+                self.on_snapshot(move |s| wgsl::show(s, &argument)).await?.map(Some).map_err(request_failed)
+            }
+            other => Err(invalid_params(format!(
+                "no command `{other}`; the server offers {} and {}",
+                run::RUN,
+                wgsl::SHOW_WGSL
+            ))),
+        }
+    }
 }
 
 /// A request the server understood but cannot do (a rename it refuses), with the reason for
@@ -518,8 +544,113 @@ fn invalid_params(message: String) -> Error {
 
 impl Backend {
     /// `gudsl/viewFileText`: the text the server has for a document, to compare with the
-    /// editor's (as rust-analyzer's `viewFileText`); `null` for a document it does not know.
+    /// editor's (as rust-analyzer's `viewFileText`), or of a read-only document it makes (the
+    /// bundled library, generated WGSL); `null` for a document it does not know.
     pub async fn view_file_text(&self, params: lsp::TextDocumentIdentifier) -> Result<Option<String>> {
+        if let Some(diagram) = wgsl::diagram_of(params.uri.as_str()).map(str::to_string) {
+            return self.on_snapshot(move |s| wgsl::generated(s, &diagram)).await?.map(Some).map_err(request_failed);
+        }
         Ok(lock(&self.host).text(&params.uri).map(str::to_string))
+    }
+
+    /// `window/workDoneProgress/cancel`: stops the run reporting under the token (between
+    /// nodes); other tokens are ignored.
+    pub async fn work_done_progress_cancel(&self, params: lsp::WorkDoneProgressCancelParams) {
+        self.runs.cancel(&params.token);
+    }
+
+    /// `gudsl.run`: prepares the diagram on a snapshot, runs it off the message loop with
+    /// progress, and answers with the report once it ended (refused, with the problems as
+    /// `data`, when it cannot start).
+    async fn run(&self, request: run::RunRequest, token: Option<lsp::ProgressToken>) -> Result<lsp::LSPAny> {
+        let name = request.diagram.clone();
+        let ready = match self.on_snapshot(move |s| run::prepare(s, &name)).await? {
+            Ok(ready) => ready,
+            Err(refusal) => {
+                let message = format!("gudsl: {}", refusal.message);
+                self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
+                return Err(Error {
+                    code: ErrorCode::ServerError(-32803),
+                    message: message.into(),
+                    data: Some(serde_json::json!({ "problems": refusal.problems })),
+                });
+            }
+        };
+        let run::Ready { prepared, places } = ready;
+        let diagram = prepared.diagram().to_string();
+        let token = match token {
+            Some(token) => Some(token),
+            None if self.progress_supported.load(Ordering::SeqCst) => {
+                let token = self.runs.new_token();
+                let created =
+                    tokio::time::timeout(CLIENT_ANSWER, self.client.create_work_done_progress(token.clone())).await;
+                created.is_ok_and(|answer| answer.is_ok()).then_some(token)
+            }
+            None => None,
+        };
+        // Dropped when the request is cancelled ($/cancelRequest drops this future) or answered:
+        // either way the run stops.
+        let guard = self.runs.start(&token.clone().unwrap_or_else(|| self.runs.new_token()));
+        let progress = match &token {
+            Some(token) => Some(
+                self.client
+                    .progress(token.clone(), format!("Running {diagram}"))
+                    .with_cancel_button()
+                    .with_message("compiling kernels")
+                    .begin()
+                    .await,
+            ),
+            None => None,
+        };
+        let (events, mut received) = tokio::sync::mpsc::unbounded_channel();
+        let finished = run::spawn(prepared, request.output.clone(), guard.stop_flag(), events);
+        while let Some(event) = received.recv().await {
+            match event {
+                run::Event::Node(node) => {
+                    if let Some(progress) = &progress {
+                        progress.report_with_message(format!("node {node}"), None).await;
+                    }
+                }
+                run::Event::Printed(text) => self.client.log_message(lsp::MessageType::INFO, text).await,
+            }
+        }
+        let finished = finished.await.unwrap_or_else(|_| Err("the run's thread ended without an answer".into()));
+        drop(guard);
+        let finished = match finished {
+            Ok(finished) => finished,
+            Err(why) => {
+                if let Some(progress) = progress {
+                    progress.finish_with_message(why.clone()).await;
+                }
+                let message = format!("gudsl: {diagram} did not run: {why}");
+                self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
+                return Err(request_failed(message));
+            }
+        };
+        if let Some(progress) = progress {
+            progress.finish_with_message(finished.summary.clone()).await;
+        }
+        let location = finished.error.as_ref().and_then(|error| places.location(error));
+        let mut answer = match finished.report {
+            Ok(report) => report,
+            Err(why) => serde_json::json!({ "diagram": diagram, "error": why }),
+        };
+        answer["output"] = serde_json::json!(request.output.display().to_string());
+        answer["errorLocation"] = serde_json::to_value(&location).unwrap_or_default();
+        let (kind, message) = match &finished.error {
+            None => {
+                (lsp::MessageType::INFO, format!("gudsl: {}; output in {}", finished.summary, request.output.display()))
+            }
+            Some(error) if run::is_cancellation(error) => {
+                (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary))
+            }
+            Some(error) => {
+                let at =
+                    location.map(|l| format!(" at {}:{}", l.uri.as_str(), l.range.start.line + 1)).unwrap_or_default();
+                (lsp::MessageType::ERROR, format!("gudsl: {diagram} stopped{at}: {error}"))
+            }
+        };
+        self.client.show_message(kind, message).await;
+        Ok(answer)
     }
 }

@@ -13,7 +13,7 @@ use super::{conv, conv_to, stmt::arith, Lowering};
 use crate::run::{
     framework::Method,
     ir::{Arith, BinOp, CmpOp, Conv, Expr, Place},
-    value::{Scalar, Value},
+    value::{Constant, Scalar},
 };
 
 impl Lowering<'_, '_> {
@@ -40,9 +40,9 @@ impl Lowering<'_, '_> {
             (Conv::Keep, _) => lowered,
             _ if already => lowered,
             // Constants are converted once, here.
-            (_, Expr::Const(value)) => match super::super::exec::convert(conv, value.clone()) {
-                Ok(value) => Expr::Const(value),
-                Err(_) => Expr::Convert(conv, Box::new(lowered)),
+            (_, Expr::Const(value)) => match super::super::exec::convert(conv, value.value()).map(Constant::of) {
+                Ok(Some(value)) => Expr::Const(value),
+                _ => Expr::Convert(conv, Box::new(lowered)),
             },
             _ => Expr::Convert(conv, Box::new(lowered)),
         }
@@ -52,13 +52,13 @@ impl Lowering<'_, '_> {
         use ast::Expr::*;
         match expr {
             Literal(literal) => match literal.value() {
-                Some(LiteralValue::Int { value, unsigned: true }) => Expr::Const(Value::UInt(value as u32)),
-                Some(LiteralValue::Int { value, unsigned: false }) => Expr::Const(Value::Int(value as i32)),
-                Some(LiteralValue::Float(value)) => Expr::Const(Value::Float(value)),
-                Some(LiteralValue::Char(code)) => Expr::Const(Value::Int(code as i32)),
-                Some(LiteralValue::Str(text)) => Expr::Const(Value::Str(text.into())),
-                Some(LiteralValue::Bool(value)) => Expr::Const(Value::Bool(value)),
-                Some(LiteralValue::Null) => Expr::Const(Value::Null),
+                Some(LiteralValue::Int { value, unsigned: true }) => Expr::Const(Constant::UInt(value as u32)),
+                Some(LiteralValue::Int { value, unsigned: false }) => Expr::Const(Constant::Int(value as i32)),
+                Some(LiteralValue::Float(value)) => Expr::Const(Constant::Float(value)),
+                Some(LiteralValue::Char(code)) => Expr::Const(Constant::Int(code as i32)),
+                Some(LiteralValue::Str(text)) => Expr::Const(Constant::Str(text.into())),
+                Some(LiteralValue::Bool(value)) => Expr::Const(Constant::Bool(value)),
+                Some(LiteralValue::Null) => Expr::Const(Constant::Null),
                 None => self.unsupported(expr.syntax(), "an integer wider than 64 bits"),
             },
             NameExpr(name) => {
@@ -138,7 +138,7 @@ impl Lowering<'_, '_> {
         let pointer =
             |ty: &Ty| matches!(ty, Ty::Ref { .. } | Ty::Array(_)) && !matches!(ty.dereferenced(), Ty::Named(_));
         if bin.is_assignment() {
-            let Some(place) = self.place(&lhs) else { return Expr::Const(Value::Void) };
+            let Some(place) = self.place(&lhs) else { return Expr::Const(Constant::Void) };
             if op.kind() == EQ {
                 let value = match &place {
                     Place::Var(_, conv) => self.converted_to(&rhs, *conv),
@@ -222,8 +222,8 @@ impl Lowering<'_, '_> {
             SyntaxKind::MINUS => {
                 let value = self.converted_to(&operand, super::stmt::conv_of_arith(arith));
                 match value {
-                    Expr::Const(Value::Int(v)) => Expr::Const(Value::Int(v.wrapping_neg())),
-                    Expr::Const(Value::Float(v)) => Expr::Const(Value::Float(-v)),
+                    Expr::Const(Constant::Int(v)) => Expr::Const(Constant::Int(v.wrapping_neg())),
+                    Expr::Const(Constant::Float(v)) => Expr::Const(Constant::Float(-v)),
                     value => Expr::Negate(arith, Box::new(value)),
                 }
             }
@@ -239,16 +239,16 @@ impl Lowering<'_, '_> {
 
     /// `++x`, `x--`, …: the old value is the result of a postfix operator.
     fn increment(&mut self, node: &SyntaxNode, operand: &ast::Expr, op: BinOp, postfix: bool) -> Expr {
-        let Some(place) = self.place(operand) else { return Expr::Const(Value::Void) };
+        let Some(place) = self.place(operand) else { return Expr::Const(Constant::Void) };
         let ty = self.ty(operand);
         if matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
             return self.unsupported(node, "`++`/`--` on a pointer: write `p = p + 1`");
         }
         let arith = arith(&ty);
         let one = match arith {
-            Arith::Float => Value::Float(1.0),
-            Arith::UInt => Value::UInt(1),
-            Arith::Int => Value::Int(1),
+            Arith::Float => Constant::Float(1.0),
+            Arith::UInt => Constant::UInt(1),
+            Arith::Int => Constant::Int(1),
         };
         let span = self.span(node);
         Expr::Update(Box::new(place), op, arith, Box::new(Expr::Const(one)), postfix, span)
@@ -292,7 +292,7 @@ impl Lowering<'_, '_> {
     fn constant(&mut self, expr: &ast::Expr, receiver: &ast::Expr, member: &str) -> Expr {
         if let Some(fqn) = self.type_named(receiver) {
             if let Some(value) = self.enum_constant(&fqn, member) {
-                return Expr::Const(Value::Int(value));
+                return Expr::Const(Constant::Int(value));
             }
         }
         match self.ty(receiver).dereferenced() {

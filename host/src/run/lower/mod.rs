@@ -22,7 +22,7 @@ use gudsl_model::{
 use super::{
     framework::Method,
     ir::{Conv, Edge, Expr, Node, NodeKind, Program, Slot, Span, Stmt},
-    value::{Scalar, Value},
+    value::{Constant, Scalar},
     RunError,
 };
 
@@ -294,16 +294,16 @@ impl<'db> Lowering<'_, 'db> {
     /// string, a null `QImage` (C++ constructs class-typed variables).
     fn zero(&mut self, ty: &Ty, at: &SyntaxNode) -> Expr {
         match ty.dereferenced() {
-            _ if matches!(ty, Ty::Ref { .. } | Ty::Array(_)) => Expr::Const(Value::Null),
-            Ty::Bool => Expr::Const(Value::Bool(false)),
-            Ty::Int => Expr::Const(Value::Int(0)),
-            Ty::UInt => Expr::Const(Value::UInt(0)),
-            Ty::Float => Expr::Const(Value::Float(0.0)),
-            Ty::String => Expr::Const(Value::Str("".into())),
+            _ if matches!(ty, Ty::Ref { .. } | Ty::Array(_)) => Expr::Const(Constant::Null),
+            Ty::Bool => Expr::Const(Constant::Bool(false)),
+            Ty::Int => Expr::Const(Constant::Int(0)),
+            Ty::UInt => Expr::Const(Constant::UInt(0)),
+            Ty::Float => Expr::Const(Constant::Float(0.0)),
+            Ty::String => Expr::Const(Constant::Str("".into())),
             Ty::Named(fqn) if self.framework_class(fqn) == Some("QImage") => {
                 Expr::Call(Method::NewImage, Vec::new(), self.span(at))
             }
-            _ => Expr::Const(Value::Null),
+            _ => Expr::Const(Constant::Null),
         }
     }
 
@@ -338,7 +338,7 @@ impl<'db> Lowering<'_, 'db> {
     /// An expression that could not be lowered: an error, and a stand-in that is never run.
     fn unsupported(&mut self, node: &SyntaxNode, message: impl Into<String>) -> Expr {
         self.error(node, message);
-        Expr::Const(Value::Void)
+        Expr::Const(Constant::Void)
     }
 }
 

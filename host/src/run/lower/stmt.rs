@@ -13,7 +13,7 @@ use gudsl_model::{
 use super::Lowering;
 use crate::run::{
     ir::{Arith, BinOp, CmpOp, Conv, Expr, Place, Stmt},
-    value::Value,
+    value::Constant,
 };
 
 impl Lowering<'_, '_> {
@@ -164,9 +164,9 @@ impl Lowering<'_, '_> {
             }
             let label = case.label().map(|l| self.converted_to(&l, Conv::Int));
             match label {
-                Some(Expr::Const(Value::Int(value))) => cases.push((value, body)),
-                Some(Expr::Negate(_, inner)) if matches!(*inner, Expr::Const(Value::Int(_))) => {
-                    let Expr::Const(Value::Int(value)) = *inner else { unreachable!("matched above") };
+                Some(Expr::Const(Constant::Int(value))) => cases.push((value, body)),
+                Some(Expr::Negate(_, inner)) if matches!(*inner, Expr::Const(Constant::Int(_))) => {
+                    let Expr::Const(Constant::Int(value)) = *inner else { unreachable!("matched above") };
                     cases.push((value.wrapping_neg(), body))
                 }
                 _ => self.error(case.syntax(), "a case label is an integer or an enum constant"),
@@ -190,7 +190,7 @@ impl Lowering<'_, '_> {
             let slot = self.declare(&name, &Ty::Int, None);
             let span = self.span(range.syntax());
             let test = Expr::Compare(CmpOp::Le, Arith::Int, Box::new(Expr::Var(slot)), Box::new(last));
-            let one = Box::new(Expr::Const(Value::Int(1)));
+            let one = Box::new(Expr::Const(Constant::Int(1)));
             let step = Expr::Update(Box::new(Place::Var(slot, Conv::Int)), BinOp::Add, Arith::Int, one, false, span);
             levels.push((Stmt::Declare(slot, first), test, step));
         }

@@ -1,0 +1,158 @@
+//! The generated device code in the editor: what cannot be generated is a diagnostic (E0301) on
+//! the construct, as soon as it is typed; the WGSL of a device diagram is a read-only document,
+//! `gudsl:/wgsl/<diagram>.wgsl`, that `gudsl.showWgsl` names and `gudsl/viewFileText` serves
+//! (regenerated from the current model each time it is read).
+
+use gudsl_model::{
+    hir::{DefKind, Definition, Diagnostic, DiagnosticCode, Semantics, Severity},
+    syntax::TextRange,
+    text::ColumnUnit,
+    Cancellable, FileId,
+};
+use serde_json::{json, Value};
+
+use super::host::Snapshot;
+
+/// The command that answers with the generated WGSL of a diagram (its name, simple or fully
+/// qualified, or `{"diagram": name}`), or of every device diagram of a document
+/// (`{"uri": uri}`).
+pub const SHOW_WGSL: &str = "gudsl.showWgsl";
+
+/// The scheme and folder of the generated documents' URIs.
+const PREFIX: &str = "gudsl:/wgsl/";
+
+/// What cannot be generated of the device diagrams declared in `file` (E0301), at the
+/// construct when it is in `file`, else at the diagram's name.
+pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<Diagnostic>> {
+    snap.analysis.with_semantics(|sema| {
+        let mut out = Vec::new();
+        for def in device_diagrams_of(sema, file) {
+            let Err(errors) = gudsl_codegen::generate(sema, def) else { continue };
+            for error in errors {
+                let (range, message) = if error.file == file {
+                    (error.range, error.message)
+                } else {
+                    let Some((_, name)) = sema.declaration(def) else { continue };
+                    (name, format!("{} (in {})", error.message, error.file.path(sema.db())))
+                };
+                out.push(Diagnostic {
+                    code: DiagnosticCode::NotGenerated,
+                    severity: Severity::Error,
+                    range,
+                    message,
+                    suggestion: None,
+                    related: Vec::new(),
+                });
+            }
+        }
+        out
+    })
+}
+
+/// The device diagrams declared in `file` (only its own activity diagrams are looked at: this
+/// runs for every file whose diagnostics are computed).
+fn device_diagrams_of<'db>(sema: &Semantics<'db>, file: FileId) -> Vec<&'db Definition> {
+    sema.file_diagrams(file)
+        .filter(|def| matches!(def.kind, DefKind::Activity(_)))
+        .filter(|def| gudsl_codegen::is_device_diagram(sema, def))
+        .collect()
+}
+
+/// The URI of a device diagram's generated WGSL.
+pub fn document_uri(diagram: &str) -> String {
+    format!("{PREFIX}{diagram}.wgsl")
+}
+
+/// The diagram a generated document's URI names, if it is one.
+pub fn diagram_of(uri: &str) -> Option<&str> {
+    uri.strip_prefix(PREFIX)?.strip_suffix(".wgsl")
+}
+
+/// `gudsl.showWgsl`: `{uri, languageId, text}` of the generated document, or why there is none
+/// (no such device diagram, or what cannot be generated, with its place).
+pub fn show(snap: &Snapshot, argument: &Value) -> Cancellable<Result<Value, String>> {
+    let wanted = match argument {
+        Value::String(name) => Wanted::Diagram(name.clone()),
+        Value::Object(fields) => match (fields.get("diagram"), fields.get("uri")) {
+            (Some(Value::String(name)), _) => Wanted::Diagram(name.clone()),
+            (None, Some(Value::String(uri))) => match uri.parse().ok().and_then(|uri| snap.file(&uri)) {
+                Some(file) => Wanted::File(file, uri.clone()),
+                None => return Ok(Err(format!("{uri} is not a document of the workspace"))),
+            },
+            _ => return Ok(Err(argument_error())),
+        },
+        _ => return Ok(Err(argument_error())),
+    };
+    let (uri, text) = match &wanted {
+        Wanted::Diagram(name) => match generated(snap, name)? {
+            Ok(text) => (document_uri(name), text),
+            Err(why) => return Ok(Err(why)),
+        },
+        Wanted::File(file, uri) => {
+            let names = snap.analysis.with_semantics(|sema| {
+                let mut names: Vec<String> =
+                    device_diagrams_of(sema, *file).into_iter().map(|def| def.fqn.clone()).collect();
+                names.sort();
+                names
+            })?;
+            if names.is_empty() {
+                return Ok(Err(format!(
+                    "{uri} declares no device diagram (an activity diagram owned by an OpenCL class)"
+                )));
+            }
+            let mut text = String::new();
+            for name in &names {
+                match generated(snap, name)? {
+                    Ok(wgsl) => text.push_str(&wgsl),
+                    Err(why) => return Ok(Err(why)),
+                }
+            }
+            let stem = uri.rsplit('/').next().unwrap_or("document").trim_end_matches(".gudsl").to_string();
+            (document_uri(&stem), text)
+        }
+    };
+    Ok(Ok(json!({ "uri": uri, "languageId": "wgsl", "text": text })))
+}
+
+enum Wanted {
+    Diagram(String),
+    File(FileId, String),
+}
+
+fn argument_error() -> String {
+    format!("{SHOW_WGSL} takes a diagram's name, {{\"diagram\": name}} or {{\"uri\": document}}")
+}
+
+/// The WGSL generated from the device diagram named `name` (simple or fully qualified name), or
+/// why there is none.
+pub fn generated(snap: &Snapshot, name: &str) -> Cancellable<Result<String, String>> {
+    snap.analysis.with_semantics(|sema| {
+        let named: Vec<&Definition> = gudsl_codegen::device_diagrams(sema)
+            .into_iter()
+            .filter(|def| crate::commands::names_diagram(name, &def.fqn))
+            .collect();
+        match named[..] {
+            [def] => gudsl_codegen::generate(sema, def).map(|kernel| kernel.wgsl).map_err(|errors| {
+                let first = &errors[0];
+                format!(
+                    "`{}` cannot be generated ({} problem(s)); first: {}: {}",
+                    def.fqn,
+                    errors.len(),
+                    place(sema, first.file, first.range),
+                    first.message
+                )
+            }),
+            [] => Err(format!("no device diagram named `{name}` (an activity diagram owned by an OpenCL class)")),
+            _ => Err(format!(
+                "several device diagrams are named `{name}`: {}; name one fully qualified",
+                named.iter().map(|def| def.fqn.as_str()).collect::<Vec<_>>().join(", ")
+            )),
+        }
+    })
+}
+
+/// `path:line:column` of a range's start (1-based), for messages.
+pub fn place(sema: &Semantics<'_>, file: FileId, range: TextRange) -> String {
+    let at = gudsl_model::db::line_index(sema.db(), file).line_col(range.start(), ColumnUnit::Char);
+    format!("{}:{}:{}", file.path(sema.db()), at.line + 1, at.col + 1)
+}
