@@ -53,18 +53,15 @@ const MATH: &[(&str, &str)] = &[
 ];
 
 impl Emitter<'_> {
-    /// A call: an OpenCL built-in of the bundled library (methods of the owner are not
-    /// generated yet).
+    /// A call: an OpenCL built-in of the bundled library, or a method of the owner
+    /// (`functions.rs`).
     pub fn call(&mut self, call: &ast::CallExpr) -> String {
         let Some(ast::Expr::NameExpr(callee)) = call.callee() else {
             return self.unsupported(call.syntax(), "calls on a receiver are not generated for the GPU yet");
         };
         let name = callee.name_ref().map(|n| n.text()).unwrap_or_default();
         if !self.sema.has_method(OPENCL_INTERFACE, &name) {
-            return self.unsupported(
-                call.syntax(),
-                format!("`{name}`: calls of the owner's methods are not generated for the GPU yet"),
-            );
+            return self.method_call(call, &name);
         }
         let args: Vec<ast::Expr> = call.args().collect();
         let result = self.ty(&ast::Expr::CallExpr(call.clone()));

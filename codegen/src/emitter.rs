@@ -6,11 +6,14 @@ use std::collections::HashMap;
 use gudsl_model::{
     ast,
     db::SourceFile,
-    hir::{BodyTypes, Semantics, Ty},
+    hir::{BodyTypes, Definition, Semantics, Ty},
     syntax::SyntaxNode,
 };
 
-use crate::{Binding, CodegenError, KernelParam};
+use crate::{
+    functions::{Call, Function},
+    Binding, CodegenError, KernelParam,
+};
 
 /// WGSL's keywords and reserved words that a GU-DSL name may be: such a name gets a `_` appended.
 const RESERVED: &[&str] = &[
@@ -138,6 +141,14 @@ pub(crate) struct Emitter<'db> {
     pub params: HashMap<String, KernelParam>,
     pub errors: Vec<CodegenError>,
     pub uses_barriers: bool,
+    /// The OpenCL class that owns the diagram: its methods are what a call that is no built-in
+    /// reaches.
+    pub owner: Option<&'db Definition>,
+    /// The owner's methods called so far, generated as functions (`functions.rs`).
+    pub functions: Vec<Function<'db>>,
+    pub calls: Vec<Call>,
+    /// While a function's body is written: its index among `functions` and its return type.
+    pub current_function: Option<(usize, Ty)>,
     out: String,
     indent: usize,
 }
@@ -151,6 +162,10 @@ impl<'db> Emitter<'db> {
             params,
             errors: Vec::new(),
             uses_barriers: false,
+            owner: None,
+            functions: Vec::new(),
+            calls: Vec::new(),
+            current_function: None,
             out: String::new(),
             indent: 0,
         }

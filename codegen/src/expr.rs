@@ -20,7 +20,10 @@ impl Emitter<'_> {
         match expr {
             Literal(literal) => self.literal(literal),
             NameExpr(name) => match name.name_ref() {
-                Some(name) => self.name(&name.text()),
+                Some(name) => {
+                    let text = name.text();
+                    self.field_in_function(&text, expr.syntax()).unwrap_or_else(|| self.name(&text))
+                }
                 None => self.unsupported(expr.syntax(), "an incomplete name"),
             },
             ParenExpr(paren) => match paren.expr() {

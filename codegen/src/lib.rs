@@ -9,6 +9,7 @@ mod builtins;
 mod emitter;
 mod expr;
 mod flow;
+mod functions;
 mod kernel;
 mod stmt;
 mod structured;

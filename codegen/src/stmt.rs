@@ -58,9 +58,23 @@ impl Emitter<'_> {
             }
             ast::Stmt::ForStmt(stmt) => self.for_loop(stmt),
             ast::Stmt::SwitchStmt(stmt) => self.switch(stmt),
-            ast::Stmt::ReturnStmt(stmt) => match stmt.value() {
-                None => self.line("return;"),
-                Some(value) => {
+            ast::Stmt::ReturnStmt(stmt) => match (stmt.value(), self.current_function.clone()) {
+                (None, None) => self.line("return;"),
+                (None, Some((_, Ty::Void))) => self.line("return;"),
+                (None, Some((_, returns))) => {
+                    self.unsupported(
+                        stmt.syntax(),
+                        format!("the method returns a `{returns}`: `return` needs a value"),
+                    );
+                }
+                (Some(value), Some((_, returns))) if returns != Ty::Void => {
+                    let value = bare(self.expr_as(&value, &returns));
+                    self.line(format!("return {value};"));
+                }
+                (Some(value), Some(_)) => {
+                    self.unsupported(value.syntax(), "the method returns nothing (`void`)");
+                }
+                (Some(value), None) => {
                     self.unsupported(value.syntax(), "a kernel returns no value");
                 }
             },

@@ -67,8 +67,24 @@ pub fn generated(name: &str) -> Kernel {
 
 /// The kernel generated from the diagram `name` of these `(path, text)` files.
 pub fn generated_from(sources: &[(String, String)], name: &str) -> Kernel {
+    generation(sources, name).unwrap_or_else(|e| panic!("{name}: {e:?}"))
+}
+
+/// The kernel generated from the diagram `name` of these files, or what cannot be generated
+/// (each error's path, 1-based line and message).
+#[allow(dead_code)] // Not every test file that shares this module asks for errors.
+pub fn generation(sources: &[(String, String)], name: &str) -> Result<Kernel, Vec<(String, u32, String)>> {
     with_diagram(sources, name, |sema, diagram| {
-        gudsl_codegen::generate(sema, diagram).unwrap_or_else(|e| panic!("{name}: {e:?}"))
+        gudsl_codegen::generate(sema, diagram).map_err(|errors| {
+            errors
+                .into_iter()
+                .map(|e| {
+                    let text = e.file.text(sema.db());
+                    let line = text[..usize::from(e.range.start())].matches('\n').count() as u32 + 1;
+                    (e.file.path(sema.db()).clone(), line, e.message)
+                })
+                .collect()
+        })
     })
 }
 
