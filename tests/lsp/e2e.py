@@ -13,6 +13,8 @@ from pathlib import Path
 from lsprotocol import types as t
 from pygls.lsp.client import LanguageClient
 
+from checks import fail, wait_for
+
 DEFS = """ClassDiagram Defs
 {
     /// An image with a width.
@@ -38,21 +40,6 @@ ActivityDiagram Ad(int n)
     }
 }
 """
-
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
-
-
-async def wait_for(predicate, what, timeout=10.0):
-    deadline = asyncio.get_running_loop().time() + timeout
-    while asyncio.get_running_loop().time() < deadline:
-        value = predicate()
-        if value:
-            return value
-        await asyncio.sleep(0.02)
-    fail(f"timed out waiting for {what}")
 
 
 async def main(gudsl):

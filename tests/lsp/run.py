@@ -19,6 +19,8 @@ from lsprotocol import types as t
 from pygls.exceptions import JsonRpcException
 from pygls.lsp.client import LanguageClient
 
+from checks import fail, wait_for
+
 FORK = """ClassDiagram K { import OpenCL.GPU.*; public class Gpu implements OpenCL { } }
 ActivityDiagram Forked()
 {
@@ -33,21 +35,6 @@ ActivityDiagram Forked()
     }
 }
 """
-
-
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
-
-
-async def wait_for(predicate, what, timeout=60.0):
-    deadline = asyncio.get_running_loop().time() + timeout
-    while asyncio.get_running_loop().time() < deadline:
-        value = predicate()
-        if value:
-            return value
-        await asyncio.sleep(0.02)
-    fail(f"timed out waiting for {what}")
 
 
 def field(value, name):
@@ -105,7 +92,7 @@ async def main(gudsl, samples, gpu):
         )
     )
     client.initialized(t.InitializedParams())
-    await wait_for(lambda: main_uri in diagnostics, "the samples' diagnostics")
+    await wait_for(lambda: main_uri in diagnostics, "the samples' diagnostics", timeout=60.0)
     if diagnostics[main_uri]:
         fail(f"main_full.gudsl has diagnostics: {diagnostics[main_uri]}")
 
@@ -254,9 +241,11 @@ async def runs(client, out, progress, logs, shown, created):
             t.ExecuteCommandParams(command="gudsl.run", arguments=[{"diagram": "Main", "output": str(cancelled_out)}])
         )
     )
-    token = await wait_for(lambda: created[before:] and created[-1], "a progress token created by the server")
+    token = await wait_for(lambda: created[before:] and created[-1], "a progress token created by the server", timeout=60.0)
     await wait_for(
-        lambda: any(field(v, "kind") == "report" for v in progress.get(token, [])), "the second run's progress"
+        lambda: any(field(v, "kind") == "report" for v in progress.get(token, [])),
+        "the second run's progress",
+        timeout=60.0,
     )
     cancelled_at = time.monotonic()
     client.window_work_done_progress_cancel(t.WorkDoneProgressCancelParams(token=token))
