@@ -26,7 +26,14 @@ use serde_json::{json, Value};
 use tokio::sync::{mpsc, oneshot};
 use tower_lsp_server::ls_types as lsp;
 
-use super::{capabilities::Encoding, host::Snapshot, to_proto};
+use tower_lsp_server::jsonrpc::{self, Error, ErrorCode};
+
+use super::{
+    capabilities::Encoding,
+    host::Snapshot,
+    server::{request_failed, Backend, CLIENT_ANSWER},
+    to_proto,
+};
 use crate::commands::run as cli;
 
 /// The command that runs a diagram: its name (simple or fully qualified), or
@@ -334,4 +341,103 @@ impl Places {
 /// Whether a run error is a cancellation.
 pub fn is_cancellation(error: &RunError) -> bool {
     error.kind == RunErrorKind::Cancelled
+}
+
+impl Backend {
+    /// `gudsl.run`: prepares the diagram on a snapshot, runs it off the message loop with
+    /// progress, and answers with the report once it ended (refused, with the problems as
+    /// `data`, when it cannot start).
+    pub(super) async fn run(
+        &self,
+        request: RunRequest,
+        token: Option<lsp::ProgressToken>,
+    ) -> jsonrpc::Result<lsp::LSPAny> {
+        let name = request.diagram.clone();
+        let ready = match self.on_snapshot(move |s| prepare(s, &name)).await? {
+            Ok(ready) => ready,
+            Err(refusal) => {
+                let message = format!("gudsl: {}", refusal.message);
+                self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
+                return Err(Error {
+                    code: ErrorCode::ServerError(-32803),
+                    message: message.into(),
+                    data: Some(serde_json::json!({ "problems": refusal.problems })),
+                });
+            }
+        };
+        let Ready { prepared, places } = ready;
+        let diagram = prepared.diagram().to_string();
+        let token = match token {
+            Some(token) => Some(token),
+            None if self.progress_supported.load(Ordering::SeqCst) => {
+                let token = self.runs.new_token();
+                let created =
+                    tokio::time::timeout(CLIENT_ANSWER, self.client.create_work_done_progress(token.clone())).await;
+                created.is_ok_and(|answer| answer.is_ok()).then_some(token)
+            }
+            None => None,
+        };
+        // Dropped when the request is cancelled ($/cancelRequest drops this future) or answered:
+        // either way the run stops.
+        let guard = self.runs.start(&token.clone().unwrap_or_else(|| self.runs.new_token()));
+        let progress = match &token {
+            Some(token) => Some(
+                self.client
+                    .progress(token.clone(), format!("Running {diagram}"))
+                    .with_cancel_button()
+                    .with_message("compiling kernels")
+                    .begin()
+                    .await,
+            ),
+            None => None,
+        };
+        let (events, mut received) = tokio::sync::mpsc::unbounded_channel();
+        let finished = spawn(prepared, request.output.clone(), guard.stop_flag(), events);
+        while let Some(event) = received.recv().await {
+            match event {
+                Event::Node(node) => {
+                    if let Some(progress) = &progress {
+                        progress.report_with_message(format!("node {node}"), None).await;
+                    }
+                }
+                Event::Printed(text) => self.client.log_message(lsp::MessageType::INFO, text).await,
+            }
+        }
+        let finished = finished.await.unwrap_or_else(|_| Err("the run's thread ended without an answer".into()));
+        drop(guard);
+        let finished = match finished {
+            Ok(finished) => finished,
+            Err(why) => {
+                if let Some(progress) = progress {
+                    progress.finish_with_message(why.clone()).await;
+                }
+                let message = format!("gudsl: {diagram} did not run: {why}");
+                self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
+                return Err(request_failed(message));
+            }
+        };
+        if let Some(progress) = progress {
+            progress.finish_with_message(finished.summary.clone()).await;
+        }
+        let location = finished.error.as_ref().and_then(|error| places.location(error));
+        let mut answer = match finished.report {
+            Ok(report) => report,
+            Err(why) => serde_json::json!({ "diagram": diagram, "error": why }),
+        };
+        answer["output"] = serde_json::json!(request.output.display().to_string());
+        answer["errorLocation"] = serde_json::to_value(&location).unwrap_or_default();
+        let (kind, message) = match &finished.error {
+            None => {
+                (lsp::MessageType::INFO, format!("gudsl: {}; output in {}", finished.summary, request.output.display()))
+            }
+            Some(error) if is_cancellation(error) => (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary)),
+            Some(error) => {
+                let at =
+                    location.map(|l| format!(" at {}:{}", l.uri.as_str(), l.range.start.line + 1)).unwrap_or_default();
+                (lsp::MessageType::ERROR, format!("gudsl: {diagram} stopped{at}: {error}"))
+            }
+        };
+        self.client.show_message(kind, message).await;
+        Ok(answer)
+    }
 }

@@ -30,12 +30,12 @@ use super::{
 type Published = (Option<i32>, Vec<lsp::Diagnostic>);
 
 pub struct Backend {
-    client: Client,
+    pub(super) client: Client,
     host: Arc<Mutex<Host>>,
     encoding: OnceLock<Encoding>,
     roots: Mutex<Vec<PathBuf>>,
     /// The client accepts `window/workDoneProgress/create`.
-    progress_supported: std::sync::atomic::AtomicBool,
+    pub(super) progress_supported: std::sync::atomic::AtomicBool,
     /// Bumped by every edit; a diagnostics run publishes only if no newer edit came.
     generation: Arc<AtomicU64>,
     /// What was last published per URI (with the document version), so only changes are sent.
@@ -46,7 +46,7 @@ pub struct Backend {
     semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
     next_result_id: AtomicU64,
     /// The diagrams running now (▶ Run), to cancel them.
-    runs: Arc<run::Runs>,
+    pub(super) runs: Arc<run::Runs>,
 }
 
 /// How long after publishing an edited document's diagnostics the other documents' are
@@ -57,7 +57,7 @@ const BACKGROUND_DELAY: std::time::Duration = std::time::Duration::from_millis(1
 
 /// How long the server waits for the client's answer to a request of its own before going on
 /// without (progress reporting); a client that never answers must not stall the server.
-const CLIENT_ANSWER: std::time::Duration = std::time::Duration::from_secs(2);
+pub(super) const CLIENT_ANSWER: std::time::Duration = std::time::Duration::from_secs(2);
 
 pub(super) fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
@@ -86,7 +86,7 @@ impl Backend {
 
     /// Runs `f` on a snapshot in a blocking task: cancelled by a newer edit (answered with
     /// `ContentModified`), and a panic is answered as an internal error, not a crash.
-    async fn on_snapshot<T: Send + 'static>(
+    pub(super) async fn on_snapshot<T: Send + 'static>(
         &self,
         f: impl FnOnce(&Snapshot) -> Cancellable<T> + Send + 'static,
     ) -> Result<T> {
@@ -533,7 +533,7 @@ impl LanguageServer for Backend {
 
 /// A request the server understood but cannot do (a rename it refuses), with the reason for
 /// the user: LSP's RequestFailed.
-fn request_failed(message: String) -> Error {
+pub(super) fn request_failed(message: String) -> Error {
     Error { code: ErrorCode::ServerError(-32803), message: message.into(), data: None }
 }
 
@@ -557,100 +557,5 @@ impl Backend {
     /// nodes); other tokens are ignored.
     pub async fn work_done_progress_cancel(&self, params: lsp::WorkDoneProgressCancelParams) {
         self.runs.cancel(&params.token);
-    }
-
-    /// `gudsl.run`: prepares the diagram on a snapshot, runs it off the message loop with
-    /// progress, and answers with the report once it ended (refused, with the problems as
-    /// `data`, when it cannot start).
-    async fn run(&self, request: run::RunRequest, token: Option<lsp::ProgressToken>) -> Result<lsp::LSPAny> {
-        let name = request.diagram.clone();
-        let ready = match self.on_snapshot(move |s| run::prepare(s, &name)).await? {
-            Ok(ready) => ready,
-            Err(refusal) => {
-                let message = format!("gudsl: {}", refusal.message);
-                self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
-                return Err(Error {
-                    code: ErrorCode::ServerError(-32803),
-                    message: message.into(),
-                    data: Some(serde_json::json!({ "problems": refusal.problems })),
-                });
-            }
-        };
-        let run::Ready { prepared, places } = ready;
-        let diagram = prepared.diagram().to_string();
-        let token = match token {
-            Some(token) => Some(token),
-            None if self.progress_supported.load(Ordering::SeqCst) => {
-                let token = self.runs.new_token();
-                let created =
-                    tokio::time::timeout(CLIENT_ANSWER, self.client.create_work_done_progress(token.clone())).await;
-                created.is_ok_and(|answer| answer.is_ok()).then_some(token)
-            }
-            None => None,
-        };
-        // Dropped when the request is cancelled ($/cancelRequest drops this future) or answered:
-        // either way the run stops.
-        let guard = self.runs.start(&token.clone().unwrap_or_else(|| self.runs.new_token()));
-        let progress = match &token {
-            Some(token) => Some(
-                self.client
-                    .progress(token.clone(), format!("Running {diagram}"))
-                    .with_cancel_button()
-                    .with_message("compiling kernels")
-                    .begin()
-                    .await,
-            ),
-            None => None,
-        };
-        let (events, mut received) = tokio::sync::mpsc::unbounded_channel();
-        let finished = run::spawn(prepared, request.output.clone(), guard.stop_flag(), events);
-        while let Some(event) = received.recv().await {
-            match event {
-                run::Event::Node(node) => {
-                    if let Some(progress) = &progress {
-                        progress.report_with_message(format!("node {node}"), None).await;
-                    }
-                }
-                run::Event::Printed(text) => self.client.log_message(lsp::MessageType::INFO, text).await,
-            }
-        }
-        let finished = finished.await.unwrap_or_else(|_| Err("the run's thread ended without an answer".into()));
-        drop(guard);
-        let finished = match finished {
-            Ok(finished) => finished,
-            Err(why) => {
-                if let Some(progress) = progress {
-                    progress.finish_with_message(why.clone()).await;
-                }
-                let message = format!("gudsl: {diagram} did not run: {why}");
-                self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
-                return Err(request_failed(message));
-            }
-        };
-        if let Some(progress) = progress {
-            progress.finish_with_message(finished.summary.clone()).await;
-        }
-        let location = finished.error.as_ref().and_then(|error| places.location(error));
-        let mut answer = match finished.report {
-            Ok(report) => report,
-            Err(why) => serde_json::json!({ "diagram": diagram, "error": why }),
-        };
-        answer["output"] = serde_json::json!(request.output.display().to_string());
-        answer["errorLocation"] = serde_json::to_value(&location).unwrap_or_default();
-        let (kind, message) = match &finished.error {
-            None => {
-                (lsp::MessageType::INFO, format!("gudsl: {}; output in {}", finished.summary, request.output.display()))
-            }
-            Some(error) if run::is_cancellation(error) => {
-                (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary))
-            }
-            Some(error) => {
-                let at =
-                    location.map(|l| format!(" at {}:{}", l.uri.as_str(), l.range.start.line + 1)).unwrap_or_default();
-                (lsp::MessageType::ERROR, format!("gudsl: {diagram} stopped{at}: {error}"))
-            }
-        };
-        self.client.show_message(kind, message).await;
-        Ok(answer)
     }
 }
