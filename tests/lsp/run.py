@@ -5,11 +5,13 @@ Exits non-zero on the first failure.
 It reads the code lenses (▶ Run above `Main`, Show generated WGSL above a device diagram), opens
 the generated WGSL (`gudsl.showWgsl`, then the document through `gudsl/viewFileText`), runs `Main`
 with `$/progress` and `printf` output as log messages, cancels a second run from the progress
-(`window/workDoneProgress/cancel`), and checks the refusals: a model with errors, an unknown
+(`window/workDoneProgress/cancel`) and a third by cancelling the request (`$/cancelRequest`),
+and checks the refusals: a model with errors, an unknown
 diagram, bad arguments, an unknown command, and what cannot be generated as an E0301 diagnostic.
 With --no-gpu, the runs themselves are skipped."""
 
 import asyncio
+import json
 import sys
 import tempfile
 import time
@@ -259,6 +261,36 @@ async def runs(client, out, progress, logs, shown, created):
         fail(f"the cancelled run's progress ends: {progress[token]}")
     if not (cancelled_out / "report.json").exists():
         fail("a cancelled run writes its report")
+
+    # The command itself cancelled ($/cancelRequest, as a client does when the user gives up
+    # waiting): the request is answered RequestCancelled, the run stops, its progress ends.
+    dropped_out = out / "dropped"
+    before = len(created)
+    params = t.ExecuteCommandParams(command="gudsl.run", arguments=[{"diagram": "Main", "output": str(dropped_out)}])
+    request = client.protocol.send_request_async("workspace/executeCommand", params, msg_id="run-dropped")
+    dropped_token = await wait_for(lambda: created[before:] and created[-1], "the third run's token", timeout=60.0)
+    await wait_for(
+        lambda: any(field(v, "kind") == "report" for v in progress.get(dropped_token, [])),
+        "the third run's progress",
+        timeout=60.0,
+    )
+    client.protocol.notify("$/cancelRequest", t.CancelParams(id="run-dropped"))
+    error = await refused(request, "a cancelled request")
+    if error.code != -32800:
+        fail(f"RequestCancelled expected: {error.code} {error.message}")
+    ended = await wait_for(
+        lambda: [v for v in progress[dropped_token] if field(v, "kind") == "end"], "the dropped run's progress end"
+    )
+    if field(ended[0], "message") != "cancelled":
+        fail(f"the progress of a dropped run ends as cancelled: {ended}")
+    report = json.loads(
+        await wait_for(
+            lambda: (dropped_out / "report.json").exists() and (dropped_out / "report.json").read_text(),
+            "the dropped run's report",
+        )
+    )
+    if report["reached_final_node"] or "cancelled" not in (report["error"] or ""):
+        fail(f"the dropped run stops: {report}")
     print(f"whole run {full_seconds:.2f} s; stopped {stopped_after * 1000:.0f} ms after the cancel")
 
 

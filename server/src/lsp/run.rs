@@ -24,7 +24,7 @@ use gudsl_model::{
 };
 use serde_json::{json, Value};
 use tokio::sync::{mpsc, oneshot};
-use tower_lsp_server::ls_types as lsp;
+use tower_lsp_server::{ls_types as lsp, Client};
 
 use tower_lsp_server::jsonrpc::{self, Error, ErrorCode};
 
@@ -193,7 +193,7 @@ impl Runs {
         let flag = Arc::new(AtomicBool::new(false));
         let key = token_key(token);
         super::server::lock(&self.flags).insert(key.clone(), flag.clone());
-        RunGuard { runs: self.clone(), key, flag }
+        RunGuard { runs: self.clone(), key, flag, progress: None }
     }
 
     /// Stops the run reporting progress under `token`; false if there is none.
@@ -211,11 +211,13 @@ fn token_key(token: &lsp::ProgressToken) -> String {
     }
 }
 
-/// A run under way: stops it when dropped.
+/// A run under way: stops it when dropped, and ends its progress if the request was dropped
+/// before it could (`$/cancelRequest`), so no client shows a run that no longer goes on.
 pub struct RunGuard {
     runs: Arc<Runs>,
     key: String,
     flag: Arc<AtomicBool>,
+    progress: Option<(Client, lsp::ProgressToken)>,
 }
 
 impl RunGuard {
@@ -223,12 +225,23 @@ impl RunGuard {
     pub fn stop_flag(&self) -> Arc<AtomicBool> {
         self.flag.clone()
     }
+
+    /// The run reports progress under `token` (`None`: it reports none, or it ended it itself).
+    fn reports(&mut self, progress: Option<(Client, lsp::ProgressToken)>) {
+        self.progress = progress;
+    }
 }
 
 impl Drop for RunGuard {
     fn drop(&mut self) {
         self.flag.store(true, Ordering::SeqCst);
         super::server::lock(&self.runs.flags).remove(&self.key);
+        let Some((client, token)) = self.progress.take() else { return };
+        let Ok(runtime) = tokio::runtime::Handle::try_current() else { return };
+        let end = lsp::WorkDoneProgressEnd { message: Some("cancelled".into()) };
+        let params =
+            lsp::ProgressParams { token, value: lsp::ProgressParamsValue::WorkDone(lsp::WorkDoneProgress::End(end)) };
+        runtime.spawn(async move { client.send_notification::<lsp::notification::Progress>(params).await });
     }
 }
 
@@ -379,7 +392,7 @@ impl Backend {
         };
         // Dropped when the request is cancelled ($/cancelRequest drops this future) or answered:
         // either way the run stops.
-        let guard = self.runs.start(&token.clone().unwrap_or_else(|| self.runs.new_token()));
+        let mut guard = self.runs.start(&token.clone().unwrap_or_else(|| self.runs.new_token()));
         let progress = match &token {
             Some(token) => Some(
                 self.client
@@ -391,6 +404,7 @@ impl Backend {
             ),
             None => None,
         };
+        guard.reports(token.clone().filter(|_| progress.is_some()).map(|token| (self.client.clone(), token)));
         let (events, mut received) = tokio::sync::mpsc::unbounded_channel();
         let finished = spawn(prepared, request.output.clone(), guard.stop_flag(), events);
         while let Some(event) = received.recv().await {
@@ -404,6 +418,7 @@ impl Backend {
             }
         }
         let finished = finished.await.unwrap_or_else(|_| Err("the run's thread ended without an answer".into()));
+        guard.reports(None);
         drop(guard);
         let finished = match finished {
             Ok(finished) => finished,
