@@ -19,7 +19,10 @@ use std::{
 };
 
 use gudsl_codegen::Kernel;
-use gudsl_model::hir::{Definition, Semantics};
+use gudsl_model::{
+    db::SourceFile,
+    hir::{Definition, Semantics},
+};
 use gudsl_runtime::Gpu;
 
 pub use ir::Span;
@@ -31,6 +34,8 @@ use crate::launch::Launcher;
 pub struct Prepared {
     program: ir::Program,
     kernels: Vec<Kernel>,
+    /// The file the diagram is declared in.
+    file: SourceFile,
     /// Where relative file names (`image.load("x.png")`) are found: the diagram file's folder.
     base_dir: PathBuf,
 }
@@ -41,7 +46,7 @@ pub fn prepare(sema: &Semantics<'_>, def: &Definition) -> Result<Prepared, Vec<R
     let lowered = lower::lower(sema, def)?;
     let path = def.file.path(sema.db());
     let base_dir = Path::new(path).parent().map(Path::to_path_buf).unwrap_or_default();
-    Ok(Prepared { program: lowered.program, kernels: lowered.kernels, base_dir })
+    Ok(Prepared { program: lowered.program, kernels: lowered.kernels, file: def.file, base_dir })
 }
 
 /// What a run tells as it goes, and how it is stopped.
@@ -159,6 +164,11 @@ impl std::error::Error for RunError {}
 impl Prepared {
     pub fn diagram(&self) -> &str {
         &self.program.diagram
+    }
+
+    /// The file the diagram is declared in (where the errors of its run are).
+    pub fn file(&self) -> SourceFile {
+        self.file
     }
 
     /// The kernels the calc nodes launch.

@@ -26,7 +26,7 @@ use serde_json::{json, Value};
 use tokio::sync::{mpsc, oneshot};
 use tower_lsp_server::{ls_types as lsp, Client};
 
-use tower_lsp_server::jsonrpc::{self, Error, ErrorCode};
+use tower_lsp_server::jsonrpc::{self, Error};
 
 use super::{
     capabilities::Encoding,
@@ -122,12 +122,7 @@ pub fn prepare(snap: &Snapshot, name: &str) -> Cancellable<Result<Ready, Refusal
     let errors = match prepared {
         Err(message) => return Ok(Err(Refusal { message, problems: Vec::new() })),
         Ok(Ok(prepared)) => {
-            let file = snap
-                .analysis
-                .with_semantics(|sema| {
-                    sema.def_map().definitions.get(prepared.diagram()).and_then(|defs| defs.first()).map(|d| d.file)
-                })?
-                .expect("a prepared diagram is defined");
+            let file = prepared.file();
             let index = snap.analysis.line_index(file)?.clone();
             let places = Places { file, uri: snap.uri_of(file), index, encoding: snap.encoding };
             return Ok(Ok(Ready { prepared, places }));
@@ -146,16 +141,9 @@ pub fn prepare(snap: &Snapshot, name: &str) -> Cancellable<Result<Ready, Refusal
     Ok(Err(Refusal { message, problems }))
 }
 
-/// `path:line:column` (1-based) of a range's start, for messages.
+/// `path:line:column` of a range's start, for messages.
 fn place(snap: &Snapshot, file: FileId, index: &LineIndex, range: gudsl_model::syntax::TextRange) -> String {
-    let at = to_proto::position(index, range.start(), snap.encoding);
-    let path = snap.uri_of(file).and_then(|uri| uri.to_file_path().map(|p| p.display().to_string()));
-    format!(
-        "{}:{}:{}",
-        path.unwrap_or_else(|| snap.analysis.file_path(file).to_string()),
-        at.line + 1,
-        at.character + 1
-    )
+    to_proto::place(snap.analysis.file_path(file), index, range, snap.encoding)
 }
 
 fn problem(
@@ -371,11 +359,8 @@ impl Backend {
             Err(refusal) => {
                 let message = format!("gudsl: {}", refusal.message);
                 self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
-                return Err(Error {
-                    code: ErrorCode::ServerError(-32803),
-                    message: message.into(),
-                    data: Some(serde_json::json!({ "problems": refusal.problems })),
-                });
+                let data = Some(serde_json::json!({ "problems": refusal.problems }));
+                return Err(Error { data, ..request_failed(message) });
             }
         };
         let Ready { prepared, places } = ready;

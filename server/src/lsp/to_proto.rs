@@ -19,6 +19,13 @@ pub fn position(index: &LineIndex, offset: TextSize, encoding: Encoding) -> lsp:
     lsp::Position::new(at.line, at.col)
 }
 
+/// `path:line:column` (1-based, columns in the negotiated encoding) of a range's start, for
+/// messages.
+pub fn place(path: &str, index: &LineIndex, range: TextRange, encoding: Encoding) -> String {
+    let at = position(index, range.start(), encoding);
+    format!("{path}:{}:{}", at.line + 1, at.character + 1)
+}
+
 pub fn range(index: &LineIndex, range: TextRange, encoding: Encoding) -> lsp::Range {
     lsp::Range::new(position(index, range.start(), encoding), position(index, range.end(), encoding))
 }

@@ -5,13 +5,11 @@
 
 use gudsl_model::{
     hir::{DefKind, Definition, Diagnostic, DiagnosticCode, Semantics, Severity},
-    syntax::TextRange,
-    text::ColumnUnit,
     Cancellable, FileId,
 };
 use serde_json::{json, Value};
 
-use super::host::Snapshot;
+use super::{host::Snapshot, to_proto};
 
 /// The command that answers with the generated WGSL of a diagram (its name, simple or fully
 /// qualified, or `{"diagram": name}`), or of every device diagram of a document
@@ -89,24 +87,20 @@ pub fn show(snap: &Snapshot, argument: &Value) -> Cancellable<Result<Value, Stri
             Err(why) => return Ok(Err(why)),
         },
         Wanted::File(file, uri) => {
-            let names = snap.analysis.with_semantics(|sema| {
-                let mut names: Vec<String> =
-                    device_diagrams_of(sema, *file).into_iter().map(|def| def.fqn.clone()).collect();
-                names.sort();
-                names
+            let texts = snap.analysis.with_semantics(|sema| {
+                let mut diagrams = device_diagrams_of(sema, *file);
+                diagrams.sort_by(|a, b| a.fqn.cmp(&b.fqn));
+                diagrams.into_iter().map(|def| wgsl_of(snap, sema, def)).collect::<Result<Vec<String>, String>>()
             })?;
-            if names.is_empty() {
-                return Ok(Err(format!(
-                    "{uri} declares no device diagram (an activity diagram owned by an OpenCL class)"
-                )));
-            }
-            let mut text = String::new();
-            for name in &names {
-                match generated(snap, name)? {
-                    Ok(wgsl) => text.push_str(&wgsl),
-                    Err(why) => return Ok(Err(why)),
+            let text = match texts {
+                Ok(texts) if texts.is_empty() => {
+                    return Ok(Err(format!(
+                        "{uri} declares no device diagram (an activity diagram owned by an OpenCL class)"
+                    )))
                 }
-            }
+                Ok(texts) => texts.concat(),
+                Err(why) => return Ok(Err(why)),
+            };
             let stem = uri.rsplit('/').next().unwrap_or("document").trim_end_matches(".gudsl").to_string();
             (document_uri(&stem), text)
         }
@@ -132,16 +126,7 @@ pub fn generated(snap: &Snapshot, name: &str) -> Cancellable<Result<String, Stri
             .filter(|def| crate::commands::names_diagram(name, &def.fqn))
             .collect();
         match named[..] {
-            [def] => gudsl_codegen::generate(sema, def).map(|kernel| kernel.wgsl).map_err(|errors| {
-                let first = &errors[0];
-                format!(
-                    "`{}` cannot be generated ({} problem(s)); first: {}: {}",
-                    def.fqn,
-                    errors.len(),
-                    place(sema, first.file, first.range),
-                    first.message
-                )
-            }),
+            [def] => wgsl_of(snap, sema, def),
             [] => Err(format!("no device diagram named `{name}` (an activity diagram owned by an OpenCL class)")),
             _ => Err(format!(
                 "several device diagrams are named `{name}`: {}; name one fully qualified",
@@ -151,8 +136,12 @@ pub fn generated(snap: &Snapshot, name: &str) -> Cancellable<Result<String, Stri
     })
 }
 
-/// `path:line:column` of a range's start (1-based), for messages.
-pub fn place(sema: &Semantics<'_>, file: FileId, range: TextRange) -> String {
-    let at = gudsl_model::db::line_index(sema.db(), file).line_col(range.start(), ColumnUnit::Char);
-    format!("{}:{}:{}", file.path(sema.db()), at.line + 1, at.col + 1)
+/// The WGSL generated from the device diagram `def`, or its first problem with its place.
+fn wgsl_of(snap: &Snapshot, sema: &Semantics<'_>, def: &Definition) -> Result<String, String> {
+    gudsl_codegen::generate(sema, def).map(|kernel| kernel.wgsl).map_err(|errors| {
+        let first = &errors[0];
+        let index = gudsl_model::db::line_index(sema.db(), first.file);
+        let place = to_proto::place(first.file.path(sema.db()), index, first.range, snap.encoding);
+        format!("`{}` cannot be generated ({} problem(s)); first: {place}: {}", def.fqn, errors.len(), first.message)
+    })
 }
