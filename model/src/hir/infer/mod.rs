@@ -6,6 +6,7 @@
 //! sink; [`Semantics::type_of_expr`] runs it with a sink nobody reads.
 
 mod calls;
+mod operators;
 mod statements;
 
 pub use statements::returns_on_every_path;
@@ -23,7 +24,7 @@ use super::{
     ty::Ty,
 };
 use crate::{
-    ast::{self, AstNode, HasName},
+    ast::{self, AstNode, HasName, LiteralValue},
     syntax::{SyntaxKind, SyntaxNode, TextRange},
 };
 
@@ -262,8 +263,11 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     }
 
     fn infer_expr(&mut self, expr: &ast::Expr) -> Ty {
+        use LiteralValue::Int;
         match expr {
             ast::Expr::Literal(lit) => match lit.token().map(|t| t.kind()) {
+                // `3u`, and a literal too large for `int`, is `unsigned int`, as in C.
+                Some(SyntaxKind::INT_NUMBER) if matches!(lit.value(), Some(Int { unsigned: true, .. })) => Ty::UInt,
                 Some(SyntaxKind::INT_NUMBER | SyntaxKind::CHAR) => Ty::Int,
                 Some(SyntaxKind::FLOAT_NUMBER) => Ty::Float,
                 Some(SyntaxKind::STRING) => Ty::String,
@@ -391,32 +395,6 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 }
                 Ty::Unknown
             }
-        }
-    }
-
-    fn binary(&mut self, bin: &ast::BinExpr) -> Ty {
-        let lhs = bin.lhs().map_or(Ty::Unknown, |e| self.infer(&e));
-        let rhs = bin.rhs().map_or(Ty::Unknown, |e| self.infer(&e));
-        if bin.is_assignment() {
-            return self.assignment(bin, lhs, rhs);
-        }
-        // Arithmetic reads through references.
-        let (lhs, rhs) = (lhs.dereferenced().clone(), rhs.dereferenced().clone());
-        let Some(op) = bin.op().map(|t| t.kind()) else { return Ty::Unknown };
-        use SyntaxKind::*;
-        match op {
-            EQ2 | NEQ | L_ANGLE | LTEQ | R_ANGLE | GTEQ | AMP2 | PIPE2 => Ty::Bool,
-            _ => match (&lhs, &rhs) {
-                (Ty::String, _) | (_, Ty::String) if op == PLUS => Ty::String,
-                (Ty::Float, Ty::Int | Ty::UInt) | (Ty::Int | Ty::UInt, Ty::Float) => Ty::Float,
-                // C's usual arithmetic conversions: unsigned wins.
-                (Ty::Int, Ty::UInt) | (Ty::UInt, Ty::Int) => Ty::UInt,
-                (Ty::Vector(..), _) => lhs,
-                (_, Ty::Vector(..)) => rhs,
-                (Ty::Int | Ty::UInt | Ty::Float, _) if lhs == rhs => lhs,
-                (Ty::Array(_), _) => lhs,
-                _ => Ty::Unknown,
-            },
         }
     }
 
