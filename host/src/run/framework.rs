@@ -233,6 +233,17 @@ impl<'g> Framework<'g> {
         Framework { gpu, base_dir, rand_state: 1, viewers: Vec::new(), printed: Vec::new() }
     }
 
+    /// `rand()`: xorshift32, so that `RAND_MAX` is 2^31 − 1 as glibc's.
+    #[inline]
+    pub fn rand(&mut self) -> i32 {
+        let mut x = self.rand_state;
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        self.rand_state = x;
+        (x >> 1) as i32
+    }
+
     /// Calls `method` with `args` (the receiver first for a method).
     pub fn call(&mut self, method: Method, args: &[Value]) -> Result<Value, String> {
         use Method::*;
@@ -277,15 +288,7 @@ impl<'g> Framework<'g> {
                 let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
                 Ok(Value::Int(now.as_secs() as i32))
             }
-            Rand => {
-                // xorshift32: RAND_MAX is 2^31 − 1, as glibc's.
-                let mut x = self.rand_state;
-                x ^= x << 13;
-                x ^= x >> 17;
-                x ^= x << 5;
-                self.rand_state = x;
-                Ok(Value::Int((x >> 1) as i32))
-            }
+            Rand => Ok(Value::Int(self.rand())),
             Printf => {
                 let format = string_arg(args, 0)?;
                 let text = super::printf::format(&format, &args[1..])?;

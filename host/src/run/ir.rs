@@ -162,7 +162,8 @@ pub struct Program {
     pub start: usize,
     /// The diagram variables' initialisation, in order.
     pub init: Vec<Stmt>,
-    pub slots: usize,
+    /// Each slot's conversion: what its variable's type makes of what is stored in it.
+    pub slots: Vec<Conv>,
     /// Names of the diagram variables and their slots (a finished run can be inspected).
     pub variables: Vec<(String, Slot)>,
 }

@@ -4,6 +4,8 @@
 //! then runs it on a wgpu device without the model — viewer images go to the output folder, and
 //! the [`Report`] says how the run ended, what each calc node took and what was printed.
 
+mod arith;
+mod compile;
 mod device;
 mod exec;
 mod framework;

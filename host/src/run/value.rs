@@ -23,6 +23,7 @@ pub enum Scalar {
 
 impl Scalar {
     /// Bytes of one element.
+    #[inline(always)]
     pub fn size(self) -> usize {
         match self {
             Scalar::I8 | Scalar::U8 => 1,
@@ -71,29 +72,38 @@ impl Scalar {
         }
     }
 
-    /// The value stored in `bytes` (exactly [`Scalar::size`] of them).
-    fn load(self, bytes: &[u8]) -> Value {
+    /// The number stored in `bytes` (exactly [`Scalar::size`] of them).
+    #[inline(always)]
+    fn load(self, bytes: &[u8]) -> Number {
         let array = |n: usize| {
             let mut out = [0u8; 8];
             out[..n].copy_from_slice(&bytes[..n]);
             out
         };
         match self {
-            Scalar::I8 => Value::Int(bytes[0] as i8 as i32),
-            Scalar::U8 => Value::UInt(bytes[0] as u32),
-            Scalar::I16 => Value::Int(i16::from_le_bytes([bytes[0], bytes[1]]) as i32),
-            Scalar::U16 => Value::UInt(u16::from_le_bytes([bytes[0], bytes[1]]) as u32),
-            Scalar::I32 => Value::Int(i32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])),
-            Scalar::U32 => Value::UInt(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])),
-            Scalar::F32 => Value::Float(f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as f64),
-            Scalar::F64 => Value::Float(f64::from_le_bytes(array(8))),
+            Scalar::I8 => Number::Int(bytes[0] as i8 as i64),
+            Scalar::U8 => Number::Int(bytes[0] as i64),
+            Scalar::I16 => Number::Int(i16::from_le_bytes([bytes[0], bytes[1]]) as i64),
+            Scalar::U16 => Number::Int(u16::from_le_bytes([bytes[0], bytes[1]]) as i64),
+            Scalar::I32 => Number::Int(i32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as i64),
+            Scalar::U32 => Number::Int(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as i64),
+            Scalar::F32 => Number::Float(f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as f64),
+            Scalar::F64 => Number::Float(f64::from_le_bytes(array(8))),
         }
     }
 
-    /// Writes `value`, converted as C converts on assignment, into `bytes`.
-    fn store(self, value: &Value, bytes: &mut [u8]) -> Result<(), String> {
-        let number =
-            value.number().ok_or_else(|| format!("a {} cannot be stored in memory of numbers", value.kind()))?;
+    /// An element's number as the interpreter's value: `int`, `unsigned int` or floating point.
+    fn value(self, number: Number) -> Value {
+        match (self, number) {
+            (Scalar::U8 | Scalar::U16 | Scalar::U32, Number::Int(v)) => Value::UInt(v as u32),
+            (_, Number::Int(v)) => Value::Int(v as i32),
+            (_, Number::Float(v)) => Value::Float(v),
+        }
+    }
+
+    /// Writes `number`, converted as C converts on assignment, into `bytes`.
+    #[inline(always)]
+    fn store(self, number: Number, bytes: &mut [u8]) {
         match self {
             Scalar::I8 | Scalar::U8 => bytes[0] = number.as_i64() as u8,
             Scalar::I16 | Scalar::U16 => bytes[..2].copy_from_slice(&(number.as_i64() as u16).to_le_bytes()),
@@ -101,7 +111,6 @@ impl Scalar {
             Scalar::F32 => bytes[..4].copy_from_slice(&(number.as_f64() as f32).to_le_bytes()),
             Scalar::F64 => bytes[..8].copy_from_slice(&number.as_f64().to_le_bytes()),
         }
-        Ok(())
     }
 }
 
@@ -137,30 +146,60 @@ impl Pointer {
     }
 
     /// The byte range of element `index` in a block of `len` bytes, if it lies inside.
-    fn at(&self, index: i64, len: usize) -> Result<std::ops::Range<usize>, String> {
+    #[inline(always)]
+    fn at(&self, index: i64, len: usize) -> Option<std::ops::Range<usize>> {
         let size = self.element.size() as i64;
-        let start = self.offset + index * size;
-        if start < 0 || start + size > len as i64 {
-            return Err(format!(
-                "element {index} is outside the memory it points into ({} element(s) of {size} byte(s) from the pointer)",
-                (len as i64 - self.offset).max(0) / size
-            ));
+        let start = self.offset.checked_add(index.checked_mul(size)?)?;
+        (start >= 0 && start + size <= len as i64).then_some(start as usize..(start + size) as usize)
+    }
+
+    /// Why element `index` cannot be read or written.
+    #[cold]
+    fn outside(&self, index: i64) -> String {
+        let size = self.element.size() as i64;
+        let len = self.memory.borrow().len() as i64;
+        format!(
+            "element {index} is outside the memory it points into ({} element(s) of {size} byte(s) from the pointer)",
+            (len - self.offset).max(0) / size
+        )
+    }
+
+    /// `p[index]` as a number: what the interpreter's arithmetic reads without making a value.
+    #[inline(always)]
+    pub fn load(&self, index: i64) -> Result<Number, String> {
+        let memory = self.memory.borrow();
+        match self.at(index, memory.len()) {
+            Some(range) => Ok(self.element.load(&memory[range])),
+            None => Err(self.outside(index)),
         }
-        Ok(start as usize..(start + size) as usize)
+    }
+
+    /// `p[index] = number`.
+    #[inline(always)]
+    pub fn store(&self, index: i64, number: Number) -> Result<(), String> {
+        let mut memory = self.memory.borrow_mut();
+        match self.at(index, memory.len()) {
+            Some(range) => {
+                self.element.store(number, &mut memory[range]);
+                Ok(())
+            }
+            None => {
+                drop(memory);
+                Err(self.outside(index))
+            }
+        }
     }
 
     /// `p[index]`.
     pub fn read(&self, index: i64) -> Result<Value, String> {
-        let memory = self.memory.borrow();
-        let range = self.at(index, memory.len())?;
-        Ok(self.element.load(&memory[range]))
+        self.load(index).map(|number| self.element.value(number))
     }
 
     /// `p[index] = value`.
     pub fn write(&self, index: i64, value: &Value) -> Result<(), String> {
-        let mut memory = self.memory.borrow_mut();
-        let range = self.at(index, memory.len())?;
-        self.element.store(value, &mut memory[range])
+        let number =
+            value.number().ok_or_else(|| format!("a {} cannot be stored in memory of numbers", value.kind()))?;
+        self.store(index, number)
     }
 
     /// A copy of `bytes` bytes from the pointer on.
@@ -226,8 +265,12 @@ impl Constant {
     }
 }
 
-/// A value of the host interpreter.
+/// A value of the host interpreter. Its tag is a whole word: a value made on the stack and
+/// copied into the frame is then read back as it was written (a tag written as one byte and
+/// read back within a word stalls the store-to-load forwarding of the processor — measured,
+/// docs/host.md).
 #[derive(Clone, Default)]
+#[repr(u64)]
 pub enum Value {
     /// What a `void` call gives, and a variable not yet assigned.
     #[default]
@@ -264,6 +307,27 @@ impl Number {
             Number::Float(v) => v,
         }
     }
+}
+
+/// Setting a variable to a number: in place when it holds a number of that kind already (the
+/// interpreter's hot path: no value is made and copied, nothing is dropped).
+macro_rules! setter {
+    ($name:ident, $variant:ident, $ty:ty) => {
+        #[inline(always)]
+        pub fn $name(&mut self, value: $ty) {
+            match self {
+                Value::$variant(old) => *old = value,
+                other => *other = Value::$variant(value),
+            }
+        }
+    };
+}
+
+impl Value {
+    setter!(set_int, Int, i32);
+    setter!(set_uint, UInt, u32);
+    setter!(set_float, Float, f64);
+    setter!(set_bool, Bool, bool);
 }
 
 impl Value {

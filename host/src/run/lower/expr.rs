@@ -40,7 +40,7 @@ impl Lowering<'_, '_> {
             (Conv::Keep, _) => lowered,
             _ if already => lowered,
             // Constants are converted once, here.
-            (_, Expr::Const(value)) => match super::super::exec::convert(conv, value.value()).map(Constant::of) {
+            (_, Expr::Const(value)) => match super::super::arith::convert(conv, value.value()).map(Constant::of) {
                 Ok(Some(value)) => Expr::Const(value),
                 _ => Expr::Convert(conv, Box::new(lowered)),
             },

@@ -41,7 +41,7 @@ pub fn lower(sema: &Semantics<'_>, def: &Definition) -> Result<Lowered, Vec<RunE
         sema,
         file: def.file,
         scopes: vec![HashMap::new()],
-        slots: 0,
+        slots: Vec::new(),
         types: sema.body_types(diagram.syntax()),
         errors: Vec::new(),
         kernels: Vec::new(),
@@ -72,7 +72,7 @@ struct Lowering<'s, 'db> {
     file: SourceFile,
     /// Innermost last: the diagram's variables, a node's parameters, blocks.
     scopes: Vec<HashMap<String, Local>>,
-    slots: usize,
+    slots: Vec<Conv>,
     /// The types of the body being lowered.
     types: BodyTypes,
     errors: Vec<RunError>,
@@ -118,7 +118,7 @@ impl<'db> Lowering<'_, 'db> {
                         let name = param.name()?.text();
                         let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
                         let conv = conv(&ty, param.type_ref().as_ref());
-                        let local = Local { slot: self.slot(), conv };
+                        let local = Local { slot: self.slot(conv), conv };
                         Some((name, local, param.has_modifier(SyntaxKind::OUT_KW)))
                     })
                     .collect()
@@ -135,7 +135,14 @@ impl<'db> Lowering<'_, 'db> {
             self.error(diagram.syntax(), "a diagram without a start node cannot run");
             0
         });
-        Program { diagram: def.fqn.clone(), nodes: lowered, start, init, slots: self.slots, variables }
+        Program {
+            diagram: def.fqn.clone(),
+            nodes: lowered,
+            start,
+            init,
+            slots: std::mem::take(&mut self.slots),
+            variables,
+        }
     }
 
     fn node(
@@ -275,15 +282,17 @@ impl<'db> Lowering<'_, 'db> {
 
     /// Declares `name` in the innermost scope; its slot.
     fn declare(&mut self, name: &str, ty: &Ty, type_ref: Option<&ast::TypeRef>) -> Slot {
-        let slot = self.slot();
-        let local = Local { slot, conv: conv(ty, type_ref) };
+        let conv = conv(ty, type_ref);
+        let local = Local { slot: self.slot(conv), conv };
+        let slot = local.slot;
         self.scopes.last_mut().expect("the diagram's scope").insert(name.to_string(), local);
         slot
     }
 
-    fn slot(&mut self) -> Slot {
-        self.slots += 1;
-        self.slots - 1
+    /// A new slot for a variable of `conv`'s type.
+    fn slot(&mut self, conv: Conv) -> Slot {
+        self.slots.push(conv);
+        self.slots.len() - 1
     }
 
     fn lookup(&self, name: &str) -> Option<&Local> {
