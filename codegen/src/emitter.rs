@@ -208,6 +208,22 @@ impl<'db> Emitter<'db> {
         std::mem::take(&mut self.out)
     }
 
+    /// Whether the last line written, at the current indentation, is a `return` (nothing after
+    /// it runs).
+    pub fn ends_in_return(&self) -> bool {
+        let last = self.out.trim_end_matches('\n').rsplit('\n').next().unwrap_or_default();
+        last.strip_prefix(&"    ".repeat(self.indent)).is_some_and(|line| line.starts_with("return"))
+    }
+
+    /// Leaves the entry point, or the function being written (with its type's zero where it
+    /// returns a value: a diagram that ends without `final … return`).
+    pub fn leave(&mut self) {
+        match self.current_function.as_ref().and_then(|(_, ty)| crate::types::value_type(ty)) {
+            Some(ty) => self.line(format!("return {ty}();")),
+            None => self.line("return;"),
+        }
+    }
+
     /// Records that `node` cannot be generated; the placeholder keeps the output well formed
     /// (it is never used: a kernel with errors is not handed out).
     pub fn unsupported(&mut self, node: &SyntaxNode, message: impl Into<String>) -> String {

@@ -69,7 +69,8 @@ impl Emitter<'_> {
             PostfixExpr(_) => {
                 self.unsupported(expr.syntax(), "`++`/`--` inside an expression: write it as a statement of its own")
             }
-            ThisExpr(_) | ScopeExpr(_) | CallBehaviorExpr(_) | CallMethodExpr(_) | CallInterfaceExpr(_) => {
+            CallBehaviorExpr(call) => self.behavior_call(call),
+            ThisExpr(_) | ScopeExpr(_) | CallMethodExpr(_) | CallInterfaceExpr(_) => {
                 self.unsupported(expr.syntax(), "this expression is not generated for the GPU yet")
             }
         }

@@ -108,10 +108,19 @@ impl Emitter<'_> {
         }
         match node.kind() {
             ast::NodeKind::Final => {
-                if let Some(value) = node.return_value() {
-                    self.unsupported(value.syntax(), "a kernel returns no value");
-                }
                 self.statements(node);
+                // `final f return v` of a diagram generated as a function gives `v`.
+                let returns = self.current_function.as_ref().map(|(_, ty)| ty.clone()).filter(|ty| *ty != Ty::Void);
+                match (node.return_value(), returns) {
+                    (Some(value), Some(returns)) => {
+                        let value = bare(self.expr_as(&value, &returns));
+                        self.line(format!("return {value};"));
+                    }
+                    (Some(value), None) => {
+                        self.unsupported(value.syntax(), "a kernel returns no value");
+                    }
+                    (None, _) => {}
+                }
                 return false;
             }
             ast::NodeKind::Loop | ast::NodeKind::LoopWindow => self.loop_node(node),

@@ -1,13 +1,15 @@
-//! Methods of the owner as WGSL functions: a device diagram's call of a method of its OpenCL
-//! class (or a base) that has a body becomes a call of a function generated once per module,
-//! with the method's value parameters and return type; methods it calls follow. What WGSL
-//! cannot take is an error at its place: recursion, pointer or image parameters, fields of the
-//! class, overloads of the same arity, a method without a body.
+//! Methods of the owner and called diagrams as WGSL functions: a device diagram's call of a
+//! method of its OpenCL class (or a base) that has a body, and its `call behavior` of another
+//! activity diagram, become calls of a function generated once per module, with the method's or
+//! diagram's value parameters and return type (a diagram's: what its `final … return` gives);
+//! what those call follows. What WGSL cannot take is an error at its place: recursion, pointer
+//! or image parameters, fields of the class, overloads of the same arity, a method without a
+//! body, `out` parameters of a diagram.
 
 use gudsl_model::{
-    ast::{self, AstNode, HasName},
-    hir::{Definition, Scope, Ty},
-    syntax::{SyntaxNode, TextRange},
+    ast::{self, AstNode, HasModifiers, HasName},
+    hir::{DefKind, Definition, Scope, Ty},
+    syntax::{SyntaxKind, SyntaxNode, TextRange},
 };
 
 use crate::{
@@ -15,15 +17,39 @@ use crate::{
     types::value_type,
 };
 
-/// One method generated as a function.
+/// One method or diagram generated as a function.
 #[derive(Clone)]
 pub(crate) struct Function<'db> {
-    class: &'db Definition,
-    method: ast::Method,
-    /// Its name in the module: `Class_method`.
+    body: Body<'db>,
+    /// Its name in the module: `Class_method`, or the diagram's name.
     name: String,
     params: Vec<(String, Ty)>,
     returns: Ty,
+}
+
+/// What a function is generated from.
+#[derive(Clone, PartialEq)]
+enum Body<'db> {
+    /// A method with a body, of this class.
+    Method(&'db Definition, ast::Method),
+    /// An activity diagram that `call behavior` reaches.
+    Diagram(&'db Definition, ast::ActivityDiagram),
+}
+
+impl Body<'_> {
+    /// The definition whose file holds the body.
+    fn definition(&self) -> &Definition {
+        match self {
+            Body::Method(class, _) | Body::Diagram(class, _) => class,
+        }
+    }
+
+    fn syntax(&self) -> &SyntaxNode {
+        match self {
+            Body::Method(_, method) => method.syntax(),
+            Body::Diagram(_, diagram) => diagram.syntax(),
+        }
+    }
 }
 
 /// A call of a generated function: by whom (`None`: the kernel), of which, and where.
@@ -75,17 +101,101 @@ impl<'db> Emitter<'db> {
         let Some(callee) = self.function_index(class, &method) else {
             return self.unsupported(call.syntax(), format!("`{name}` cannot be generated (see its declaration)"));
         };
+        self.function_call(callee, &args, call.syntax())
+    }
+
+    /// `call behavior X(args)`: a call of the function generated from the diagram `X`.
+    pub fn behavior_call(&mut self, call: &ast::CallBehaviorExpr) -> String {
+        let args: Vec<ast::Expr> = call.args().collect();
+        let Some(path) = call.behavior() else { return self.unsupported(call.syntax(), "an incomplete call") };
+        let def = self.sema.resolve(&Scope::at(call.syntax()), &path.text());
+        let Some(def) = def.filter(|def| matches!(def.kind, DefKind::Activity(_))) else {
+            // What `X` is, is validation's (E0211).
+            return self.unsupported(call.syntax(), format!("`{}` is no activity diagram", path.text()));
+        };
+        let diagram = self.sema.declaration(def).and_then(|(node, _)| ast::ActivityDiagram::cast(node));
+        let Some(diagram) = diagram.filter(|d| d.params().count() == args.len()) else {
+            return self.unsupported(call.syntax(), format!("`{}` takes other arguments", def.fqn));
+        };
+        let Some(callee) = self.diagram_index(def, diagram, call.syntax()) else {
+            return self.unsupported(call.syntax(), format!("`{}` cannot be generated (see its declaration)", def.fqn));
+        };
+        self.function_call(callee, &args, call.syntax())
+    }
+
+    /// `name(args)` of function `callee`, its arguments converted to its parameters' types; the
+    /// call recorded (for recursion).
+    fn function_call(&mut self, callee: usize, args: &[ast::Expr], at: &SyntaxNode) -> String {
         let caller = self.current_function.as_ref().map(|(index, _)| *index);
-        self.calls.push(Call { caller, callee, place: (self.file, call.syntax().text_range()) });
+        self.calls.push(Call { caller, callee, place: (self.file, at.text_range()) });
         let params: Vec<Ty> = self.functions[callee].params.iter().map(|(_, ty)| ty.clone()).collect();
         let args: Vec<String> = args.iter().zip(&params).map(|(arg, ty)| bare(self.expr_as(arg, ty))).collect();
         format!("{}({})", self.functions[callee].name, args.join(", "))
     }
 
+    /// The index of the diagram `def` among the functions, added (its parameters checked)
+    /// when first called; `None` when it cannot be a function (reported at the declaration).
+    fn diagram_index(&mut self, def: &'db Definition, diagram: ast::ActivityDiagram, at: &SyntaxNode) -> Option<usize> {
+        let body = Body::Diagram(def, diagram.clone());
+        if let Some(index) = self.functions.iter().position(|f| f.body == body) {
+            return Some(index);
+        }
+        let types = self.sema.body_types(diagram.syntax());
+        let file = std::mem::replace(&mut self.file, def.file);
+        let mut params = Vec::new();
+        let mut fine = true;
+        for param in diagram.params() {
+            let Some(name) = param.name().map(|n| n.text()) else { continue };
+            let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+            if param.has_modifier(SyntaxKind::OUT_KW) || param.has_modifier(SyntaxKind::SHARED_KW) {
+                self.unsupported(
+                    param.syntax(),
+                    format!("`{name}`: a called diagram's parameters are values (no `out`, no `shared`)"),
+                );
+                fine = false;
+            } else if value_type(&ty).is_none() || matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
+                self.unsupported(
+                    param.syntax(),
+                    format!("`{name}` is a `{ty}`: generated functions take numbers and vectors only"),
+                );
+                fine = false;
+            }
+            params.push((name, ty));
+        }
+        self.file = file;
+        let returns = self.types_of_call(at);
+        if returns == Ty::Unknown {
+            self.unsupported(
+                at,
+                format!(
+                    "what `{}` returns has no known type (a `final … return` value that calls a diagram is not \
+                     typed): return a variable of a declared type instead",
+                    def.fqn
+                ),
+            );
+            fine = false;
+        } else if returns != Ty::Void && value_type(&returns).is_none() {
+            self.unsupported(at, format!("`{}` returns a `{returns}`, which has no WGSL value type", def.fqn));
+            fine = false;
+        }
+        if !fine {
+            return None;
+        }
+        let name = ident(def.fqn.rsplit('.').next().unwrap_or_default());
+        self.functions.push(Function { body, name, params, returns });
+        Some(self.functions.len() - 1)
+    }
+
+    /// What the `call behavior` at `at` gives (the model's `behavior_result`).
+    fn types_of_call(&self, at: &SyntaxNode) -> Ty {
+        ast::Expr::cast(at.clone()).map_or(Ty::Unknown, |call| self.ty(&call))
+    }
+
     /// The index of `method` among the functions, added (its signature checked) when first
     /// called; `None` when its signature has no WGSL form (reported at the declaration).
     fn function_index(&mut self, class: &'db Definition, method: &ast::Method) -> Option<usize> {
-        if let Some(index) = self.functions.iter().position(|f| f.method == *method) {
+        let body = Body::Method(class, method.clone());
+        if let Some(index) = self.functions.iter().position(|f| f.body == body) {
             return Some(index);
         }
         let name = method.name().map(|n| n.text()).unwrap_or_default();
@@ -123,9 +233,7 @@ impl<'db> Emitter<'db> {
             return None;
         }
         let class_name = class.fqn.rsplit('.').next().unwrap_or_default();
-        let function =
-            Function { class, method: method.clone(), name: ident(&format!("{class_name}_{name}")), params, returns };
-        self.functions.push(function);
+        self.functions.push(Function { body, name: ident(&format!("{class_name}_{name}")), params, returns });
         Some(self.functions.len() - 1)
     }
 
@@ -137,8 +245,8 @@ impl<'db> Emitter<'db> {
         let mut index = 0;
         while index < self.functions.len() {
             let function = self.functions[index].clone();
-            self.types = self.sema.body_types(function.method.syntax());
-            self.file = function.class.file;
+            self.types = self.sema.body_types(function.body.syntax());
+            self.file = function.body.definition().file;
             self.current_function = Some((index, function.returns.clone()));
             let params: Vec<String> = function
                 .params
@@ -146,24 +254,39 @@ impl<'db> Emitter<'db> {
                 .map(|(name, ty)| format!("{}: {}", ident(name), value_type(ty).unwrap_or_default()))
                 .collect();
             let returns = value_type(&function.returns).map(|ty| format!(" -> {ty}")).unwrap_or_default();
-            self.line(format!(
-                "// {}::{}",
-                function.class.fqn,
-                function.method.name().map(|n| n.text()).unwrap_or_default()
-            ));
-            let statements: Vec<ast::Stmt> =
-                function.method.body().map(|b| b.statements().collect()).unwrap_or_default();
-            self.block(format!("fn {}({}){returns} {{", function.name, params.join(", ")), |e| {
-                for stmt in &statements {
-                    e.statement(stmt);
+            let header = format!("fn {}({}){returns} {{", function.name, params.join(", "));
+            match &function.body {
+                Body::Method(class, method) => {
+                    self.line(format!("// {}::{}", class.fqn, method.name().map(|n| n.text()).unwrap_or_default()));
+                    let statements: Vec<ast::Stmt> =
+                        method.body().map(|b| b.statements().collect()).unwrap_or_default();
+                    self.block(header, |e| {
+                        for stmt in &statements {
+                            e.statement(stmt);
+                        }
+                        // The model checked that every path returns (E0235); WGSL also asks for
+                        // a value after a last statement that returns on each of its branches.
+                        let ends_in_return = matches!(statements.last(), Some(ast::Stmt::ReturnStmt(_)));
+                        if let Some(ty) = value_type(&function.returns).filter(|_| !ends_in_return) {
+                            e.line(format!("return {ty}();"));
+                        }
+                    });
                 }
-                // The model checked that every path returns (E0235); WGSL also asks for a value
-                // after a last statement that returns on each of its branches.
-                let ends_in_return = matches!(statements.last(), Some(ast::Stmt::ReturnStmt(_)));
-                if let Some(ty) = value_type(&function.returns).filter(|_| !ends_in_return) {
-                    e.line(format!("return {ty}();"));
+                Body::Diagram(def, diagram) => {
+                    self.line(format!("// activity diagram {}", def.fqn));
+                    // Its names are its own: the kernel's parameters are not in scope.
+                    let kernel_params = std::mem::take(&mut self.params);
+                    self.block(header, |e| {
+                        crate::kernel::variables(e, diagram);
+                        e.control_flow(diagram, &diagram.all_nodes().collect::<Vec<_>>());
+                        // A diagram that ends without `final … return` gives its type's zero.
+                        if let Some(ty) = value_type(&function.returns).filter(|_| !e.ends_in_return()) {
+                            e.line(format!("return {ty}();"));
+                        }
+                    });
+                    self.params = kernel_params;
                 }
-            });
+            }
             self.line("");
             index += 1;
         }

@@ -166,7 +166,7 @@ fn written(root: &SyntaxNode, name: &str) -> bool {
 }
 
 /// The diagram's variables: private to the work-item, zero unless initialised.
-fn variables(emitter: &mut Emitter<'_>, diagram: &ast::ActivityDiagram) {
+pub(crate) fn variables(emitter: &mut Emitter<'_>, diagram: &ast::ActivityDiagram) {
     for variable in diagram.variables() {
         let Some(name) = variable.name().map(|n| n.text()) else { continue };
         if matches!(emitter.types.locals.get(&name), Some(Ty::Gpu(gpu)) if gpu == "sampler_t") {

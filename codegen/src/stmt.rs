@@ -158,7 +158,7 @@ impl Emitter<'_> {
                     None => self.unsupported(expr.syntax(), "an incomplete `++`/`--`"),
                 }
             }
-            ast::Expr::CallExpr(_) => {
+            ast::Expr::CallExpr(_) | ast::Expr::CallBehaviorExpr(_) => {
                 let code = self.expr(expr);
                 match self.ty(expr).dereferenced() {
                     Ty::Void | Ty::Unknown => code,

@@ -190,7 +190,7 @@ impl Emitter<'_> {
                 _ if at == stop => return Some(()),
                 Target::Exit => {
                     if !walk.at_tail(stop) {
-                        self.line("return;");
+                        self.leave();
                     }
                     return Some(());
                 }
@@ -243,7 +243,7 @@ impl Emitter<'_> {
         } else {
             // A final node: the work-item ends; leave the entry point unless nothing follows.
             if !walk.at_tail(stop) {
-                self.line("return;");
+                self.leave();
             }
             None
         };
@@ -262,7 +262,7 @@ impl Emitter<'_> {
         let Some(first) = edges.first() else {
             // No transition: the work-item ends here.
             if !walk.at_tail(stop) {
-                self.line("return;");
+                self.leave();
             }
             return Some(None);
         };

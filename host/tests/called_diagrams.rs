@@ -1,0 +1,218 @@
+//! `call behavior` between device diagrams: a kernel calls diagrams that become WGSL functions
+//! (decisions and a loop over nodes, `final … return` values, one that returns nothing, one
+//! calling another), runs on the GPU and computes what the same steps compute in Rust; what
+//! WGSL cannot take — recursion, a pointer or `out` parameter — is an error at its place.
+
+mod support;
+
+use gudsl_host::{Arg, Launcher, WorkRange};
+use gudsl_runtime::{DeviceBuffer, Gpu};
+use support::{generated_from, generation};
+
+/// The called diagrams.
+const CALLED: &str = "ActivityDiagram Clamp(int v, int low, int high)
+{
+    swimlane L
+    {
+        start S { => test; }
+        decision test
+        {
+            [v < low] => below;
+            [v > high] => above;
+            [] => inside;
+        }
+        final below return low;
+        final above return high;
+        final inside return v;
+    }
+}
+
+ActivityDiagram CollatzSteps(int n)
+{
+    var int steps = 0;
+    var int x = n;
+    swimlane L
+    {
+        start S { => test; }
+        decision test
+        {
+            [x <= 1] => done;
+            [x % 2 == 0] => half;
+            [] => triple;
+        }
+        action half { x = x / 2; steps++; => test; }
+        action triple { x = 3 * x + 1; steps++; => test; }
+        final done return steps;
+    }
+}
+
+ActivityDiagram ClampedSteps(int n)
+{
+    var int steps;
+    swimlane L
+    {
+        start S { => count; }
+        action count { steps = call behavior Clamp(call behavior CollatzSteps(n), 0, 100); => f; }
+        final f return steps;
+    }
+}
+
+ActivityDiagram Nothing(int n)
+{
+    var int unused = n;
+    swimlane L
+    {
+        start S { => f; }
+        final f;
+    }
+}
+
+ActivityDiagram Forever(int n)
+{
+    var int r;
+    swimlane L
+    {
+        start S { => a; }
+        action a { r = call behavior Again(n); => f; }
+        final f return r;
+    }
+}
+
+ActivityDiagram Again(int n)
+{
+    var int r;
+    swimlane L
+    {
+        start S { => a; }
+        action a { r = call behavior Forever(n) + 1; => f; }
+        final f return r;
+    }
+}
+
+ActivityDiagram Untyped(int n)
+{
+    swimlane L
+    {
+        start S { => f; }
+        final f return call behavior Clamp(n, 0, 1);
+    }
+}
+
+ActivityDiagram FromPointer(global ref int p)
+{
+    swimlane L
+    {
+        start S { => f; }
+        final f return p[0];
+    }
+}
+
+ActivityDiagram Written(int n, out int m)
+{
+    swimlane L
+    {
+        start S { => f; }
+        final f return n;
+    }
+}
+";
+
+/// The OpenCL class that owns the kernel.
+const CLASS: &str = "ClassDiagram Steps
+{
+    import OpenCL.GPU.*;
+
+    public class Kernels implements OpenCL
+    {
+        public void compute(global ref int out);
+    }
+}
+";
+
+/// Kernel `compute(global ref int out)` owned by `Steps.Kernels`, its action's body `body`.
+fn kernel(body: &str) -> String {
+    format!(
+        "ActivityDiagram compute(global ref int out)
+{{
+    import OpenCL.GPU.*;
+
+    swimlane Device, owner Steps.Kernels
+    {{
+        start S {{ => work; }}
+        action work
+        {{
+            var int id = get_global_id(0);
+{body}
+            => f;
+        }}
+        final f;
+    }}
+}}
+"
+    )
+}
+
+fn sources(body: &str) -> Vec<(String, String)> {
+    vec![
+        ("steps.gudsl".into(), CLASS.into()),
+        ("called.gudsl".into(), CALLED.into()),
+        ("compute.gudsl".into(), kernel(body)),
+    ]
+}
+
+fn collatz_steps(mut x: i32) -> i32 {
+    let mut steps = 0;
+    while x > 1 {
+        x = if x % 2 == 0 { x / 2 } else { 3 * x + 1 };
+        steps += 1;
+    }
+    steps
+}
+
+#[test]
+fn called_diagrams_run_as_functions_and_compute_what_rust_does() {
+    let body = "            call behavior Nothing(id);
+            out[id] = call behavior ClampedSteps(id) * 1000 + call behavior Clamp(id - 500, -100, 100);";
+    let kernel = generated_from(&sources(body), "compute");
+    for function in
+        ["fn Clamp(v: i32, low: i32, high: i32) -> i32", "fn CollatzSteps(n: i32) -> i32", "fn Nothing(n: i32) {"]
+    {
+        assert!(kernel.wgsl.contains(function), "{function} in\n{}", kernel.wgsl);
+    }
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let count = 1000u32;
+    let out = DeviceBuffer::new(&gpu, "out", 4 * count as u64).unwrap();
+    let launcher = Launcher::new(&gpu, &kernel).unwrap();
+    launcher.launch(&gpu, &[Arg::Buffer(&out)], &WorkRange::linear(count, None)).unwrap();
+    let got: Vec<i32> = out.read(&gpu).unwrap().chunks(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect();
+    let expected: Vec<i32> =
+        (0..count as i32).map(|id| collatz_steps(id).clamp(0, 100) * 1000 + (id - 500).clamp(-100, 100)).collect();
+    assert_eq!(got, expected);
+}
+
+#[test]
+fn what_a_called_diagram_cannot_be_is_an_error_at_its_place() {
+    let errors = |body: &str| generation(&sources(body), "compute").expect_err("not generated");
+    let recursion = errors("            out[id] = call behavior Forever(id);");
+    assert!(
+        recursion.iter().any(|(path, line, m)| path == "called.gudsl" && *line == 64 && m.contains("recursively")),
+        "{recursion:?}"
+    );
+    let pointer = errors("            out[id] = call behavior FromPointer(out);");
+    assert!(
+        pointer
+            .iter()
+            .any(|(path, line, m)| path == "called.gudsl" && *line == 89 && m.contains("numbers and vectors")),
+        "{pointer:?}"
+    );
+    let untyped = errors("            out[id] = call behavior Untyped(id);");
+    assert!(
+        untyped.iter().any(|(path, line, m)| path == "compute.gudsl" && *line == 11 && m.contains("no known type")),
+        "{untyped:?}"
+    );
+    let written = errors("            var int m = 0;\n            out[id] = call behavior Written(id, m);");
+    assert!(
+        written.iter().any(|(path, line, m)| path == "called.gudsl" && *line == 98 && m.contains("no `out`")),
+        "{written:?}"
+    );
+}
