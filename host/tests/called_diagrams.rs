@@ -5,9 +5,7 @@
 
 mod support;
 
-use gudsl_host::{Arg, Launcher, WorkRange};
-use gudsl_runtime::{DeviceBuffer, Gpu};
-use support::{generated_from, generation};
+use support::{compute_kernel, generated_from, generation, run_compute_kernel};
 
 /// The called diagrams.
 const CALLED: &str = "ActivityDiagram Clamp(int v, int low, int high)
@@ -129,34 +127,11 @@ const CLASS: &str = "ClassDiagram Steps
 }
 ";
 
-/// Kernel `compute(global ref int out)` owned by `Steps.Kernels`, its action's body `body`.
-fn kernel(body: &str) -> String {
-    format!(
-        "ActivityDiagram compute(global ref int out)
-{{
-    import OpenCL.GPU.*;
-
-    swimlane Device, owner Steps.Kernels
-    {{
-        start S {{ => work; }}
-        action work
-        {{
-            var int id = get_global_id(0);
-{body}
-            => f;
-        }}
-        final f;
-    }}
-}}
-"
-    )
-}
-
 fn sources(body: &str) -> Vec<(String, String)> {
     vec![
         ("steps.gudsl".into(), CLASS.into()),
         ("called.gudsl".into(), CALLED.into()),
-        ("compute.gudsl".into(), kernel(body)),
+        ("compute.gudsl".into(), compute_kernel("Steps.Kernels", body)),
     ]
 }
 
@@ -179,12 +154,8 @@ fn called_diagrams_run_as_functions_and_compute_what_rust_does() {
     {
         assert!(kernel.wgsl.contains(function), "{function} in\n{}", kernel.wgsl);
     }
-    let Some(gpu) = Gpu::for_tests() else { return };
     let count = 1000u32;
-    let out = DeviceBuffer::new(&gpu, "out", 4 * count as u64).unwrap();
-    let launcher = Launcher::new(&gpu, &kernel).unwrap();
-    launcher.launch(&gpu, &[Arg::Buffer(&out)], &WorkRange::linear(count, None)).unwrap();
-    let got: Vec<i32> = out.read(&gpu).unwrap().chunks(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect();
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
     let expected: Vec<i32> =
         (0..count as i32).map(|id| collatz_steps(id).clamp(0, 100) * 1000 + (id - 500).clamp(-100, 100)).collect();
     assert_eq!(got, expected);

@@ -5,9 +5,7 @@
 
 mod support;
 
-use gudsl_host::{Arg, Launcher, WorkRange};
-use gudsl_runtime::{DeviceBuffer, Gpu};
-use support::{generated_from, generation};
+use support::{compute_kernel, generated_from, generation, run_compute_kernel};
 
 const CLASS: &str = "ClassDiagram Maths
 {
@@ -33,31 +31,8 @@ const CLASS: &str = "ClassDiagram Maths
 }
 ";
 
-/// Diagram `compute(global ref int out)` owned by `Maths.Kernels`, its action's body `body`.
-fn diagram(body: &str) -> String {
-    format!(
-        "ActivityDiagram compute(global ref int out)
-{{
-    import OpenCL.GPU.*;
-
-    swimlane Device, owner Maths.Kernels
-    {{
-        start S {{ => work; }}
-        action work
-        {{
-            var int id = get_global_id(0);
-{body}
-            => f;
-        }}
-        final f;
-    }}
-}}
-"
-    )
-}
-
 fn sources(body: &str) -> Vec<(String, String)> {
-    vec![("maths.gudsl".into(), CLASS.into()), ("compute.gudsl".into(), diagram(body))]
+    vec![("maths.gudsl".into(), CLASS.into()), ("compute.gudsl".into(), compute_kernel("Maths.Kernels", body))]
 }
 
 #[test]
@@ -72,12 +47,8 @@ fn owner_methods_run_as_functions_and_compute_what_rust_does() {
     }
     // `get_global_id` inside a function reads a private copy the entry point sets.
     assert!(kernel.wgsl.contains("var<private> gudsl_global_id: vec3<u32>;"), "{}", kernel.wgsl);
-    let Some(gpu) = Gpu::for_tests() else { return };
     let count = 1000u32;
-    let out = DeviceBuffer::new(&gpu, "out", 4 * count as u64).unwrap();
-    let launcher = Launcher::new(&gpu, &kernel).unwrap();
-    launcher.launch(&gpu, &[Arg::Buffer(&out)], &WorkRange::linear(count, None)).unwrap();
-    let got: Vec<i32> = out.read(&gpu).unwrap().chunks(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect();
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
     let expected: Vec<i32> = (0..count as i32)
         .map(|id| (id * 2 + 1).min(1500) + (id + 3) - id + (id as f32 / 2.0) as i32 + if id < 500 { -1 } else { 1 })
         .collect();

@@ -1,6 +1,6 @@
 //! What the generated-kernel tests and the benchmark share: the samples' kernels, RGBA8 test
-//! images (random, and a simulated ToF amplitude image), and running a generated or a
-//! hand-written image filter.
+//! images (random, and a simulated ToF amplitude image), running a generated or a hand-written
+//! image filter, and a `compute` kernel writing one `int` per work-item (functions' tests).
 
 #![allow(dead_code)] // each user takes what it needs
 use std::time::Duration;
@@ -28,6 +28,40 @@ const SAMPLES: [&str; 4] = [
     "seed/listing16_bilateral_filter.gudsl",
     "gpu/find_index.gudsl",
 ];
+
+/// Kernel `compute(global ref int out)` owned by the OpenCL class `owner`: one action that
+/// declares `var int id = get_global_id(0);` and then does `body`.
+pub fn compute_kernel(owner: &str, body: &str) -> String {
+    format!(
+        "ActivityDiagram compute(global ref int out)
+{{
+    import OpenCL.GPU.*;
+
+    swimlane Device, owner {owner}
+    {{
+        start S {{ => work; }}
+        action work
+        {{
+            var int id = get_global_id(0);
+{body}
+            => f;
+        }}
+        final f;
+    }}
+}}
+"
+    )
+}
+
+/// What a kernel like [`compute_kernel`]'s writes into `out` over `count` work-items on the
+/// test device; `None` without one.
+pub fn run_compute_kernel(kernel: &Kernel, count: u32) -> Option<Vec<i32>> {
+    let gpu = Gpu::for_tests()?;
+    let out = DeviceBuffer::new(&gpu, "out", 4 * count as u64).unwrap();
+    let launcher = Launcher::new(&gpu, kernel).unwrap();
+    launcher.launch(&gpu, &[Arg::Buffer(&out)], &WorkRange::linear(count, None)).unwrap();
+    Some(out.read(&gpu).unwrap().chunks(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect())
+}
 
 /// The samples' folder.
 pub fn samples() -> std::path::PathBuf {
