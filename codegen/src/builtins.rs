@@ -81,6 +81,7 @@ impl Emitter<'_> {
             "barrier" | "mem_fence" | "read_mem_fence" | "write_mem_fence" => self.barrier(&args),
             "read_imagef" | "read_imagei" | "read_imageui" => self.read_image(call, &args, &result),
             "write_imagef" | "write_imagei" | "write_imageui" => self.write_image(call, &args),
+            atomic if atomic.starts_with("atomic_") => self.atomic(call, atomic, &args),
             "get_image_width" | "get_image_height" | "get_image_depth" => {
                 let Some((image, _)) = args.first().and_then(|a| self.image_param(a)) else {
                     return self.unsupported(call.syntax(), "the image must be a parameter of the diagram");

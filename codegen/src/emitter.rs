@@ -1,7 +1,7 @@
 //! The state of generating one kernel: the model, the types of the body being written, how each
 //! name of the diagram is reached in WGSL, the text written so far and the errors found.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use gudsl_model::{
     ast,
@@ -141,6 +141,8 @@ pub(crate) struct Emitter<'db> {
     pub params: HashMap<String, KernelParam>,
     pub errors: Vec<CodegenError>,
     pub uses_barriers: bool,
+    /// The buffer and `shared` parameters an atomic function works on (`atomics.rs`).
+    pub atomics: HashSet<String>,
     /// The OpenCL class that owns the diagram: its methods are what a call that is no built-in
     /// reaches.
     pub owner: Option<&'db Definition>,
@@ -162,6 +164,7 @@ impl<'db> Emitter<'db> {
             params,
             errors: Vec::new(),
             uses_barriers: false,
+            atomics: HashSet::new(),
             owner: None,
             functions: Vec::new(),
             calls: Vec::new(),

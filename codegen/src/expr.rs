@@ -56,6 +56,9 @@ impl Emitter<'_> {
                 }
             }
             IndexExpr(index) => {
+                if let Some((element, _)) = self.atomic_element(expr) {
+                    return format!("atomicLoad(&{element})");
+                }
                 let (Some(base), Some(at)) = (index.base(), index.index()) else {
                     return self.unsupported(expr.syntax(), "an incomplete index");
                 };

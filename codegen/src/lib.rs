@@ -5,6 +5,7 @@
 //! naga before it is handed out. What cannot be generated is a [`CodegenError`] with the range
 //! of the construct, for the editor and the CLI.
 
+mod atomics;
 mod builtins;
 mod emitter;
 mod expr;

@@ -145,7 +145,7 @@ impl Emitter<'_> {
             ast::Expr::PostfixExpr(postfix) => match postfix.operand() {
                 Some(operand) => {
                     let op = postfix.op().map(|t| t.text().to_string()).unwrap_or_default();
-                    format!("{}{op}", self.expr(&operand))
+                    self.step(&operand, &op)
                 }
                 None => self.unsupported(expr.syntax(), "an incomplete `++`/`--`"),
             },
@@ -154,7 +154,7 @@ impl Emitter<'_> {
             {
                 let op = prefix.op().map(|t| t.text().to_string()).unwrap_or_default();
                 match prefix.operand() {
-                    Some(operand) => format!("{}{op}", self.expr(&operand)),
+                    Some(operand) => self.step(&operand, &op),
                     None => self.unsupported(expr.syntax(), "an incomplete `++`/`--`"),
                 }
             }
@@ -172,6 +172,19 @@ impl Emitter<'_> {
         }
     }
 
+    /// `x++` or `x--` as a statement (an element an atomic function works on is loaded and
+    /// stored, as C's read-modify-write).
+    fn step(&mut self, operand: &ast::Expr, op: &str) -> String {
+        match self.atomic_element(operand) {
+            Some((element, ty)) => {
+                let one = if ty == Ty::UInt { "1u" } else { "1i" };
+                let sign = if op == "--" { "-" } else { "+" };
+                format!("atomicStore(&{element}, atomicLoad(&{element}) {sign} {one})")
+            }
+            None => format!("{}{op}", self.expr(operand)),
+        }
+    }
+
     /// `a = b`, `a += b`: the value converted to the target's type; a compound assignment
     /// computes in the common type of both, as C does.
     fn assignment(&mut self, bin: &ast::BinExpr) -> String {
@@ -179,21 +192,36 @@ impl Emitter<'_> {
             return self.unsupported(bin.syntax(), "an incomplete assignment");
         };
         let target_ty = self.ty(&target);
+        if let Some((element, _)) = self.atomic_element(&target) {
+            // An element an atomic function works on is stored atomically; `+=` and the others
+            // stay C's read-modify-write.
+            let value = match op.kind() {
+                SyntaxKind::EQ => bare(self.expr_as(&value, &target_ty)),
+                _ => bare(self.computed(&format!("atomicLoad(&{element})"), &target_ty, op.text(), &value)),
+            };
+            return format!("atomicStore(&{element}, {value})");
+        }
         let place = self.expr(&target);
         if op.kind() == SyntaxKind::EQ {
             let value = bare(self.expr_as(&value, &target_ty));
             return format!("{place} = {value}");
         }
-        let operator = op.text().trim_end_matches('=').to_string();
-        let value_ty = self.ty(&value);
-        if matches!(operator.as_str(), "<<" | ">>") {
-            let value = self.expr_as(&value, &Ty::UInt);
-            return format!("{place} = ({place} {operator} {value})");
+        let computed = self.computed(&place, &target_ty, op.text(), &value);
+        format!("{place} = {computed}")
+    }
+
+    /// `place op= value`'s new value: computed in the common type of both, as C does, and
+    /// converted back to the place's type.
+    fn computed(&mut self, place: &str, target_ty: &Ty, op: &str, value: &ast::Expr) -> String {
+        let operator = op.trim_end_matches('=');
+        if matches!(operator, "<<" | ">>") {
+            let value = self.expr_as(value, &Ty::UInt);
+            return format!("({place} {operator} {value})");
         }
-        let both = common(&target_ty, &value_ty);
-        let value = self.expr_as(&value, &both);
-        let computed = format!("({} {operator} {value})", convert(place.clone(), &target_ty, &both));
-        format!("{place} = {}", convert(computed, &both, &target_ty))
+        let both = common(target_ty, &self.ty(value));
+        let value = self.expr_as(value, &both);
+        let computed = format!("({} {operator} {value})", convert(place.to_string(), target_ty, &both));
+        convert(computed, &both, target_ty)
     }
 
     /// `for (init : step : test) body`: a step that is a number adds it to the loop variable.

@@ -1,0 +1,141 @@
+//! OpenCL's atomic functions (`atomic_add`, `atomic_inc`, `atomic_min`, … of OpenCL C 1.1) as
+//! WGSL's atomic built-ins. The pointer an atomic function takes is a buffer or `shared`
+//! parameter, or one plus an offset (`counts + bin`); such a parameter's elements are
+//! `atomic<i32>`/`atomic<u32>` in WGSL, so every other read of it is an `atomicLoad` and every
+//! write an `atomicStore` (a plain `a[i] += v` stays the read-modify-write C does, not atomic).
+
+use std::collections::HashSet;
+
+use gudsl_model::{
+    ast::{self, AstNode},
+    hir::Ty,
+    syntax::{SyntaxKind, SyntaxNode},
+};
+
+use crate::{
+    emitter::{bare, ident, Emitter},
+    Binding,
+};
+
+/// The parameters whose elements an atomic function works on, among the calls under `root`.
+pub(crate) fn atomic_targets(root: &SyntaxNode) -> HashSet<String> {
+    root.descendants()
+        .filter_map(ast::CallExpr::cast)
+        .filter(|call| callee_name(call).is_some_and(|name| name.starts_with("atomic_")))
+        .filter_map(|call| call.args().next())
+        .filter_map(|pointer| pointer_parts(&pointer).map(|(name, _)| name))
+        .collect()
+}
+
+fn callee_name(call: &ast::CallExpr) -> Option<String> {
+    match call.callee()? {
+        ast::Expr::NameExpr(name) => Some(name.name_ref()?.text()),
+        _ => None,
+    }
+}
+
+/// `p`, `p + i`, `i + p` or `p - i`: the name `p` and the offset (negated for `-`).
+fn pointer_parts(pointer: &ast::Expr) -> Option<(String, Option<(ast::Expr, bool)>)> {
+    let name_of = |expr: &ast::Expr| match expr {
+        ast::Expr::NameExpr(name) => name.name_ref().map(|n| n.text()),
+        _ => None,
+    };
+    match pointer {
+        ast::Expr::ParenExpr(inner) => pointer_parts(&inner.expr()?),
+        ast::Expr::BinExpr(bin) => {
+            let (lhs, rhs, op) = (bin.lhs()?, bin.rhs()?, bin.op()?.kind());
+            match (name_of(&lhs), name_of(&rhs), op) {
+                (Some(name), _, SyntaxKind::PLUS | SyntaxKind::MINUS) => {
+                    Some((name, Some((rhs, op == SyntaxKind::MINUS))))
+                }
+                (None, Some(name), SyntaxKind::PLUS) => Some((name, Some((lhs, false)))),
+                _ => None,
+            }
+        }
+        other => Some((name_of(other)?, None)),
+    }
+}
+
+impl Emitter<'_> {
+    /// `atomic_add(p, v)` and the others: the atomic built-in on the element `p` points to,
+    /// giving the old value.
+    pub fn atomic(&mut self, call: &ast::CallExpr, name: &str, args: &[ast::Expr]) -> String {
+        let Some(pointer) = args.first() else {
+            return self.unsupported(call.syntax(), "an atomic function takes a pointer");
+        };
+        let Some((element, ty)) = self.atomic_pointer(pointer) else {
+            return self.unsupported(
+                pointer.syntax(),
+                "an atomic function works on an element of an `int` or `unsigned int` buffer or `shared` parameter \
+                 (`p` or `p + i`)",
+            );
+        };
+        let one = if ty == Ty::UInt { "1u" } else { "1i" };
+        let operand = |emitter: &mut Self, i: usize| match args.get(i) {
+            Some(arg) => bare(emitter.expr_as(arg, &ty)),
+            None => emitter.unsupported(call.syntax(), format!("`{name}` takes {} arguments", i + 1)),
+        };
+        let (function, value) = match name {
+            "atomic_add" => ("atomicAdd", operand(self, 1)),
+            "atomic_sub" => ("atomicSub", operand(self, 1)),
+            "atomic_xchg" => ("atomicExchange", operand(self, 1)),
+            "atomic_min" => ("atomicMin", operand(self, 1)),
+            "atomic_max" => ("atomicMax", operand(self, 1)),
+            "atomic_and" => ("atomicAnd", operand(self, 1)),
+            "atomic_or" => ("atomicOr", operand(self, 1)),
+            "atomic_xor" => ("atomicXor", operand(self, 1)),
+            "atomic_inc" => ("atomicAdd", one.to_string()),
+            "atomic_dec" => ("atomicSub", one.to_string()),
+            _ => return self.unsupported(call.syntax(), format!("`{name}` has no WGSL form in the generator yet")),
+        };
+        format!("{function}(&{element}, {value})")
+    }
+
+    /// The element an atomic function's pointer names, as WGSL (`counts[bin]`), and its type.
+    fn atomic_pointer(&mut self, pointer: &ast::Expr) -> Option<(String, Ty)> {
+        let (name, offset) = pointer_parts(pointer)?;
+        if !matches!(self.binding(&name), Some(Binding::Storage { .. } | Binding::Workgroup { .. })) {
+            return None;
+        }
+        let ty = match self.params.get(&name).map(|p| element_type(&p.ty)) {
+            Some(ty @ (Ty::Int | Ty::UInt)) => ty,
+            _ => return None,
+        };
+        let at = match offset {
+            None => "0".to_string(),
+            Some((offset, negated)) => {
+                let offset = bare(self.expr_as(&offset, &Ty::Int));
+                if negated {
+                    format!("-({offset})")
+                } else {
+                    offset
+                }
+            }
+        };
+        Some((format!("{}[{at}]", ident(&name)), ty))
+    }
+
+    /// `base[at]` of a parameter an atomic function works on, as WGSL (`counts[bin]`): what
+    /// `atomicLoad`/`atomicStore` take. `None` for any other place.
+    pub fn atomic_element(&mut self, place: &ast::Expr) -> Option<(String, Ty)> {
+        let ast::Expr::IndexExpr(index) = place else { return None };
+        let ast::Expr::NameExpr(base) = index.base()? else { return None };
+        let name = base.name_ref()?.text();
+        if !self.atomics.contains(&name) {
+            return None;
+        }
+        let ty = self.params.get(&name).map(|p| element_type(&p.ty))?;
+        let at = bare(self.expr_as(&index.index()?, &Ty::Int));
+        Some((format!("{}[{at}]", ident(&name)), ty))
+    }
+}
+
+/// What a buffer or `shared` parameter's elements are.
+fn element_type(ty: &Ty) -> Ty {
+    match ty {
+        Ty::Ref { inner, .. } | Ty::Array(inner) => element_type(inner),
+        Ty::Gpu(name) if name.ends_with("ui") || name.ends_with("uc") || name.ends_with("us") => Ty::UInt,
+        Ty::Gpu(name) if name.ends_with('i') || name.ends_with('c') || name.ends_with('s') => Ty::Int,
+        other => other.clone(),
+    }
+}
