@@ -13,7 +13,8 @@ use gudsl_model::{
 };
 
 use crate::{
-    emitter::{bare, ident, Emitter},
+    emitter::{bare, ident, Emitter, GENERATED},
+    types::value_type,
     Binding,
 };
 
@@ -86,9 +87,38 @@ impl Emitter<'_> {
             "atomic_xor" => ("atomicXor", operand(self, 1)),
             "atomic_inc" => ("atomicAdd", one.to_string()),
             "atomic_dec" => ("atomicSub", one.to_string()),
+            "atomic_cmpxchg" => {
+                // WGSL's compare-exchange may fail spuriously; OpenCL's does not: a helper
+                // retries (`compare_exchange_helpers`).
+                let (compare, value) = (operand(self, 1), operand(self, 2));
+                let Some((buffer, at)) = element.strip_suffix(']').and_then(|e| e.split_once('[')) else {
+                    return self.unsupported(call.syntax(), "an incomplete pointer");
+                };
+                let helper = format!("{GENERATED}cmpxchg_{buffer}");
+                self.compare_exchanged.insert((buffer.to_string(), value_type(&ty).unwrap_or_default()));
+                return format!("{helper}({at}, {compare}, {value})");
+            }
             _ => return self.unsupported(call.syntax(), format!("`{name}` has no WGSL form in the generator yet")),
         };
         format!("{function}(&{element}, {value})")
+    }
+
+    /// The helpers of `atomic_cmpxchg`, one per buffer it works on: OpenCL's strong
+    /// compare-exchange from WGSL's weak one.
+    pub fn compare_exchange_helpers(&self) -> String {
+        let mut out = String::new();
+        for (buffer, ty) in &self.compare_exchanged {
+            out.push_str(&format!(
+                "// atomic_cmpxchg on `{buffer}`: retried until it exchanges or finds another value\n\
+                 fn {GENERATED}cmpxchg_{buffer}(at: i32, compare: {ty}, value: {ty}) -> {ty} {{\n    \
+                 var result = atomicCompareExchangeWeak(&{buffer}[at], compare, value);\n    \
+                 while !result.exchanged && result.old_value == compare {{\n        \
+                 result = atomicCompareExchangeWeak(&{buffer}[at], compare, value);\n    \
+                 }}\n    \
+                 return result.old_value;\n}}\n\n"
+            ));
+        }
+        out
     }
 
     /// The element an atomic function's pointer names, as WGSL (`counts[bin]`), and its type.

@@ -143,6 +143,8 @@ pub(crate) struct Emitter<'db> {
     pub uses_barriers: bool,
     /// The buffer and `shared` parameters an atomic function works on (`atomics.rs`).
     pub atomics: HashSet<String>,
+    /// The buffers `atomic_cmpxchg` works on and their element types: each gets a helper.
+    pub compare_exchanged: std::collections::BTreeSet<(String, String)>,
     /// The OpenCL class that owns the diagram: its methods are what a call that is no built-in
     /// reaches.
     pub owner: Option<&'db Definition>,
@@ -165,6 +167,7 @@ impl<'db> Emitter<'db> {
             errors: Vec::new(),
             uses_barriers: false,
             atomics: HashSet::new(),
+            compare_exchanged: Default::default(),
             owner: None,
             functions: Vec::new(),
             calls: Vec::new(),

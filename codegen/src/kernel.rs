@@ -40,6 +40,7 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
     emitter.control_flow(&diagram, &nodes);
     let body = emitter.take_output();
     let functions = emitter.functions_wgsl();
+    let functions = emitter.compare_exchange_helpers() + &functions;
 
     let entry_point = ident(def.fqn.rsplit('.').next().unwrap_or("main"));
     let wgsl = module(&def.fqn, &entry_point, &params, &atomics, emitter.uses_barriers, &functions, &body);

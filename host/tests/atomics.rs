@@ -1,8 +1,9 @@
 //! OpenCL's atomic functions in device diagrams: a histogram counted with `atomic_inc` in
 //! `shared` memory and summed into a buffer with `atomic_add`, a minimum and maximum with
 //! `atomic_min`/`atomic_max`, a ticket with `atomic_add`'s old value and a plain store and read
-//! of an atomic buffer; on lavapipe (and GL in CI) against Rust. What cannot be atomic — a
-//! private variable, a float buffer, `atomic_cmpxchg` — is an error at its place.
+//! of an atomic buffer, `atomic_cmpxchg` that exactly one work-item wins; on lavapipe (and GL in
+//! CI) against Rust. What cannot be atomic — a private variable, a pointer that is not `p + i`
+//! — is an error at its place.
 
 mod support;
 
@@ -46,6 +47,7 @@ fn kernel(extra: &str) -> String {
             atomic_max(extremes + 1, v);
             var int ticket = atomic_add(extremes + 2, 1);
             if (ticket == 0) {{ extremes[3] = extremes[4] + 7; }}
+            if (atomic_cmpxchg(extremes + 5, 0, 99) == 0) {{ atomic_inc(extremes + 6); }}
 {extra}
             => f;
         }}
@@ -71,6 +73,7 @@ fn atomics_count_a_histogram_and_find_extremes_as_rust_does() {
         "var<storage, read_write> counts: array<atomic<u32>>;",
         "var<workgroup> bins: array<atomic<u32>, gudsl_bins_length>;",
         "atomicStore(&extremes[3i], atomicLoad(&extremes[4i]) + 7i);",
+        "fn gudsl_cmpxchg_extremes(at: i32, compare: i32, value: i32) -> i32 {",
     ] {
         assert!(kernel.wgsl.contains(line), "{line} in\n{}", kernel.wgsl);
     }
@@ -92,7 +95,7 @@ fn atomics_count_a_histogram_and_find_extremes_as_rust_does() {
     };
     let input = upload("values", &values);
     let counts = upload("counts", &[0; 16]);
-    let extremes = upload("extremes", &[i32::MAX, i32::MIN, 0, 0, 0]);
+    let extremes = upload("extremes", &[i32::MAX, i32::MIN, 0, 0, 0, 0, 0]);
     let launcher = Launcher::new(&gpu, &kernel).unwrap();
     let args = [Arg::Buffer(&input), Arg::Buffer(&counts), Arg::Buffer(&extremes), Arg::Number(Number::Int(16 * 4))];
     launcher.launch(&gpu, &args, &WorkRange::linear(count as u32, Some(64))).unwrap();
@@ -103,14 +106,15 @@ fn atomics_count_a_histogram_and_find_extremes_as_rust_does() {
     }
     assert_eq!(ints(&counts.read(&gpu).unwrap()), histogram);
     let (min, max) = (*values.iter().min().unwrap(), *values.iter().max().unwrap());
-    assert_eq!(ints(&extremes.read(&gpu).unwrap()), [min, max, count as i32, 7, 0]);
+    // One work-item exchanged 0 for 99, and only that one saw 0.
+    assert_eq!(ints(&extremes.read(&gpu).unwrap()), [min, max, count as i32, 7, 0, 99, 1]);
 }
 
 #[test]
 fn what_cannot_be_atomic_is_an_error_at_its_place() {
     let errors = |extra: &str| generation(&sources(extra), "histogram").expect_err("not generated");
     let private = errors("            var int mine = 0;\n            atomic_inc(mine);");
-    assert!(private.iter().any(|(_, line, m)| *line == 24 && m.contains("atomic function works on")), "{private:?}");
-    let exchange = errors("            atomic_cmpxchg(extremes, 0, 1);");
-    assert!(exchange.iter().any(|(_, line, m)| *line == 23 && m.contains("no WGSL form")), "{exchange:?}");
+    assert!(private.iter().any(|(_, line, m)| *line == 25 && m.contains("atomic function works on")), "{private:?}");
+    let nested = errors("            atomic_inc(counts + 1 + 2);");
+    assert!(nested.iter().any(|(_, line, m)| *line == 24 && m.contains("(`p` or `p + i`)")), "{nested:?}");
 }
