@@ -8,7 +8,7 @@
 
 use gudsl_model::{
     ast::{self, AstNode, HasModifiers, HasName},
-    hir::{DefKind, Definition, Scope, Ty},
+    hir::{BodyTypes, DefKind, Definition, Scope, Ty},
     syntax::{SyntaxKind, SyntaxNode, TextRange},
 };
 
@@ -117,7 +117,7 @@ impl<'db> Emitter<'db> {
         let Some(diagram) = diagram.filter(|d| d.params().count() == args.len()) else {
             return self.unsupported(call.syntax(), format!("`{}` takes other arguments", def.fqn));
         };
-        let Some(callee) = self.diagram_index(def, diagram, call.syntax()) else {
+        let Some(callee) = self.diagram_index(def, diagram, call) else {
             return self.unsupported(call.syntax(), format!("`{}` cannot be generated (see its declaration)", def.fqn));
         };
         self.function_call(callee, &args, call.syntax())
@@ -135,35 +135,22 @@ impl<'db> Emitter<'db> {
 
     /// The index of the diagram `def` among the functions, added (its parameters checked)
     /// when first called; `None` when it cannot be a function (reported at the declaration).
-    fn diagram_index(&mut self, def: &'db Definition, diagram: ast::ActivityDiagram, at: &SyntaxNode) -> Option<usize> {
+    fn diagram_index(
+        &mut self,
+        def: &'db Definition,
+        diagram: ast::ActivityDiagram,
+        call: &ast::CallBehaviorExpr,
+    ) -> Option<usize> {
         let body = Body::Diagram(def, diagram.clone());
         if let Some(index) = self.functions.iter().position(|f| f.body == body) {
             return Some(index);
         }
         let types = self.sema.body_types(diagram.syntax());
         let file = std::mem::replace(&mut self.file, def.file);
-        let mut params = Vec::new();
-        let mut fine = true;
-        for param in diagram.params() {
-            let Some(name) = param.name().map(|n| n.text()) else { continue };
-            let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
-            if param.has_modifier(SyntaxKind::OUT_KW) || param.has_modifier(SyntaxKind::SHARED_KW) {
-                self.unsupported(
-                    param.syntax(),
-                    format!("`{name}`: a called diagram's parameters are values (no `out`, no `shared`)"),
-                );
-                fine = false;
-            } else if value_type(&ty).is_none() || matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
-                self.unsupported(
-                    param.syntax(),
-                    format!("`{name}` is a `{ty}`: generated functions take numbers and vectors only"),
-                );
-                fine = false;
-            }
-            params.push((name, ty));
-        }
+        let (params, mut fine) = self.value_params(diagram.params(), &types);
         self.file = file;
-        let returns = self.types_of_call(at);
+        let returns = self.ty(&ast::Expr::CallBehaviorExpr(call.clone()));
+        let at = call.syntax();
         if returns == Ty::Unknown {
             self.unsupported(
                 at,
@@ -186,9 +173,32 @@ impl<'db> Emitter<'db> {
         Some(self.functions.len() - 1)
     }
 
-    /// What the `call behavior` at `at` gives (the model's `behavior_result`).
-    fn types_of_call(&self, at: &SyntaxNode) -> Ty {
-        ast::Expr::cast(at.clone()).map_or(Ty::Unknown, |call| self.ty(&call))
+    /// The names and types of a function's parameters, and whether WGSL can take them all
+    /// (numbers and vectors, no `out` or `shared`; each other one is an error at its place).
+    fn value_params(
+        &mut self,
+        params: impl Iterator<Item = ast::Param>,
+        types: &BodyTypes,
+    ) -> (Vec<(String, Ty)>, bool) {
+        let mut out = Vec::new();
+        let mut fine = true;
+        for param in params {
+            let Some(name) = param.name().map(|n| n.text()) else { continue };
+            let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+            let problem = if param.has_modifier(SyntaxKind::OUT_KW) || param.has_modifier(SyntaxKind::SHARED_KW) {
+                Some(format!("`{name}`: a generated function's parameters are values (no `out`, no `shared`)"))
+            } else if value_type(&ty).is_none() || matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
+                Some(format!("`{name}` is a `{ty}`: generated functions take numbers and vectors only"))
+            } else {
+                None
+            };
+            if let Some(problem) = problem {
+                self.unsupported(param.syntax(), problem);
+                fine = false;
+            }
+            out.push((name, ty));
+        }
+        (out, fine)
     }
 
     /// The index of `method` among the functions, added (its signature checked) when first
@@ -202,20 +212,7 @@ impl<'db> Emitter<'db> {
         let types = self.sema.body_types(method.syntax());
         let file = self.file;
         self.file = class.file;
-        let mut params = Vec::new();
-        let mut fine = true;
-        for param in method.params() {
-            let Some(param_name) = param.name().map(|n| n.text()) else { continue };
-            let ty = types.locals.get(&param_name).cloned().unwrap_or(Ty::Unknown);
-            if value_type(&ty).is_none() || matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
-                self.unsupported(
-                    param.syntax(),
-                    format!("`{param_name}` is a `{ty}`: generated functions take numbers and vectors only"),
-                );
-                fine = false;
-            }
-            params.push((param_name, ty));
-        }
+        let (params, mut fine) = self.value_params(method.params(), &types);
         let returns = self
             .sema
             .methods(class, &name)
