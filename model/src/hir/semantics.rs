@@ -221,6 +221,23 @@ impl<'db> Semantics<'db> {
         Some(self.ty(&field, &Scope::of(declaring)))
     }
 
+    /// The number of the constant `member` of the enum `fqn`, as C numbers it: the value written
+    /// (`A = 4`, `B = -1`), else one more than the constant before (the first is 0). `None` if
+    /// `fqn` is no enum with that constant.
+    pub fn enum_value(&self, fqn: &str, member: &str) -> Option<i64> {
+        let (node, _) = self.declaration(self.definition(fqn)?)?;
+        let ast::TypeDecl::Enum(decl) = ast::TypeDecl::cast(node)? else { return None };
+        let mut next = 0i64;
+        for constant in decl.values() {
+            let value = constant.value().and_then(|value| constant_number(&value)).unwrap_or(next);
+            if constant.name().is_some_and(|name| name.text() == member) {
+                return Some(value);
+            }
+            next = value.wrapping_add(1);
+        }
+        None
+    }
+
     /// The type declaring field `name` of `fqn` (or of a base), if that field is `const`.
     pub fn const_field(&self, fqn: &str, name: &str) -> Option<&'db str> {
         let found =
@@ -375,6 +392,21 @@ impl<'db> Semantics<'db> {
     pub fn member_declaration(&self, owner: &Definition, name: &str) -> Option<ast::Member> {
         let (node, _) = self.declaration(owner)?;
         ast::TypeDecl::cast(node)?.members().find(|m| m.name().is_some_and(|n| n.text() == name))
+    }
+}
+
+/// An enum constant's written value: an integer literal, negated or not.
+fn constant_number(value: &ast::Expr) -> Option<i64> {
+    match value {
+        ast::Expr::Literal(literal) => match literal.value()? {
+            ast::LiteralValue::Int { value, .. } => i64::try_from(value).ok(),
+            _ => None,
+        },
+        ast::Expr::PrefixExpr(prefix) if prefix.op()?.kind() == crate::syntax::SyntaxKind::MINUS => {
+            constant_number(&prefix.operand()?).map(i64::wrapping_neg)
+        }
+        ast::Expr::ParenExpr(inner) => constant_number(&inner.expr()?),
+        _ => None,
     }
 }
 

@@ -243,6 +243,19 @@ fn type_of_an_expression_in_its_body() {
 }
 
 #[test]
+fn enum_constants_are_numbered_as_c_numbers_them() {
+    let text = "ClassDiagram Defs { public enum Mode { A, B = 4, C, D = -1, E, F = (7), G } }";
+    let (db, ws, _) = workspace_of(&[("defs.gudsl", text)]);
+    let sema = Semantics::new(&db, ws);
+    let values: Vec<Option<i64>> = ["A", "B", "C", "D", "E", "F", "G", "H"]
+        .into_iter()
+        .map(|member| sema.enum_value("Defs.Mode", member))
+        .collect();
+    assert_eq!(values, [Some(0), Some(4), Some(5), Some(-1), Some(0), Some(7), Some(8), None]);
+    assert_eq!(sema.enum_value("Defs", "A"), None, "a class diagram is no enum");
+}
+
+#[test]
 fn body_types_give_every_expression_of_a_node_and_its_locals() {
     let text = "ActivityDiagram Ad(int4 pixel, int n)
 {

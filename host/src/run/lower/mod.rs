@@ -14,7 +14,7 @@ use gudsl_codegen::Kernel;
 use gudsl_model::{
     ast::{self, AstNode, HasModifiers, HasName},
     db::SourceFile,
-    hir::{BodyTypes, DefKind, Definition, Semantics, Ty},
+    hir::{BodyTypes, Definition, Semantics, Ty},
     library,
     syntax::{SyntaxKind, SyntaxNode},
 };
@@ -331,8 +331,7 @@ impl<'db> Lowering<'_, 'db> {
 
     /// The enum constant `member` of the enum `fqn`, as C numbers them.
     fn enum_constant(&self, fqn: &str, member: &str) -> Option<i32> {
-        let DefKind::Type(item) = &self.sema.definition(fqn)?.kind else { return None };
-        item.enum_values.iter().position(|v| v == member).map(|i| i as i32)
+        self.sema.enum_value(fqn, member).map(|value| value as i32)
     }
 
     fn span(&self, node: &SyntaxNode) -> Span {
