@@ -1,7 +1,7 @@
 //! The bundled library's OpenCL C built-ins as WGSL: work-item functions from the entry point's
 //! built-in values and the uniform block, `barrier`/`mem_fence` as work-group and storage
-//! barriers, math and geometric functions, image reads (clamped to the edge, as OpenCL's
-//! default sampler) and writes.
+//! barriers, math and geometric functions; image functions are `images.rs`'s, atomic ones
+//! `atomics.rs`'s.
 
 use gudsl_model::{
     ast::{self, AstNode},
@@ -9,11 +9,7 @@ use gudsl_model::{
     library::OPENCL_INTERFACE,
 };
 
-use crate::{
-    emitter::{bare, Emitter},
-    types::convert,
-    Binding,
-};
+use crate::emitter::{bare, Emitter};
 
 /// OpenCL math and geometric functions and their WGSL names.
 const MATH: &[(&str, &str)] = &[
@@ -82,17 +78,9 @@ impl Emitter<'_> {
             "read_imagef" | "read_imagei" | "read_imageui" => self.read_image(call, &args, &result),
             "write_imagef" | "write_imagei" | "write_imageui" => self.write_image(call, &args),
             atomic if atomic.starts_with("atomic_") => self.atomic(call, atomic, &args),
-            "get_image_width" | "get_image_height" | "get_image_depth" => {
-                let Some((image, _)) = args.first().and_then(|a| self.image_param(a)) else {
-                    return self.unsupported(call.syntax(), "the image must be a parameter of the diagram");
-                };
-                let axis = match name.as_str() {
-                    "get_image_width" => "x",
-                    "get_image_height" => "y",
-                    _ => "z",
-                };
-                format!("i32(textureDimensions({}).{axis})", crate::emitter::ident(&image))
-            }
+            "get_image_width" => self.image_size(call, &args, "x"),
+            "get_image_height" => self.image_size(call, &args, "y"),
+            "get_image_depth" => self.image_size(call, &args, "z"),
             _ => match MATH.iter().find(|(opencl, _)| *opencl == name) {
                 Some((_, wgsl)) => {
                     let parts: Vec<String> = args.iter().map(|arg| bare(self.math_argument(arg, &result))).collect();
@@ -141,59 +129,5 @@ impl Emitter<'_> {
             barriers.push("workgroupBarrier()");
         }
         barriers.join("; ")
-    }
-
-    /// `read_image{f,i,ui}(image, [sampler,] coordinate)`: the texel at the integer coordinate,
-    /// clamped to the image (OpenCL's `CLK_ADDRESS_CLAMP_TO_EDGE`), as the call's type.
-    fn read_image(&mut self, call: &ast::CallExpr, args: &[ast::Expr], result: &Ty) -> String {
-        let Some((name, image)) = args.first().and_then(|a| self.image_param(a)) else {
-            return self.unsupported(call.syntax(), "the image must be a parameter of the diagram");
-        };
-        let Some(coordinate) = args.last().filter(|_| args.len() >= 2) else {
-            return self.unsupported(call.syntax(), "a coordinate is missing");
-        };
-        let coordinate_ty = self.ty(coordinate);
-        let Ty::Vector(element, width) = coordinate_ty.dereferenced() else {
-            return self.unsupported(coordinate.syntax(), "an image coordinate is an int2 or int4");
-        };
-        if **element != Ty::Int {
-            return self.unsupported(
-                coordinate.syntax(),
-                "float coordinates (sampled reads) are not generated yet: use an int2/int4 coordinate",
-            );
-        }
-        let dims = image.dimensions;
-        let ivec = format!("vec{dims}<i32>");
-        let swizzled = match (width, dims) {
-            (2, 2) | (3, 3) => self.expr(coordinate),
-            (4, 3) => format!("{}.xyz", self.expr(coordinate)),
-            _ => {
-                return self.unsupported(coordinate.syntax(), format!("a {dims}D image takes an int{dims} coordinate"))
-            }
-        };
-        let texture = crate::emitter::ident(&name);
-        let clamped = format!("clamp({swizzled}, {ivec}(0), {ivec}(textureDimensions({texture})) - {ivec}(1))");
-        let written = matches!(self.binding(&name), Some(Binding::Image { written: true, .. }));
-        let load = match written {
-            true => format!("textureLoad({texture}, {clamped})"),
-            false => format!("textureLoad({texture}, {clamped}, 0)"),
-        };
-        convert(load, &image.texel_ty(), result)
-    }
-
-    /// `write_image{f,i,ui}(image, coordinate, value)`.
-    fn write_image(&mut self, call: &ast::CallExpr, args: &[ast::Expr]) -> String {
-        let Some((name, image)) = args.first().and_then(|a| self.image_param(a)) else {
-            return self.unsupported(call.syntax(), "the image must be a parameter of the diagram");
-        };
-        let [_, coordinate, value] = args else {
-            return self.unsupported(call.syntax(), "write_image takes an image, a coordinate and a value");
-        };
-        let coordinate = match (self.ty(coordinate).dereferenced(), image.dimensions) {
-            (Ty::Vector(_, 4), 3) => format!("{}.xyz", self.expr_as(coordinate, &Ty::Vector(Box::new(Ty::Int), 4))),
-            (_, dims) => self.expr_as(coordinate, &Ty::Vector(Box::new(Ty::Int), dims)),
-        };
-        let value = self.expr_as(value, &image.texel_ty());
-        format!("textureStore({}, {coordinate}, {value})", crate::emitter::ident(&name))
     }
 }

@@ -145,6 +145,8 @@ pub(crate) struct Emitter<'db> {
     pub atomics: HashSet<String>,
     /// The buffers `atomic_cmpxchg` works on and their element types: each gets a helper.
     pub compare_exchanged: std::collections::BTreeSet<(String, String)>,
+    /// The images read through a sampler: each gets helpers (`images.rs`).
+    pub sampled_images: crate::images::SampledImages,
     /// The OpenCL class that owns the diagram: its methods are what a call that is no built-in
     /// reaches.
     pub owner: Option<&'db Definition>,
@@ -168,6 +170,7 @@ impl<'db> Emitter<'db> {
             uses_barriers: false,
             atomics: HashSet::new(),
             compare_exchanged: Default::default(),
+            sampled_images: Default::default(),
             owner: None,
             functions: Vec::new(),
             calls: Vec::new(),

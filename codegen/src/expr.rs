@@ -154,14 +154,25 @@ impl Emitter<'_> {
         }
     }
 
-    /// Swizzles (`v._x`, `v.xy`, `v.s01`, `v.lo`); enum values and fields are not values on the
+    /// Swizzles (`v._x`, `v.xy`, `v.s01`, `v.lo`) and enum constants (`int`s, as C numbers
+    /// them: `sampler_flags.CLK_FILTER_LINEAR` is 32); fields of objects are not values on the
     /// GPU.
     fn member(&mut self, member: &ast::MemberExpr) -> String {
         let (Some(receiver), Some(name)) = (member.receiver(), member.member()) else {
             return self.unsupported(member.syntax(), "an incomplete member access");
         };
-        let Ty::Vector(_, width) = self.ty(&receiver).dereferenced().clone() else {
-            return self.unsupported(member.syntax(), "fields and enum values are not generated for the GPU yet");
+        let receiver_ty = self.ty(&receiver).dereferenced().clone();
+        if let Ty::Named(fqn) = &receiver_ty {
+            if let Some(value) = self.sema.enum_value(fqn, &name.text()) {
+                return match i32::try_from(value) {
+                    Ok(value) if value < 0 => format!("({value}i)"),
+                    Ok(value) => format!("{value}i"),
+                    Err(_) => self.unsupported(member.syntax(), "an enum constant wider than 32 bits"),
+                };
+            }
+        }
+        let Ty::Vector(_, width) = receiver_ty else {
+            return self.unsupported(member.syntax(), "fields of objects are not generated for the GPU");
         };
         match swizzle(&name.text(), width) {
             Some(letters) => format!("{}.{letters}", self.expr(&receiver)),

@@ -40,7 +40,7 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
     emitter.control_flow(&diagram, &nodes);
     let body = emitter.take_output();
     let functions = emitter.functions_wgsl();
-    let functions = emitter.compare_exchange_helpers() + &functions;
+    let functions = emitter.compare_exchange_helpers() + &emitter.sampling_helpers() + &functions;
 
     let entry_point = ident(def.fqn.rsplit('.').next().unwrap_or("main"));
     let wgsl = module(&def.fqn, &entry_point, &params, &atomics, emitter.uses_barriers, &functions, &body);
@@ -84,7 +84,6 @@ fn parameters(
             })
         } else {
             match &ty {
-                Ty::Gpu(gpu) if gpu == "sampler_t" => Some(Binding::Sampler),
                 Ty::Gpu(gpu) if gpu.starts_with("image") => ImageType::parse(gpu).map(|image| {
                     let (read, written) = image_use(diagram.syntax(), &name);
                     Binding::Image { binding: binding(), image, read, written }
@@ -176,10 +175,6 @@ fn written(root: &SyntaxNode, name: &str) -> bool {
 pub(crate) fn variables(emitter: &mut Emitter<'_>, diagram: &ast::ActivityDiagram) {
     for variable in diagram.variables() {
         let Some(name) = variable.name().map(|n| n.text()) else { continue };
-        if matches!(emitter.types.locals.get(&name), Some(Ty::Gpu(gpu)) if gpu == "sampler_t") {
-            // Texels are loaded at integer coordinates, clamped: a sampler has nothing to hold.
-            continue;
-        }
         if let Some(declaration) = emitter.declaration("var", &name, variable.initializer(), variable.syntax()) {
             emitter.line(format!("{declaration};"));
         }
@@ -276,7 +271,7 @@ fn module(
                     "override {length_constant}: u32 = 256u;\nvar<workgroup> {name}: array<{element}, {length_constant}>;\n"
                 ));
             }
-            Binding::Uniform { .. } | Binding::Sampler => {}
+            Binding::Uniform { .. } => {}
         }
     }
     for (constant, default) in LOCAL_SIZE_CONSTANTS.iter().zip([64, 1, 1]) {

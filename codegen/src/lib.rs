@@ -11,6 +11,7 @@ mod emitter;
 mod expr;
 mod flow;
 mod functions;
+mod images;
 mod kernel;
 mod stmt;
 mod structured;
@@ -80,9 +81,6 @@ pub enum Binding {
     /// constant `length_constant` (elements). The host passes bytes, as OpenCL's
     /// `clSetKernelArg(…, size, NULL)` does.
     Workgroup { length_constant: String, element_size: u32 },
-    /// A `sampler_t`: nothing to bind (texels are loaded at integer coordinates, clamped to the
-    /// edge).
-    Sampler,
 }
 
 /// Something the generator cannot turn into WGSL, where it is written.

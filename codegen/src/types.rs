@@ -5,8 +5,9 @@ use gudsl_model::hir::Ty;
 
 use crate::emitter::bare;
 
-/// The WGSL type of a value type: `int` → `i32`, `uint4` → `vec4<u32>`; `None` for what WGSL has
-/// no value type for (vectors of 8 or 16, strings, classes).
+/// The WGSL type of a value type: `int` → `i32`, `uint4` → `vec4<u32>`, a `sampler_t` its flags
+/// (`i32`, `images.rs`); `None` for what WGSL has no value type for (vectors of 8 or 16,
+/// strings, classes).
 pub fn value_type(ty: &Ty) -> Option<String> {
     match ty.dereferenced() {
         Ty::Bool => Some("bool".into()),
@@ -14,6 +15,7 @@ pub fn value_type(ty: &Ty) -> Option<String> {
         Ty::UInt => Some("u32".into()),
         Ty::Float => Some("f32".into()),
         Ty::Vector(base, n @ 2..=4) => Some(format!("vec{n}<{}>", value_type(base)?)),
+        Ty::Gpu(name) if name == "sampler_t" => Some("i32".into()),
         _ => None,
     }
 }

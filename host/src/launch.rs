@@ -49,8 +49,6 @@ pub enum Arg<'a> {
     Vector(&'a [Number]),
     Buffer(&'a DeviceBuffer),
     Image(&'a DeviceImage),
-    /// Nothing to hand over (a `sampler_t`).
-    None,
 }
 
 /// The work of one launch: `global[d]` work-items in each of the first `dimensions`
@@ -140,7 +138,7 @@ impl Launcher {
                     };
                     bindings.push(BindingSpec { binding: *binding, kind });
                 }
-                Binding::Uniform { .. } | Binding::Workgroup { .. } | Binding::Sampler => {}
+                Binding::Uniform { .. } | Binding::Workgroup { .. } => {}
             }
         }
         let program = Program::new(gpu, &kernel.diagram, &kernel.wgsl, &kernel.entry_point, &bindings)?;
@@ -194,7 +192,6 @@ impl Launcher {
                     }
                     lengths.push((length_constant.clone(), (bytes / *element_size as i64) as f64));
                 }
-                (Binding::Sampler, _) => {}
                 (binding, _) => {
                     return Err(wrong(format!("it is bound as {binding:?}; the argument given does not fit")))
                 }
@@ -284,7 +281,9 @@ fn write_value(uniform: &mut [u8], offset: u32, param: &KernelParam, numbers: &[
     for component in 0..width {
         let number = numbers[component.min(numbers.len() - 1)];
         let bytes = match base {
+            // A sampler is its flags (`gudsl_codegen`'s `images.rs`).
             Ty::Int => (number.as_i64() as i32).to_le_bytes(),
+            Ty::Gpu(name) if name == "sampler_t" => (number.as_i64() as i32).to_le_bytes(),
             Ty::UInt => (number.as_i64() as u32).to_le_bytes(),
             Ty::Bool => u32::from(number.as_i64() != 0).to_le_bytes(),
             Ty::Float => (number.as_f64() as f32).to_le_bytes(),

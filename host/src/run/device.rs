@@ -67,7 +67,6 @@ impl Machine<'_, '_> {
                 (Binding::Storage { .. }, Some(Object::Buffer(c))) => {
                     Arg::Buffer(c.device.as_ref().expect("made above"))
                 }
-                (Binding::Sampler, _) => Arg::None,
                 (Binding::Uniform { .. } | Binding::Workgroup { .. }, _) => Arg::Number(match arg {
                     Value::Int(v) => Number::Int(*v as i64),
                     Value::UInt(v) => Number::UInt(*v as u64),

@@ -216,7 +216,6 @@ pub fn launch_filter(
 ) -> Duration {
     let mut args = vec![Arg::Image(input), Arg::Image(output)];
     args.extend(values.iter().map(|&v| Arg::Number(v)));
-    args.extend(std::iter::repeat_n(Arg::None, launcher.kernel().params.len() - args.len()));
     let [width, height, _] = input.size();
     launcher.launch(gpu, &args, &WorkRange::planar(width, height, None)).unwrap()
 }
