@@ -102,6 +102,18 @@ const RESERVED: &[&str] = &[
 /// Names the generator itself declares start with this; a user name that does is renamed.
 pub(crate) const GENERATED: &str = "gudsl_";
 
+/// The flag a `return` inside a node's loop or `switch` sets to leave the node.
+pub(crate) const LEAVE_NODE: &str = "gudsl_leave_node";
+
+/// Where a `return` in a node's statements goes: out of `depth` loops and `switch`es of the
+/// node, then out of the loop around its statements; `nested_returns` counts those written
+/// inside a loop or `switch` so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct NodeExit {
+    pub depth: usize,
+    pub nested_returns: usize,
+}
+
 /// `code` without the parentheses around the whole of it (where it stands alone: a statement's
 /// value, an argument, a condition).
 pub(crate) fn bare(code: String) -> String {
@@ -155,6 +167,9 @@ pub(crate) struct Emitter<'db> {
     pub calls: Vec<Call>,
     /// While a function's body is written: its index among `functions` and its return type.
     pub current_function: Option<(usize, Ty)>,
+    /// While the statements of a node that `return`s are written (`flow.rs`): where `return`
+    /// leaves to.
+    pub node_exit: Option<NodeExit>,
     out: String,
     indent: usize,
 }
@@ -175,6 +190,7 @@ impl<'db> Emitter<'db> {
             functions: Vec::new(),
             calls: Vec::new(),
             current_function: None,
+            node_exit: None,
             out: String::new(),
             indent: 0,
         }
@@ -201,6 +217,30 @@ impl<'db> Emitter<'db> {
         body(self);
         self.indent -= 1;
         self.line("}");
+    }
+
+    /// Writes a loop or `switch` (`open`, what `body` writes, `}`). In a node that `return`s, a
+    /// `return` inside it sets `gudsl_leave_node` and breaks, and the flag breaks on after it.
+    pub fn breakable(&mut self, open: impl AsRef<str>, body: impl FnOnce(&mut Self)) {
+        let Some(outer) = self.node_exit else { return self.block(open, body) };
+        self.node_exit = Some(NodeExit { depth: outer.depth + 1, ..outer });
+        self.block(open, body);
+        let inner = self.node_exit.unwrap_or(outer);
+        self.node_exit = Some(NodeExit { depth: outer.depth, nested_returns: inner.nested_returns });
+        if inner.nested_returns > outer.nested_returns {
+            self.line(format!("if {LEAVE_NODE} {{ break; }}"));
+        }
+    }
+
+    /// `return` in a node's statements: leaves the node, whose transitions follow (as on the
+    /// host, `docs/host.md`); a node's statements run in a `loop` that `break` leaves.
+    pub fn leave_node(&mut self, exit: NodeExit) {
+        if exit.depth == 0 {
+            self.line("break;");
+        } else {
+            self.node_exit = Some(NodeExit { nested_returns: exit.nested_returns + 1, ..exit });
+            self.line(format!("{LEAVE_NODE} = true; break;"));
+        }
     }
 
     /// Where the output and the errors stand, to [`Emitter::restore`] an attempt that failed.

@@ -2,18 +2,21 @@
 //! allows it, otherwise a state loop over its nodes (correct for any graph). Either way a node
 //! runs its statements — inside the loops of a loop or loopWindow node — then takes the first
 //! transition whose guard holds, the unguarded one otherwise; a final node, or no transition to
-//! take, ends the work-item. Transition arguments go to the target node's parameters, which live
-//! across nodes. In the state loop each node is a `case`.
+//! take, ends the work-item. `return` leaves the node (its statements run in a `loop` that the
+//! `return` breaks, through a flag from inside loops and `switch`es), as on the host.
+//! Transition arguments go to the target node's parameters, which live across nodes. In the
+//! state loop each node is a `case`.
 
 use std::collections::HashMap;
 
 use gudsl_model::{
     ast::{self, AstNode, HasName},
     hir::{BodyTypes, Ty},
+    syntax::{SyntaxKind, SyntaxNode},
 };
 
 use crate::{
-    emitter::{bare, ident, Emitter, GENERATED},
+    emitter::{bare, ident, Emitter, NodeExit, GENERATED, LEAVE_NODE},
     types::value_type,
 };
 
@@ -123,7 +126,7 @@ impl Emitter<'_> {
                 }
                 return false;
             }
-            ast::NodeKind::Loop | ast::NodeKind::LoopWindow => self.loop_node(node),
+            ast::NodeKind::Loop | ast::NodeKind::LoopWindow => self.leavable(node, Self::loop_node),
             ast::NodeKind::Fork | ast::NodeKind::Join => {
                 self.unsupported(node.syntax(), "forks and joins run in parallel: a work-item has one flow");
                 return false;
@@ -132,9 +135,36 @@ impl Emitter<'_> {
                 self.unsupported(node.syntax(), "calc and calcRange nodes start kernels: they belong to host diagrams");
                 return false;
             }
-            _ => self.statements(node),
+            _ => self.leavable(node, Self::statements),
         }
         true
+    }
+
+    /// A node's code as `write` writes it; where the node `return`s, inside a `loop` that the
+    /// `return` leaves (its transitions follow, as on the host).
+    fn leavable(&mut self, node: &ast::ActivityNode, write: fn(&mut Self, &ast::ActivityNode)) {
+        let body = node.body().map(|body| body.syntax().clone());
+        let returns: Vec<SyntaxNode> =
+            body.iter().flat_map(|body| body.descendants()).filter(|n| ast::ReturnStmt::can_cast(n.kind())).collect();
+        if returns.is_empty() {
+            return write(self, node);
+        }
+        // A `return` inside a loop or `switch` (the node's own loops too) leaves by a flag.
+        let breakable = |n: &SyntaxNode| {
+            use SyntaxKind::*;
+            matches!(n.kind(), LOOP_STMT | DO_LOOP_STMT | FOR_STMT | SWITCH_STMT | LOOP_WINDOW_STMT)
+        };
+        let nested = matches!(node.kind(), ast::NodeKind::Loop | ast::NodeKind::LoopWindow)
+            || returns.iter().any(|r| r.ancestors().take_while(|n| Some(n) != body.as_ref()).any(|n| breakable(&n)));
+        let outer = self.node_exit.replace(NodeExit { depth: 0, nested_returns: 0 });
+        self.block("loop { // `return` leaves the node", |e| {
+            if nested {
+                e.line(format!("var {LEAVE_NODE} = false;"));
+            }
+            write(e, node);
+            e.line("break;");
+        });
+        self.node_exit = outer;
     }
 
     fn statements(&mut self, node: &ast::ActivityNode) {

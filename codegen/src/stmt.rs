@@ -44,14 +44,14 @@ impl Emitter<'_> {
                     Some(cond) => self.expr_as(&cond, &Ty::Bool),
                     None => self.unsupported(stmt.syntax(), "a `loop` without a condition"),
                 };
-                self.block(format!("while {cond} {{"), |e| e.nested(stmt.body()));
+                self.breakable(format!("while {cond} {{"), |e| e.nested(stmt.body()));
             }
             ast::Stmt::DoLoopStmt(stmt) => {
                 let cond = match stmt.condition() {
                     Some(cond) => self.expr_as(&cond, &Ty::Bool),
                     None => self.unsupported(stmt.syntax(), "a `do … loop` without a condition"),
                 };
-                self.block("loop {", |e| {
+                self.breakable("loop {", |e| {
                     e.nested(stmt.body());
                     e.block("continuing {", |e| e.line(format!("break if !{cond};")));
                 });
@@ -59,6 +59,7 @@ impl Emitter<'_> {
             ast::Stmt::ForStmt(stmt) => self.for_loop(stmt),
             ast::Stmt::SwitchStmt(stmt) => self.switch(stmt),
             ast::Stmt::ReturnStmt(stmt) => match (stmt.value(), self.current_function.clone()) {
+                (None, _) if self.node_exit.is_some() => self.leave_node(self.node_exit.expect("checked")),
                 (None, None) => self.line("return;"),
                 (None, Some((_, Ty::Void))) => self.line("return;"),
                 (None, Some((_, returns))) => {
@@ -254,7 +255,7 @@ impl Emitter<'_> {
             ast::LoopPart::Expr(test) => bare(self.expr_as(test, &Ty::Bool)),
             ast::LoopPart::Decl(decl) => self.unsupported(decl.syntax(), "a declaration as the test of a `for`"),
         };
-        self.block(format!("for ({init_code}; {test_code}; {step_code}) {{"), |e| e.nested(stmt.body()));
+        self.breakable(format!("for ({init_code}; {test_code}; {step_code}) {{"), |e| e.nested(stmt.body()));
     }
 
     /// `switch x: { case 1: s; default: t; }`: cases of constant integers; WGSL wants a
@@ -270,7 +271,7 @@ impl Emitter<'_> {
         };
         let value = self.expr_as(&scrutinee, &ty);
         let cases: Vec<ast::SwitchCase> = stmt.cases().collect();
-        self.block(format!("switch {value} {{"), |e| {
+        self.breakable(format!("switch {value} {{"), |e| {
             for case in &cases {
                 let label = match case.label() {
                     Some(label) if !case.is_default() => e.expr_as(&label, &ty),
@@ -314,7 +315,7 @@ impl Emitter<'_> {
     pub fn nest(&mut self, headers: &[String], body: &mut dyn FnMut(&mut Self)) {
         match headers.split_first() {
             None => body(self),
-            Some((first, rest)) => self.block(first.clone(), |e| e.nest(rest, body)),
+            Some((first, rest)) => self.breakable(first.clone(), |e| e.nest(rest, body)),
         }
     }
 }

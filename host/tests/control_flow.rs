@@ -1,7 +1,8 @@
 //! Control flow of generated kernels on the GPU: a structured diagram (a loop left in the
 //! middle) becomes structured WGSL, diagrams whose graphs are not structured (branches that
 //! cross, a loop with two entries) fall back to the state loop, and every form computes, per
-//! work-item, what the diagram says (checked against the same flow written in Rust).
+//! work-item, what the diagram says (checked against the same flow written in Rust); `return`
+//! leaves its node, from any depth of loops and `switch`es, and the transitions follow.
 
 mod support;
 
@@ -19,6 +20,8 @@ const CLASS: &str = "ClassDiagram Flow
         public void crossing(global ref int out);
         public void exitInTheMiddle(global ref int out);
         public void twoEntries(global ref int out);
+        public void leaving(global ref int out);
+        public void leavingCrossing(global ref int out);
     }
 }
 ";
@@ -132,5 +135,78 @@ fn a_loop_with_two_entries_runs_as_a_state_loop() {
             k += 1;
         }
         assert_eq!(value, acc, "work-item {id}");
+    }
+}
+
+/// Nodes that `return` from a `for`, a `switch`, a loop node's iteration and an `if`; where
+/// `crossing`, `c` is also reached from `a` and `d` from `b` (branches that cross: a state loop).
+fn leaving_body(crossing: bool) -> String {
+    let a_exit = if crossing { "[id % 4 == 1] => c; [] => b;" } else { "=> b;" };
+    let b_exit = if crossing { "[id % 9 == 4] => d; [] => c;" } else { "=> c;" };
+    format!(
+        "
+        action a
+        {{
+            id = get_global_id(0);
+            acc = 1;
+            var int i;
+            for (i = 0 : 1 : i < 10) {{ if (i == id % 7) {{ acc = acc * 10 + i; return; }} }}
+            acc = -1;
+            {a_exit}
+        }}
+        action b
+        {{
+            switch id % 3: {{ case 0: acc = acc + 100; return; default: acc = acc + 200; }}
+            acc = acc + 1000;
+            {b_exit}
+        }}
+        loop c(var int j = 0; j < 5; j = j + 1)
+        {{
+            if ((j == 2) && (id % 2 == 0)) {{ acc = acc + 7; return; }}
+            acc = acc + 1;
+            => d;
+        }}
+        action d {{ acc = acc * 2; if (id % 5 == 0) {{ return; }} acc = acc + 1; => done; }}"
+    )
+}
+
+/// What `leaving_body` computes for work-item `id`.
+fn leaving_in_rust(id: i32, crossing: bool) -> i32 {
+    let mut acc = 10 + id % 7;
+    let via_b = !(crossing && id % 4 == 1);
+    if via_b {
+        if id % 3 == 0 {
+            acc += 100;
+        } else {
+            acc += 1200;
+        }
+    }
+    if !(via_b && crossing && id % 9 == 4) {
+        for j in 0..5 {
+            if j == 2 && id % 2 == 0 {
+                acc += 7;
+                break;
+            }
+            acc += 1;
+        }
+    }
+    acc *= 2;
+    if id % 5 != 0 {
+        acc += 1;
+    }
+    acc
+}
+
+#[test]
+fn return_leaves_its_node_from_any_depth_and_the_transitions_follow() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for (name, crossing) in [("leaving", false), ("leavingCrossing", true)] {
+        let (wgsl, out) = run(&gpu, name, &leaving_body(crossing), COUNT);
+        assert_eq!(wgsl.contains("switch gudsl_state"), crossing, "{wgsl}");
+        // The one `return;` is the guard of the spare work-items.
+        assert!(wgsl.contains("gudsl_leave_node = true; break;") && wgsl.matches("return;").count() == 1, "{wgsl}");
+        for (id, &value) in out.iter().enumerate() {
+            assert_eq!(value, leaving_in_rust(id as i32, crossing), "{name}, work-item {id}");
+        }
     }
 }
