@@ -105,6 +105,8 @@ pub enum DiagnosticCode {
     /// A port's connector interface the component's class does not implement (an anonymous
     /// interface, Sec. 11.3.2.1).
     InterfaceNotImplemented,
+    /// A `break` outside a loop or `switch`, a `continue` outside a loop.
+    MisplacedJump,
     /// Device code the GPU code generator cannot generate (reported by `gudsl-codegen`).
     NotGenerated,
     /// Host code the interpreter cannot run (reported by `gudsl-host` before a run).
@@ -157,6 +159,7 @@ impl DiagnosticCode {
             DiagnosticCode::JoinOfOneFlow => "E0238",
             DiagnosticCode::ImageAccess => "E0239",
             DiagnosticCode::InterfaceNotImplemented => "E0240",
+            DiagnosticCode::MisplacedJump => "E0241",
             DiagnosticCode::NotGenerated => "E0301",
             DiagnosticCode::NotRunnable => "E0302",
             DiagnosticCode::RunFailed => "E0303",
@@ -208,6 +211,7 @@ impl DiagnosticCode {
             DiagnosticCode::JoinOfOneFlow => "a join with a single incoming transition",
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
             DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
+            DiagnosticCode::MisplacedJump => "a `break` or `continue` with nothing to leave",
             DiagnosticCode::NotGenerated => "device code the GPU code generator cannot generate",
             DiagnosticCode::NotRunnable => "host code the interpreter cannot run",
             DiagnosticCode::RunFailed => "where a run stopped with an error",

@@ -9,8 +9,8 @@ mod calls;
 mod operators;
 mod statements;
 
-pub use statements::returns_on_every_path;
 use statements::{declared_access, declared_const};
+pub use statements::{misplaced_jumps, returns_on_every_path};
 
 use std::collections::{HashMap, HashSet};
 

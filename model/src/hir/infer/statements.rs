@@ -155,3 +155,23 @@ pub fn returns_on_every_path(block: &SyntaxNode) -> bool {
         _ => false,
     })
 }
+
+/// The `break`s in `body` outside any loop or `switch` of it and the `continue`s outside any
+/// loop of it, with a message; `in_loop` when the body itself runs in a loop (a loop or
+/// loopWindow node's), where both are in place; `body_is` "the node" or "the method".
+pub fn misplaced_jumps(body: &SyntaxNode, in_loop: bool, body_is: &str) -> Vec<(crate::syntax::TextRange, String)> {
+    use SyntaxKind::*;
+    let mut out = Vec::new();
+    for jump in body.descendants().filter(|n| matches!(n.kind(), BREAK_STMT | CONTINUE_STMT)) {
+        let enclosing: Vec<SyntaxKind> = jump.ancestors().skip(1).take_while(|n| n != body).map(|n| n.kind()).collect();
+        let in_a_loop =
+            in_loop || enclosing.iter().any(|k| matches!(k, LOOP_STMT | DO_LOOP_STMT | FOR_STMT | LOOP_WINDOW_STMT));
+        let message = match jump.kind() {
+            BREAK_STMT if !in_a_loop && !enclosing.contains(&SWITCH_STMT) => "`break` leaves a loop or a `switch`",
+            CONTINUE_STMT if !in_a_loop => "`continue` starts a loop's next round",
+            _ => continue,
+        };
+        out.push((jump.text_range(), format!("{message}, and there is none here: `return;` leaves {body_is}")));
+    }
+    out
+}

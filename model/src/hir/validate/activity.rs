@@ -9,7 +9,7 @@ use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         definitions::DefKind,
-        infer::{diagram_locals, header_declarations, InferenceCtx},
+        infer::{diagram_locals, header_declarations, misplaced_jumps, InferenceCtx},
         items::TypeKind,
         semantics::describe,
         ty::Ty,
@@ -53,6 +53,10 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         }
         if let Some(body) = &body {
             names::duplicate_locals(ctx, body.syntax());
+            let in_loop = matches!(node.kind(), ast::NodeKind::Loop | ast::NodeKind::LoopWindow);
+            for (range, message) in misplaced_jumps(body.syntax(), in_loop, "the node") {
+                ctx.sink.error(DiagnosticCode::MisplacedJump, range, message);
+            }
         }
         let owner = ctx.sema.owner_at(node.syntax());
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);

@@ -7,7 +7,7 @@ use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         components::signature_key,
-        infer::{returns_on_every_path, InferenceCtx},
+        infer::{misplaced_jumps, returns_on_every_path, InferenceCtx},
         items::{type_signature, InterfaceRole, TypeSignature},
         ty::Ty,
     },
@@ -117,6 +117,9 @@ fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
     if let Some(body) = method.body() {
         calls::expressions(ctx, scope, body.syntax());
         names::duplicate_locals(ctx, body.syntax());
+        for (range, message) in misplaced_jumps(body.syntax(), false, "the method") {
+            ctx.sink.error(DiagnosticCode::MisplacedJump, range, message);
+        }
         let owner = ctx.sema.owner_at(body.syntax());
         let name = method.name().map(|n| n.text()).unwrap_or_default();
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
