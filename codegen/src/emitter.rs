@@ -205,6 +205,13 @@ impl<'db> Emitter<'db> {
         self.out.push('\n');
     }
 
+    /// Writes one line at the current indentation where the output stood at `at` (a
+    /// [`Emitter::checkpoint`] taken at this indentation).
+    pub fn insert_line(&mut self, at: usize, text: impl AsRef<str>) {
+        let line = format!("{}{}\n", "    ".repeat(self.indent), text.as_ref());
+        self.out.insert_str(at, &line);
+    }
+
     /// Moves the indentation `levels` levels in (or out, when negative).
     pub fn shift(&mut self, levels: isize) {
         self.indent = self.indent.saturating_add_signed(levels);

@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use gudsl_model::{
     ast::{self, AstNode, HasName},
     hir::{BodyTypes, Ty},
-    syntax::{SyntaxKind, SyntaxNode},
+    syntax::SyntaxKind::RETURN_STMT,
 };
 
 use crate::{
@@ -143,25 +143,18 @@ impl Emitter<'_> {
     /// A node's code as `write` writes it; where the node `return`s, inside a `loop` that the
     /// `return` leaves (its transitions follow, as on the host).
     fn leavable(&mut self, node: &ast::ActivityNode, write: fn(&mut Self, &ast::ActivityNode)) {
-        let body = node.body().map(|body| body.syntax().clone());
-        let returns: Vec<SyntaxNode> =
-            body.iter().flat_map(|body| body.descendants()).filter(|n| ast::ReturnStmt::can_cast(n.kind())).collect();
-        if returns.is_empty() {
+        let returns = node.body().is_some_and(|body| body.syntax().descendants().any(|n| n.kind() == RETURN_STMT));
+        if !returns {
             return write(self, node);
         }
-        // A `return` inside a loop or `switch` (the node's own loops too) leaves by a flag.
-        let breakable = |n: &SyntaxNode| {
-            use SyntaxKind::*;
-            matches!(n.kind(), LOOP_STMT | DO_LOOP_STMT | FOR_STMT | SWITCH_STMT | LOOP_WINDOW_STMT)
-        };
-        let nested = matches!(node.kind(), ast::NodeKind::Loop | ast::NodeKind::LoopWindow)
-            || returns.iter().any(|r| r.ancestors().take_while(|n| Some(n) != body.as_ref()).any(|n| breakable(&n)));
         let outer = self.node_exit.replace(NodeExit { depth: 0, nested_returns: 0 });
         self.block("loop { // `return` leaves the node", |e| {
-            if nested {
-                e.line(format!("var {LEAVE_NODE} = false;"));
-            }
+            let (start, _) = e.checkpoint();
             write(e, node);
+            // A `return` inside a loop or `switch` (the node's own loops too) leaves by a flag.
+            if e.node_exit.is_some_and(|exit| exit.nested_returns > 0) {
+                e.insert_line(start, format!("var {LEAVE_NODE} = false;"));
+            }
             e.line("break;");
         });
         self.node_exit = outer;

@@ -28,9 +28,9 @@ const ADDRESS_MIRRORED_REPEAT: u32 = 8;
 const NORMALIZED_COORDS: u32 = 1;
 const FILTER_LINEAR: u32 = 32;
 
-/// The images read through a sampler, and whether at float coordinates: each gets a texel
-/// helper, and those read at float coordinates a sampling helper too.
-pub(crate) type SampledImages = std::collections::BTreeMap<String, (ImageType, bool, bool)>;
+/// The image parameters read through a sampler, and whether at float coordinates: each gets a
+/// texel helper, and those read at float coordinates a sampling helper too.
+pub(crate) type SampledImages = std::collections::BTreeMap<String, bool>;
 
 impl Emitter<'_> {
     /// `read_image{f,i,ui}(image, [sampler,] coordinate)` as the call's type.
@@ -65,10 +65,9 @@ impl Emitter<'_> {
                 load(&texture, &clamped, written)
             }
             (Ty::Int | Ty::Float, Some(sampler)) => {
-                let sampler = self.sampler(sampler);
+                let sampler = bare(self.expr_as(sampler, &Ty::Int));
                 let float = *element == Ty::Float;
-                let entry = self.sampled_images.entry(name.clone()).or_insert((image, written, false));
-                entry.2 |= float;
+                *self.sampled_images.entry(name.clone()).or_default() |= float;
                 let helper = if float { "sample" } else { "texel" };
                 format!("{GENERATED}{helper}_{texture}({at}, {sampler})")
             }
@@ -80,14 +79,6 @@ impl Emitter<'_> {
             _ => return self.unsupported(coordinate.syntax(), "an image coordinate is an int or a float vector"),
         };
         convert(read, &image.texel_ty(), result)
-    }
-
-    /// A sampler argument as its flags (`i32`).
-    fn sampler(&mut self, sampler: &ast::Expr) -> String {
-        match self.ty(sampler).dereferenced() {
-            Ty::Gpu(name) if name == "sampler_t" => bare(self.expr(sampler)),
-            _ => bare(self.expr_as(sampler, &Ty::Int)),
-        }
     }
 
     /// `write_image{f,i,ui}(image, coordinate, value)`.
@@ -117,7 +108,8 @@ impl Emitter<'_> {
     /// The helpers of the reads through a sampler, per image.
     pub fn sampling_helpers(&self) -> String {
         let mut out = String::new();
-        for (name, (image, written, float)) in &self.sampled_images {
+        for (name, float) in &self.sampled_images {
+            let Some(Binding::Image { image, written, .. }) = self.binding(name) else { continue };
             out.push_str(&texel_helper(&ident(name), image, *written));
             if *float {
                 out.push_str(&sampling_helper(&ident(name), image));

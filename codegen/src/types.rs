@@ -42,6 +42,10 @@ pub fn convert(code: String, from: &Ty, to: &Ty) -> String {
         return code;
     }
     let Some(target) = value_type(to) else { return code };
+    if value_type(from).as_ref() == Some(&target) {
+        // The same WGSL type (a `sampler_t` is an `int`).
+        return code;
+    }
     match (from, to) {
         (_, Ty::Bool) => match from {
             Ty::Int => format!("({code} != 0)"),

@@ -81,28 +81,29 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
 /// The variable section: types that exist, initial values typed against the diagram's
 /// parameters and variables (and the diagram's owner's members) that fit their variables.
 fn variables(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram) {
-    let locals = diagram_locals(diagram);
-    let owner = ctx.sema.owner_at(diagram.syntax());
     for variable in diagram.variables() {
         if let Some(ty) = variable.type_ref() {
             types::type_ref(ctx, scope, &ty);
         }
-        let Some(init) = variable.initializer() else { continue };
-        calls::expressions(ctx, scope, init.syntax());
-        let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
-        for (name, ty) in locals.iter().cloned() {
-            typing.declare(name, ty);
+        if let Some(init) = variable.initializer() {
+            calls::expressions(ctx, scope, init.syntax());
         }
+    }
+    for decl in diagram.var_decls() {
+        calls::expressions(ctx, scope, decl.syntax());
+    }
+    let owner = ctx.sema.owner_at(diagram.syntax());
+    let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+    for (name, ty) in diagram_locals(diagram) {
+        typing.declare(name, ty);
+    }
+    for variable in diagram.variables() {
+        let Some(init) = variable.initializer() else { continue };
         let ty = typing.written_type(variable.type_ref());
         let name = variable.name().map(|n| n.text()).unwrap_or_default();
         typing.check_value(&ty, &init, &format!("`{name}`"));
     }
     for decl in diagram.var_decls() {
-        calls::expressions(ctx, scope, decl.syntax());
-        let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
-        for (name, ty) in locals.iter().cloned() {
-            typing.declare(name, ty);
-        }
         typing.check(decl.syntax());
     }
 }
