@@ -193,7 +193,7 @@ fn what_cannot_run_is_found_before_anything_runs() {
     {
         start S { => split; }
         fork split { => a; => b; }
-        action a { call behavior Other(); => f; }
+        action a { call behavior Other(1); => f; }
         action b { var int y = this; => f; }
         calc c() { call Reduction.FindIndex::findMinimumIndexFirstStage(null, null, 1, 4, 1, 1u, 1); => f; }
         final f;
@@ -216,7 +216,7 @@ ActivityDiagram Other() { swimlane L { start S { => f; } final f; } }
     assert!(errors.iter().all(|e| e.kind == RunErrorKind::NotRunnable));
     assert!(has("int x", "parameters"), "{found:#?}");
     assert!(has("fork split", "one flow"), "{found:#?}");
-    assert!(has("call behavior Other()", "call behavior"), "{found:#?}");
+    assert!(has("call behavior Other(1)", "takes 0 argument(s), 1 are given"), "{found:#?}");
     assert!(has("this", "this"), "{found:#?}");
 }
 

@@ -1,17 +1,21 @@
 //! Running a compiled diagram: from the start node, each node's statements, then the first
 //! transition whose guard holds (the unguarded one otherwise) with its arguments handed to the
-//! target's parameters, until a final node — or a node with no transition to take. The
+//! target's parameters, until a final node — or a node with no transition to take. A
+//! `call behavior` runs the called diagram's nodes the same way, and returns. The
 //! observer is told of every node and asked between nodes (and every 65 536 loop iterations)
 //! whether to stop. The operations the compiled code does not do inline — framework calls,
 //! allocation, kernel launches — are here too.
 
-use std::time::{Duration, Instant};
+use std::{
+    rc::Rc,
+    time::{Duration, Instant},
+};
 
 use crate::launch::Launcher;
 
 use super::{
     arith::int,
-    compile::{self, Block},
+    compile::{self, Block, Compiled},
     framework::{Framework, Method},
     ir::{NodeKind, Program, Span},
     value::{memory, Pointer, Scalar, Value},
@@ -32,8 +36,12 @@ pub(super) type Outcome<T> = Result<T, Box<RunError>>;
 /// Loop iterations between two questions to the observer whether to stop.
 const CANCEL_CHECK_INTERVAL: u32 = 1 << 16;
 
+/// How deep `call behavior` calls may nest (each takes stack of the thread that runs).
+const MAX_CALL_DEPTH: u32 = 200;
+
 pub(super) struct Machine<'r, 'g> {
     pub program: &'r Program,
+    code: Rc<Compiled>,
     pub frame: Vec<Value>,
     pub framework: Framework<'g>,
     pub launchers: &'r [Launcher],
@@ -46,6 +54,10 @@ pub(super) struct Machine<'r, 'g> {
     /// Per node: how often it ran, for how long in all, and the order it first ran in.
     pub times: Vec<(u32, Duration, usize)>,
     iterations: u32,
+    /// Per diagram: how many of its calls are running.
+    active: Vec<u32>,
+    /// How many calls are running.
+    depth: u32,
 }
 
 impl<'r, 'g> Machine<'r, 'g> {
@@ -57,25 +69,35 @@ impl<'r, 'g> Machine<'r, 'g> {
     ) -> Machine<'r, 'g> {
         Machine {
             program,
+            code: Rc::new(compile::program(program)),
             frame: vec![Value::Void; program.slots.len()],
             framework,
             launchers,
             observer,
             work: Vec::new(),
-            node: program.start,
+            node: program.diagrams[0].start,
             nodes_run: 0,
             calcs: Vec::new(),
             times: vec![(0, Duration::ZERO, usize::MAX); program.nodes.len()],
             iterations: 0,
+            active: vec![0; program.diagrams.len()],
+            depth: 0,
         }
     }
 
     /// Runs the diagram to its end.
     pub fn run(&mut self) -> Outcome<Ending> {
+        let code = Rc::clone(&self.code);
+        self.active[0] = 1;
+        run_block(self, &code.inits[0])?;
+        self.flow(&code, self.program.diagrams[0].start).map(|(ending, _)| ending)
+    }
+
+    /// Runs nodes from `start` until a final node (with what it returns) or a node with no
+    /// transition to take.
+    fn flow(&mut self, code: &Compiled, start: usize) -> Outcome<(Ending, Value)> {
         let program = self.program;
-        let code = compile::program(program);
-        run_block(self, &code.init)?;
-        let mut current = program.start;
+        let mut current = start;
         // The node and transition the current node was entered by.
         let mut entered: Option<(usize, usize)> = None;
         loop {
@@ -100,7 +122,11 @@ impl<'r, 'g> Machine<'r, 'g> {
                 run_block(self, &code.nodes[from].edges[edge].outs)?;
             }
             if node.kind == NodeKind::Final {
-                return Ok(Ending::Final(node.name.clone()));
+                let result = match &compiled.result {
+                    Some(result) => result(self)?,
+                    None => Value::Void,
+                };
+                return Ok((Ending::Final(node.name.clone()), result));
             }
             let mut taken = None;
             for (i, edge) in compiled.edges.iter().enumerate() {
@@ -113,7 +139,7 @@ impl<'r, 'g> Machine<'r, 'g> {
                     break;
                 }
             }
-            let Some(taken) = taken else { return Ok(Ending::NoTransition(node.name.clone())) };
+            let Some(taken) = taken else { return Ok((Ending::NoTransition(node.name.clone()), Value::Void)) };
             let edge = &compiled.edges[taken];
             // Every argument is computed before any parameter changes.
             let values = edge.args.iter().map(|(_, value)| value(self)).collect::<Outcome<Vec<_>>>()?;
@@ -124,6 +150,53 @@ impl<'r, 'g> Machine<'r, 'g> {
             entered = Some((current, taken));
             current = program.nodes[current].edges[taken].target;
         }
+    }
+
+    /// `call behavior` of diagram `index` with `args` (its parameters' values): what its final
+    /// node returns and the values of its `out` parameters. A diagram that is running already
+    /// (recursion) has its slots saved and restored around the call.
+    #[inline(never)]
+    pub fn call_diagram(&mut self, index: usize, args: Vec<Value>, span: Span) -> Outcome<(Value, Vec<Value>)> {
+        let program = self.program;
+        let diagram = &program.diagrams[index];
+        if self.depth >= MAX_CALL_DEPTH {
+            return Err(failed(
+                span,
+                format!("calls nested {MAX_CALL_DEPTH} deep: `{}` recurses without end?", diagram.name),
+            ));
+        }
+        let saved = (self.active[index] > 0).then(|| self.frame[diagram.frame.clone()].to_vec());
+        for ((slot, _), value) in diagram.params.iter().zip(args) {
+            self.frame[*slot] = value;
+        }
+        let (node, work) = (self.node, std::mem::take(&mut self.work));
+        self.active[index] += 1;
+        self.depth += 1;
+        let code = Rc::clone(&self.code);
+        let ran = run_block(self, &code.inits[index]).and_then(|_| self.flow(&code, diagram.start));
+        self.active[index] -= 1;
+        self.depth -= 1;
+        let (result, outs) = match ran? {
+            (Ending::NoTransition(at), _) => {
+                return Err(failed(
+                    span,
+                    format!(
+                        "`{}` stopped at node `{at}`, where no transition can be taken: a called diagram returns \
+                         to its caller from a final node",
+                        diagram.name
+                    ),
+                ))
+            }
+            (Ending::Final(_), result) => {
+                (result, diagram.params.iter().filter(|(_, out)| *out).map(|(slot, _)| self.frame[*slot].clone()))
+            }
+        };
+        let outs = outs.collect();
+        if let Some(saved) = saved {
+            self.frame[diagram.frame.clone()].clone_from_slice(&saved);
+        }
+        (self.node, self.work) = (node, work);
+        Ok((result, outs))
     }
 
     /// Counts a loop iteration; every [`CANCEL_CHECK_INTERVAL`], whether to stop.

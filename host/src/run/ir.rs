@@ -92,6 +92,22 @@ pub enum Expr {
     NewArray(Scalar, Box<Expr>, Span),
     /// `call C::m(…)` in a calc or calcRange node: kernel `kernel` of the run's table.
     Launch(usize, Vec<Expr>, Span),
+    /// `call behavior D(…)`: diagram `diagram` of the program run with `args` (converted to
+    /// its parameters); each `out` parameter's value then stored through a slot of the
+    /// caller's into the place the argument names. Its value is what the final node returns.
+    CallDiagram {
+        diagram: usize,
+        args: Vec<Expr>,
+        outs: Vec<OutArg>,
+        span: Span,
+    },
+}
+
+/// Where a called diagram's `out` parameter goes (one per `out` parameter, in order): its
+/// value is put in `slot` (the caller's) once the call has returned, then stored in `place`.
+pub struct OutArg {
+    pub slot: Slot,
+    pub place: Place,
 }
 
 /// What can be assigned to: a variable (with the conversion its type asks) or an element.
@@ -131,6 +147,8 @@ pub struct Node {
     pub edges: Vec<Edge>,
     /// `out` parameters: written back to the caller's variable when the node has run.
     pub outs: Vec<Slot>,
+    /// A final node's `return` value (a called diagram's result).
+    pub result: Option<Expr>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -155,15 +173,30 @@ pub struct Edge {
     pub outs: Vec<Place>,
 }
 
-/// A lowered diagram.
+/// A lowered diagram and the diagrams it calls, theirs too, in one table of nodes and one
+/// frame of slots.
 pub struct Program {
+    /// The diagram that runs first, `diagrams[0]`.
     pub diagram: String,
     pub nodes: Vec<Node>,
-    pub start: usize,
-    /// The diagram variables' initialisation, in order.
-    pub init: Vec<Stmt>,
+    /// The diagram run and then each diagram called with `call behavior`, in the order the
+    /// calls were found.
+    pub diagrams: Vec<Diagram>,
     /// Each slot's conversion: what its variable's type makes of what is stored in it.
     pub slots: Vec<Conv>,
     /// Names of the diagram variables and their slots (a finished run can be inspected).
     pub variables: Vec<(String, Slot)>,
+}
+
+/// One diagram of a program.
+pub struct Diagram {
+    pub name: String,
+    pub start: usize,
+    /// Its variables' initialisation, in order (after its parameters got their values).
+    pub init: Vec<Stmt>,
+    /// Its parameters' slots, in order, and whether each is `out`.
+    pub params: Vec<(Slot, bool)>,
+    /// Every slot of its own (parameters, variables, nodes' parameters, locals): saved and
+    /// restored around a call that finds the diagram running already (recursion).
+    pub frame: std::ops::Range<Slot>,
 }

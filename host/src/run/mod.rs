@@ -168,9 +168,15 @@ impl Prepared {
         &self.program.diagram
     }
 
-    /// The file the diagram is declared in (where the errors of its run are).
-    pub fn file(&self) -> SourceFile {
-        self.file
+    /// The files of the diagram and of the diagrams it calls (where the errors of its run are).
+    pub fn files(&self) -> Vec<SourceFile> {
+        let mut files = vec![self.file];
+        for node in &self.program.nodes {
+            if !files.contains(&node.span.file) {
+                files.push(node.span.file);
+            }
+        }
+        files
     }
 
     /// The kernels the calc nodes launch.

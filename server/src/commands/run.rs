@@ -9,10 +9,11 @@
 //! could not be read, no device, or the output not written.
 
 use std::{
+    collections::HashSet,
     io::{IsTerminal, Write},
     path::{Path, PathBuf},
     process::ExitCode,
-    time::Duration,
+    time::{Duration, Instant},
 };
 
 use clap::Args;
@@ -70,7 +71,7 @@ pub fn run(args: &RunArgs) -> ExitCode {
         }
     };
     eprintln!("running {} on {}", prepared.diagram(), gpu.describe());
-    let mut progress = Progress { terminal: std::io::stderr().is_terminal() };
+    let mut progress = Progress { terminal: std::io::stderr().is_terminal(), rewritten: None, written: HashSet::new() };
     let report = prepared.run(&gpu, &args.output, &mut progress);
     progress.done();
     print_report(&report);
@@ -167,18 +168,34 @@ fn add_findings(report: &mut report::Report, files: &[FileId], errors: &[RunErro
     report.findings.sort_by_key(|f| (f.file, f.range.start()));
 }
 
-/// Nodes on stderr as they start (one line each, or one line rewritten on a terminal), and
-/// `printf` output on stdout.
+/// Nodes on stderr as they start — on a terminal, one line rewritten for a node that runs
+/// for the first time, else at most every [`REWRITE_INTERVAL`]; in a log, a line for each node
+/// the first time it runs (loops over nodes and called diagrams run nodes by the thousand) —
+/// and `printf` output on stdout.
 struct Progress {
     terminal: bool,
+    /// When the terminal's line was last rewritten.
+    rewritten: Option<Instant>,
+    /// The nodes that ran.
+    written: HashSet<String>,
 }
+
+/// How often a terminal's progress line is rewritten at most.
+const REWRITE_INTERVAL: Duration = Duration::from_millis(50);
 
 impl Observer for Progress {
     fn node(&mut self, name: &str) {
-        if self.terminal {
+        let first = !self.written.contains(name);
+        if first {
+            self.written.insert(name.to_string());
+        }
+        if !self.terminal {
+            if first {
+                eprintln!("  node {name}");
+            }
+        } else if first || self.rewritten.is_none_or(|at| at.elapsed() >= REWRITE_INTERVAL) {
             eprint!("\r\x1b[2K  node {name}");
-        } else {
-            eprintln!("  node {name}");
+            self.rewritten = Some(Instant::now());
         }
     }
 

@@ -90,11 +90,10 @@ pub struct Ready {
     pub places: Places,
 }
 
-/// The diagram's file as it was when the run started: run errors are placed in it.
+/// The files of the diagram and of those it calls as they were when the run started: run
+/// errors are placed in them.
 pub struct Places {
-    file: FileId,
-    uri: Option<lsp::Uri>,
-    index: LineIndex,
+    files: Vec<(FileId, Option<lsp::Uri>, LineIndex)>,
     encoding: Encoding,
 }
 
@@ -122,9 +121,10 @@ pub fn prepare(snap: &Snapshot, name: &str) -> Cancellable<Result<Ready, Refusal
     let errors = match prepared {
         Err(message) => return Ok(Err(Refusal { message, problems: Vec::new() })),
         Ok(Ok(prepared)) => {
-            let file = prepared.file();
-            let index = snap.analysis.line_index(file)?.clone();
-            let places = Places { file, uri: snap.uri_of(file), index, encoding: snap.encoding };
+            let mut places = Places { files: Vec::new(), encoding: snap.encoding };
+            for file in prepared.files() {
+                places.files.push((file, snap.uri_of(file), snap.analysis.line_index(file)?.clone()));
+            }
             return Ok(Ok(Ready { prepared, places }));
         }
         Ok(Err(errors)) => errors,
@@ -333,9 +333,9 @@ impl Observer for Reporter {
 impl Places {
     /// Where a run error happened, as an LSP location.
     pub fn location(&self, error: &RunError) -> Option<lsp::Location> {
-        let span = error.span.filter(|span| span.file == self.file)?;
-        let uri = self.uri.clone()?;
-        Some(lsp::Location { uri, range: to_proto::range(&self.index, span.range, self.encoding) })
+        let span = error.span?;
+        let (_, uri, index) = self.files.iter().find(|(file, _, _)| *file == span.file)?;
+        Some(lsp::Location { uri: uri.clone()?, range: to_proto::range(index, span.range, self.encoding) })
     }
 }
 

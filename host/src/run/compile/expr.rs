@@ -6,7 +6,7 @@
 use super::{
     super::{
         arith::{convert, float, float_binary, int, int_binary, ordered, same, truthy, uint_binary, undefined},
-        exec::{failed, Machine, Outcome},
+        exec::{failed, Flow, Machine, Outcome},
         framework::Method,
         ir::{Arith, CmpOp, Conv, Expr, Place, Slot},
         value::{Number, Value},
@@ -324,6 +324,20 @@ impl Compiler<'_> {
                 code(move |m| {
                     let count = count(m)?;
                     m.new_array(element, &count, span)
+                })
+            }
+            &Expr::CallDiagram { diagram, ref args, ref outs, span } => {
+                let args: Vec<Code<Value>> = args.iter().map(|arg| self.value(arg)).collect();
+                let outs: Vec<(Slot, Code<Flow>)> =
+                    outs.iter().map(|out| (out.slot, self.assign(&out.place, &Expr::Var(out.slot)))).collect();
+                code(move |m| {
+                    let args = args.iter().map(|arg| arg(m)).collect::<Result<Vec<_>, _>>()?;
+                    let (result, values) = m.call_diagram(diagram, args, span)?;
+                    for ((slot, store), value) in outs.iter().zip(values) {
+                        m.frame[*slot] = value;
+                        store(m)?;
+                    }
+                    Ok(result)
                 })
             }
             &Expr::Launch(kernel, ref args, span) => {

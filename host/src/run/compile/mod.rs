@@ -22,15 +22,17 @@ pub(super) type Code<T> = Box<dyn Fn(&mut Machine<'_, '_>) -> Outcome<T>>;
 /// Statements, in order.
 pub(super) type Block = Box<[Code<Flow>]>;
 
-/// A compiled program: the diagram variables' initialisation and each node.
+/// A compiled program: each diagram's variables' initialisation, and each node.
 pub(super) struct Compiled {
-    pub init: Block,
+    pub inits: Vec<Block>,
     pub nodes: Vec<NodeCode>,
 }
 
 pub(super) struct NodeCode {
     pub body: Block,
     pub edges: Vec<EdgeCode>,
+    /// A final node's return value.
+    pub result: Option<Code<Value>>,
 }
 
 /// A transition's guard, arguments and work sizes, as in [`super::ir::Edge`], and the
@@ -57,8 +59,10 @@ pub(super) fn program(program: &Program) -> Compiled {
                     .collect(),
             })
             .collect(),
+        result: node.result.as_ref().map(|result| compiler.value(result)),
     });
-    Compiled { init: compiler.block(&program.init), nodes: nodes.collect() }
+    let inits = program.diagrams.iter().map(|diagram| compiler.block(&diagram.init)).collect();
+    Compiled { inits, nodes: nodes.collect() }
 }
 
 /// Boxes `f` as compiled code (the machine's lifetimes left free).

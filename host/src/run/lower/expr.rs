@@ -4,15 +4,15 @@
 //! framework's methods and functions, `new`, and `call C::m(…)` in calc nodes (a kernel).
 
 use gudsl_model::{
-    ast::{self, AstNode, LiteralValue},
-    hir::{DefKind, Ty},
+    ast::{self, AstNode, HasModifiers, HasName, LiteralValue},
+    hir::{DefKind, Scope, Ty},
     syntax::{SyntaxKind, SyntaxNode},
 };
 
 use super::{conv, conv_to, stmt::arith, Lowering};
 use crate::run::{
     framework::Method,
-    ir::{Arith, BinOp, CmpOp, Conv, Expr, Place},
+    ir::{Arith, BinOp, CmpOp, Conv, Expr, OutArg, Place},
     value::{Constant, Scalar},
 };
 
@@ -116,10 +116,7 @@ impl Lowering<'_, '_> {
             CallExpr(call) => self.call(expr, call),
             NewExpr(new) => self.construct(expr, new),
             CallMethodExpr(call) => self.launch(expr, call),
-            CallBehaviorExpr(_) => self.unsupported(
-                expr.syntax(),
-                "`call behavior` does not run on the host yet (only device diagrams call behaviors)",
-            ),
+            CallBehaviorExpr(call) => self.call_behavior(expr, call),
             CallInterfaceExpr(_) => self.unsupported(
                 expr.syntax(),
                 "interface calls belong to component diagrams: they do not run in a host diagram",
@@ -435,6 +432,53 @@ impl Lowering<'_, '_> {
         };
         let args = call.args().map(|a| self.expr(&a)).collect();
         Expr::Launch(kernel, args, self.span(expr.syntax()))
+    }
+}
+
+impl Lowering<'_, '_> {
+    /// `call behavior D(…)` of a host diagram: the arguments converted to its parameters, each
+    /// `out` argument a place its value is stored in when the call returns.
+    fn call_behavior(&mut self, expr: &ast::Expr, call: &ast::CallBehaviorExpr) -> Expr {
+        let Some(path) = call.behavior() else { return self.unsupported(expr.syntax(), "an incomplete call") };
+        let sema = self.sema;
+        let def = sema.resolve(&Scope::at(call.syntax()), &path.text());
+        let Some(def) = def.filter(|def| matches!(def.kind, DefKind::Activity(_))) else {
+            return self.unsupported(expr.syntax(), format!("`{}` is no activity diagram", path.text()));
+        };
+        if gudsl_codegen::is_device_diagram(sema, def) {
+            return self.unsupported(
+                expr.syntax(),
+                format!(
+                    "`{}` is a device diagram: it runs on the GPU, launched from a calc node (`call C::m(…)`)",
+                    def.fqn
+                ),
+            );
+        }
+        let Some(diagram) = sema.declaration(def).and_then(|(node, _)| ast::ActivityDiagram::cast(node)) else {
+            return self.unsupported(expr.syntax(), format!("`{}` is no activity diagram", def.fqn));
+        };
+        let (params, args): (Vec<ast::Param>, Vec<ast::Expr>) = (diagram.params().collect(), call.args().collect());
+        if params.len() != args.len() {
+            return self.unsupported(
+                expr.syntax(),
+                format!("`{}` takes {} argument(s), {} are given", def.fqn, params.len(), args.len()),
+            );
+        }
+        let types = sema.body_types(diagram.syntax());
+        let mut lowered = Vec::new();
+        let mut outs = Vec::new();
+        for (param, arg) in params.iter().zip(&args) {
+            let name = param.name().map(|n| n.text()).unwrap_or_default();
+            let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
+            lowered.push(self.converted(arg, &ty, param.type_ref().as_ref()));
+            if param.has_modifier(SyntaxKind::OUT_KW) {
+                if let Some(place) = self.place(arg) {
+                    outs.push(OutArg { slot: self.slot(Conv::Keep), place });
+                }
+            }
+        }
+        let diagram = self.called_index(def, diagram);
+        Expr::CallDiagram { diagram, args: lowered, outs, span: self.span(expr.syntax()) }
     }
 }
 
