@@ -110,7 +110,7 @@ fn main_in_rust(gpu: &Gpu, kernels: &Kernels, out: &Path) -> (Duration, Duration
 }
 
 fn main() {
-    let gpu = bench_gpu();
+    let gpu = bench_gpu(false);
     let main = prepared(&main_sources(|text| text), "Main").unwrap_or_else(|e| panic!("{e:?}"));
     let kernels = Kernels {
         bilateral: Launcher::new(&gpu, &generated("AdFilterBilateral")).unwrap(),

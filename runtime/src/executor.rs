@@ -110,7 +110,7 @@ impl<'g> GpuPipeline<'g> {
         self.reset_scratch();
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         for step in &self.steps {
-            self.encode(step, &mut encoder);
+            self.encode(step, &mut encoder, None);
         }
         let mut offset = 0u64;
         for &sink in &self.pipeline.sinks {
@@ -158,7 +158,8 @@ impl<'g> GpuPipeline<'g> {
         Ok(())
     }
 
-    /// Uploads the sources, then times each step on its own (submit and wait), without readback.
+    /// Uploads the sources, then times each step on its own (submit and wait, or the compute
+    /// pass by the GPU's clock on a [`Gpu::with_timestamps`]), without readback.
     pub fn time_steps(&self, sources: &[Image]) -> Result<Vec<Duration>, PipelineError> {
         self.upload(sources)?;
         self.reset_scratch();
@@ -169,10 +170,13 @@ impl<'g> GpuPipeline<'g> {
             .map(|step| {
                 let start = Instant::now();
                 let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-                self.encode(step, &mut encoder);
+                self.encode(step, &mut encoder, self.gpu.pass_timestamps());
+                self.gpu.resolve_timestamps(&mut encoder);
                 self.gpu.queue.submit([encoder.finish()]);
                 let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-                start.elapsed()
+                let elapsed = start.elapsed();
+                // A timestamp that cannot be read back leaves the wall time.
+                self.gpu.device_time().ok().flatten().unwrap_or(elapsed)
             })
             .collect())
     }
@@ -193,8 +197,15 @@ impl<'g> GpuPipeline<'g> {
         }
     }
 
-    fn encode(&self, step: &PreparedStep, encoder: &mut wgpu::CommandEncoder) {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
+    /// Records `step`'s dispatches in one compute pass (timed by `timestamps` when given).
+    fn encode(
+        &self,
+        step: &PreparedStep,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: timestamps });
         pass.set_bind_group(0, &step.bind_group, &[]);
         for (compute, groups) in &step.passes {
             pass.set_pipeline(compute);

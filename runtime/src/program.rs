@@ -221,7 +221,8 @@ impl Program {
     }
 
     /// Runs the entry point over `workgroups` with `resources` at their bindings and the pipeline
-    /// constants `constants`; waits for the device and returns how long it took from submission.
+    /// constants `constants`; waits for the device and returns how long it took from submission
+    /// (or, on a [`Gpu::with_timestamps`], the compute pass by the GPU's clock).
     pub fn dispatch(
         &self,
         gpu: &Gpu,
@@ -280,18 +281,23 @@ impl Program {
             });
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&self.label),
+                    timestamp_writes: gpu.pass_timestamps(),
+                });
                 pass.set_pipeline(&pipeline);
                 pass.set_bind_group(0, &group, &[]);
                 pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
             }
+            gpu.resolve_timestamps(&mut encoder);
             encoder.finish()
         })
         .map_err(dispatch_error)?;
         let start = Instant::now();
         scoped(gpu, || gpu.queue.submit([commands])).map_err(dispatch_error)?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| dispatch_error(e.to_string()))?;
-        Ok(start.elapsed())
+        let elapsed = start.elapsed();
+        Ok(gpu.device_time().map_err(dispatch_error)?.unwrap_or(elapsed))
     }
 
     /// WebGPU forbids one buffer or image at two bindings of a dispatch when either binding

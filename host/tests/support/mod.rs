@@ -127,11 +127,17 @@ pub fn prepared(sources: &[(String, String)], name: &str) -> Result<Prepared, Ve
     with_diagram(sources, name, prepare)
 }
 
-/// The device a benchmark runs on; exits when there is none.
-pub fn bench_gpu() -> Gpu {
-    match Gpu::new() {
+/// The device a benchmark runs on (dispatches timed by the GPU's clock where it has one, when
+/// `timestamps`); exits when there is none.
+pub fn bench_gpu(timestamps: bool) -> Gpu {
+    match if timestamps { Gpu::with_timestamps() } else { Gpu::new() } {
         Ok(gpu) => {
-            println!("adapter: {}\n", gpu.describe());
+            let timed = if gpu.times_on_device() {
+                "dispatches timed by the GPU's timestamps (the compute pass alone)"
+            } else {
+                "dispatches timed from submission to completion"
+            };
+            println!("adapter: {}; {timed}\n", gpu.describe());
             gpu
         }
         Err(error) => {
@@ -314,4 +320,45 @@ impl FindIndex {
         let index = i32::from_le_bytes(last.read(gpu).unwrap()[..4].try_into().unwrap());
         (index, first + second)
     }
+}
+
+/// Checks an image filtered by Listing 15's mean (`channels` per pixel: 3 or 4) against the
+/// mean of `input`'s windows done exactly: each interior value is the window's integer sum
+/// divided by its size and truncated — or one less where that quotient is exact, because the
+/// listing divides in `float` and a device may round the quotient just below it (WGSL allows
+/// 2.5 ULP for division; lavapipe and the CPU divide exactly); pixels nearer the border than
+/// the radius are invalid (0, 0, 0). The number of values one less, or the first that is wrong.
+#[allow(dead_code)] // Not every test file that shares this module filters means.
+pub fn check_mean(filtered: &[u8], channels: usize, input: &Rgba, kernel_size: usize) -> Result<usize, String> {
+    let (width, height, r) = (input.width, input.height, kernel_size / 2);
+    let count = ((2 * r + 1) * (2 * r + 1)) as u32;
+    let mut rounded_down = 0;
+    for y in 0..height {
+        for x in 0..width {
+            let interior = x >= r && y >= r && x + r < width && y + r < height;
+            for c in 0..3 {
+                let got = filtered[channels * (y * width + x) + c] as u32;
+                if !interior {
+                    if got != 0 {
+                        return Err(format!("border pixel ({x}, {y}) channel {c} is {got}, not 0"));
+                    }
+                    continue;
+                }
+                let sum: u32 = (y - r..=y + r)
+                    .flat_map(|v| (x - r..=x + r).map(move |u| (u, v)))
+                    .map(|(u, v)| input.texels[4 * (v * width + u) + c] as u32)
+                    .sum();
+                let mean = sum / count;
+                if got == mean {
+                    continue;
+                }
+                if sum.is_multiple_of(count) && got + 1 == mean {
+                    rounded_down += 1;
+                    continue;
+                }
+                return Err(format!("pixel ({x}, {y}) channel {c} is {got}; its window's mean is {sum}/{count}"));
+            }
+        }
+    }
+    Ok(rounded_down)
 }
