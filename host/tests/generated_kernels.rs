@@ -1,7 +1,9 @@
 //! The kernels generated from the samples' device diagrams run on the GPU (lavapipe in CI) and
 //! compute what the hand-written code computes: Listing 15's mean filter and Listing 16's
 //! bilateral filter against the runtime's hand-written WGSL of the listings and their CPU
-//! references, on a random image and on a simulated ToF amplitude image, and against the
+//! references, on a random image and on a simulated ToF amplitude image (the mean against its
+//! exact value: a device that divides in less than IEEE precision may round an exact mean
+//! down, as the listing's `float` arithmetic allows; on lavapipe all agree value for value), and against the
 //! runtime's own mean and bilateral kernels (f32 planes) in the interior; the findIndex reduction
 //! against the runtime's findIndex kernel and the CPU, including no match.
 
@@ -11,7 +13,7 @@ use gudsl_host::{Arg, Launcher, Number, WorkRange};
 use gudsl_runtime::{
     listings, DeviceBuffer, DeviceImage, Gpu, GpuPipeline, Image, Pipeline, Program, Shape, TexelFormat,
 };
-use support::{generated, random_bytes, run_generated, run_handwritten, FindIndex, Rgba};
+use support::{check_mean, generated, random_bytes, run_generated, run_handwritten, FindIndex, Rgba};
 
 /// Runs one of the runtime's own kernels on an f32 plane.
 fn run_runtime(gpu: &Gpu, kernel: gudsl_runtime::Kernel, plane: &Image) -> Image {
@@ -48,14 +50,23 @@ fn the_generated_mean_filter_equals_the_hand_written_one_and_the_cpu() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let kernel = generated("AdFilterMean");
     // Odd sizes: partial work-groups at the right and bottom edges.
+    // Where the device divides exactly (lavapipe, as in CI), all three agree value for value.
+    let exact_division = gpu.describe().contains("llvmpipe");
     for image in [Rgba::random(203, 97, 11), Rgba::amplitude()] {
         for kernel_size in [3, 10] {
             let ours = run_generated(&gpu, &kernel, &image, &[Number::Int(kernel_size)]);
             let params = listings::mean_params(kernel_size as i32, image.width as u32, image.height as u32);
             let handwritten = run_handwritten(&gpu, listings::MEAN_WGSL, &params, &image);
-            assert_eq!(difference(&ours, &handwritten), (0, 0), "generated vs hand-written, size {kernel_size}");
             let cpu = listings::mean(&image.texels, image.width, image.height, kernel_size as i32);
-            assert_eq!(difference(&ours, &cpu), (0, 0), "generated vs CPU, size {kernel_size}");
+            for (what, filtered) in [("generated", &ours), ("hand-written", &handwritten), ("CPU", &cpu)] {
+                let checked = check_mean(filtered, 4, &image, kernel_size as usize);
+                let rounded_down = checked.unwrap_or_else(|e| panic!("{what}, size {kernel_size}: {e}"));
+                eprintln!("{what}, size {kernel_size}: {rounded_down} exact means rounded down");
+            }
+            if exact_division {
+                assert_eq!(difference(&ours, &handwritten), (0, 0), "generated vs hand-written, size {kernel_size}");
+                assert_eq!(difference(&ours, &cpu), (0, 0), "generated vs CPU, size {kernel_size}");
+            }
         }
     }
     // Grey levels against the runtime's f32 mean in the interior.
