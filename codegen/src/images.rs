@@ -1,5 +1,5 @@
 //! Images on the device: `read_image{f,i,ui}` as OpenCL's sampler reads (integer coordinates
-//! clamped to the edge, or to the border colour; float coordinates normalised or not, repeated
+//! read as they are, clamped to the edge, or to the border colour; float coordinates normalised or not, repeated
 //! or mirrored, nearest or linearly filtered — OpenCL 1.2, 8.2), written out as helpers per
 //! image because WGSL samplers filter only float textures and address only what the hardware
 //! has; `write_image…` and the image's size.
@@ -19,9 +19,10 @@ use crate::{
     Binding, ImageType,
 };
 
-/// The bits of a sampler's addressing mode, and the values of the modes the helpers treat apart
-/// (`CLK_ADDRESS_NONE` reads like `CLK_ADDRESS_CLAMP_TO_EDGE`).
+/// The bits of a sampler's addressing mode, and the values of the modes the helpers treat apart.
 const ADDRESS_BITS: u32 = 0b1110;
+const ADDRESS_NONE: u32 = 0;
+const ADDRESS_CLAMP_TO_EDGE: u32 = 2;
 const ADDRESS_CLAMP: u32 = 4;
 const ADDRESS_REPEAT: u32 = 6;
 const ADDRESS_MIRRORED_REPEAT: u32 = 8;
@@ -127,16 +128,22 @@ fn load(texture: &str, at: &str, written: bool) -> String {
     }
 }
 
-/// The texel at an integer coordinate through a sampler: outside the image, the border colour
-/// (0) for `CLK_ADDRESS_CLAMP`, else the nearest edge texel.
+/// The texel at an integer coordinate through a sampler: with `CLK_ADDRESS_NONE` the texel
+/// there, unchecked (OpenCL leaves a coordinate outside the image undefined; WGSL reads it
+/// safely), which costs no more than a hand-written `textureLoad`; outside the image the border
+/// colour (0) for `CLK_ADDRESS_CLAMP`, else the nearest edge texel.
 fn texel_helper(texture: &str, image: &ImageType, written: bool) -> String {
     let (dims, texel) = (image.dimensions, image.texel);
     let ivec = format!("vec{dims}<i32>");
+    let unchecked = load(texture, "at", written);
     let load = load(texture, &format!("clamp(at, {ivec}(0), size - 1)"), written);
     format!(
-        "// A texel of `{texture}` through a sampler: outside the image, the border colour (0) for\n\
-         // CLK_ADDRESS_CLAMP, else the nearest edge texel.\n\
+        "// A texel of `{texture}` through a sampler: with CLK_ADDRESS_NONE the texel there, unchecked;\n\
+         // outside the image, the border colour (0) for CLK_ADDRESS_CLAMP, else the nearest edge texel.\n\
          fn {GENERATED}texel_{texture}(at: {ivec}, sampler: i32) -> vec4<{texel}> {{\n    \
+         if (sampler & {ADDRESS_BITS}) == {ADDRESS_NONE} {{\n        \
+         return {unchecked};\n    \
+         }}\n    \
          let size = {ivec}(textureDimensions({texture}));\n    \
          if (sampler & {ADDRESS_BITS}) == {ADDRESS_CLAMP} && (any(at < {ivec}(0)) || any(at >= size)) {{\n        \
          return vec4<{texel}>();\n    \
@@ -149,7 +156,8 @@ fn texel_helper(texture: &str, image: &ImageType, written: bool) -> String {
 /// A read at a float coordinate through a sampler, as OpenCL 1.2's 8.2 computes it: the
 /// coordinate in texels (scaled when normalised; folded into the image for repeat and mirrored
 /// repeat), then the nearest texel or the weighted mean of the 2ᵈ around it (linear; integer
-/// texels rounded to the nearest, where OpenCL leaves it undefined).
+/// texels rounded to the nearest, where OpenCL leaves it undefined). `CLK_ADDRESS_NONE` reads
+/// the texels like `CLK_ADDRESS_CLAMP_TO_EDGE`: filtering reaches past the edge.
 fn sampling_helper(texture: &str, image: &ImageType) -> String {
     let (dims, texel) = (image.dimensions, image.texel);
     let (ivec, fvec, bvec) = (format!("vec{dims}<i32>"), format!("vec{dims}<f32>"), format!("vec{dims}<bool>"));
@@ -166,6 +174,7 @@ fn sampling_helper(texture: &str, image: &ImageType) -> String {
          let size = {ivec}(textureDimensions({texture}));\n    \
          let extent = {fvec}(size);\n    \
          let address = sampler & {ADDRESS_BITS};\n    \
+         let texels = select(sampler, sampler | {ADDRESS_CLAMP_TO_EDGE}, address == {ADDRESS_NONE});\n    \
          // The coordinate normalised (s) and in texels (u); repeat and mirrored repeat fold it in.\n    \
          var s = coordinate;\n    \
          var u = coordinate;\n    \
@@ -176,7 +185,7 @@ fn sampling_helper(texture: &str, image: &ImageType) -> String {
          var i = {ivec}(floor(u));\n        \
          if address == {ADDRESS_REPEAT} {{ i = select(i, i - size, i > size - 1); }}\n        \
          if address == {ADDRESS_MIRRORED_REPEAT} {{ i = min(i, size - 1); }}\n        \
-         return {GENERATED}texel_{texture}(i, sampler);\n    \
+         return {GENERATED}texel_{texture}(i, texels);\n    \
          }}\n    \
          let before = u - 0.5;\n    \
          var i0 = {ivec}(floor(before));\n    \
@@ -194,7 +203,7 @@ fn sampling_helper(texture: &str, image: &ImageType) -> String {
          for (var corner = 0; corner < {corners}; corner++) {{\n        \
          let far = {bvec}({far});\n        \
          let weight = select(1.0 - a, a, far);\n        \
-         sum += {weights} * vec4<f32>({GENERATED}texel_{texture}(select(i0, i1, far), sampler));\n    \
+         sum += {weights} * vec4<f32>({GENERATED}texel_{texture}(select(i0, i1, far), texels));\n    \
          }}\n    \
          return {result};\n\
          }}\n\n",

@@ -280,13 +280,21 @@ fn integer_images_read_the_border_colour_only_through_a_clamping_sampler() {
     image.write(&gpu, &bytes).unwrap();
     let grid: Vec<Vec<f32>> = (-2..6).flat_map(|y| (-2..6).map(move |x| vec![x as f32, y as f32])).collect();
     let integer_at = "int2 at = new int2((int)coordinates[2 * id], (int)coordinates[2 * id + 1])";
-    // Integer coordinates: no sampler clamps to the edge, CLK_ADDRESS_CLAMP gives the border.
-    for (read, sampler) in [("read_imagei(picture, at)", None), ("read_imagei(picture, smp, at)", Some(CLAMP))] {
+    // Integer coordinates: no sampler and CLK_ADDRESS_CLAMP_TO_EDGE clamp to the edge,
+    // CLK_ADDRESS_CLAMP gives the border, CLK_ADDRESS_NONE reads inside the image (outside,
+    // OpenCL leaves it undefined).
+    let inside: Vec<Vec<f32>> = grid.iter().filter(|at| at.iter().all(|&c| (0.0..4.0).contains(&c))).cloned().collect();
+    for (read, sampler, at) in [
+        ("read_imagei(picture, at)", None, &grid),
+        ("read_imagei(picture, smp, at)", Some(CLAMP), &grid),
+        ("read_imagei(picture, smp, at)", Some(CLAMP_TO_EDGE), &grid),
+        ("read_imagei(picture, smp, at)", Some(0), &inside),
+    ] {
         let params = if sampler.is_some() { "image2D_i picture, sampler_t smp" } else { "image2D_i picture" };
         let kernel = kernel(params, "", integer_at, read);
-        let got = run(&gpu, &kernel, &image, sampler, &grid);
+        let got = run(&gpu, &kernel, &image, sampler, at);
         let flags = sampler.unwrap_or(CLAMP_TO_EDGE) | NEAREST;
-        compare(read, &got, |i| texels.read(flags, &grid[i]), &grid);
+        compare(&format!("{read} with {sampler:?}"), &got, |i| texels.read(flags, &at[i]), at);
     }
     // Float coordinates on an integer image: the nearest texel.
     let kernel = kernel(
