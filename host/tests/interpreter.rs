@@ -112,13 +112,40 @@ fn less(l: C, r: C) -> bool {
 struct State {
     names: [&'static str; 5],
     values: [C; 5],
+    /// Whether the program is a loop compiled to machine code: what it would print goes into
+    /// memory (`ilog`/`ulog`, printed after the loop), and it stores into memory allocated
+    /// before the loop (`m0`…`m5`, one per element type).
+    native: bool,
 }
 
+/// How a `C` value stored in an element reads back.
+type ReadBack = fn(u32) -> i64;
+
+/// The element types memory is made of, with how a stored `C` value reads back.
+const ELEMENTS: [(&str, ReadBack); 6] = [
+    ("unsigned byte", |bits| (bits as u8) as i64),
+    ("byte", |bits| (bits as u8 as i8) as i64),
+    ("short", |bits| (bits as u16 as i16) as i64),
+    ("unsigned short", |bits| (bits as u16) as i64),
+    ("int", |bits| (bits as i32) as i64),
+    ("unsigned int", |bits| bits as i64),
+];
+
 impl State {
-    fn new() -> State {
+    fn new(native: bool) -> State {
         State {
             names: ["a", "b", "c", "u", "v"],
             values: [C::int(-7), C::int(1_000_003), C::int(i32::MIN + 5), C::uint(3), C::uint(4_000_000_000)],
+            native,
+        }
+    }
+
+    /// A statement that prints `text` (`%u` where `unsigned`), or logs it in a native loop.
+    fn print(&self, unsigned: bool, text: &str) -> String {
+        match (self.native, unsigned) {
+            (false, _) => format!("CPPMethods::printf(\"{}\\n\", {text});", if unsigned { "%u" } else { "%d" }),
+            (true, false) => format!("ilog[ni++] = {text};"),
+            (true, true) => format!("ulog[nu++] = {text};"),
         }
     }
 
@@ -180,8 +207,8 @@ impl State {
         }
     }
 
-    /// A random statement: its text, and what it prints (if it prints).
-    fn stmt(&mut self, random: &mut Random) -> (String, Option<String>) {
+    /// A random statement: its text, and what it prints (if it prints; `true` for `%u`).
+    fn stmt(&mut self, random: &mut Random) -> (String, Option<(bool, String)>) {
         let i = random.below(5) as usize;
         let name = self.names[i];
         let target = self.values[i];
@@ -189,8 +216,7 @@ impl State {
         match random.below(6) {
             0 | 1 => {
                 let (text, value) = self.expr(random, 3);
-                let format = if value.unsigned { "%u" } else { "%d" };
-                (format!("CPPMethods::printf(\"{format}\\n\", {text});"), Some(format!("{}\n", value.printed())))
+                (self.print(value.unsigned, &text), Some((value.unsigned, format!("{}\n", value.printed()))))
             }
             2 => {
                 let (text, value) = self.expr(random, 2);
@@ -207,53 +233,49 @@ impl State {
                 let (op, delta) = if random.below(2) == 0 { ("++", 1) } else { ("--", u32::MAX) };
                 let new = store(binary("+", target, C { bits: delta, unsigned: target.unsigned }));
                 self.values[i] = new;
-                let format = if target.unsigned { "%u" } else { "%d" };
                 // Postfix gives the old value, prefix the new one.
-                if random.below(2) == 0 {
-                    (
-                        format!("CPPMethods::printf(\"{format}\\n\", {name}{op});"),
-                        Some(format!("{}\n", target.printed())),
-                    )
-                } else {
-                    (format!("CPPMethods::printf(\"{format}\\n\", {op}{name});"), Some(format!("{}\n", new.printed())))
-                }
+                let (text, shown) =
+                    if random.below(2) == 0 { (format!("{name}{op}"), target) } else { (format!("{op}{name}"), new) };
+                (self.print(target.unsigned, &text), Some((target.unsigned, format!("{}\n", shown.printed()))))
             }
             _ => {
                 // A store into memory of each element type, read back.
                 let (text, value) = self.expr(random, 2);
-                let (ty, read) = [
-                    ("unsigned byte", (value.bits as u8) as i64),
-                    ("byte", (value.bits as u8 as i8) as i64),
-                    ("short", (value.bits as u16 as i16) as i64),
-                    ("unsigned short", (value.bits as u16) as i64),
-                    ("int", (value.bits as i32) as i64),
-                    ("unsigned int", value.bits as i64),
-                ][random.below(6) as usize];
-                let format = if ty == "unsigned int" { "%u" } else { "%d" };
-                let text = format!(
-                    "{{ var ref {ty} memory = new {ty}[3]; memory[1] = {text}; CPPMethods::printf(\"{format}\\n\", memory[1]); }}"
-                );
-                (text, Some(format!("{read}\n")))
+                let element = random.below(6) as usize;
+                let (ty, read) = ELEMENTS[element];
+                let unsigned = ty == "unsigned int";
+                let printed = Some((unsigned, format!("{}\n", read(value.bits))));
+                if self.native {
+                    return (
+                        format!("m{element}[1] = {text}; {}", self.print(unsigned, &format!("m{element}[1]"))),
+                        printed,
+                    );
+                }
+                let print = self.print(unsigned, "memory[1]");
+                (format!("{{ var ref {ty} memory = new {ty}[3]; memory[1] = {text}; {print} }}"), printed)
             }
         }
     }
 }
+
+/// The variables every random program starts with.
+const VARIABLES: &str = "    public int a = -7;\n    public int b = 1000003;\n    public int c = -2147483643;\n    \
+                         public unsigned int u = 3u;\n    public unsigned int v = 4000000000u;";
 
 #[test]
 fn random_integer_programs_print_what_c_computes() {
     let Some(gpu) = Gpu::for_tests() else { return };
     for seed in 1..=8u64 {
         let mut random = Random(0x9e37_79b9_7f4a_7c15 ^ seed);
-        let mut state = State::new();
+        let mut state = State::new(false);
         let (mut statements, mut expected) = (Vec::new(), Vec::new());
         for _ in 0..150 {
             let (text, printed) = state.stmt(&mut random);
             statements.push(format!("            {text}"));
-            expected.extend(printed);
+            expected.extend(printed.map(|(_, text)| text));
         }
         let body = format!(
-            "    public int a = -7;\n    public int b = 1000003;\n    public int c = -2147483643;\n    \
-             public unsigned int u = 3u;\n    public unsigned int v = 4000000000u;\n    swimlane L\n    {{\n        \
+            "{VARIABLES}\n    swimlane L\n    {{\n        \
              start S {{ => work; }}\n        action work\n        {{\n{}\n            => f;\n        }}\n        \
              final f;\n    }}",
             statements.join("\n")
@@ -262,6 +284,52 @@ fn random_integer_programs_print_what_c_computes() {
         assert_eq!(report.outcome, Ok(Ending::Final("f".into())), "seed {seed}:\n{text}");
         for (i, (got, want)) in report.printed.iter().zip(&expected).enumerate() {
             assert_eq!(got, want, "seed {seed}, print {i}:\n{text}");
+        }
+        assert_eq!(report.printed.len(), expected.len());
+    }
+}
+
+/// The same random programs as one iteration of a loop compiled to machine code: what the
+/// closures print, the native code computes (values logged in memory, printed after the loop).
+#[test]
+fn random_integer_programs_in_native_loops_compute_what_c_computes() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for seed in 1..=8u64 {
+        let mut random = Random(0x9e37_79b9_7f4a_7c15 ^ seed);
+        let mut state = State::new(true);
+        let (mut statements, mut signed, mut unsigned) = (Vec::new(), Vec::new(), Vec::new());
+        for _ in 0..150 {
+            let (text, printed) = state.stmt(&mut random);
+            statements.push(format!("                {text}"));
+            match printed {
+                Some((false, text)) => signed.push(text),
+                Some((true, text)) => unsigned.push(text),
+                None => {}
+            }
+        }
+        let memory: String =
+            (ELEMENTS.iter().enumerate()).map(|(i, (ty, _))| format!("    public ref {ty} m{i};\n")).collect();
+        let allocate: String =
+            (ELEMENTS.iter().enumerate()).map(|(i, (ty, _))| format!("m{i} = new {ty}[3]; ")).collect();
+        let body = format!(
+            "{VARIABLES}\n{memory}    public ref int ilog;\n    public ref unsigned int ulog;\n    \
+             public int ni = 0;\n    public int nu = 0;\n    public int k;\n    swimlane L\n    {{\n        \
+             start S {{ => allocate; }}\n        \
+             action allocate {{ {allocate}ilog = new int[200]; ulog = new unsigned int[200]; => work; }}\n        \
+             action work\n        {{\n            for(var int once = 0 : 1 : once < 1)\n            {{\n{}\n            }}\n            \
+             => show;\n        }}\n        \
+             action show\n        {{\n            \
+             for(k = 0 : 1 : k < ni) {{ CPPMethods::printf(\"%d\\n\", ilog[k]); }}\n            \
+             for(k = 0 : 1 : k < nu) {{ CPPMethods::printf(\"%u\\n\", ulog[k]); }}\n            => f;\n        }}\n        \
+             final f;\n    }}",
+            statements.join("\n")
+        );
+        let (report, text) = run(&gpu, &body);
+        assert_eq!(report.outcome, Ok(Ending::Final("f".into())), "seed {seed}:\n{text}");
+        assert_eq!(report.native_loops, 1, "seed {seed}: the loop ran as machine code:\n{text}");
+        let expected: Vec<String> = signed.into_iter().chain(unsigned).collect();
+        for (i, (got, want)) in report.printed.iter().zip(&expected).enumerate() {
+            assert_eq!(got, want, "seed {seed}, value {i}:\n{text}");
         }
         assert_eq!(report.printed.len(), expected.len());
     }
@@ -288,4 +356,110 @@ fn a_division_by_zero_and_an_index_outside_stop_the_run_where_they_are() {
         let range = error.span.expect("a place").range;
         assert_eq!(&text[usize::from(range.start())..usize::from(range.end())], wanted, "{statement}");
     }
+}
+
+/// The same errors inside a loop that runs as machine code: the same messages, at the same
+/// expressions; the variables the loop wrote until then are kept.
+#[test]
+fn errors_in_a_native_loop_stop_the_run_where_they_are() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    for (statement, wanted, message) in [
+        ("var int q = 10 / (n - n);", "10 / (n - n)", "division by zero"),
+        ("var unsigned int q = 10u % ((unsigned int)n - 3u);", "10u % ((unsigned int)n - 3u)", "division by zero"),
+        ("s[n] = 1;", "s[n]", "element 3 is outside"),
+        ("var float x = fs[n - 2] + fs[n];", "fs[n]", "element 3 is outside"),
+        ("var int k = 0; k /= n - 3;", "k /= n - 3", "division by zero"),
+    ] {
+        let body = format!(
+            "    public int n = 3;\n    public int t;\n    public ref short s;\n    public ref float fs;\n    swimlane L\n    \
+             {{\n        start S {{ => allocate; }}\n        action allocate {{ s = new short[3]; fs = new float[2]; => work; }}\n        \
+             action work\n        {{\n            for(t = 0 : 1 : t < 2) {{ {statement} }}\n            => f;\n        }}\n        \
+             final f;\n    }}"
+        );
+        let (report, text) = run(&gpu, &body);
+        assert_eq!(report.native_loops, 1, "{statement}: the loop ran as machine code");
+        let error = report.outcome.expect_err(statement);
+        assert_eq!(error.kind, RunErrorKind::Failed, "{statement}");
+        assert!(error.message.contains(message), "{statement}: {error}");
+        let range = error.span.expect("a place").range;
+        assert_eq!(&text[usize::from(range.start())..usize::from(range.end())], wanted, "{statement}");
+        let t = report.variables.iter().find(|(name, _)| name == "t").map(|(_, v)| format!("{v:?}"));
+        assert_eq!(t.as_deref(), Some("0"), "{statement}: stopped in the first iteration");
+    }
+}
+
+/// Stops the run at the `n`th question whether to.
+struct StopAfter(u32);
+
+impl gudsl_host::run::Observer for StopAfter {
+    fn cancelled(&mut self) -> bool {
+        self.0 = self.0.saturating_sub(1);
+        self.0 == 0
+    }
+}
+
+/// A loop running as machine code asks whether to stop every 65 536 iterations, as closures do.
+#[test]
+fn a_native_loop_stops_when_cancelled() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let text = "ActivityDiagram Test()\n{\n    public int i;\n    public int sum = 0;\n    swimlane L\n    {\n        \
+                start S { => work; }\n        action work\n        {\n            \
+                for(i = 0 : 1 : i < 100000000) { sum = sum + i % 7; }\n            => f;\n        }\n        \
+                final f;\n    }\n}\n";
+    let mut sources = support::main_sources(|t| t);
+    sources.push((samples().join("interpreter_test.gudsl").display().to_string(), text.to_string()));
+    let main = prepared(&sources, "Test").unwrap();
+    let dir = std::env::temp_dir().join(format!("gudsl-interpreter-{}", std::process::id()));
+    // Asked before S, before work, then in the loop.
+    let report = main.run(&gpu, &dir, &mut StopAfter(4));
+    assert_eq!(report.native_loops, 1);
+    let error = report.outcome.expect_err("cancelled");
+    assert_eq!(error.kind, RunErrorKind::Cancelled, "{error}");
+    let i = report.variables.iter().find(|(name, _)| name == "i").map(|(_, v)| format!("{v:?}")).unwrap();
+    assert_eq!(i, (2 * 65_536).to_string(), "stopped after 2 × 65 536 iterations, at the second question in the loop");
+}
+
+/// Floating-point loops as machine code compute what the closures compute, bit for bit: `+`,
+/// `-`, `*`, `/`, `%` (fmod), comparisons with NaN, conversions to and from `int` and `unsigned int`
+/// (truncating, saturating), `float` and `double` memory, `!`, `&&`, `||`, `?:`, compound
+/// assignments across kinds.
+#[test]
+fn floating_point_native_loops_compute_what_the_closures_compute() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let text = "ActivityDiagram Test()\n{\n    public ref float single;\n    public ref double wide;\n    \
+                public ref int ints;\n    public int i;\n    public double x = 0.1;\n    public float y = -2.5;\n    \
+                public int n = 7;\n    public unsigned int u = 4000000000u;\n    public bool flag = false;\n    \
+                swimlane L\n    {\n        start S { => allocate; }\n        \
+                action allocate { single = new float[64]; wide = new double[64]; ints = new int[64]; => work; }\n        \
+                action work\n        {\n            for(i = 0 : 1 : i < 64)\n            {\n                \
+                var double nan = (x - x) / (x - x);\n                \
+                x = x * 1.7 - (double)i / 3.0 + y;\n                \
+                y = y + (float)(x % 2.5) - (float)u / 1000000000.0f;\n                \
+                n += (int)(x * 1000.0);\n                \
+                u -= (unsigned int)(y * -3.0) + 1u;\n                \
+                flag = !flag && (x < y || nan != nan) || (nan == nan);\n                \
+                single[i] = (float)(x / 7.0);\n                \
+                wide[i] = flag ? x * x : -(double)n;\n                \
+                ints[i] = (int)(wide[i] / 1.0e3) + (nan < 1.0 ? 1 : 0) + (int)(1.0e12 * y);\n                \
+                wide[i] += single[i] * 0.5f;\n            }\n            => show;\n        }\n        \
+                action show\n        {\n            for(i = 0 : 1 : i < 64)\n            {\n                \
+                CPPMethods::printf(\"%.17g %.9g \", wide[i], (double)single[i]);\n                \
+                CPPMethods::printf(\"%d %d\\n\", ints[i], i);\n            }\n            \
+                CPPMethods::printf(\"%.17g %.9g \", x, (double)y);\n            \
+                CPPMethods::printf(\"%d %u\\n\", n, u);\n            => f;\n        }\n        final f;\n    }\n}\n";
+    let mut sources = support::main_sources(|t| t);
+    sources.push((samples().join("interpreter_test.gudsl").display().to_string(), text.to_string()));
+    let dir = std::env::temp_dir().join(format!("gudsl-interpreter-{}", std::process::id()));
+    let mut reports = Vec::new();
+    for native in [true, false] {
+        let mut main = prepared(&sources, "Test").unwrap_or_else(|e| panic!("{e:?}"));
+        main.set_native_loops(native);
+        let report = main.run(&gpu, &dir, &mut ());
+        assert_eq!(report.outcome, Ok(Ending::Final("f".into())), "native {native}");
+        reports.push(report);
+    }
+    assert_eq!(reports[0].native_loops, 1, "the work loop ran as machine code");
+    assert_eq!(reports[1].native_loops, 0);
+    assert_eq!(reports[0].printed.len(), 65 * 2);
+    assert_eq!(reports[0].printed, reports[1].printed);
 }

@@ -50,6 +50,8 @@ pub(super) struct Machine<'r, 'g> {
     pub work: Vec<i64>,
     pub node: usize,
     pub nodes_run: u64,
+    /// How often a loop ran as machine code.
+    pub native_loops: u64,
     pub calcs: Vec<CalcReport>,
     /// Per node: how often it ran, for how long in all, and the order it first ran in.
     pub times: Vec<(u32, Duration, usize)>,
@@ -66,10 +68,11 @@ impl<'r, 'g> Machine<'r, 'g> {
         framework: Framework<'g>,
         launchers: &'r [Launcher],
         observer: &'r mut dyn Observer,
+        native: bool,
     ) -> Machine<'r, 'g> {
         Machine {
             program,
-            code: Rc::new(compile::program(program)),
+            code: Rc::new(compile::program(program, native)),
             frame: vec![Value::Void; program.slots.len()],
             framework,
             launchers,
@@ -77,6 +80,7 @@ impl<'r, 'g> Machine<'r, 'g> {
             work: Vec::new(),
             node: program.diagrams[0].start,
             nodes_run: 0,
+            native_loops: 0,
             calcs: Vec::new(),
             times: vec![(0, Duration::ZERO, usize::MAX); program.nodes.len()],
             iterations: 0,
@@ -199,12 +203,18 @@ impl<'r, 'g> Machine<'r, 'g> {
         Ok((result, outs))
     }
 
+    /// The error of a run stopped on request in the current node.
+    #[cold]
+    pub fn cancellation(&self) -> Box<RunError> {
+        Box::new(RunError::cancelled(&self.program.nodes[self.node].name))
+    }
+
     /// Counts a loop iteration; every [`CANCEL_CHECK_INTERVAL`], whether to stop.
     #[inline]
     pub fn iterated(&mut self) -> Outcome<()> {
         self.iterations = self.iterations.wrapping_add(1);
         if self.iterations.is_multiple_of(CANCEL_CHECK_INTERVAL) && self.observer.cancelled() {
-            return Err(Box::new(RunError::cancelled(&self.program.nodes[self.node].name)));
+            return Err(self.cancellation());
         }
         Ok(())
     }

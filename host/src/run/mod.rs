@@ -11,6 +11,7 @@ mod exec;
 mod framework;
 mod ir;
 mod lower;
+mod native;
 mod printf;
 mod value;
 
@@ -40,6 +41,8 @@ pub struct Prepared {
     file: SourceFile,
     /// Where relative file names (`image.load("x.png")`) are found: the diagram file's folder.
     base_dir: PathBuf,
+    /// Whether loops of numbers run as machine code (`native/`); else every loop is closures.
+    native_loops: bool,
 }
 
 /// Lowers the activity diagram `def` and generates its kernels; or every construct that
@@ -48,7 +51,7 @@ pub fn prepare(sema: &Semantics<'_>, def: &Definition) -> Result<Prepared, Vec<R
     let lowered = lower::lower(sema, def)?;
     let path = def.file.path(sema.db());
     let base_dir = Path::new(path).parent().map(Path::to_path_buf).unwrap_or_default();
-    Ok(Prepared { program: lowered.program, kernels: lowered.kernels, file: def.file, base_dir })
+    Ok(Prepared { program: lowered.program, kernels: lowered.kernels, file: def.file, base_dir, native_loops: true })
 }
 
 /// What a run tells as it goes, and how it is stopped.
@@ -76,6 +79,8 @@ pub struct Report {
     pub outcome: Result<Ending, RunError>,
     pub device: String,
     pub nodes_run: u64,
+    /// How often a loop ran as machine code (`native/`) rather than as closures.
+    pub native_loops: u64,
     /// Each node that ran, in the order they first ran.
     pub nodes: Vec<NodeReport>,
     /// Each calc node's launches, in the order they first ran.
@@ -179,6 +184,12 @@ impl Prepared {
         files
     }
 
+    /// Whether loops of numbers run as machine code (the default) or as closures like the rest
+    /// (to compare the two).
+    pub fn set_native_loops(&mut self, native: bool) {
+        self.native_loops = native;
+    }
+
     /// The kernels the calc nodes launch.
     pub fn kernels(&self) -> &[Kernel] {
         &self.kernels
@@ -193,6 +204,7 @@ impl Prepared {
             outcome: Ok(Ending::Final(String::new())),
             device: gpu.describe(),
             nodes_run: 0,
+            native_loops: 0,
             nodes: Vec::new(),
             calcs: Vec::new(),
             images: Vec::new(),
@@ -223,7 +235,7 @@ impl Prepared {
             }
         };
         let framework = framework::Framework::new(gpu, self.base_dir.clone());
-        let mut machine = exec::Machine::new(&self.program, framework, &launchers, observer);
+        let mut machine = exec::Machine::new(&self.program, framework, &launchers, observer, self.native_loops);
         report.outcome = machine.run().map_err(|error| {
             let mut error = *error;
             // An error without a place of its own is placed on the node that was running.
@@ -233,6 +245,7 @@ impl Prepared {
             error
         });
         report.nodes_run = machine.nodes_run;
+        report.native_loops = machine.native_loops;
         let mut ran: Vec<(usize, NodeReport)> = (machine.times.iter().zip(&self.program.nodes))
             .filter(|((runs, _, _), _)| *runs > 0)
             .map(|(&(runs, wall, first), node)| (first, NodeReport { name: node.name.clone(), runs, wall }))

@@ -155,7 +155,7 @@ impl Pointer {
 
     /// Why element `index` cannot be read or written.
     #[cold]
-    fn outside(&self, index: i64) -> String {
+    pub fn outside(&self, index: i64) -> String {
         let size = self.element.size() as i64;
         let len = self.memory.borrow().len() as i64;
         format!(

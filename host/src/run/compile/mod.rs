@@ -12,6 +12,7 @@ use super::{
     arith::{binary, convert, float, float_binary, int, int_binary, pointer, uint_binary, undefined},
     exec::{failed, run_block, Flow, Machine, Outcome},
     ir::{Arith, BinOp, Conv, Expr, Place, Program, Slot, Span, Stmt},
+    native,
     value::{Pointer, Value},
     RunError,
 };
@@ -44,9 +45,9 @@ pub(super) struct EdgeCode {
     pub outs: Block,
 }
 
-/// Compiles `program`.
-pub(super) fn program(program: &Program) -> Compiled {
-    let compiler = Compiler { slots: &program.slots };
+/// Compiles `program`; loops of numbers to machine code too where `native` (see `native/`).
+pub(super) fn program(program: &Program, native: bool) -> Compiled {
+    let compiler = Compiler { slots: &program.slots, native };
     let nodes = program.nodes.iter().map(|node| NodeCode {
         body: compiler.block(&node.body),
         edges: (node.edges.iter())
@@ -78,6 +79,8 @@ fn effect<T>(f: impl Fn(&mut Machine<'_, '_>) -> Outcome<T> + 'static) -> Code<F
 struct Compiler<'p> {
     /// Each slot's conversion ([`Program::slots`]).
     slots: &'p [Conv],
+    /// Whether loops are compiled to machine code where they can be.
+    native: bool,
 }
 
 impl Compiler<'_> {
@@ -95,30 +98,14 @@ impl Compiler<'_> {
                 code(move |m| if condition(m)? { run_block(m, &then) } else { run_block(m, &other) })
             }
             Stmt::Loop { test, body, step, test_after } => {
-                let test = test.as_ref().map(|test| self.truth(test));
-                let (body, step, test_after) = (self.block(body), self.block(step), *test_after);
-                code(move |m| {
-                    loop {
-                        if let (Some(test), false) = (&test, test_after) {
-                            if !test(m)? {
-                                break;
-                            }
-                        }
-                        match run_block(m, &body)? {
-                            Flow::Break => break,
-                            Flow::Return => return Ok(Flow::Return),
-                            Flow::Next | Flow::Continue => {}
-                        }
-                        run_block(m, &step)?;
-                        if let (Some(test), true) = (&test, test_after) {
-                            if !test(m)? {
-                                break;
-                            }
-                        }
-                        m.iterated()?;
-                    }
-                    Ok(Flow::Next)
-                })
+                let interpreted = self.loop_closure(test.as_ref(), body, step, *test_after);
+                match self.native.then(|| native::compile(stmt, self.slots)).flatten() {
+                    Some(native) => code(move |m| match native.run(m)? {
+                        Some(flow) => Ok(flow),
+                        None => interpreted(m),
+                    }),
+                    None => interpreted,
+                }
             }
             Stmt::Switch(value, cases, default) => {
                 let value = self.int(value);
@@ -141,6 +128,36 @@ impl Compiler<'_> {
                 code(move |m| run_block(m, &block))
             }
         }
+    }
+
+    /// A loop of any form as closures (what runs where the loop is not native code). Loops
+    /// inside it are not compiled to native code again.
+    fn loop_closure(&self, test: Option<&Expr>, body: &[Stmt], step: &[Stmt], test_after: bool) -> Code<Flow> {
+        let inner = Compiler { slots: self.slots, native: false };
+        let test = test.map(|test| inner.truth(test));
+        let (body, step) = (inner.block(body), inner.block(step));
+        code(move |m| {
+            loop {
+                if let (Some(test), false) = (&test, test_after) {
+                    if !test(m)? {
+                        break;
+                    }
+                }
+                match run_block(m, &body)? {
+                    Flow::Break => break,
+                    Flow::Return => return Ok(Flow::Return),
+                    Flow::Next | Flow::Continue => {}
+                }
+                run_block(m, &step)?;
+                if let (Some(test), true) = (&test, test_after) {
+                    if !test(m)? {
+                        break;
+                    }
+                }
+                m.iterated()?;
+            }
+            Ok(Flow::Next)
+        })
     }
 
     /// `expr` as a statement: what it does, not what it gives.
