@@ -422,7 +422,7 @@ fn a_native_loop_stops_when_cancelled() {
 /// Floating-point loops as machine code compute what the closures compute, bit for bit: `+`,
 /// `-`, `*`, `/`, `%` (fmod), comparisons with NaN, conversions to and from `int` and `unsigned int`
 /// (truncating, saturating), `float` and `double` memory, `!`, `&&`, `||`, `?:`, compound
-/// assignments across kinds.
+/// assignments across kinds, `rand()`.
 #[test]
 fn floating_point_native_loops_compute_what_the_closures_compute() {
     let Some(gpu) = Gpu::for_tests() else { return };
@@ -435,7 +435,7 @@ fn floating_point_native_loops_compute_what_the_closures_compute() {
                 var double nan = (x - x) / (x - x);\n                \
                 x = x * 1.7 - (double)i / 3.0 + y;\n                \
                 y = y + (float)(x % 2.5) - (float)u / 1000000000.0f;\n                \
-                n += (int)(x * 1000.0);\n                \
+                n += (int)(x * 1000.0) + CPPMethods::rand() % 1000;\n                \
                 u -= (unsigned int)(y * -3.0) + 1u;\n                \
                 flag = !flag && (x < y || nan != nan) || (nan == nan);\n                \
                 single[i] = (float)(x / 7.0);\n                \

@@ -223,7 +223,8 @@ impl Method {
 pub struct Framework<'g> {
     pub gpu: &'g Gpu,
     pub base_dir: PathBuf,
-    rand_state: u32,
+    /// `rand`'s state (native loops step it in place: `native/emit.rs`'s `rand`).
+    pub rand_state: u32,
     pub viewers: Vec<Rc<RefCell<Object>>>,
     pub printed: Vec<String>,
 }
@@ -233,7 +234,8 @@ impl<'g> Framework<'g> {
         Framework { gpu, base_dir, rand_state: 1, viewers: Vec::new(), printed: Vec::new() }
     }
 
-    /// `rand()`: xorshift32, so that `RAND_MAX` is 2^31 − 1 as glibc's.
+    /// `rand()`: xorshift32, so that `RAND_MAX` is 2^31 − 1 as glibc's (native loops compute
+    /// the same steps inline).
     #[inline]
     pub fn rand(&mut self) -> i32 {
         let mut x = self.rand_state;

@@ -19,8 +19,7 @@ use cranelift_module::{Linkage, Module};
 mod ops;
 
 use super::{
-    native_cancelled, native_fmod, native_rand, Kind, Local, NativeError, CODE_CANCELLED, CODE_ERRORS, CODE_NEXT,
-    CODE_RETURN,
+    native_cancelled, native_fmod, Kind, Local, NativeError, CODE_CANCELLED, CODE_ERRORS, CODE_NEXT, CODE_RETURN,
 };
 use crate::run::{
     framework::Method,
@@ -50,6 +49,7 @@ const NUMBERS_AT: i32 = 0;
 const POINTERS_AT: i32 = 8;
 const MACHINE_AT: i32 = 16;
 const ERROR_INDEX_AT: i32 = 24;
+const RAND_STATE_AT: i32 = 32;
 /// Bytes of one [`super::PointerArg`].
 const POINTER_ARG_SIZE: i32 = 24;
 
@@ -71,7 +71,6 @@ pub(super) fn function(
         return None;
     }
     let mut jit = JITBuilder::with_isa(isa, cranelift_module::default_libcall_names());
-    jit.symbol("native_rand", native_rand as *const u8);
     jit.symbol("native_cancelled", native_cancelled as *const u8);
     jit.symbol("native_fmod", native_fmod as *const u8);
     let mut module = JITModule::new(jit);
@@ -81,7 +80,6 @@ pub(super) fn function(
         signature.returns.push(AbiParam::new(returns));
         module.declare_function(name, Linkage::Import, &signature).ok()
     };
-    let rand = declare("native_rand", &[types::I64], types::I32)?;
     let cancelled = declare("native_cancelled", &[types::I64], types::I32)?;
     let fmod = declare("native_fmod", &[types::F64, types::F64], types::F64)?;
 
@@ -90,7 +88,7 @@ pub(super) fn function(
     context.func.signature.returns.push(AbiParam::new(types::I32));
     let mut builder_context = FunctionBuilderContext::new();
     let mut b = FunctionBuilder::new(&mut context.func, &mut builder_context);
-    let helpers = [rand, cancelled, fmod].map(|id| module.declare_func_in_func(id, b.func));
+    let helpers = [cancelled, fmod].map(|id| module.declare_func_in_func(id, b.func));
     let entry = b.create_block();
     b.append_block_params_for_function_params(entry);
     b.switch_to_block(entry);
@@ -99,6 +97,10 @@ pub(super) fn function(
     let numbers_at = b.ins().load(types::I64, flags, ctx, NUMBERS_AT);
     let pointers_at = b.ins().load(types::I64, flags, ctx, POINTERS_AT);
     let machine = b.ins().load(types::I64, flags, ctx, MACHINE_AT);
+    let rand_state_at = b.ins().load(types::I64, flags, ctx, RAND_STATE_AT);
+    let rand_state = b.declare_var(types::I32);
+    let state = b.ins().load(types::I32, flags, rand_state_at, 0);
+    b.def_var(rand_state, state);
     let mut vars = HashMap::new();
     for (i, &Local { slot, kind, .. }) in numbers.iter().enumerate() {
         let bits = b.ins().load(types::I64, flags, numbers_at, 8 * i as i32);
@@ -134,6 +136,7 @@ pub(super) fn function(
         exit,
         loops: Vec::new(),
         iterations,
+        rand_state,
         errors: Vec::new(),
         helpers,
         supported: true,
@@ -144,6 +147,8 @@ pub(super) fn function(
     // The exit: the written variables back into the context, then the code.
     let Emitter { mut b, vars, errors, supported, .. } = emitter;
     b.switch_to_block(exit);
+    let state = b.use_var(rand_state);
+    b.ins().store(flags, state, rand_state_at, 0);
     for (i, &Local { slot, kind, written, .. }) in numbers.iter().enumerate() {
         if !written {
             continue;
@@ -189,9 +194,11 @@ struct Emitter<'f> {
     /// Innermost last: where `continue` and `break` go.
     loops: Vec<(Block, Block)>,
     iterations: Variable,
+    /// `rand()`'s state while the loop runs.
+    rand_state: Variable,
     errors: Vec<NativeError>,
-    /// `rand`, `cancelled`, `fmod`.
-    helpers: [FuncRef; 3],
+    /// `cancelled`, `fmod`.
+    helpers: [FuncRef; 2],
     /// False when something turned out not to compile (the loop then runs as closures).
     supported: bool,
 }
@@ -281,7 +288,7 @@ impl Emitter<'_> {
                 let due = self.b.ins().band_imm_s(count, CANCEL_MASK);
                 self.b.ins().brif(due, header, &[], poll, &[]);
                 self.b.switch_to_block(poll);
-                let call = self.b.ins().call(self.helpers[1], &[self.machine]);
+                let call = self.b.ins().call(self.helpers[0], &[self.machine]);
                 let stop = self.b.inst_results(call)[0];
                 let (stopped, go_on) = (self.b.create_block(), header);
                 self.b.ins().brif(stop, stopped, &[], go_on, &[]);
@@ -502,9 +509,16 @@ impl Emitter<'_> {
                 self.b.switch_to_block(merge);
                 self.b.block_params(merge)[0]
             }
+            // The framework's xorshift32 (`Framework::rand`), stepped inline.
             Expr::Call(Method::Rand, ..) => {
-                let call = self.b.ins().call(self.helpers[0], &[self.machine]);
-                self.b.inst_results(call)[0]
+                let mut x = self.b.use_var(self.rand_state);
+                for (left, amount) in [(true, 13), (false, 17), (true, 5)] {
+                    let shifted =
+                        if left { self.b.ins().ishl_imm_s(x, amount) } else { self.b.ins().ushr_imm_s(x, amount) };
+                    x = self.b.ins().bxor(x, shifted);
+                }
+                self.b.def_var(self.rand_state, x);
+                self.b.ins().ushr_imm_s(x, 1)
             }
             _ => return self.unsupported(kind),
         };

@@ -2,7 +2,7 @@
 //! compute with `int`, `unsigned int`, floating-point and boolean variables, read and write
 //! elements through pointers it does not reassign, and call `rand()` runs as native code, the
 //! same C arithmetic the closures do (`compile/`), errors included (division by zero, an index
-//! outside its memory — each at its expression). Everything else — and every run where a
+//! outside its memory — each at its expression; `rand()` steps the framework's state inline). Everything else — and every run where a
 //! variable the loop reads holds no number yet, or a pointer is null — runs as closures. The
 //! native code reads and writes the loop's variables in a block of machine numbers, copied from
 //! and back to the frame around the loop; the pointers' memory is addressed directly.
@@ -74,6 +74,8 @@ struct Context {
     pointers: *const PointerArg,
     machine: *mut c_void,
     error_index: i64,
+    /// `rand()`'s state, stepped in place.
+    rand_state: *mut u32,
 }
 
 #[repr(C)]
@@ -170,8 +172,9 @@ impl Native {
         let mut context = Context {
             numbers: numbers.as_mut_ptr(),
             pointers: pointers.as_ptr(),
-            machine: m as *mut Machine<'_, '_> as *mut c_void,
             error_index: 0,
+            rand_state: &mut m.framework.rand_state,
+            machine: m as *mut Machine<'_, '_> as *mut c_void,
         };
         // SAFETY: the context points at live arrays of the lengths the code was compiled for.
         let code = unsafe { (self.function)(&mut context) };
@@ -201,16 +204,9 @@ impl Native {
     }
 }
 
-/// Native code's `rand()`.
-extern "C" fn native_rand(machine: *mut c_void) -> i32 {
-    // SAFETY: `machine` is the machine running the native code, not otherwise used meanwhile.
-    let machine = unsafe { &mut *(machine as *mut Machine<'_, '_>) };
-    machine.framework.rand()
-}
-
 /// Native code's question whether to stop (every 65 536 iterations): 1 to stop.
 extern "C" fn native_cancelled(machine: *mut c_void) -> u32 {
-    // SAFETY: as in `native_rand`.
+    // SAFETY: `machine` is the machine running the native code, not otherwise used meanwhile.
     let machine = unsafe { &mut *(machine as *mut Machine<'_, '_>) };
     machine.observer.cancelled() as u32
 }

@@ -52,7 +52,7 @@ impl Emitter<'_> {
                 BinOp::Mul => self.b.ins().fmul(l, r),
                 BinOp::Div => self.b.ins().fdiv(l, r),
                 BinOp::Rem => {
-                    let call = self.b.ins().call(self.helpers[2], &[l, r]);
+                    let call = self.b.ins().call(self.helpers[1], &[l, r]);
                     self.b.inst_results(call)[0]
                 }
                 _ => {
