@@ -8,46 +8,12 @@ mod support;
 
 use gudsl_host::run::{Ending, Report, RunErrorKind};
 use gudsl_runtime::Gpu;
-use support::{prepared, samples};
+use support::{prepared, samples, CLAMP_AND_COLLATZ};
 
-/// Diagrams `Main` calls: a value from one of several final nodes (decisions), a loop over
-/// nodes with its own variables, `out` parameters, a call of a call, recursion.
-const CALLED: &str = "ActivityDiagram Clamp(int v, int low, int high)
-{
-    swimlane L
-    {
-        start S { => test; }
-        decision test
-        {
-            [v < low] => below;
-            [v > high] => above;
-            [] => inside;
-        }
-        final below return low;
-        final above return high;
-        final inside return v;
-    }
-}
-
-ActivityDiagram CollatzSteps(int n)
-{
-    var int steps = 0;
-    swimlane L
-    {
-        start S { => step; }
-        action step
-        {
-            [n == 1] => done;
-            [n % 2 == 0] => halve;
-            [] => triple;
-        }
-        action halve { n = n / 2; steps = steps + 1; => step; }
-        action triple { n = 3 * n + 1; steps = steps + 1; => step; }
-        final done return steps;
-    }
-}
-
-ActivityDiagram DivMod(int a, int b, out int quotient, out int remainder)
+/// Diagrams `Main` calls besides `CLAMP_AND_COLLATZ` (a value from one of several final nodes,
+/// a loop over nodes with its own variables, a call of a call — the diagrams the device tests
+/// call too): `out` parameters, recursion.
+const CALLED: &str = "ActivityDiagram DivMod(int a, int b, out int quotient, out int remainder)
 {
     swimlane L
     {
@@ -59,15 +25,6 @@ ActivityDiagram DivMod(int a, int b, out int quotient, out int remainder)
             => f;
         }
         final f;
-    }
-}
-
-ActivityDiagram ClampedSteps(int n)
-{
-    swimlane L
-    {
-        start S { => f; }
-        final f return call behavior Clamp(call behavior CollatzSteps(n), 0, 100);
     }
 }
 
@@ -96,6 +53,7 @@ fn run(gpu: &Gpu, body: &str) -> (Report, String) {
     let text = format!("{CALLED}\nActivityDiagram Main()\n{{\n{body}\n}}\n");
     let mut sources = support::main_sources(|t| t);
     sources.retain(|(path, _)| !path.ends_with("main_full.gudsl"));
+    sources.push((samples().join("host_calls_shared.gudsl").display().to_string(), CLAMP_AND_COLLATZ.into()));
     sources.push((samples().join("host_calls_test.gudsl").display().to_string(), text.clone()));
     let main = prepared(&sources, "Main").unwrap_or_else(|e| panic!("{e:?}\n{text}"));
     let dir = std::env::temp_dir().join(format!("gudsl-host-calls-{}", std::process::id()));

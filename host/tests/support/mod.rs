@@ -362,3 +362,54 @@ pub fn check_mean(filtered: &[u8], channels: usize, input: &Rgba, kernel_size: u
     }
     Ok(rounded_down)
 }
+
+/// Diagrams called with `call behavior` from device code (`called_diagrams.rs`, as WGSL
+/// functions) and from host code (`host_calls.rs`, interpreted): the same GU-DSL on both sides.
+#[allow(dead_code)] // Not every test file that shares this module calls diagrams.
+pub const CLAMP_AND_COLLATZ: &str = "ActivityDiagram Clamp(int v, int low, int high)
+{
+    swimlane L
+    {
+        start S { => test; }
+        decision test
+        {
+            [v < low] => below;
+            [v > high] => above;
+            [] => inside;
+        }
+        final below return low;
+        final above return high;
+        final inside return v;
+    }
+}
+
+ActivityDiagram CollatzSteps(int n)
+{
+    var int steps = 0;
+    var int x = n;
+    swimlane L
+    {
+        start S { => test; }
+        decision test
+        {
+            [x <= 1] => done;
+            [x % 2 == 0] => half;
+            [] => triple;
+        }
+        action half { x = x / 2; steps++; => test; }
+        action triple { x = 3 * x + 1; steps++; => test; }
+        final done return steps;
+    }
+}
+
+ActivityDiagram ClampedSteps(int n)
+{
+    var int steps;
+    swimlane L
+    {
+        start S { => count; }
+        action count { steps = call behavior Clamp(call behavior CollatzSteps(n), 0, 100); => f; }
+        final f return steps;
+    }
+}
+";
