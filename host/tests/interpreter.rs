@@ -369,10 +369,16 @@ fn errors_in_a_native_loop_stop_the_run_where_they_are() {
         ("s[n] = 1;", "s[n]", "element 3 is outside"),
         ("var float x = fs[n - 2] + fs[n];", "fs[n]", "element 3 is outside"),
         ("var int k = 0; k /= n - 3;", "k /= n - 3", "division by zero"),
+        ("s[n - 4] = 1;", "s[n - 4]", "element -1 is outside"),
+        // `h` points at `s[1]`: h[-1] is s[0], h[-2] is outside, h[1] is s[2], h[2] outside.
+        ("h[n - 4] = h[n - 2]; h[n - 5] = 1;", "h[n - 5]", "element -2 is outside"),
+        ("h[n - 2] = 1; h[n - 1] = 1;", "h[n - 1]", "element 2 is outside"),
     ] {
         let body = format!(
-            "    public int n = 3;\n    public int t;\n    public ref short s;\n    public ref float fs;\n    swimlane L\n    \
-             {{\n        start S {{ => allocate; }}\n        action allocate {{ s = new short[3]; fs = new float[2]; => work; }}\n        \
+            "    public int n = 3;\n    public int t;\n    public ref short s;\n    public ref short h;\n    \
+             public ref float fs;\n    swimlane L\n    \
+             {{\n        start S {{ => allocate; }}\n        \
+             action allocate {{ s = new short[3]; h = s + 1; fs = new float[2]; => work; }}\n        \
              action work\n        {{\n            for(t = 0 : 1 : t < 2) {{ {statement} }}\n            => f;\n        }}\n        \
              final f;\n    }}"
         );

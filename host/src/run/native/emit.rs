@@ -119,7 +119,12 @@ pub(super) fn function(
         let base = b.ins().load(types::I64, flags, pointers_at, at);
         let offset = b.ins().load(types::I64, flags, pointers_at, at + 8);
         let len = b.ins().load(types::I64, flags, pointers_at, at + 16);
-        bases.insert(slot, Base { number: j, element, base, offset, len });
+        // An element starting at byte s lies inside when 0 <= s < len - size + 1: one unsigned
+        // comparison with that count, clamped at 0.
+        let starts = b.ins().iadd_imm_s(len, 1 - element.size() as i64);
+        let none = b.ins().iconst(types::I64, 0);
+        let starts = b.ins().smax(starts, none);
+        bases.insert(slot, Base { number: j, element, base, offset, starts });
     }
     let iterations = b.declare_var(types::I32);
     let zero = b.ins().iconst(types::I32, 0);
@@ -180,8 +185,10 @@ struct Base {
     number: usize,
     element: Scalar,
     base: Ir,
+    /// The pointer's byte offset into its memory.
     offset: Ir,
-    len: Ir,
+    /// How many byte offsets an element can start at inside the memory.
+    starts: Ir,
 }
 
 struct Emitter<'f> {

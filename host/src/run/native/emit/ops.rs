@@ -132,18 +132,16 @@ impl Emitter<'_> {
             self.supported = false;
             return self.b.ins().iconst(types::I64, 0);
         };
-        let Some(&Base { number, element, base, offset, len }) = self.bases.get(slot) else {
+        let Some(&Base { number, element, base, offset, starts }) = self.bases.get(slot) else {
             self.supported = false;
             return self.b.ins().iconst(types::I64, 0);
         };
-        let size = element.size() as i64;
         let index = self.b.ins().sextend(types::I64, at);
-        let bytes = self.b.ins().imul_imm_s(index, size);
+        // Element sizes are 1, 2, 4 or 8 bytes.
+        let bytes = self.b.ins().ishl_imm_s(index, element.size().trailing_zeros() as i64);
         let start = self.b.ins().iadd(bytes, offset);
-        let before = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, start, 0);
-        let end = self.b.ins().iadd_imm_s(start, size);
-        let after = self.b.ins().icmp(IntCC::SignedGreaterThan, end, len);
-        let outside = self.b.ins().bor(before, after);
+        // Negative starts are huge unsigned ones.
+        let outside = self.b.ins().icmp(IntCC::UnsignedGreaterThanOrEqual, start, starts);
         self.fail_if(outside, NativeError::Outside { span, pointer: number }, Some(index));
         self.b.ins().iadd(base, start)
     }
