@@ -469,3 +469,19 @@ fn floating_point_native_loops_compute_what_the_closures_compute() {
     assert_eq!(reports[0].printed.len(), 65 * 2);
     assert_eq!(reports[0].printed, reports[1].printed);
 }
+
+/// A loop that cannot be native (it prints) still runs the numeric loops inside it natively.
+#[test]
+fn numeric_loops_inside_a_printing_loop_run_natively() {
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let body = "    public int i;\n    public int j;\n    public int sum;\n    swimlane L\n    {\n        \
+                start S { => work; }\n        action work\n        {\n            \
+                for(i = 0 : 1 : i < 3)\n            {\n                sum = 0;\n                \
+                for(j = 0 : 1 : j <= i * 10) { sum += j; }\n                \
+                CPPMethods::printf(\"%d %d\\n\", i, sum);\n            }\n            => f;\n        }\n        \
+                final f;\n    }";
+    let (report, text) = run(&gpu, body);
+    assert_eq!(report.outcome, Ok(Ending::Final("f".into())), "{text}");
+    assert_eq!(report.printed, ["0 0\n", "1 55\n", "2 210\n"]);
+    assert_eq!(report.native_loops, 3, "the inner loop, once per outer iteration");
+}

@@ -98,13 +98,18 @@ impl Compiler<'_> {
                 code(move |m| if condition(m)? { run_block(m, &then) } else { run_block(m, &other) })
             }
             Stmt::Loop { test, body, step, test_after } => {
-                let interpreted = self.loop_closure(test.as_ref(), body, step, *test_after);
                 match self.native.then(|| native::compile(stmt, self.slots)).flatten() {
-                    Some(native) => code(move |m| match native.run(m)? {
-                        Some(flow) => Ok(flow),
-                        None => interpreted(m),
-                    }),
-                    None => interpreted,
+                    Some(native) => {
+                        // The fallback's inner loops are part of the native code already.
+                        let closures = Compiler { slots: self.slots, native: false };
+                        let interpreted = closures.loop_closure(test.as_ref(), body, step, *test_after);
+                        code(move |m| match native.run(m)? {
+                            Some(flow) => Ok(flow),
+                            None => interpreted(m),
+                        })
+                    }
+                    // Loops inside it may still be native.
+                    None => self.loop_closure(test.as_ref(), body, step, *test_after),
                 }
             }
             Stmt::Switch(value, cases, default) => {
@@ -130,12 +135,11 @@ impl Compiler<'_> {
         }
     }
 
-    /// A loop of any form as closures (what runs where the loop is not native code). Loops
-    /// inside it are not compiled to native code again.
+    /// A loop of any form as closures (where the loop is not native code, or as the fallback of
+    /// native code).
     fn loop_closure(&self, test: Option<&Expr>, body: &[Stmt], step: &[Stmt], test_after: bool) -> Code<Flow> {
-        let inner = Compiler { slots: self.slots, native: false };
-        let test = test.map(|test| inner.truth(test));
-        let (body, step) = (inner.block(body), inner.block(step));
+        let test = test.map(|test| self.truth(test));
+        let (body, step) = (self.block(body), self.block(step));
         code(move |m| {
             loop {
                 if let (Some(test), false) = (&test, test_after) {

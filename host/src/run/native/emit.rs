@@ -502,6 +502,8 @@ impl Emitter<'_> {
                     }
                 }
             }
+            // The closures give the branch taken in its own kind: both must have one kind.
+            Expr::Ternary(_, a, b) if self.kind(a) != self.kind(b) => return self.unsupported(kind),
             Expr::Ternary(condition, a, b) => {
                 let condition = self.truth(condition);
                 let (then_block, else_block, merge) =

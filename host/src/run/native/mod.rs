@@ -123,6 +123,10 @@ impl Drop for Code {
 
 /// The loop `stmt` (a [`Stmt::Loop`]) compiled to machine code, where all of it can be.
 pub(super) fn compile(stmt: &Stmt, slots: &[Conv]) -> Option<Native> {
+    // The closures keep memory little-endian; native loads and stores use the machine's order.
+    if cfg!(target_endian = "big") {
+        return None;
+    }
     let mut uses = Uses { slots, numbers: BTreeMap::new(), pointers: BTreeMap::new(), declared: Vec::new() };
     if !uses.stmt(stmt) {
         return None;
@@ -169,12 +173,16 @@ impl Native {
             let bytes = unsafe { &mut *pointer.memory.as_ptr() };
             pointers.push(PointerArg { base: bytes.as_mut_ptr(), offset: pointer.offset, len: bytes.len() as i64 });
         }
+        // Both from one raw pointer: `native_cancelled` makes a `&mut Machine` of it while the
+        // code holds the state's address.
+        let machine: *mut Machine<'_, '_> = m;
         let mut context = Context {
             numbers: numbers.as_mut_ptr(),
             pointers: pointers.as_ptr(),
+            machine: machine as *mut c_void,
             error_index: 0,
-            rand_state: &mut m.framework.rand_state,
-            machine: m as *mut Machine<'_, '_> as *mut c_void,
+            // SAFETY: `machine` is `m`, live for this call.
+            rand_state: unsafe { std::ptr::addr_of_mut!((*machine).framework.rand_state) },
         };
         // SAFETY: the context points at live arrays of the lengths the code was compiled for.
         let code = unsafe { (self.function)(&mut context) };
