@@ -5,7 +5,7 @@
 
 mod support;
 
-use support::{compute_kernel, generated_from, generation, run_compute_kernel, CLAMP_AND_COLLATZ};
+use support::{collatz_steps, compute_kernel, generated_from, generation, run_compute_kernel, CLAMP_AND_COLLATZ};
 
 /// The called diagrams (besides the ones shared with the host's tests).
 const CALLED: &str = "ActivityDiagram Nothing(int n)
@@ -87,15 +87,6 @@ fn sources(body: &str) -> Vec<(String, String)> {
         ("called.gudsl".into(), CALLED.into()),
         ("compute.gudsl".into(), compute_kernel("Steps.Kernels", body)),
     ]
-}
-
-fn collatz_steps(mut x: i32) -> i32 {
-    let mut steps = 0;
-    while x > 1 {
-        x = if x % 2 == 0 { x / 2 } else { 3 * x + 1 };
-        steps += 1;
-    }
-    steps
 }
 
 #[test]

@@ -8,7 +8,7 @@ mod support;
 
 use gudsl_host::run::{Ending, Report, RunErrorKind};
 use gudsl_runtime::Gpu;
-use support::{prepared, samples, CLAMP_AND_COLLATZ};
+use support::{collatz_steps, prepared, samples, CLAMP_AND_COLLATZ};
 
 /// Diagrams `Main` calls besides `CLAMP_AND_COLLATZ` (a value from one of several final nodes,
 /// a loop over nodes with its own variables, a call of a call — the diagrams the device tests
@@ -66,15 +66,6 @@ fn main_body(statements: &str) -> String {
         "    var int q = 0;\n    var int r = 0;\n    swimlane L\n    {{\n        start S {{ => work; }}\n        \
          action work\n        {{\n            {statements}\n            => f;\n        }}\n        final f;\n    }}"
     )
-}
-
-fn collatz_steps(mut n: i32) -> i32 {
-    let mut steps = 0;
-    while n != 1 {
-        n = if n % 2 == 0 { n / 2 } else { 3 * n + 1 };
-        steps += 1;
-    }
-    steps
 }
 
 #[test]

@@ -413,3 +413,14 @@ ActivityDiagram ClampedSteps(int n)
     }
 }
 ";
+
+/// What `CollatzSteps(x)` of [`CLAMP_AND_COLLATZ`] returns, computed in Rust.
+#[allow(dead_code)] // Not every test file that shares this module calls diagrams.
+pub fn collatz_steps(mut x: i32) -> i32 {
+    let mut steps = 0;
+    while x > 1 {
+        x = if x % 2 == 0 { x / 2 } else { 3 * x + 1 };
+        steps += 1;
+    }
+    steps
+}

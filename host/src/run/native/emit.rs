@@ -383,10 +383,7 @@ impl Emitter<'_> {
     }
 
     fn element_kind(&self, base: &Expr) -> Kind {
-        match base {
-            Expr::Var(slot) => self.bases.get(slot).map_or(Kind::Int, |base| Kind::of_element(base.element)),
-            _ => Kind::Int,
-        }
+        Kind::of_element(self.pointer_element(base))
     }
 
     /// `expr` in the kind it computes in.

@@ -146,7 +146,7 @@ impl Emitter<'_> {
         self.b.ins().iadd(base, start)
     }
 
-    fn pointer_element(&self, base: &Expr) -> Scalar {
+    pub(super) fn pointer_element(&self, base: &Expr) -> Scalar {
         match base {
             Expr::Var(slot) => self.bases.get(slot).map_or(Scalar::U8, |base| base.element),
             _ => Scalar::U8,
