@@ -1,7 +1,8 @@
 //! The bundled library: declarations every workspace has, shipped inside the binary and
 //! read-only — the generator's attributes (`Generator.Attributes`), the GPGPU extension's
 //! `OpenCL` interface with the OpenCL C built-ins (`OpenCL.GPU`, as the dissertation's listings
-//! import it), and the C++ framework types models use (`Framework.*`).
+//! import it), the C++ framework types models use (`Framework.*`), and the ToF component
+//! library (`ToF.*`: the sources, filters and sinks that `gudsl run` runs as pipelines).
 //!
 //! Library files are ordinary `SourceFile`s with paths under [`LIBRARY_PREFIX`] (a URI a client
 //! can show as a read-only virtual document) and the highest salsa durability: they never
@@ -20,6 +21,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ("gudsl:/lib/generator.gudsl", include_str!("../lib/generator.gudsl")),
     ("gudsl:/lib/opencl.gudsl", include_str!("../lib/opencl.gudsl")),
     ("gudsl:/lib/framework.gudsl", include_str!("../lib/framework.gudsl")),
+    ("gudsl:/lib/tof.gudsl", include_str!("../lib/tof.gudsl")),
 ];
 
 /// The interface every component class implements without saying so: `init()`, `process()`

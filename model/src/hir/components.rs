@@ -89,6 +89,19 @@ pub fn component_info<'db>(db: &'db dyn Db, workspace: Workspace, class: Fqn<'db
     component_index(db, workspace).get(class.text(db)).cloned().unwrap_or_default()
 }
 
+/// The connections (`port.connector` to `port.connector`) each component diagram declares, by
+/// the diagram's fully qualified name: a binding between instances of the diagram's
+/// components is allowed by any of them, whichever component declares it.
+#[salsa::tracked(returns(ref))]
+pub fn diagram_connections(db: &dyn Db, workspace: Workspace) -> BTreeMap<String, BTreeSet<(String, String)>> {
+    let mut connections: BTreeMap<String, BTreeSet<(String, String)>> = BTreeMap::new();
+    for info in component_index(db, workspace).values().flatten() {
+        let entry = connections.entry(info.diagram.clone()).or_default();
+        entry.extend(info.item.connections.iter().map(|c| (c.source.clone(), c.target.clone())));
+    }
+    connections
+}
+
 /// A method signature reduced to what must match between a provider and a processor:
 /// `Image(ref Image)` for `provideImage(ref Image image)` and `processImage(ref Image image)`.
 pub fn signature_key(suffix: &str, params: &[TypeSignature]) -> String {

@@ -107,6 +107,16 @@ pub enum DiagnosticCode {
     InterfaceNotImplemented,
     /// A `break` outside a loop or `switch`, a `continue` outside a loop.
     MisplacedJump,
+    /// A processor connector of a filter or sink instance that no binding feeds.
+    UnboundProcessor,
+    /// Bindings in a cycle without a buffered port.
+    PipelineCycle,
+    /// A parameter (instance field) value out of its range, not a constant, or missing.
+    ParameterValue,
+    /// A file a pipeline reads that is missing or malformed (reported by `gudsl-host`).
+    PipelineInput,
+    /// Images of sizes that cannot meet, or a stage that cannot run (reported by `gudsl-host`).
+    PipelineMismatch,
     /// Device code the GPU code generator cannot generate (reported by `gudsl-codegen`).
     NotGenerated,
     /// Host code the interpreter cannot run (reported by `gudsl-host` before a run).
@@ -160,6 +170,11 @@ impl DiagnosticCode {
             DiagnosticCode::ImageAccess => "E0239",
             DiagnosticCode::InterfaceNotImplemented => "E0240",
             DiagnosticCode::MisplacedJump => "E0241",
+            DiagnosticCode::UnboundProcessor => "E0401",
+            DiagnosticCode::PipelineCycle => "E0402",
+            DiagnosticCode::ParameterValue => "E0403",
+            DiagnosticCode::PipelineInput => "E0404",
+            DiagnosticCode::PipelineMismatch => "E0405",
             DiagnosticCode::NotGenerated => "E0301",
             DiagnosticCode::NotRunnable => "E0302",
             DiagnosticCode::RunFailed => "E0303",
@@ -212,6 +227,11 @@ impl DiagnosticCode {
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
             DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
             DiagnosticCode::MisplacedJump => "a `break` or `continue` with nothing to leave",
+            DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
+            DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
+            DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",
+            DiagnosticCode::PipelineInput => "a file a pipeline reads is missing or malformed",
+            DiagnosticCode::PipelineMismatch => "images that cannot meet, or a stage that cannot run",
             DiagnosticCode::NotGenerated => "device code the GPU code generator cannot generate",
             DiagnosticCode::NotRunnable => "host code the interpreter cannot run",
             DiagnosticCode::RunFailed => "where a run stopped with an error",
@@ -303,6 +323,11 @@ impl Diagnostics {
         related: Vec<Related>,
     ) {
         self.push(Severity::Error, code, range, message, None, related);
+    }
+
+    /// A diagnostic made elsewhere (a query's).
+    pub fn add(&mut self, diagnostic: Diagnostic) {
+        self.0.push(diagnostic);
     }
 
     pub fn into_vec(self) -> Vec<Diagnostic> {

@@ -2,7 +2,7 @@
 //! and its components, the port each port instance instantiates, the connector each connector
 //! instance stands for, and the instance, port and connector a binding end names (chapter 11.3.4).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use super::{components::ComponentInfo, definitions::Definition, items::ConnectorItem, scope::Scope, Semantics};
 use crate::ast::{self, AstNode, HasName};
@@ -59,6 +59,8 @@ pub enum UnresolvedEnd {
 #[derive(Debug, Clone)]
 pub struct Instances<'db> {
     by_name: HashMap<String, Instance<'db>>,
+    /// The connections of the component diagrams that declare the instances' components.
+    connections: Vec<&'db (String, String)>,
 }
 
 impl<'db> Semantics<'db> {
@@ -95,11 +97,19 @@ impl<'db> Semantics<'db> {
 
     /// The instances of a component-instance diagram.
     pub fn instances(&self, diagram: &ast::ComponentInstanceDiagram) -> Instances<'db> {
-        let by_name = diagram
+        let by_name: HashMap<String, Instance<'db>> = diagram
             .instances()
             .filter_map(|instance| Some((instance.name()?.text(), self.instance(&instance))))
             .collect();
-        Instances { by_name }
+        let diagrams: HashSet<&str> =
+            by_name.values().flat_map(|i| i.components.iter()).map(|info| info.diagram.as_str()).collect();
+        let connections = self
+            .diagram_connections()
+            .iter()
+            .filter(|(diagram, _)| diagrams.contains(diagram.as_str()))
+            .flat_map(|(_, connections)| connections)
+            .collect();
+        Instances { by_name, connections }
     }
 }
 
@@ -145,11 +155,10 @@ impl<'db> Instances<'db> {
         Ok(BindingEnd { instance, port_instance, port: port.port.clone(), connector })
     }
 
-    /// Whether a component diagram connects the connectors of these two ends (either way).
+    /// Whether a component diagram of the instances' components connects the connectors of
+    /// these two ends (either way).
     pub fn connects(&self, a: &BindingEnd, b: &BindingEnd) -> bool {
         let (a, b) = (format!("{}.{}", a.port, a.connector), format!("{}.{}", b.port, b.connector));
-        self.by_name.values().flat_map(|i| i.components.iter()).any(|info| {
-            info.item.connections.iter().any(|c| (c.source == a && c.target == b) || (c.source == b && c.target == a))
-        })
+        self.connections.iter().any(|(source, target)| (*source == a && *target == b) || (*source == b && *target == a))
     }
 }

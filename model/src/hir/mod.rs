@@ -4,7 +4,7 @@
 //! share. Validation rules live apart from it (`validate/`), one family of rules a module.
 //!
 //! Layers, each using only those below it: `items` → `definitions` → `scope` → `components` →
-//! `ty` → `semantics` (+ `instances`, `classify`) → `infer` → `validate`; `diagnostics` is the vocabulary of
+//! `ty` → `semantics` (+ `instances`, `classify`) → `infer` → `pipeline` → `validate`; `diagnostics` is the vocabulary of
 //! problems that `infer` and `validate` report; `uses` (where each name is written) stands
 //! beside them, on the syntax only.
 
@@ -17,6 +17,7 @@ pub(crate) mod golden;
 pub mod infer;
 pub mod instances;
 pub mod items;
+pub mod pipeline;
 pub mod scope;
 pub mod semantics;
 pub mod spelling;

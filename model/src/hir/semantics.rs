@@ -353,6 +353,11 @@ impl<'db> Semantics<'db> {
         component_info(self.db, self.workspace, Fqn::new(self.db, class.to_string()))
     }
 
+    /// The connections each component diagram declares, by diagram.
+    pub fn diagram_connections(&self) -> &'db BTreeMap<String, BTreeSet<(String, String)>> {
+        super::components::diagram_connections(self.db, self.workspace)
+    }
+
     /// The `process…` signatures of every processor interface, as `signature_key`s.
     pub fn processor_signatures(&self) -> &'db BTreeSet<String> {
         processor_signatures(self.db, self.workspace)

@@ -99,6 +99,11 @@ fn check_diagram(ctx: &mut Ctx, outer: &Scope, diagram: &ast::Diagram) {
         ast::Diagram::ComponentInstanceDiagram(d) => {
             names::duplicates(ctx, nested.iter().filter_map(|d| d.name()), "diagram");
             instance_diagram::check(ctx, &scope, d);
+            let fqn = crate::hir::Fqn::new(ctx.sema.db(), scope.innermost().to_string());
+            let plan = crate::hir::pipeline::pipeline_plan(ctx.sema.db(), ctx.sema.workspace(), fqn);
+            for problem in plan.iter().filter(|p| p.file == ctx.file).flat_map(|p| &p.diagnostics) {
+                ctx.sink.add(problem.clone());
+            }
         }
     }
     for nested in &nested {

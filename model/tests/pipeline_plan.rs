@@ -1,0 +1,120 @@
+//! The pipeline plan of a component-instance diagram: stages in the order data flows (a loop
+//! closed by a buffered port included), parameters with their defaults and written values,
+//! bindings from provider to processor with the receiving port's mode; and incrementality,
+//! counted query by query: an edit elsewhere does not rebuild the plan, a parameter edited does.
+
+use gudsl_model::{
+    db::{RootDatabase, SourceFile, Workspace, EDITED, UNEDITED},
+    hir::{
+        file_diagnostics,
+        pipeline::{pipeline_plan, PipelinePlan, Value},
+        Fqn,
+    },
+};
+use salsa::Setter;
+
+const PIPELINE: &str = r#"
+ComponentInstanceDiagram ClosedLoop
+{
+    import ToF.*;
+
+    // Declared consumer first: the plan orders by data, not by text.
+    Control instantiates IntegrationTimeControl (method = IntegrationControl.MeanIntensity)
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+        Out : TimeOut ( provider time = IIntegrationTimeProvider() );
+        [ source Out.time ==> target Camera.Time.time ]
+    }
+    Demod instantiates Demodulation (modulationFrequency = 20)
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Control.In.depth ]
+    }
+    Camera instantiates ControlledCamera (scene = Scene.Plates, frames = 2 * 6)
+    {
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        Time : TimeIn ( processor time = IIntegrationTimeProcessor(bufferSize = 1) );
+        [ source Out.frame ==> target Demod.In.frame ]
+    }
+}
+"#;
+
+const ELSEWHERE: &str = r#"
+ClassDiagram Other { public class Thing { public int value; } }
+ActivityDiagram Work(Other.Thing thing)
+{
+    start begin { thing.value = 1; => done; }
+    final done;
+}
+"#;
+
+struct Workspace2 {
+    db: RootDatabase,
+    workspace: Workspace,
+    pipeline: SourceFile,
+    elsewhere: SourceFile,
+}
+
+fn workspace() -> Workspace2 {
+    let db = RootDatabase::with_execution_log();
+    let pipeline = SourceFile::builder("pipeline.gudsl".into(), PIPELINE.into()).durability(UNEDITED).new(&db);
+    let elsewhere = SourceFile::builder("other.gudsl".into(), ELSEWHERE.into()).durability(UNEDITED).new(&db);
+    let library = gudsl_model::library::library_files(&db);
+    let workspace = Workspace::new(&db, library.into_iter().chain([pipeline, elsewhere]).collect());
+    Workspace2 { db, workspace, pipeline, elsewhere }
+}
+
+fn plan(w: &Workspace2) -> PipelinePlan {
+    pipeline_plan(&w.db, w.workspace, Fqn::new(&w.db, "ClosedLoop".to_string())).clone().expect("the diagram")
+}
+
+fn ran(log: &[String], query: &str) -> usize {
+    log.iter().filter(|e| e.starts_with(&format!("{query}("))).count()
+}
+
+#[test]
+fn stages_follow_the_data_and_parameters_resolve() {
+    let w = workspace();
+    let plan = plan(&w);
+    assert!(plan.diagnostics.is_empty(), "{:#?}", plan.diagnostics);
+    let order: Vec<&str> = plan.stages.iter().map(|s| s.instance.as_str()).collect();
+    assert_eq!(order, ["Camera", "Demod", "Control"]);
+    let camera = &plan.stages[0];
+    assert_eq!(camera.class, "ToF.ControlledCamera");
+    assert_eq!(camera.param("frames"), Some(&Value::Int(12)));
+    assert_eq!(camera.param("scene"), Some(&Value::Enum("Plates".into())));
+    // Inherited from SimulatedPmdCamera, its default.
+    assert_eq!(camera.param("integrationTime").and_then(Value::number), Some(1000.0));
+    assert_eq!(plan.stages[2].param("method"), Some(&Value::Enum("MeanIntensity".into())));
+    // Control → Camera closes the loop through the buffered TimeIn, one item deep.
+    let feedback = plan.bindings.iter().find(|b| b.processor.stage == 0).expect("the loop's binding");
+    assert_eq!((feedback.provider.stage, feedback.provider.port.as_str()), (2, "TimeOut"));
+    assert!(feedback.is_buffered && feedback.is_async);
+    assert_eq!(feedback.buffer_size, 1);
+    let raw = plan.bindings.iter().find(|b| b.provider.port == "RawOut").expect("raw frames");
+    assert_eq!((raw.provider.stage, raw.processor.stage, raw.is_buffered), (0, 1, false));
+    assert_eq!(raw.buffer_size, 4, "the interface's default");
+}
+
+#[test]
+fn an_edit_elsewhere_does_not_rebuild_the_plan_and_a_parameter_edit_does() {
+    let mut w = workspace();
+    plan(&w);
+    file_diagnostics(&w.db, w.workspace, w.pipeline);
+    w.db.take_executions();
+
+    let text = w.elsewhere.text(&w.db).replace("thing.value = 1;", "thing.value = 2;");
+    w.elsewhere.set_text(&mut w.db).with_durability(EDITED).to(text);
+    plan(&w);
+    file_diagnostics(&w.db, w.workspace, w.pipeline);
+    let log = w.db.take_executions();
+    assert_eq!(ran(&log, "pipeline_plan"), 0, "an activity body elsewhere: {log:#?}");
+    assert_eq!(ran(&log, "check_file"), 0, "the pipeline's file is not re-checked: {log:#?}");
+
+    let text = w.pipeline.text(&w.db).replace("frames = 2 * 6", "frames = 7");
+    w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
+    let edited = plan(&w);
+    assert_eq!(ran(&w.db.take_executions(), "pipeline_plan"), 1);
+    assert_eq!(edited.stages[0].param("frames"), Some(&Value::Int(7)));
+}
