@@ -5,6 +5,7 @@
 use std::borrow::Cow;
 use std::time::{Duration, Instant};
 
+use crate::bound::BoundKernel;
 use crate::error::PipelineError;
 use crate::gpu::Gpu;
 use crate::pipeline::{Pipeline, Slot};
@@ -34,15 +35,8 @@ pub struct GpuPipeline<'g> {
     gpu: &'g Gpu,
     pipeline: Pipeline,
     buffers: Vec<wgpu::Buffer>,
-    steps: Vec<PreparedStep>,
+    steps: Vec<BoundKernel>,
     staging: wgpu::Buffer,
-}
-
-struct PreparedStep {
-    params: wgpu::Buffer,
-    passes: Vec<(wgpu::ComputePipeline, [u32; 3])>,
-    bind_group: wgpu::BindGroup,
-    scratch: Option<(wgpu::Buffer, Vec<u32>)>,
 }
 
 impl<'g> GpuPipeline<'g> {
@@ -53,39 +47,10 @@ impl<'g> GpuPipeline<'g> {
             .steps
             .iter()
             .map(|step| {
-                let kernel = step.kernel;
-                let shapes: Vec<_> = step.inputs.iter().map(|&s| pipeline.shape(s)).collect();
-                let params = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("params"),
-                    size: kernel.params(&shapes).len() as u64,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                gpu.queue.write_buffer(&params, 0, &kernel.params(&shapes));
-                let scratch = kernel.scratch(&shapes).map(|s| (gpu.storage("scratch", s.len), vec![s.start; s.len]));
-                let outputs = step.outputs.len() + usize::from(scratch.is_some());
-                let layout = gpu.layout(step.inputs.len(), outputs);
-                let passes: Vec<_> = kernel
-                    .passes(&shapes)
-                    .into_iter()
-                    .map(|pass| (gpu.pipeline(kernel.name(), pass.entry, kernel.source(), &layout), pass.workgroups))
-                    .collect();
-                let mut resources: Vec<&wgpu::Buffer> = vec![&params];
-                resources.extend(step.inputs.iter().chain(&step.outputs).map(|s| &buffers[s.0]));
-                if let Some((buffer, _)) = &scratch {
-                    resources.push(buffer);
-                }
-                let entries: Vec<wgpu::BindGroupEntry> = resources
-                    .iter()
-                    .enumerate()
-                    .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
-                    .collect();
-                let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: None,
-                    layout: &layout,
-                    entries: &entries,
-                });
-                PreparedStep { params, passes, bind_group, scratch }
+                let inputs: Vec<(&wgpu::Buffer, _)> =
+                    step.inputs.iter().map(|&s| (&buffers[s.0], pipeline.shape(s))).collect();
+                let outputs = step.outputs.iter().map(|s| buffers[s.0].clone()).collect();
+                BoundKernel::into(gpu, step.kernel, &inputs, outputs)
             })
             .collect();
         let sink_len: usize = pipeline.sinks.iter().map(|&s| pipeline.shape(s).len()).sum();
@@ -110,7 +75,7 @@ impl<'g> GpuPipeline<'g> {
         self.reset_scratch();
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         for step in &self.steps {
-            self.encode(step, &mut encoder, None);
+            step.encode(&mut encoder, None);
         }
         let mut offset = 0u64;
         for &sink in &self.pipeline.sinks {
@@ -153,9 +118,7 @@ impl<'g> GpuPipeline<'g> {
             return Err(PipelineError::KernelChanged { step: index, was: step.kernel.name(), given: kernel.name() });
         }
         step.kernel = kernel;
-        let shapes: Vec<_> = step.inputs.iter().map(|&s| self.pipeline.slots[s.0].1).collect();
-        self.gpu.queue.write_buffer(&self.steps[index].params, 0, &kernel.params(&shapes));
-        Ok(())
+        self.steps[index].set_kernel(self.gpu, kernel)
     }
 
     /// Uploads the sources, then times each step on its own (submit and wait, or the compute
@@ -170,7 +133,7 @@ impl<'g> GpuPipeline<'g> {
             .map(|step| {
                 let start = Instant::now();
                 let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-                self.encode(step, &mut encoder, self.gpu.pass_timestamps());
+                step.encode(&mut encoder, self.gpu.pass_timestamps());
                 self.gpu.resolve_timestamps(&mut encoder);
                 self.gpu.queue.submit([encoder.finish()]);
                 let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
@@ -191,25 +154,7 @@ impl<'g> GpuPipeline<'g> {
 
     fn reset_scratch(&self) {
         for step in &self.steps {
-            if let Some((buffer, start)) = &step.scratch {
-                self.gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(start));
-            }
-        }
-    }
-
-    /// Records `step`'s dispatches in one compute pass (timed by `timestamps` when given).
-    fn encode(
-        &self,
-        step: &PreparedStep,
-        encoder: &mut wgpu::CommandEncoder,
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
-    ) {
-        let mut pass =
-            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: None, timestamp_writes: timestamps });
-        pass.set_bind_group(0, &step.bind_group, &[]);
-        for (compute, groups) in &step.passes {
-            pass.set_pipeline(compute);
-            pass.dispatch_workgroups(groups[0], groups[1], groups[2]);
+            step.reset_scratch(self.gpu);
         }
     }
 

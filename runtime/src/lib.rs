@@ -3,6 +3,7 @@
 //! the sinks) or, without an adapter, on the CPU reference. Programs written elsewhere (the code
 //! generator's kernels) run through [`program`].
 
+pub mod bound;
 pub mod camera;
 pub mod error;
 pub mod executor;
@@ -18,6 +19,7 @@ pub mod program;
 pub mod registration;
 pub mod sim;
 
+pub use bound::BoundKernel;
 pub use error::PipelineError;
 pub use executor::{run_cpu, GpuPipeline, Prepared};
 pub use gpu::{Gpu, GpuUnavailable};
