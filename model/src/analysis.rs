@@ -203,6 +203,13 @@ impl Analysis {
         self.with(|db, workspace| (file_diagnostics(db, workspace, file).as_slice(), line_index(db, file)))
     }
 
+    /// The pipeline plan of the component-instance diagram `diagram` (fully qualified).
+    pub fn pipeline_plan(&self, diagram: &str) -> Cancellable<Option<crate::hir::pipeline::PipelinePlan>> {
+        self.with(|db, workspace| {
+            crate::hir::pipeline::pipeline_plan(db, workspace, crate::hir::Fqn::new(db, diagram.to_string())).clone()
+        })
+    }
+
     /// Runs `f` on the semantic model of the workspace: how crates built on the model (the code
     /// generator) read it.
     pub fn with_semantics<T>(&self, f: impl FnOnce(&crate::hir::Semantics<'_>) -> T) -> Cancellable<T> {

@@ -12,6 +12,7 @@ use crate::{Kernel, Shape};
 pub struct BoundKernel {
     kernel: Kernel,
     inputs: Vec<Shape>,
+    input_buffers: Vec<wgpu::Buffer>,
     params: wgpu::Buffer,
     passes: Vec<(wgpu::ComputePipeline, [u32; 3])>,
     bind_group: wgpu::BindGroup,
@@ -65,14 +66,27 @@ impl BoundKernel {
             .enumerate()
             .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
             .collect();
-        let bind_group =
-            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &layout, entries: &entries });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &layout,
+            entries: &entries,
+        });
         let outputs = outputs.into_iter().zip(kernel.outputs(&shapes)).collect();
-        BoundKernel { kernel, inputs: shapes, params, passes, bind_group, scratch, outputs }
+        let input_buffers = inputs.iter().map(|(buffer, _)| (*buffer).clone()).collect();
+        BoundKernel { kernel, inputs: shapes, input_buffers, params, passes, bind_group, scratch, outputs }
     }
 
     pub fn kernel(&self) -> Kernel {
         self.kernel
+    }
+
+    /// Whether it is bound to exactly these input buffers of these shapes.
+    pub fn binds(&self, inputs: &[(&wgpu::Buffer, Shape)]) -> bool {
+        inputs.len() == self.inputs.len()
+            && inputs
+                .iter()
+                .zip(self.input_buffers.iter().zip(&self.inputs))
+                .all(|((b, s), (mine, shape))| *b == mine && s == shape)
     }
 
     /// The output buffers and their shapes.

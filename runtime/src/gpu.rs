@@ -258,7 +258,7 @@ impl Gpu {
     }
 
     /// The first `size` bytes of `buffer` (a multiple of 4), copied back to the CPU (waits).
-    pub(crate) fn download(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, String> {
+    pub fn download(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, String> {
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size,
@@ -272,7 +272,7 @@ impl Gpu {
     }
 
     /// The contents of a `MAP_READ` buffer once the queue has written it (waits).
-    pub(crate) fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, String> {
+    pub fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, String> {
         let (sender, receiver) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |result| {
             let _ = sender.send(result);

@@ -21,6 +21,11 @@ impl Dtype {
 
 /// Writes `data` (row-major, `shape`) as `dtype` (`U16` rounds and clamps to 0..=65535).
 pub fn save(path: &Path, shape: &[usize], data: &[f32], dtype: Dtype) -> io::Result<()> {
+    fs::write(path, encode(shape, data, dtype))
+}
+
+/// `data` (row-major, `shape`) as the bytes of a `.npy` file of `dtype`.
+pub fn encode(shape: &[usize], data: &[f32], dtype: Dtype) -> Vec<u8> {
     assert_eq!(shape.iter().product::<usize>(), data.len(), "shape and data disagree");
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let shape_text = if dims.len() == 1 { format!("({},)", dims[0]) } else { format!("({})", dims.join(", ")) };
@@ -36,7 +41,7 @@ pub fn save(path: &Path, shape: &[usize], data: &[f32], dtype: Dtype) -> io::Res
         Dtype::U16 => bytes.extend(data.iter().flat_map(|v| (v.round().clamp(0.0, 65535.0) as u16).to_le_bytes())),
         Dtype::F32 => bytes.extend(data.iter().flat_map(|v| v.to_le_bytes())),
     }
-    fs::write(path, bytes)
+    bytes
 }
 
 /// Reads a `<u2` or `<f4` array: its shape and its values as f32.

@@ -3,6 +3,7 @@
 
 pub mod check;
 pub mod fmt;
+pub mod pipeline;
 pub mod render;
 pub mod run;
 pub mod wgsl;

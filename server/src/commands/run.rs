@@ -1,4 +1,5 @@
-//! `gudsl run PATH… --diagram NAME [-o DIR]`: runs a host activity diagram without parameters
+//! `gudsl run PATH… [--diagram NAME] [-o DIR]`: runs a component-instance diagram as a ToF
+//! pipeline (`pipeline.rs`) or a host activity diagram without parameters
 //! (`Main`) of the given files, checked together as one workspace: its calc nodes' kernels on
 //! the first wgpu adapter (Mesa's lavapipe without a GPU). Nodes are shown on stderr as they
 //! start, `printf` output on stdout as it is written; then a report — how the run ended, what
@@ -30,12 +31,21 @@ pub struct RunArgs {
     /// Files or folders (searched recursively for `.gudsl` files).
     #[arg(required = true)]
     paths: Vec<PathBuf>,
-    /// The activity diagram to run (simple or fully qualified name), e.g. `Main`.
+    /// The diagram to run (simple or fully qualified name): a component-instance diagram (a
+    /// ToF pipeline) or a host activity diagram such as `Main`; optional when the files have
+    /// one diagram that can run.
     #[arg(long)]
-    diagram: String,
-    /// Write the viewer's images and `report.json` into this folder (created if missing).
-    #[arg(short = 'o', long = "output", default_value = ".")]
-    output: PathBuf,
+    diagram: Option<String>,
+    /// Write the outputs and `report.json` into this folder (created if missing; default: for
+    /// a pipeline `gudsl-out/<diagram>/`, for an activity diagram the current folder).
+    #[arg(short = 'o', long = "output")]
+    output: Option<PathBuf>,
+    /// Run at most this many frames of a pipeline.
+    #[arg(long)]
+    frames: Option<usize>,
+    /// Run a pipeline on the CPU reference instead of the GPU.
+    #[arg(long)]
+    cpu: bool,
 }
 
 pub fn run(args: &RunArgs) -> ExitCode {
@@ -44,7 +54,29 @@ pub fn run(args: &RunArgs) -> ExitCode {
         Err(code) => return code,
     };
     let analysis = host.analysis();
-    let prepared = analysis.with_semantics(|sema| prepare_named(sema, &files, &args.diagram));
+    let chosen = analysis.with_semantics(|sema| choose(sema, &files, args.diagram.as_deref()));
+    let diagram = match chosen {
+        Err(_) => {
+            eprintln!("gudsl run: the analysis was cancelled");
+            return ExitCode::from(2);
+        }
+        Ok(Err(message)) => {
+            eprintln!("gudsl run: {message}");
+            return ExitCode::from(1);
+        }
+        Ok(Ok(Chosen::Pipeline(fqn))) => {
+            let pipeline = super::pipeline::PipelineArgs {
+                diagram: &fqn,
+                frames: args.frames,
+                cpu: args.cpu,
+                output: args.output.as_deref(),
+            };
+            return super::pipeline::run(&analysis, &files, checked, &pipeline);
+        }
+        Ok(Ok(Chosen::Activity(fqn))) => fqn,
+    };
+    let output = args.output.clone().unwrap_or_else(|| PathBuf::from("."));
+    let prepared = analysis.with_semantics(|sema| prepare_named(sema, &files, &diagram));
     let prepared = match prepared {
         Err(_) => {
             eprintln!("gudsl run: the analysis was cancelled");
@@ -56,7 +88,7 @@ pub fn run(args: &RunArgs) -> ExitCode {
         }
         Ok(Ok(Err(errors))) => {
             add_findings(&mut checked, &files, &errors, DiagnosticCode::NotRunnable);
-            eprintln!("gudsl run: `{}` cannot run", args.diagram);
+            eprintln!("gudsl run: `{diagram}` cannot run");
             return super::refuse(&checked, 1);
         }
         Ok(Ok(Ok(prepared))) => prepared,
@@ -72,10 +104,10 @@ pub fn run(args: &RunArgs) -> ExitCode {
     };
     eprintln!("running {} on {}", prepared.diagram(), gpu.describe());
     let mut progress = Progress { terminal: std::io::stderr().is_terminal(), rewritten: None, written: HashSet::new() };
-    let report = prepared.run(&gpu, &args.output, &mut progress);
+    let report = prepared.run(&gpu, &output, &mut progress);
     progress.done();
     print_report(&report);
-    if let Err(error) = write_report(&report, &args.output) {
+    if let Err(error) = write_report(&report, &output) {
         eprintln!("gudsl run: {error}");
         return ExitCode::from(2);
     }
@@ -92,6 +124,58 @@ pub fn run(args: &RunArgs) -> ExitCode {
             }
             ExitCode::from(if error.kind == RunErrorKind::Failed && !placed { 2 } else { 1 })
         }
+    }
+}
+
+/// The kind of diagram `run` runs.
+enum Chosen {
+    Pipeline(String),
+    Activity(String),
+}
+
+/// The diagram of `files` that `--diagram` names (simple or fully qualified), or without it the
+/// one diagram that can run: a component-instance diagram or a host activity diagram without
+/// parameters; `Err` says why none is meant, listing those that can run.
+fn choose(sema: &Semantics<'_>, files: &[FileId], name: Option<&str>) -> Result<Chosen, String> {
+    let mut runnable: Vec<(&str, bool)> = sema
+        .def_map()
+        .definitions
+        .values()
+        .flatten()
+        .filter(|def| files.contains(&def.file))
+        .filter_map(|def| match def.kind {
+            DefKind::ComponentInstanceDiagram => Some((def.fqn.as_str(), true)),
+            _ if is_runnable(sema, def) => Some((def.fqn.as_str(), false)),
+            _ => None,
+        })
+        .collect();
+    runnable.sort();
+    runnable.dedup();
+    let listed = || {
+        let names: Vec<&str> = runnable.iter().map(|(fqn, _)| *fqn).collect();
+        if names.is_empty() {
+            "none".to_string()
+        } else {
+            names.join(", ")
+        }
+    };
+    let Some(name) = name else {
+        return match runnable[..] {
+            [(fqn, true)] => Ok(Chosen::Pipeline(fqn.to_string())),
+            [(fqn, false)] => Ok(Chosen::Activity(fqn.to_string())),
+            [] => Err("the files have no diagram that can run (a component-instance diagram, or an activity diagram without parameters)".into()),
+            _ => Err(format!("name the diagram to run with --diagram: {}", listed())),
+        };
+    };
+    let pipelines: Vec<&str> =
+        runnable.iter().filter(|(fqn, is)| *is && super::names_diagram(name, fqn)).map(|(f, _)| *f).collect();
+    match pipelines[..] {
+        [fqn] => Ok(Chosen::Pipeline(fqn.to_string())),
+        [] => Ok(Chosen::Activity(name.to_string())),
+        _ => Err(format!(
+            "several component-instance diagrams are named `{name}`: {}; name one fully qualified",
+            pipelines.join(", ")
+        )),
     }
 }
 

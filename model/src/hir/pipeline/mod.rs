@@ -234,7 +234,9 @@ fn stage_port(sema: &Semantics, port: &PortItem) -> StagePort {
         .map(|c| StageConnector {
             name: c.name.clone(),
             role: c.role,
-            interface: sema.resolve(&Scope::default(), &c.interface).map_or_else(|| c.interface.clone(), |d| d.fqn.clone()),
+            interface: sema
+                .resolve(&Scope::default(), &c.interface)
+                .map_or_else(|| c.interface.clone(), |d| d.fqn.clone()),
         })
         .collect();
     StagePort { name: port.name.clone(), is_async: port.is_async, is_buffered: port.is_buffered, connectors }
@@ -302,7 +304,9 @@ fn unbound_processors(stages: &[Stage], bindings: &[PlanBinding], sink: &mut Dia
         for port in &stage.ports {
             for connector in port.connectors.iter().filter(|c| c.role == ConnectorRole::Processor) {
                 let bound = bindings.iter().any(|b| {
-                    b.processor.stage == index && b.processor.port == port.name && b.processor.connector == connector.name
+                    b.processor.stage == index
+                        && b.processor.port == port.name
+                        && b.processor.connector == connector.name
                 });
                 if !bound {
                     sink.warn(

@@ -95,7 +95,8 @@ fn check(
         match def.fqn.as_str() {
             INPUT_FILE => param.input_file = true,
             RANGE => {
-                let (Some(min), Some(max)) = (args.get("min").and_then(Value::number), args.get("max").and_then(Value::number))
+                let (Some(min), Some(max)) =
+                    (args.get("min").and_then(Value::number), args.get("max").and_then(Value::number))
                 else {
                     continue;
                 };
@@ -179,7 +180,9 @@ pub(super) fn constant(sema: &Semantics, scope: &Scope, expr: &ast::Expr) -> Opt
 fn path_text(expr: &ast::Expr) -> Option<String> {
     match expr {
         ast::Expr::NameExpr(name) => Some(name.name_ref()?.text()),
-        ast::Expr::MemberExpr(member) => Some(format!("{}.{}", path_text(&member.receiver()?)?, member.member()?.text())),
+        ast::Expr::MemberExpr(member) => {
+            Some(format!("{}.{}", path_text(&member.receiver()?)?, member.member()?.text()))
+        }
         _ => None,
     }
 }
@@ -209,7 +212,10 @@ fn arithmetic(op: SyntaxKind, lhs: Value, rhs: Value) -> Option<Value> {
 
 /// The written values of an instance's fields (or a connector instance's), by name, with the
 /// scope they are read in.
-pub(super) fn written_values(args: impl Iterator<Item = ast::NamedArg>, scope: &Scope) -> HashMap<String, (ast::Expr, Scope)> {
+pub(super) fn written_values(
+    args: impl Iterator<Item = ast::NamedArg>,
+    scope: &Scope,
+) -> HashMap<String, (ast::Expr, Scope)> {
     args.filter_map(|arg| Some((arg.name()?.text(), (arg.value()?, scope.clone())))).collect()
 }
 

@@ -1,0 +1,162 @@
+//! The ToF library's components as code: what each `ToF.*` class of `model/lib/tof.gudsl` does
+//! when a stage of its class runs, made from the stage's parameters (`make`). Sources
+//! (`sources.rs`), filters on raw frames (`raw.rs`) and on depth images (`depth.rs`), sinks
+//! (`sinks.rs`).
+
+mod depth;
+mod raw;
+mod sinks;
+mod sources;
+
+use std::{collections::BTreeMap, path::Path};
+
+use gudsl_model::hir::pipeline::{Stage, Value};
+
+use super::{
+    data::{Data, Item},
+    device::{Device, Reads},
+    ErrorKind, OutputDir, PipelineError,
+};
+
+/// What a component sees while it runs.
+pub struct Ctx<'a, 'g> {
+    pub device: &'a mut Device<'g>,
+    /// The stage's index in the plan (its kernels are timed under it).
+    pub stage: usize,
+    pub frame: usize,
+    pub output: &'a mut OutputDir,
+}
+
+/// The items that arrived on a stage's processor ports this frame, by port.
+#[derive(Default)]
+pub struct Inputs(BTreeMap<String, Vec<Item>>);
+
+impl Inputs {
+    pub fn push(&mut self, port: &str, item: Item) {
+        self.0.entry(port.to_string()).or_default().push(item);
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.values().all(Vec::is_empty)
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.values().map(Vec::len).sum()
+    }
+
+    /// The items of `port`, in the order they arrived.
+    pub fn port(&self, port: &str) -> &[Item] {
+        self.0.get(port).map_or(&[], Vec::as_slice)
+    }
+}
+
+/// What a stage produced: data for its provider ports, by port name.
+pub type Outputs = Vec<(String, Data)>;
+
+/// A running component.
+pub trait Component {
+    /// The frames a source gives (`None`: not a source).
+    fn frames(&self) -> Option<usize> {
+        None
+    }
+
+    /// One frame: the items that arrived (none for a source) in, data for the provider ports
+    /// out. `Err` is a message for the user.
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String>;
+
+    /// After the frame's reads came back (what [`Device::read_later`] asked for): what
+    /// needs the data on the host (sinks write files); anything it gives arrives next frame.
+    fn finish_frame(&mut self, _ctx: &mut Ctx, _reads: &Reads) -> Result<Outputs, String> {
+        Ok(Vec::new())
+    }
+
+    /// After the last frame (a plot, a last cloud).
+    fn finish_run(&mut self, _output: &mut OutputDir) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// The component of a stage's class with its parameters, or why there is none.
+pub fn make(stage: &Stage, providers: usize, model_dir: &Path) -> Result<Box<dyn Component>, Vec<PipelineError>> {
+    let params = Params { stage, providers, model_dir };
+    let made: Option<Box<dyn Component>> = match stage.class.as_str() {
+        "ToF.SimulatedCamera" => Some(Box::new(sources::Simulated::new(&params, false))),
+        "ToF.ControlledCamera" => Some(Box::new(sources::Simulated::new(&params, true))),
+        "ToF.BlackImageCorrection" => Some(Box::new(raw::BlackImageCorrection::new(&params)?)),
+        "ToF.Demodulation" => Some(Box::new(raw::Demodulation::new(&params))),
+        "ToF.MotionCompensation" => Some(Box::new(raw::MotionCompensation::new(&params))),
+        "ToF.IntensityCorrection"
+        | "ToF.AmplitudeMask"
+        | "ToF.MedianFilter"
+        | "ToF.GaussianFilter"
+        | "ToF.BilateralFilter"
+        | "ToF.OutlierRemoval" => Some(Box::new(depth::DepthKernel::new(&params))),
+        "ToF.NpyWriter" => Some(Box::new(sinks::NpyWriter::new(&params))),
+        "ToF.PngWriter" => Some(Box::new(sinks::PngWriter::new(&params))),
+        "ToF.AccuracyReport" => Some(Box::new(sinks::AccuracyReport::new(&params))),
+        _ => None,
+    };
+    made.ok_or_else(|| {
+        let why = if stage.class.starts_with("ToF.") {
+            "this component of the ToF library cannot run yet".to_string()
+        } else {
+            format!("`{}` is not a component of the ToF library: only those run", stage.class)
+        };
+        vec![PipelineError {
+            kind: ErrorKind::Mismatch,
+            stage: Some(stage.instance.clone()),
+            range: Some(stage.range),
+            message: why,
+        }]
+    })
+}
+
+/// A stage's parameters as the types its component reads them in. The plan checked their
+/// ranges; a field without a value reads as its type's zero (C++'s default).
+pub struct Params<'a> {
+    pub stage: &'a Stage,
+    /// How many bindings feed the stage.
+    pub providers: usize,
+    pub model_dir: &'a Path,
+}
+
+impl Params<'_> {
+    pub fn number(&self, name: &str) -> f64 {
+        self.stage.param(name).and_then(Value::number).unwrap_or(0.0)
+    }
+
+    pub fn f32(&self, name: &str) -> f32 {
+        self.number(name) as f32
+    }
+
+    pub fn count(&self, name: &str) -> usize {
+        self.number(name).max(0.0) as usize
+    }
+
+    pub fn flag(&self, name: &str) -> bool {
+        matches!(self.stage.param(name), Some(Value::Bool(true)))
+    }
+
+    /// An enum parameter's member name.
+    pub fn member(&self, name: &str) -> &str {
+        match self.stage.param(name) {
+            Some(Value::Enum(member)) => member,
+            _ => "",
+        }
+    }
+
+    /// A file parameter as a path (relative to the model's folder), `None` when empty.
+    pub fn file(&self, name: &str) -> Option<std::path::PathBuf> {
+        match self.stage.param(name) {
+            Some(Value::Text(text)) if !text.is_empty() => Some(self.model_dir.join(text)),
+            _ => None,
+        }
+    }
+
+    /// An error about parameter `name`, at its value (or at the instance).
+    pub fn error(&self, name: &str, kind: ErrorKind, message: String) -> PipelineError {
+        let range =
+            self.stage.params.iter().find(|p| p.name == name).and_then(|p| p.written).unwrap_or(self.stage.range);
+        PipelineError { kind, stage: Some(self.stage.instance.clone()), range: Some(range), message }
+    }
+}

@@ -1,0 +1,205 @@
+//! Filters on raw frames: the black image subtracted (chapter 2.1, Sec. 6.5.1.2), motion
+//! artifacts compensated (chapter 4), and the demodulation into depth images (Sec. 2.1.1).
+
+use gudsl_runtime::{kernels::motion::mean_direction, Image, Kernel};
+
+use super::{Component, Ctx, Inputs, Outputs, Params};
+use crate::pipeline::{
+    data::{Data, DepthImage, RawFrame, Tensor},
+    device::{BufferSlot, KernelSlot, Later, Reads},
+    files, ErrorKind, PipelineError,
+};
+
+/// The raw frames that arrived on `RawIn`, with their index among this frame's items.
+fn raw_frames(inputs: &Inputs) -> impl Iterator<Item = (usize, &RawFrame)> {
+    inputs
+        .port("RawIn")
+        .iter()
+        .filter_map(|item| match &item.data {
+            Data::Raw(frame) => Some(frame),
+            _ => None,
+        })
+        .enumerate()
+}
+
+/// Slots for the `k`-th item of a frame (each item its own buffers: a later item must not
+/// overwrite an earlier one's results before they are read).
+fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
+    if slots.len() <= k {
+        slots.resize_with(k + 1, T::default);
+    }
+    &mut slots[k]
+}
+
+/// `ToF.BlackImageCorrection`: raw − black, the black image the frame's own or read from files.
+pub struct BlackImageCorrection {
+    /// The black image from files (8 planes), if given.
+    black: Option<Image>,
+    uploaded: BufferSlot,
+    kernels: Vec<KernelSlot>,
+}
+
+impl BlackImageCorrection {
+    pub fn new(params: &Params) -> Result<BlackImageCorrection, Vec<PipelineError>> {
+        let black = match (params.file("channelA"), params.file("channelB")) {
+            (None, None) => None,
+            (Some(a), Some(b)) => {
+                let frames = files::raw_frames(&a, &b).map_err(|e| {
+                    vec![params.error(if e.in_b { "channelB" } else { "channelA" }, ErrorKind::Input, e.message)]
+                })?;
+                match <[Image; 1]>::try_from(frames) {
+                    Ok([black]) => Some(black),
+                    Err(frames) => {
+                        return Err(vec![params.error(
+                            "channelA",
+                            ErrorKind::Input,
+                            format!("a black image is one frame, shape (4, H, W); the files hold {}", frames.len()),
+                        )])
+                    }
+                }
+            }
+            (Some(_), None) => {
+                return Err(vec![params.error("channelA", ErrorKind::Input, "give channelB too".into())])
+            }
+            (None, Some(_)) => {
+                return Err(vec![params.error("channelB", ErrorKind::Input, "give channelA too".into())])
+            }
+        };
+        Ok(BlackImageCorrection { black, uploaded: BufferSlot::default(), kernels: Vec::new() })
+    }
+}
+
+impl Component for BlackImageCorrection {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        let mut out = Vec::new();
+        for (k, frame) in raw_frames(inputs) {
+            let black =
+                match (&self.black, &frame.black) {
+                    (Some(image), _) => ctx.device.upload(&mut self.uploaded, image.clone()),
+                    (None, Some(black)) => black.clone(),
+                    (None, None) => return Err(
+                        "the frame has no black image of its own: give the black image's files (channelA, channelB)"
+                            .into(),
+                    ),
+                };
+            let raw = ctx
+                .device
+                .kernel(ctx.stage, slots(&mut self.kernels, k), Kernel::SubtractBlack, &[&frame.raw, &black])
+                .map_err(|e| e.to_string())?
+                .remove(0);
+            out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, black: None, ..frame.clone() })));
+        }
+        Ok(out)
+    }
+}
+
+/// `ToF.Demodulation`: raw frame → distance, amplitude, intensity.
+pub struct Demodulation {
+    modulation_hz: f32,
+    kernels: Vec<KernelSlot>,
+}
+
+impl Demodulation {
+    pub fn new(params: &Params) -> Demodulation {
+        Demodulation { modulation_hz: params.f32("modulationFrequency") * 1e6, kernels: Vec::new() }
+    }
+}
+
+impl Component for Demodulation {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        let mut out = Vec::new();
+        for (k, frame) in raw_frames(inputs) {
+            let kernel = Kernel::Demodulate { modulation_hz: self.modulation_hz };
+            let mut planes = ctx
+                .device
+                .kernel(ctx.stage, slots(&mut self.kernels, k), kernel, &[&frame.raw])
+                .map_err(|e| e.to_string())?;
+            // phase, amplitude, intensity, distance
+            let distance = planes.pop().expect("four outputs");
+            let intensity = planes.pop().expect("four outputs");
+            let amplitude = planes.pop().expect("four outputs");
+            out.push((
+                "DepthOut".to_string(),
+                Data::Depth(DepthImage {
+                    distance,
+                    amplitude,
+                    intensity,
+                    truth: frame.truth.clone(),
+                    integration_us: frame.integration_us,
+                }),
+            ));
+        }
+        Ok(out)
+    }
+}
+
+/// `ToF.MotionCompensation`: detection (θ), block matching (MWS, restricted to ρ around the
+/// previous frame's mean direction), optional direction smoothing (NH), raw correction.
+pub struct MotionCompensation {
+    window: u32,
+    theta: f32,
+    /// Half of ρ in radians, when restricted.
+    half_rho: Option<f32>,
+    smooth: bool,
+    /// Per item position: the kernels, and the previous frame's mean direction.
+    items: Vec<MotionItem>,
+}
+
+#[derive(Default)]
+struct MotionItem {
+    detect: KernelSlot,
+    matching: KernelSlot,
+    smooth: KernelSlot,
+    correct: KernelSlot,
+    direction: Option<f32>,
+    flow: Option<Later>,
+}
+
+impl MotionCompensation {
+    pub fn new(params: &Params) -> MotionCompensation {
+        let rho = params.f32("directionRestriction");
+        MotionCompensation {
+            window: params.count("windowSize") as u32,
+            theta: params.f32("threshold") / 100.0 * 65535.0,
+            half_rho: (rho > 0.0).then(|| (rho / 2.0).to_radians()),
+            smooth: params.flag("smoothNeighbourhood"),
+            items: Vec::new(),
+        }
+    }
+}
+
+impl Component for MotionCompensation {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        let mut out = Vec::new();
+        for (k, frame) in raw_frames(inputs) {
+            let item = slots(&mut self.items, k);
+            let device = &mut *ctx.device;
+            let run =
+                |device: &mut crate::pipeline::device::Device, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {
+                    device.kernel(ctx.stage, slot, kernel, inputs).map_err(|e| e.to_string())
+                };
+            let mask =
+                run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&frame.raw])?.remove(1);
+            let restriction = self.half_rho.zip(item.direction).map(|(half, mean)| (mean, half));
+            let matching = Kernel::MatchBlocks { window: self.window, restriction };
+            let mut flow = run(device, &mut item.matching, matching, &[&frame.raw, &mask])?.remove(0);
+            if self.smooth {
+                flow = run(device, &mut item.smooth, Kernel::SmoothFlow { window: self.window }, &[&flow])?.remove(0);
+            }
+            let raw = run(device, &mut item.correct, Kernel::CorrectRaw, &[&frame.raw, &flow])?.remove(0);
+            // ρ restricts the next frame around this one's mean direction.
+            item.flow = self.half_rho.map(|_| device.read_later(&flow));
+            out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));
+        }
+        Ok(out)
+    }
+
+    fn finish_frame(&mut self, _ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
+        for item in &mut self.items {
+            if let Some(flow) = item.flow.take() {
+                item.direction = mean_direction(reads.get(flow)).or(item.direction);
+            }
+        }
+        Ok(Vec::new())
+    }
+}

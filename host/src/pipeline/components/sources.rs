@@ -1,0 +1,127 @@
+//! Sources: the simulated PMD camera (`ToF.SimulatedCamera`, and `ToF.ControlledCamera`, which
+//! takes each frame at the last integration time it received), raw frames made by the
+//! runtime's simulator on the host and uploaded where the kernels run.
+
+use std::sync::Arc;
+
+use gudsl_runtime::{
+    camera::{pose_from, Intrinsics},
+    sim::{simulate, Camera, Motion, Object, Scene},
+};
+
+use super::{Component, Ctx, Inputs, Outputs, Params};
+use crate::pipeline::{
+    data::{Data, RawFrame},
+    device::BufferSlot,
+};
+
+/// A simulated camera and its scene.
+pub struct Simulated {
+    scene: Scene,
+    /// The scene before the object appears (for a background model).
+    empty: Scene,
+    empty_frames: usize,
+    motion: Motion,
+    camera: Camera,
+    frames: usize,
+    /// Integration times arrive on `TimeIn` (a `ControlledCamera`).
+    controlled: bool,
+    raw: BufferSlot,
+    black: BufferSlot,
+}
+
+impl Simulated {
+    pub fn new(params: &Params, controlled: bool) -> Simulated {
+        let wall = |scene: Scene| Scene {
+            wall_distance: params.f32("wallDistance"),
+            wall_reflectivity: params.f32("wallReflectivity"),
+            object_reflectivity: params.f32("objectReflectivity"),
+            ..scene
+        };
+        let scene = wall(match params.member("scene") {
+            "Box" => Scene::cuboid(),
+            "TurnedBox" => Scene::turned_box(),
+            "Relief" => Scene::height_field(),
+            "Plates" => Scene::plates(),
+            "Wall" => Scene::empty(),
+            _ => Scene::sphere(),
+        });
+        let speed = params.f32("speed");
+        let motion = match params.member("motion") {
+            "Translation" => Motion::Translation([speed / 100.0, 0.0, 0.0]),
+            "Rotation" => Motion::Rotation(speed),
+            _ => Motion::Still,
+        };
+        let degrees = |name: &str| params.number(name).to_radians();
+        let pose = pose_from(
+            [degrees("pitch"), degrees("yaw"), degrees("roll")],
+            [params.number("x"), params.number("y"), params.number("z")],
+        );
+        let camera = Camera {
+            intrinsics: scaled(params.count("width"), params.count("height")),
+            modulation_hz: params.f32("modulationFrequency") * 1e6,
+            integration_us: params.f32("integrationTime"),
+            noise: params.flag("noise"),
+            supersampling: params.count("supersampling").max(1),
+            seed: params.number("seed") as i64 as u64,
+            pose,
+            ..Camera::default()
+        };
+        Simulated {
+            empty: Scene { object: None as Option<Object>, ..scene },
+            scene,
+            empty_frames: params.count("emptyFrames"),
+            motion,
+            camera,
+            frames: params.count("frames"),
+            controlled,
+            raw: BufferSlot::default(),
+            black: BufferSlot::default(),
+        }
+    }
+}
+
+/// Table 2.1's camera at another resolution: the same field of view and distortion.
+fn scaled(width: usize, height: usize) -> Intrinsics {
+    let base = Intrinsics::CAMCUBE;
+    let (sx, sy) = (width as f32 / base.width as f32, height as f32 / base.height as f32);
+    Intrinsics {
+        width,
+        height,
+        fx: base.fx * sx,
+        fy: base.fy * sy,
+        cx: (base.cx + 0.5) * sx - 0.5,
+        cy: (base.cy + 0.5) * sy - 0.5,
+        ..base
+    }
+}
+
+impl Component for Simulated {
+    fn frames(&self) -> Option<usize> {
+        Some(self.frames)
+    }
+
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        if ctx.frame >= self.frames {
+            return Ok(Vec::new());
+        }
+        if self.controlled {
+            if let Some(Data::IntegrationTime(t)) = inputs.port("TimeIn").last().map(|i| &i.data) {
+                self.camera.integration_us = *t;
+            }
+        }
+        let scene = if ctx.frame < self.empty_frames { &self.empty } else { &self.scene };
+        let frame = simulate(scene, self.motion, &self.camera, ctx.frame);
+        let raw = ctx.device.upload(&mut self.raw, frame.raw);
+        let black = ctx.device.upload(&mut self.black, frame.black);
+        Ok(vec![(
+            "RawOut".to_string(),
+            Data::Raw(RawFrame {
+                raw,
+                black: Some(black),
+                truth: Some(Arc::new(frame.truth)),
+                integration_us: self.camera.integration_us,
+            }),
+        )])
+    }
+}

@@ -1,0 +1,121 @@
+//! What flows between the stages of a pipeline: raw frames, depth images, masks, point clouds,
+//! poses and integration times (the interfaces of `ToF.*`), their images kept on the GPU as
+//! buffers (or on the CPU without an adapter) until a stage or a sink reads them.
+
+use std::sync::Arc;
+
+use gudsl_runtime::{camera::Pose, Image, Shape};
+
+/// An image where it lives: in host memory, or in a GPU buffer of f32 samples.
+#[derive(Debug, Clone)]
+pub enum Tensor {
+    Cpu(Arc<Image>),
+    Gpu { buffer: wgpu::Buffer, shape: Shape },
+}
+
+impl Tensor {
+    pub fn shape(&self) -> Shape {
+        match self {
+            Tensor::Cpu(image) => Shape { width: image.width, height: image.height, planes: image.planes },
+            Tensor::Gpu { shape, .. } => *shape,
+        }
+    }
+
+    pub fn cpu(image: Image) -> Tensor {
+        Tensor::Cpu(Arc::new(image))
+    }
+}
+
+/// A raw PMD frame: channels A and B of the four phase images (8 planes, `A0 B0 … A3 B3`).
+#[derive(Debug, Clone)]
+pub struct RawFrame {
+    pub raw: Tensor,
+    /// The chip's black image (8 planes), when the source knows it.
+    pub black: Option<Tensor>,
+    /// The true radial distance per pixel (the simulator's), metres; NaN where unknown.
+    pub truth: Option<Arc<Image>>,
+    /// Integration time per phase image, microseconds.
+    pub integration_us: f32,
+}
+
+/// A demodulated frame.
+#[derive(Debug, Clone)]
+pub struct DepthImage {
+    /// Radial distance in metres, 0 where invalid.
+    pub distance: Tensor,
+    pub amplitude: Tensor,
+    pub intensity: Tensor,
+    pub truth: Option<Arc<Image>>,
+    pub integration_us: f32,
+}
+
+/// Points in the camera's frame (3 planes) and their normals (3 planes, zero until computed),
+/// or an accumulated cloud of any number of points, in host memory.
+#[derive(Debug, Clone)]
+pub enum PointCloud {
+    Organized { points: Tensor, normals: Tensor },
+    Unorganized { points: Arc<Vec<[f32; 3]>>, normals: Arc<Vec<[f32; 3]>> },
+}
+
+/// One item of data.
+#[derive(Debug, Clone)]
+pub enum Data {
+    Raw(RawFrame),
+    Depth(DepthImage),
+    Mask(Tensor),
+    Cloud(PointCloud),
+    Pose(Pose),
+    IntegrationTime(f32),
+}
+
+impl Data {
+    /// The kind of data, as its interfaces name it.
+    pub fn kind(&self) -> Kind {
+        match self {
+            Data::Raw(_) => Kind::Raw,
+            Data::Depth(_) => Kind::Depth,
+            Data::Mask(_) => Kind::Mask,
+            Data::Cloud(_) => Kind::Cloud,
+            Data::Pose(_) => Kind::Pose,
+            Data::IntegrationTime(_) => Kind::IntegrationTime,
+        }
+    }
+}
+
+/// The kinds of data, one per provider/processor interface pair of `ToF`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Raw,
+    Depth,
+    Mask,
+    Cloud,
+    Pose,
+    IntegrationTime,
+}
+
+impl Kind {
+    /// The kind an interface of the ToF library carries (`ToF.IDepthImageProcessor`).
+    pub fn of_interface(fqn: &str) -> Option<Kind> {
+        let name = fqn.strip_prefix("ToF.I")?;
+        let stem = name.strip_suffix("Provider").or_else(|| name.strip_suffix("Processor"))?;
+        Some(match stem {
+            "RawFrame" => Kind::Raw,
+            "DepthImage" => Kind::Depth,
+            "Mask" => Kind::Mask,
+            "PointCloud" => Kind::Cloud,
+            "Pose" => Kind::Pose,
+            "IntegrationTime" => Kind::IntegrationTime,
+            _ => return None,
+        })
+    }
+}
+
+/// An item delivered to a stage: its data, and the instance that produced it (a sink fed by
+/// several names its outputs after their producers).
+#[derive(Debug, Clone)]
+pub struct Item {
+    pub data: Data,
+    pub producer: String,
+    /// The frame it belongs to.
+    pub frame: usize,
+}

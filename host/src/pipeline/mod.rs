@@ -1,0 +1,313 @@
+//! ToF pipelines modelled as component-instance diagrams, run on the runtime: each stage of the
+//! model's [`PipelinePlan`] becomes a component of the bundled `ToF` library
+//! (`components/`), frames flow through them in the plan's order, their images stay on the
+//! GPU between stages ([`device`]: one encoder a frame, kernels bound once, one readback at
+//! the end of a frame for everything the sinks and stages asked for), and what the sinks write
+//! goes under one output folder only.
+//!
+//! Frames are ticks: every source gives one item a frame (until its frames are done), a filter
+//! processes each item that arrived on its ports this frame, a binding into a `buffered` port
+//! delivers its items a frame later (queueing up to its buffer size), so such a binding may
+//! close a loop (chapter 5.4).
+
+mod components;
+pub mod data;
+pub mod device;
+mod files;
+mod output;
+
+use std::{
+    collections::VecDeque,
+    path::{Path, PathBuf},
+    sync::atomic::{AtomicBool, Ordering},
+    time::{Duration, Instant},
+};
+
+use gudsl_model::{hir::pipeline::PipelinePlan, syntax::TextRange};
+use gudsl_runtime::Gpu;
+
+use components::{Component, Inputs, Outputs};
+use data::Item;
+use device::Device;
+pub use output::OutputDir;
+
+/// A problem that stops a pipeline, at a place of the model file when it has one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PipelineError {
+    pub kind: ErrorKind,
+    /// The instance it concerns, if any.
+    pub stage: Option<String>,
+    /// Where in the model file (an instance's name, a parameter's value).
+    pub range: Option<TextRange>,
+    pub message: String,
+}
+
+/// What kind of problem: as the diagnostic codes say.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// A file that cannot be read or is not what the component expects (E0404).
+    Input,
+    /// A component the runtime cannot run, images that cannot meet (E0405).
+    Mismatch,
+    /// A stage failed while running.
+    Failed,
+    /// An output that cannot be written.
+    Output,
+    Cancelled,
+}
+
+impl std::fmt::Display for PipelineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.stage {
+            Some(stage) => write!(f, "`{stage}`: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct PipelineReport {
+    pub diagram: String,
+    pub device: String,
+    pub frames: usize,
+    pub total: Duration,
+    /// Per stage, in the plan's order.
+    pub stages: Vec<StageTime>,
+    /// Files written, under the output folder.
+    pub outputs: Vec<PathBuf>,
+    pub outcome: Result<(), PipelineError>,
+}
+
+/// The time one stage took over the run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageTime {
+    pub instance: String,
+    pub class: String,
+    /// On the CPU: processing, encoding, writing.
+    pub host: Duration,
+    /// Its kernels on the GPU (where the adapter has timestamp queries).
+    pub device: Duration,
+    /// Items it processed.
+    pub items: usize,
+}
+
+/// Told about a run's progress.
+pub trait PipelineObserver {
+    /// Frame `index` (from 0) of `frames` is done.
+    fn frame(&mut self, index: usize, frames: usize);
+}
+
+/// A plan with a component for each stage, ready to run.
+pub struct Prepared {
+    plan: PipelinePlan,
+    components: Vec<Box<dyn Component>>,
+    frames: usize,
+}
+
+/// Makes the plan's components: each a component of the ToF library, with its parameters and
+/// the files it reads (relative to `model_dir`) checked; every problem found, not just the
+/// first.
+pub fn prepare(plan: &PipelinePlan, model_dir: &Path) -> Result<Prepared, Vec<PipelineError>> {
+    let mut errors = Vec::new();
+    let mut made = Vec::new();
+    for (index, stage) in plan.stages.iter().enumerate() {
+        let providers = plan.bindings.iter().filter(|b| b.processor.stage == index).count();
+        match components::make(stage, providers, model_dir) {
+            Ok(component) => made.push(component),
+            Err(mut problems) => errors.append(&mut problems),
+        }
+    }
+    if plan.stages.is_empty() {
+        errors.push(PipelineError {
+            kind: ErrorKind::Mismatch,
+            stage: None,
+            range: Some(plan.name_range),
+            message: format!("`{}` has no instances to run", plan.diagram),
+        });
+    } else if plan.bindings.is_empty() {
+        errors.push(PipelineError {
+            kind: ErrorKind::Mismatch,
+            stage: None,
+            range: Some(plan.name_range),
+            message: format!("`{}` binds nothing: bind the sources' ports to filters and sinks", plan.diagram),
+        });
+    }
+    let frames = made.iter().filter_map(|c| c.frames()).max().unwrap_or(0);
+    if errors.is_empty() && frames == 0 {
+        errors.push(PipelineError {
+            kind: ErrorKind::Mismatch,
+            stage: None,
+            range: Some(plan.name_range),
+            message: format!("`{}` has no source: nothing produces frames", plan.diagram),
+        });
+    }
+    if errors.is_empty() {
+        Ok(Prepared { plan: plan.clone(), components: made, frames })
+    } else {
+        Err(errors)
+    }
+}
+
+impl Prepared {
+    /// The frames the sources give (the longest source).
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    pub fn diagram(&self) -> &str {
+        &self.plan.diagram
+    }
+
+    /// Runs at most `frames` frames (all without) on `gpu` (the CPU reference without one),
+    /// writing under `output`; stops between frames when `cancel` is set.
+    pub fn run(
+        &mut self,
+        gpu: Option<&Gpu>,
+        output: &mut OutputDir,
+        frames: Option<usize>,
+        observer: &mut dyn PipelineObserver,
+        cancel: &AtomicBool,
+    ) -> PipelineReport {
+        let frames = frames.map_or(self.frames, |n| n.min(self.frames));
+        let start = Instant::now();
+        let mut stages: Vec<StageTime> = self
+            .plan
+            .stages
+            .iter()
+            .map(|s| StageTime {
+                instance: s.instance.clone(),
+                class: s.class.clone(),
+                host: Duration::ZERO,
+                device: Duration::ZERO,
+                items: 0,
+            })
+            .collect();
+        let mut device = Device::new(gpu);
+        let outcome = self.frames_loop(&mut device, output, frames, &mut stages, observer, cancel);
+        let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
+        PipelineReport {
+            diagram: self.plan.diagram.clone(),
+            device: gpu.map_or_else(|| "the CPU reference (no GPU adapter)".to_string(), Gpu::describe),
+            frames,
+            total: start.elapsed(),
+            stages,
+            outputs: output.written().to_vec(),
+            outcome,
+        }
+    }
+
+    fn frames_loop(
+        &mut self,
+        device: &mut Device,
+        output: &mut OutputDir,
+        frames: usize,
+        times: &mut [StageTime],
+        observer: &mut dyn PipelineObserver,
+        cancel: &AtomicBool,
+    ) -> Result<(), PipelineError> {
+        // Items waiting on each binding: a frame's own, or a buffered port's queue.
+        let mut queues: Vec<VecDeque<Item>> = vec![VecDeque::new(); self.plan.bindings.len()];
+        for frame in 0..frames {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(self.error(
+                    None,
+                    ErrorKind::Cancelled,
+                    format!("cancelled after {frame} of {frames} frames"),
+                ));
+            }
+            for (index, time) in times.iter_mut().enumerate() {
+                let inputs = self.take_inputs(index, &mut queues, frame);
+                let is_source = self.components[index].frames().is_some();
+                if !is_source && inputs.is_empty() {
+                    continue;
+                }
+                let started = Instant::now();
+                time.items += inputs.len().max(1);
+                let mut ctx = components::Ctx { device, stage: index, frame, output };
+                let produced = self.components[index]
+                    .process(&mut ctx, &inputs)
+                    .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
+                time.host += started.elapsed();
+                self.deliver(device, index, produced, &mut queues, frame);
+            }
+            let (reads, kernel_times) =
+                device.end_frame().map_err(|e| self.error(None, ErrorKind::Failed, format!("frame {frame}: {e}")))?;
+            for (stage, time) in kernel_times {
+                times[stage].device += time;
+            }
+            for (index, time) in times.iter_mut().enumerate() {
+                let started = Instant::now();
+                let mut ctx = components::Ctx { device, stage: index, frame, output };
+                let produced = self.components[index]
+                    .finish_frame(&mut ctx, &reads)
+                    .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
+                time.host += started.elapsed();
+                // What a stage gives after the frame's reads arrives next frame.
+                self.deliver(device, index, produced, &mut queues, frame + 1);
+            }
+            observer.frame(frame, frames);
+        }
+        Ok(())
+    }
+
+    /// After the last frame: what sinks write once (a plot, the last cloud).
+    fn finish(&mut self, output: &mut OutputDir, times: &mut [StageTime]) -> Result<(), PipelineError> {
+        for (index, time) in times.iter_mut().enumerate() {
+            let started = Instant::now();
+            self.components[index]
+                .finish_run(output)
+                .map_err(|message| self.error(Some(index), ErrorKind::Output, message))?;
+            time.host += started.elapsed();
+        }
+        Ok(())
+    }
+
+    /// The items for stage `index` this frame, by port: an unbuffered binding's items of this
+    /// frame, a buffered one's of earlier frames.
+    fn take_inputs(&self, index: usize, queues: &mut [VecDeque<Item>], frame: usize) -> Inputs {
+        let mut inputs = Inputs::default();
+        for (binding, queue) in self.plan.bindings.iter().zip(queues.iter_mut()) {
+            if binding.processor.stage != index {
+                continue;
+            }
+            while queue.front().is_some_and(|item| item.frame <= frame) {
+                let item = queue.pop_front().expect("checked");
+                inputs.push(&binding.processor.port, item);
+            }
+        }
+        inputs
+    }
+
+    /// Puts what stage `index` produced on the bindings from its ports, for `frame`; through a
+    /// buffered port a frame later, its images copied (the producer writes its buffers again
+    /// next frame), and a full queue drops its oldest item.
+    fn deliver(
+        &self,
+        device: &mut Device,
+        index: usize,
+        produced: Outputs,
+        queues: &mut [VecDeque<Item>],
+        frame: usize,
+    ) {
+        let producer = &self.plan.stages[index].instance;
+        for (port, data) in produced {
+            for (binding, queue) in self.plan.bindings.iter().zip(queues.iter_mut()) {
+                if binding.provider.stage != index || binding.provider.port != port {
+                    continue;
+                }
+                let (data, at) =
+                    if binding.is_buffered { (device.detached(&data), frame + 1) } else { (data.clone(), frame) };
+                if binding.is_buffered && queue.len() >= binding.buffer_size {
+                    queue.pop_front();
+                }
+                queue.push_back(Item { data, producer: producer.clone(), frame: at });
+            }
+        }
+    }
+
+    fn error(&self, stage: Option<usize>, kind: ErrorKind, message: String) -> PipelineError {
+        let stage = stage.map(|s| &self.plan.stages[s]);
+        PipelineError { kind, stage: stage.map(|s| s.instance.clone()), range: stage.map(|s| s.range), message }
+    }
+}
