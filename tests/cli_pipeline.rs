@@ -119,37 +119,29 @@ const CAMERA: &str = "
         [ source Out.frame ==> target Black.In.frame ]
     }";
 
+/// The camera and a black-image correction with `values`, whose output goes nowhere (fine).
+fn camera_and_black(values: &str) -> String {
+    format!(
+        "{CAMERA}
+    Black instantiates BlackImageCorrection ({values})
+    {{
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+    }}"
+    )
+}
+
 #[test]
 fn bad_pipelines_are_refused_with_their_diagnostics() {
     let dir = temp_dir("pipeline-bad");
     // A filter whose output goes nowhere is fine; a sink with no input is not (E0401).
-    let file = pipeline(
-        &dir,
-        &format!(
-            "{CAMERA}
-    Black instantiates BlackImageCorrection ( )
-    {{
-        In : RawIn ( processor frame = IRawFrameProcessor() );
-    }}
-    Writer instantiates NpyWriter ( )"
-        ),
-    );
+    let file = pipeline(&dir, &format!("{}\n    Writer instantiates NpyWriter ( )", camera_and_black(" ")));
     let (code, stderr) = refused(&[&file, "-o", dir.join("out").to_str().unwrap()]);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(stderr.contains("E0401") && stderr.contains("`Writer` receives nothing on `DepthIn.depth`"), "{stderr}");
     assert!(!dir.join("out").exists(), "nothing written for a refused pipeline");
 
     // A black image that does not exist (E0404, exit code 2), at its parameter.
-    let file = pipeline(
-        &dir,
-        &format!(
-            "{CAMERA}
-    Black instantiates BlackImageCorrection (channelA = \"missing_a.npy\", channelB = \"missing_b.npy\")
-    {{
-        In : RawIn ( processor frame = IRawFrameProcessor() );
-    }}"
-        ),
-    );
+    let file = pipeline(&dir, &camera_and_black("channelA = \"missing_a.npy\", channelB = \"missing_b.npy\""));
     let (code, stderr) = refused(&[&file, "-o", dir.join("out").to_str().unwrap()]);
     assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("E0404") && stderr.contains("missing_a.npy does not exist"), "{stderr}");
@@ -159,16 +151,7 @@ fn bad_pipelines_are_refused_with_their_diagnostics() {
         return;
     }
     // An output folder that cannot be made: a file is in its place.
-    let file = pipeline(
-        &dir,
-        &format!(
-            "{CAMERA}
-    Black instantiates BlackImageCorrection ( )
-    {{
-        In : RawIn ( processor frame = IRawFrameProcessor() );
-    }}"
-        ),
-    );
+    let file = pipeline(&dir, &camera_and_black(" "));
     let blocked = dir.join("blocked");
     std::fs::write(&blocked, "a file").unwrap();
     let (code, stderr) = refused(&[&file, "-o", blocked.join("out").to_str().unwrap()]);

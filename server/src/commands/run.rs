@@ -55,16 +55,9 @@ pub fn run(args: &RunArgs) -> ExitCode {
     };
     let analysis = host.analysis();
     let chosen = analysis.with_semantics(|sema| choose(sema, &files, args.diagram.as_deref()));
-    let diagram = match chosen {
-        Err(_) => {
-            eprintln!("gudsl run: the analysis was cancelled");
-            return ExitCode::from(2);
-        }
-        Ok(Err(message)) => {
-            eprintln!("gudsl run: {message}");
-            return ExitCode::from(1);
-        }
-        Ok(Ok(Chosen::Pipeline(fqn))) => {
+    let diagram = match answered(chosen) {
+        Err(code) => return code,
+        Ok(Chosen::Pipeline(fqn)) => {
             let pipeline = super::pipeline::PipelineArgs {
                 diagram: &fqn,
                 frames: args.frames,
@@ -73,25 +66,18 @@ pub fn run(args: &RunArgs) -> ExitCode {
             };
             return super::pipeline::run(&analysis, &files, checked, &pipeline);
         }
-        Ok(Ok(Chosen::Activity(fqn))) => fqn,
+        Ok(Chosen::Activity(fqn)) => fqn,
     };
     let output = args.output.clone().unwrap_or_else(|| PathBuf::from("."));
     let prepared = analysis.with_semantics(|sema| prepare_named(sema, &files, &diagram));
-    let prepared = match prepared {
-        Err(_) => {
-            eprintln!("gudsl run: the analysis was cancelled");
-            return ExitCode::from(2);
-        }
-        Ok(Err(message)) => {
-            eprintln!("gudsl run: {message}");
-            return ExitCode::from(1);
-        }
-        Ok(Ok(Err(errors))) => {
+    let prepared = match answered(prepared) {
+        Err(code) => return code,
+        Ok(Err(errors)) => {
             add_findings(&mut checked, &files, &errors, DiagnosticCode::NotRunnable);
             eprintln!("gudsl run: `{diagram}` cannot run");
             return super::refuse(&checked, 1);
         }
-        Ok(Ok(Ok(prepared))) => prepared,
+        Ok(Ok(prepared)) => prepared,
     };
     let gpu = match gudsl_runtime::Gpu::new() {
         Ok(gpu) => gpu,
@@ -123,6 +109,22 @@ pub fn run(args: &RunArgs) -> ExitCode {
                 eprintln!("error: {error}");
             }
             ExitCode::from(if error.kind == RunErrorKind::Failed && !placed { 2 } else { 1 })
+        }
+    }
+}
+
+/// An answer of the model, or the exit code after saying why there is none: 2 when the
+/// analysis was cancelled, 1 when the answer is why no diagram is meant.
+fn answered<T>(answer: Result<Result<T, String>, gudsl_model::Cancelled>) -> Result<T, ExitCode> {
+    match answer {
+        Ok(Ok(value)) => Ok(value),
+        Ok(Err(message)) => {
+            eprintln!("gudsl run: {message}");
+            Err(ExitCode::from(1))
+        }
+        Err(_) => {
+            eprintln!("gudsl run: the analysis was cancelled");
+            Err(ExitCode::from(2))
         }
     }
 }
