@@ -68,48 +68,6 @@ pub enum Data {
     IntegrationTime(f32),
 }
 
-impl Data {
-    /// The kind of data, as its interfaces name it.
-    pub fn kind(&self) -> Kind {
-        match self {
-            Data::Raw(_) => Kind::Raw,
-            Data::Depth(_) => Kind::Depth,
-            Data::Mask(_) => Kind::Mask,
-            Data::Cloud(_) => Kind::Cloud,
-            Data::Pose(_) => Kind::Pose,
-            Data::IntegrationTime(_) => Kind::IntegrationTime,
-        }
-    }
-}
-
-/// The kinds of data, one per provider/processor interface pair of `ToF`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Kind {
-    Raw,
-    Depth,
-    Mask,
-    Cloud,
-    Pose,
-    IntegrationTime,
-}
-
-impl Kind {
-    /// The kind an interface of the ToF library carries (`ToF.IDepthImageProcessor`).
-    pub fn of_interface(fqn: &str) -> Option<Kind> {
-        let name = fqn.strip_prefix("ToF.I")?;
-        let stem = name.strip_suffix("Provider").or_else(|| name.strip_suffix("Processor"))?;
-        Some(match stem {
-            "RawFrame" => Kind::Raw,
-            "DepthImage" => Kind::Depth,
-            "Mask" => Kind::Mask,
-            "PointCloud" => Kind::Cloud,
-            "Pose" => Kind::Pose,
-            "IntegrationTime" => Kind::IntegrationTime,
-            _ => return None,
-        })
-    }
-}
-
 /// An item delivered to a stage: its data, and the instance that produced it (a sink fed by
 /// several names its outputs after their producers).
 #[derive(Debug, Clone)]

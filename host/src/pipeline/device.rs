@@ -1,7 +1,7 @@
 //! Where a pipeline's kernels run: on a GPU, every stage's dispatches recorded into one command
 //! encoder per frame over buffers made once (a kernel bound to its inputs is reused frame after
-//! frame), submitted when a stage must read a result (ICP's sums) or at the end of the frame,
-//! when every read the sinks asked for comes back through one staging buffer in one mapping;
+//! frame), submitted at the end of the frame, when every read the sinks and stages asked for
+//! comes back through one staging buffer in one mapping;
 //! or on the CPU, each kernel's reference, for machines without an adapter. Stages cannot tell
 //! the two apart.
 
@@ -51,10 +51,6 @@ impl<'g> Device<'g> {
     pub fn new(gpu: Option<&'g Gpu>) -> Device<'g> {
         let timing = gpu.filter(|gpu| gpu.times_on_device()).map(|gpu| Timing::new(gpu, 64));
         Device { gpu, encoder: None, later: Vec::new(), staging: None, timing }
-    }
-
-    pub fn on_gpu(&self) -> bool {
-        self.gpu.is_some()
     }
 
     /// `kernel` on `inputs` for `stage`, its results where the inputs are.
@@ -145,12 +141,6 @@ impl<'g> Device<'g> {
             }
             other => other.clone(),
         }
-    }
-
-    /// The tensors' samples now (a GPU waits for the frame's work so far).
-    pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, PipelineError> {
-        let tensors: Vec<Tensor> = tensors.iter().map(|t| (*t).clone()).collect();
-        self.read(&tensors)
     }
 
     /// Asks for `tensor`'s samples at the end of the frame ([`Device::end_frame`]).

@@ -155,10 +155,6 @@ impl Prepared {
         self.frames
     }
 
-    pub fn diagram(&self) -> &str {
-        &self.plan.diagram
-    }
-
     /// Runs at most `frames` frames (all without) on `gpu` (the CPU reference without one),
     /// writing under `output`; stops between frames when `cancel` is set.
     pub fn run(
@@ -229,7 +225,7 @@ impl Prepared {
                     .process(&mut ctx, &inputs)
                     .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
                 time.host += started.elapsed();
-                self.deliver(device, index, produced, &mut queues, frame);
+                self.deliver(device, index, produced, &mut queues, frame, false);
             }
             let (reads, kernel_times) =
                 device.end_frame().map_err(|e| self.error(None, ErrorKind::Failed, format!("frame {frame}: {e}")))?;
@@ -244,7 +240,7 @@ impl Prepared {
                     .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
                 time.host += started.elapsed();
                 // What a stage gives after the frame's reads arrives next frame.
-                self.deliver(device, index, produced, &mut queues, frame + 1);
+                self.deliver(device, index, produced, &mut queues, frame, true);
             }
             observer.frame(frame, frames);
         }
@@ -279,9 +275,10 @@ impl Prepared {
         inputs
     }
 
-    /// Puts what stage `index` produced on the bindings from its ports, for `frame`; through a
-    /// buffered port a frame later, its images copied (the producer writes its buffers again
-    /// next frame), and a full queue drops its oldest item.
+    /// Puts what stage `index` produced in `frame` on the bindings from its ports: for this
+    /// frame, or the next when it came after the frame's reads (`after_reads`) or goes through a
+    /// buffered port — there with its images copied (the producer writes its buffers again next
+    /// frame), a full queue dropping its oldest item.
     fn deliver(
         &self,
         device: &mut Device,
@@ -289,6 +286,7 @@ impl Prepared {
         produced: Outputs,
         queues: &mut [VecDeque<Item>],
         frame: usize,
+        after_reads: bool,
     ) {
         let producer = &self.plan.stages[index].instance;
         for (port, data) in produced {
@@ -296,8 +294,8 @@ impl Prepared {
                 if binding.provider.stage != index || binding.provider.port != port {
                     continue;
                 }
-                let (data, at) =
-                    if binding.is_buffered { (device.detached(&data), frame + 1) } else { (data.clone(), frame) };
+                let data = if binding.is_buffered { device.detached(&data) } else { data.clone() };
+                let at = frame + usize::from(binding.is_buffered || after_reads);
                 if binding.is_buffered && queue.len() >= binding.buffer_size {
                     queue.pop_front();
                 }

@@ -23,10 +23,6 @@ impl OutputDir {
         Ok(OutputDir { root: root.to_path_buf(), written: Vec::new() })
     }
 
-    pub fn root(&self) -> &Path {
-        &self.root
-    }
-
     /// Writes `bytes` to the file `name` in the folder `sink` (an instance's name) of the
     /// output folder; both reduced to plain names (no separators, no `..`).
     pub fn write(&mut self, sink: &str, name: &str, bytes: &[u8]) -> Result<PathBuf, String> {

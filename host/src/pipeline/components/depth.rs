@@ -5,7 +5,7 @@
 
 use gudsl_runtime::Kernel;
 
-use super::{Component, Ctx, Inputs, Outputs, Params};
+use super::{slots, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::{Data, DepthImage, Tensor},
     device::KernelSlot,
@@ -70,9 +70,6 @@ impl Component for DepthKernel {
             _ => None,
         });
         for (k, depth) in images.enumerate() {
-            if self.slots.len() <= k {
-                self.slots.resize_with(k + 1, KernelSlot::default);
-            }
             let mut reads: Vec<&Tensor> = vec![&depth.distance];
             match self.second {
                 Second::None => {}
@@ -80,8 +77,11 @@ impl Component for DepthKernel {
                 Second::Intensity => reads.push(&depth.intensity),
             }
             let kernel = (self.kernel)(depth.integration_us);
-            let distance =
-                ctx.device.kernel(ctx.stage, &mut self.slots[k], kernel, &reads).map_err(|e| e.to_string())?.remove(0);
+            let distance = ctx
+                .device
+                .kernel(ctx.stage, slots(&mut self.slots, k), kernel, &reads)
+                .map_err(|e| e.to_string())?
+                .remove(0);
             out.push(("DepthOut".to_string(), Data::Depth(DepthImage { distance, ..depth.clone() })));
         }
         Ok(out)

@@ -50,6 +50,15 @@ impl Inputs {
     }
 }
 
+/// The slots of the `k`-th item of a frame (each item its own buffers: a later item must not
+/// overwrite an earlier one's results before they are read).
+pub fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
+    if slots.len() <= k {
+        slots.resize_with(k + 1, T::default);
+    }
+    &mut slots[k]
+}
+
 /// What a stage produced: data for its provider ports, by port name.
 pub type Outputs = Vec<(String, Data)>;
 

@@ -3,7 +3,7 @@
 
 use gudsl_runtime::{kernels::motion::mean_direction, Image, Kernel};
 
-use super::{Component, Ctx, Inputs, Outputs, Params};
+use super::{slots, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
     device::{BufferSlot, KernelSlot, Later, Reads},
@@ -20,15 +20,6 @@ fn raw_frames(inputs: &Inputs) -> impl Iterator<Item = (usize, &RawFrame)> {
             _ => None,
         })
         .enumerate()
-}
-
-/// Slots for the `k`-th item of a frame (each item its own buffers: a later item must not
-/// overwrite an earlier one's results before they are read).
-fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
-    if slots.len() <= k {
-        slots.resize_with(k + 1, T::default);
-    }
-    &mut slots[k]
 }
 
 /// `ToF.BlackImageCorrection`: raw − black, the black image the frame's own or read from files.

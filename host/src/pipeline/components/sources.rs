@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use gudsl_runtime::{
     camera::{pose_from, Intrinsics},
-    sim::{simulate, Camera, Motion, Object, Scene},
+    sim::{simulate, Camera, Motion, Scene},
 };
 
 use super::{Component, Ctx, Inputs, Outputs, Params};
@@ -68,7 +68,7 @@ impl Simulated {
             ..Camera::default()
         };
         Simulated {
-            empty: Scene { object: None as Option<Object>, ..scene },
+            empty: Scene { object: None, ..scene },
             scene,
             empty_frames: params.count("emptyFrames"),
             motion,
