@@ -3,6 +3,7 @@
 //! the sinks) or, without an adapter, on the CPU reference. Programs written elsewhere (the code
 //! generator's kernels) run through [`program`].
 
+pub mod arrays;
 pub mod bound;
 pub mod camera;
 pub mod error;
@@ -13,8 +14,8 @@ pub mod image;
 pub mod kernels;
 pub mod linalg;
 pub mod listings;
-pub mod npy;
 pub mod pipeline;
+pub mod ply;
 pub mod program;
 pub mod registration;
 pub mod sim;

@@ -201,33 +201,20 @@ pub struct Accumulation {
 impl Accumulation {
     /// Adds every valid point of `cloud`, moved by `pose` into the model's frame.
     pub fn add(&mut self, cloud: &Cloud, pose: &Pose) {
-        let n = cloud.points.pixels();
-        for i in 0..n {
-            let (p, normal) = (cloud.points.vector(i), cloud.normals.vector(i));
-            if p[2] != 0.0 {
-                self.points.push(apply(pose, p, true));
-                self.normals.push(apply(pose, normal, false));
-            }
-        }
+        let (points, normals) = valid_points(&cloud.points, &cloud.normals);
+        self.points.extend(points.into_iter().map(|p| apply(pose, p, true)));
+        self.normals.extend(normals.into_iter().map(|n| apply(pose, n, false)));
     }
 
     /// Writes the points and normals as binary little-endian PLY.
     pub fn write_ply(&self, out: &mut impl Write) -> io::Result<()> {
-        write!(
-            out,
-            "ply\nformat binary_little_endian 1.0\ncomment gudsl-runtime accumulated ToF point cloud\n\
-             element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
-             property float nx\nproperty float ny\nproperty float nz\nend_header\n",
-            self.points.len()
-        )?;
-        let mut bytes = Vec::with_capacity(self.points.len() * 24);
-        for (p, n) in self.points.iter().zip(&self.normals) {
-            for value in p.iter().chain(n) {
-                bytes.extend_from_slice(&value.to_le_bytes());
-            }
-        }
-        out.write_all(&bytes)
+        crate::ply::write(out, &self.points, &self.normals, "gudsl-runtime accumulated ToF point cloud")
     }
+}
+
+/// The valid points of a cloud's 3-plane images (z ≠ 0) and their normals.
+pub fn valid_points(points: &Image, normals: &Image) -> crate::ply::Points {
+    (0..points.pixels()).filter(|&i| points.vector(i)[2] != 0.0).map(|i| (points.vector(i), normals.vector(i))).unzip()
 }
 
 /// Registers each cloud against the one before (frame to frame) and chains the increments into

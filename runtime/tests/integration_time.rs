@@ -31,6 +31,7 @@ fn calibration_finds_the_optimum_and_per_pixel_control_beats_the_proportional_on
     let (samples, truth) = sweep((1..=40).map(|k| 200.0 * k as f32));
     let model = calibrate(&samples, &truth, RANGE).expect("calibration");
     eprintln!("{model:?}");
+    assert_eq!(model, IntegrationModel::SIMULATED, "the simulated sensor's model the pipelines use");
     // h undoes the bend: a bright plate's measured intensity maps back onto its linear growth.
     let (short, long) = (acquire(300.0, 90).0, acquire(2400.0, 91).0);
     let white = 150 * 200 + 150; // the white plate (bottom right)
@@ -43,6 +44,11 @@ fn calibration_finds_the_optimum_and_per_pixel_control_beats_the_proportional_on
         "h({measured}) = {corrected}, linear {linear}"
     );
     let rate = intensity_rate(&samples, &model);
+    assert!(
+        (0.5 / rate - 0.025).abs() < 0.001,
+        "the gain the ToF library's IntegrationTimeControl defaults to: {}",
+        0.5 / rate
+    );
     let controllers = [
         Controller::PerPixel(model),
         Controller::Proportional(ProportionalController::tuned(model.i_opt, rate, RANGE)),

@@ -4,7 +4,7 @@
 
 use gudsl_runtime::kernels::tof::{demodulate, subtract_black, unambiguous_range};
 use gudsl_runtime::sim::{simulate, Camera, Motion, Scene};
-use gudsl_runtime::{npy, Image};
+use gudsl_runtime::{arrays, Image};
 
 /// |measured − truth| over pixels whose 3×3 neighbourhood is one surface (no depth edge).
 fn interior_errors(distance: &Image, truth: &Image) -> Vec<f32> {
@@ -88,9 +88,9 @@ fn long_integration_saturates_and_frames_round_trip_through_npy() {
     let dir = std::env::temp_dir().join(format!("gudsl-sim-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("raw.npy");
-    npy::save(&path, &[8, 200, 200], &frame.raw.data, npy::Dtype::U16).unwrap();
-    let (shape, data) = npy::load(&path).unwrap();
-    assert_eq!(shape, vec![8, 200, 200]);
-    assert_eq!(data, frame.raw.data);
+    arrays::write(&path, &[8, 200, 200], &frame.raw.data, arrays::Dtype::U16).unwrap();
+    let array = arrays::read(&path).unwrap();
+    assert_eq!((array.shape, array.dtype), (vec![8, 200, 200], arrays::Dtype::U16));
+    assert_eq!(array.values, frame.raw.data);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -19,3 +19,72 @@ async def wait_for(predicate, what, timeout=10.0):
             return value
         await asyncio.sleep(0.02)
     fail(f"timed out waiting for {what}")
+
+
+def field(value, name):
+    """A field of a value pygls gives as an object or as a dict."""
+    return getattr(value, name, None) if not isinstance(value, dict) else value.get(name)
+
+
+async def refused(request, what):
+    """The JSON-RPC error a request is answered with; fails when it is answered with a result."""
+    from pygls.exceptions import JsonRpcException
+
+    try:
+        result = await request
+    except JsonRpcException as error:
+        return error
+    fail(f"{what} was not refused: {result}")
+
+
+class Seen:
+    """What the server sent a client: diagnostics by URI, progress values by token, the progress
+    tokens it created, log messages and shown messages (type, text)."""
+
+    def __init__(self):
+        self.diagnostics, self.progress, self.created, self.logs, self.shown = {}, {}, [], [], []
+
+
+async def start_client(name, gudsl, root):
+    """`gudsl lsp` started and initialised with `root` as its workspace folder, by a client that
+    accepts work-done progress and records what the server sends."""
+    from lsprotocol import types as t
+    from pygls.lsp.client import LanguageClient
+
+    client, seen = LanguageClient(name, "1.0"), Seen()
+
+    @client.feature(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    def on_diagnostics(params):
+        seen.diagnostics[params.uri] = params.diagnostics
+
+    @client.feature(t.WINDOW_WORK_DONE_PROGRESS_CREATE)
+    def on_progress_create(params):
+        seen.created.append(str(params.token))
+
+    @client.feature(t.CLIENT_REGISTER_CAPABILITY)
+    def on_register(params):
+        return None
+
+    @client.feature(t.PROGRESS)
+    def on_progress(params):
+        seen.progress.setdefault(str(params.token), []).append(params.value)
+
+    @client.feature(t.WINDOW_LOG_MESSAGE)
+    def on_log(params):
+        seen.logs.append(params.message)
+
+    @client.feature(t.WINDOW_SHOW_MESSAGE)
+    def on_show(params):
+        seen.shown.append((params.type, params.message))
+
+    await client.start_io(gudsl, "lsp")
+    await client.initialize_async(
+        t.InitializeParams(
+            process_id=None,
+            root_uri=root.as_uri(),
+            workspace_folders=[t.WorkspaceFolder(uri=root.as_uri(), name=root.name)],
+            capabilities=t.ClientCapabilities(window=t.WindowClientCapabilities(work_done_progress=True)),
+        )
+    )
+    client.initialized(t.InitializedParams())
+    return client, seen

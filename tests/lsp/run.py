@@ -18,10 +18,8 @@ import time
 from pathlib import Path
 
 from lsprotocol import types as t
-from pygls.exceptions import JsonRpcException
-from pygls.lsp.client import LanguageClient
 
-from checks import fail, wait_for
+from checks import fail, field, refused, start_client, wait_for
 
 FORK = """ClassDiagram K { import OpenCL.GPU.*; public class Gpu implements OpenCL { } }
 ActivityDiagram Forked()
@@ -39,17 +37,7 @@ ActivityDiagram Forked()
 """
 
 
-def field(value, name):
-    return getattr(value, name, None) if not isinstance(value, dict) else value.get(name)
 
-
-async def refused(request, what):
-    """The JSON-RPC error a request is answered with; fails when it is answered with a result."""
-    try:
-        result = await request
-    except JsonRpcException as error:
-        return error
-    fail(f"{what} was not refused: {result}")
 
 
 async def main(gudsl, samples, gpu):
@@ -57,43 +45,9 @@ async def main(gudsl, samples, gpu):
     main_uri = (samples / "seed" / "main_full.gudsl").as_uri()
     bilateral_uri = (samples / "seed" / "listing16_bilateral_filter.gudsl").as_uri()
 
-    client = LanguageClient("gudsl-run-e2e", "1.0")
-    diagnostics, progress, logs, shown, created = {}, {}, [], [], []
-
-    @client.feature(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-    def on_diagnostics(params: t.PublishDiagnosticsParams):
-        diagnostics[params.uri] = params.diagnostics
-
-    @client.feature(t.WINDOW_WORK_DONE_PROGRESS_CREATE)
-    def on_progress_create(params: t.WorkDoneProgressCreateParams):
-        created.append(str(params.token))
-
-    @client.feature(t.CLIENT_REGISTER_CAPABILITY)
-    def on_register(params):
-        return None
-
-    @client.feature(t.PROGRESS)
-    def on_progress(params: t.ProgressParams):
-        progress.setdefault(str(params.token), []).append(params.value)
-
-    @client.feature(t.WINDOW_LOG_MESSAGE)
-    def on_log(params: t.LogMessageParams):
-        logs.append(params.message)
-
-    @client.feature(t.WINDOW_SHOW_MESSAGE)
-    def on_show(params: t.ShowMessageParams):
-        shown.append((params.type, params.message))
-
-    await client.start_io(gudsl, "lsp")
-    await client.initialize_async(
-        t.InitializeParams(
-            process_id=None,
-            root_uri=samples.as_uri(),
-            workspace_folders=[t.WorkspaceFolder(uri=samples.as_uri(), name="samples")],
-            capabilities=t.ClientCapabilities(window=t.WindowClientCapabilities(work_done_progress=True)),
-        )
-    )
-    client.initialized(t.InitializedParams())
+    client, seen = await start_client("gudsl-run-e2e", gudsl, samples)
+    diagnostics, progress, shown, created = seen.diagnostics, seen.progress, seen.shown, seen.created
+    logs = seen.logs
     await wait_for(lambda: main_uri in diagnostics, "the samples' diagnostics", timeout=60.0)
     if diagnostics[main_uri]:
         fail(f"main_full.gudsl has diagnostics: {diagnostics[main_uri]}")

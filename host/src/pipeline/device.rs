@@ -149,6 +149,13 @@ impl<'g> Device<'g> {
         Later(self.later.len() - 1)
     }
 
+    /// Submits the work recorded so far and reads `tensors` back at once: for a stage that
+    /// needs a result before it can go on (ICP's sums each iteration, a cloud to accumulate).
+    pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, PipelineError> {
+        let tensors: Vec<Tensor> = tensors.iter().map(|t| (*t).clone()).collect();
+        self.read(&tensors)
+    }
+
     /// Submits the frame's work and reads back what was asked for, in one mapping; with the
     /// GPU time each stage's kernels took.
     pub fn end_frame(&mut self) -> Result<(Reads, Vec<(usize, Duration)>), PipelineError> {

@@ -1,63 +1,215 @@
-//! Files a pipeline reads: raw frames as two `.npy` arrays of 16-bit values, channel A and
-//! channel B, shape (4, H, W) for one frame or (N, 4, H, W) for N (phase image, row, column),
-//! interleaved into the runtime's 8-plane frames (`A0 B0 A1 B1 A2 B2 A3 B3`). Every problem is
-//! a message naming the file and what was expected.
+//! Files a pipeline reads. Raw frames: two arrays of 16-bit values, channel A and channel B,
+//! shape (4, H, W) for one frame or (N, 4, H, W) for N (phase image, row, column), interleaved
+//! into the runtime's 8-plane frames (`A0 B0 A1 B1 A2 B2 A3 B3`). Depth images: an array of
+//! (H, W) or (N, H, W) values, or one 16-bit PNG. Arrays are `.npy` files or members of `.npz`
+//! archives (`gudsl_runtime::arrays`). Opening reads the headers only — what the editor checks
+//! as the model is typed —, loading reads the values when a run starts. Every problem is a
+//! message naming the file and what was expected.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use gudsl_runtime::{npy, Image};
+use gudsl_runtime::{arrays, Image};
 
-/// Why a pair of channel files cannot be read; `in_b` when channel B's file is the culprit.
+/// What raw frames' channel files must hold.
+const RAW: &str = "a .npy array of uint16 of shape (4, H, W) or (N, 4, H, W)";
+
+/// What a depth file must hold.
+const DEPTH: &str = "a .npy array of shape (H, W) or (N, H, W), or a 16-bit PNG";
+
+/// Why a channel file cannot be read; `in_b` when channel B's file is the culprit.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct FileError {
     pub message: String,
     pub in_b: bool,
 }
 
-/// The frames of channel files `a` and `b`.
-pub fn raw_frames(a: &Path, b: &Path) -> Result<Vec<Image>, FileError> {
-    let (shape_a, data_a) = channel(a).map_err(|message| FileError { message, in_b: false })?;
-    let (shape_b, data_b) = channel(b).map_err(|message| FileError { message, in_b: true })?;
-    if shape_a != shape_b {
-        return Err(FileError {
-            message: format!(
-                "{} has shape {:?}, but {} has {:?}: the channels of a recording have one shape",
-                a.display(),
-                shape_a,
-                b.display(),
-                shape_b
-            ),
-            in_b: true,
-        });
-    }
-    let (frames, height, width) = shape_a;
-    let n = width * height;
-    Ok((0..frames)
-        .map(|f| {
-            let mut raw = Image::zeros(width, height, 8);
-            for phase in 0..4 {
-                let from = (f * 4 + phase) * n;
-                raw.plane_mut(2 * phase).copy_from_slice(&data_a[from..from + n]);
-                raw.plane_mut(2 * phase + 1).copy_from_slice(&data_b[from..from + n]);
-            }
-            raw
-        })
-        .collect())
+/// Frames, rows and columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Extent {
+    pub frames: usize,
+    pub height: usize,
+    pub width: usize,
 }
 
-/// Frames, rows and columns of a channel file.
-type Extent = (usize, usize, usize);
+/// A shape as NumPy writes it: `(4, 30, 40)`.
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [one] => format!("({one},)"),
+        _ => format!("({})", shape.iter().map(usize::to_string).collect::<Vec<_>>().join(", ")),
+    }
+}
 
-/// One channel file: its extent and its values.
-fn channel(path: &Path) -> Result<(Extent, Vec<f32>), String> {
-    let expected = "a .npy array of 16-bit values of shape (4, H, W) or (N, 4, H, W)";
-    let (shape, values) = npy::load(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => format!("{} does not exist; expected {expected}", path.display()),
-        _ => format!("{e}; expected {expected}"),
-    })?;
+/// The message of an array that cannot be read, with what was `expected`.
+fn unreadable(error: arrays::ArrayError, expected: &str) -> String {
+    format!("{error}; expected {expected}")
+}
+
+/// The channel files of a recording of raw frames.
+#[derive(Debug, Clone)]
+pub struct RawFiles {
+    a: PathBuf,
+    b: PathBuf,
+    pub extent: Extent,
+}
+
+impl RawFiles {
+    /// Checks both files' headers: every problem found, each naming its file.
+    pub fn open(a: &Path, b: &Path) -> Result<RawFiles, Vec<FileError>> {
+        let (extent_a, extent_b) = (channel(a), channel(b));
+        match (extent_a, extent_b) {
+            (Ok(ea), Ok(eb)) if ea == eb => Ok(RawFiles { a: a.to_path_buf(), b: b.to_path_buf(), extent: ea }),
+            (Ok(ea), Ok(eb)) => Err(vec![FileError {
+                message: format!(
+                    "{} holds {} frame(s) of {}×{}, but {} holds {} of {}×{}: the channels of a recording have one shape",
+                    a.display(),
+                    ea.frames,
+                    ea.width,
+                    ea.height,
+                    b.display(),
+                    eb.frames,
+                    eb.width,
+                    eb.height
+                ),
+                in_b: true,
+            }]),
+            (a, b) => {
+                let errors = [(a.err(), false), (b.err(), true)];
+                Err(errors.into_iter().filter_map(|(e, in_b)| Some(FileError { message: e?, in_b })).collect())
+            }
+        }
+    }
+
+    /// The first `frames` frames (all of them when there are fewer).
+    pub fn load(&self, frames: usize) -> Result<Vec<Image>, String> {
+        let a = channel_values(&self.a)?;
+        let b = channel_values(&self.b)?;
+        let Extent { height, width, .. } = self.extent;
+        let n = width * height;
+        changed_since_opened(&self.a, a.len(), self.extent.frames * 4 * n)?;
+        changed_since_opened(&self.b, b.len(), self.extent.frames * 4 * n)?;
+        Ok((0..frames.min(self.extent.frames))
+            .map(|f| {
+                let mut raw = Image::zeros(width, height, 8);
+                for phase in 0..4 {
+                    let from = (f * 4 + phase) * n;
+                    raw.plane_mut(2 * phase).copy_from_slice(&a[from..from + n]);
+                    raw.plane_mut(2 * phase + 1).copy_from_slice(&b[from..from + n]);
+                }
+                raw
+            })
+            .collect())
+    }
+}
+
+/// A channel file's extent, from its header.
+fn channel(path: &Path) -> Result<Extent, String> {
+    let (shape, dtype) = arrays::header(path).map_err(|e| unreadable(e, RAW))?;
+    if !dtype.is_integer() || dtype.kind == arrays::Kind::Bool {
+        return Err(format!("{} has dtype {dtype}; expected {RAW}", path.display()));
+    }
     match shape[..] {
-        [4, h, w] if h > 0 && w > 0 => Ok(((1, h, w), values)),
-        [n, 4, h, w] if n > 0 && h > 0 && w > 0 => Ok(((n, h, w), values)),
-        _ => Err(format!("{} has shape {shape:?}; expected {expected}", path.display())),
+        [4, height, width] if height > 0 && width > 0 => Ok(Extent { frames: 1, height, width }),
+        [frames, 4, height, width] if frames > 0 && height > 0 && width > 0 => Ok(Extent { frames, height, width }),
+        _ => Err(format!("{} has shape {}; expected {RAW}", path.display(), shape_text(&shape))),
+    }
+}
+
+/// A channel file's values, each a 16-bit value.
+fn channel_values(path: &Path) -> Result<Vec<f32>, String> {
+    let array = arrays::read(path).map_err(|e| unreadable(e, RAW))?;
+    match array.values.iter().position(|v| !(0.0..=65535.0).contains(v)) {
+        Some(at) => Err(format!(
+            "{} holds {} at index {at}, outside 0..=65535; expected {RAW}",
+            path.display(),
+            array.values[at]
+        )),
+        None => Ok(array.values),
+    }
+}
+
+/// A file of depth images: an array or a 16-bit PNG.
+#[derive(Debug, Clone)]
+pub struct DepthFile {
+    path: PathBuf,
+    png: bool,
+    pub extent: Extent,
+}
+
+impl DepthFile {
+    /// Checks the file's header.
+    pub fn open(path: &Path) -> Result<DepthFile, String> {
+        let png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let extent = if png {
+            let reader = image::ImageReader::open(path)
+                .map_err(|e| format!("{}: {}; expected {DEPTH}", path.display(), io_message(&e)))?;
+            let reader =
+                reader.with_guessed_format().map_err(|e| format!("{}: {e}; expected {DEPTH}", path.display()))?;
+            let (width, height) =
+                reader.into_dimensions().map_err(|e| format!("{}: {e}; expected {DEPTH}", path.display()))?;
+            Extent { frames: 1, height: height as usize, width: width as usize }
+        } else {
+            let (shape, _) = arrays::header(path).map_err(|e| unreadable(e, DEPTH))?;
+            match shape[..] {
+                [height, width] if height > 0 && width > 0 => Extent { frames: 1, height, width },
+                [frames, height, width] if frames > 0 && height > 0 && width > 0 => Extent { frames, height, width },
+                _ => return Err(format!("{} has shape {}; expected {DEPTH}", path.display(), shape_text(&shape))),
+            }
+        };
+        Ok(DepthFile { path: path.to_path_buf(), png, extent })
+    }
+
+    /// The first `frames` images (all when there are fewer) in metres: an array's values as
+    /// they are, a PNG's times `scale`.
+    pub fn load(&self, frames: usize, scale: f32) -> Result<Vec<Image>, String> {
+        let Extent { height, width, .. } = self.extent;
+        let values = if self.png {
+            let image =
+                image::open(&self.path).map_err(|e| format!("{}: {e}; expected {DEPTH}", self.path.display()))?;
+            match image {
+                image::DynamicImage::ImageLuma16(grey) => grey.into_raw().into_iter().map(f32::from).collect(),
+                image::DynamicImage::ImageLuma8(grey) => grey.into_raw().into_iter().map(f32::from).collect(),
+                other => {
+                    return Err(format!(
+                        "{} is a {:?} PNG; expected a greyscale PNG of 16 (or 8) bits",
+                        self.path.display(),
+                        other.color()
+                    ))
+                }
+            }
+        } else {
+            arrays::read(&self.path).map_err(|e| unreadable(e, DEPTH))?.values
+        };
+        let scale = if self.png { scale } else { 1.0 };
+        let n = width * height;
+        changed_since_opened(&self.path, values.len(), self.extent.frames * n)?;
+        Ok((0..frames.min(self.extent.frames))
+            .map(|f| {
+                let mut depth = Image::zeros(width, height, 1);
+                for (to, from) in depth.data.iter_mut().zip(&values[f * n..(f + 1) * n]) {
+                    *to = from * scale;
+                }
+                depth
+            })
+            .collect())
+    }
+}
+
+/// An error unless a file still holds the `expected` values its header promised when it was
+/// opened (it may have been written again since).
+fn changed_since_opened(path: &Path, values: usize, expected: usize) -> Result<(), String> {
+    match values == expected {
+        true => Ok(()),
+        false => Err(format!(
+            "{} holds {values} values, not the {expected} it held when the run was prepared: it changed meanwhile",
+            path.display()
+        )),
+    }
+}
+
+/// An I/O error as a user reads it ("does not exist").
+fn io_message(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::NotFound => "does not exist".to_string(),
+        _ => error.to_string(),
     }
 }

@@ -23,7 +23,10 @@ use std::{
     time::{Duration, Instant},
 };
 
-use gudsl_model::{hir::pipeline::PipelinePlan, syntax::TextRange};
+use gudsl_model::{
+    hir::{pipeline::PipelinePlan, Diagnostic, DiagnosticCode, Severity},
+    syntax::TextRange,
+};
 use gudsl_runtime::Gpu;
 
 use components::{Component, Inputs, Outputs};
@@ -47,13 +50,26 @@ pub struct PipelineError {
 pub enum ErrorKind {
     /// A file that cannot be read or is not what the component expects (E0404).
     Input,
-    /// A component the runtime cannot run, images that cannot meet (E0405).
+    /// Images that cannot meet (E0405).
     Mismatch,
+    /// A component the runtime cannot run, a diagram with nothing to run (E0405 when it is
+    /// run; the model itself is right).
+    NotRunnable,
     /// A stage failed while running.
     Failed,
     /// An output that cannot be written.
     Output,
     Cancelled,
+}
+
+impl PipelineError {
+    /// Its diagnostic code: E0404 for an input, E0405 for the rest.
+    pub fn code(&self) -> DiagnosticCode {
+        match self.kind {
+            ErrorKind::Input => DiagnosticCode::PipelineInput,
+            _ => DiagnosticCode::PipelineMismatch,
+        }
+    }
 }
 
 impl std::fmt::Display for PipelineError {
@@ -120,14 +136,14 @@ pub fn prepare(plan: &PipelinePlan, model_dir: &Path) -> Result<Prepared, Vec<Pi
     }
     if plan.stages.is_empty() {
         errors.push(PipelineError {
-            kind: ErrorKind::Mismatch,
+            kind: ErrorKind::NotRunnable,
             stage: None,
             range: Some(plan.name_range),
             message: format!("`{}` has no instances to run", plan.diagram),
         });
     } else if plan.bindings.is_empty() {
         errors.push(PipelineError {
-            kind: ErrorKind::Mismatch,
+            kind: ErrorKind::NotRunnable,
             stage: None,
             range: Some(plan.name_range),
             message: format!("`{}` binds nothing: bind the sources' ports to filters and sinks", plan.diagram),
@@ -136,7 +152,7 @@ pub fn prepare(plan: &PipelinePlan, model_dir: &Path) -> Result<Prepared, Vec<Pi
     let frames = made.iter().filter_map(|c| c.frames()).max().unwrap_or(0);
     if errors.is_empty() && frames == 0 {
         errors.push(PipelineError {
-            kind: ErrorKind::Mismatch,
+            kind: ErrorKind::NotRunnable,
             stage: None,
             range: Some(plan.name_range),
             message: format!("`{}` has no source: nothing produces frames", plan.diagram),
@@ -147,6 +163,26 @@ pub fn prepare(plan: &PipelinePlan, model_dir: &Path) -> Result<Prepared, Vec<Pi
     } else {
         Err(errors)
     }
+}
+
+/// What keeps a pipeline the plan found no problem in from running, found without running it
+/// (its files' headers read, its components made): diagnostics of the plan's file, E0404 and
+/// E0405, at the instance or parameter concerned (else at the diagram's name). A component
+/// the runtime cannot run is not one: the model is right, only `run` refuses it.
+pub fn check(plan: &PipelinePlan, model_dir: &Path) -> Vec<Diagnostic> {
+    let Err(errors) = prepare(plan, model_dir) else { return Vec::new() };
+    errors
+        .into_iter()
+        .filter(|error| error.kind != ErrorKind::NotRunnable)
+        .map(|error| Diagnostic {
+            code: error.code(),
+            severity: Severity::Error,
+            range: error.range.unwrap_or(plan.name_range),
+            message: error.message,
+            suggestion: None,
+            related: Vec::new(),
+        })
+        .collect()
 }
 
 impl Prepared {
@@ -180,7 +216,9 @@ impl Prepared {
             })
             .collect();
         let mut device = Device::new(gpu);
-        let outcome = self.frames_loop(&mut device, output, frames, &mut stages, observer, cancel);
+        let outcome = self.load(&mut stages);
+        let outcome =
+            outcome.and_then(|()| self.frames_loop(&mut device, output, frames, &mut stages, observer, cancel));
         let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
         PipelineReport {
             diagram: self.plan.diagram.clone(),
@@ -243,6 +281,16 @@ impl Prepared {
                 self.deliver(device, index, produced, &mut queues, frame, true);
             }
             observer.frame(frame, frames);
+        }
+        Ok(())
+    }
+
+    /// Before the first frame: the files the components read.
+    fn load(&mut self, times: &mut [StageTime]) -> Result<(), PipelineError> {
+        for (index, time) in times.iter_mut().enumerate() {
+            let started = Instant::now();
+            self.components[index].load().map_err(|message| self.error(Some(index), ErrorKind::Input, message))?;
+            time.host += started.elapsed();
         }
         Ok(())
     }

@@ -61,6 +61,10 @@ pub(crate) fn diagnose(loaded: workspace::Loaded, analysis: &Analysis, files: &[
     let mut report = Report { unreadable: loaded.errors, ..Report::default() };
     for (document, &file) in loaded.documents.into_iter().zip(files) {
         let (found, index) = analysis.diagnostics(file).ok()?;
+        let mut found = found.to_vec();
+        if !found.iter().any(|d| d.severity == Severity::Error) {
+            found.extend(super::pipeline::file_diagnostics(analysis, file).ok()?);
+        }
         let file_index = report.files.len();
         report.findings.extend(found.iter().map(|d| {
             Finding {

@@ -10,7 +10,11 @@ pub mod wgsl;
 
 use std::{path::PathBuf, process::ExitCode};
 
-use gudsl_model::{analysis::FileId, hir::Severity, AnalysisHost};
+use gudsl_model::{
+    analysis::FileId,
+    hir::{DiagnosticCode, Severity},
+    AnalysisHost,
+};
 
 use crate::{
     report::{self, Color, Format},
@@ -18,8 +22,8 @@ use crate::{
 };
 
 /// The files under `paths`, loaded into one workspace and checked; or, when a path could not be
-/// read (exit code 2) or the model has errors (1), the exit code after printing why `command`
-/// does nothing.
+/// read (exit code 2), the model has errors (1) or a file a pipeline reads is missing or
+/// malformed (E0404, 2), the exit code after printing why `command` does nothing.
 pub fn checked_model(
     paths: &[PathBuf],
     command: &str,
@@ -37,7 +41,8 @@ pub fn checked_model(
     }
     if report.count(Severity::Error) > 0 {
         eprintln!("gudsl {command}: the model has errors; nothing is done");
-        return Err(refuse(&report, 1));
+        let unreadable_input = report.findings.iter().any(|f| f.code == DiagnosticCode::PipelineInput);
+        return Err(refuse(&report, if unreadable_input { 2 } else { 1 }));
     }
     Ok((host, files, report))
 }

@@ -18,7 +18,8 @@ use std::{
 use gudsl_host::pipeline::{self, ErrorKind, OutputDir, PipelineError, PipelineObserver, PipelineReport};
 use gudsl_model::{
     analysis::{Analysis, FileId},
-    hir::{DiagnosticCode, Severity},
+    hir::{DefKind, Diagnostic, Severity},
+    Cancellable,
 };
 
 use crate::report::{self, Finding};
@@ -54,8 +55,7 @@ pub fn run(analysis: &Analysis, files: &[FileId], mut checked: report::Report, a
         eprintln!("gudsl run: `{}` cannot run", plan.diagram);
         return super::refuse(&checked, 1);
     }
-    let model_dir = Path::new(analysis.file_path(plan.file)).parent().unwrap_or(Path::new(".")).to_path_buf();
-    let mut prepared = match pipeline::prepare(&plan, &model_dir) {
+    let mut prepared = match pipeline::prepare(&plan, &model_dir(analysis, plan.file)) {
         Ok(prepared) => prepared,
         Err(errors) => {
             let code = if errors.iter().any(|e| e.kind == ErrorKind::Input) { 2 } else { 1 };
@@ -74,17 +74,9 @@ pub fn run(analysis: &Analysis, files: &[FileId], mut checked: report::Report, a
             return ExitCode::from(2);
         }
     };
-    let gpu = if args.cpu {
-        None
-    } else {
-        match gudsl_runtime::Gpu::with_timestamps() {
-            Ok(gpu) => Some(gpu),
-            Err(error) => {
-                eprintln!("gudsl run: no GPU adapter ({error}); running on the CPU reference (--cpu says so)");
-                None
-            }
-        }
-    };
+    let gpu = device(args.cpu, |error| {
+        eprintln!("gudsl run: no GPU adapter ({error}); running on the CPU reference (--cpu says so)")
+    });
     let frames = args.frames.map_or(prepared.frames(), |n| n.min(prepared.frames()));
     let device = gpu.as_ref().map_or_else(|| "the CPU reference".to_string(), |g| g.describe());
     eprintln!("running {} ({frames} frames) on {device}", plan.diagram);
@@ -92,10 +84,7 @@ pub fn run(analysis: &Analysis, files: &[FileId], mut checked: report::Report, a
     let report = prepared.run(gpu.as_ref(), &mut output, args.frames, &mut progress, &AtomicBool::new(false));
     progress.done();
     print_report(&report);
-    let json = report_json(&report);
-    let written =
-        output.write_top("report.json", (serde_json::to_string_pretty(&json).expect("a report") + "\n").as_bytes());
-    if let Err(error) = written {
+    if let Err(error) = write_report(&report, &mut output) {
         eprintln!("gudsl run: {error}");
         return ExitCode::from(2);
     }
@@ -108,6 +97,42 @@ pub fn run(analysis: &Analysis, files: &[FileId], mut checked: report::Report, a
     }
 }
 
+/// The GPU a pipeline runs on: the first adapter, its kernels timed where it has timestamp
+/// queries; `None`, the CPU reference, with `cpu` or when there is no adapter (`no_adapter`
+/// told why).
+pub fn device(cpu: bool, no_adapter: impl FnOnce(String)) -> Option<gudsl_runtime::Gpu> {
+    if cpu {
+        return None;
+    }
+    gudsl_runtime::Gpu::with_timestamps().map_err(|error| no_adapter(error.to_string())).ok()
+}
+
+/// The folder a model file's relative paths resolve against.
+pub fn model_dir(analysis: &Analysis, file: FileId) -> PathBuf {
+    Path::new(analysis.file_path(file)).parent().unwrap_or(Path::new(".")).to_path_buf()
+}
+
+/// What keeps the pipelines declared in `file` from running (E0404, E0405; their files read
+/// as far as their headers), for those whose plan has no problems of its own.
+pub fn file_diagnostics(analysis: &Analysis, file: FileId) -> Cancellable<Vec<Diagnostic>> {
+    let diagrams: Vec<String> = analysis.with_semantics(|sema| {
+        sema.file_diagrams(file)
+            .filter(|def| matches!(def.kind, DefKind::ComponentInstanceDiagram))
+            .map(|def| def.fqn.clone())
+            .collect()
+    })?;
+    let mut out = Vec::new();
+    for fqn in diagrams {
+        match analysis.pipeline_plan(&fqn)? {
+            Some(plan) if plan.file == file && plan.diagnostics.is_empty() => {
+                out.extend(pipeline::check(&plan, &model_dir(analysis, file)))
+            }
+            _ => {}
+        }
+    }
+    Ok(out)
+}
+
 /// The pipeline's problems as findings of the report `gudsl check` writes.
 fn add_findings(report: &mut report::Report, file: usize, errors: &[PipelineError]) {
     for error in errors {
@@ -118,10 +143,7 @@ fn add_findings(report: &mut report::Report, file: usize, errors: &[PipelineErro
         report.findings.push(Finding {
             file,
             severity: Severity::Error,
-            code: match error.kind {
-                ErrorKind::Input => DiagnosticCode::PipelineInput,
-                _ => DiagnosticCode::PipelineMismatch,
-            },
+            code: error.code(),
             message: error.message.clone(),
             range,
             related: Vec::new(),
@@ -168,28 +190,32 @@ fn ms(duration: Duration) -> f64 {
     duration.as_secs_f64() * 1000.0
 }
 
-/// How the run ended, the stages' table and the files written.
-fn print_report(report: &PipelineReport) {
+/// One line: how the run ended, in how long, on which device.
+pub fn summary(report: &PipelineReport) -> String {
+    let per_frame = ms(report.total) / report.frames.max(1) as f64;
+    let ended = match &report.outcome {
+        Ok(()) => format!("ran {} ({} frames)", report.diagram, report.frames),
+        Err(error) if error.kind == ErrorKind::Cancelled => format!("{}: {}", report.diagram, error.message),
+        Err(_) => format!("{} stopped with an error", report.diagram),
+    };
+    format!("{ended} in {:.1} ms ({per_frame:.2} ms per frame) on {}", ms(report.total), report.device)
+}
+
+/// The stages' table: per stage its time per frame on the host and on the GPU, and its share
+/// of the total.
+pub fn table(report: &PipelineReport) -> String {
     let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
-    println!(
-        "ran {} ({} frames) in {:.1} ms ({:.2} ms per frame) on {}",
-        report.diagram,
-        report.frames,
-        ms(report.total),
-        per_frame(report.total),
-        report.device
-    );
     let total: Duration = report.stages.iter().map(|s| s.host + s.device).sum();
     let width = report.stages.iter().map(|s| s.instance.len()).max().unwrap_or(5).max(5);
     let class_width = report.stages.iter().map(|s| s.class.len()).max().unwrap_or(9).max(9);
-    println!(
-        "{:width$}  {:class_width$}  {:>12}  {:>12}  {:>6}",
+    let mut table = format!(
+        "{:width$}  {:class_width$}  {:>12}  {:>12}  {:>6}\n",
         "stage", "component", "host ms/fr", "GPU ms/fr", "share"
     );
     for stage in &report.stages {
         let share = (stage.host + stage.device).as_secs_f64() / total.as_secs_f64().max(1e-12) * 100.0;
-        println!(
-            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%",
+        table += &format!(
+            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%\n",
             stage.instance,
             stage.class,
             per_frame(stage.host),
@@ -197,6 +223,13 @@ fn print_report(report: &PipelineReport) {
             share
         );
     }
+    table
+}
+
+/// How the run ended, the stages' table and the files written.
+fn print_report(report: &PipelineReport) {
+    println!("{}", summary(report));
+    print!("{}", table(report));
     println!("wrote {} files under the output folder", report.outputs.len());
     for path in report.outputs.iter().filter(|p| !is_frame_file(p)) {
         println!("  {}", path.display());
@@ -209,8 +242,19 @@ fn is_frame_file(path: &Path) -> bool {
     stem.rsplit('_').next().is_some_and(|n| n.len() == 4 && n.chars().all(|c| c.is_ascii_digit()))
 }
 
-/// `report.json`: what the run did, for scripts.
+/// Writes `report.json` into the output folder; the report as written.
+pub fn write_report(report: &PipelineReport, output: &mut OutputDir) -> Result<serde_json::Value, String> {
+    let json = report_json(report);
+    let text = serde_json::to_string_pretty(&json).expect("a report serialises") + "\n";
+    output.write_top("report.json", text.as_bytes()).map_err(|error| error.to_string())?;
+    Ok(json)
+}
+
+/// `report.json`: what the run did, for scripts; `plots` are the SVG plots among the outputs.
 fn report_json(report: &PipelineReport) -> serde_json::Value {
+    let paths = |keep: fn(&Path) -> bool| {
+        report.outputs.iter().filter(|p| keep(p)).map(|p| p.display().to_string()).collect::<Vec<_>>()
+    };
     serde_json::json!({
         "diagram": report.diagram,
         "device": report.device,
@@ -221,6 +265,7 @@ fn report_json(report: &PipelineReport) -> serde_json::Value {
             "instance": s.instance, "component": s.class, "items": s.items,
             "host_ms": ms(s.host), "device_ms": ms(s.device),
         })).collect::<Vec<_>>(),
-        "outputs": report.outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        "outputs": paths(|_| true),
+        "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),
     })
 }

@@ -181,6 +181,33 @@ fn choose(sema: &Semantics<'_>, files: &[FileId], name: Option<&str>) -> Result<
     }
 }
 
+/// The fully qualified name of the component-instance diagram of `files` named `name` (simple
+/// or fully qualified); `Err` says why none is meant, listing the pipelines there are.
+pub fn pipeline_named(sema: &Semantics<'_>, files: &[FileId], name: &str) -> Result<String, String> {
+    let mut pipelines: Vec<&str> = sema
+        .def_map()
+        .definitions
+        .values()
+        .flatten()
+        .filter(|def| matches!(def.kind, DefKind::ComponentInstanceDiagram) && files.contains(&def.file))
+        .map(|def| def.fqn.as_str())
+        .collect();
+    pipelines.sort();
+    pipelines.dedup();
+    let named: Vec<&str> = pipelines.iter().copied().filter(|fqn| super::names_diagram(name, fqn)).collect();
+    match named[..] {
+        [fqn] => Ok(fqn.to_string()),
+        [] => Err(format!(
+            "no component-instance diagram named `{name}`; pipelines: {}",
+            if pipelines.is_empty() { "none".to_string() } else { pipelines.join(", ") }
+        )),
+        _ => Err(format!(
+            "several component-instance diagrams are named `{name}`: {}; name one fully qualified",
+            named.join(", ")
+        )),
+    }
+}
+
 /// The activity diagram of `files` named `name` (simple or fully qualified), prepared to run;
 /// `Err` says why no diagram is meant (none or several have the name, listing those that can
 /// run), `Ok(Err)` what in the diagram cannot run.

@@ -73,7 +73,11 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
         })),
         code_lens_provider: Some(lsp::CodeLensOptions { resolve_provider: Some(false) }),
         execute_command_provider: Some(lsp::ExecuteCommandOptions {
-            commands: vec![super::run::RUN.to_string(), super::wgsl::SHOW_WGSL.to_string()],
+            commands: vec![
+                super::run::RUN.to_string(),
+                super::pipeline::RUN_PIPELINE.to_string(),
+                super::wgsl::SHOW_WGSL.to_string(),
+            ],
             work_done_progress_options: lsp::WorkDoneProgressOptions { work_done_progress: Some(true) },
         }),
         ..Default::default()

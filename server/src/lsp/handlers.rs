@@ -9,29 +9,36 @@ use gudsl_model::{
 };
 use tower_lsp_server::ls_types as lsp;
 
-use super::{from_proto, host::Snapshot, run, to_proto, wgsl};
+use super::{from_proto, host::Snapshot, pipeline, run, to_proto, wgsl};
 
 /// The diagnostics to publish for a document: the model's, and when it has no errors, what of
-/// its device diagrams cannot be generated (E0301).
+/// its device diagrams cannot be generated (E0301) and what keeps its pipelines from running
+/// (E0404, E0405).
 pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<lsp::Diagnostic>> {
     let (diagnostics, index) = snap.analysis.diagnostics(file)?;
     let mut out = convert(snap, diagnostics, |d| to_proto::diagnostic(snap, index, d))?;
     if !diagnostics.iter().any(|d| d.severity == Severity::Error) {
         let generation = wgsl::diagnostics(snap, file)?;
-        out.extend(generation.iter().map(|d| to_proto::diagnostic(snap, index, d)));
+        let pipelines = crate::commands::pipeline::file_diagnostics(&snap.analysis, file)?;
+        out.extend(generation.iter().chain(&pipelines).map(|d| to_proto::diagnostic(snap, index, d)));
     }
     Ok(out)
 }
 
-/// Above each activity diagram of a document: "▶ Run" for a host diagram without parameters,
-/// "Show generated WGSL" for a device diagram.
+/// Above each diagram of a document that can be run or generated: "▶ Run" for a host activity
+/// diagram without parameters, "Show generated WGSL" for a device diagram, "▶ Run pipeline" for
+/// a component-instance diagram.
 pub fn code_lenses(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec<lsp::CodeLens>>> {
     let Some(file) = snap.file(uri) else { return Ok(None) };
     let index = snap.analysis.line_index(file)?;
     let lenses = snap.analysis.with_semantics(|sema| {
         let mut lenses = Vec::new();
-        for def in sema.file_diagrams(file).filter(|def| matches!(def.kind, DefKind::Activity(_))) {
-            let (title, command) = if gudsl_codegen::is_device_diagram(sema, def) {
+        for def in sema.file_diagrams(file) {
+            let (title, command) = if matches!(def.kind, DefKind::ComponentInstanceDiagram) {
+                ("▶ Run pipeline", pipeline::RUN_PIPELINE)
+            } else if !matches!(def.kind, DefKind::Activity(_)) {
+                continue;
+            } else if gudsl_codegen::is_device_diagram(sema, def) {
                 ("Show generated WGSL", wgsl::SHOW_WGSL)
             } else if crate::commands::run::is_runnable(sema, def) {
                 ("▶ Run", run::RUN)

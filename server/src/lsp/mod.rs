@@ -9,6 +9,7 @@ mod capabilities;
 mod from_proto;
 mod handlers;
 mod host;
+mod pipeline;
 mod run;
 mod server;
 mod to_proto;

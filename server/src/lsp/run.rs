@@ -16,9 +16,10 @@ use std::{
     time::{Duration, Instant},
 };
 
-use gudsl_host::run::{Observer, Prepared, RunError, RunErrorKind};
+use gudsl_host::run::{Observer, Prepared, RunErrorKind};
 use gudsl_model::{
     hir::{DiagnosticCode, Severity},
+    syntax::TextRange,
     text::LineIndex,
     Cancellable, FileId,
 };
@@ -42,27 +43,52 @@ pub const RUN: &str = "gudsl.run";
 
 /// How often a run's progress is reported at most (nodes and printed text in between are
 /// gathered).
-const REPORT_EVERY: Duration = Duration::from_millis(100);
+pub(super) const REPORT_EVERY: Duration = Duration::from_millis(100);
 
-/// What the command asks for.
+/// What the command asks for (`frames` and `cpu` apply to pipelines).
 pub struct RunRequest {
     pub diagram: String,
     pub output: PathBuf,
+    /// Run at most this many frames.
+    pub frames: Option<usize>,
+    /// On the CPU reference instead of the GPU.
+    pub cpu: bool,
 }
 
 impl RunRequest {
-    pub fn parse(argument: Option<&Value>) -> Result<RunRequest, String> {
-        let (diagram, output) = match argument {
-            Some(Value::String(name)) => (name.clone(), None),
-            Some(Value::Object(fields)) => match (fields.get("diagram"), fields.get("output")) {
-                (Some(Value::String(name)), None | Some(Value::Null)) => (name.clone(), None),
-                (Some(Value::String(name)), Some(Value::String(folder))) => (name.clone(), Some(folder_path(folder))),
-                _ => return Err(argument_error()),
-            },
-            _ => return Err(argument_error()),
+    /// `name`, or `{"diagram": name, "output"?: folder, "frames"?: n, "cpu"?: bool}`, as
+    /// `command` takes it.
+    pub fn parse(command: &str, argument: Option<&Value>) -> Result<RunRequest, String> {
+        let error = || {
+            format!(
+                "{command} takes a diagram's name or {{\"diagram\": name, \"output\": folder, \"frames\": n, \"cpu\": bool}}"
+            )
         };
-        let output = output.unwrap_or_else(|| std::env::temp_dir().join("gudsl-run").join(&diagram));
-        Ok(RunRequest { diagram, output })
+        let mut request = RunRequest { diagram: String::new(), output: PathBuf::new(), frames: None, cpu: false };
+        let mut output = None;
+        match argument {
+            Some(Value::String(name)) => request.diagram = name.clone(),
+            Some(Value::Object(fields)) => {
+                for (key, value) in fields {
+                    match (key.as_str(), value) {
+                        ("diagram", Value::String(name)) => request.diagram = name.clone(),
+                        ("output", Value::String(folder)) => output = Some(folder_path(folder)),
+                        ("frames", Value::Number(n)) if n.as_u64().is_some() => {
+                            request.frames = n.as_u64().map(|n| n as usize)
+                        }
+                        ("cpu", Value::Bool(cpu)) => request.cpu = *cpu,
+                        (_, Value::Null) => {}
+                        _ => return Err(error()),
+                    }
+                }
+                if request.diagram.is_empty() {
+                    return Err(error());
+                }
+            }
+            _ => return Err(error()),
+        }
+        request.output = output.unwrap_or_else(|| std::env::temp_dir().join("gudsl-run").join(&request.diagram));
+        Ok(request)
     }
 }
 
@@ -74,20 +100,10 @@ fn folder_path(folder: &str) -> PathBuf {
     }
 }
 
-fn argument_error() -> String {
-    format!("{RUN} takes a diagram's name or {{\"diagram\": name, \"output\": folder}}")
-}
-
 /// A command refused before anything ran: why, and each problem with its place.
 pub struct Refusal {
     pub message: String,
     pub problems: Vec<Value>,
-}
-
-/// A diagram ready to run, and where its errors are placed afterwards.
-pub struct Ready {
-    pub prepared: Prepared,
-    pub places: Places,
 }
 
 /// The files of the diagram and of those it calls as they were when the run started: run
@@ -97,48 +113,128 @@ pub struct Places {
     encoding: Encoding,
 }
 
-/// Prepares the diagram named `name`; refused when any document of the workspace has errors
-/// (as `gudsl run` refuses), when no diagram or several have the name, or when it cannot run.
-pub fn prepare(snap: &Snapshot, name: &str) -> Cancellable<Result<Ready, Refusal>> {
+impl Places {
+    pub fn of(snap: &Snapshot, files: impl IntoIterator<Item = FileId>) -> Cancellable<Places> {
+        let mut places = Places { files: Vec::new(), encoding: snap.encoding };
+        for file in files {
+            places.files.push((file, snap.uri_of(file), snap.analysis.line_index(file)?.clone()));
+        }
+        Ok(places)
+    }
+
+    /// A range of one of the files as an LSP location.
+    pub fn at(&self, file: FileId, range: TextRange) -> Option<lsp::Location> {
+        let (_, uri, index) = self.files.iter().find(|(f, _, _)| *f == file)?;
+        Some(lsp::Location { uri: uri.clone()?, range: to_proto::range(index, range, self.encoding) })
+    }
+}
+
+/// The documents of the workspace, in the order of their URIs.
+pub fn workspace_files(snap: &Snapshot) -> Vec<FileId> {
     let mut files: Vec<(&str, FileId)> = snap.documents.iter().map(|d| (d.uri.as_str(), d.file)).collect();
     files.sort_by_key(|(uri, _)| *uri);
-    let files: Vec<FileId> = files.into_iter().map(|(_, file)| file).collect();
-    let mut problems = Vec::new();
+    files.into_iter().map(|(_, file)| file).collect()
+}
+
+/// The refusal of running `name` when any document of the workspace has errors (as `gudsl run`
+/// refuses), with every error's place.
+pub fn model_errors(snap: &Snapshot, name: &str) -> Cancellable<Option<Refusal>> {
+    let mut errors = Vec::new();
+    for file in workspace_files(snap) {
+        let (diagnostics, _) = snap.analysis.diagnostics(file)?;
+        let found = diagnostics.iter().filter(|d| d.severity == Severity::Error);
+        errors.extend(found.map(|d| (file, d.range, d.code, d.message.clone())));
+    }
+    let (first, problems) = placed(snap, errors)?;
+    Ok(first.map(|first| Refusal {
+        message: format!(
+            "the model has {} error(s); `{name}` runs once they are fixed (first: {first})",
+            problems.len()
+        ),
+        problems,
+    }))
+}
+
+/// The refusal of running `name` for `problems` (placed in `file`, each with its code): "cannot
+/// run", the first problem's place and message.
+pub fn cannot_run(
+    snap: &Snapshot,
+    name: &str,
+    problems: impl IntoIterator<Item = (FileId, TextRange, DiagnosticCode, String)>,
+) -> Cancellable<Refusal> {
+    let (first, problems) = placed(snap, problems)?;
+    let first = first.unwrap_or_default();
+    Ok(Refusal { message: format!("`{name}` cannot run ({} problem(s)); first: {first}", problems.len()), problems })
+}
+
+/// Each problem with its place (for a refusal's `data`), and the first as `path:line:column:
+/// message`.
+fn placed(
+    snap: &Snapshot,
+    problems: impl IntoIterator<Item = (FileId, TextRange, DiagnosticCode, String)>,
+) -> Cancellable<(Option<String>, Vec<Value>)> {
+    let mut placed = Vec::new();
     let mut first = None;
-    for &file in &files {
-        let (diagnostics, index) = snap.analysis.diagnostics(file)?;
-        for d in diagnostics.iter().filter(|d| d.severity == Severity::Error) {
-            first.get_or_insert_with(|| format!("{}: {}", place(snap, file, index, d.range), d.message));
-            problems.push(problem(snap, file, index, d.range, d.code, &d.message));
-        }
+    for (file, range, code, message) in problems {
+        let index = snap.analysis.line_index(file)?;
+        first.get_or_insert_with(|| format!("{}: {message}", place(snap, file, index, range)));
+        placed.push(problem(snap, file, index, range, code, &message));
     }
-    if let Some(first) = first {
-        let message =
-            format!("the model has {} error(s); `{name}` runs once they are fixed (first: {first})", problems.len());
-        return Ok(Err(Refusal { message, problems }));
+    Ok((first, placed))
+}
+
+/// Prepares the activity diagram named `name` to run; refused when any document of the
+/// workspace has errors, when no diagram or several have the name, or when it cannot run.
+pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job, Refusal>> {
+    let name = request.diagram.as_str();
+    if let Some(refusal) = model_errors(snap, name)? {
+        return Ok(Err(refusal));
     }
+    let files = workspace_files(snap);
     let prepared = snap.analysis.with_semantics(|sema| cli::prepare_named(sema, &files, name))?;
     let errors = match prepared {
         Err(message) => return Ok(Err(Refusal { message, problems: Vec::new() })),
         Ok(Ok(prepared)) => {
-            let mut places = Places { files: Vec::new(), encoding: snap.encoding };
-            for file in prepared.files() {
-                places.files.push((file, snap.uri_of(file), snap.analysis.line_index(file)?.clone()));
-            }
-            return Ok(Ok(Ready { prepared, places }));
+            let places = Places::of(snap, prepared.files())?;
+            return Ok(Ok(activity_job(prepared, places, request.output.clone())));
         }
         Ok(Err(errors)) => errors,
     };
-    let mut first = None;
-    for error in &errors {
-        let Some(span) = error.span else { continue };
-        let index = snap.analysis.line_index(span.file)?;
-        first.get_or_insert_with(|| format!("{}: {}", place(snap, span.file, index, span.range), error.message));
-        problems.push(problem(snap, span.file, index, span.range, DiagnosticCode::NotRunnable, &error.message));
+    let placed = errors.iter().filter_map(|e| {
+        let span = e.span?;
+        Some((span.file, span.range, DiagnosticCode::NotRunnable, e.message.clone()))
+    });
+    let mut refusal = cannot_run(snap, name, placed.collect::<Vec<_>>())?;
+    if refusal.problems.is_empty() {
+        refusal.message = format!("`{name}` cannot run: {}", errors.first().map_or("", |e| e.message.as_str()));
     }
-    let first = first.unwrap_or_else(|| errors.first().map(|e| e.message.clone()).unwrap_or_default());
-    let message = format!("`{name}` cannot run ({} problem(s)); first: {first}", errors.len());
-    Ok(Err(Refusal { message, problems }))
+    Ok(Err(refusal))
+}
+
+/// The run of a prepared activity diagram: on the first wgpu adapter, `printf` output as log
+/// messages, the node running as progress.
+fn activity_job(prepared: Prepared, places: Places, output: PathBuf) -> Job {
+    let diagram = prepared.diagram().to_string();
+    let work = move |stop: Arc<AtomicBool>, events: mpsc::UnboundedSender<Event>| {
+        let gpu = gudsl_runtime::Gpu::new().map_err(|error| {
+            format!(
+                "no GPU adapter ({error}); without a GPU, install Mesa's Vulkan driver (Debian: mesa-vulkan-drivers)"
+            )
+        })?;
+        let mut observer = Reporter { events, stop, last: None, printed: String::new() };
+        let report = prepared.run(&gpu, &output, &mut observer);
+        observer.flush();
+        Ok(Finished {
+            summary: cli::summary(&report),
+            report: cli::write_report(&report, &output),
+            failure: report.outcome.err().map(|error| Failure {
+                message: error.to_string(),
+                cancelled: error.kind == RunErrorKind::Cancelled,
+                location: error.span.and_then(|span| places.at(span.file, span.range)),
+            }),
+        })
+    };
+    Job { diagram, starting: "compiling kernels", bounded: false, work: Box::new(work) }
 }
 
 /// `path:line:column` of a range's start, for messages.
@@ -235,10 +331,18 @@ impl Drop for RunGuard {
 
 /// What a run tells the editor as it goes.
 pub enum Event {
-    /// The node running now.
-    Node(String),
+    /// Where it is (the node running, the frame done), with a percentage when known.
+    Progress(String, Option<u32>),
     /// Text `printf` wrote since the last event.
     Printed(String),
+}
+
+/// Why a run stopped before its end.
+pub struct Failure {
+    pub message: String,
+    pub cancelled: bool,
+    /// Where in the model, when it happened at a place.
+    pub location: Option<lsp::Location>,
 }
 
 /// How a run ended, made on the run's thread (the report itself stays there).
@@ -247,37 +351,38 @@ pub struct Finished {
     pub summary: String,
     /// `report.json` as written, or why it was not.
     pub report: Result<Value, String>,
-    pub error: Option<RunError>,
+    pub failure: Option<Failure>,
 }
 
-/// Runs `prepared` on a thread of its own (the GPU device is made there: it cannot move between
-/// threads), sending events as it goes; the answer comes once it ended.
-pub fn spawn(
-    prepared: Prepared,
-    output: PathBuf,
+/// The work of a run, done on a thread of its own: it watches the flag, sends events, and
+/// ends with its report (`Err`: why it could not start).
+type Work = Box<dyn FnOnce(Arc<AtomicBool>, mpsc::UnboundedSender<Event>) -> Result<Finished, String> + Send>;
+
+/// A run ready to start.
+pub struct Job {
+    pub diagram: String,
+    /// What the progress says until the first event.
+    pub starting: &'static str,
+    /// Whether its progress has a percentage.
+    pub bounded: bool,
+    pub work: Work,
+}
+
+/// Does `work` on a thread of its own (the GPU device is made there: it cannot move between
+/// threads); the answer comes once it ended.
+fn spawn(
+    work: Work,
     stop: Arc<AtomicBool>,
     events: mpsc::UnboundedSender<Event>,
 ) -> oneshot::Receiver<Result<Finished, String>> {
     let (answer, finished) = oneshot::channel();
-    let work = move || {
-        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            let gpu = gudsl_runtime::Gpu::new().map_err(|error| {
-                format!("no GPU adapter ({error}); without a GPU, install Mesa's Vulkan driver (Debian: mesa-vulkan-drivers)")
-            })?;
-            let mut observer = Reporter { events, stop, last: None, printed: String::new() };
-            let report = prepared.run(&gpu, &output, &mut observer);
-            observer.flush();
-            Ok(Finished {
-                summary: cli::summary(&report),
-                report: cli::write_report(&report, &output),
-                error: report.outcome.err(),
-            })
-        }));
+    let thread = move || {
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(stop, events)));
         let _ = answer.send(
             outcome.unwrap_or_else(|_| Err("the run failed unexpectedly (a panic; see the server's log)".into())),
         );
     };
-    let spawned = std::thread::Builder::new().name("gudsl run".into()).stack_size(16 << 20).spawn(work);
+    let spawned = std::thread::Builder::new().name("gudsl run".into()).stack_size(16 << 20).spawn(thread);
     if let Err(error) = spawned {
         let (answer, finished) = oneshot::channel();
         let _ = answer.send(Err(format!("cannot start the run's thread: {error}")));
@@ -286,7 +391,7 @@ pub fn spawn(
     finished
 }
 
-/// The run's observer: events, at most one per [`REPORT_EVERY`], and the stop flag.
+/// An activity run's observer: events, at most one per [`REPORT_EVERY`], and the stop flag.
 struct Reporter {
     events: mpsc::UnboundedSender<Event>,
     stop: Arc<AtomicBool>,
@@ -314,7 +419,7 @@ impl Observer for Reporter {
     fn node(&mut self, name: &str) {
         if self.due() {
             self.flush();
-            let _ = self.events.send(Event::Node(name.to_string()));
+            let _ = self.events.send(Event::Progress(format!("node {name}"), None));
         }
     }
 
@@ -330,32 +435,52 @@ impl Observer for Reporter {
     }
 }
 
-impl Places {
-    /// Where a run error happened, as an LSP location.
-    pub fn location(&self, error: &RunError) -> Option<lsp::Location> {
-        let span = error.span?;
-        let (_, uri, index) = self.files.iter().find(|(file, _, _)| *file == span.file)?;
-        Some(lsp::Location { uri: uri.clone()?, range: to_proto::range(index, span.range, self.encoding) })
+/// A run's `$/progress` under its token: cancellable, with a percentage when bounded.
+struct WorkDone {
+    client: Client,
+    token: lsp::ProgressToken,
+}
+
+impl WorkDone {
+    async fn send(&self, progress: lsp::WorkDoneProgress) {
+        let params =
+            lsp::ProgressParams { token: self.token.clone(), value: lsp::ProgressParamsValue::WorkDone(progress) };
+        self.client.send_notification::<lsp::notification::Progress>(params).await;
+    }
+
+    async fn begin(&self, title: String, message: &str, bounded: bool) {
+        let begin = lsp::WorkDoneProgressBegin {
+            title,
+            cancellable: Some(true),
+            message: Some(message.to_string()),
+            percentage: bounded.then_some(0),
+        };
+        self.send(lsp::WorkDoneProgress::Begin(begin)).await;
+    }
+
+    async fn report(&self, message: String, percentage: Option<u32>) {
+        let report = lsp::WorkDoneProgressReport { cancellable: Some(true), message: Some(message), percentage };
+        self.send(lsp::WorkDoneProgress::Report(report)).await;
+    }
+
+    async fn end(&self, message: String) {
+        self.send(lsp::WorkDoneProgress::End(lsp::WorkDoneProgressEnd { message: Some(message) })).await;
     }
 }
 
-/// Whether a run error is a cancellation.
-pub fn is_cancellation(error: &RunError) -> bool {
-    error.kind == RunErrorKind::Cancelled
-}
-
 impl Backend {
-    /// `gudsl.run`: prepares the diagram on a snapshot, runs it off the message loop with
-    /// progress, and answers with the report once it ended (refused, with the problems as
-    /// `data`, when it cannot start).
+    /// Prepares a run on a snapshot, runs it off the message loop with progress, and answers
+    /// with the report once it ended (refused, with the problems as `data`, when it cannot
+    /// start). `gudsl.run` and `gudsl.runPipeline`.
     pub(super) async fn run(
         &self,
         request: RunRequest,
+        prepare: fn(&Snapshot, &RunRequest) -> Cancellable<Result<Job, Refusal>>,
         token: Option<lsp::ProgressToken>,
     ) -> jsonrpc::Result<lsp::LSPAny> {
-        let name = request.diagram.clone();
-        let ready = match self.on_snapshot(move |s| prepare(s, &name)).await? {
-            Ok(ready) => ready,
+        let output = request.output.clone();
+        let job = match self.on_snapshot(move |s| prepare(s, &request)).await? {
+            Ok(job) => job,
             Err(refusal) => {
                 let message = format!("gudsl: {}", refusal.message);
                 self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
@@ -363,8 +488,7 @@ impl Backend {
                 return Err(Error { data, ..request_failed(message) });
             }
         };
-        let Ready { prepared, places } = ready;
-        let diagram = prepared.diagram().to_string();
+        let diagram = job.diagram.clone();
         let token = match token {
             Some(token) => Some(token),
             None if self.progress_supported.load(Ordering::SeqCst) => {
@@ -378,25 +502,22 @@ impl Backend {
         // Dropped when the request is cancelled ($/cancelRequest drops this future) or answered:
         // either way the run stops.
         let mut guard = self.runs.start(&token.clone().unwrap_or_else(|| self.runs.new_token()));
-        let progress = match &token {
-            Some(token) => Some(
-                self.client
-                    .progress(token.clone(), format!("Running {diagram}"))
-                    .with_cancel_button()
-                    .with_message("compiling kernels")
-                    .begin()
-                    .await,
-            ),
+        let progress = match token.clone() {
+            Some(token) => {
+                let progress = WorkDone { client: self.client.clone(), token };
+                progress.begin(format!("Running {diagram}"), job.starting, job.bounded).await;
+                Some(progress)
+            }
             None => None,
         };
         guard.reports(token.clone().filter(|_| progress.is_some()).map(|token| (self.client.clone(), token)));
         let (events, mut received) = tokio::sync::mpsc::unbounded_channel();
-        let finished = spawn(prepared, request.output.clone(), guard.stop_flag(), events);
+        let finished = spawn(job.work, guard.stop_flag(), events);
         while let Some(event) = received.recv().await {
             match event {
-                Event::Node(node) => {
+                Event::Progress(message, percentage) => {
                     if let Some(progress) = &progress {
-                        progress.report_with_message(format!("node {node}"), None).await;
+                        progress.report(message, percentage).await;
                     }
                 }
                 Event::Printed(text) => self.client.log_message(lsp::MessageType::INFO, text).await,
@@ -409,7 +530,7 @@ impl Backend {
             Ok(finished) => finished,
             Err(why) => {
                 if let Some(progress) = progress {
-                    progress.finish_with_message(why.clone()).await;
+                    progress.end(why.clone()).await;
                 }
                 let message = format!("gudsl: {diagram} did not run: {why}");
                 self.client.show_message(lsp::MessageType::ERROR, message.clone()).await;
@@ -417,24 +538,22 @@ impl Backend {
             }
         };
         if let Some(progress) = progress {
-            progress.finish_with_message(finished.summary.clone()).await;
+            progress.end(finished.summary.clone()).await;
         }
-        let location = finished.error.as_ref().and_then(|error| places.location(error));
+        let location = finished.failure.as_ref().and_then(|failure| failure.location.clone());
         let mut answer = match finished.report {
             Ok(report) => report,
             Err(why) => serde_json::json!({ "diagram": diagram, "error": why }),
         };
-        answer["output"] = serde_json::json!(request.output.display().to_string());
+        answer["output"] = serde_json::json!(output.display().to_string());
         answer["errorLocation"] = serde_json::to_value(&location).unwrap_or_default();
-        let (kind, message) = match &finished.error {
-            None => {
-                (lsp::MessageType::INFO, format!("gudsl: {}; output in {}", finished.summary, request.output.display()))
-            }
-            Some(error) if is_cancellation(error) => (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary)),
-            Some(error) => {
+        let (kind, message) = match &finished.failure {
+            None => (lsp::MessageType::INFO, format!("gudsl: {}; output in {}", finished.summary, output.display())),
+            Some(failure) if failure.cancelled => (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary)),
+            Some(failure) => {
                 let at =
                     location.map(|l| format!(" at {}:{}", l.uri.as_str(), l.range.start.line + 1)).unwrap_or_default();
-                (lsp::MessageType::ERROR, format!("gudsl: {diagram} stopped{at}: {error}"))
+                (lsp::MessageType::ERROR, format!("gudsl: {diagram} stopped{at}: {}", failure.message))
             }
         };
         self.client.show_message(kind, message).await;

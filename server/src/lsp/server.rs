@@ -23,7 +23,7 @@ use super::{
     capabilities::{server_capabilities, Encoding},
     from_proto, handlers,
     host::{ChangeRefused, Document, Host, Snapshot},
-    run, to_proto, wgsl,
+    pipeline, run, to_proto, wgsl,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -515,16 +515,22 @@ impl LanguageServer for Backend {
         let argument = params.arguments.into_iter().next();
         match params.command.as_str() {
             run::RUN => {
-                let request = run::RunRequest::parse(argument.as_ref()).map_err(invalid_params)?;
-                self.run(request, params.work_done_progress_params.work_done_token).await.map(Some)
+                let request = run::RunRequest::parse(run::RUN, argument.as_ref()).map_err(invalid_params)?;
+                self.run(request, run::prepare, params.work_done_progress_params.work_done_token).await.map(Some)
+            }
+            pipeline::RUN_PIPELINE => {
+                let request =
+                    run::RunRequest::parse(pipeline::RUN_PIPELINE, argument.as_ref()).map_err(invalid_params)?;
+                self.run(request, pipeline::prepare, params.work_done_progress_params.work_done_token).await.map(Some)
             }
             wgsl::SHOW_WGSL => {
                 let argument = argument.unwrap_or_default();
                 self.on_snapshot(move |s| wgsl::show(s, &argument)).await?.map(Some).map_err(request_failed)
             }
             other => Err(invalid_params(format!(
-                "no command `{other}`; the server offers {} and {}",
+                "no command `{other}`; the server offers {}, {} and {}",
                 run::RUN,
+                pipeline::RUN_PIPELINE,
                 wgsl::SHOW_WGSL
             ))),
         }

@@ -22,14 +22,14 @@ enum Second {
 /// One of the kernels on the distance, by the stage's class.
 pub struct DepthKernel {
     /// The kernel for an image taken at an integration time (µs).
-    kernel: Box<dyn Fn(f32) -> Kernel>,
+    kernel: Box<dyn Fn(f32) -> Kernel + Send>,
     second: Second,
     slots: Vec<KernelSlot>,
 }
 
 impl DepthKernel {
     pub fn new(params: &Params) -> DepthKernel {
-        let (kernel, second): (Box<dyn Fn(f32) -> Kernel>, Second) = match params.stage.class.as_str() {
+        let (kernel, second): (Box<dyn Fn(f32) -> Kernel + Send>, Second) = match params.stage.class.as_str() {
             "ToF.IntensityCorrection" => {
                 let q = [params.f32("q0"), params.f32("q1"), params.f32("q2")];
                 let int_time_calib = params.f32("calibrationIntegrationTime");

@@ -1,9 +1,12 @@
 //! The ToF library's components as code: what each `ToF.*` class of `model/lib/tof.gudsl` does
 //! when a stage of its class runs, made from the stage's parameters (`make`). Sources
-//! (`sources.rs`), filters on raw frames (`raw.rs`) and on depth images (`depth.rs`), sinks
-//! (`sinks.rs`).
+//! (`sources.rs`), filters on raw frames (`raw.rs`), on depth images (`depth.rs`), chapter 5's
+//! integration time (`exposure.rs`), chapter 6's segmentation, clouds and registration
+//! (`cloud.rs`), sinks (`sinks.rs`).
 
+mod cloud;
 mod depth;
+mod exposure;
 mod raw;
 mod sinks;
 mod sources;
@@ -13,7 +16,7 @@ use std::{collections::BTreeMap, path::Path};
 use gudsl_model::hir::pipeline::{Stage, Value};
 
 use super::{
-    data::{Data, Item},
+    data::{Data, DepthImage, Item},
     device::{Device, Reads},
     ErrorKind, OutputDir, PipelineError,
 };
@@ -50,6 +53,14 @@ impl Inputs {
     }
 }
 
+/// The depth images that arrived on `DepthIn`, with their producers.
+pub fn depth_images(inputs: &Inputs) -> impl Iterator<Item = (&str, &DepthImage)> {
+    inputs.port("DepthIn").iter().filter_map(|item| match &item.data {
+        Data::Depth(depth) => Some((item.producer.as_str(), depth)),
+        _ => None,
+    })
+}
+
 /// The slots of the `k`-th item of a frame (each item its own buffers: a later item must not
 /// overwrite an earlier one's results before they are read).
 pub fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
@@ -62,11 +73,17 @@ pub fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
 /// What a stage produced: data for its provider ports, by port name.
 pub type Outputs = Vec<(String, Data)>;
 
-/// A running component.
-pub trait Component {
+/// A running component (made where the plan is read, run on the thread that runs the pipeline).
+pub trait Component: Send {
     /// The frames a source gives (`None`: not a source).
     fn frames(&self) -> Option<usize> {
         None
+    }
+
+    /// Before the first frame: reads what it needs from files (their headers were checked when
+    /// it was made). `Err` is a message naming the file.
+    fn load(&mut self) -> Result<(), String> {
+        Ok(())
     }
 
     /// One frame: the items that arrived (none for a source) in, data for the provider ports
@@ -91,16 +108,26 @@ pub fn make(stage: &Stage, providers: usize, model_dir: &Path) -> Result<Box<dyn
     let made: Option<Box<dyn Component>> = match stage.class.as_str() {
         "ToF.SimulatedCamera" => Some(Box::new(sources::Simulated::new(&params, false))),
         "ToF.ControlledCamera" => Some(Box::new(sources::Simulated::new(&params, true))),
+        "ToF.RawFrameFile" => Some(Box::new(sources::RawFrameFile::new(&params)?)),
+        "ToF.DepthFile" => Some(Box::new(sources::DepthFile::new(&params)?)),
         "ToF.BlackImageCorrection" => Some(Box::new(raw::BlackImageCorrection::new(&params)?)),
         "ToF.Demodulation" => Some(Box::new(raw::Demodulation::new(&params))),
         "ToF.MotionCompensation" => Some(Box::new(raw::MotionCompensation::new(&params))),
+        "ToF.IntegrationTimeControl" => Some(Box::new(exposure::IntegrationTimeControl::new(&params)?)),
         "ToF.IntensityCorrection"
         | "ToF.AmplitudeMask"
         | "ToF.MedianFilter"
         | "ToF.GaussianFilter"
         | "ToF.BilateralFilter"
         | "ToF.OutlierRemoval" => Some(Box::new(depth::DepthKernel::new(&params))),
+        "ToF.BackgroundSegmentation" => Some(Box::new(cloud::BackgroundSegmentation::new(&params))),
+        "ToF.ApplyMask" => Some(Box::<cloud::ApplyMask>::default()),
+        "ToF.PointCloudConversion" => Some(Box::<cloud::PointCloudConversion>::default()),
+        "ToF.IcpRegistration" => Some(Box::new(cloud::IcpRegistration::new(&params))),
+        "ToF.CloudTransform" => Some(Box::new(cloud::CloudTransform::new(&params))),
+        "ToF.Accumulation" => Some(Box::<cloud::Accumulation>::default()),
         "ToF.NpyWriter" => Some(Box::new(sinks::NpyWriter::new(&params))),
+        "ToF.PlyWriter" => Some(Box::new(sinks::PlyWriter::new(&params))),
         "ToF.PngWriter" => Some(Box::new(sinks::PngWriter::new(&params))),
         "ToF.AccuracyReport" => Some(Box::new(sinks::AccuracyReport::new(&params))),
         _ => None,
@@ -112,7 +139,7 @@ pub fn make(stage: &Stage, providers: usize, model_dir: &Path) -> Result<Box<dyn
             format!("`{}` is not a component of the ToF library: only those run", stage.class)
         };
         vec![PipelineError {
-            kind: ErrorKind::Mismatch,
+            kind: ErrorKind::NotRunnable,
             stage: Some(stage.instance.clone()),
             range: Some(stage.range),
             message: why,
@@ -154,12 +181,20 @@ impl Params<'_> {
         }
     }
 
-    /// A file parameter as a path (relative to the model's folder), `None` when empty.
+    /// A file parameter as a path (relative to the model's folder; `archive.npz:name` names an
+    /// array of an archive), `None` when empty.
     pub fn file(&self, name: &str) -> Option<std::path::PathBuf> {
         match self.stage.param(name) {
             Some(Value::Text(text)) if !text.is_empty() => Some(self.model_dir.join(text)),
             _ => None,
         }
+    }
+
+    /// A file parameter the component cannot do without.
+    pub fn required_file(&self, name: &str) -> Result<std::path::PathBuf, Vec<PipelineError>> {
+        self.file(name).ok_or_else(|| {
+            vec![self.error(name, ErrorKind::Input, format!("`{name}` names no file: give the file to read"))]
+        })
     }
 
     /// An error about parameter `name`, at its value (or at the instance).

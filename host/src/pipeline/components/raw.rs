@@ -1,13 +1,16 @@
 //! Filters on raw frames: the black image subtracted (chapter 2.1, Sec. 6.5.1.2), motion
 //! artifacts compensated (chapter 4), and the demodulation into depth images (Sec. 2.1.1).
 
+use std::path::Path;
+
 use gudsl_runtime::{kernels::motion::mean_direction, Image, Kernel};
 
 use super::{slots, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
     device::{BufferSlot, KernelSlot, Later, Reads},
-    files, ErrorKind, PipelineError,
+    files::{self, RawFiles},
+    ErrorKind, PipelineError,
 };
 
 /// The raw frames that arrived on `RawIn`, with their index among this frame's items.
@@ -24,7 +27,9 @@ fn raw_frames(inputs: &Inputs) -> impl Iterator<Item = (usize, &RawFrame)> {
 
 /// `ToF.BlackImageCorrection`: raw − black, the black image the frame's own or read from files.
 pub struct BlackImageCorrection {
-    /// The black image from files (8 planes), if given.
+    /// The black image's files, if given.
+    files: Option<RawFiles>,
+    /// The black image from files (8 planes), once loaded.
     black: Option<Image>,
     uploaded: BufferSlot,
     kernels: Vec<KernelSlot>,
@@ -32,23 +37,9 @@ pub struct BlackImageCorrection {
 
 impl BlackImageCorrection {
     pub fn new(params: &Params) -> Result<BlackImageCorrection, Vec<PipelineError>> {
-        let black = match (params.file("channelA"), params.file("channelB")) {
+        let files = match (params.file("channelA"), params.file("channelB")) {
             (None, None) => None,
-            (Some(a), Some(b)) => {
-                let frames = files::raw_frames(&a, &b).map_err(|e| {
-                    vec![params.error(if e.in_b { "channelB" } else { "channelA" }, ErrorKind::Input, e.message)]
-                })?;
-                match <[Image; 1]>::try_from(frames) {
-                    Ok([black]) => Some(black),
-                    Err(frames) => {
-                        return Err(vec![params.error(
-                            "channelA",
-                            ErrorKind::Input,
-                            format!("a black image is one frame, shape (4, H, W); the files hold {}", frames.len()),
-                        )])
-                    }
-                }
-            }
+            (Some(a), Some(b)) => Some(open_raw_files(params, &a, &b)?),
             (Some(_), None) => {
                 return Err(vec![params.error("channelA", ErrorKind::Input, "give channelB too".into())])
             }
@@ -56,11 +47,33 @@ impl BlackImageCorrection {
                 return Err(vec![params.error("channelB", ErrorKind::Input, "give channelA too".into())])
             }
         };
-        Ok(BlackImageCorrection { black, uploaded: BufferSlot::default(), kernels: Vec::new() })
+        if let Some(files) = &files {
+            if files.extent.frames != 1 {
+                let message =
+                    format!("a black image is one frame, shape (4, H, W); the files hold {}", files.extent.frames);
+                return Err(vec![params.error("channelA", ErrorKind::Input, message)]);
+            }
+        }
+        Ok(BlackImageCorrection { files, black: None, uploaded: BufferSlot::default(), kernels: Vec::new() })
     }
 }
 
+/// A recording's channel files (`channelA`, `channelB`), each problem at its parameter.
+pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, Vec<PipelineError>> {
+    RawFiles::open(a, b).map_err(|errors| {
+        let at = |e: &files::FileError| if e.in_b { "channelB" } else { "channelA" };
+        errors.into_iter().map(|e| params.error(at(&e), ErrorKind::Input, e.message)).collect()
+    })
+}
+
 impl Component for BlackImageCorrection {
+    fn load(&mut self) -> Result<(), String> {
+        if let Some(files) = &self.files {
+            self.black = files.load(1)?.pop();
+        }
+        Ok(())
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let mut out = Vec::new();
         for (k, frame) in raw_frames(inputs) {

@@ -1,27 +1,19 @@
 //! Sinks: depth images to `.npy` (float32) and PNG (16-bit millimetres and a colour-mapped
-//! preview), and the accuracy against the simulator's truth per frame as CSV and a plot (SVG
+//! preview), point clouds to PLY, and the accuracy against the simulator's truth per frame as CSV and a plot (SVG
 //! and PNG). Each asks for its images at the end of the frame and writes them then, into a
 //! folder of the output named after its instance; fed by several producers, it prefixes its
 //! files with the producer's name.
 
 use std::{fmt::Write as _, io::Cursor, sync::Arc};
 
-use gudsl_runtime::{npy, Image};
+use gudsl_runtime::{arrays, ply::Points, Image};
 
-use super::{Component, Ctx, Inputs, Outputs, Params};
+use super::{depth_images, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
-    data::{Data, DepthImage},
+    data::Data,
     device::{Later, Reads},
     OutputDir,
 };
-
-/// The depth images that arrived on `DepthIn`, with their producers.
-fn depth_images(inputs: &Inputs) -> impl Iterator<Item = (&str, &DepthImage)> {
-    inputs.port("DepthIn").iter().filter_map(|item| match &item.data {
-        Data::Depth(depth) => Some((item.producer.as_str(), depth)),
-        _ => None,
-    })
-}
 
 /// A file name for frame `frame` of `what`: `distance_0003.npy`, or with several producers
 /// `Demod_distance_0003.npy`.
@@ -73,7 +65,7 @@ impl Component for NpyWriter {
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         for (producer, what, later) in std::mem::take(&mut self.pending) {
             let image = reads.get(later);
-            let bytes = npy::encode(&[image.height, image.width], &image.data, npy::Dtype::F32);
+            let bytes = arrays::encode(&[image.height, image.width], &image.data, arrays::Dtype::F32);
             let name = file_name(self.several.then_some(producer.as_str()), what, ctx.frame, "npy");
             ctx.output.write(&self.instance, &name, &bytes)?;
         }
@@ -175,9 +167,18 @@ fn colour(distance: f32, max: f32) -> [u8; 3] {
 pub struct AccuracyReport {
     instance: String,
     max_true: f32,
-    pending: Vec<(String, Later, Arc<Image>)>,
-    /// (frame, series, pixels, mean cm, σ cm)
-    rows: Vec<(usize, String, usize, f64, f64)>,
+    pending: Vec<(String, Later, Arc<Image>, f32)>,
+    rows: Vec<Row>,
+}
+
+/// One series' accuracy in one frame.
+struct Row {
+    frame: usize,
+    series: String,
+    pixels: usize,
+    mean_cm: f64,
+    sigma_cm: f64,
+    integration_us: f32,
 }
 
 impl AccuracyReport {
@@ -199,23 +200,24 @@ impl Component for AccuracyReport {
                     "the depth images from `{producer}` have no ground truth: only a simulated camera's do"
                 ));
             };
-            self.pending.push((producer.to_string(), ctx.device.read_later(&depth.distance), truth.clone()));
+            let read = ctx.device.read_later(&depth.distance);
+            self.pending.push((producer.to_string(), read, truth.clone(), depth.integration_us));
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (series, later, truth) in std::mem::take(&mut self.pending) {
-            let (pixels, mean, sigma) = error_cm(reads.get(later), &truth, self.max_true);
-            self.rows.push((ctx.frame, series, pixels, mean, sigma));
+        for (series, later, truth, integration_us) in std::mem::take(&mut self.pending) {
+            let (pixels, mean_cm, sigma_cm) = error_cm(reads.get(later), &truth, self.max_true);
+            self.rows.push(Row { frame: ctx.frame, series, pixels, mean_cm, sigma_cm, integration_us });
         }
         Ok(Vec::new())
     }
 
     fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
-        let mut csv = String::from("frame,series,pixels,mean_cm,sigma_cm\n");
-        for (frame, series, pixels, mean, sigma) in &self.rows {
-            let _ = writeln!(csv, "{frame},{series},{pixels},{mean:.4},{sigma:.4}");
+        let mut csv = String::from("frame,series,pixels,mean_cm,sigma_cm,integration_us\n");
+        for Row { frame, series, pixels, mean_cm, sigma_cm, integration_us } in &self.rows {
+            let _ = writeln!(csv, "{frame},{series},{pixels},{mean_cm:.4},{sigma_cm:.4},{integration_us}");
         }
         output.write(&self.instance, "accuracy.csv", csv.as_bytes())?;
         let svg = plot(&self.rows);
@@ -243,16 +245,16 @@ pub fn error_cm(distance: &Image, truth: &Image, max_true: f32) -> (usize, f64, 
 }
 
 /// The mean error per frame of each series as a line plot with its σ as a band.
-fn plot(rows: &[(usize, String, usize, f64, f64)]) -> String {
+fn plot(rows: &[Row]) -> String {
     let (width, height, left, right, top, bottom) = (640.0, 360.0, 64.0, 160.0, 24.0, 48.0);
     let mut series: Vec<&str> = Vec::new();
-    for (_, name, ..) in rows {
-        if !series.contains(&name.as_str()) {
-            series.push(name);
+    for row in rows {
+        if !series.contains(&row.series.as_str()) {
+            series.push(&row.series);
         }
     }
-    let last = rows.iter().map(|r| r.0).max().unwrap_or(0).max(1) as f64;
-    let top_value = rows.iter().map(|r| r.3 + r.4).fold(0.0f64, f64::max).max(0.1) * 1.1;
+    let last = rows.iter().map(|r| r.frame).max().unwrap_or(0).max(1) as f64;
+    let top_value = rows.iter().map(|r| r.mean_cm + r.sigma_cm).fold(0.0f64, f64::max).max(0.1) * 1.1;
     let x = |frame: usize| left + (width - left - right) * frame as f64 / last;
     let y = |value: f64| top + (height - top - bottom) * (1.0 - value / top_value);
     let colours = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"];
@@ -289,17 +291,21 @@ fn plot(rows: &[(usize, String, usize, f64, f64)]) -> String {
     let _ = writeln!(svg, "<text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">mean |error| (cm), band ±σ</text>", height / 2.0, height / 2.0);
     for (s, name) in series.iter().enumerate() {
         let colour = colours[s % colours.len()];
-        let points: Vec<&(usize, String, usize, f64, f64)> = rows.iter().filter(|r| r.1 == *name).collect();
-        let upper: Vec<String> = points.iter().map(|r| format!("{:.1},{:.1}", x(r.0), y(r.3 + r.4))).collect();
-        let lower: Vec<String> =
-            points.iter().rev().map(|r| format!("{:.1},{:.1}", x(r.0), y((r.3 - r.4).max(0.0)))).collect();
+        let points: Vec<&Row> = rows.iter().filter(|r| r.series == *name).collect();
+        let upper: Vec<String> =
+            points.iter().map(|r| format!("{:.1},{:.1}", x(r.frame), y(r.mean_cm + r.sigma_cm))).collect();
+        let lower: Vec<String> = points
+            .iter()
+            .rev()
+            .map(|r| format!("{:.1},{:.1}", x(r.frame), y((r.mean_cm - r.sigma_cm).max(0.0))))
+            .collect();
         let _ = writeln!(
             svg,
             "<polygon points=\"{} {}\" fill=\"{colour}\" fill-opacity=\"0.15\"/>",
             upper.join(" "),
             lower.join(" ")
         );
-        let line: Vec<String> = points.iter().map(|r| format!("{:.1},{:.1}", x(r.0), y(r.3))).collect();
+        let line: Vec<String> = points.iter().map(|r| format!("{:.1},{:.1}", x(r.frame), y(r.mean_cm))).collect();
         let _ = writeln!(
             svg,
             "<polyline points=\"{}\" stroke=\"{colour}\" stroke-width=\"2\" fill=\"none\"/>",
@@ -320,4 +326,62 @@ fn plot(rows: &[(usize, String, usize, f64, f64)]) -> String {
 
 fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+}
+
+/// `ToF.PlyWriter`: the clouds it receives as binary PLY with normals, every frame's
+/// (`cloud_0003.ply`) or the last (`cloud.ply`, when the run ends); fed by several producers,
+/// a file for each.
+pub struct PlyWriter {
+    instance: String,
+    every_frame: bool,
+    several: bool,
+    /// The last cloud of each producer.
+    last: Vec<(String, Points)>,
+}
+
+impl PlyWriter {
+    pub fn new(params: &Params) -> PlyWriter {
+        PlyWriter {
+            instance: params.stage.instance.clone(),
+            every_frame: params.flag("everyFrame"),
+            several: params.providers > 1,
+            last: Vec::new(),
+        }
+    }
+
+    fn name(&self, producer: &str, frame: Option<usize>) -> String {
+        match frame {
+            Some(frame) => file_name(self.several.then_some(producer), "cloud", frame, "ply"),
+            None if self.several => format!("{producer}_cloud.ply"),
+            None => "cloud.ply".to_string(),
+        }
+    }
+}
+
+impl Component for PlyWriter {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        for item in inputs.port("CloudIn") {
+            let Data::Cloud(cloud) = &item.data else { continue };
+            let (points, normals) = super::cloud::host_points(ctx, cloud)?;
+            if self.every_frame {
+                let mut bytes = Vec::new();
+                gudsl_runtime::ply::write(&mut bytes, &points, &normals, "gudsl ToF point cloud")
+                    .map_err(|e| e.to_string())?;
+                ctx.output.write(&self.instance, &self.name(&item.producer, Some(ctx.frame)), &bytes)?;
+            }
+            self.last.retain(|(producer, _)| *producer != item.producer);
+            self.last.push((item.producer.clone(), (points, normals)));
+        }
+        Ok(Vec::new())
+    }
+
+    fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
+        for (producer, (points, normals)) in &self.last {
+            let mut bytes = Vec::new();
+            gudsl_runtime::ply::write(&mut bytes, points, normals, "gudsl ToF point cloud")
+                .map_err(|e| e.to_string())?;
+            output.write(&self.instance, &self.name(producer, None), &bytes)?;
+        }
+        Ok(())
+    }
 }

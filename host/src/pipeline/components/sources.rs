@@ -1,6 +1,7 @@
 //! Sources: the simulated PMD camera (`ToF.SimulatedCamera`, and `ToF.ControlledCamera`, which
 //! takes each frame at the last integration time it received), raw frames made by the
-//! runtime's simulator on the host and uploaded where the kernels run.
+//! runtime's simulator on the host and uploaded where the kernels run; recorded raw frames
+//! (`ToF.RawFrameFile`) and depth images (`ToF.DepthFile`) read from files.
 
 use std::sync::Arc;
 
@@ -9,10 +10,14 @@ use gudsl_runtime::{
     sim::{simulate, Camera, Motion, Scene},
 };
 
-use super::{Component, Ctx, Inputs, Outputs, Params};
+use gudsl_runtime::Image;
+
+use super::{raw::open_raw_files, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
-    data::{Data, RawFrame},
+    data::{Data, DepthImage, RawFrame},
     device::BufferSlot,
+    files::{self, Extent, RawFiles},
+    ErrorKind, PipelineError,
 };
 
 /// A simulated camera and its scene.
@@ -82,7 +87,7 @@ impl Simulated {
 }
 
 /// Table 2.1's camera at another resolution: the same field of view and distortion.
-fn scaled(width: usize, height: usize) -> Intrinsics {
+pub fn scaled(width: usize, height: usize) -> Intrinsics {
     let base = Intrinsics::CAMCUBE;
     let (sx, sy) = (width as f32 / base.width as f32, height as f32 / base.height as f32);
     Intrinsics {
@@ -123,5 +128,115 @@ impl Component for Simulated {
                 integration_us: self.camera.integration_us,
             }),
         )])
+    }
+}
+
+/// The frames a file source gives: `frames` of the parameter (0: all the file holds), an error
+/// at the parameter when the file holds fewer.
+fn frames_to_read(params: &Params, extent: Extent) -> Result<usize, Vec<PipelineError>> {
+    match params.count("frames") {
+        0 => Ok(extent.frames),
+        asked if asked <= extent.frames => Ok(asked),
+        asked => Err(vec![params.error(
+            "frames",
+            ErrorKind::Input,
+            format!(
+                "the file holds {} frame(s) of {}×{}; {asked} are asked for",
+                extent.frames, extent.width, extent.height
+            ),
+        )]),
+    }
+}
+
+/// `ToF.RawFrameFile`: recorded raw frames, channels A and B.
+pub struct RawFrameFile {
+    files: RawFiles,
+    frames: usize,
+    integration_us: f32,
+    loaded: Vec<Image>,
+    raw: BufferSlot,
+}
+
+impl RawFrameFile {
+    pub fn new(params: &Params) -> Result<RawFrameFile, Vec<PipelineError>> {
+        let (a, b) = (params.required_file("channelA"), params.required_file("channelB"));
+        let (a, b) = match (a, b) {
+            (Ok(a), Ok(b)) => (a, b),
+            (a, b) => return Err(a.err().into_iter().chain(b.err()).flatten().collect()),
+        };
+        let files = open_raw_files(params, &a, &b)?;
+        Ok(RawFrameFile {
+            frames: frames_to_read(params, files.extent)?,
+            files,
+            integration_us: params.f32("integrationTime"),
+            loaded: Vec::new(),
+            raw: BufferSlot::default(),
+        })
+    }
+}
+
+impl Component for RawFrameFile {
+    fn frames(&self) -> Option<usize> {
+        Some(self.frames)
+    }
+
+    fn load(&mut self) -> Result<(), String> {
+        self.loaded = self.files.load(self.frames)?;
+        Ok(())
+    }
+
+    fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
+        let Some(frame) = self.loaded.get(ctx.frame) else { return Ok(Vec::new()) };
+        let raw = ctx.device.upload(&mut self.raw, frame.clone());
+        let frame = RawFrame { raw, black: None, truth: None, integration_us: self.integration_us };
+        Ok(vec![("RawOut".to_string(), Data::Raw(frame))])
+    }
+}
+
+/// `ToF.DepthFile`: recorded depth images (no amplitude or intensity: those read as 0).
+pub struct DepthFile {
+    file: files::DepthFile,
+    frames: usize,
+    scale: f32,
+    loaded: Vec<Image>,
+    slots: [BufferSlot; 3],
+}
+
+impl DepthFile {
+    pub fn new(params: &Params) -> Result<DepthFile, Vec<PipelineError>> {
+        let path = params.required_file("path")?;
+        let file = files::DepthFile::open(&path).map_err(|e| vec![params.error("path", ErrorKind::Input, e)])?;
+        Ok(DepthFile {
+            frames: frames_to_read(params, file.extent)?,
+            file,
+            scale: params.f32("scale"),
+            loaded: Vec::new(),
+            slots: Default::default(),
+        })
+    }
+}
+
+impl Component for DepthFile {
+    fn frames(&self) -> Option<usize> {
+        Some(self.frames)
+    }
+
+    fn load(&mut self) -> Result<(), String> {
+        self.loaded = self.file.load(self.frames, self.scale)?;
+        Ok(())
+    }
+
+    fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
+        let Some(distance) = self.loaded.get(ctx.frame) else { return Ok(Vec::new()) };
+        let zeros = Image::zeros(distance.width, distance.height, 1);
+        let [d, a, i] = &mut self.slots;
+        let depth = DepthImage {
+            distance: ctx.device.upload(d, distance.clone()),
+            amplitude: ctx.device.upload(a, zeros.clone()),
+            intensity: ctx.device.upload(i, zeros),
+            truth: None,
+            integration_us: 0.0,
+        };
+        Ok(vec![("DepthOut".to_string(), Data::Depth(depth))])
     }
 }

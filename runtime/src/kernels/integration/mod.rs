@@ -39,6 +39,19 @@ impl IntegrationModel {
         t_range: (50.0, 8000.0),
     };
 
+    /// The runtime's simulated camera (`sim.rs`), as the preprocessing of sec. 5.3.1 finds it
+    /// on a sweep of 200–8000 µs over `Scene::plates` (`tests/integration_time.rs` checks that
+    /// it still does).
+    pub const SIMULATED: IntegrationModel = IntegrationModel {
+        a_opt: 36_517.414,
+        i_opt: 76_480.195,
+        m: [0.89216876, 43_900.496],
+        h: [-8.0347395e-10, 0.00028668254, -30.154741, 1_070_720.8],
+        h_range: (77_842.31, 124_915.89),
+        gain: 1.11,
+        t_range: (50.0, 8000.0),
+    };
+
     /// Eq. 5.4: the linearised intensity (identity below h's range, h's upper bound above it).
     pub fn correct(&self, measured: f32) -> f32 {
         if measured < self.h_range.0 {

@@ -1,0 +1,401 @@
+//! Numeric arrays in NumPy's files, read and written through `npyz` (and `zip` for archives):
+//! `.npy` files of every numeric dtype (booleans, signed and unsigned integers, float16/32/64),
+//! either byte order, C or Fortran order, and single arrays of `.npz` archives (stored or
+//! deflated, as `np.savez` and `np.savez_compressed` write them). Values come as f32 in C order,
+//! with the dtype they had, so a caller can refuse the wrong one by name.
+
+use std::{
+    fmt, fs,
+    io::{self, Read},
+    path::{Path, PathBuf},
+};
+
+use npyz::{DType, NpyFile, Order, TypeChar, WriterBuilder};
+
+/// An array: its shape, its values in C order, and the element type of the file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Array {
+    pub shape: Vec<usize>,
+    pub values: Vec<f32>,
+    pub dtype: Dtype,
+}
+
+/// The element type of an array in a file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Dtype {
+    pub kind: Kind,
+    /// Bytes per element.
+    pub bytes: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Bool,
+    Int,
+    Uint,
+    Float,
+}
+
+impl Dtype {
+    pub const U16: Dtype = Dtype { kind: Kind::Uint, bytes: 2 };
+    pub const F32: Dtype = Dtype { kind: Kind::Float, bytes: 4 };
+
+    /// Whether its values are whole numbers (booleans and integers).
+    pub fn is_integer(self) -> bool {
+        self.kind != Kind::Float
+    }
+}
+
+/// NumPy's name: `uint16`, `float32`, `bool`.
+impl fmt::Display for Dtype {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.kind {
+            Kind::Bool => f.write_str("bool"),
+            Kind::Int => write!(f, "int{}", self.bytes * 8),
+            Kind::Uint => write!(f, "uint{}", self.bytes * 8),
+            Kind::Float => write!(f, "float{}", self.bytes * 8),
+        }
+    }
+}
+
+/// Why an array cannot be read or written, naming the file.
+#[derive(Debug)]
+pub struct ArrayError {
+    pub path: PathBuf,
+    pub kind: io::ErrorKind,
+    pub message: String,
+}
+
+impl fmt::Display for ArrayError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.message)
+    }
+}
+
+impl std::error::Error for ArrayError {}
+
+impl ArrayError {
+    fn new(path: &Path, kind: io::ErrorKind, message: impl Into<String>) -> ArrayError {
+        ArrayError { path: path.to_path_buf(), kind, message: message.into() }
+    }
+
+    fn io(path: &Path, error: io::Error) -> ArrayError {
+        let message = match error.kind() {
+            io::ErrorKind::NotFound => "does not exist".to_string(),
+            io::ErrorKind::UnexpectedEof => "is truncated: it holds fewer values than its shape says".to_string(),
+            _ => error.to_string(),
+        };
+        ArrayError::new(path, error.kind(), message)
+    }
+
+    fn invalid(path: &Path, message: impl Into<String>) -> ArrayError {
+        ArrayError::new(path, io::ErrorKind::InvalidData, message)
+    }
+}
+
+/// Where an array is: a `.npy` file, or `archive.npz:name` (`archive.npz` alone: its only
+/// array).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Source {
+    pub file: PathBuf,
+    pub member: Option<String>,
+}
+
+impl Source {
+    pub fn parse(path: &Path) -> Source {
+        let text = path.to_string_lossy();
+        match text.rsplit_once(".npz:") {
+            Some((archive, member)) if !member.contains(['/', '\\']) => {
+                Source { file: PathBuf::from(format!("{archive}.npz")), member: Some(member.to_string()) }
+            }
+            _ => Source { file: path.to_path_buf(), member: None },
+        }
+    }
+
+    fn is_archive(&self) -> bool {
+        self.member.is_some() || self.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("npz"))
+    }
+}
+
+/// The shape and element type of the array at `path` (a `.npy` file or `archive.npz[:name]`),
+/// read from its header only.
+pub fn header(path: &Path) -> Result<(Vec<usize>, Dtype), ArrayError> {
+    with_array(path, |file, path| Ok((shape_of(&file), dtype_of(&file, path)?)))
+}
+
+/// The array at `path` (a `.npy` file or `archive.npz[:name]`).
+pub fn read(path: &Path) -> Result<Array, ArrayError> {
+    with_array(path, |file, path| {
+        let shape = shape_of(&file);
+        let dtype = dtype_of(&file, path)?;
+        let fortran = file.order() == Order::Fortran;
+        let values = values(file, dtype).map_err(|e| ArrayError::io(path, e))?;
+        let values = if fortran { to_c_order(&values, &shape) } else { values };
+        Ok(Array { shape, values, dtype })
+    })
+}
+
+/// Opens the array at `path` and hands its reader (positioned after the header) to `f`.
+fn with_array<T>(
+    path: &Path,
+    f: impl FnOnce(NpyFile<&mut dyn Read>, &Path) -> Result<T, ArrayError>,
+) -> Result<T, ArrayError> {
+    let source = Source::parse(path);
+    let mut file = fs::File::open(&source.file).map_err(|e| ArrayError::io(&source.file, e))?;
+    if !source.is_archive() {
+        let mut reader = io::BufReader::new(&mut file);
+        let npy = NpyFile::new(&mut reader as &mut dyn Read).map_err(|e| not_npy(&source.file, e))?;
+        return f(npy, &source.file);
+    }
+    let mut archive = zip::ZipArchive::new(io::BufReader::new(file))
+        .map_err(|e| ArrayError::invalid(&source.file, format!("is not a .npz archive ({e})")))?;
+    let names: Vec<String> = archive.file_names().filter_map(|n| n.strip_suffix(".npy")).map(str::to_string).collect();
+    let member = match (&source.member, &names[..]) {
+        (Some(member), _) => member.clone(),
+        (None, [only]) => only.clone(),
+        (None, _) => {
+            return Err(ArrayError::invalid(
+                &source.file,
+                format!(
+                    "holds {} arrays ({}): name one as `{}:NAME`",
+                    names.len(),
+                    names.join(", "),
+                    source.file.display()
+                ),
+            ))
+        }
+    };
+    let mut entry = match archive.by_name(&format!("{member}.npy")) {
+        Ok(entry) => entry,
+        Err(_) => {
+            return Err(ArrayError::new(
+                &source.file,
+                io::ErrorKind::NotFound,
+                format!("has no array `{member}` (it holds {})", names.join(", ")),
+            ))
+        }
+    };
+    let shown = PathBuf::from(format!("{}:{member}", source.file.display()));
+    let npy = NpyFile::new(&mut entry as &mut dyn Read).map_err(|e| not_npy(&shown, e))?;
+    f(npy, &shown)
+}
+
+fn not_npy(path: &Path, error: io::Error) -> ArrayError {
+    ArrayError::invalid(path, format!("is not a NumPy array file ({error})"))
+}
+
+fn shape_of<R: Read>(file: &NpyFile<R>) -> Vec<usize> {
+    file.shape().iter().map(|&d| d as usize).collect()
+}
+
+fn dtype_of<R: Read>(file: &NpyFile<R>, path: &Path) -> Result<Dtype, ArrayError> {
+    let unsupported =
+        || ArrayError::invalid(path, format!("has dtype {}: not a number", file.dtype().descr().trim_matches('\'')));
+    let DType::Plain(ty) = file.dtype() else { return Err(unsupported()) };
+    let kind = match ty.type_char() {
+        TypeChar::Bool => Kind::Bool,
+        TypeChar::Int => Kind::Int,
+        TypeChar::Uint => Kind::Uint,
+        TypeChar::Float => Kind::Float,
+        _ => return Err(unsupported()),
+    };
+    let bytes = ty.size_field() as usize;
+    match (kind, bytes) {
+        (Kind::Bool, 1) | (Kind::Int | Kind::Uint, 1 | 2 | 4 | 8) | (Kind::Float, 2 | 4 | 8) => {
+            Ok(Dtype { kind, bytes })
+        }
+        _ => Err(unsupported()),
+    }
+}
+
+/// The values as f32 (integers beyond 2^24 round).
+fn values<R: Read>(file: NpyFile<R>, dtype: Dtype) -> io::Result<Vec<f32>> {
+    fn all<T: npyz::Deserialize, R: Read>(file: NpyFile<R>, to: impl Fn(T) -> f32) -> io::Result<Vec<f32>> {
+        Ok(file.into_vec::<T>()?.into_iter().map(to).collect())
+    }
+    match (dtype.kind, dtype.bytes) {
+        (Kind::Bool, _) => all(file, |v: bool| f32::from(u8::from(v))),
+        (Kind::Int, 1) => all(file, |v: i8| v as f32),
+        (Kind::Int, 2) => all(file, |v: i16| v as f32),
+        (Kind::Int, 4) => all(file, |v: i32| v as f32),
+        (Kind::Int, _) => all(file, |v: i64| v as f32),
+        (Kind::Uint, 1) => all(file, |v: u8| v as f32),
+        (Kind::Uint, 2) => all(file, |v: u16| v as f32),
+        (Kind::Uint, 4) => all(file, |v: u32| v as f32),
+        (Kind::Uint, _) => all(file, |v: u64| v as f32),
+        (Kind::Float, 2) => all(file, |v: npyz::half::f16| v.to_f32()),
+        (Kind::Float, 4) => all(file, |v: f32| v),
+        (Kind::Float, _) => all(file, |v: f64| v as f32),
+    }
+}
+
+/// Values stored in Fortran order (first index fastest) in C order (last index fastest).
+fn to_c_order(values: &[f32], shape: &[usize]) -> Vec<f32> {
+    let mut out = vec![0.0; values.len()];
+    let mut index = vec![0usize; shape.len()];
+    for value in out.iter_mut() {
+        // `index` counts in C order; its Fortran offset is the stored position.
+        let mut offset = 0;
+        let mut stride = 1;
+        for (i, &dim) in index.iter().zip(shape) {
+            offset += i * stride;
+            stride *= dim;
+        }
+        *value = values[offset];
+        for (i, &dim) in index.iter_mut().zip(shape).rev() {
+            *i += 1;
+            if *i < dim {
+                break;
+            }
+            *i = 0;
+        }
+    }
+    out
+}
+
+/// `data` (row-major, `shape`) as the bytes of a `.npy` file of `dtype` (`U16` rounds and
+/// clamps to 0..=65535; any other is written as float32).
+pub fn encode(shape: &[usize], data: &[f32], dtype: Dtype) -> Vec<u8> {
+    assert_eq!(shape.iter().product::<usize>(), data.len(), "shape and data disagree");
+    let shape: Vec<u64> = shape.iter().map(|&d| d as u64).collect();
+    let mut bytes = Vec::new();
+    let written = if dtype == Dtype::U16 {
+        let options = npyz::WriteOptions::<u16>::new().default_dtype().shape(&shape).writer(&mut bytes);
+        options.begin_nd().and_then(|mut writer| {
+            writer.extend(data.iter().map(|v| v.round().clamp(0.0, 65535.0) as u16))?;
+            writer.finish()
+        })
+    } else {
+        let options = npyz::WriteOptions::<f32>::new().default_dtype().shape(&shape).writer(&mut bytes);
+        options.begin_nd().and_then(|mut writer| {
+            writer.extend(data.iter().copied())?;
+            writer.finish()
+        })
+    };
+    written.expect("writing to memory cannot fail");
+    bytes
+}
+
+/// Writes `data` (row-major, `shape`) as a `.npy` file of `dtype`.
+pub fn write(path: &Path, shape: &[usize], data: &[f32], dtype: Dtype) -> Result<(), ArrayError> {
+    fs::write(path, encode(shape, data, dtype)).map_err(|e| ArrayError::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::io::Write;
+
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("gudsl-arrays-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    /// A `.npy` file with a hand-written header and body, as NumPy writes it.
+    fn raw_npy(descr: &str, fortran: bool, shape: &str, body: &[u8]) -> Vec<u8> {
+        let mut header = format!(
+            "{{'descr': '{descr}', 'fortran_order': {}, 'shape': {shape}, }}",
+            if fortran { "True" } else { "False" }
+        );
+        header.push_str(&" ".repeat(63 - (10 + header.len()) % 64));
+        header.push('\n');
+        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+        bytes.extend((header.len() as u16).to_le_bytes());
+        bytes.extend(header.as_bytes());
+        bytes.extend(body);
+        bytes
+    }
+
+    #[test]
+    fn round_trips_both_written_dtypes() {
+        let path = scratch("round.npy");
+        let data: Vec<f32> = (0..24).map(|i| i as f32 * 1.5).collect();
+        write(&path, &[2, 3, 4], &data, Dtype::F32).unwrap();
+        assert_eq!(read(&path).unwrap(), Array { shape: vec![2, 3, 4], values: data.clone(), dtype: Dtype::F32 });
+        write(&path, &[24], &data, Dtype::U16).unwrap();
+        let array = read(&path).unwrap();
+        assert_eq!((array.shape, array.dtype), (vec![24], Dtype::U16));
+        assert_eq!(array.values, data.iter().map(|v| v.round()).collect::<Vec<_>>());
+        assert_eq!(header(&path).unwrap(), (vec![24], Dtype::U16));
+    }
+
+    #[test]
+    fn reads_every_numeric_dtype_in_either_byte_order_and_fortran_order() {
+        let path = scratch("dtypes.npy");
+        let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+            ("|b1", vec![1, 0, 1, 1, 0, 1], "bool"),
+            ("|i1", [1i8, -2, 3, -4, 5, -6].iter().map(|v| *v as u8).collect(), "int8"),
+            (">u2", [1u16, 2, 3, 4, 5, 6].iter().flat_map(|v| v.to_be_bytes()).collect(), "uint16"),
+            ("<i4", [1i32, -2, 3, -4, 5, -6].iter().flat_map(|v| v.to_le_bytes()).collect(), "int32"),
+            (">i8", [1i64, -2, 3, -4, 5, -6].iter().flat_map(|v| v.to_be_bytes()).collect(), "int64"),
+            ("<u8", [1u64, 2, 3, 4, 5, 6].iter().flat_map(|v| v.to_le_bytes()).collect(), "uint64"),
+            (
+                "<f2",
+                [1.0f32, 2.5, -3.0, 4.0, 5.0, 6.0]
+                    .iter()
+                    .flat_map(|v| npyz::half::f16::from_f32(*v).to_le_bytes())
+                    .collect(),
+                "float16",
+            ),
+            (">f4", [1.0f32, 2.5, -3.0, 4.0, 5.0, 6.0].iter().flat_map(|v| v.to_be_bytes()).collect(), "float32"),
+            ("<f8", [1.0f64, 2.5, -3.0, 4.0, 5.0, 6.0].iter().flat_map(|v| v.to_le_bytes()).collect(), "float64"),
+        ];
+        for (descr, body, name) in cases {
+            fs::write(&path, raw_npy(descr, false, "(2, 3)", &body)).unwrap();
+            let array = read(&path).unwrap();
+            assert_eq!(array.shape, [2, 3], "{descr}");
+            assert_eq!(array.dtype.to_string(), name, "{descr}");
+            assert_eq!(array.values.len(), 6, "{descr}");
+        }
+        // Fortran order: [[1, 2, 3], [4, 5, 6]] is stored column by column.
+        let body: Vec<u8> = [1u16, 4, 2, 5, 3, 6].iter().flat_map(|v| v.to_le_bytes()).collect();
+        fs::write(&path, raw_npy("<u2", true, "(2, 3)", &body)).unwrap();
+        assert_eq!(read(&path).unwrap().values, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        let body: Vec<u8> = (0u16..24).flat_map(|v| v.to_le_bytes()).collect();
+        fs::write(&path, raw_npy("<u2", true, "(2, 3, 4)", &body)).unwrap();
+        let values = read(&path).unwrap().values;
+        // C index (i, j, k) = (1, 2, 3) is at 12 i + 4 j + k in C order, stored at i + 2 j + 6 k.
+        let (i, j, k) = (1, 2, 3);
+        assert_eq!(values[12 * i + 4 * j + k], (i + 2 * j + 6 * k) as f32);
+    }
+
+    #[test]
+    fn reads_arrays_of_npz_archives() {
+        let path = scratch("frames.npz");
+        let mut zip = zip::ZipWriter::new(fs::File::create(&path).unwrap());
+        let deflated = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+        zip.start_file("a.npy", deflated).unwrap();
+        zip.write_all(&encode(&[2], &[1.0, 2.0], Dtype::U16)).unwrap();
+        zip.start_file("b.npy", zip::write::SimpleFileOptions::default()).unwrap();
+        zip.write_all(&encode(&[3], &[3.0, 4.0, 5.0], Dtype::F32)).unwrap();
+        zip.finish().unwrap();
+        let member = |name: &str| PathBuf::from(format!("{}:{name}", path.display()));
+        assert_eq!(read(&member("a")).unwrap().values, [1.0, 2.0]);
+        assert_eq!(read(&member("b")).unwrap().values, [3.0, 4.0, 5.0]);
+        let error = read(&member("c")).unwrap_err();
+        assert!(error.message.contains("has no array `c` (it holds a, b)"), "{error}");
+        let error = read(&path).unwrap_err();
+        assert!(error.message.contains("holds 2 arrays (a, b): name one"), "{error}");
+    }
+
+    #[test]
+    fn bad_files_are_errors_naming_the_file() {
+        let path = scratch("bad.npy");
+        let error = read(&scratch("nowhere.npy")).unwrap_err();
+        assert_eq!(error.kind, io::ErrorKind::NotFound);
+        assert!(error.to_string().ends_with("nowhere.npy: does not exist"), "{error}");
+        fs::write(&path, b"not numpy at all").unwrap();
+        assert!(read(&path).unwrap_err().message.contains("is not a NumPy array file"));
+        let bytes = encode(&[4], &[1.0, 2.0, 3.0, 4.0], Dtype::F32);
+        fs::write(&path, &bytes[..bytes.len() - 3]).unwrap();
+        let error = read(&path).unwrap_err();
+        assert!(error.message.contains("truncated"), "{error}");
+        fs::write(&path, raw_npy("<c8", false, "(1,)", &[0; 8])).unwrap();
+        let error = read(&path).unwrap_err();
+        assert!(error.message.contains("has dtype <c8: not a number"), "{error}");
+        fs::write(scratch("not.npz"), b"PK but not really").unwrap();
+        assert!(read(&scratch("not.npz")).unwrap_err().message.contains("is not a .npz archive"));
+    }
+}

@@ -1,0 +1,104 @@
+//! ▶ Run pipeline in the editor: `gudsl.runPipeline` runs a component-instance diagram as a ToF
+//! pipeline as `gudsl run` does — refused, with every problem's place, when the model has
+//! errors, when its plan has problems (E0401–E0403) or when its files and components do not fit
+//! (E0404, E0405) — on a thread of its own, reporting "frame k of N" as `$/progress`, stopping
+//! between frames when cancelled, and answering with `report.json` and the stages' table. The
+//! outputs go to the folder the command names, by default `<temp>/gudsl-run/<diagram>`.
+
+use std::{
+    sync::{atomic::AtomicBool, Arc},
+    time::Instant,
+};
+
+use gudsl_host::pipeline::{self, ErrorKind, OutputDir, PipelineObserver, Prepared};
+use gudsl_model::{Cancellable, FileId};
+use tokio::sync::mpsc;
+
+use super::{
+    host::Snapshot,
+    run::{self, Event, Failure, Finished, Job, Places, Refusal, RunRequest},
+};
+use crate::commands::{pipeline as cli, run::pipeline_named};
+
+/// The command that runs a pipeline: its name (simple or fully qualified), or
+/// `{"diagram": name, "output": folder, "frames": n, "cpu": bool}`.
+pub const RUN_PIPELINE: &str = "gudsl.runPipeline";
+
+/// Prepares the pipeline the request names; refused when any document of the workspace has
+/// errors, when no component-instance diagram or several have the name, or when it cannot run.
+pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job, Refusal>> {
+    let name = request.diagram.as_str();
+    if let Some(refusal) = run::model_errors(snap, name)? {
+        return Ok(Err(refusal));
+    }
+    let files = run::workspace_files(snap);
+    let fqn = match snap.analysis.with_semantics(|sema| pipeline_named(sema, &files, name))? {
+        Ok(fqn) => fqn,
+        Err(message) => return Ok(Err(Refusal { message, problems: Vec::new() })),
+    };
+    let Some(plan) = snap.analysis.pipeline_plan(&fqn)? else {
+        return Ok(Err(Refusal { message: format!("`{fqn}` is not a pipeline"), problems: Vec::new() }));
+    };
+    if !plan.diagnostics.is_empty() {
+        let problems = plan.diagnostics.iter().map(|d| (plan.file, d.range, d.code, d.message.clone()));
+        return Ok(Err(run::cannot_run(snap, name, problems.collect::<Vec<_>>())?));
+    }
+    let prepared = match pipeline::prepare(&plan, &cli::model_dir(&snap.analysis, plan.file)) {
+        Ok(prepared) => prepared,
+        Err(errors) => {
+            let problems =
+                errors.iter().map(|e| (plan.file, e.range.unwrap_or(plan.name_range), e.code(), e.to_string()));
+            return Ok(Err(run::cannot_run(snap, name, problems.collect::<Vec<_>>())?));
+        }
+    };
+    let places = Places::of(snap, [plan.file])?;
+    Ok(Ok(job(prepared, fqn, plan.file, places, request)))
+}
+
+/// The run of a prepared pipeline: on the first wgpu adapter with timestamp queries (the CPU
+/// reference with `cpu`, or when there is none), its outputs under the request's folder.
+fn job(mut prepared: Prepared, diagram: String, file: FileId, places: Places, request: &RunRequest) -> Job {
+    let (output, frames, cpu) = (request.output.clone(), request.frames, request.cpu);
+    let work = move |stop: Arc<AtomicBool>, events: mpsc::UnboundedSender<Event>| {
+        let gpu = cli::device(cpu, |error| {
+            let _ =
+                events.send(Event::Printed(format!("gudsl: no GPU adapter ({error}); running on the CPU reference")));
+        });
+        let mut output_dir = OutputDir::create(&output)
+            .map_err(|error| format!("cannot create the output folder {}: {error}", output.display()))?;
+        let mut observer = Frames { events, last: None };
+        let report = prepared.run(gpu.as_ref(), &mut output_dir, frames, &mut observer, &stop);
+        let report_json = cli::write_report(&report, &mut output_dir).map(|mut json| {
+            json["table"] = cli::table(&report).into();
+            json
+        });
+        Ok(Finished {
+            summary: cli::summary(&report),
+            report: report_json,
+            failure: report.outcome.err().map(|error| Failure {
+                message: error.to_string(),
+                cancelled: error.kind == ErrorKind::Cancelled,
+                location: error.range.and_then(|range| places.at(file, range)),
+            }),
+        })
+    };
+    Job { diagram, starting: "preparing the first frame", bounded: true, work: Box::new(work) }
+}
+
+/// A pipeline's observer: "frame k of N" with its percentage, at most one per
+/// [`run::REPORT_EVERY`] (the last frame always).
+struct Frames {
+    events: mpsc::UnboundedSender<Event>,
+    last: Option<Instant>,
+}
+
+impl PipelineObserver for Frames {
+    fn frame(&mut self, index: usize, frames: usize) {
+        let last_frame = index + 1 == frames;
+        if last_frame || self.last.is_none_or(|last| last.elapsed() >= run::REPORT_EVERY) {
+            self.last = Some(Instant::now());
+            let percentage = ((index + 1) * 100 / frames.max(1)) as u32;
+            let _ = self.events.send(Event::Progress(format!("frame {} of {frames}", index + 1), Some(percentage)));
+        }
+    }
+}
