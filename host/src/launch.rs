@@ -152,6 +152,35 @@ impl Launcher {
     /// Runs the kernel over `range` with `args` (one per parameter, in order); returns the time
     /// from submission to completion.
     pub fn launch(&self, gpu: &Gpu, args: &[Arg<'_>], range: &WorkRange) -> Result<Duration, LaunchError> {
+        self.bound(gpu, args, range, |constants, resources, workgroups| {
+            self.program.dispatch(gpu, constants, resources, workgroups)
+        })
+    }
+
+    /// Records the launch into `encoder` (with `timestamps` around its pass), for the caller to
+    /// submit with other work.
+    pub fn record(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        args: &[Arg<'_>],
+        range: &WorkRange,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), LaunchError> {
+        self.bound(gpu, args, range, |constants, resources, workgroups| {
+            self.program.record(gpu, encoder, constants, resources, workgroups, timestamps)
+        })
+    }
+
+    /// `args` checked against the parameters and packed as the program takes them (pipeline
+    /// constants, resources at their bindings, work-groups), handed to `dispatch`.
+    fn bound<R>(
+        &self,
+        gpu: &Gpu,
+        args: &[Arg<'_>],
+        range: &WorkRange,
+        dispatch: impl FnOnce(&[(&str, f64)], &[(u32, Resource<'_>)], [u32; 3]) -> Result<R, ProgramError>,
+    ) -> Result<R, LaunchError> {
         let kernel = &self.kernel;
         if args.len() != kernel.params.len() {
             return Err(LaunchError::Range {
@@ -208,7 +237,7 @@ impl Launcher {
             LOCAL_SIZE_CONSTANTS.into_iter().zip(local).map(|(name, size)| (name, size as f64)).collect();
         constants.extend(lengths.iter().map(|(name, length)| (name.as_str(), *length)));
         let workgroups = [0, 1, 2].map(|d| range.global[d].div_ceil(local[d]));
-        Ok(self.program.dispatch(gpu, &constants, &resources, workgroups)?)
+        Ok(dispatch(&constants, &resources, workgroups)?)
     }
 
     /// The work-group size: the one given, checked, or one chosen (8×8 in 2D, 64 in 1D, 4×4×4

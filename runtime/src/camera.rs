@@ -19,6 +19,21 @@ pub struct Intrinsics {
 }
 
 impl Intrinsics {
+    /// Table 2.1's camera at another resolution: the same field of view and distortion.
+    pub fn camcube_at(width: usize, height: usize) -> Intrinsics {
+        let base = Intrinsics::CAMCUBE;
+        let (sx, sy) = (width as f32 / base.width as f32, height as f32 / base.height as f32);
+        Intrinsics {
+            width,
+            height,
+            fx: base.fx * sx,
+            fy: base.fy * sy,
+            cx: (base.cx + 0.5) * sx - 0.5,
+            cy: (base.cy + 0.5) * sy - 0.5,
+            ..base
+        }
+    }
+
     /// Table 2.1: the PMD CamCube 3.0 of the dissertation.
     pub const CAMCUBE: Intrinsics = Intrinsics {
         width: 200,

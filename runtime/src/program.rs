@@ -230,6 +230,29 @@ impl Program {
         resources: &[(u32, Resource<'_>)],
         workgroups: [u32; 3],
     ) -> Result<Duration, ProgramError> {
+        let dispatch_error = |message| ProgramError::Dispatch { program: self.label.clone(), message };
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.record(gpu, &mut encoder, constants, resources, workgroups, gpu.pass_timestamps())?;
+        gpu.resolve_timestamps(&mut encoder);
+        let commands = scoped(gpu, || encoder.finish()).map_err(dispatch_error)?;
+        let start = Instant::now();
+        scoped(gpu, || gpu.queue.submit([commands])).map_err(dispatch_error)?;
+        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| dispatch_error(e.to_string()))?;
+        let elapsed = start.elapsed();
+        Ok(gpu.device_time().map_err(dispatch_error)?.unwrap_or(elapsed))
+    }
+
+    /// Records the dispatch [`Program::dispatch`] runs into `encoder`, with `timestamps` around
+    /// its pass, for the caller to submit with other work (nothing waits).
+    pub fn record(
+        &self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        constants: &[(&str, f64)],
+        resources: &[(u32, Resource<'_>)],
+        workgroups: [u32; 3],
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), ProgramError> {
         let limit = gpu.device.limits().max_compute_workgroups_per_dimension;
         if workgroups.iter().any(|&n| n > limit) {
             return Err(ProgramError::Dispatch {
@@ -273,31 +296,21 @@ impl Program {
             entries.push(wgpu::BindGroupEntry { binding: spec.binding, resource });
         }
         let dispatch_error = |message| ProgramError::Dispatch { program: self.label.clone(), message };
-        let commands = scoped(gpu, || {
+        scoped(gpu, || {
             let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(&self.label),
                 layout: &self.group_layout,
                 entries: &entries,
             });
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(&self.label),
-                    timestamp_writes: gpu.pass_timestamps(),
-                });
-                pass.set_pipeline(&pipeline);
-                pass.set_bind_group(0, &group, &[]);
-                pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
-            }
-            gpu.resolve_timestamps(&mut encoder);
-            encoder.finish()
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(&self.label),
+                timestamp_writes: timestamps,
+            });
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
         })
-        .map_err(dispatch_error)?;
-        let start = Instant::now();
-        scoped(gpu, || gpu.queue.submit([commands])).map_err(dispatch_error)?;
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| dispatch_error(e.to_string()))?;
-        let elapsed = start.elapsed();
-        Ok(gpu.device_time().map_err(dispatch_error)?.unwrap_or(elapsed))
+        .map_err(dispatch_error)
     }
 
     /// WebGPU forbids one buffer or image at two bindings of a dispatch when either binding
@@ -403,6 +416,11 @@ pub struct DeviceBuffer {
 }
 
 impl DeviceBuffer {
+    /// The whole of a buffer made elsewhere (storage use), shared with its owner.
+    pub fn wrap(buffer: &wgpu::Buffer) -> DeviceBuffer {
+        DeviceBuffer { buffer: buffer.clone(), len: buffer.size() }
+    }
+
     /// A zeroed buffer of `len` bytes.
     pub fn new(gpu: &Gpu, label: &str, len: u64) -> Result<DeviceBuffer, ProgramError> {
         let size = len.max(4).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);

@@ -1,5 +1,5 @@
 //! What flows between the stages of a pipeline: raw frames, depth images, masks, point clouds,
-//! poses and integration times (the interfaces of `ToF.*`), their images kept on the GPU as
+//! poses, integration times and RGBA images (the interfaces of `ToF.*`), their images kept on the GPU as
 //! buffers (or on the CPU without an adapter) until a stage or a sink reads them.
 
 use std::sync::Arc;
@@ -57,6 +57,14 @@ pub enum PointCloud {
     Unorganized { points: Arc<Vec<[f32; 3]>>, normals: Arc<Vec<[f32; 3]>> },
 }
 
+/// An RGBA image of 8-bit values (`ToF.RgbaImage`): 4 planes R, G, B, A of values 0–255.
+#[derive(Debug, Clone)]
+pub struct Picture {
+    pub texels: Tensor,
+    /// The source instance it came from (a viewer names its files after it).
+    pub source: String,
+}
+
 /// One item of data.
 #[derive(Debug, Clone)]
 pub enum Data {
@@ -66,6 +74,7 @@ pub enum Data {
     Cloud(PointCloud),
     Pose(Pose),
     IntegrationTime(f32),
+    Image(Picture),
 }
 
 /// An item delivered to a stage: its data, and the instance that produced it (a sink fed by

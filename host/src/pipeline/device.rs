@@ -9,7 +9,7 @@ use std::{sync::Arc, time::Duration};
 
 use gudsl_runtime::{BoundKernel, Gpu, Image, Kernel, PipelineError, Shape};
 
-use super::data::{Data, DepthImage, PointCloud, RawFrame, Tensor};
+use super::data::{Data, DepthImage, Picture, PointCloud, RawFrame, Tensor};
 
 /// The GPU (or the CPU) and the frame's recording.
 pub struct Device<'g> {
@@ -51,6 +51,32 @@ impl<'g> Device<'g> {
     pub fn new(gpu: Option<&'g Gpu>) -> Device<'g> {
         let timing = gpu.filter(|gpu| gpu.times_on_device()).map(|gpu| Timing::new(gpu, 64));
         Device { gpu, encoder: None, later: Vec::new(), staging: None, timing }
+    }
+
+    /// The GPU, `None` on the CPU reference.
+    pub fn gpu(&self) -> Option<&'g Gpu> {
+        self.gpu
+    }
+
+    /// Records `stage`'s work outside the runtime's kernels (a generated kernel, a conversion)
+    /// into the frame's encoder, with the stage's timestamps for its pass; `None` on the CPU.
+    pub fn record<R>(
+        &mut self,
+        stage: usize,
+        work: impl FnOnce(&Gpu, &mut wgpu::CommandEncoder, Option<wgpu::ComputePassTimestampWrites<'_>>) -> R,
+    ) -> Option<R> {
+        let gpu = self.gpu?;
+        let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
+        let writes = self.timing.as_mut().and_then(|t| t.next(stage));
+        Some(work(
+            gpu,
+            encoder,
+            writes.as_ref().map(|(queries, at)| wgpu::ComputePassTimestampWrites {
+                query_set: queries,
+                beginning_of_pass_write_index: Some(*at),
+                end_of_pass_write_index: Some(at + 1),
+            }),
+        ))
     }
 
     /// `kernel` on `inputs` for `stage`, its results where the inputs are.
@@ -136,6 +162,9 @@ impl<'g> Device<'g> {
                 ..depth.clone()
             }),
             Data::Mask(mask) => Data::Mask(copy(mask)),
+            Data::Image(picture) => {
+                Data::Image(Picture { texels: copy(&picture.texels), source: picture.source.clone() })
+            }
             Data::Cloud(PointCloud::Organized { points, normals }) => {
                 Data::Cloud(PointCloud::Organized { points: copy(points), normals: copy(normals) })
             }

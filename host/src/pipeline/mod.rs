@@ -24,11 +24,12 @@ use std::{
 };
 
 use gudsl_model::{
-    hir::{pipeline::PipelinePlan, Diagnostic, DiagnosticCode, Severity},
+    hir::{pipeline::PipelinePlan, Diagnostic, DiagnosticCode, Semantics, Severity},
     syntax::TextRange,
 };
 use gudsl_runtime::Gpu;
 
+pub use components::Behaviors;
 use components::{Component, Inputs, Outputs};
 use data::Item;
 use device::Device;
@@ -121,15 +122,38 @@ pub struct Prepared {
     frames: usize,
 }
 
-/// Makes the plan's components: each a component of the ToF library, with its parameters and
-/// the files it reads (relative to `model_dir`) checked; every problem found, not just the
-/// first.
-pub fn prepare(plan: &PipelinePlan, model_dir: &Path) -> Result<Prepared, Vec<PipelineError>> {
+/// The kernels of the device diagrams the plan's workspace components call in `process`
+/// (generated once, here, where the model is: a run needs no database).
+pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
+    let mut behaviors = Behaviors::new();
+    let device = gudsl_codegen::device_diagrams(sema);
+    for fqn in plan.stages.iter().flat_map(|s| &s.behavior) {
+        if behaviors.contains_key(fqn) {
+            continue;
+        }
+        let kernel = match device.iter().find(|d| &d.fqn == fqn) {
+            Some(def) => gudsl_codegen::generate(sema, def).map_err(|errors| {
+                let first = errors.first().map_or("", |e| e.message.as_str());
+                format!("`{fqn}` cannot be generated as WGSL: {first} (`gudsl wgsl` lists every problem)")
+            }),
+            None => Err(format!(
+                "`{fqn}` is not a device diagram (no class implementing `OpenCL` owns it): a component's `process` runs device diagrams"
+            )),
+        };
+        behaviors.insert(fqn.clone(), kernel);
+    }
+    behaviors
+}
+
+/// Makes the plan's components: each a component of the ToF library or of the workspace (with
+/// the kernels of `behaviors`), with its parameters and the files it reads (relative to
+/// `model_dir`) checked; every problem found, not just the first.
+pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> Result<Prepared, Vec<PipelineError>> {
     let mut errors = Vec::new();
     let mut made = Vec::new();
     for (index, stage) in plan.stages.iter().enumerate() {
         let providers = plan.bindings.iter().filter(|b| b.processor.stage == index).count();
-        match components::make(stage, providers, model_dir) {
+        match components::make(stage, providers, model_dir, behaviors) {
             Ok(component) => made.push(component),
             Err(mut problems) => errors.append(&mut problems),
         }
@@ -169,8 +193,8 @@ pub fn prepare(plan: &PipelinePlan, model_dir: &Path) -> Result<Prepared, Vec<Pi
 /// (its files' headers read, its components made): diagnostics of the plan's file, E0404 and
 /// E0405, at the instance or parameter concerned (else at the diagram's name). A component
 /// the runtime cannot run is not one: the model is right, only `run` refuses it.
-pub fn check(plan: &PipelinePlan, model_dir: &Path) -> Vec<Diagnostic> {
-    let Err(errors) = prepare(plan, model_dir) else { return Vec::new() };
+pub fn check(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> Vec<Diagnostic> {
+    let Err(errors) = prepare(plan, behaviors, model_dir) else { return Vec::new() };
     errors
         .into_iter()
         .filter(|error| error.kind != ErrorKind::NotRunnable)

@@ -144,6 +144,9 @@ pub enum Kernel {
     SmoothFlow { window: u32 },
     /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame.
     CorrectRaw,
+    /// An amplitude as a grey RGBA image of 8-bit values (sec. 11.5's camera): amplitude → 4
+    /// planes.
+    GreyImage { gain: f32 },
     /// Amplitude masking (eq. 6.1): distance, amplitude → distance (0 outside [min, max]).
     MaskAmplitude { min: f32, max: f32 },
     /// 3×3 outlier removal (sec. 6.5.1.3): distance → distance.
@@ -191,6 +194,7 @@ impl Kernel {
             Kernel::MatchBlocks { window, restriction } => f(&motion::MatchBlocks { window, restriction }),
             Kernel::SmoothFlow { window } => f(&motion::SmoothFlow { window }),
             Kernel::CorrectRaw => f(&motion::CorrectRaw),
+            Kernel::GreyImage { gain } => f(&tof::GreyImage { gain }),
             Kernel::MaskAmplitude { min, max } => f(&car::MaskAmplitude { min, max }),
             Kernel::RemoveOutliers { range, min_similar } => f(&car::RemoveOutliers { range, min_similar }),
             Kernel::Segment { theta_intensity, theta_distance } => f(&car::Segment { theta_intensity, theta_distance }),
@@ -224,6 +228,7 @@ impl Kernel {
             Kernel::MatchBlocks { window: 5, restriction: None },
             Kernel::SmoothFlow { window: 3 },
             Kernel::CorrectRaw,
+            Kernel::GreyImage { gain: 2.0 },
             Kernel::MaskAmplitude { min: 0.0, max: 1.0 },
             Kernel::RemoveOutliers { range: 0.05, min_similar: 3 },
             Kernel::Segment { theta_intensity: 1.0, theta_distance: 0.1 },

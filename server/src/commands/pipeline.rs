@@ -15,10 +15,10 @@ use std::{
     time::Duration,
 };
 
-use gudsl_host::pipeline::{self, ErrorKind, OutputDir, PipelineError, PipelineObserver, PipelineReport};
+use gudsl_host::pipeline::{self, ErrorKind, OutputDir, PipelineError, PipelineObserver, PipelineReport, Prepared};
 use gudsl_model::{
     analysis::{Analysis, FileId},
-    hir::{DefKind, Diagnostic, Severity},
+    hir::{pipeline::PipelinePlan, DefKind, Diagnostic, Severity},
     Cancellable,
 };
 
@@ -55,7 +55,11 @@ pub fn run(analysis: &Analysis, files: &[FileId], mut checked: report::Report, a
         eprintln!("gudsl run: `{}` cannot run", plan.diagram);
         return super::refuse(&checked, 1);
     }
-    let mut prepared = match pipeline::prepare(&plan, &model_dir(analysis, plan.file)) {
+    let Ok(prepared) = prepare(analysis, &plan) else {
+        eprintln!("gudsl run: the analysis was cancelled");
+        return ExitCode::from(2);
+    };
+    let mut prepared = match prepared {
         Ok(prepared) => prepared,
         Err(errors) => {
             let code = if errors.iter().any(|e| e.kind == ErrorKind::Input) { 2 } else { 1 };
@@ -107,6 +111,13 @@ pub fn device(cpu: bool, no_adapter: impl FnOnce(String)) -> Option<gudsl_runtim
     gudsl_runtime::Gpu::with_timestamps().map_err(|error| no_adapter(error.to_string())).ok()
 }
 
+/// The plan's components made, with the kernels its workspace components' `process` runs and
+/// its files resolved against the model's folder.
+pub fn prepare(analysis: &Analysis, plan: &PipelinePlan) -> Cancellable<Result<Prepared, Vec<PipelineError>>> {
+    let behaviors = analysis.with_semantics(|sema| pipeline::behaviors(sema, plan))?;
+    Ok(pipeline::prepare(plan, &behaviors, &model_dir(analysis, plan.file)))
+}
+
 /// The folder a model file's relative paths resolve against.
 pub fn model_dir(analysis: &Analysis, file: FileId) -> PathBuf {
     Path::new(analysis.file_path(file)).parent().unwrap_or(Path::new(".")).to_path_buf()
@@ -125,7 +136,8 @@ pub fn file_diagnostics(analysis: &Analysis, file: FileId) -> Cancellable<Vec<Di
     for fqn in diagrams {
         match analysis.pipeline_plan(&fqn)? {
             Some(plan) if plan.file == file && plan.diagnostics.is_empty() => {
-                out.extend(pipeline::check(&plan, &model_dir(analysis, file)))
+                let behaviors = analysis.with_semantics(|sema| pipeline::behaviors(sema, &plan))?;
+                out.extend(pipeline::check(&plan, &behaviors, &model_dir(analysis, file)))
             }
             _ => {}
         }

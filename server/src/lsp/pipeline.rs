@@ -10,7 +10,7 @@ use std::{
     time::Instant,
 };
 
-use gudsl_host::pipeline::{self, ErrorKind, OutputDir, PipelineObserver, Prepared};
+use gudsl_host::pipeline::{ErrorKind, OutputDir, PipelineObserver, Prepared};
 use gudsl_model::{Cancellable, FileId};
 use tokio::sync::mpsc;
 
@@ -43,7 +43,7 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
         let problems = plan.diagnostics.iter().map(|d| (plan.file, d.range, d.code, d.message.clone()));
         return Ok(Err(run::cannot_run(snap, name, problems.collect::<Vec<_>>())?));
     }
-    let prepared = match pipeline::prepare(&plan, &cli::model_dir(&snap.analysis, plan.file)) {
+    let prepared = match cli::prepare(&snap.analysis, &plan)? {
         Ok(prepared) => prepared,
         Err(errors) => {
             let problems =

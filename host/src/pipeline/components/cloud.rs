@@ -7,14 +7,14 @@
 use std::{collections::HashMap, sync::Arc};
 
 use gudsl_runtime::{
-    camera::{apply, compose, pose_from, Pose, IDENTITY},
+    camera::{apply, compose, pose_from, Intrinsics, Pose, IDENTITY},
     kernels::car::background,
     ply::Points,
     registration::{iterate, valid_points, IcpSettings, RegistrationError},
     Image, Kernel, Shape,
 };
 
-use super::{depth_images, slots, sources::scaled, Component, Ctx, Inputs, Outputs, Params};
+use super::{depth_images, slots, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::{Data, DepthImage, PointCloud, Tensor},
     device::{BufferSlot, KernelSlot, Later, Reads},
@@ -158,7 +158,9 @@ impl Component for PointCloudConversion {
         for (k, (_, depth)) in depth_images(inputs).enumerate() {
             let Shape { width, height, .. } = depth.distance.shape();
             let (slot, rays) = self.rays.entry((width, height)).or_default();
-            let rays = rays.get_or_insert_with(|| ctx.device.upload(slot, scaled(width, height).rays())).clone();
+            let rays = rays
+                .get_or_insert_with(|| ctx.device.upload(slot, Intrinsics::camcube_at(width, height).rays()))
+                .clone();
             let [to_points, to_normals] = slots(&mut self.kernels, k);
             let points = run(ctx, to_points, Kernel::PointCloud, &[&depth.distance, &rays])?.remove(0);
             let normals = run(ctx, to_normals, Kernel::Normals, &[&points])?.remove(0);
@@ -214,7 +216,7 @@ impl Component for IcpRegistration {
             });
             if let Some((model_points, model_normals)) = &track.kept {
                 let Shape { width, height, .. } = points.shape();
-                let intrinsics = scaled(width, height);
+                let intrinsics = Intrinsics::camcube_at(width, height);
                 let settings = self.settings;
                 let min_cos = settings.max_angle_degrees.to_radians().cos();
                 let registration = iterate(&settings, track.increment, |pose| {

@@ -2,14 +2,19 @@
 //! when a stage of its class runs, made from the stage's parameters (`make`). Sources
 //! (`sources.rs`), filters on raw frames (`raw.rs`), on depth images (`depth.rs`), chapter 5's
 //! integration time (`exposure.rs`), chapter 6's segmentation, clouds and registration
-//! (`cloud.rs`), sinks (`sinks.rs`).
+//! (`cloud.rs`), RGBA images (`images.rs`), sinks (`sinks.rs`); and the workspace's own
+//! components, whose `process` runs device diagrams (`workspace.rs`).
 
 mod cloud;
 mod depth;
 mod exposure;
+mod images;
 mod raw;
 mod sinks;
 mod sources;
+mod workspace;
+
+pub use workspace::Behaviors;
 
 use std::{collections::BTreeMap, path::Path};
 
@@ -45,6 +50,11 @@ impl Inputs {
 
     pub fn len(&self) -> usize {
         self.0.values().map(Vec::len).sum()
+    }
+
+    /// Every item, port by port.
+    pub fn all(&self) -> impl Iterator<Item = &Item> {
+        self.0.values().flatten()
     }
 
     /// The items of `port`, in the order they arrived.
@@ -102,48 +112,65 @@ pub trait Component: Send {
     }
 }
 
-/// The component of a stage's class with its parameters, or why there is none.
-pub fn make(stage: &Stage, providers: usize, model_dir: &Path) -> Result<Box<dyn Component>, Vec<PipelineError>> {
+/// The component of a stage's class with its parameters, or why there is none: a class of the
+/// ToF library, or a class of the workspace that extends one or whose `process` runs device
+/// diagrams (`behaviors`: their kernels).
+pub fn make(
+    stage: &Stage,
+    providers: usize,
+    model_dir: &Path,
+    behaviors: &Behaviors,
+) -> Result<Box<dyn Component>, Vec<PipelineError>> {
     let params = Params { stage, providers, model_dir };
-    let made: Option<Box<dyn Component>> = match stage.class.as_str() {
-        "ToF.SimulatedCamera" => Some(Box::new(sources::Simulated::new(&params, false))),
-        "ToF.ControlledCamera" => Some(Box::new(sources::Simulated::new(&params, true))),
-        "ToF.RawFrameFile" => Some(Box::new(sources::RawFrameFile::new(&params)?)),
-        "ToF.DepthFile" => Some(Box::new(sources::DepthFile::new(&params)?)),
-        "ToF.BlackImageCorrection" => Some(Box::new(raw::BlackImageCorrection::new(&params)?)),
-        "ToF.Demodulation" => Some(Box::new(raw::Demodulation::new(&params))),
-        "ToF.MotionCompensation" => Some(Box::new(raw::MotionCompensation::new(&params))),
-        "ToF.IntegrationTimeControl" => Some(Box::new(exposure::IntegrationTimeControl::new(&params)?)),
+    if let Some(made) = library(&stage.class, &params) {
+        return made;
+    }
+    let base = stage.bases.iter().find_map(|base| library(base, &params)).transpose()?;
+    if stage.class.starts_with("ToF.") && base.is_none() {
+        return Err(vec![PipelineError {
+            kind: ErrorKind::NotRunnable,
+            stage: Some(stage.instance.clone()),
+            range: Some(stage.range),
+            message: "this component of the ToF library cannot run yet".to_string(),
+        }]);
+    }
+    workspace::make(&params, base, behaviors)
+}
+
+/// The library component `class` made from `params`, `None` if `class` is none.
+fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Vec<PipelineError>>> {
+    fn made(component: impl Component + 'static) -> Result<Box<dyn Component>, Vec<PipelineError>> {
+        Ok(Box::new(component))
+    }
+    Some(match class {
+        "ToF.SimulatedCamera" => made(sources::Simulated::new(params, false)),
+        "ToF.ControlledCamera" => made(sources::Simulated::new(params, true)),
+        "ToF.AmplitudeCamera" => made(images::AmplitudeCamera::new(params)),
+        "ToF.RawFrameFile" => sources::RawFrameFile::new(params).and_then(made),
+        "ToF.DepthFile" => sources::DepthFile::new(params).and_then(made),
+        "ToF.BlackImageCorrection" => raw::BlackImageCorrection::new(params).and_then(made),
+        "ToF.Demodulation" => made(raw::Demodulation::new(params)),
+        "ToF.MotionCompensation" => made(raw::MotionCompensation::new(params)),
+        "ToF.IntegrationTimeControl" => exposure::IntegrationTimeControl::new(params).and_then(made),
         "ToF.IntensityCorrection"
         | "ToF.AmplitudeMask"
         | "ToF.MedianFilter"
         | "ToF.GaussianFilter"
         | "ToF.BilateralFilter"
-        | "ToF.OutlierRemoval" => Some(Box::new(depth::DepthKernel::new(&params))),
-        "ToF.BackgroundSegmentation" => Some(Box::new(cloud::BackgroundSegmentation::new(&params))),
-        "ToF.ApplyMask" => Some(Box::<cloud::ApplyMask>::default()),
-        "ToF.PointCloudConversion" => Some(Box::<cloud::PointCloudConversion>::default()),
-        "ToF.IcpRegistration" => Some(Box::new(cloud::IcpRegistration::new(&params))),
-        "ToF.CloudTransform" => Some(Box::new(cloud::CloudTransform::new(&params))),
-        "ToF.Accumulation" => Some(Box::<cloud::Accumulation>::default()),
-        "ToF.NpyWriter" => Some(Box::new(sinks::NpyWriter::new(&params))),
-        "ToF.PlyWriter" => Some(Box::new(sinks::PlyWriter::new(&params))),
-        "ToF.PngWriter" => Some(Box::new(sinks::PngWriter::new(&params))),
-        "ToF.AccuracyReport" => Some(Box::new(sinks::AccuracyReport::new(&params))),
-        _ => None,
-    };
-    made.ok_or_else(|| {
-        let why = if stage.class.starts_with("ToF.") {
-            "this component of the ToF library cannot run yet".to_string()
-        } else {
-            format!("`{}` is not a component of the ToF library: only those run", stage.class)
-        };
-        vec![PipelineError {
-            kind: ErrorKind::NotRunnable,
-            stage: Some(stage.instance.clone()),
-            range: Some(stage.range),
-            message: why,
-        }]
+        | "ToF.OutlierRemoval" => made(depth::DepthKernel::new(params)),
+        "ToF.AmplitudeImage" => made(images::AmplitudeImage::new(params)),
+        "ToF.BackgroundSegmentation" => made(cloud::BackgroundSegmentation::new(params)),
+        "ToF.ApplyMask" => made(cloud::ApplyMask::default()),
+        "ToF.PointCloudConversion" => made(cloud::PointCloudConversion::default()),
+        "ToF.IcpRegistration" => made(cloud::IcpRegistration::new(params)),
+        "ToF.CloudTransform" => made(cloud::CloudTransform::new(params)),
+        "ToF.Accumulation" => made(cloud::Accumulation::default()),
+        "ToF.NpyWriter" => made(sinks::NpyWriter::new(params)),
+        "ToF.PlyWriter" => made(sinks::PlyWriter::new(params)),
+        "ToF.PngWriter" => made(sinks::PngWriter::new(params)),
+        "ToF.ImageViewer" => made(images::ImageViewer::new(params)),
+        "ToF.AccuracyReport" => made(sinks::AccuracyReport::new(params)),
+        _ => return None,
     })
 }
 

@@ -133,7 +133,7 @@ impl Component for PngWriter {
 }
 
 /// An image encoded as PNG.
-fn png<P: image::PixelWithColorType, C: std::ops::Deref<Target = [P::Subpixel]>>(
+pub(super) fn png<P: image::PixelWithColorType, C: std::ops::Deref<Target = [P::Subpixel]>>(
     buffer: image::ImageBuffer<P, C>,
 ) -> Result<Vec<u8>, String>
 where

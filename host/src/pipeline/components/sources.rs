@@ -63,7 +63,7 @@ impl Simulated {
             [params.number("x"), params.number("y"), params.number("z")],
         );
         let camera = Camera {
-            intrinsics: scaled(params.count("width"), params.count("height")),
+            intrinsics: Intrinsics::camcube_at(params.count("width"), params.count("height")),
             modulation_hz: params.f32("modulationFrequency") * 1e6,
             integration_us: params.f32("integrationTime"),
             noise: params.flag("noise"),
@@ -83,21 +83,6 @@ impl Simulated {
             raw: BufferSlot::default(),
             black: BufferSlot::default(),
         }
-    }
-}
-
-/// Table 2.1's camera at another resolution: the same field of view and distortion.
-pub fn scaled(width: usize, height: usize) -> Intrinsics {
-    let base = Intrinsics::CAMCUBE;
-    let (sx, sy) = (width as f32 / base.width as f32, height as f32 / base.height as f32);
-    Intrinsics {
-        width,
-        height,
-        fx: base.fx * sx,
-        fy: base.fy * sy,
-        cx: (base.cx + 0.5) * sx - 0.5,
-        cy: (base.cy + 0.5) * sy - 0.5,
-        ..base
     }
 }
 

@@ -12,7 +12,7 @@ mod params;
 use std::collections::HashMap;
 
 use super::{
-    definitions::{DefKind, Fqn},
+    definitions::{DefKind, Definition, Fqn},
     diagnostics::{Diagnostic, DiagnosticCode, Diagnostics},
     items::{ClassKind, ConnectorRole, PortItem},
     scope::Scope,
@@ -48,6 +48,11 @@ pub struct Stage {
     /// The component class's fully qualified name (`ToF.Demodulation`).
     pub class: String,
     pub kind: ClassKind,
+    /// The types the class derives from, nearest first (a workspace component may extend one of
+    /// the library's and run as it).
+    pub bases: Vec<String>,
+    /// The activity diagrams its own `process` method calls (`call behavior X;`), in order.
+    pub behavior: Vec<String>,
     pub params: Vec<Param>,
     /// The component's ports, as its component diagram declares them.
     pub ports: Vec<StagePort>,
@@ -75,6 +80,9 @@ pub struct StageConnector {
     pub role: ConnectorRole,
     /// The interface's fully qualified name (as written where it does not resolve).
     pub interface: String,
+    /// What flows through it: the type its method passes and the types that type derives
+    /// from, nearest first (empty where the model cannot tell).
+    pub carries: Vec<String>,
 }
 
 /// A field of the component class and the value the stage runs with.
@@ -219,6 +227,8 @@ fn stages(
             range: name.syntax().text_range(),
             class: class.fqn.clone(),
             kind: component.item.kind,
+            bases: sema.type_and_bases(class).iter().skip(1).map(|d| d.fqn.clone()).collect(),
+            behavior: behavior(sema, class),
             params,
             ports,
         });
@@ -237,9 +247,34 @@ fn stage_port(sema: &Semantics, port: &PortItem) -> StagePort {
             interface: sema
                 .resolve(&Scope::default(), &c.interface)
                 .map_or_else(|| c.interface.clone(), |d| d.fqn.clone()),
+            carries: carried(sema, &c.interface),
         })
         .collect();
     StagePort { name: port.name.clone(), is_async: port.is_async, is_buffered: port.is_buffered, connectors }
+}
+
+/// The activity diagrams a class's own `process` method calls by `call behavior`, in order.
+fn behavior(sema: &Semantics, class: &Definition) -> Vec<String> {
+    let Some(process) = sema.member_declaration(class, "process") else { return Vec::new() };
+    process
+        .syntax()
+        .descendants()
+        .filter_map(ast::CallBehaviorExpr::cast)
+        .filter_map(|call| {
+            let path = call.behavior()?;
+            let def = sema.resolve(&Scope::at(call.syntax()), &path.text())?;
+            matches!(def.kind, DefKind::Activity(_)).then(|| def.fqn.clone())
+        })
+        .collect()
+}
+
+/// The type an interface's method passes (its first parameter's) and that type's bases.
+fn carried(sema: &Semantics, interface: &str) -> Vec<String> {
+    let Some(def) = sema.resolve(&Scope::default(), interface) else { return Vec::new() };
+    let DefKind::Type(ty) = &def.kind else { return Vec::new() };
+    let passed = ty.methods.iter().find_map(|m| m.params.first()).and_then(|p| p.ty.path.clone());
+    let Some(passed) = passed.and_then(|path| sema.resolve(&Scope::of(def), &path)) else { return Vec::new() };
+    sema.type_and_bases(passed).iter().map(|d| d.fqn.clone()).collect()
 }
 
 /// The bindings whose ends both resolve to stages' connectors of opposite roles.

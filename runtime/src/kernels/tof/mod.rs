@@ -4,12 +4,15 @@
 
 pub mod correct_intensity;
 pub mod demodulate;
+pub mod grey_image;
 pub mod subtract_black;
 
 pub use correct_intensity::correct_intensity;
 pub(crate) use correct_intensity::CorrectIntensity;
 pub(crate) use demodulate::Demodulate;
 pub use demodulate::{demodulate, demodulate_pixel};
+pub use grey_image::grey_image;
+pub(crate) use grey_image::GreyImage;
 pub use subtract_black::subtract_black;
 pub(crate) use subtract_black::SubtractBlack;
 

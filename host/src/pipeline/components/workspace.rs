@@ -1,0 +1,468 @@
+//! Components of the workspace (chapter 11.5's `Camera`, `MeanFilter`, `Viewer`): a class that
+//! extends a library component runs as it, and the device diagrams its own `process` calls
+//! (`call behavior AdFilterMean;`, generated as WGSL by `gudsl-codegen`) run on the images
+//! (`ToF.RgbaImage`) it gives — a source's or a filter's — or, for a sink, on those it is given.
+//! A filter that extends nothing gives what it receives, through its diagrams.
+//!
+//! A diagram's parameters are taken from the caller, as `call behavior` without arguments takes
+//! them (Sec. 10.2): an image it only reads is the image at hand, the image it writes the next
+//! one, and a value parameter is the component's field of that name. Each diagram runs over the
+//! image's pixels (a 2D global size of width × height), recorded into the frame's encoder
+//! between the runtime's kernels; images cross into the generated code as `image2D_uc`
+//! textures and back into the pipeline's planes.
+
+use std::collections::HashMap;
+
+use gudsl_codegen::{Binding, Kernel};
+use gudsl_model::{
+    ast::ClassKind,
+    hir::{
+        items::ConnectorRole,
+        pipeline::{Stage, Value},
+    },
+};
+use gudsl_runtime::{BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Gpu, Program, Resource, Shape, TexelFormat};
+
+use super::{slots, Component, Ctx, Inputs, Outputs, Params};
+use crate::{
+    launch::{Arg, Launcher, Number, WorkRange},
+    pipeline::{
+        data::{Data, Item, Picture, Tensor},
+        device::Reads,
+        ErrorKind, OutputDir, PipelineError,
+    },
+};
+
+/// The generated kernels of the diagrams the pipeline's components call, by fully qualified
+/// name, or why one cannot be generated.
+pub type Behaviors = HashMap<String, Result<Kernel, String>>;
+
+/// The library's data types and the port names its components use for them (`DepthIn`, …).
+const KINDS: [(&str, &str); 7] = [
+    ("ToF.RawFrame", "Raw"),
+    ("ToF.DepthImage", "Depth"),
+    ("ToF.Mask", "Mask"),
+    ("ToF.PointCloud", "Cloud"),
+    ("ToF.Pose", "Pose"),
+    ("ToF.IntegrationTime", "Time"),
+    ("ToF.RgbaImage", "Image"),
+];
+
+fn kind_of(data: &Data) -> &'static str {
+    match data {
+        Data::Raw(_) => "Raw",
+        Data::Depth(_) => "Depth",
+        Data::Mask(_) => "Mask",
+        Data::Cloud(_) => "Cloud",
+        Data::Pose(_) => "Pose",
+        Data::IntegrationTime(_) => "Time",
+        Data::Image(_) => "Image",
+    }
+}
+
+/// A workspace component with its library base (if any) and the diagrams its `process` runs.
+pub struct WorkspaceComponent {
+    instance: String,
+    kind: ClassKind,
+    base: Option<Box<dyn Component>>,
+    steps: Vec<Step>,
+    /// The stage's provider ports, with the kind of data each carries.
+    providers: Vec<(String, &'static str)>,
+    /// Per item of a frame: its textures and the planes it goes back into.
+    slots: Vec<ItemSlot>,
+    conversions: Option<Conversions>,
+}
+
+/// One diagram of `process`: its kernel, compiled on the first frame, and its arguments.
+struct Step {
+    kernel: Kernel,
+    launcher: Option<Launcher>,
+    args: Vec<StepArg>,
+}
+
+#[derive(Clone, Copy)]
+enum StepArg {
+    Value(Number),
+    /// The image at hand.
+    Read,
+    /// The image it writes.
+    Written,
+}
+
+#[derive(Default)]
+struct ItemSlot {
+    input: Option<DeviceImage>,
+    outputs: Vec<DeviceImage>,
+    planes: Option<(wgpu::Buffer, Shape)>,
+}
+
+/// A workspace component of `base` (the library component it extends, made from the same
+/// parameters), or why it cannot run.
+pub fn make(
+    params: &Params,
+    base: Option<Box<dyn Component>>,
+    behaviors: &Behaviors,
+) -> Result<Box<dyn Component>, Vec<PipelineError>> {
+    let stage = params.stage;
+    let not_runnable = |message: String| {
+        vec![PipelineError {
+            kind: ErrorKind::NotRunnable,
+            stage: Some(stage.instance.clone()),
+            range: Some(stage.range),
+            message,
+        }]
+    };
+    if base.is_none() && stage.behavior.is_empty() {
+        return Err(not_runnable(format!(
+            "`{}` is not a component of the ToF library, extends none and its `process` calls no device diagram: nothing to run",
+            stage.class
+        )));
+    }
+    if base.is_none() && stage.kind == ClassKind::Sink {
+        return Err(not_runnable(format!(
+            "`{}` is a sink that extends no sink of the ToF library: nothing would keep what it is given (extend `ToF.ImageViewer` to write its images)",
+            stage.class
+        )));
+    }
+    let providers = provider_kinds(stage);
+    if !stage.behavior.is_empty() {
+        let images_only =
+            stage.ports.iter().flat_map(|p| &p.connectors).all(|c| c.carries.iter().any(|t| t == "ToF.RgbaImage"));
+        if !images_only {
+            return Err(not_runnable(format!(
+                "`{}` runs device diagrams, which run on images (`ToF.RgbaImage`); its ports carry other data",
+                stage.class
+            )));
+        }
+    }
+    let mut steps = Vec::new();
+    let mut errors = Vec::new();
+    for diagram in &stage.behavior {
+        match behaviors.get(diagram) {
+            Some(Ok(kernel)) => match step(params, kernel) {
+                Ok(step) => steps.push(step),
+                Err(mut problems) => errors.append(&mut problems),
+            },
+            Some(Err(why)) => errors.extend(not_runnable(why.clone())),
+            None => errors.extend(not_runnable(format!("`{diagram}` was not generated"))),
+        }
+    }
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    Ok(Box::new(WorkspaceComponent {
+        instance: stage.instance.clone(),
+        kind: stage.kind,
+        base,
+        steps,
+        providers,
+        slots: Vec::new(),
+        conversions: None,
+    }))
+}
+
+/// The stage's provider ports and what each carries.
+fn provider_kinds(stage: &Stage) -> Vec<(String, &'static str)> {
+    stage
+        .ports
+        .iter()
+        .filter_map(|port| {
+            let connector = port.connectors.iter().find(|c| c.role == ConnectorRole::Provider)?;
+            let kind = KINDS.iter().find(|(ty, _)| connector.carries.iter().any(|t| t == ty))?.1;
+            Some((port.name.clone(), kind))
+        })
+        .collect()
+}
+
+/// A diagram's kernel with its arguments taken from the component, or what does not fit.
+fn step(params: &Params, kernel: &Kernel) -> Result<Step, Vec<PipelineError>> {
+    let stage = params.stage;
+    let diagram = kernel.diagram.rsplit('.').next().unwrap_or(&kernel.diagram);
+    let error = |kind, message: String| PipelineError {
+        kind,
+        stage: Some(stage.instance.clone()),
+        range: Some(stage.range),
+        message: format!("`{diagram}` (called by `process`): {message}"),
+    };
+    let mut args = Vec::new();
+    let mut errors = Vec::new();
+    for param in &kernel.params {
+        let name = &param.name;
+        match &param.binding {
+            Binding::Image { image, written, .. } => {
+                if image.format != "rgba8uint" || image.dimensions != 2 {
+                    errors.push(error(
+                        ErrorKind::NotRunnable,
+                        format!("its image `{name}` is a `{}`; a component's images are `image2D_uc`", param.ty),
+                    ));
+                }
+                args.push(if *written { StepArg::Written } else { StepArg::Read });
+            }
+            Binding::Uniform { .. } => match stage.param(name) {
+                Some(value) => match number(value) {
+                    Some(number) => args.push(StepArg::Value(number)),
+                    None => errors.push(error(
+                        ErrorKind::Mismatch,
+                        format!("the field `{name}` of `{}` is no number for its parameter `{name}`", stage.class),
+                    )),
+                },
+                None => errors.push(error(
+                    ErrorKind::Mismatch,
+                    format!(
+                        "it takes `{} {name}`, and `{}` has no field `{name}` to give it (a diagram called without arguments takes its parameters from the component's fields)",
+                        param.ty, stage.class
+                    ),
+                )),
+            },
+            Binding::Storage { .. } | Binding::Workgroup { .. } => errors.push(error(
+                ErrorKind::NotRunnable,
+                format!("its parameter `{name}` (`{}`) is memory a component cannot give; only images and values", param.ty),
+            )),
+        }
+    }
+    if !args.iter().any(|a| matches!(a, StepArg::Written)) {
+        errors.push(error(ErrorKind::NotRunnable, "it writes no image: nothing would come out of it".into()));
+    }
+    if errors.is_empty() {
+        Ok(Step { kernel: kernel.clone(), launcher: None, args })
+    } else {
+        Err(errors)
+    }
+}
+
+/// A field's value as a kernel takes it (a missing one is C++'s zero).
+fn number(value: &Value) -> Option<Number> {
+    match value {
+        Value::Int(v) => Some(Number::Int(*v)),
+        Value::Float(v) => Some(Number::Float(v.get())),
+        Value::Bool(v) => Some(Number::Bool(*v)),
+        Value::Missing => Some(Number::Int(0)),
+        Value::Text(_) | Value::Enum(_) => None,
+    }
+}
+
+impl Component for WorkspaceComponent {
+    fn frames(&self) -> Option<usize> {
+        self.base.as_ref().and_then(|b| b.frames())
+    }
+
+    fn load(&mut self) -> Result<(), String> {
+        self.base.as_mut().map_or(Ok(()), |b| b.load())
+    }
+
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        let items: Vec<&Item> = inputs.all().collect();
+        if self.kind == ClassKind::Sink {
+            let mut given = Inputs::default();
+            for (k, item) in items.into_iter().enumerate() {
+                let data = self.through_diagrams(ctx, k, &item.data)?;
+                given.push(&format!("{}In", kind_of(&data)), Item { data, ..item.clone() });
+            }
+            return self.base.as_mut().expect("a sink has a base").process(ctx, &given);
+        }
+        let produced: Vec<Data> = match &mut self.base {
+            Some(base) => {
+                let mut given = Inputs::default();
+                for item in items {
+                    given.push(&format!("{}In", kind_of(&item.data)), item.clone());
+                }
+                base.process(ctx, &given)?.into_iter().map(|(_, data)| data).collect()
+            }
+            None => items.into_iter().map(|item| item.data.clone()).collect(),
+        };
+        let mut out = Vec::new();
+        for (k, data) in produced.iter().enumerate() {
+            let data = self.through_diagrams(ctx, k, data)?;
+            out.extend(self.on_ports(data));
+        }
+        Ok(out)
+    }
+
+    fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
+        let Some(base) = &mut self.base else { return Ok(Vec::new()) };
+        let given = base.finish_frame(ctx, reads)?;
+        Ok(given.into_iter().flat_map(|(_, data)| self.on_ports(data)).collect())
+    }
+
+    fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
+        self.base.as_mut().map_or(Ok(()), |b| b.finish_run(output))
+    }
+}
+
+impl WorkspaceComponent {
+    /// `data` on each provider port that carries its kind.
+    fn on_ports(&self, data: Data) -> Outputs {
+        let kind = kind_of(&data);
+        self.providers.iter().filter(|(_, k)| *k == kind).map(|(port, _)| (port.clone(), data.clone())).collect()
+    }
+
+    /// `data` through `process`'s diagrams, in order (the `k`-th item of the frame).
+    fn through_diagrams(&mut self, ctx: &mut Ctx, k: usize, data: &Data) -> Result<Data, String> {
+        let Data::Image(picture) = data else { return Ok(data.clone()) };
+        if self.steps.is_empty() {
+            return Ok(data.clone());
+        }
+        let Some(gpu) = ctx.device.gpu() else {
+            let names: Vec<&str> = self.steps.iter().map(|s| s.kernel.diagram.as_str()).collect();
+            return Err(format!(
+                "`{}` runs device diagrams ({}) generated as WGSL: they need a GPU adapter (lavapipe is one), and this run has none",
+                self.instance,
+                names.join(", ")
+            ));
+        };
+        let shape = picture.texels.shape();
+        let Tensor::Gpu { buffer, .. } = &picture.texels else {
+            return Err("an image in host memory on a GPU run".into());
+        };
+        let size = [shape.width as u32, shape.height as u32, 1];
+        let conversions = match &mut self.conversions {
+            Some(c) => c,
+            None => self.conversions.insert(Conversions::new(gpu).map_err(|e| e.to_string())?),
+        };
+        for step in &mut self.steps {
+            if step.launcher.is_none() {
+                step.launcher = Some(Launcher::new(gpu, &step.kernel).map_err(|e| e.to_string())?);
+            }
+        }
+        let slot = slots(&mut self.slots, k);
+        let image = |gpu: &Gpu| DeviceImage::new(gpu, "component image", TexelFormat::Rgba8Uint, 2, size);
+        if slot.input.as_ref().is_none_or(|i| i.size() != size) {
+            slot.input = Some(image(gpu).map_err(|e| e.to_string())?);
+            slot.outputs.clear();
+        }
+        while slot.outputs.len() < self.steps.len() {
+            slot.outputs.push(image(gpu).map_err(|e| e.to_string())?);
+        }
+        if slot.planes.as_ref().is_none_or(|(_, s)| *s != shape) {
+            slot.planes = Some((gpu.storage("component planes", shape.len()), shape));
+        }
+        let input = slot.input.as_ref().expect("made above");
+        conversions.pack(ctx, gpu, buffer, input)?;
+        let mut current = input;
+        for (step, output) in self.steps.iter().zip(&slot.outputs) {
+            let args: Vec<Arg> = step
+                .args
+                .iter()
+                .map(|arg| match arg {
+                    StepArg::Value(number) => Arg::Number(*number),
+                    StepArg::Read => Arg::Image(current),
+                    StepArg::Written => Arg::Image(output),
+                })
+                .collect();
+            let launcher = step.launcher.as_ref().expect("compiled above");
+            let range = WorkRange::planar(size[0], size[1], None);
+            ctx.device
+                .record(ctx.stage, |gpu, encoder, timestamps| launcher.record(gpu, encoder, &args, &range, timestamps))
+                .expect("a GPU run")
+                .map_err(|e| e.to_string())?;
+            current = output;
+        }
+        let (planes, _) = slot.planes.as_ref().expect("made above");
+        conversions.unpack(ctx, gpu, current, planes)?;
+        Ok(Data::Image(Picture {
+            texels: Tensor::Gpu { buffer: planes.clone(), shape },
+            source: picture.source.clone(),
+        }))
+    }
+}
+
+/// The two programs that move an image between the pipeline's planes (4 planes of f32, R G B A)
+/// and an `rgba8uint` texture.
+struct Conversions {
+    pack: Program,
+    unpack: Program,
+}
+
+const PACK: &str = "
+struct Size { width: u32, height: u32, _a: u32, _b: u32 }
+@group(0) @binding(0) var<uniform> size: Size;
+@group(0) @binding(1) var<storage, read> planes: array<f32>;
+@group(0) @binding(2) var image: texture_storage_2d<rgba8uint, write>;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= size.width || id.y >= size.height { return; }
+    let n = size.width * size.height;
+    let i = id.y * size.width + id.x;
+    let texel = vec4<f32>(planes[i], planes[n + i], planes[2u * n + i], planes[3u * n + i]);
+    textureStore(image, vec2<i32>(id.xy), vec4<u32>(clamp(texel, vec4<f32>(0.0), vec4<f32>(255.0))));
+}
+";
+
+const UNPACK: &str = "
+struct Size { width: u32, height: u32, _a: u32, _b: u32 }
+@group(0) @binding(0) var<uniform> size: Size;
+@group(0) @binding(1) var image: texture_2d<u32>;
+@group(0) @binding(2) var<storage, read_write> planes: array<f32>;
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= size.width || id.y >= size.height { return; }
+    let n = size.width * size.height;
+    let i = id.y * size.width + id.x;
+    let texel = vec4<f32>(textureLoad(image, vec2<i32>(id.xy), 0));
+    planes[i] = texel.x;
+    planes[n + i] = texel.y;
+    planes[2u * n + i] = texel.z;
+    planes[3u * n + i] = texel.w;
+}
+";
+
+impl Conversions {
+    fn new(gpu: &Gpu) -> Result<Conversions, gudsl_runtime::ProgramError> {
+        let format = TexelFormat::Rgba8Uint;
+        let uniform = BindingSpec { binding: 0, kind: BindingKind::Uniform };
+        let pack = Program::new(
+            gpu,
+            "planes to image",
+            PACK,
+            "main",
+            &[
+                uniform,
+                BindingSpec { binding: 1, kind: BindingKind::Storage { writable: false } },
+                BindingSpec { binding: 2, kind: BindingKind::StorageTexture { format, dimensions: 2, read: false } },
+            ],
+        )?;
+        let unpack = Program::new(
+            gpu,
+            "image to planes",
+            UNPACK,
+            "main",
+            &[
+                uniform,
+                BindingSpec { binding: 1, kind: BindingKind::Texture { format, dimensions: 2 } },
+                BindingSpec { binding: 2, kind: BindingKind::Storage { writable: true } },
+            ],
+        )?;
+        Ok(Conversions { pack, unpack })
+    }
+
+    fn pack(&self, ctx: &mut Ctx, gpu: &Gpu, planes: &wgpu::Buffer, image: &DeviceImage) -> Result<(), String> {
+        let planes = DeviceBuffer::wrap(planes);
+        Self::record(ctx, gpu, &self.pack, image.size(), Resource::Buffer(&planes), Resource::Image(image))
+    }
+
+    fn unpack(&self, ctx: &mut Ctx, gpu: &Gpu, image: &DeviceImage, planes: &wgpu::Buffer) -> Result<(), String> {
+        let planes = DeviceBuffer::wrap(planes);
+        Self::record(ctx, gpu, &self.unpack, image.size(), Resource::Image(image), Resource::Buffer(&planes))
+    }
+
+    fn record(
+        ctx: &mut Ctx,
+        gpu: &Gpu,
+        program: &Program,
+        [width, height, _]: [u32; 3],
+        from: Resource,
+        to: Resource,
+    ) -> Result<(), String> {
+        let size: Vec<u8> = [width, height, 0, 0].iter().flat_map(|n| n.to_le_bytes()).collect();
+        let resources = [(0, Resource::Uniform(&size)), (1, from), (2, to)];
+        let workgroups = [width.div_ceil(8), height.div_ceil(8), 1];
+        ctx.device
+            .record(ctx.stage, |_, encoder, timestamps| {
+                program.record(gpu, encoder, &[], &resources, workgroups, timestamps)
+            })
+            .expect("a GPU run")
+            .map_err(|e| e.to_string())
+    }
+}

@@ -1,0 +1,151 @@
+//! End-to-end tests of `gudsl run` on pipelines of the workspace's own components: chapter
+//! 11.5's example (Listings 26–28: two cameras, a mean filter running Listing 15's activity
+//! diagram as generated WGSL, a viewer colouring its images with a device diagram of its own)
+//! runs on lavapipe and its images equal the same chain through the runtime's Rust API — the
+//! simulator, its demodulation and grey-image kernels, Listing 15 as a person writes it in WGSL
+//! (`runtime/src/listings`) and the viewer's colouring in Rust — byte for byte; and components
+//! that cannot run are refused with a message that says why: a diagram parameter no field
+//! gives (E0405, in `gudsl check` too), a host diagram where a device diagram belongs, a sink
+//! that extends no library sink, a run without a GPU.
+
+#[path = "support/cli.rs"]
+mod cli;
+
+use cli::{gudsl, repo, temp_dir};
+use gudsl_runtime::{
+    camera::Intrinsics,
+    listings,
+    sim::{simulate, Camera, Motion, Scene},
+    DeviceImage, Gpu, GpuPipeline, Kernel, Pipeline, Program, Resource, Shape, TexelFormat,
+};
+
+const SAMPLE: &str = "samples/pipelines/ch11_component_example.gudsl";
+
+fn gpu() -> bool {
+    std::env::var_os("GUDSL_NO_GPU").is_none()
+}
+
+/// `gudsl` with `args`: exit code, stdout and stderr together.
+fn run(args: &[&str]) -> (Option<i32>, String) {
+    let out = gudsl().args(args).output().unwrap();
+    let text = format!("{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    (out.status.code(), text)
+}
+
+/// A camera of the sample (`width × height`, the library's defaults otherwise) through the
+/// Rust API: frame 0 demodulated, its amplitude as a grey image, Listing 15's hand-written mean
+/// filter (kernel size 5), the viewer's colouring; RGBA8 texels, row after row.
+fn rust_api(gpu: &Gpu, width: usize, height: usize) -> Vec<u8> {
+    let camera = Camera { intrinsics: Intrinsics::camcube_at(width, height), ..Camera::default() };
+    let frame = simulate(&Scene::sphere(), Motion::Still, &camera, 0);
+    let mut p = Pipeline::new();
+    let raw = p.source("raw", Shape { width, height, planes: 8 });
+    let amplitude = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[1];
+    let grey = p.step(Kernel::GreyImage { gain: 0.05 }, &[amplitude]).unwrap()[0];
+    p.sink(grey).unwrap();
+    let planes = GpuPipeline::new(gpu, &p).run(&[frame.raw]).unwrap().remove(0);
+    let n = width * height;
+    let texels: Vec<u8> =
+        (0..n).flat_map(|i| (0..4).map(move |c| (c, i))).map(|(c, i)| planes.data[c * n + i] as u8).collect();
+
+    let size = [width as u32, height as u32, 1];
+    let image = || DeviceImage::new(gpu, "image", TexelFormat::Rgba8Uint, 2, size).unwrap();
+    let (input, output) = (image(), image());
+    input.write(gpu, &texels).unwrap();
+    let mean = Program::new(gpu, "mean", listings::MEAN_WGSL, listings::ENTRY_POINT, &listings::BINDINGS).unwrap();
+    let params = listings::mean_params(5, size[0], size[1]);
+    let resources = [(0, Resource::Uniform(&params)), (1, Resource::Image(&input)), (2, Resource::Image(&output))];
+    mean.dispatch(gpu, &[], &resources, listings::workgroups(size[0], size[1])).unwrap();
+    let filtered = output.read(gpu).unwrap();
+    filtered
+        .chunks(4)
+        .flat_map(|texel| {
+            let grey = texel[0] as i32;
+            let (red, blue) = if grey < 128 { (2 * grey, 255 - 2 * grey) } else { (255, 0) };
+            [red as u8, grey as u8, blue as u8, 255]
+        })
+        .collect()
+}
+
+#[test]
+fn the_component_example_runs_and_equals_the_rust_api() {
+    if !gpu() {
+        return;
+    }
+    let out = temp_dir("example");
+    let (code, text) = run(&["run", &repo(SAMPLE), "--frames", "1", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.contains("ran ComponentExamplePipeline (1 frames)"), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("MeanFilter1 ") && l.contains("ComponentExampleClasses.MeanFilter")));
+
+    let gpu = Gpu::for_tests().expect("an adapter");
+    for (camera, width, height) in [("Camera1", 640, 480), ("Camera2", 200, 200)] {
+        let written = image::open(out.join(format!("Viewer1/{camera}_0000.png"))).unwrap();
+        assert_eq!(written.color(), image::ColorType::Rgba8, "{camera}");
+        assert_eq!((written.width(), written.height()), (width as u32, height as u32), "{camera}");
+        let expected = rust_api(&gpu, width, height);
+        let written = written.into_rgba8().into_raw();
+        let differ = written.iter().zip(&expected).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{camera}: {differ} channel values differ from the Rust API's");
+        // Not a blank picture: the sphere is brighter than the wall, the border is marked.
+        let greens: std::collections::BTreeSet<u8> = written.chunks(4).map(|t| t[1]).collect();
+        assert!(greens.len() > 20, "{camera}: {} grey levels", greens.len());
+    }
+}
+
+/// The sample with `edits` (pattern → replacement, each must apply) in a scratch folder.
+fn edited(dir: &std::path::Path, name: &str, edits: &[(&str, &str)]) -> String {
+    let mut text = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    for (pattern, replacement) in edits {
+        assert!(text.contains(pattern), "{pattern}");
+        text = text.replace(pattern, replacement);
+    }
+    let path = dir.join(format!("{name}.gudsl"));
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn components_that_cannot_run_are_refused_with_the_reason() {
+    let dir = temp_dir("refused");
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+
+    // Listing 15 takes `kernelSize`; without a field of that name nothing gives it (E0405).
+    let file = edited(&dir, "no_field", &[("        public int kernelSize = 5;\n", "")]);
+    let (code, text) = run(&["check", &file]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(
+        text.contains("E0405") && text.contains("`ComponentExampleClasses.MeanFilter` has no field `kernelSize`"),
+        "{text}"
+    );
+    let (code, text) = run(&["run", &file, "-o", out]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("E0405") && text.contains("takes `int kernelSize`"), "{text}");
+
+    // A host activity diagram is no kernel.
+    let host = "\nActivityDiagram AdHostExample()\n{\n    swimlane Host\n    {\n        start S { => done; }\n        final done;\n    }\n}\n";
+    let file = edited(
+        &dir,
+        "host_diagram",
+        &[
+            ("call behavior AdFilterMeanExample;", "call behavior AdHostExample;"),
+            ("// Listing 15's mean", &format!("{host}\n// Listing 15's mean")),
+        ],
+    );
+    let (code, text) = run(&["run", &file, "--diagram", "ComponentExamplePipeline", "-o", out]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("`AdHostExample` is not a device diagram"), "{text}");
+
+    // A sink of the workspace that extends no library sink keeps nothing.
+    let file = edited(&dir, "sink", &[("public sink Viewer extends ImageViewer", "public sink Viewer")]);
+    let (code, text) = run(&["run", &file, "-o", out]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("extends no sink of the ToF library"), "{text}");
+    assert!(!dir.join("out").exists(), "nothing written for a refused pipeline");
+
+    // Generated device code needs a GPU: on the CPU reference the run stops at the filter.
+    let (code, text) = run(&["run", &repo(SAMPLE), "--cpu", "--frames", "1", "-o", out]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("`MeanFilter1` runs device diagrams") && text.contains("need a GPU adapter"), "{text}");
+}
