@@ -148,6 +148,23 @@ fn bad_pipelines_are_refused_with_their_diagnostics() {
     assert!(stderr.contains("E0404") && stderr.contains("missing_a.npy: does not exist"), "{stderr}");
     assert!(stderr.contains("(4, H, W)"), "the expected shape: {stderr}");
 
+    // A black image of another size than the camera's frames (E0405), in `check` and `run`.
+    for name in ["black_a.npy", "black_b.npy"] {
+        arrays::write(&dir.join(name), &[4, 30, 40], &[0.0; 4800], arrays::Dtype::U16).unwrap();
+    }
+    let file = pipeline(&dir, &camera_and_black("channelA = \"black_a.npy\", channelB = \"black_b.npy\""));
+    let out = gudsl().args(["check", &file]).output().unwrap();
+    let checked = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{checked}");
+    assert!(
+        checked.contains("E0405") && checked.contains("the black image is 40×30, the frames it is given 200×200"),
+        "{checked}"
+    );
+    let (code, stderr) = refused(&[&file, "-o", dir.join("out").to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("E0405") && stderr.contains("cannot meet"), "{stderr}");
+    assert!(!dir.join("out").exists(), "nothing written for a refused pipeline");
+
     if !gpu() {
         return;
     }

@@ -17,7 +17,7 @@ mod files;
 mod output;
 
 use std::{
-    collections::VecDeque,
+    collections::{BTreeSet, VecDeque},
     path::{Path, PathBuf},
     sync::atomic::{AtomicBool, Ordering},
     time::{Duration, Instant},
@@ -30,7 +30,7 @@ use gudsl_model::{
 use gudsl_runtime::Gpu;
 
 pub use components::Behaviors;
-use components::{Component, Inputs, Outputs};
+use components::{Component, Inputs, Outputs, Size, SizesByPort};
 use data::Item;
 use device::Device;
 pub use output::OutputDir;
@@ -173,6 +173,9 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
             message: format!("`{}` binds nothing: bind the sources' ports to filters and sinks", plan.diagram),
         });
     }
+    if errors.is_empty() {
+        errors.extend(sizes_that_cannot_meet(plan, &made, model_dir));
+    }
     let frames = made.iter().filter_map(|c| c.frames()).max().unwrap_or(0);
     if errors.is_empty() && frames == 0 {
         errors.push(PipelineError {
@@ -187,6 +190,29 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
     } else {
         Err(errors)
     }
+}
+
+/// Images of sizes that cannot meet (E0405), found by following each source's image size down
+/// the bindings (a filter gives images of the sizes it is given; a buffered binding that closes
+/// a loop carries nothing new).
+fn sizes_that_cannot_meet(plan: &PipelinePlan, made: &[Box<dyn Component>], model_dir: &Path) -> Vec<PipelineError> {
+    let mut gives: Vec<BTreeSet<Size>> = vec![BTreeSet::new(); plan.stages.len()];
+    let mut errors = Vec::new();
+    for (index, (stage, component)) in plan.stages.iter().zip(made).enumerate() {
+        let mut sizes = SizesByPort::new();
+        for binding in plan.bindings.iter().filter(|b| b.processor.stage == index && b.provider.stage < index) {
+            sizes.entry(binding.processor.port.clone()).or_default().extend(&gives[binding.provider.stage]);
+        }
+        if let Err((param, message)) = component.sizes_meet(&sizes) {
+            let params = components::Params { stage, providers: 0, model_dir };
+            errors.push(params.error(param.unwrap_or(""), ErrorKind::Mismatch, message));
+        }
+        gives[index] = match component.image_size() {
+            Some(size) => BTreeSet::from([size]),
+            None => sizes.into_values().flatten().collect(),
+        };
+    }
+    errors
 }
 
 /// What keeps a pipeline the plan found no problem in from running, found without running it

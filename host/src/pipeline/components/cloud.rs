@@ -14,7 +14,7 @@ use gudsl_runtime::{
     Image, Kernel, Shape,
 };
 
-use super::{depth_images, slots, Component, Ctx, Inputs, Outputs, Params};
+use super::{depth_images, size_text, slots, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, PointCloud, Tensor},
     device::{BufferSlot, KernelSlot, Later, Reads},
@@ -128,6 +128,20 @@ pub struct ApplyMask {
 }
 
 impl Component for ApplyMask {
+    fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
+        let of = |port: &str| sizes.get(port).cloned().unwrap_or_default();
+        let (depth, masks) = (of("DepthIn"), of("MaskIn"));
+        let text =
+            |set: &std::collections::BTreeSet<Size>| set.iter().map(|&s| size_text(s)).collect::<Vec<_>>().join(", ");
+        if !depth.is_empty() && !masks.is_empty() && depth != masks {
+            return Err((
+                None,
+                format!("it is given depth images of {} and masks of {}: they cannot meet", text(&depth), text(&masks)),
+            ));
+        }
+        Ok(())
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let masks = inputs.port("MaskIn").iter().filter_map(|item| match &item.data {
             Data::Mask(mask) => Some(mask),

@@ -4,7 +4,7 @@
 
 use gudsl_runtime::Kernel;
 
-use super::{raw::Demodulation, sinks::png, slots, sources::Simulated, Component, Ctx, Inputs, Outputs, Params};
+use super::{raw::Demodulation, sinks::png, slots, sources::Simulated, Component, Ctx, Inputs, Outputs, Params, Size};
 use crate::pipeline::{
     data::{Data, Item, Picture},
     device::{KernelSlot, Later, Reads},
@@ -70,6 +70,10 @@ impl AmplitudeCamera {
 impl Component for AmplitudeCamera {
     fn frames(&self) -> Option<usize> {
         self.camera.frames()
+    }
+
+    fn image_size(&self) -> Option<Size> {
+        self.camera.image_size()
     }
 
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {

@@ -80,6 +80,17 @@ pub fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
     &mut slots[k]
 }
 
+/// An image's width and height.
+pub type Size = (usize, usize);
+
+/// The sizes of the images that can arrive on each of a stage's ports.
+pub type SizesByPort = BTreeMap<String, std::collections::BTreeSet<Size>>;
+
+/// `width×height`.
+pub fn size_text((width, height): Size) -> String {
+    format!("{width}×{height}")
+}
+
 /// What a stage produced: data for its provider ports, by port name.
 pub type Outputs = Vec<(String, Data)>;
 
@@ -88,6 +99,17 @@ pub trait Component: Send {
     /// The frames a source gives (`None`: not a source).
     fn frames(&self) -> Option<usize> {
         None
+    }
+
+    /// The size (width, height) of the images a source gives.
+    fn image_size(&self) -> Option<Size> {
+        None
+    }
+
+    /// Whether images of these sizes, by port (what each binding into it can carry), can meet
+    /// in it; else the parameter concerned (if one) and what does not fit.
+    fn sizes_meet(&self, _sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
+        Ok(())
     }
 
     /// Before the first frame: reads what it needs from files (their headers were checked when

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use gudsl_runtime::{kernels::motion::mean_direction, Image, Kernel};
 
-use super::{slots, Component, Ctx, Inputs, Outputs, Params};
+use super::{size_text, slots, Component, Ctx, Inputs, Outputs, Params, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
     device::{BufferSlot, KernelSlot, Later, Reads},
@@ -67,6 +67,22 @@ pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, V
 }
 
 impl Component for BlackImageCorrection {
+    fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
+        let Some(files) = &self.files else { return Ok(()) };
+        let black = (files.extent.width, files.extent.height);
+        match sizes.get("RawIn").into_iter().flatten().find(|&&size| size != black) {
+            Some(&frames) => Err((
+                Some("channelA"),
+                format!(
+                    "the black image is {}, the frames it is given {}: they cannot meet",
+                    size_text(black),
+                    size_text(frames)
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
     fn load(&mut self) -> Result<(), String> {
         if let Some(files) = &self.files {
             self.black = files.load(1)?.pop();

@@ -12,7 +12,7 @@ use gudsl_runtime::{
 
 use gudsl_runtime::Image;
 
-use super::{raw::open_raw_files, Component, Ctx, Inputs, Outputs, Params};
+use super::{raw::open_raw_files, Component, Ctx, Inputs, Outputs, Params, Size};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame},
     device::BufferSlot,
@@ -91,6 +91,10 @@ impl Component for Simulated {
         Some(self.frames)
     }
 
+    fn image_size(&self) -> Option<Size> {
+        Some((self.camera.intrinsics.width, self.camera.intrinsics.height))
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         if ctx.frame >= self.frames {
             return Ok(Vec::new());
@@ -165,6 +169,10 @@ impl Component for RawFrameFile {
         Some(self.frames)
     }
 
+    fn image_size(&self) -> Option<Size> {
+        Some((self.files.extent.width, self.files.extent.height))
+    }
+
     fn load(&mut self) -> Result<(), String> {
         self.loaded = self.files.load(self.frames)?;
         Ok(())
@@ -204,6 +212,10 @@ impl DepthFile {
 impl Component for DepthFile {
     fn frames(&self) -> Option<usize> {
         Some(self.frames)
+    }
+
+    fn image_size(&self) -> Option<Size> {
+        Some((self.file.extent.width, self.file.extent.height))
     }
 
     fn load(&mut self) -> Result<(), String> {

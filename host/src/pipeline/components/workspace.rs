@@ -23,7 +23,7 @@ use gudsl_model::{
 };
 use gudsl_runtime::{BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Gpu, Program, Resource, Shape, TexelFormat};
 
-use super::{slots, Component, Ctx, Inputs, Outputs, Params};
+use super::{slots, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
 use crate::{
     launch::{Arg, Launcher, Number, WorkRange},
     pipeline::{
@@ -66,8 +66,9 @@ pub struct WorkspaceComponent {
     kind: ClassKind,
     base: Option<Box<dyn Component>>,
     steps: Vec<Step>,
-    /// The stage's provider ports, with the kind of data each carries.
+    /// The stage's provider and processor ports, with the kind of data each carries.
     providers: Vec<(String, &'static str)>,
+    receives: Vec<(String, &'static str)>,
     /// Per item of a frame: its textures and the planes it goes back into.
     slots: Vec<ItemSlot>,
     conversions: Option<Conversions>,
@@ -124,7 +125,8 @@ pub fn make(
             stage.class
         )));
     }
-    let providers = provider_kinds(stage);
+    let providers = port_kinds(stage, ConnectorRole::Provider);
+    let receives = port_kinds(stage, ConnectorRole::Processor);
     if !stage.behavior.is_empty() {
         let images_only =
             stage.ports.iter().flat_map(|p| &p.connectors).all(|c| c.carries.iter().any(|t| t == "ToF.RgbaImage"));
@@ -156,18 +158,19 @@ pub fn make(
         base,
         steps,
         providers,
+        receives,
         slots: Vec::new(),
         conversions: None,
     }))
 }
 
-/// The stage's provider ports and what each carries.
-fn provider_kinds(stage: &Stage) -> Vec<(String, &'static str)> {
+/// The stage's ports with a connector of `role`, and what each carries.
+fn port_kinds(stage: &Stage, role: ConnectorRole) -> Vec<(String, &'static str)> {
     stage
         .ports
         .iter()
         .filter_map(|port| {
-            let connector = port.connectors.iter().find(|c| c.role == ConnectorRole::Provider)?;
+            let connector = port.connectors.iter().find(|c| c.role == role)?;
             let kind = KINDS.iter().find(|(ty, _)| connector.carries.iter().any(|t| t == ty))?.1;
             Some((port.name.clone(), kind))
         })
@@ -244,6 +247,21 @@ fn number(value: &Value) -> Option<Number> {
 impl Component for WorkspaceComponent {
     fn frames(&self) -> Option<usize> {
         self.base.as_ref().and_then(|b| b.frames())
+    }
+
+    fn image_size(&self) -> Option<Size> {
+        self.base.as_ref().and_then(|b| b.image_size())
+    }
+
+    fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
+        let Some(base) = &self.base else { return Ok(()) };
+        // The base reads its inputs on its own ports, named after what they carry.
+        let mut renamed = SizesByPort::new();
+        for (port, set) in sizes {
+            let kind = self.receives.iter().find(|(p, _)| p == port).map_or("Image", |(_, kind)| *kind);
+            renamed.entry(format!("{kind}In")).or_default().extend(set);
+        }
+        base.sizes_meet(&renamed)
     }
 
     fn load(&mut self) -> Result<(), String> {
