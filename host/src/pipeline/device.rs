@@ -119,9 +119,10 @@ impl<'g> Device<'g> {
             .collect())
     }
 
-    /// `image` where kernels read it: uploaded into the stage's buffer on a GPU.
-    pub fn upload(&mut self, slot: &mut BufferSlot, image: Image) -> Tensor {
-        let Some(gpu) = self.gpu else { return Tensor::cpu(image) };
+    /// `image` where kernels read it: uploaded into the stage's buffer on a GPU (a copy on the
+    /// CPU).
+    pub fn upload(&mut self, slot: &mut BufferSlot, image: &Image) -> Tensor {
+        let Some(gpu) = self.gpu else { return Tensor::cpu(image.clone()) };
         let shape = Shape { width: image.width, height: image.height, planes: image.planes };
         let fits = slot.0.as_ref().is_some_and(|(_, s)| *s == shape);
         if !fits {

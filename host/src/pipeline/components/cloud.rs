@@ -114,7 +114,7 @@ impl Component for BackgroundSegmentation {
                 std::mem::take(&mut model.learnt).into_iter().unzip();
             let [i, d] = &mut model.slots;
             model.learnt_on_device =
-                Some((ctx.device.upload(i, background(&intensities)), ctx.device.upload(d, background(&distances))));
+                Some((ctx.device.upload(i, &background(&intensities)), ctx.device.upload(d, &background(&distances))));
         }
         Ok(Vec::new())
     }
@@ -173,7 +173,7 @@ impl Component for PointCloudConversion {
             let Shape { width, height, .. } = depth.distance.shape();
             let (slot, rays) = self.rays.entry((width, height)).or_default();
             let rays = rays
-                .get_or_insert_with(|| ctx.device.upload(slot, Intrinsics::camcube_at(width, height).rays()))
+                .get_or_insert_with(|| ctx.device.upload(slot, &Intrinsics::camcube_at(width, height).rays()))
                 .clone();
             let [to_points, to_normals] = slots(&mut self.kernels, k);
             let points = run(ctx, to_points, Kernel::PointCloud, &[&depth.distance, &rays])?.remove(0);

@@ -95,7 +95,7 @@ impl Component for BlackImageCorrection {
         for (k, frame) in raw_frames(inputs) {
             let black =
                 match (&self.black, &frame.black) {
-                    (Some(image), _) => ctx.device.upload(&mut self.uploaded, image.clone()),
+                    (Some(image), _) => ctx.device.upload(&mut self.uploaded, image),
                     (None, Some(black)) => black.clone(),
                     (None, None) => return Err(
                         "the frame has no black image of its own: give the black image's files (channelA, channelB)"

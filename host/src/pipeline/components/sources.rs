@@ -106,8 +106,8 @@ impl Component for Simulated {
         }
         let scene = if ctx.frame < self.empty_frames { &self.empty } else { &self.scene };
         let frame = simulate(scene, self.motion, &self.camera, ctx.frame);
-        let raw = ctx.device.upload(&mut self.raw, frame.raw);
-        let black = ctx.device.upload(&mut self.black, frame.black);
+        let raw = ctx.device.upload(&mut self.raw, &frame.raw);
+        let black = ctx.device.upload(&mut self.black, &frame.black);
         Ok(vec![(
             "RawOut".to_string(),
             Data::Raw(RawFrame {
@@ -180,7 +180,7 @@ impl Component for RawFrameFile {
 
     fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
         let Some(frame) = self.loaded.get(ctx.frame) else { return Ok(Vec::new()) };
-        let raw = ctx.device.upload(&mut self.raw, frame.clone());
+        let raw = ctx.device.upload(&mut self.raw, frame);
         let frame = RawFrame { raw, black: None, truth: None, integration_us: self.integration_us };
         Ok(vec![("RawOut".to_string(), Data::Raw(frame))])
     }
@@ -228,9 +228,9 @@ impl Component for DepthFile {
         let zeros = Image::zeros(distance.width, distance.height, 1);
         let [d, a, i] = &mut self.slots;
         let depth = DepthImage {
-            distance: ctx.device.upload(d, distance.clone()),
-            amplitude: ctx.device.upload(a, zeros.clone()),
-            intensity: ctx.device.upload(i, zeros),
+            distance: ctx.device.upload(d, distance),
+            amplitude: ctx.device.upload(a, &zeros),
+            intensity: ctx.device.upload(i, &zeros),
             truth: None,
             integration_us: 0.0,
         };

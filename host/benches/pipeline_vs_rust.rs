@@ -1,0 +1,216 @@
+//! Chapter 4's pipeline run from GU-DSL (a component-instance diagram: the model's plan, the
+//! host's components) against the same work assembled on the runtime's Rust API, side by side
+//! in one process on the adapter wgpu finds, at 200×200 and 640×480: a simulated camera moving
+//! 1 cm per phase image, black-image correction, motion compensation (MWS 5, θ 1 %, no
+//! direction restriction, so both sides run one fixed chain), demodulation, the distance
+//! written as `.npy` each frame. Both simulate on the CPU, run the same kernels on the GPU and
+//! read the distance back once a frame.
+//!
+//! The time per frame is the steady state: for GU-DSL (T(n) − T(1)) / (n − 1) over whole runs
+//! (preparing, compiling the kernels and the first frame cancel out), for Rust the loop over
+//! frames after the chain is built. Medians of runs that alternate the two; the simulator's
+//! share of the Rust loop beside them (the CPU's work both sides do).
+//!
+//! `cargo bench -p gudsl-host --bench pipeline_vs_rust`
+
+#[path = "../tests/support/mod.rs"]
+mod support;
+
+use std::{
+    path::Path,
+    sync::atomic::AtomicBool,
+    time::{Duration, Instant},
+};
+
+use gudsl_host::pipeline::{self, OutputDir, PipelineObserver};
+use gudsl_model::{
+    db::{RootDatabase, SourceFile, Workspace},
+    hir::{pipeline::pipeline_plan, Fqn, Semantics},
+    library,
+};
+use gudsl_runtime::{
+    arrays,
+    camera::Intrinsics,
+    sim::{simulate, Camera, Motion, Scene},
+    Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape,
+};
+use support::{bench_gpu, median_ms};
+
+const RUNS: usize = 5;
+/// Frames a run (the first one's cost cancels out: see above).
+const FRAMES: usize = 9;
+const MOTION: Motion = Motion::Translation([0.01, 0.0, 0.0]);
+
+/// Where the frames come from: the simulator, each frame (both sides simulate on the CPU), or
+/// files recorded from it before the run (`ToF.RawFrameFile`, read before the first frame: the
+/// pipeline's own cost alone).
+#[derive(Clone, Copy)]
+enum Frames<'a> {
+    Simulated,
+    Recorded(&'a Path),
+}
+
+/// The pipeline as a user writes it.
+fn model(width: usize, height: usize, frames: usize, source: Frames) -> String {
+    let (camera, black) = match source {
+        Frames::Simulated => (
+            format!("SimulatedCamera (motion = Motion.Translation, speed = 1, frames = {frames}, width = {width}, height = {height})"),
+            "Black",
+        ),
+        Frames::Recorded(dir) => (
+            format!("RawFrameFile (channelA = \"{}\", channelB = \"{}\", frames = {frames})", dir.join("a.npy").display(), dir.join("b.npy").display()),
+            "Motion",
+        ),
+    };
+    let black_stage = if black == "Black" {
+        "Black instantiates BlackImageCorrection ( )
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Motion.In.frame ]
+    }"
+    } else {
+        ""
+    };
+    format!(
+        "ComponentInstanceDiagram Bench
+{{
+    import ToF.*;
+    Camera instantiates {camera}
+    {{
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target {black}.In.frame ]
+    }}
+    {black_stage}
+    Motion instantiates MotionCompensation (windowSize = 5, threshold = 1, directionRestriction = 0)
+    {{
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Demod.In.frame ]
+    }}
+    Demod instantiates Demodulation (modulationFrequency = 20)
+    {{
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Depth.In.depth ]
+    }}
+    Depth instantiates NpyWriter (amplitude = false)
+    {{
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }}
+}}
+"
+    )
+}
+
+struct Quiet;
+
+impl PipelineObserver for Quiet {
+    fn frame(&mut self, _index: usize, _frames: usize) {}
+}
+
+/// A whole GU-DSL run of `frames` frames: plan, prepare, run.
+fn gudsl_run(gpu: &Gpu, width: usize, height: usize, frames: usize, source: Frames, out: &Path) -> Duration {
+    let started = Instant::now();
+    let db = RootDatabase::default();
+    let mut files = library::library_files(&db);
+    files.push(SourceFile::new(&db, "bench.gudsl".into(), model(width, height, frames, source)));
+    let workspace = Workspace::new(&db, files);
+    let plan = pipeline_plan(&db, workspace, Fqn::new(&db, "Bench".to_string())).clone().expect("the plan");
+    assert!(plan.diagnostics.is_empty(), "{:?}", plan.diagnostics);
+    let behaviors = pipeline::behaviors(&Semantics::new(&db, workspace), &plan);
+    let mut prepared = pipeline::prepare(&plan, &behaviors, Path::new(".")).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut output = OutputDir::create(out).unwrap();
+    let report = prepared.run(Some(gpu), &mut output, None, &mut Quiet, &AtomicBool::new(false));
+    report.outcome.unwrap();
+    started.elapsed()
+}
+
+/// The same frames on the runtime's API: the loop's time (the chain built before it), and the
+/// part of it the simulator took. Recorded frames are `recorded`, in memory, and skip the black
+/// image as the model does.
+fn rust_run(gpu: &Gpu, width: usize, height: usize, recorded: Option<&[Image]>, out: &Path) -> (Duration, Duration) {
+    let camera = Camera { intrinsics: Intrinsics::camcube_at(width, height), ..Camera::default() };
+    let mut p = Pipeline::new();
+    let shape = Shape { width, height, planes: 8 };
+    let raw = match recorded {
+        None => {
+            let (raw, black) = (p.source("raw", shape), p.source("black", shape));
+            p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0]
+        }
+        Some(_) => p.source("raw", shape),
+    };
+    let mask = p.step(Kernel::DetectMotion { theta: 0.01 * 65535.0 }, &[raw]).unwrap()[1];
+    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None }, &[raw, mask]).unwrap()[0];
+    let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
+    let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap()[3];
+    p.sink(distance).unwrap();
+    let chain = GpuPipeline::new(gpu, &p);
+    std::fs::create_dir_all(out).unwrap();
+    let started = Instant::now();
+    let mut simulating = Duration::ZERO;
+    for frame in 0..FRAMES {
+        let distance = match recorded {
+            None => {
+                let simulation = Instant::now();
+                let simulated = simulate(&Scene::sphere(), MOTION, &camera, frame);
+                simulating += simulation.elapsed();
+                chain.run(&[simulated.raw, simulated.black]).unwrap().remove(0)
+            }
+            Some(frames) => chain.run(std::slice::from_ref(&frames[frame])).unwrap().remove(0),
+        };
+        let path = out.join(format!("distance_{frame:04}.npy"));
+        arrays::write(&path, &[height, width], &distance.data, arrays::Dtype::F32).unwrap();
+    }
+    (started.elapsed(), simulating)
+}
+
+/// `FRAMES` simulated frames, recorded as channel files `a.npy` and `b.npy` in `dir`.
+fn record(width: usize, height: usize, dir: &Path) -> Vec<Image> {
+    let camera = Camera { intrinsics: Intrinsics::camcube_at(width, height), ..Camera::default() };
+    let frames: Vec<Image> = (0..FRAMES).map(|f| simulate(&Scene::sphere(), MOTION, &camera, f).raw).collect();
+    std::fs::create_dir_all(dir).unwrap();
+    for (name, first) in [("a.npy", 0), ("b.npy", 1)] {
+        let data: Vec<f32> =
+            frames.iter().flat_map(|f| (0..4).flat_map(move |p| f.plane(2 * p + first).to_vec())).collect();
+        arrays::write(&dir.join(name), &[FRAMES, 4, height, width], &data, arrays::Dtype::U16).unwrap();
+    }
+    frames
+}
+
+fn main() {
+    let gpu = bench_gpu(false);
+    let scratch = std::env::temp_dir().join(format!("gudsl-bench-pipeline-{}", std::process::id()));
+    println!(
+        "chapter 4 (motion compensation, demodulation, .npy), ms per frame, median of {RUNS}, {FRAMES} frames a run"
+    );
+    println!(
+        "{:>9}  {:>9}  {:>8}  {:>8}  {:>8}  {:>10}",
+        "size", "frames", "GU-DSL", "Rust API", "overhead", "simulator"
+    );
+    for (width, height) in [(200, 200), (640, 480)] {
+        let recorded_dir = scratch.join(format!("{width}x{height}-recorded"));
+        let recorded = record(width, height, &recorded_dir);
+        for source in [Frames::Simulated, Frames::Recorded(&recorded_dir)] {
+            let in_memory = matches!(source, Frames::Recorded(_)).then_some(recorded.as_slice());
+            let (mut ours, mut theirs, mut simulator) = (Vec::new(), Vec::new(), Vec::new());
+            for run in 0..RUNS {
+                let dir = scratch.join(format!("{width}x{height}-{run}"));
+                let one = gudsl_run(&gpu, width, height, 1, source, &dir.join("one"));
+                let all = gudsl_run(&gpu, width, height, FRAMES, source, &dir.join("all"));
+                ours.push(all.saturating_sub(one) / (FRAMES as u32 - 1));
+                let (rust, simulating) = rust_run(&gpu, width, height, in_memory, &dir.join("rust"));
+                theirs.push(rust / FRAMES as u32);
+                simulator.push(simulating / FRAMES as u32);
+            }
+            let (ours, theirs, simulator) = (median_ms(ours), median_ms(theirs), median_ms(simulator));
+            println!(
+                "{:>9}  {:>9}  {ours:>8.2}  {theirs:>8.2}  {:>+7.1}%  {simulator:>10.2}",
+                format!("{width}×{height}"),
+                if in_memory.is_some() { "recorded" } else { "simulated" },
+                (ours / theirs - 1.0) * 100.0
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+}
