@@ -273,6 +273,12 @@ impl Gpu {
 
     /// The contents of a `MAP_READ` buffer once the queue has written it (waits).
     pub fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, String> {
+        self.with_mapped(staging, <[u8]>::to_vec)
+    }
+
+    /// `read` of the bytes of `staging` (mapped for reading after the queue's work is done),
+    /// without copying them first.
+    pub fn with_mapped<T>(&self, staging: &wgpu::Buffer, read: impl FnOnce(&[u8]) -> T) -> Result<T, String> {
         let (sender, receiver) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |result| {
             let _ = sender.send(result);
@@ -283,8 +289,8 @@ impl Gpu {
             Ok(Err(e)) => return Err(e.to_string()),
             Err(_) => return Err("the readback was dropped".into()),
         }
-        let bytes = staging.get_mapped_range(..).map_err(|e| e.to_string())?.to_vec();
+        let value = read(&staging.get_mapped_range(..).map_err(|e| e.to_string())?);
         staging.unmap();
-        Ok(bytes)
+        Ok(value)
     }
 }

@@ -227,24 +227,26 @@ impl<'g> Device<'g> {
             offset += (tensor.shape().len().max(1) * 4) as u64;
         }
         gpu.queue.submit([encoder.finish()]);
-        let all = gpu.map_read(staging).map_err(PipelineError::Readback)?;
-        let samples: &[f32] = bytemuck::cast_slice(&all);
-        let mut at = 0;
-        let mut images = Vec::with_capacity(tensors.len());
-        for tensor in tensors {
-            let shape = tensor.shape();
-            images.push(match tensor {
-                Tensor::Cpu(image) => image.clone(),
-                Tensor::Gpu { .. } => Arc::new(Image {
-                    width: shape.width,
-                    height: shape.height,
-                    planes: shape.planes,
-                    data: samples[at..at + shape.len()].to_vec(),
-                }),
-            });
-            at += shape.len().max(1);
-        }
-        Ok(images)
+        let images = gpu.with_mapped(staging, |bytes| {
+            let samples: &[f32] = bytemuck::cast_slice(bytes);
+            let mut at = 0;
+            let mut images = Vec::with_capacity(tensors.len());
+            for tensor in tensors {
+                let shape = tensor.shape();
+                images.push(match tensor {
+                    Tensor::Cpu(image) => image.clone(),
+                    Tensor::Gpu { .. } => Arc::new(Image {
+                        width: shape.width,
+                        height: shape.height,
+                        planes: shape.planes,
+                        data: samples[at..at + shape.len()].to_vec(),
+                    }),
+                });
+                at += shape.len().max(1);
+            }
+            images
+        });
+        images.map_err(PipelineError::Readback)
     }
 
     /// A tensor's buffer on the GPU (a host image uploaded into a buffer of its own).

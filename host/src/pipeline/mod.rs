@@ -89,6 +89,8 @@ pub struct PipelineReport {
     pub device: String,
     pub frames: usize,
     pub total: Duration,
+    /// Of `total`, reading the components' files before the first frame.
+    pub loading: Duration,
     /// Per stage, in the plan's order.
     pub stages: Vec<StageTime>,
     /// Files written, under the output folder.
@@ -266,7 +268,9 @@ impl Prepared {
             })
             .collect();
         let mut device = Device::new(gpu);
+        let loading = Instant::now();
         let outcome = self.load(&mut stages);
+        let loading = loading.elapsed();
         let outcome =
             outcome.and_then(|()| self.frames_loop(&mut device, output, frames, &mut stages, observer, cancel));
         let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
@@ -275,6 +279,7 @@ impl Prepared {
             device: gpu.map_or_else(|| "the CPU reference (no GPU adapter)".to_string(), Gpu::describe),
             frames,
             total: start.elapsed(),
+            loading,
             stages,
             outputs: output.written().to_vec(),
             outcome,
