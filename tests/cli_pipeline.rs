@@ -7,17 +7,17 @@
 
 #[path = "support/cli.rs"]
 mod cli;
+#[path = "support/scan.rs"]
+mod scan;
 
 use std::path::Path;
 
 use cli::{gudsl, repo, temp_dir};
 use gudsl_runtime::{
     arrays,
-    camera::{compose, pose_from, Intrinsics, Pose, IDENTITY},
-    kernels::{car::background, motion::mean_direction},
-    registration::{iterate, valid_points, IcpSettings, RegistrationError},
+    kernels::motion::mean_direction,
     sim::{simulate, Camera, Motion, Scene},
-    Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape,
+    Gpu, GpuPipeline, Kernel, Pipeline, Shape,
 };
 
 const SAMPLE: &str = "samples/pipelines/ch4_motion_compensation.gudsl";
@@ -327,156 +327,6 @@ fn the_chapter_5_loop_settles_per_pixel_faster_than_may_and_equals_the_rust_api(
     }
 }
 
-/// One camera of the chapter 6 sample through the runtime's API, frame after frame.
-struct ScanCamera {
-    camera: Camera,
-    extrinsic: Pose,
-    learnt: Vec<(Image, Image)>,
-    background: Option<(Image, Image)>,
-    model: Option<(Image, Image)>,
-    pose: Pose,
-    increment: Pose,
-}
-
-impl ScanCamera {
-    fn new(x: f64, yaw: f64) -> ScanCamera {
-        let pose = pose_from([0.0, yaw.to_radians(), 0.0], [x, 0.0, 0.0]);
-        ScanCamera {
-            camera: Camera { intrinsics: Intrinsics::camcube_at(200, 200), pose, ..Camera::default() },
-            extrinsic: pose,
-            learnt: Vec::new(),
-            background: None,
-            model: None,
-            pose: IDENTITY,
-            increment: IDENTITY,
-        }
-    }
-
-    /// Frame `frame`: learnt as background (the first three, of the empty scene), or the
-    /// segmented cloud, registered, moved into the model's frame: its valid points.
-    fn frame(&mut self, gpu: &Gpu, frame: usize) -> Option<gudsl_runtime::ply::Points> {
-        let scene =
-            Scene { wall_distance: 4.0, wall_reflectivity: 0.8, object_reflectivity: 0.6, ..Scene::turned_box() };
-        let scene = if frame < 3 { Scene { object: None, ..scene } } else { scene };
-        let simulated = simulate(&scene, Motion::Still, &self.camera, frame);
-        let shape = Shape { width: 200, height: 200, planes: 8 };
-        let plane = Shape { planes: 1, ..shape };
-        let mut p = Pipeline::new();
-        let (raw, black) = (p.source("raw", shape), p.source("black", shape));
-        let raw = p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0];
-        let demodulated = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap();
-        let (intensity, distance) = (demodulated[2], demodulated[3]);
-        let distance = p.step(Kernel::Median { radius: 2 }, &[distance]).unwrap()[0];
-        let distance = p.step(Kernel::Gaussian { sigma: 2.0 }, &[distance]).unwrap()[0];
-        let distance = p.step(Kernel::RemoveOutliers { range: 0.05, min_similar: 3 }, &[distance]).unwrap()[0];
-        let Some((background_intensity, background_distance)) = &self.background else {
-            p.sink(intensity).unwrap();
-            p.sink(distance).unwrap();
-            let mut out = GpuPipeline::new(gpu, &p).run(&[simulated.raw, simulated.black]).unwrap();
-            self.learnt.push((out.remove(0), out.remove(0)));
-            if self.learnt.len() == 3 {
-                let (intensities, distances): (Vec<Image>, Vec<Image>) =
-                    std::mem::take(&mut self.learnt).into_iter().unzip();
-                self.background = Some((background(&intensities), background(&distances)));
-            }
-            return None;
-        };
-        let (bi, bd, rays) =
-            (p.source("bi", plane), p.source("bd", plane), p.source("rays", Shape { planes: 3, ..shape }));
-        let segment = Kernel::Segment { theta_intensity: 100.0, theta_distance: 0.3 };
-        let mut mask = p.step(segment, &[intensity, distance, bi, bd]).unwrap()[0];
-        for dilate in [false, true, true, false] {
-            mask = p.step(Kernel::Morphology { radius: 1, dilate }, &[mask]).unwrap()[0];
-        }
-        let distance = p.step(Kernel::ApplyMask, &[distance, mask]).unwrap()[0];
-        let points = p.step(Kernel::PointCloud, &[distance, rays]).unwrap()[0];
-        let normals = p.step(Kernel::Normals, &[points]).unwrap()[0];
-        p.sink(points).unwrap();
-        p.sink(normals).unwrap();
-        let sources = [
-            simulated.raw,
-            simulated.black,
-            background_intensity.clone(),
-            background_distance.clone(),
-            Intrinsics::camcube_at(200, 200).rays(),
-        ];
-        let mut cloud = GpuPipeline::new(gpu, &p).run(&sources).unwrap();
-        let (points, normals) = (cloud.remove(0), cloud.remove(0));
-
-        if let Some((model_points, model_normals)) = &self.model {
-            let settings = IcpSettings {
-                max_distance: 0.2,
-                max_angle_degrees: 20.0,
-                max_iterations: 20,
-                ..IcpSettings::default()
-            };
-            let min_cos = settings.max_angle_degrees.to_radians().cos();
-            let reduce = |pose: &Pose| Kernel::IcpReduce {
-                pose: *pose,
-                intrinsics: Intrinsics::camcube_at(200, 200),
-                max_distance: settings.max_distance,
-                min_cos,
-            };
-            let mut p = Pipeline::new();
-            let three = Shape { planes: 3, ..shape };
-            let inputs: Vec<_> =
-                ["points", "normals", "model points", "model normals"].map(|n| p.source(n, three)).into();
-            let sums = p.step(reduce(&IDENTITY), &inputs).unwrap()[0];
-            p.sink(sums).unwrap();
-            let mut icp = GpuPipeline::new(gpu, &p);
-            let mut first = Some([points.clone(), normals.clone(), model_points.clone(), model_normals.clone()]);
-            let registration = iterate(&settings, self.increment, |pose| {
-                icp.set_kernel(0, reduce(pose)).unwrap();
-                let out = match first.take() {
-                    Some(sources) => icp.run(&sources),
-                    None => icp.rerun(),
-                };
-                let out = out.map_err(RegistrationError::Pipeline)?;
-                Ok(std::array::from_fn(|k| out[0].data[k] as f64))
-            });
-            match registration {
-                Ok(registration) => {
-                    self.increment = registration.pose;
-                    self.pose = compose(&self.pose, &registration.pose);
-                }
-                Err(RegistrationError::TooFewPairs { .. } | RegistrationError::Degenerate) => {}
-                Err(error) => panic!("{error}"),
-            }
-        }
-        self.model = Some((points.clone(), normals.clone()));
-
-        let pose = compose(&self.extrinsic, &self.pose);
-        let mut rotation = pose;
-        for row in 0..3 {
-            rotation[4 * row + 3] = 0.0;
-        }
-        let mut p = Pipeline::new();
-        let three = Shape { planes: 3, ..shape };
-        let (at, facing) = (p.source("points", three), p.source("normals", three));
-        let moved = p.step(Kernel::TransformPoints { pose }, &[at]).unwrap()[0];
-        let turned = p.step(Kernel::TransformPoints { pose: rotation }, &[facing]).unwrap()[0];
-        p.sink(moved).unwrap();
-        p.sink(turned).unwrap();
-        let out = GpuPipeline::new(gpu, &p).run(&[points, normals]).unwrap();
-        Some(valid_points(&out[0], &out[1]))
-    }
-}
-
-/// The chapter 6 sample's accumulated cloud through the runtime's API.
-fn scan_rust_api(gpu: &Gpu) -> gudsl_runtime::ply::Points {
-    let mut cameras = [ScanCamera::new(-0.5, 11.3), ScanCamera::new(0.1, 0.0), ScanCamera::new(0.7, -11.3)];
-    let (mut points, mut normals) = (Vec::new(), Vec::new());
-    for frame in 0..6 {
-        for camera in &mut cameras {
-            if let Some((p, n)) = camera.frame(gpu, frame) {
-                points.extend(p);
-                normals.extend(n);
-            }
-        }
-    }
-    (points, normals)
-}
-
 #[test]
 fn the_chapter_6_scan_accumulates_the_object_from_three_cameras() {
     let out = temp_dir("pipeline-ch6");
@@ -505,7 +355,7 @@ fn the_chapter_6_scan_accumulates_the_object_from_three_cameras() {
     assert!(unit * 10 > 8 * normals.len(), "{unit} of {} normals", normals.len());
 
     if gpu() {
-        let (expected_points, expected_normals) = scan_rust_api(&Gpu::for_tests().expect("an adapter"));
+        let (expected_points, expected_normals) = scan::scan(&Gpu::for_tests().expect("an adapter"), 200, 200, 6);
         assert_eq!(points.len(), expected_points.len(), "points against the Rust API's");
         assert!(points == expected_points, "the points equal the Rust API's bit for bit");
         assert!(normals == expected_normals, "the normals equal the Rust API's bit for bit");

@@ -12,8 +12,16 @@
 //! frames already in memory. Medians of runs that alternate the two; the simulator's
 //! share of the Rust loop beside them (the CPU's work both sides do).
 //!
+//! Chapter 6's scan (`samples/pipelines/ch6_object_scan.gudsl`: three simulated cameras, three
+//! frames of the empty scene learnt as background, then segmentation, clouds, ICP, transforms,
+//! accumulation, the PLY at the end) against `tests/support/scan.rs`, the same on the API: the
+//! time per frame over frames 1–5 (GU-DSL: (T(6) − T(1)) / 5; Rust: after frame 0), both with
+//! the PLY written.
+//!
 //! `cargo bench -p gudsl-host --bench pipeline_vs_rust`
 
+#[path = "../../tests/support/scan.rs"]
+mod scan;
 #[path = "../tests/support/mod.rs"]
 mod support;
 
@@ -38,6 +46,8 @@ use gudsl_runtime::{
 use support::{bench_gpu, median_ms};
 
 const RUNS: usize = 9;
+/// Runs of chapter 6 (each simulates 3 cameras × 12 frames on the CPU).
+const SCAN_RUNS: usize = 5;
 /// Frames a run (the first one's cost cancels out: see above).
 const FRAMES: usize = 9;
 const MOTION: Motion = Motion::Translation([0.01, 0.0, 0.0]);
@@ -112,19 +122,57 @@ impl PipelineObserver for Quiet {
 
 /// A whole GU-DSL run of `frames` frames (plan, prepare, run) without reading its files.
 fn gudsl_run(gpu: &Gpu, width: usize, height: usize, frames: usize, source: Frames, out: &Path) -> Duration {
+    run_model(gpu, &model(width, height, frames, source), None, out)
+}
+
+/// A whole run of the pipeline `Bench` of `text`, at most `frames` frames, without reading
+/// its files.
+fn run_model(gpu: &Gpu, text: &str, frames: Option<usize>, out: &Path) -> Duration {
     let started = Instant::now();
     let db = RootDatabase::default();
     let mut files = library::library_files(&db);
-    files.push(SourceFile::new(&db, "bench.gudsl".into(), model(width, height, frames, source)));
+    files.push(SourceFile::new(&db, "bench.gudsl".into(), text.to_string()));
     let workspace = Workspace::new(&db, files);
     let plan = pipeline_plan(&db, workspace, Fqn::new(&db, "Bench".to_string())).clone().expect("the plan");
     assert!(plan.diagnostics.is_empty(), "{:?}", plan.diagnostics);
     let behaviors = pipeline::behaviors(&Semantics::new(&db, workspace), &plan);
     let mut prepared = pipeline::prepare(&plan, &behaviors, Path::new(".")).unwrap_or_else(|e| panic!("{e:?}"));
     let mut output = OutputDir::create(out).unwrap();
-    let report = prepared.run(Some(gpu), &mut output, None, &mut Quiet, &AtomicBool::new(false));
+    let report = prepared.run(Some(gpu), &mut output, frames, &mut Quiet, &AtomicBool::new(false));
     report.outcome.unwrap();
     started.elapsed() - report.loading
+}
+
+/// Chapter 6's sample at `width × height`, its pipeline named `Bench`.
+fn scan_model(width: usize, height: usize) -> String {
+    let text = std::fs::read_to_string(support::samples().join("pipelines/ch6_object_scan.gudsl")).unwrap();
+    let text = text.replace("ComponentInstanceDiagram ObjectScanPipeline", "ComponentInstanceDiagram Bench");
+    text.replace("frames = 6,", &format!("frames = 6, width = {width}, height = {height},"))
+}
+
+/// Frames 1–5 of chapter 6's scan on the API (the chains built and frame 0 run before), the PLY
+/// written at the end.
+fn rust_scan(gpu: &Gpu, width: usize, height: usize, out: &Path) -> Duration {
+    let mut cameras: Vec<scan::ScanCamera> =
+        scan::CAMERAS.iter().map(|&c| scan::ScanCamera::new(gpu, c, width, height)).collect();
+    for camera in &mut cameras {
+        assert!(camera.frame(0).is_none(), "frame 0 is learnt");
+    }
+    let started = Instant::now();
+    let (mut points, mut normals) = (Vec::new(), Vec::new());
+    for frame in 1..6 {
+        for camera in &mut cameras {
+            if let Some((p, n)) = camera.frame(frame) {
+                points.extend(p);
+                normals.extend(n);
+            }
+        }
+    }
+    std::fs::create_dir_all(out).unwrap();
+    let mut file = std::io::BufWriter::new(std::fs::File::create(out.join("cloud.ply")).unwrap());
+    gudsl_runtime::ply::write(&mut file, &points, &normals, "gudsl").unwrap();
+    drop(file);
+    started.elapsed()
 }
 
 /// The same frames on the runtime's API: the loop's time (the chain built before it), and the
@@ -230,6 +278,25 @@ fn main() {
                 (ours / theirs - 1.0) * 100.0
             );
         }
+    }
+    println!("\nchapter 6 (three cameras: background, segmentation, clouds, ICP, accumulation, PLY), ms per frame over frames 1-5, median of {SCAN_RUNS}");
+    println!("{:>9}  {:>8}  {:>8}  {:>8}", "size", "GU-DSL", "Rust API", "overhead");
+    for (width, height) in [(200, 200), (640, 480)] {
+        let text = scan_model(width, height);
+        let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+        for run in 0..SCAN_RUNS {
+            let dir = scratch.join(format!("scan-{width}x{height}-{run}"));
+            let one = run_model(&gpu, &text, Some(1), &dir.join("one"));
+            let all = run_model(&gpu, &text, Some(6), &dir.join("all"));
+            ours.push(all.saturating_sub(one) / 5);
+            theirs.push(rust_scan(&gpu, width, height, &dir.join("rust")) / 5);
+        }
+        let (ours, theirs) = (median_ms(ours), median_ms(theirs));
+        println!(
+            "{:>9}  {ours:>8.2}  {theirs:>8.2}  {:>+7.1}%",
+            format!("{width}×{height}"),
+            (ours / theirs - 1.0) * 100.0
+        );
     }
     let _ = std::fs::remove_dir_all(&scratch);
 }
