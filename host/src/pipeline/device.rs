@@ -272,6 +272,7 @@ fn host(tensor: &Tensor) -> Arc<Image> {
 }
 
 /// The images read at the end of a frame, by the [`Later`] each was asked for with.
+#[derive(Clone)]
 pub struct Reads(Vec<Arc<Image>>);
 
 impl Reads {

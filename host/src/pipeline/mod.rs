@@ -8,7 +8,10 @@
 //! Frames are ticks: every source gives one item a frame (until its frames are done), a filter
 //! processes each item that arrived on its ports this frame, a binding into a `buffered` port
 //! delivers its items a frame later (queueing up to its buffer size), so such a binding may
-//! close a loop (chapter 5.4).
+//! close a loop (chapter 5.4). A sink bound through an `async` port does not block its
+//! producers (Sec. 11.4.3): its work after the frame's reads (encoding, writing files) runs on a
+//! thread of its own while the next frame goes on, and it takes its next items once that work
+//! is done.
 
 mod components;
 pub mod data;
@@ -20,10 +23,12 @@ use std::{
     collections::{BTreeSet, VecDeque},
     path::{Path, PathBuf},
     sync::atomic::{AtomicBool, Ordering},
+    thread::JoinHandle,
     time::{Duration, Instant},
 };
 
 use gudsl_model::{
+    ast::ClassKind,
     hir::{pipeline::PipelinePlan, Diagnostic, DiagnosticCode, Semantics, Severity},
     syntax::TextRange,
 };
@@ -33,6 +38,7 @@ pub use components::Behaviors;
 use components::{Component, Inputs, Outputs, Size, SizesByPort};
 use data::Item;
 use device::Device;
+use device::Reads;
 pub use output::OutputDir;
 
 /// A problem that stops a pipeline, at a place of the model file when it has one.
@@ -117,10 +123,23 @@ pub trait PipelineObserver {
     fn frame(&mut self, index: usize, frames: usize);
 }
 
+/// What an `async` sink's writer thread hands back.
+struct Written {
+    component: Box<dyn Component>,
+    output: OutputDir,
+    took: Duration,
+    result: Result<(), String>,
+}
+
 /// A plan with a component for each stage, ready to run.
 pub struct Prepared {
     plan: PipelinePlan,
-    components: Vec<Box<dyn Component>>,
+    /// Each stage's component, `None` while a writer thread has it.
+    components: Vec<Option<Box<dyn Component>>>,
+    /// The `async` sinks' writers at work.
+    writers: Vec<Option<JoinHandle<Written>>>,
+    /// Whether a stage is a sink bound through an `async` port.
+    is_async_sink: Vec<bool>,
     frames: usize,
 }
 
@@ -188,7 +207,19 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
         });
     }
     if errors.is_empty() {
-        Ok(Prepared { plan: plan.clone(), components: made, frames })
+        let is_async_sink = (0..plan.stages.len())
+            .map(|i| {
+                plan.stages[i].kind == ClassKind::Sink
+                    && plan.bindings.iter().any(|b| b.processor.stage == i && b.is_async)
+            })
+            .collect();
+        Ok(Prepared {
+            plan: plan.clone(),
+            writers: made.iter().map(|_| None).collect(),
+            components: made.into_iter().map(Some).collect(),
+            is_async_sink,
+            frames,
+        })
     } else {
         Err(errors)
     }
@@ -273,7 +304,9 @@ impl Prepared {
         let loading = loading.elapsed();
         let outcome =
             outcome.and_then(|()| self.frames_loop(&mut device, output, frames, &mut stages, observer, cancel));
-        let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
+        // Nothing goes on writing after a run, even a cancelled or failed one.
+        let joined = (0..stages.len()).try_for_each(|index| self.join(index, output, &mut stages[index]));
+        let outcome = outcome.and(joined).and_then(|()| self.finish(output, &mut stages));
         PipelineReport {
             diagram: self.plan.diagram.clone(),
             device: gpu.map_or_else(|| "the CPU reference (no GPU adapter)".to_string(), Gpu::describe),
@@ -307,14 +340,16 @@ impl Prepared {
             }
             for (index, time) in times.iter_mut().enumerate() {
                 let inputs = self.take_inputs(index, &mut queues, frame);
-                let is_source = self.components[index].frames().is_some();
+                self.join(index, output, time)?;
+                let component = self.components[index].as_mut().expect("joined");
+                let is_source = component.frames().is_some();
                 if !is_source && inputs.is_empty() {
                     continue;
                 }
                 let started = Instant::now();
                 time.items += inputs.len().max(1);
                 let mut ctx = components::Ctx { device, stage: index, frame, output };
-                let produced = self.components[index]
+                let produced = component
                     .process(&mut ctx, &inputs)
                     .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
                 time.host += started.elapsed();
@@ -326,9 +361,16 @@ impl Prepared {
                 times[stage].device += time;
             }
             for (index, time) in times.iter_mut().enumerate() {
+                self.join(index, output, time)?;
+                if self.is_async_sink[index] {
+                    self.write_apart(index, frame, output, &reads);
+                    continue;
+                }
                 let started = Instant::now();
                 let mut ctx = components::Ctx { device, stage: index, frame, output };
                 let produced = self.components[index]
+                    .as_mut()
+                    .expect("joined")
                     .finish_frame(&mut ctx, &reads)
                     .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
                 time.host += started.elapsed();
@@ -340,11 +382,39 @@ impl Prepared {
         Ok(())
     }
 
+    /// An `async` sink's work after the frame's reads, on a thread of its own (it gives nothing
+    /// and needs no device: it encodes and writes).
+    fn write_apart(&mut self, index: usize, frame: usize, output: &OutputDir, reads: &Reads) {
+        let mut component = self.components[index].take().expect("joined");
+        let (reads, mut output) = (reads.clone(), output.fork());
+        self.writers[index] = Some(std::thread::spawn(move || {
+            let started = Instant::now();
+            let mut device = Device::new(None);
+            let mut ctx = components::Ctx { device: &mut device, stage: index, frame, output: &mut output };
+            let result = component.finish_frame(&mut ctx, &reads).map(|_| ());
+            Written { component, output, took: started.elapsed(), result }
+        }));
+    }
+
+    /// Stage `index`'s component back from its writer, if one has it: its files listed in
+    /// `output`, its time in `time`, its failure returned.
+    fn join(&mut self, index: usize, output: &mut OutputDir, time: &mut StageTime) -> Result<(), PipelineError> {
+        let Some(writer) = self.writers[index].take() else { return Ok(()) };
+        let written = writer
+            .join()
+            .map_err(|_| self.error(Some(index), ErrorKind::Failed, "its writer thread panicked".to_string()))?;
+        self.components[index] = Some(written.component);
+        output.absorb(written.output);
+        time.host += written.took;
+        written.result.map_err(|message| self.error(Some(index), ErrorKind::Failed, message))
+    }
+
     /// Before the first frame: the files the components read.
     fn load(&mut self, times: &mut [StageTime]) -> Result<(), PipelineError> {
         for (index, time) in times.iter_mut().enumerate() {
             let started = Instant::now();
-            self.components[index].load().map_err(|message| self.error(Some(index), ErrorKind::Input, message))?;
+            let component = self.components[index].as_mut().expect("no writer before the first frame");
+            component.load().map_err(|message| self.error(Some(index), ErrorKind::Input, message))?;
             time.host += started.elapsed();
         }
         Ok(())
@@ -355,6 +425,8 @@ impl Prepared {
         for (index, time) in times.iter_mut().enumerate() {
             let started = Instant::now();
             self.components[index]
+                .as_mut()
+                .expect("joined after the last frame")
                 .finish_run(output)
                 .map_err(|message| self.error(Some(index), ErrorKind::Output, message))?;
             time.host += started.elapsed();

@@ -45,6 +45,21 @@ impl OutputDir {
         Ok(path)
     }
 
+    /// The same folder for a writer on another thread: its files listed apart until
+    /// [`OutputDir::absorb`] takes them.
+    pub fn fork(&self) -> OutputDir {
+        OutputDir { root: self.root.clone(), written: Vec::new() }
+    }
+
+    /// The files a fork wrote, listed here.
+    pub fn absorb(&mut self, fork: OutputDir) {
+        for path in fork.written {
+            if !self.written.contains(&path) {
+                self.written.push(path);
+            }
+        }
+    }
+
     /// The files written so far, in the order first written.
     pub fn written(&self) -> &[PathBuf] {
         &self.written
