@@ -7,9 +7,10 @@ runs each sample with `gudsl.runPipeline` (progress "frame k of N" with percenta
 that its outputs equal those of `gudsl run` on the same files bit for bit; cancels a long run
 from its progress; and shows the problems of item 2 of the issue as diagnostics of unsaved
 documents (E0401 unbound input, E0402 cycle, E0403 out-of-range values, E0404 a missing and a
-malformed .npy), a run of such a pipeline refused with the problems' places, and bad
-arguments refused. With --no-gpu, the pipelines run on the CPU reference (`cpu: true`) and the
-comparison with the CLI uses `--cpu`."""
+malformed .npy, E0405 a black image of another size than the frames), a run of such a pipeline
+refused with the problems' places, and bad arguments refused. With --no-gpu, the pipelines run
+on the CPU reference (`cpu: true`) and the comparison with the CLI uses `--cpu`, and the
+chapter 11.5 sample (generated device code: GPU only) is checked but not run."""
 
 import asyncio
 import filecmp
@@ -106,6 +107,10 @@ BAD = {
         pipeline("Malformed", black('channelA = "float_a.npy", channelB = "short_b.npy"')),
         [("E0404", 9), ("E0404", 9)],
     ),
+    "sizes.gudsl": (
+        pipeline("Sizes", black('channelA = "small_a.npy", channelB = "small_b.npy"')),
+        [("E0405", 9)],
+    ),
 }
 
 
@@ -136,6 +141,8 @@ async def main(gudsl, repo, gpu):
     shutil.copytree(repo / "samples" / "pipelines", workspace)
     npy(workspace / "float_a.npy", "<f4", (4, 30, 40), [0.0] * 4800)
     npy(workspace / "short_b.npy", "<u2", (3, 30, 40), [0] * 3600)
+    for name in ("small_a.npy", "small_b.npy"):
+        npy(workspace / name, "<u2", (4, 20, 10), [0] * 800)
 
     client, seen = await start_client("gudsl-pipeline-e2e", gudsl, workspace)
     diagnostics, progress, shown, created = seen.diagnostics, seen.progress, seen.shown, seen.created
@@ -242,6 +249,8 @@ async def bad_pipelines(client, workspace, work, diagnostics):
             fail(f"{name}: {expected} expected, got {codes}: {[d.message for d in found]}")
         if name == "missing.gudsl" and not ("nowhere_a.npy: does not exist" in found[0].message and "(4, H, W)" in found[0].message):
             fail(f"the missing file and the expected shape named: {found[0].message}")
+        if name == "sizes.gudsl" and "the black image is 10×20, the frames it is given 40×30" not in found[0].message:
+            fail(f"the sizes that cannot meet named: {found[0].message}")
         if name == "malformed.gudsl":
             messages = " | ".join(d.message for d in found)
             if "float_a.npy has dtype float32" not in messages or "short_b.npy has shape (3, 30, 40)" not in messages or "uint16" not in messages:
