@@ -18,7 +18,8 @@
 //! time per frame over frames 1–5 (GU-DSL: (T(6) − T(1)) / 5; Rust: after frame 0), both with
 //! the PLY written.
 //!
-//! `cargo bench -p gudsl-host --bench pipeline_vs_rust`
+//! `cargo bench -p gudsl-host --bench pipeline_vs_rust [-- FILTER]` (FILTER: run only the rows
+//! whose label holds it, e.g. `chapter-4 640x480 recorded`'s `640x480 recorded`).
 
 #[path = "../../tests/support/scan.rs"]
 mod scan;
@@ -245,6 +246,11 @@ fn record(width: usize, height: usize, dir: &Path) {
     }
 }
 
+/// Whether the row `label` is asked for (by the first argument that is not an option).
+fn wanted(label: &str) -> bool {
+    std::env::args().skip(1).find(|a| !a.starts_with("--")).is_none_or(|filter| label.contains(&filter))
+}
+
 fn main() {
     let gpu = bench_gpu(false);
     let scratch = std::env::temp_dir().join(format!("gudsl-bench-pipeline-{}", std::process::id()));
@@ -260,6 +266,10 @@ fn main() {
         record(width, height, &recorded_dir);
         for source in [Frames::Simulated, Frames::Recorded(&recorded_dir)] {
             let files = matches!(source, Frames::Recorded(_)).then_some(recorded_dir.as_path());
+            let kind = if files.is_some() { "recorded" } else { "simulated" };
+            if !wanted(&format!("chapter-4 {width}x{height} {kind}")) {
+                continue;
+            }
             let (mut ours, mut theirs, mut simulator) = (Vec::new(), Vec::new(), Vec::new());
             for run in 0..RUNS {
                 let dir = scratch.join(format!("{width}x{height}-{run}"));
@@ -274,7 +284,7 @@ fn main() {
             println!(
                 "{:>9}  {:>9}  {ours:>8.2}  {theirs:>8.2}  {:>+7.1}%  {simulator:>10.2}",
                 format!("{width}×{height}"),
-                if files.is_some() { "recorded" } else { "simulated" },
+                kind,
                 (ours / theirs - 1.0) * 100.0
             );
         }
@@ -282,6 +292,9 @@ fn main() {
     println!("\nchapter 6 (three cameras: background, segmentation, clouds, ICP, accumulation, PLY), ms per frame over frames 1-5, median of {SCAN_RUNS}");
     println!("{:>9}  {:>8}  {:>8}  {:>8}", "size", "GU-DSL", "Rust API", "overhead");
     for (width, height) in [(200, 200), (640, 480)] {
+        if !wanted(&format!("chapter-6 {width}x{height}")) {
+            continue;
+        }
         let text = scan_model(width, height);
         let (mut ours, mut theirs) = (Vec::new(), Vec::new());
         for run in 0..SCAN_RUNS {
