@@ -5,8 +5,8 @@
 //! simulator, its demodulation and grey-image kernels, Listing 15 as a person writes it in WGSL
 //! (`runtime/src/listings`) and the viewer's colouring in Rust — byte for byte; and components
 //! that cannot run are refused with a message that says why: a diagram parameter no field
-//! gives (E0405, in `gudsl check` too), a host diagram where a device diagram belongs, a sink
-//! that extends no library sink, a run without a GPU.
+//! gives (E0405, in `gudsl check` too), a host diagram where a device diagram belongs, a call
+//! inside a branch, a sink that extends no library sink, a run without a GPU.
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -136,6 +136,16 @@ fn components_that_cannot_run_are_refused_with_the_reason() {
     let (code, text) = run(&["run", &file, "--diagram", "ComponentExamplePipeline", "-o", out]);
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("`AdHostExample` is not a device diagram"), "{text}");
+
+    // A call inside a branch would not run as written.
+    let file = edited(
+        &dir,
+        "branch",
+        &[("call behavior AdFilterMeanExample;", "if (kernelSize > 1) { call behavior AdFilterMeanExample; }")],
+    );
+    let (code, text) = run(&["run", &file, "-o", out]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("with arguments or inside a branch or loop"), "{text}");
 
     // A sink of the workspace that extends no library sink keeps nothing.
     let file = edited(&dir, "sink", &[("public sink Viewer extends ImageViewer", "public sink Viewer")]);

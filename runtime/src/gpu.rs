@@ -272,6 +272,20 @@ impl Gpu {
     }
 
     /// The contents of a `MAP_READ` buffer once the queue has written it (waits).
+    /// `make`'s value, or the validation or out-of-memory error the device raised while it ran
+    /// (wgpu's errors caught in error scopes instead of its default handler's panic).
+    pub fn scoped<T>(&self, make: impl FnOnce() -> T) -> Result<T, String> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let memory = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let value = make();
+        let out_of_memory = pollster::block_on(memory.pop());
+        let invalid = pollster::block_on(scope.pop());
+        match out_of_memory.or(invalid) {
+            None => Ok(value),
+            Some(error) => Err(error.to_string()),
+        }
+    }
+
     pub fn map_read(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, String> {
         self.with_mapped(staging, <[u8]>::to_vec)
     }

@@ -134,19 +134,6 @@ impl fmt::Display for ProgramError {
 
 impl std::error::Error for ProgramError {}
 
-/// Runs `make` in a validation error scope: its result, or the device's message.
-fn scoped<T>(gpu: &Gpu, make: impl FnOnce() -> T) -> Result<T, String> {
-    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-    let value = make();
-    let out_of_memory = pollster::block_on(memory.pop());
-    let invalid = pollster::block_on(scope.pop());
-    match out_of_memory.or(invalid) {
-        None => Ok(value),
-        Some(error) => Err(error.to_string()),
-    }
-}
-
 /// A compiled module and its entry point, with one pipeline per set of pipeline constants.
 #[derive(Debug)]
 pub struct Program {
@@ -170,22 +157,24 @@ impl Program {
     ) -> Result<Program, ProgramError> {
         let compile_error = |message| ProgramError::Compile { program: label.to_string(), message };
         let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings.iter().map(layout_entry).collect();
-        let (module, group_layout, layout) = scoped(gpu, || {
-            let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-            });
-            let group_layout = gpu
-                .device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries });
-            let layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(&group_layout)],
-                immediate_size: 0,
-            });
-            (module, group_layout, layout)
-        })
-        .map_err(compile_error)?;
+        let (module, group_layout, layout) = gpu
+            .scoped(|| {
+                let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(label),
+                    source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                });
+                let group_layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some(label),
+                    entries: &entries,
+                });
+                let layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    bind_group_layouts: &[Some(&group_layout)],
+                    immediate_size: 0,
+                });
+                (module, group_layout, layout)
+            })
+            .map_err(compile_error)?;
         Ok(Program {
             label: label.to_string(),
             entry: entry.to_string(),
@@ -205,17 +194,18 @@ impl Program {
         if let Some(pipeline) = self.pipelines.borrow().get(&key) {
             return Ok(pipeline.clone());
         }
-        let pipeline = scoped(gpu, || {
-            gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&self.label),
-                layout: Some(&self.layout),
-                module: &self.module,
-                entry_point: Some(&self.entry),
-                compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
-                cache: None,
+        let pipeline = gpu
+            .scoped(|| {
+                gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&self.label),
+                    layout: Some(&self.layout),
+                    module: &self.module,
+                    entry_point: Some(&self.entry),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+                    cache: None,
+                })
             })
-        })
-        .map_err(|message| ProgramError::Compile { program: self.label.clone(), message })?;
+            .map_err(|message| ProgramError::Compile { program: self.label.clone(), message })?;
         self.pipelines.borrow_mut().insert(key, pipeline.clone());
         Ok(pipeline)
     }
@@ -234,9 +224,9 @@ impl Program {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         self.record(gpu, &mut encoder, constants, resources, workgroups, gpu.pass_timestamps())?;
         gpu.resolve_timestamps(&mut encoder);
-        let commands = scoped(gpu, || encoder.finish()).map_err(dispatch_error)?;
+        let commands = gpu.scoped(|| encoder.finish()).map_err(dispatch_error)?;
         let start = Instant::now();
-        scoped(gpu, || gpu.queue.submit([commands])).map_err(dispatch_error)?;
+        gpu.scoped(|| gpu.queue.submit([commands])).map_err(dispatch_error)?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| dispatch_error(e.to_string()))?;
         let elapsed = start.elapsed();
         Ok(gpu.device_time().map_err(dispatch_error)?.unwrap_or(elapsed))
@@ -296,7 +286,7 @@ impl Program {
             entries.push(wgpu::BindGroupEntry { binding: spec.binding, resource });
         }
         let dispatch_error = |message| ProgramError::Dispatch { program: self.label.clone(), message };
-        scoped(gpu, || {
+        gpu.scoped(|| {
             let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(&self.label),
                 layout: &self.group_layout,
@@ -360,18 +350,15 @@ impl Program {
                 })
             })
             .map(|(binding, bytes)| {
-                let buffer = scoped(gpu, || {
-                    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("uniforms"),
-                        contents: bytes,
-                        usage: wgpu::BufferUsages::UNIFORM,
+                let buffer = gpu
+                    .scoped(|| {
+                        gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some("uniforms"),
+                            contents: bytes,
+                            usage: wgpu::BufferUsages::UNIFORM,
+                        })
                     })
-                })
-                .map_err(|message| ProgramError::Bind {
-                    program: self.label.clone(),
-                    binding,
-                    message,
-                })?;
+                    .map_err(|message| ProgramError::Bind { program: self.label.clone(), binding, message })?;
                 Ok((binding, buffer))
             })
             .collect()
@@ -424,15 +411,16 @@ impl DeviceBuffer {
     /// A zeroed buffer of `len` bytes.
     pub fn new(gpu: &Gpu, label: &str, len: u64) -> Result<DeviceBuffer, ProgramError> {
         let size = len.max(4).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
-        let buffer = scoped(gpu, || {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
+        let buffer = gpu
+            .scoped(|| {
+                gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                })
             })
-        })
-        .map_err(|message| ProgramError::Device(format!("a buffer `{label}` of {len} bytes: {message}")))?;
+            .map_err(|message| ProgramError::Device(format!("a buffer `{label}` of {len} bytes: {message}")))?;
         Ok(DeviceBuffer { buffer, len })
     }
 
@@ -493,22 +481,23 @@ impl DeviceImage {
         if size.contains(&0) || (dimensions == 2 && size[2] != 1) {
             return Err(refused("an image has at least one texel per dimension (and a depth of 1 in 2D)".into()));
         }
-        let texture = scoped(gpu, || {
-            gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: size[2] },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: if dimensions == 3 { wgpu::TextureDimension::D3 } else { wgpu::TextureDimension::D2 },
-                format: format.wgpu(),
-                usage: wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::STORAGE_BINDING
-                    | wgpu::TextureUsages::COPY_DST
-                    | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
+        let texture = gpu
+            .scoped(|| {
+                gpu.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: size[2] },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: if dimensions == 3 { wgpu::TextureDimension::D3 } else { wgpu::TextureDimension::D2 },
+                    format: format.wgpu(),
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::STORAGE_BINDING
+                        | wgpu::TextureUsages::COPY_DST
+                        | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                })
             })
-        })
-        .map_err(refused)?;
+            .map_err(refused)?;
         let view = texture.create_view(&Default::default());
         Ok(DeviceImage { texture, view, format, dimensions, size })
     }

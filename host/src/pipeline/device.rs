@@ -66,17 +66,9 @@ impl<'g> Device<'g> {
         work: impl FnOnce(&Gpu, &mut wgpu::CommandEncoder, Option<wgpu::ComputePassTimestampWrites<'_>>) -> R,
     ) -> Option<R> {
         let gpu = self.gpu?;
-        let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
         let writes = self.timing.as_mut().and_then(|t| t.next(stage));
-        Some(work(
-            gpu,
-            encoder,
-            writes.as_ref().map(|(queries, at)| wgpu::ComputePassTimestampWrites {
-                query_set: queries,
-                beginning_of_pass_write_index: Some(*at),
-                end_of_pass_write_index: Some(at + 1),
-            }),
-        ))
+        let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
+        Some(work(gpu, encoder, timestamp_writes(&writes)))
     }
 
     /// `kernel` on `inputs` for `stage`, its results where the inputs are.
@@ -104,14 +96,7 @@ impl<'g> Device<'g> {
         bound.reset_scratch(gpu);
         let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
         let writes = self.timing.as_mut().and_then(|t| t.next(stage));
-        bound.encode(
-            encoder,
-            writes.as_ref().map(|(queries, at)| wgpu::ComputePassTimestampWrites {
-                query_set: queries,
-                beginning_of_pass_write_index: Some(*at),
-                end_of_pass_write_index: Some(at + 1),
-            }),
-        );
+        bound.encode(encoder, timestamp_writes(&writes));
         Ok(bound
             .outputs()
             .iter()
@@ -207,7 +192,7 @@ impl<'g> Device<'g> {
             timing.resolve(&mut encoder);
         }
         if bytes == 0 || tensors.iter().all(|t| matches!(t, Tensor::Cpu(_))) {
-            gpu.queue.submit([encoder.finish()]);
+            submit(gpu, encoder)?;
             return Ok(tensors.iter().map(host).collect());
         }
         if self.staging.as_ref().is_none_or(|s| s.size() < bytes) {
@@ -226,7 +211,7 @@ impl<'g> Device<'g> {
             }
             offset += (tensor.shape().len().max(1) * 4) as u64;
         }
-        gpu.queue.submit([encoder.finish()]);
+        submit(gpu, encoder)?;
         let images = gpu.with_mapped(staging, |bytes| {
             let samples: &[f32] = bytemuck::cast_slice(bytes);
             let mut at = 0;
@@ -261,6 +246,21 @@ impl<'g> Device<'g> {
             }
         }
     }
+}
+
+/// Finishes and submits the frame's recording: what the device refuses in it (a generated
+/// kernel's binding, say) is an error, not wgpu's panic.
+fn submit(gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), PipelineError> {
+    gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(PipelineError::Readback)
+}
+
+/// A pass's timestamps at the pair of queries `writes` names (none when the set is full).
+fn timestamp_writes(writes: &Option<(wgpu::QuerySet, u32)>) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+    writes.as_ref().map(|(queries, at)| wgpu::ComputePassTimestampWrites {
+        query_set: queries,
+        beginning_of_pass_write_index: Some(*at),
+        end_of_pass_write_index: Some(at + 1),
+    })
 }
 
 /// A tensor known to be in host memory (on the CPU device every tensor is).

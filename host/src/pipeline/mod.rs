@@ -148,7 +148,7 @@ pub struct Prepared {
 pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
     let mut behaviors = Behaviors::new();
     let device = gudsl_codegen::device_diagrams(sema);
-    for fqn in plan.stages.iter().flat_map(|s| &s.behavior) {
+    for fqn in plan.stages.iter().flat_map(|s| &s.behavior).map(|call| &call.diagram) {
         if behaviors.contains_key(fqn) {
             continue;
         }
@@ -175,8 +175,11 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
     for (index, stage) in plan.stages.iter().enumerate() {
         let providers = plan.bindings.iter().filter(|b| b.processor.stage == index).count();
         match components::make(stage, providers, model_dir, behaviors) {
-            Ok(component) => made.push(component),
-            Err(mut problems) => errors.append(&mut problems),
+            Ok(component) => made.push(Some(component)),
+            Err(mut problems) => {
+                errors.append(&mut problems);
+                made.push(None);
+            }
         }
     }
     if plan.stages.is_empty() {
@@ -194,10 +197,10 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
             message: format!("`{}` binds nothing: bind the sources' ports to filters and sinks", plan.diagram),
         });
     }
-    if errors.is_empty() {
-        errors.extend(sizes_that_cannot_meet(plan, &made, model_dir));
-    }
-    let frames = made.iter().filter_map(|c| c.frames()).max().unwrap_or(0);
+    // Checked even where another stage cannot run (it passes its sizes on), so the editor
+    // shows a mismatch beside a component only `run` refuses.
+    errors.extend(sizes_that_cannot_meet(plan, &made, model_dir));
+    let frames = made.iter().flatten().filter_map(|c| c.frames()).max().unwrap_or(0);
     if errors.is_empty() && frames == 0 {
         errors.push(PipelineError {
             kind: ErrorKind::NotRunnable,
@@ -216,7 +219,7 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
         Ok(Prepared {
             plan: plan.clone(),
             writers: made.iter().map(|_| None).collect(),
-            components: made.into_iter().map(Some).collect(),
+            components: made,
             is_async_sink,
             frames,
         })
@@ -226,24 +229,43 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
 }
 
 /// Images of sizes that cannot meet (E0405), found by following each source's image size down
-/// the bindings (a filter gives images of the sizes it is given; a buffered binding that closes
-/// a loop carries nothing new).
-fn sizes_that_cannot_meet(plan: &PipelinePlan, made: &[Box<dyn Component>], model_dir: &Path) -> Vec<PipelineError> {
-    let mut gives: Vec<BTreeSet<Size>> = vec![BTreeSet::new(); plan.stages.len()];
-    let mut errors = Vec::new();
-    for (index, (stage, component)) in plan.stages.iter().zip(made).enumerate() {
+/// the bindings until nothing changes (a filter gives images of the sizes it is given; a stage
+/// that could not be made passes them on).
+fn sizes_that_cannot_meet(
+    plan: &PipelinePlan,
+    made: &[Option<Box<dyn Component>>],
+    model_dir: &Path,
+) -> Vec<PipelineError> {
+    let arriving = |gives: &[BTreeSet<Size>], index: usize| {
         let mut sizes = SizesByPort::new();
-        for binding in plan.bindings.iter().filter(|b| b.processor.stage == index && b.provider.stage < index) {
+        for binding in plan.bindings.iter().filter(|b| b.processor.stage == index) {
             sizes.entry(binding.processor.port.clone()).or_default().extend(&gives[binding.provider.stage]);
         }
-        if let Err((param, message)) = component.sizes_meet(&sizes) {
+        sizes
+    };
+    let mut gives: Vec<BTreeSet<Size>> = vec![BTreeSet::new(); plan.stages.len()];
+    // The sets only grow, and a stage gives at most the sizes that exist: this ends.
+    let mut changed = true;
+    while changed {
+        changed = false;
+        for index in 0..plan.stages.len() {
+            let given = match made[index].as_ref().and_then(|c| c.image_size()) {
+                Some(size) => BTreeSet::from([size]),
+                None => arriving(&gives, index).into_values().flatten().collect(),
+            };
+            if given != gives[index] {
+                gives[index] = given;
+                changed = true;
+            }
+        }
+    }
+    let mut errors = Vec::new();
+    for (index, (stage, component)) in plan.stages.iter().zip(made).enumerate() {
+        let Some(component) = component else { continue };
+        if let Err((param, message)) = component.sizes_meet(&arriving(&gives, index)) {
             let params = components::Params { stage, providers: 0, model_dir };
             errors.push(params.error(param.unwrap_or(""), ErrorKind::Mismatch, message));
         }
-        gives[index] = match component.image_size() {
-            Some(size) => BTreeSet::from([size]),
-            None => sizes.into_values().flatten().collect(),
-        };
     }
     errors
 }
@@ -304,9 +326,16 @@ impl Prepared {
         let loading = loading.elapsed();
         let outcome =
             outcome.and_then(|()| self.frames_loop(&mut device, output, frames, &mut stages, observer, cancel));
-        // Nothing goes on writing after a run, even a cancelled or failed one.
-        let joined = (0..stages.len()).try_for_each(|index| self.join(index, output, &mut stages[index]));
-        let outcome = outcome.and(joined).and_then(|()| self.finish(output, &mut stages));
+        // Nothing goes on writing after a run, even a cancelled or failed one: every writer is
+        // joined, and the first problem is the run's.
+        let mut outcome = outcome;
+        for (index, time) in stages.iter_mut().enumerate() {
+            let joined = self.join(index, output, time);
+            if outcome.is_ok() {
+                outcome = joined;
+            }
+        }
+        let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
         PipelineReport {
             diagram: self.plan.diagram.clone(),
             device: gpu.map_or_else(|| "the CPU reference (no GPU adapter)".to_string(), Gpu::describe),
@@ -361,7 +390,7 @@ impl Prepared {
                 times[stage].device += time;
             }
             for (index, time) in times.iter_mut().enumerate() {
-                self.join(index, output, time)?;
+                // Joined before this frame's `process` above.
                 if self.is_async_sink[index] {
                     self.write_apart(index, frame, output, &reads);
                     continue;
@@ -400,9 +429,15 @@ impl Prepared {
     /// `output`, its time in `time`, its failure returned.
     fn join(&mut self, index: usize, output: &mut OutputDir, time: &mut StageTime) -> Result<(), PipelineError> {
         let Some(writer) = self.writers[index].take() else { return Ok(()) };
-        let written = writer
-            .join()
-            .map_err(|_| self.error(Some(index), ErrorKind::Failed, "its writer thread panicked".to_string()))?;
+        let written = writer.join().map_err(|panic| {
+            let why = panic
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| panic.downcast_ref::<&str>().copied())
+                .unwrap_or("no message");
+            // Its component is lost with the thread: this `Prepared` cannot run again.
+            self.error(Some(index), ErrorKind::Failed, format!("its writer thread panicked: {why}"))
+        })?;
         self.components[index] = Some(written.component);
         output.absorb(written.output);
         time.host += written.took;
@@ -413,7 +448,10 @@ impl Prepared {
     fn load(&mut self, times: &mut [StageTime]) -> Result<(), PipelineError> {
         for (index, time) in times.iter_mut().enumerate() {
             let started = Instant::now();
-            let component = self.components[index].as_mut().expect("no writer before the first frame");
+            let Some(component) = self.components[index].as_mut() else {
+                let message = "its component was lost when its writer panicked in an earlier run".to_string();
+                return Err(self.error(Some(index), ErrorKind::Failed, message));
+            };
             component.load().map_err(|message| self.error(Some(index), ErrorKind::Input, message))?;
             time.host += started.elapsed();
         }

@@ -85,16 +85,19 @@ impl Component for AmplitudeCamera {
     }
 }
 
-/// `ToF.ImageViewer`: each image as `<source>_<frame>.png` (RGBA, 8 bits per channel).
+/// `ToF.ImageViewer`: each image as `<source>_<frame>.png` (RGBA, 8 bits per channel), named
+/// `<producer>_<source>_<frame>.png` when several bindings feed it (one source's images may
+/// arrive by two ways).
 pub struct ImageViewer {
     instance: String,
-    /// Reads asked for this frame: (source, read).
+    several: bool,
+    /// Reads asked for this frame: (file name's prefix, read).
     pending: Vec<(String, Later)>,
 }
 
 impl ImageViewer {
     pub fn new(params: &Params) -> ImageViewer {
-        ImageViewer { instance: params.stage.instance.clone(), pending: Vec::new() }
+        ImageViewer { instance: params.stage.instance.clone(), several: params.providers > 1, pending: Vec::new() }
     }
 }
 
@@ -102,14 +105,18 @@ impl Component for ImageViewer {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for item in inputs.port("ImageIn") {
             if let Data::Image(picture) = &item.data {
-                self.pending.push((picture.source.clone(), ctx.device.read_later(&picture.texels)));
+                let prefix = match self.several {
+                    true => format!("{}_{}", item.producer, picture.source),
+                    false => picture.source.clone(),
+                };
+                self.pending.push((prefix, ctx.device.read_later(&picture.texels)));
             }
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (source, later) in std::mem::take(&mut self.pending) {
+        for (prefix, later) in std::mem::take(&mut self.pending) {
             let image = reads.get(later);
             let pixels = image.width * image.height;
             let texels: Vec<u8> = (0..pixels)
@@ -118,7 +125,7 @@ impl Component for ImageViewer {
                 .collect();
             let buffer = image::RgbaImage::from_raw(image.width as u32, image.height as u32, texels)
                 .ok_or("an image of no pixels")?;
-            ctx.output.write(&self.instance, &format!("{source}_{:04}.png", ctx.frame), &png(buffer)?)?;
+            ctx.output.write(&self.instance, &format!("{prefix}_{:04}.png", ctx.frame), &png(buffer)?)?;
         }
         Ok(Vec::new())
     }

@@ -48,6 +48,9 @@ const KINDS: [(&str, &str); 7] = [
     ("ToF.RgbaImage", "Image"),
 ];
 
+/// The kind of a port whose data the library does not know.
+const UNKNOWN: &str = "Unknown";
+
 fn kind_of(data: &Data) -> &'static str {
     match data {
         Data::Raw(_) => "Raw",
@@ -127,19 +130,25 @@ pub fn make(
     }
     let providers = port_kinds(stage, ConnectorRole::Provider);
     let receives = port_kinds(stage, ConnectorRole::Processor);
-    if !stage.behavior.is_empty() {
-        let images_only =
-            stage.ports.iter().flat_map(|p| &p.connectors).all(|c| c.carries.iter().any(|t| t == "ToF.RgbaImage"));
-        if !images_only {
-            return Err(not_runnable(format!(
-                "`{}` runs device diagrams, which run on images (`ToF.RgbaImage`); its ports carry other data",
-                stage.class
-            )));
-        }
+    // The diagrams run on what a sink is given, on what a source or a filter gives.
+    let worked_on = if stage.kind == ClassKind::Sink { &receives } else { &providers };
+    if !stage.behavior.is_empty() && worked_on.iter().any(|(_, kind)| *kind != "Image") {
+        let what = if stage.kind == ClassKind::Sink { "is given" } else { "gives" };
+        return Err(not_runnable(format!(
+            "`{}` runs device diagrams, which run on images (`ToF.RgbaImage`); it {what} other data",
+            stage.class
+        )));
     }
     let mut steps = Vec::new();
     let mut errors = Vec::new();
-    for diagram in &stage.behavior {
+    for call in &stage.behavior {
+        let diagram = &call.diagram;
+        if !call.plain {
+            errors.extend(not_runnable(format!(
+                "`process` calls `{diagram}` with arguments or inside a branch or loop; a component runs the diagrams its `process` calls as statements of their own, `call behavior {diagram};`, in order"
+            )));
+            continue;
+        }
         match behaviors.get(diagram) {
             Some(Ok(kernel)) => match step(params, kernel) {
                 Ok(step) => steps.push(step),
@@ -164,14 +173,16 @@ pub fn make(
     }))
 }
 
-/// The stage's ports with a connector of `role`, and what each carries.
+/// The stage's ports with a connector of `role`, and the kind of data each carries.
 fn port_kinds(stage: &Stage, role: ConnectorRole) -> Vec<(String, &'static str)> {
     stage
         .ports
         .iter()
         .filter_map(|port| {
             let connector = port.connectors.iter().find(|c| c.role == role)?;
-            let kind = KINDS.iter().find(|(ty, _)| connector.carries.iter().any(|t| t == ty))?.1;
+            // What no library type names (a type of the workspace's own) is data no component
+            // of the library makes or takes.
+            let kind = KINDS.iter().find(|(ty, _)| connector.carries.iter().any(|t| t == ty)).map_or(UNKNOWN, |k| k.1);
             Some((port.name.clone(), kind))
         })
         .collect()
@@ -192,11 +203,17 @@ fn step(params: &Params, kernel: &Kernel) -> Result<Step, Vec<PipelineError>> {
     for param in &kernel.params {
         let name = &param.name;
         match &param.binding {
-            Binding::Image { image, written, .. } => {
+            Binding::Image { image, read, written, .. } => {
                 if image.format != "rgba8uint" || image.dimensions != 2 {
                     errors.push(error(
                         ErrorKind::NotRunnable,
                         format!("its image `{name}` is a `{}`; a component's images are `image2D_uc`", param.ty),
+                    ));
+                }
+                if *read && *written {
+                    errors.push(error(
+                        ErrorKind::NotRunnable,
+                        format!("it reads and writes its image `{name}`; a component's diagram reads the image at hand from one image parameter and writes the next into another"),
                     ));
                 }
                 args.push(if *written { StepArg::Written } else { StepArg::Read });
@@ -223,8 +240,13 @@ fn step(params: &Params, kernel: &Kernel) -> Result<Step, Vec<PipelineError>> {
             )),
         }
     }
-    if !args.iter().any(|a| matches!(a, StepArg::Written)) {
-        errors.push(error(ErrorKind::NotRunnable, "it writes no image: nothing would come out of it".into()));
+    match args.iter().filter(|a| matches!(a, StepArg::Written)).count() {
+        0 => errors.push(error(ErrorKind::NotRunnable, "it writes no image: nothing would come out of it".into())),
+        1 => {}
+        n => errors.push(error(
+            ErrorKind::NotRunnable,
+            format!("it writes {n} images; a component's diagram writes one, the image it gives on"),
+        )),
     }
     if errors.is_empty() {
         Ok(Step { kernel: kernel.clone(), launcher: None, args })

@@ -21,7 +21,7 @@ use super::{
 use crate::{
     ast::{self, AstNode, HasEnds, HasName},
     db::{Db, SourceFile, Workspace},
-    syntax::TextRange,
+    syntax::{SyntaxKind, TextRange},
 };
 
 /// A component-instance diagram as a runtime sees it.
@@ -52,7 +52,7 @@ pub struct Stage {
     /// the library's and run as it).
     pub bases: Vec<String>,
     /// The activity diagrams its own `process` method calls (`call behavior X;`), in order.
-    pub behavior: Vec<String>,
+    pub behavior: Vec<BehaviorCall>,
     pub params: Vec<Param>,
     /// The component's ports, as its component diagram declares them.
     pub ports: Vec<StagePort>,
@@ -63,6 +63,16 @@ impl Stage {
     pub fn param(&self, name: &str) -> Option<&Value> {
         self.params.iter().find(|p| p.name == name).map(|p| &p.value)
     }
+}
+
+/// A `call behavior` in a component's `process`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct BehaviorCall {
+    /// The activity diagram's fully qualified name.
+    pub diagram: String,
+    /// Whether it is a statement of its own, without arguments (the diagram takes its
+    /// parameters from the caller), outside any branch or loop: what a runtime can run.
+    pub plain: bool,
 }
 
 /// A port of a stage's component and its connectors.
@@ -254,8 +264,9 @@ fn stage_port(sema: &Semantics, port: &PortItem) -> StagePort {
 }
 
 /// The activity diagrams a class's own `process` method calls by `call behavior`, in order.
-fn behavior(sema: &Semantics, class: &Definition) -> Vec<String> {
+fn behavior(sema: &Semantics, class: &Definition) -> Vec<BehaviorCall> {
     let Some(process) = sema.member_declaration(class, "process") else { return Vec::new() };
+    let method = process.syntax().clone();
     process
         .syntax()
         .descendants()
@@ -263,7 +274,14 @@ fn behavior(sema: &Semantics, class: &Definition) -> Vec<String> {
         .filter_map(|call| {
             let path = call.behavior()?;
             let def = sema.resolve(&Scope::at(call.syntax()), &path.text())?;
-            matches!(def.kind, DefKind::Activity(_)).then(|| def.fqn.clone())
+            let statement = call.syntax().parent().filter(|p| p.kind() == SyntaxKind::EXPR_STMT);
+            let in_body = statement
+                .and_then(|s| s.parent())
+                .filter(|block| block.kind() == SyntaxKind::BLOCK)
+                .and_then(|block| block.parent())
+                .is_some_and(|owner| owner == method);
+            let plain = call.arg_list().is_none() && in_body;
+            matches!(def.kind, DefKind::Activity(_)).then(|| BehaviorCall { diagram: def.fqn.clone(), plain })
         })
         .collect()
 }
