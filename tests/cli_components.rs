@@ -6,13 +6,15 @@
 //! (`runtime/src/listings`) and the viewer's colouring in Rust — byte for byte; and components
 //! that cannot run are refused with a message that says why: a diagram parameter no field
 //! gives (E0405, in `gudsl check` too), a host diagram where a device diagram belongs, a call
-//! inside a branch, a sink that extends no library sink, a run without a GPU.
+//! inside a branch, a sink that extends no library sink, a run without a GPU. A depth filter of
+//! the workspace runs its diagram on the depth image's buffers, equal to the Rust API's.
 
 #[path = "support/cli.rs"]
 mod cli;
 
 use cli::{gudsl, repo, temp_dir};
 use gudsl_runtime::{
+    arrays,
     camera::Intrinsics,
     listings,
     sim::{simulate, Camera, Motion, Scene},
@@ -158,4 +160,132 @@ fn components_that_cannot_run_are_refused_with_the_reason() {
     let (code, text) = run(&["run", &repo(SAMPLE), "--cpu", "--frames", "1", "-o", out]);
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("`MeanFilter1` runs device diagrams") && text.contains("need a GPU adapter"), "{text}");
+}
+
+/// A depth filter of the workspace: its `process` scales the distance by its field `factor` in a
+/// device diagram on the depth image's buffers.
+const DEPTH_FILTER: &str = r#"ClassDiagram DepthComponents
+{
+    import ToF.*;
+
+    public filter Halve implements IDepthImageProcessor, IDepthImageProvider
+    {
+        public float factor = 0.5;
+
+        public bool process(ConstIObjectParametersPtr parameters)
+        {
+            call behavior AdScaleDistance;
+            return true;
+        }
+    }
+
+    ClassDiagram Gpu
+    {
+        import OpenCL.GPU.*;
+
+        public class DepthKernels implements OpenCL
+        {
+            public void scale(global ref float distance, global ref float scaled, float factor);
+        }
+    }
+}
+
+ComponentDiagram DepthComponentDiagram
+{
+    filter DepthComponents.Halve
+    {
+        port DepthIn ( processor depth : ToF.IDepthImageProcessor );
+        port DepthOut ( provider depth : ToF.IDepthImageProvider );
+    }
+}
+
+ActivityDiagram AdScaleDistance(global ref float distance, global ref float scaled, float factor)
+{
+    import OpenCL.GPU.*;
+
+    swimlane P1, owner DepthComponents.Gpu.DepthKernels
+    {
+        start S1 { => scale; }
+
+        action scale
+        {
+            var int i = get_global_id(1) * get_global_size(0) + get_global_id(0);
+            scaled[i] = distance[i] * factor;
+            => f;
+        }
+
+        final f;
+    }
+}
+
+ComponentInstanceDiagram DepthScale
+{
+    import ToF.*;
+
+    Camera instantiates SimulatedCamera (frames = 1)
+    {
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Demod.In.frame ]
+    }
+
+    Demod instantiates Demodulation ( )
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Half.In.depth ]
+    }
+
+    Half instantiates DepthComponents.Halve ( )
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Depth.In.depth ]
+    }
+
+    Depth instantiates NpyWriter (amplitude = false)
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+}
+"#;
+
+#[test]
+fn a_filter_of_your_own_runs_its_diagram_on_depth_images() {
+    if !gpu() {
+        return;
+    }
+    let dir = temp_dir("depth");
+    std::fs::write(dir.join("depth.gudsl"), DEPTH_FILTER).unwrap();
+    let out = dir.join("out");
+    let file = dir.join("depth.gudsl");
+    let (code, text) = run(&["run", file.to_str().unwrap(), "--diagram", "DepthScale", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("Half ") && l.contains("DepthComponents.Halve")), "{text}");
+
+    // The same on the Rust API: the demodulated distance, halved in f32.
+    let gpu = Gpu::for_tests().expect("an adapter");
+    let frame = simulate(&Scene::sphere(), Motion::Still, &Camera::default(), 0);
+    let mut p = Pipeline::new();
+    let raw = p.source("raw", Shape { width: 200, height: 200, planes: 8 });
+    let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[3];
+    p.sink(distance).unwrap();
+    let distance = GpuPipeline::new(&gpu, &p).run(&[frame.raw]).unwrap().remove(0);
+    let written = arrays::read(&out.join("Depth/distance_0000.npy")).unwrap();
+    assert_eq!(written.shape, [200, 200]);
+    let differ = written.values.iter().zip(&distance.data).filter(|(w, d)| w.to_bits() != (*d * 0.5).to_bits()).count();
+    assert_eq!(differ, 0, "{differ} distances differ from the Rust API's halved ones");
+    assert!(distance.data.iter().any(|d| *d > 1.0), "a scene in view");
+
+    // A diagram that reads a buffer no plane is named after is refused with the planes' names.
+    let bad = DEPTH_FILTER
+        .replace("global ref float distance,", "global ref float depth,")
+        .replace("distance[i]", "depth[i]");
+    std::fs::write(dir.join("bad.gudsl"), bad).unwrap();
+    let file = dir.join("bad.gudsl");
+    let (code, text) = run(&["run", file.to_str().unwrap(), "--diagram", "DepthScale", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(
+        text.contains("it reads a buffer `depth`; a depth image's planes are distance, amplitude, intensity"),
+        "{text}"
+    );
 }

@@ -147,6 +147,9 @@ pub struct Prepared {
 /// (generated once, here, where the model is: a run needs no database).
 pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
     let mut behaviors = Behaviors::new();
+    if plan.stages.iter().all(|s| s.behavior.is_empty()) {
+        return behaviors; // the editor asks at every change: no scan of the workspace for none
+    }
     let device = gudsl_codegen::device_diagrams(sema);
     for fqn in plan.stages.iter().flat_map(|s| &s.behavior).map(|call| &call.diagram) {
         if behaviors.contains_key(fqn) {

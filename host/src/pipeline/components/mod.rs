@@ -12,6 +12,7 @@ mod images;
 mod raw;
 mod sinks;
 mod sources;
+mod texels;
 mod workspace;
 
 pub use workspace::Behaviors;

@@ -9,7 +9,10 @@
 //! one, and a value parameter is the component's field of that name. Each diagram runs over the
 //! image's pixels (a 2D global size of width × height), recorded into the frame's encoder
 //! between the runtime's kernels; images cross into the generated code as `image2D_uc`
-//! textures and back into the pipeline's planes.
+//! textures and back into the pipeline's planes (`texels.rs`). On depth images (`ToF.DepthImage`)
+//! a diagram's `global ref float` buffers named `distance`, `amplitude` and `intensity` are the
+//! image's planes (the distance the diagram before wrote), and the one it writes is the next
+//! distance.
 
 use std::collections::HashMap;
 
@@ -19,15 +22,16 @@ use gudsl_model::{
     hir::{
         items::ConnectorRole,
         pipeline::{Stage, Value},
+        Ty,
     },
 };
-use gudsl_runtime::{BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Gpu, Program, Resource, Shape, TexelFormat};
+use gudsl_runtime::{DeviceBuffer, DeviceImage, Gpu, Shape, TexelFormat};
 
-use super::{slots, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
+use super::{slots, texels::Conversions, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
 use crate::{
     launch::{Arg, Launcher, Number, WorkRange},
     pipeline::{
-        data::{Data, Item, Picture, Tensor},
+        data::{Data, DepthImage, Item, Picture, Tensor},
         device::Reads,
         ErrorKind, OutputDir, PipelineError,
     },
@@ -91,13 +95,21 @@ enum StepArg {
     Read,
     /// The image it writes.
     Written,
+    /// A plane of the depth image at hand (0 distance, 1 amplitude, 2 intensity; the distance
+    /// the previous diagram wrote).
+    Plane(usize),
 }
+
+/// The depth image's planes a diagram reads by name, in `StepArg::Plane`'s order.
+const PLANES: [&str; 3] = ["distance", "amplitude", "intensity"];
 
 #[derive(Default)]
 struct ItemSlot {
     input: Option<DeviceImage>,
     outputs: Vec<DeviceImage>,
     planes: Option<(wgpu::Buffer, Shape)>,
+    /// The distance each diagram writes, for depth images.
+    distances: Vec<(wgpu::Buffer, Shape)>,
 }
 
 /// A workspace component of `base` (the library component it extends, made from the same
@@ -132,10 +144,11 @@ pub fn make(
     let receives = port_kinds(stage, ConnectorRole::Processor);
     // The diagrams run on what a sink is given, on what a source or a filter gives.
     let worked_on = if stage.kind == ClassKind::Sink { &receives } else { &providers };
-    if !stage.behavior.is_empty() && worked_on.iter().any(|(_, kind)| *kind != "Image") {
+    let on = worked_on.first().map_or("Image", |(_, kind)| *kind);
+    if !stage.behavior.is_empty() && (!["Image", "Depth"].contains(&on) || worked_on.iter().any(|(_, k)| *k != on)) {
         let what = if stage.kind == ClassKind::Sink { "is given" } else { "gives" };
         return Err(not_runnable(format!(
-            "`{}` runs device diagrams, which run on images (`ToF.RgbaImage`); it {what} other data",
+            "`{}` runs device diagrams, which run on images (`ToF.RgbaImage`) or depth images (`ToF.DepthImage`); it {what} other data",
             stage.class
         )));
     }
@@ -150,7 +163,7 @@ pub fn make(
             continue;
         }
         match behaviors.get(diagram) {
-            Some(Ok(kernel)) => match step(params, kernel) {
+            Some(Ok(kernel)) => match step(params, kernel, on == "Depth") {
                 Ok(step) => steps.push(step),
                 Err(mut problems) => errors.append(&mut problems),
             },
@@ -188,8 +201,10 @@ fn port_kinds(stage: &Stage, role: ConnectorRole) -> Vec<(String, &'static str)>
         .collect()
 }
 
-/// A diagram's kernel with its arguments taken from the component, or what does not fit.
-fn step(params: &Params, kernel: &Kernel) -> Result<Step, Vec<PipelineError>> {
+/// A diagram's kernel with its arguments taken from the component, or what does not fit: on
+/// images (`image2D_uc` read and written) or, `on_depth`, on depth images (`global ref float`
+/// buffers: `distance`, `amplitude`, `intensity` read, one written — the next distance).
+fn step(params: &Params, kernel: &Kernel, on_depth: bool) -> Result<Step, Vec<PipelineError>> {
     let stage = params.stage;
     let diagram = kernel.diagram.rsplit('.').next().unwrap_or(&kernel.diagram);
     let error = |kind, message: String| PipelineError {
@@ -203,6 +218,25 @@ fn step(params: &Params, kernel: &Kernel) -> Result<Step, Vec<PipelineError>> {
     for param in &kernel.params {
         let name = &param.name;
         match &param.binding {
+            Binding::Image { .. } if on_depth => errors.push(error(
+                ErrorKind::NotRunnable,
+                format!("its image `{name}` is no plane of a depth image; it works on `global ref float` buffers named {} and one it writes", PLANES.join(", ")),
+            )),
+            Binding::Storage { writable, .. } if on_depth => {
+                let plane = PLANES.iter().position(|p| p == name);
+                match (writable, plane) {
+                    _ if *param.ty.dereferenced() != Ty::Float => errors.push(error(
+                        ErrorKind::NotRunnable,
+                        format!("its buffer `{name}` is a `{}`; a depth image's planes are `global ref float`", param.ty),
+                    )),
+                    (true, _) => args.push(StepArg::Written),
+                    (false, Some(plane)) => args.push(StepArg::Plane(plane)),
+                    (false, None) => errors.push(error(
+                        ErrorKind::NotRunnable,
+                        format!("it reads a buffer `{name}`; a depth image's planes are {}", PLANES.join(", ")),
+                    )),
+                }
+            }
             Binding::Image { image, read, written, .. } => {
                 if image.format != "rgba8uint" || image.dimensions != 2 {
                     errors.push(error(
@@ -236,16 +270,16 @@ fn step(params: &Params, kernel: &Kernel) -> Result<Step, Vec<PipelineError>> {
             },
             Binding::Storage { .. } | Binding::Workgroup { .. } => errors.push(error(
                 ErrorKind::NotRunnable,
-                format!("its parameter `{name}` (`{}`) is memory a component cannot give; only images and values", param.ty),
+                format!("its parameter `{name}` (`{}`) is memory a component cannot give; only images and values (buffers on depth images)", param.ty),
             )),
         }
     }
     match args.iter().filter(|a| matches!(a, StepArg::Written)).count() {
-        0 => errors.push(error(ErrorKind::NotRunnable, "it writes no image: nothing would come out of it".into())),
+        0 => errors.push(error(ErrorKind::NotRunnable, "it writes nothing: nothing would come out of it".into())),
         1 => {}
         n => errors.push(error(
             ErrorKind::NotRunnable,
-            format!("it writes {n} images; a component's diagram writes one, the image it gives on"),
+            format!("it writes {n} images or buffers; a component's diagram writes one, what it gives on"),
         )),
     }
     if errors.is_empty() {
@@ -338,8 +372,7 @@ impl WorkspaceComponent {
 
     /// `data` through `process`'s diagrams, in order (the `k`-th item of the frame).
     fn through_diagrams(&mut self, ctx: &mut Ctx, k: usize, data: &Data) -> Result<Data, String> {
-        let Data::Image(picture) = data else { return Ok(data.clone()) };
-        if self.steps.is_empty() {
+        if self.steps.is_empty() || !matches!(data, Data::Image(_) | Data::Depth(_)) {
             return Ok(data.clone());
         }
         let Some(gpu) = ctx.device.gpu() else {
@@ -350,6 +383,71 @@ impl WorkspaceComponent {
                 names.join(", ")
             ));
         };
+        for step in &mut self.steps {
+            if step.launcher.is_none() {
+                step.launcher = Some(Launcher::new(gpu, &step.kernel).map_err(|e| e.to_string())?);
+            }
+        }
+        match data {
+            Data::Depth(depth) => self.through_depth_diagrams(ctx, gpu, k, depth),
+            Data::Image(picture) => self.through_image_diagrams(ctx, gpu, k, picture),
+            _ => unreachable!("checked above"),
+        }
+    }
+
+    /// A depth image through the diagrams: each reads the planes it names, the distance the one
+    /// before wrote, and writes the next distance.
+    fn through_depth_diagrams(
+        &mut self,
+        ctx: &mut Ctx,
+        gpu: &Gpu,
+        k: usize,
+        depth: &DepthImage,
+    ) -> Result<Data, String> {
+        let shape = depth.distance.shape();
+        let slot = slots(&mut self.slots, k);
+        if slot.distances.first().is_some_and(|(_, s)| *s != shape) {
+            slot.distances.clear();
+        }
+        while slot.distances.len() < self.steps.len() {
+            slot.distances.push((gpu.storage("component distance", shape.len()), shape));
+        }
+        let buffer = |tensor: &Tensor| match tensor {
+            Tensor::Gpu { buffer, .. } => Ok(DeviceBuffer::wrap(buffer)),
+            Tensor::Cpu(_) => Err("a depth image in host memory on a GPU run".to_string()),
+        };
+        let mut planes = [buffer(&depth.distance)?, buffer(&depth.amplitude)?, buffer(&depth.intensity)?];
+        for (step, (written, _)) in self.steps.iter().zip(&slot.distances) {
+            let written = DeviceBuffer::wrap(written);
+            let args: Vec<Arg> = step
+                .args
+                .iter()
+                .map(|arg| match arg {
+                    StepArg::Value(number) => Arg::Number(*number),
+                    StepArg::Plane(plane) => Arg::Buffer(&planes[*plane]),
+                    StepArg::Written | StepArg::Read => Arg::Buffer(&written),
+                })
+                .collect();
+            let launcher = step.launcher.as_ref().expect("compiled before");
+            let range = WorkRange::planar(shape.width as u32, shape.height as u32, None);
+            ctx.device
+                .record(ctx.stage, |gpu, encoder, timestamps| launcher.record(gpu, encoder, &args, &range, timestamps))
+                .expect("a GPU run")
+                .map_err(|e| e.to_string())?;
+            planes[0] = written;
+        }
+        let (distance, _) = slot.distances.last().expect("one a diagram");
+        Ok(Data::Depth(DepthImage { distance: Tensor::Gpu { buffer: distance.clone(), shape }, ..depth.clone() }))
+    }
+
+    /// An RGBA image through the diagrams, as a texture between its planes.
+    fn through_image_diagrams(
+        &mut self,
+        ctx: &mut Ctx,
+        gpu: &Gpu,
+        k: usize,
+        picture: &Picture,
+    ) -> Result<Data, String> {
         let shape = picture.texels.shape();
         let Tensor::Gpu { buffer, .. } = &picture.texels else {
             return Err("an image in host memory on a GPU run".into());
@@ -359,11 +457,6 @@ impl WorkspaceComponent {
             Some(c) => c,
             None => self.conversions.insert(Conversions::new(gpu).map_err(|e| e.to_string())?),
         };
-        for step in &mut self.steps {
-            if step.launcher.is_none() {
-                step.launcher = Some(Launcher::new(gpu, &step.kernel).map_err(|e| e.to_string())?);
-            }
-        }
         let slot = slots(&mut self.slots, k);
         let image = |gpu: &Gpu| DeviceImage::new(gpu, "component image", TexelFormat::Rgba8Uint, 2, size);
         if slot.input.as_ref().is_none_or(|i| i.size() != size) {
@@ -385,11 +478,11 @@ impl WorkspaceComponent {
                 .iter()
                 .map(|arg| match arg {
                     StepArg::Value(number) => Arg::Number(*number),
-                    StepArg::Read => Arg::Image(current),
+                    StepArg::Read | StepArg::Plane(_) => Arg::Image(current),
                     StepArg::Written => Arg::Image(output),
                 })
                 .collect();
-            let launcher = step.launcher.as_ref().expect("compiled above");
+            let launcher = step.launcher.as_ref().expect("compiled before");
             let range = WorkRange::planar(size[0], size[1], None);
             ctx.device
                 .record(ctx.stage, |gpu, encoder, timestamps| launcher.record(gpu, encoder, &args, &range, timestamps))
@@ -403,106 +496,5 @@ impl WorkspaceComponent {
             texels: Tensor::Gpu { buffer: planes.clone(), shape },
             source: picture.source.clone(),
         }))
-    }
-}
-
-/// The two programs that move an image between the pipeline's planes (4 planes of f32, R G B A)
-/// and an `rgba8uint` texture.
-struct Conversions {
-    pack: Program,
-    unpack: Program,
-}
-
-const PACK: &str = "
-struct Size { width: u32, height: u32, _a: u32, _b: u32 }
-@group(0) @binding(0) var<uniform> size: Size;
-@group(0) @binding(1) var<storage, read> planes: array<f32>;
-@group(0) @binding(2) var image: texture_storage_2d<rgba8uint, write>;
-
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= size.width || id.y >= size.height { return; }
-    let n = size.width * size.height;
-    let i = id.y * size.width + id.x;
-    let texel = vec4<f32>(planes[i], planes[n + i], planes[2u * n + i], planes[3u * n + i]);
-    textureStore(image, vec2<i32>(id.xy), vec4<u32>(clamp(texel, vec4<f32>(0.0), vec4<f32>(255.0))));
-}
-";
-
-const UNPACK: &str = "
-struct Size { width: u32, height: u32, _a: u32, _b: u32 }
-@group(0) @binding(0) var<uniform> size: Size;
-@group(0) @binding(1) var image: texture_2d<u32>;
-@group(0) @binding(2) var<storage, read_write> planes: array<f32>;
-
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= size.width || id.y >= size.height { return; }
-    let n = size.width * size.height;
-    let i = id.y * size.width + id.x;
-    let texel = vec4<f32>(textureLoad(image, vec2<i32>(id.xy), 0));
-    planes[i] = texel.x;
-    planes[n + i] = texel.y;
-    planes[2u * n + i] = texel.z;
-    planes[3u * n + i] = texel.w;
-}
-";
-
-impl Conversions {
-    fn new(gpu: &Gpu) -> Result<Conversions, gudsl_runtime::ProgramError> {
-        let format = TexelFormat::Rgba8Uint;
-        let uniform = BindingSpec { binding: 0, kind: BindingKind::Uniform };
-        let pack = Program::new(
-            gpu,
-            "planes to image",
-            PACK,
-            "main",
-            &[
-                uniform,
-                BindingSpec { binding: 1, kind: BindingKind::Storage { writable: false } },
-                BindingSpec { binding: 2, kind: BindingKind::StorageTexture { format, dimensions: 2, read: false } },
-            ],
-        )?;
-        let unpack = Program::new(
-            gpu,
-            "image to planes",
-            UNPACK,
-            "main",
-            &[
-                uniform,
-                BindingSpec { binding: 1, kind: BindingKind::Texture { format, dimensions: 2 } },
-                BindingSpec { binding: 2, kind: BindingKind::Storage { writable: true } },
-            ],
-        )?;
-        Ok(Conversions { pack, unpack })
-    }
-
-    fn pack(&self, ctx: &mut Ctx, gpu: &Gpu, planes: &wgpu::Buffer, image: &DeviceImage) -> Result<(), String> {
-        let planes = DeviceBuffer::wrap(planes);
-        Self::record(ctx, gpu, &self.pack, image.size(), Resource::Buffer(&planes), Resource::Image(image))
-    }
-
-    fn unpack(&self, ctx: &mut Ctx, gpu: &Gpu, image: &DeviceImage, planes: &wgpu::Buffer) -> Result<(), String> {
-        let planes = DeviceBuffer::wrap(planes);
-        Self::record(ctx, gpu, &self.unpack, image.size(), Resource::Image(image), Resource::Buffer(&planes))
-    }
-
-    fn record(
-        ctx: &mut Ctx,
-        gpu: &Gpu,
-        program: &Program,
-        [width, height, _]: [u32; 3],
-        from: Resource,
-        to: Resource,
-    ) -> Result<(), String> {
-        let size: Vec<u8> = [width, height, 0, 0].iter().flat_map(|n| n.to_le_bytes()).collect();
-        let resources = [(0, Resource::Uniform(&size)), (1, from), (2, to)];
-        let workgroups = [width.div_ceil(8), height.div_ceil(8), 1];
-        ctx.device
-            .record(ctx.stage, |_, encoder, timestamps| {
-                program.record(gpu, encoder, &[], &resources, workgroups, timestamps)
-            })
-            .expect("a GPU run")
-            .map_err(|e| e.to_string())
     }
 }
