@@ -154,21 +154,10 @@ fn scan_model(width: usize, height: usize) -> String {
 /// Frames 1–5 of chapter 6's scan on the API (the chains built and frame 0 run before), the PLY
 /// written at the end.
 fn rust_scan(gpu: &Gpu, width: usize, height: usize, out: &Path) -> Duration {
-    let mut cameras: Vec<scan::ScanCamera> =
-        scan::CAMERAS.iter().map(|&c| scan::ScanCamera::new(gpu, c, width, height)).collect();
-    for camera in &mut cameras {
-        assert!(camera.frame(0).is_none(), "frame 0 is learnt");
-    }
+    let mut cameras = scan::cameras(gpu, width, height);
+    assert_eq!(scan::accumulate(&mut cameras, 0..1).0.len(), 0, "frame 0 is learnt");
     let started = Instant::now();
-    let (mut points, mut normals) = (Vec::new(), Vec::new());
-    for frame in 1..6 {
-        for camera in &mut cameras {
-            if let Some((p, n)) = camera.frame(frame) {
-                points.extend(p);
-                normals.extend(n);
-            }
-        }
-    }
+    let (points, normals) = scan::accumulate(&mut cameras, 1..6);
     std::fs::create_dir_all(out).unwrap();
     let mut file = std::io::BufWriter::new(std::fs::File::create(out.join("cloud.ply")).unwrap());
     gudsl_runtime::ply::write(&mut file, &points, &normals, "gudsl").unwrap();

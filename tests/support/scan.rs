@@ -191,12 +191,16 @@ fn reduce(settings: &IcpSettings, intrinsics: Intrinsics, pose: &Pose) -> Kernel
     }
 }
 
-/// The scan's accumulated cloud after `frames` frames of `width × height` cameras.
-pub fn scan(gpu: &Gpu, width: usize, height: usize, frames: usize) -> Points {
-    let mut cameras: Vec<ScanCamera> = CAMERAS.iter().map(|&c| ScanCamera::new(gpu, c, width, height)).collect();
+/// The scan's three cameras at `width × height`.
+pub fn cameras(gpu: &Gpu, width: usize, height: usize) -> Vec<ScanCamera<'_>> {
+    CAMERAS.iter().map(|&c| ScanCamera::new(gpu, c, width, height)).collect()
+}
+
+/// The valid points the cameras give over `frames`, camera after camera each frame.
+pub fn accumulate(cameras: &mut [ScanCamera], frames: std::ops::Range<usize>) -> Points {
     let (mut points, mut normals) = (Vec::new(), Vec::new());
-    for frame in 0..frames {
-        for camera in &mut cameras {
+    for frame in frames {
+        for camera in cameras.iter_mut() {
             if let Some((p, n)) = camera.frame(frame) {
                 points.extend(p);
                 normals.extend(n);
@@ -204,4 +208,9 @@ pub fn scan(gpu: &Gpu, width: usize, height: usize, frames: usize) -> Points {
         }
     }
     (points, normals)
+}
+
+/// The scan's accumulated cloud after `frames` frames of `width × height` cameras.
+pub fn scan(gpu: &Gpu, width: usize, height: usize, frames: usize) -> Points {
+    accumulate(&mut cameras(gpu, width, height), 0..frames)
 }

@@ -94,9 +94,7 @@ impl<'g> Device<'g> {
         let bound = slot.0.as_mut().expect("bound above");
         bound.set_kernel(gpu, kernel)?;
         bound.reset_scratch(gpu);
-        let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
-        let writes = self.timing.as_mut().and_then(|t| t.next(stage));
-        bound.encode(encoder, timestamp_writes(&writes));
+        self.record(stage, |_, encoder, timestamps| bound.encode(encoder, timestamps));
         Ok(bound
             .outputs()
             .iter()

@@ -51,7 +51,11 @@ impl AmplitudeCamera {
     pub fn new(params: &Params) -> AmplitudeCamera {
         AmplitudeCamera {
             instance: params.stage.instance.clone(),
-            camera: Simulated::new(params, false),
+            camera: {
+                let mut camera = Simulated::new(params, false);
+                camera.gives_black = false;
+                camera
+            },
             demodulation: Demodulation::new(params),
             grey: AmplitudeImage::new(params),
         }

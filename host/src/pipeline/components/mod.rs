@@ -150,12 +150,8 @@ pub fn make(
     }
     let base = stage.bases.iter().find_map(|base| library(base, &params)).transpose()?;
     if stage.class.starts_with("ToF.") && base.is_none() {
-        return Err(vec![PipelineError {
-            kind: ErrorKind::NotRunnable,
-            stage: Some(stage.instance.clone()),
-            range: Some(stage.range),
-            message: "this component of the ToF library cannot run yet".to_string(),
-        }]);
+        let message = "this component of the ToF library cannot run yet".to_string();
+        return Err(vec![params.stage_error(ErrorKind::NotRunnable, message)]);
     }
     workspace::make(&params, base, behaviors)
 }
@@ -251,6 +247,11 @@ impl Params<'_> {
     pub fn error(&self, name: &str, kind: ErrorKind, message: String) -> PipelineError {
         let range =
             self.stage.params.iter().find(|p| p.name == name).and_then(|p| p.written).unwrap_or(self.stage.range);
-        PipelineError { kind, stage: Some(self.stage.instance.clone()), range: Some(range), message }
+        PipelineError { range: Some(range), ..self.stage_error(kind, message) }
+    }
+
+    /// An error about the stage as a whole, at the instance's name.
+    pub fn stage_error(&self, kind: ErrorKind, message: String) -> PipelineError {
+        PipelineError { kind, stage: Some(self.stage.instance.clone()), range: Some(self.stage.range), message }
     }
 }

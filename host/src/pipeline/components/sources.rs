@@ -33,6 +33,8 @@ pub struct Simulated {
     controlled: bool,
     raw: BufferSlot,
     black: BufferSlot,
+    /// Whether its frames carry the black image (a grey-value camera demodulates without it).
+    pub gives_black: bool,
 }
 
 impl Simulated {
@@ -82,6 +84,7 @@ impl Simulated {
             controlled,
             raw: BufferSlot::default(),
             black: BufferSlot::default(),
+            gives_black: true,
         }
     }
 }
@@ -107,12 +110,12 @@ impl Component for Simulated {
         let scene = if ctx.frame < self.empty_frames { &self.empty } else { &self.scene };
         let frame = simulate(scene, self.motion, &self.camera, ctx.frame);
         let raw = ctx.device.upload(&mut self.raw, &frame.raw);
-        let black = ctx.device.upload(&mut self.black, &frame.black);
+        let black = self.gives_black.then(|| ctx.device.upload(&mut self.black, &frame.black));
         Ok(vec![(
             "RawOut".to_string(),
             Data::Raw(RawFrame {
                 raw,
-                black: Some(black),
+                black,
                 truth: Some(Arc::new(frame.truth)),
                 integration_us: self.camera.integration_us,
             }),

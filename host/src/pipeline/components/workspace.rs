@@ -52,6 +52,11 @@ const KINDS: [(&str, &str); 7] = [
     ("ToF.RgbaImage", "Image"),
 ];
 
+/// The port a library component reads data of `kind` on (`DepthIn`).
+fn input_port(kind: &str) -> String {
+    format!("{kind}In")
+}
+
 /// The kind of a port whose data the library does not know.
 const UNKNOWN: &str = "Unknown";
 
@@ -120,14 +125,7 @@ pub fn make(
     behaviors: &Behaviors,
 ) -> Result<Box<dyn Component>, Vec<PipelineError>> {
     let stage = params.stage;
-    let not_runnable = |message: String| {
-        vec![PipelineError {
-            kind: ErrorKind::NotRunnable,
-            stage: Some(stage.instance.clone()),
-            range: Some(stage.range),
-            message,
-        }]
-    };
+    let not_runnable = |message: String| vec![params.stage_error(ErrorKind::NotRunnable, message)];
     if base.is_none() && stage.behavior.is_empty() {
         return Err(not_runnable(format!(
             "`{}` is not a component of the ToF library, extends none and its `process` calls no device diagram: nothing to run",
@@ -207,12 +205,8 @@ fn port_kinds(stage: &Stage, role: ConnectorRole) -> Vec<(String, &'static str)>
 fn step(params: &Params, kernel: &Kernel, on_depth: bool) -> Result<Step, Vec<PipelineError>> {
     let stage = params.stage;
     let diagram = kernel.diagram.rsplit('.').next().unwrap_or(&kernel.diagram);
-    let error = |kind, message: String| PipelineError {
-        kind,
-        stage: Some(stage.instance.clone()),
-        range: Some(stage.range),
-        message: format!("`{diagram}` (called by `process`): {message}"),
-    };
+    let error =
+        |kind, message: String| params.stage_error(kind, format!("`{diagram}` (called by `process`): {message}"));
     let mut args = Vec::new();
     let mut errors = Vec::new();
     for param in &kernel.params {
@@ -315,7 +309,7 @@ impl Component for WorkspaceComponent {
         let mut renamed = SizesByPort::new();
         for (port, set) in sizes {
             let kind = self.receives.iter().find(|(p, _)| p == port).map_or("Image", |(_, kind)| *kind);
-            renamed.entry(format!("{kind}In")).or_default().extend(set);
+            renamed.entry(input_port(kind)).or_default().extend(set);
         }
         base.sizes_meet(&renamed)
     }
@@ -330,7 +324,7 @@ impl Component for WorkspaceComponent {
             let mut given = Inputs::default();
             for (k, item) in items.into_iter().enumerate() {
                 let data = self.through_diagrams(ctx, k, &item.data)?;
-                given.push(&format!("{}In", kind_of(&data)), Item { data, ..item.clone() });
+                given.push(&input_port(kind_of(&data)), Item { data, ..item.clone() });
             }
             return self.base.as_mut().expect("a sink has a base").process(ctx, &given);
         }
@@ -338,7 +332,7 @@ impl Component for WorkspaceComponent {
             Some(base) => {
                 let mut given = Inputs::default();
                 for item in items {
-                    given.push(&format!("{}In", kind_of(&item.data)), item.clone());
+                    given.push(&input_port(kind_of(&item.data)), item.clone());
                 }
                 base.process(ctx, &given)?.into_iter().map(|(_, data)| data).collect()
             }
