@@ -289,3 +289,39 @@ fn a_filter_of_your_own_runs_its_diagram_on_depth_images() {
         "{text}"
     );
 }
+
+#[test]
+fn an_async_filter_runs_on_a_thread_of_its_own_and_gives_what_it_would_in_order() {
+    if !gpu() {
+        return; // its diagram is WGSL
+    }
+    let dir = temp_dir("async-filter");
+    let args = ["--frames", "2"];
+    let ran = |file: &str, out: &std::path::Path| {
+        let (code, text) = run(&[&["run", file, "-o", out.to_str().unwrap()], args.as_slice()].concat());
+        assert_eq!(code, Some(0), "{text}");
+        text
+    };
+    let in_order = ran(&repo(SAMPLE), &dir.join("in-order"));
+    // Sec. 11.3.3: the filter's processor port `async` (the caller goes on at once).
+    let port = "        port MeanImageProcessorPort";
+    let file = edited(&dir, "async", &[(port, "        async port MeanImageProcessorPort")]);
+    let apart = ran(&file, &dir.join("apart"));
+    let mean_filter = |text: &str| text.lines().find(|l| l.starts_with("MeanFilter1 ")).unwrap_or_default().to_string();
+    assert!(mean_filter(&apart).contains("ComponentExampleClasses.MeanFilter (async)"), "{apart}");
+    assert!(!mean_filter(&in_order).contains("(async)"), "{in_order}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("apart/report.json")).unwrap()).unwrap();
+    let stage =
+        |name: &str| report["stages"].as_array().unwrap().iter().find(|s| s["instance"] == name).unwrap().clone();
+    assert_eq!((stage("MeanFilter1")["async"].clone(), stage("Camera1")["async"].clone()), (true.into(), false.into()));
+    // Its diagram ran on its own device and thread: the pictures are the same, byte for byte.
+    for frame in 0..2 {
+        for camera in ["Camera1", "Camera2"] {
+            let name = format!("Viewer1/{camera}_{frame:04}.png");
+            let (a, b) =
+                (std::fs::read(dir.join("in-order").join(&name)), std::fs::read(dir.join("apart").join(&name)));
+            assert!(a.unwrap() == b.unwrap(), "{name} differs");
+        }
+    }
+}

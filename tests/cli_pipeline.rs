@@ -189,18 +189,26 @@ fn demodulated(gpu: &Gpu, frames: &[gudsl_runtime::Image]) -> Vec<Vec<f32>> {
     frames.iter().map(|frame| pipeline.run(std::slice::from_ref(frame)).unwrap().remove(0).data).collect()
 }
 
-#[test]
-fn recorded_raw_frames_and_depth_images_run_from_files() {
-    let dir = temp_dir("pipeline-files");
-    // Three simulated frames recorded as channel files of shape (3, 4, H, W).
+/// `count` frames of a still simulated camera, recorded in `dir` as channel files `a.npy` and
+/// `b.npy` of shape (count, 4, H, W).
+fn record_still_frames(dir: &Path, count: usize) -> Vec<gudsl_runtime::Image> {
     let camera = Camera::default();
-    let frames: Vec<_> = (0..3).map(|f| simulate(&Scene::sphere(), Motion::Still, &camera, f).raw).collect();
+    let frames: Vec<_> = (0..count).map(|f| simulate(&Scene::sphere(), Motion::Still, &camera, f).raw).collect();
     let (w, h) = (frames[0].width, frames[0].height);
     for (name, first) in [("a.npy", 0), ("b.npy", 1)] {
         let data: Vec<f32> =
             frames.iter().flat_map(|f| (0..4).flat_map(move |p| f.plane(2 * p + first).to_vec())).collect();
-        arrays::write(&dir.join(name), &[3, 4, h, w], &data, arrays::Dtype::U16).unwrap();
+        arrays::write(&dir.join(name), &[count, 4, h, w], &data, arrays::Dtype::U16).unwrap();
     }
+    frames
+}
+
+#[test]
+fn recorded_raw_frames_and_depth_images_run_from_files() {
+    let dir = temp_dir("pipeline-files");
+    // Three simulated frames recorded as channel files of shape (3, 4, H, W).
+    let frames = record_still_frames(&dir, 3);
+    let (w, h) = (frames[0].width, frames[0].height);
     // A depth image in millimetres as a 16-bit PNG.
     let millimetres: Vec<u16> = (0..w * h).map(|i| 500 + (i % 3000) as u16).collect();
     image::ImageBuffer::<image::Luma<u16>, _>::from_raw(w as u32, h as u32, millimetres.clone())
@@ -360,4 +368,129 @@ fn the_chapter_6_scan_accumulates_the_object_from_three_cameras() {
         assert!(points == expected_points, "the points equal the Rust API's bit for bit");
         assert!(normals == expected_normals, "the normals equal the Rust API's bit for bit");
     }
+}
+
+/// Chapter 6's sample with its three registrations bound through an `async` port of the user's
+/// own component diagram (a library filter on a port of another name).
+fn scan_with_async_registration(dir: &Path) -> String {
+    let mut text = std::fs::read_to_string(repo("samples/pipelines/ch6_object_scan.gudsl")).unwrap();
+    for side in ["Left", "Centre", "Right"] {
+        let port = format!("    {side}Icp instantiates IcpRegistration ( )\n    {{\n        In : CloudIn (");
+        assert!(text.contains(&port), "{side}");
+        text = text.replace(&port, &port.replace("CloudIn", "AsyncCloudIn"));
+    }
+    text += "
+ComponentDiagram AsyncRegistration
+{
+    filter ToF.IcpRegistration
+    {
+        async port AsyncCloudIn ( processor cloud : ToF.IPointCloudProcessor );
+        port PoseOut ( provider pose : ToF.IPoseProvider );
+    }
+
+    filter ToF.PointCloudConversion
+    {
+        port CloudOut ( provider cloud : ToF.IPointCloudProvider );
+        [ToAsync source CloudOut.cloud ==> target AsyncCloudIn.cloud]
+    }
+}
+";
+    let path = dir.join("scan.gudsl");
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn async_registrations_run_apart_and_accumulate_the_same_scan() {
+    let dir = temp_dir("pipeline-ch6-async");
+    let ran = |file: &str, out: &str| {
+        let mut args = vec![file, "--frames", "5", "-o", out];
+        if !gpu() {
+            args.push("--cpu");
+        }
+        let (code, stdout, stderr) = run(&args);
+        assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+        stdout
+    };
+    let in_order = dir.join("in-order");
+    ran(&repo("samples/pipelines/ch6_object_scan.gudsl"), in_order.to_str().unwrap());
+    let apart = dir.join("apart");
+    let stdout = ran(&scan_with_async_registration(&dir), apart.to_str().unwrap());
+    for side in ["Left", "Centre", "Right"] {
+        let line = stdout.lines().find(|l| l.starts_with(&format!("{side}Icp "))).unwrap_or_default();
+        assert!(line.contains("ToF.IcpRegistration (async)"), "{stdout}");
+    }
+    // Each registration on its thread and device while the other cameras' stages go on, its
+    // pose joined where the transform needs it: the same cloud, byte for byte (before, a
+    // library filter on a port of another name was given nothing).
+    let (a, b) =
+        (std::fs::read(in_order.join("Ply/cloud.ply")).unwrap(), std::fs::read(apart.join("Ply/cloud.ply")).unwrap());
+    assert!(a.len() > 100_000 && a == b, "{} and {} bytes", a.len(), b.len());
+}
+
+#[test]
+fn an_async_filter_that_fails_on_its_thread_stops_the_run_at_its_instance() {
+    let dir = temp_dir("pipeline-async-fails");
+    record_still_frames(&dir, 1);
+    // Recorded frames carry no black image, and the correction is given none: it fails in its
+    // `process`, on its own thread (its port is `async`).
+    let path = dir.join("fails.gudsl");
+    std::fs::write(
+        &path,
+        r#"ComponentInstanceDiagram Fails
+{
+    import ToF.*;
+    Recording instantiates RawFrameFile (channelA = "a.npy", channelB = "b.npy")
+    {
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Black.In.frame ]
+    }
+    Black instantiates BlackImageCorrection ( )
+    {
+        In : AsyncRawIn ( processor frame = IRawFrameProcessor() );
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Demod.In.frame ]
+    }
+    Demod instantiates Demodulation ( )
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Writer.In.depth ]
+    }
+    Writer instantiates NpyWriter ( )
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+}
+
+ComponentDiagram AsyncCorrection
+{
+    filter ToF.BlackImageCorrection
+    {
+        async port AsyncRawIn ( processor frame : ToF.IRawFrameProcessor );
+        port RawOut ( provider frame : ToF.IRawFrameProvider );
+    }
+
+    source ToF.RawFrameFile
+    {
+        port RawOut ( provider frame : ToF.IRawFrameProvider );
+        [ToAsync source RawOut.frame ==> target AsyncRawIn.frame]
+    }
+}
+"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let mut args = vec![path.to_str().unwrap(), "-o", out.to_str().unwrap()];
+    if !gpu() {
+        args.push("--cpu");
+    }
+    let (code, stdout, stderr) = run(&args);
+    assert_eq!(code, Some(1), "{stdout}\n{stderr}");
+    assert!(stdout.contains("Black") && stdout.contains("ToF.BlackImageCorrection (async)"), "{stdout}");
+    assert!(
+        stderr.contains("`Black`: the frame has no black image of its own: give the black image's files"),
+        "{stderr}"
+    );
+    assert!(!out.join("Writer").exists(), "nothing after the failed stage ran");
 }

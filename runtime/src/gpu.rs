@@ -2,7 +2,7 @@
 //! without one), one device and queue, compute pipelines built once per kernel and reused, and
 //! the buffer helpers the executor uses.
 
-use std::{cell::RefCell, collections::HashMap, fmt};
+use std::{collections::HashMap, fmt, sync::Mutex};
 
 use wgpu::util::DeviceExt;
 
@@ -22,12 +22,13 @@ impl fmt::Display for GpuUnavailable {
 
 impl std::error::Error for GpuUnavailable {}
 
-/// A device and queue with a cache of compute pipelines by kernel and entry point.
+/// A device and queue with a cache of compute pipelines by kernel and entry point; shared by
+/// threads (a pipeline's stages that run apart).
 pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter: wgpu::AdapterInfo,
-    pipelines: RefCell<HashMap<(&'static str, &'static str), wgpu::ComputePipeline>>,
+    pipelines: Mutex<HashMap<(&'static str, &'static str), wgpu::ComputePipeline>>,
     /// Where a [`crate::Program`]'s dispatch writes the GPU's clock before and after it.
     timestamps: Option<Timestamps>,
 }
@@ -104,7 +105,7 @@ impl Gpu {
                 period: queue.get_timestamp_period(),
             }
         });
-        Ok(Gpu { device, queue, adapter: adapter.get_info(), pipelines: RefCell::new(HashMap::new()), timestamps })
+        Ok(Gpu { device, queue, adapter: adapter.get_info(), pipelines: Mutex::default(), timestamps })
     }
 
     /// The timestamp writes of a compute pass, when dispatches are timed on the device.
@@ -208,8 +209,8 @@ impl Gpu {
         layout: &wgpu::BindGroupLayout,
     ) -> wgpu::ComputePipeline {
         let key = (name, entry);
-        if let Some(pipeline) = self.pipelines.borrow().get(&key) {
-            return pipeline.clone();
+        if let Some(pipeline) = self.cached(&key) {
+            return pipeline;
         }
         let module = self.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(name),
@@ -228,8 +229,12 @@ impl Gpu {
             compilation_options: Default::default(),
             cache: None,
         });
-        self.pipelines.borrow_mut().insert(key, pipeline.clone());
+        self.pipelines.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).insert(key, pipeline.clone());
         pipeline
+    }
+
+    fn cached(&self, key: &(&'static str, &'static str)) -> Option<wgpu::ComputePipeline> {
+        self.pipelines.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).get(key).cloned()
     }
 
     /// A storage buffer of `len` f32 samples, readable and writable by kernels, copyable both ways.

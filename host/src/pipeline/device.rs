@@ -156,6 +156,15 @@ impl<'g> Device<'g> {
         }
     }
 
+    /// Submits the work recorded so far: a stage on another thread that reads its results then
+    /// submits after it.
+    pub fn flush(&mut self) -> Result<(), PipelineError> {
+        match (self.gpu, self.encoder.take()) {
+            (Some(gpu), Some(encoder)) => submit(gpu, encoder),
+            _ => Ok(()),
+        }
+    }
+
     /// Asks for `tensor`'s samples at the end of the frame ([`Device::end_frame`]).
     pub fn read_later(&mut self, tensor: &Tensor) -> Later {
         self.later.push(tensor.clone());

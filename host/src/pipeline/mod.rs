@@ -8,22 +8,24 @@
 //! Frames are ticks: every source gives one item a frame (until its frames are done), a filter
 //! processes each item that arrived on its ports this frame, a binding into a `buffered` port
 //! delivers its items a frame later (queueing up to its buffer size), so such a binding may
-//! close a loop (chapter 5.4). A sink bound through an `async` port does not block its
-//! producers (Sec. 11.4.3): its work after the frame's reads (encoding, writing files) runs on a
-//! thread of its own while the next frame goes on, and it takes its next items once that work
-//! is done.
+//! close a loop (chapter 5.4). A stage bound through an `async` port does not block its
+//! producers (Sec. 11.4.3, [`apart`]): a sink's work after the frame's reads (encoding, writing
+//! files) runs on a thread while the next frame goes on, a filter's frame on a thread while the
+//! stages that do not wait for it go on.
 
+mod apart;
 mod components;
 pub mod data;
 pub mod device;
 mod files;
 mod output;
+mod sizes;
 
 use std::{
-    collections::{BTreeSet, VecDeque},
+    collections::VecDeque,
     path::{Path, PathBuf},
     sync::atomic::{AtomicBool, Ordering},
-    thread::JoinHandle,
+    thread::{JoinHandle, Scope, ScopedJoinHandle},
     time::{Duration, Instant},
 };
 
@@ -34,11 +36,11 @@ use gudsl_model::{
 };
 use gudsl_runtime::Gpu;
 
+use apart::{Mode, Processed, Written};
 pub use components::Behaviors;
-use components::{Component, Inputs, Outputs, Size, SizesByPort};
+use components::{Component, Inputs, Outputs};
 use data::Item;
 use device::Device;
-use device::Reads;
 pub use output::OutputDir;
 
 /// A problem that stops a pipeline, at a place of the model file when it has one.
@@ -115,6 +117,9 @@ pub struct StageTime {
     pub device: Duration,
     /// Items it processed.
     pub items: usize,
+    /// Whether it runs on a thread of its own (bound through an `async` port): its host time
+    /// then overlaps the others'.
+    pub apart: bool,
 }
 
 /// Told about a run's progress.
@@ -123,12 +128,15 @@ pub trait PipelineObserver {
     fn frame(&mut self, index: usize, frames: usize);
 }
 
-/// What an `async` sink's writer thread hands back.
-struct Written {
-    component: Box<dyn Component>,
-    output: OutputDir,
-    took: Duration,
-    result: Result<(), String>,
+/// Where a frame is: the run's device, the devices of stages that process apart, the
+/// bindings' queues, the output folder, the stages' times, the frame's index.
+struct At<'a, 'g> {
+    device: &'a mut Device<'g>,
+    devices: &'a mut [Option<Device<'g>>],
+    queues: &'a mut [VecDeque<Item>],
+    output: &'a mut OutputDir,
+    times: &'a mut [StageTime],
+    frame: usize,
 }
 
 /// A plan with a component for each stage, ready to run.
@@ -138,8 +146,8 @@ pub struct Prepared {
     components: Vec<Option<Box<dyn Component>>>,
     /// The `async` sinks' writers at work.
     writers: Vec<Option<JoinHandle<Written>>>,
-    /// Whether a stage is a sink bound through an `async` port.
-    is_async_sink: Vec<bool>,
+    /// How each stage runs: in order, or apart (bound through an `async` port).
+    modes: Vec<Mode>,
     frames: usize,
 }
 
@@ -202,7 +210,7 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
     }
     // Checked even where another stage cannot run (it passes its sizes on), so the editor
     // shows a mismatch beside a component only `run` refuses.
-    errors.extend(sizes_that_cannot_meet(plan, &made, model_dir));
+    errors.extend(sizes::that_cannot_meet(plan, &made, model_dir));
     let frames = made.iter().flatten().filter_map(|c| c.frames()).max().unwrap_or(0);
     if errors.is_empty() && frames == 0 {
         errors.push(PipelineError {
@@ -213,64 +221,24 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
         });
     }
     if errors.is_empty() {
-        let is_async_sink = (0..plan.stages.len())
-            .map(|i| {
-                plan.stages[i].kind == ClassKind::Sink
-                    && plan.bindings.iter().any(|b| b.processor.stage == i && b.is_async)
+        let modes = (0..plan.stages.len())
+            .map(|i| match plan.stages[i].kind {
+                _ if !plan.bindings.iter().any(|b| b.processor.stage == i && b.is_async) => Mode::InOrder,
+                ClassKind::Sink => Mode::WritesApart,
+                ClassKind::Filter => Mode::ProcessesApart,
+                _ => Mode::InOrder,
             })
             .collect();
         Ok(Prepared {
             plan: plan.clone(),
             writers: made.iter().map(|_| None).collect(),
             components: made,
-            is_async_sink,
+            modes,
             frames,
         })
     } else {
         Err(errors)
     }
-}
-
-/// Images of sizes that cannot meet (E0405), found by following each source's image size down
-/// the bindings until nothing changes (a filter gives images of the sizes it is given; a stage
-/// that could not be made passes them on).
-fn sizes_that_cannot_meet(
-    plan: &PipelinePlan,
-    made: &[Option<Box<dyn Component>>],
-    model_dir: &Path,
-) -> Vec<PipelineError> {
-    let arriving = |gives: &[BTreeSet<Size>], index: usize| {
-        let mut sizes = SizesByPort::new();
-        for binding in plan.bindings.iter().filter(|b| b.processor.stage == index) {
-            sizes.entry(binding.processor.port.clone()).or_default().extend(&gives[binding.provider.stage]);
-        }
-        sizes
-    };
-    let mut gives: Vec<BTreeSet<Size>> = vec![BTreeSet::new(); plan.stages.len()];
-    // The sets only grow, and a stage gives at most the sizes that exist: this ends.
-    let mut changed = true;
-    while changed {
-        changed = false;
-        for index in 0..plan.stages.len() {
-            let given = match made[index].as_ref().and_then(|c| c.image_size()) {
-                Some(size) => BTreeSet::from([size]),
-                None => arriving(&gives, index).into_values().flatten().collect(),
-            };
-            if given != gives[index] {
-                gives[index] = given;
-                changed = true;
-            }
-        }
-    }
-    let mut errors = Vec::new();
-    for (index, (stage, component)) in plan.stages.iter().zip(made).enumerate() {
-        let Some(component) = component else { continue };
-        if let Err((param, message)) = component.sizes_meet(&arriving(&gives, index)) {
-            let params = components::Params { stage, providers: 0, model_dir };
-            errors.push(params.error(param.unwrap_or(""), ErrorKind::Mismatch, message));
-        }
-    }
-    errors
 }
 
 /// What keeps a pipeline the plan found no problem in from running, found without running it
@@ -315,12 +283,14 @@ impl Prepared {
             .plan
             .stages
             .iter()
-            .map(|s| StageTime {
+            .zip(&self.modes)
+            .map(|(s, mode)| StageTime {
                 instance: s.instance.clone(),
                 class: s.class.clone(),
                 host: Duration::ZERO,
                 device: Duration::ZERO,
                 items: 0,
+                apart: *mode != Mode::InOrder,
             })
             .collect();
         let mut device = Device::new(gpu);
@@ -351,9 +321,9 @@ impl Prepared {
         }
     }
 
-    fn frames_loop(
+    fn frames_loop<'g>(
         &mut self,
-        device: &mut Device,
+        device: &mut Device<'g>,
         output: &mut OutputDir,
         frames: usize,
         times: &mut [StageTime],
@@ -362,6 +332,8 @@ impl Prepared {
     ) -> Result<(), PipelineError> {
         // Items waiting on each binding: a frame's own, or a buffered port's queue.
         let mut queues: Vec<VecDeque<Item>> = vec![VecDeque::new(); self.plan.bindings.len()];
+        // The devices of the stages that process apart, kept from frame to frame.
+        let mut devices: Vec<Option<Device<'g>>> = self.modes.iter().map(|_| None).collect();
         for frame in 0..frames {
             if cancel.load(Ordering::Relaxed) {
                 return Err(self.error(
@@ -370,33 +342,37 @@ impl Prepared {
                     format!("cancelled after {frame} of {frames} frames"),
                 ));
             }
-            for (index, time) in times.iter_mut().enumerate() {
-                let inputs = self.take_inputs(index, &mut queues, frame);
-                self.join(index, output, time)?;
-                let component = self.components[index].as_mut().expect("joined");
-                let is_source = component.frames().is_some();
-                if !is_source && inputs.is_empty() {
-                    continue;
+            let mut at = At { device, devices: &mut devices, queues: &mut queues, output, times, frame };
+            let reads = std::thread::scope(|scope| {
+                let mut running = Vec::new();
+                let mut outcome = self.stages(scope, &mut at, &mut running).and_then(|()| {
+                    at.device
+                        .end_frame()
+                        .map_err(|e| self.error(None, ErrorKind::Failed, format!("frame {frame}: {e}")))
+                });
+                // Nothing runs on past its frame, even a failed one: every thread is joined,
+                // and the first problem is the frame's.
+                for (index, thread) in running {
+                    let joined = self.take_back(index, thread, &mut at);
+                    outcome = outcome.and_then(|reads| joined.map(|()| reads));
                 }
-                let started = Instant::now();
-                time.items += inputs.len().max(1);
-                let mut ctx = components::Ctx { device, stage: index, frame, output };
-                let produced = component
-                    .process(&mut ctx, &inputs)
-                    .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
-                time.host += started.elapsed();
-                self.deliver(device, index, produced, &mut queues, frame, false);
-            }
-            let (reads, kernel_times) =
-                device.end_frame().map_err(|e| self.error(None, ErrorKind::Failed, format!("frame {frame}: {e}")))?;
+                outcome
+            });
+            let (reads, kernel_times) = reads?;
             for (stage, time) in kernel_times {
                 times[stage].device += time;
             }
             for (index, time) in times.iter_mut().enumerate() {
-                // Joined before this frame's `process` above.
-                if self.is_async_sink[index] {
-                    self.write_apart(index, frame, output, &reads);
-                    continue;
+                match self.modes[index] {
+                    // Joined before this frame's `process` above.
+                    Mode::WritesApart => {
+                        let component = self.components[index].take().expect("joined");
+                        let thread = apart::write(component, index, frame, reads.clone(), output.fork());
+                        self.writers[index] = Some(thread);
+                        continue;
+                    }
+                    Mode::ProcessesApart => continue, // its finish_frame ran on its thread
+                    Mode::InOrder => {}
                 }
                 let started = Instant::now();
                 let mut ctx = components::Ctx { device, stage: index, frame, output };
@@ -414,18 +390,91 @@ impl Prepared {
         Ok(())
     }
 
-    /// An `async` sink's work after the frame's reads, on a thread of its own (it gives nothing
-    /// and needs no device: it encodes and writes).
-    fn write_apart(&mut self, index: usize, frame: usize, output: &OutputDir, reads: &Reads) {
-        let mut component = self.components[index].take().expect("joined");
-        let (reads, mut output) = (reads.clone(), output.fork());
-        self.writers[index] = Some(std::thread::spawn(move || {
+    /// Each stage's `process` in frame `at.frame`, in the plan's order, but a stage that
+    /// processes apart goes on its thread in `scope` (`running`) and the stages that do not
+    /// wait for it go on meanwhile; when every stage left waits for one, the first started is
+    /// joined.
+    fn stages<'scope, 'g: 'scope>(
+        &mut self,
+        scope: &'scope Scope<'scope, '_>,
+        at: &mut At<'_, 'g>,
+        running: &mut Vec<(usize, ScopedJoinHandle<'scope, Processed<'g>>)>,
+    ) -> Result<(), PipelineError> {
+        let mut waiting: Vec<usize> = (0..self.plan.stages.len()).collect();
+        let mut done = vec![false; waiting.len()];
+        while !waiting.is_empty() {
+            let index = match waiting.iter().position(|&s| self.providers_done(s, &done)) {
+                Some(ready) => waiting.remove(ready),
+                None if !running.is_empty() => {
+                    let (index, thread) = running.remove(0);
+                    self.take_back(index, thread, at)?;
+                    done[index] = true;
+                    continue;
+                }
+                None => waiting.remove(0), // a cycle the plan reported: it cannot run anyway
+            };
+            let frame = at.frame;
+            let inputs = self.take_inputs(index, at.queues, frame);
+            self.join(index, at.output, &mut at.times[index])?;
+            let component = self.components[index].as_mut().expect("joined");
+            if component.frames().is_none() && inputs.is_empty() {
+                done[index] = true;
+                continue;
+            }
+            at.times[index].items += inputs.len().max(1);
+            if self.modes[index] == Mode::ProcessesApart {
+                // What it reads is submitted before its own work.
+                at.device.flush().map_err(|e| self.error(Some(index), ErrorKind::Failed, e.to_string()))?;
+                let component = self.components[index].take().expect("joined");
+                let own = at.devices[index].take().unwrap_or_else(|| Device::new(at.device.gpu()));
+                let fork = at.output.fork();
+                running.push((index, apart::process(scope, component, own, (index, frame), inputs, fork)));
+                continue;
+            }
             let started = Instant::now();
-            let mut device = Device::new(None);
-            let mut ctx = components::Ctx { device: &mut device, stage: index, frame, output: &mut output };
-            let result = component.finish_frame(&mut ctx, &reads).map(|_| ());
-            Written { component, output, took: started.elapsed(), result }
-        }));
+            let mut ctx = components::Ctx { device: at.device, stage: index, frame, output: at.output };
+            let produced = component
+                .process(&mut ctx, &inputs)
+                .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
+            at.times[index].host += started.elapsed();
+            self.deliver(at.device, index, produced, at.queues, frame, false);
+            done[index] = true;
+        }
+        Ok(())
+    }
+
+    /// Whether every stage that gives stage `index` this frame's items is done with the frame.
+    fn providers_done(&self, index: usize, done: &[bool]) -> bool {
+        self.plan
+            .bindings
+            .iter()
+            .filter(|b| b.processor.stage == index && !b.is_buffered)
+            .all(|b| done[b.provider.stage])
+    }
+
+    /// Stage `index`'s frame back from its thread: its component and device, its files, its
+    /// times, what it gave delivered.
+    fn take_back<'g>(
+        &mut self,
+        index: usize,
+        thread: ScopedJoinHandle<'_, Processed<'g>>,
+        at: &mut At<'_, 'g>,
+    ) -> Result<(), PipelineError> {
+        let processed = thread.join().map_err(|panic| {
+            let why = apart::panic_message(&*panic);
+            // Its component is lost with the thread: this `Prepared` cannot run again.
+            self.error(Some(index), ErrorKind::Failed, format!("its thread panicked: {why}"))
+        })?;
+        self.components[index] = Some(processed.component);
+        at.devices[index] = Some(processed.device);
+        at.output.absorb(processed.output);
+        let time = &mut at.times[index];
+        time.host += processed.took;
+        time.device += processed.kernel_times.iter().map(|(_, t)| *t).sum::<Duration>();
+        let (given, later) = processed.result.map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
+        self.deliver(at.device, index, given, at.queues, at.frame, false);
+        self.deliver(at.device, index, later, at.queues, at.frame, true);
+        Ok(())
     }
 
     /// Stage `index`'s component back from its writer, if one has it: its files listed in
@@ -433,11 +482,7 @@ impl Prepared {
     fn join(&mut self, index: usize, output: &mut OutputDir, time: &mut StageTime) -> Result<(), PipelineError> {
         let Some(writer) = self.writers[index].take() else { return Ok(()) };
         let written = writer.join().map_err(|panic| {
-            let why = panic
-                .downcast_ref::<String>()
-                .map(String::as_str)
-                .or_else(|| panic.downcast_ref::<&str>().copied())
-                .unwrap_or("no message");
+            let why = apart::panic_message(&*panic);
             // Its component is lost with the thread: this `Prepared` cannot run again.
             self.error(Some(index), ErrorKind::Failed, format!("its writer thread panicked: {why}"))
         })?;

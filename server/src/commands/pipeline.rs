@@ -15,7 +15,9 @@ use std::{
     time::Duration,
 };
 
-use gudsl_host::pipeline::{self, ErrorKind, OutputDir, PipelineError, PipelineObserver, PipelineReport, Prepared};
+use gudsl_host::pipeline::{
+    self, ErrorKind, OutputDir, PipelineError, PipelineObserver, PipelineReport, Prepared, StageTime,
+};
 use gudsl_model::{
     analysis::{Analysis, FileId},
     hir::{pipeline::PipelinePlan, DefKind, Diagnostic, Severity},
@@ -214,12 +216,13 @@ pub fn summary(report: &PipelineReport) -> String {
 }
 
 /// The stages' table: per stage its time per frame on the host and on the GPU, and its share
-/// of the total.
+/// of the total; a stage on a thread of its own (`async`) is marked so.
 pub fn table(report: &PipelineReport) -> String {
     let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
     let total: Duration = report.stages.iter().map(|s| s.host + s.device).sum();
+    let class = |s: &StageTime| if s.apart { format!("{} (async)", s.class) } else { s.class.clone() };
     let width = report.stages.iter().map(|s| s.instance.len()).max().unwrap_or(5).max(5);
-    let class_width = report.stages.iter().map(|s| s.class.len()).max().unwrap_or(9).max(9);
+    let class_width = report.stages.iter().map(|s| class(s).chars().count()).max().unwrap_or(9).max(9);
     let mut table = format!(
         "{:width$}  {:class_width$}  {:>12}  {:>12}  {:>6}\n",
         "stage", "component", "host ms/fr", "GPU ms/fr", "share"
@@ -229,7 +232,7 @@ pub fn table(report: &PipelineReport) -> String {
         table += &format!(
             "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%\n",
             stage.instance,
-            stage.class,
+            class(stage),
             per_frame(stage.host),
             per_frame(stage.device),
             share
@@ -275,7 +278,7 @@ fn report_json(report: &PipelineReport) -> serde_json::Value {
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "stages": report.stages.iter().map(|s| serde_json::json!({
             "instance": s.instance, "component": s.class, "items": s.items,
-            "host_ms": ms(s.host), "device_ms": ms(s.device),
+            "host_ms": ms(s.host), "device_ms": ms(s.device), "async": s.apart,
         })).collect::<Vec<_>>(),
         "outputs": paths(|_| true),
         "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),

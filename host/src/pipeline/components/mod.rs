@@ -9,6 +9,7 @@ mod cloud;
 mod depth;
 mod exposure;
 mod images;
+mod ports;
 mod raw;
 mod sinks;
 mod sources;
@@ -56,6 +57,11 @@ impl Inputs {
     /// Every item, port by port.
     pub fn all(&self) -> impl Iterator<Item = &Item> {
         self.0.values().flatten()
+    }
+
+    /// The ports and their items.
+    pub fn by_port(&self) -> impl Iterator<Item = (&str, &[Item])> {
+        self.0.iter().map(|(port, items)| (port.as_str(), items.as_slice()))
     }
 
     /// The items of `port`, in the order they arrived.
@@ -146,7 +152,7 @@ pub fn make(
 ) -> Result<Box<dyn Component>, Vec<PipelineError>> {
     let params = Params { stage, providers, model_dir };
     if let Some(made) = library(&stage.class, &params) {
-        return made;
+        return made.map(|component| ports::on_stage_ports(component, stage));
     }
     let base = stage.bases.iter().find_map(|base| library(base, &params)).transpose()?;
     if stage.class.starts_with("ToF.") && base.is_none() {

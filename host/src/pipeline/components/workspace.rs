@@ -19,15 +19,16 @@ use std::collections::HashMap;
 use gudsl_codegen::{Binding, Kernel};
 use gudsl_model::{
     ast::ClassKind,
-    hir::{
-        items::ConnectorRole,
-        pipeline::{Stage, Value},
-        Ty,
-    },
+    hir::{items::ConnectorRole, pipeline::Value, Ty},
 };
 use gudsl_runtime::{DeviceBuffer, DeviceImage, Gpu, Shape, TexelFormat};
 
-use super::{slots, texels::Conversions, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
+use super::{
+    ports::{input_port, kind_of, port_kinds},
+    slots,
+    texels::Conversions,
+    Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort,
+};
 use crate::{
     launch::{Arg, Launcher, Number, WorkRange},
     pipeline::{
@@ -40,37 +41,6 @@ use crate::{
 /// The generated kernels of the diagrams the pipeline's components call, by fully qualified
 /// name, or why one cannot be generated.
 pub type Behaviors = HashMap<String, Result<Kernel, String>>;
-
-/// The library's data types and the port names its components use for them (`DepthIn`, …).
-const KINDS: [(&str, &str); 7] = [
-    ("ToF.RawFrame", "Raw"),
-    ("ToF.DepthImage", "Depth"),
-    ("ToF.Mask", "Mask"),
-    ("ToF.PointCloud", "Cloud"),
-    ("ToF.Pose", "Pose"),
-    ("ToF.IntegrationTime", "Time"),
-    ("ToF.RgbaImage", "Image"),
-];
-
-/// The port a library component reads data of `kind` on (`DepthIn`).
-fn input_port(kind: &str) -> String {
-    format!("{kind}In")
-}
-
-/// The kind of a port whose data the library does not know.
-const UNKNOWN: &str = "Unknown";
-
-fn kind_of(data: &Data) -> &'static str {
-    match data {
-        Data::Raw(_) => "Raw",
-        Data::Depth(_) => "Depth",
-        Data::Mask(_) => "Mask",
-        Data::Cloud(_) => "Cloud",
-        Data::Pose(_) => "Pose",
-        Data::IntegrationTime(_) => "Time",
-        Data::Image(_) => "Image",
-    }
-}
 
 /// A workspace component with its library base (if any) and the diagrams its `process` runs.
 pub struct WorkspaceComponent {
@@ -182,21 +152,6 @@ pub fn make(
         slots: Vec::new(),
         conversions: None,
     }))
-}
-
-/// The stage's ports with a connector of `role`, and the kind of data each carries.
-fn port_kinds(stage: &Stage, role: ConnectorRole) -> Vec<(String, &'static str)> {
-    stage
-        .ports
-        .iter()
-        .filter_map(|port| {
-            let connector = port.connectors.iter().find(|c| c.role == role)?;
-            // What no library type names (a type of the workspace's own) is data no component
-            // of the library makes or takes.
-            let kind = KINDS.iter().find(|(ty, _)| connector.carries.iter().any(|t| t == ty)).map_or(UNKNOWN, |k| k.1);
-            Some((port.name.clone(), kind))
-        })
-        .collect()
 }
 
 /// A diagram's kernel with its arguments taken from the component, or what does not fit: on
