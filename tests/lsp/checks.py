@@ -38,11 +38,12 @@ async def refused(request, what):
 
 
 class Seen:
-    """What the server sent a client: diagnostics by URI, progress values by token, the progress
-    tokens it created, log messages and shown messages (type, text)."""
+    """What the server sent a client: its capabilities, diagnostics by URI, progress values by
+    token, the progress tokens it created, log messages and shown messages (type, text)."""
 
     def __init__(self):
         self.diagnostics, self.progress, self.created, self.logs, self.shown = {}, {}, [], [], []
+        self.capabilities = None
 
 
 async def start_client(name, gudsl, root):
@@ -78,7 +79,7 @@ async def start_client(name, gudsl, root):
         seen.shown.append((params.type, params.message))
 
     await client.start_io(gudsl, "lsp")
-    await client.initialize_async(
+    seen.capabilities = await client.initialize_async(
         t.InitializeParams(
             process_id=None,
             root_uri=root.as_uri(),
@@ -86,5 +87,6 @@ async def start_client(name, gudsl, root):
             capabilities=t.ClientCapabilities(window=t.WindowClientCapabilities(work_done_progress=True)),
         )
     )
+    seen.capabilities = seen.capabilities.capabilities
     client.initialized(t.InitializedParams())
     return client, seen

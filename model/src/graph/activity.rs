@@ -9,8 +9,7 @@ use super::{
 use crate::ast::{self, AstNode, HasName};
 
 pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
-    let mut graph =
-        Graph { id: id.clone(), kind: GraphKind::Activity, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut graph = Graph::new(id.clone(), GraphKind::Activity, diagram.syntax());
     let mut lanes: Vec<(Option<String>, Vec<ast::ActivityNode>)> = Vec::new();
     for lane in diagram.swimlanes() {
         let name = lane.name().map(|n| n.text()).unwrap_or_default();
@@ -90,7 +89,7 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
                     (g, a) => g.or(a),
                 };
                 graph.edges.push(GraphEdge {
-                    id: edge_id(&graph, &source, &target, None),
+                    id: edge_id(&graph, &source, &target),
                     kind: EdgeKind::Transition,
                     source,
                     target,

@@ -12,8 +12,7 @@ use crate::{
 
 pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -> Graph {
     let scope = Scope::at(diagram.syntax());
-    let mut graph =
-        Graph { id: id.clone(), kind: GraphKind::Class, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut graph = Graph::new(id.clone(), GraphKind::Class, diagram.syntax());
     let mut known: Vec<String> = Vec::new();
     for decl in diagram.type_decls() {
         let Some(name) = decl.name().map(|n| n.text()) else { continue };
@@ -96,7 +95,7 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
                     ends: (Option<String>, Option<String>)| {
             let (source, target) = (EdgeEnd::node(fqn.clone()), EdgeEnd::node(target));
             graph.edges.push(GraphEdge {
-                id: edge_id(graph, &source, &target, Some(kind)),
+                id: edge_id(graph, &source, &target),
                 kind,
                 source,
                 target,

@@ -13,7 +13,7 @@ use crate::{
 
 pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::ComponentDiagram) -> Graph {
     let scope = Scope::at(diagram.syntax());
-    let mut graph = Graph { id, kind: GraphKind::Component, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut graph = Graph::new(id, GraphKind::Component, diagram.syntax());
     let mut stack: Vec<ast::Component> = diagram.components().collect();
     stack.reverse();
     // `port.connector` as connections write it -> the end it names.
@@ -63,7 +63,7 @@ pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::Compo
                 |path: ast::Path| port_owner.get(&path.text()).cloned().unwrap_or_else(|| EdgeEnd::node(path.text()));
             let (source, target) = (end(source), end(target));
             graph.edges.push(GraphEdge {
-                id: edge_id(&graph, &source, &target, None),
+                id: edge_id(&graph, &source, &target),
                 kind: EdgeKind::Connection,
                 source,
                 target,
@@ -77,8 +77,7 @@ pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::Compo
 }
 
 pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram) -> Graph {
-    let mut graph =
-        Graph { id, kind: GraphKind::ComponentInstance, nodes: Vec::new(), edges: Vec::new(), groups: Vec::new() };
+    let mut graph = Graph::new(id, GraphKind::ComponentInstance, diagram.syntax());
     for instance in diagram.instances() {
         let Some(name) = instance.name().map(|n| n.text()) else { continue };
         let component = instance.component().map(|c| c.text()).unwrap_or_default();
@@ -126,7 +125,7 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
                 .collect();
             if let [source, target] = ends.as_slice() {
                 graph.edges.push(GraphEdge {
-                    id: edge_id(&graph, source, target, None),
+                    id: edge_id(&graph, source, target),
                     kind: EdgeKind::Binding,
                     source: source.clone(),
                     target: target.clone(),

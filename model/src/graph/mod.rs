@@ -145,9 +145,28 @@ pub struct Graph {
     /// The diagram's fully qualified name.
     pub id: String,
     pub kind: GraphKind,
+    /// The diagram's declaration, and its name in it.
+    pub range: TextRange,
+    pub name_range: Option<TextRange>,
     pub nodes: Vec<GraphNode>,
     pub edges: Vec<GraphEdge>,
     pub groups: Vec<GraphGroup>,
+}
+
+impl Graph {
+    /// The empty graph of the diagram `syntax` declares.
+    fn new(id: String, kind: GraphKind, syntax: &crate::syntax::SyntaxNode) -> Graph {
+        let name_range = syntax.children().find_map(ast::Name::cast).map(|name| name.syntax().text_range());
+        Graph {
+            id,
+            kind,
+            range: syntax.text_range(),
+            name_range,
+            nodes: Vec::new(),
+            edges: Vec::new(),
+            groups: Vec::new(),
+        }
+    }
 }
 
 /// The graphs of every diagram of a file (nested diagrams included, each its own graph).
@@ -185,12 +204,9 @@ pub(super) fn visibility_mark(node: &impl HasModifiers) -> &'static str {
 }
 
 /// The next id of an edge from `source` to `target`: `source->target#k`, k counting the edges
-/// between the two ends so far (of `kind`, when given).
-fn edge_id(graph: &Graph, source: &EdgeEnd, target: &EdgeEnd, kind: Option<EdgeKind>) -> String {
-    let k = graph
-        .edges
-        .iter()
-        .filter(|e| e.source.id() == source.id() && e.target.id() == target.id() && kind.is_none_or(|k| e.kind == k))
-        .count();
+/// between the two ends so far, of any kind (an aggregation and an association between two
+/// classes are `#0` and `#1`).
+fn edge_id(graph: &Graph, source: &EdgeEnd, target: &EdgeEnd) -> String {
+    let k = graph.edges.iter().filter(|e| e.source.id() == source.id() && e.target.id() == target.id()).count();
     format!("{}->{}#{k}", source.id(), target.id())
 }

@@ -108,3 +108,14 @@ fn every_sample_diagram_has_a_graph() {
     }
     assert!(total > 40, "{total}");
 }
+
+#[test]
+fn edges_of_different_kinds_between_two_classes_have_ids_of_their_own() {
+    let g = &graphs_of(&[("a", seed("appendixA_associations.gudsl"))])[0];
+    let ids: Vec<&str> = g.edges.iter().map(|e| e.id.as_str()).collect();
+    let unique: std::collections::BTreeSet<&str> = ids.iter().copied().collect();
+    assert_eq!(unique.len(), ids.len(), "{ids:?}");
+    // Image has a composition (pixel) and an association (contains) to Pixel.
+    assert!(ids.contains(&"Associations.Image->Associations.Pixel#0"), "{ids:?}");
+    assert!(ids.contains(&"Associations.Image->Associations.Pixel#1"), "{ids:?}");
+}

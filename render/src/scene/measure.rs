@@ -142,6 +142,10 @@ pub(crate) fn text_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
     top + (content.height - block).max(0.0) / 2.0 + PADDING / 2.0
 }
 
+/// How far right of its node's box a connection meets a port: just outside its lollipop or
+/// socket.
+pub(crate) const PORT_REACH: f64 = 24.0;
+
 /// Where connections meet each port of a node: just outside its lollipop or socket on the
 /// right border (the rows the port lines are drawn in).
 pub(crate) fn port_anchors(node: &GraphNode, content: &Content, at: Point) -> Vec<Point> {
@@ -151,6 +155,6 @@ pub(crate) fn port_anchors(node: &GraphNode, content: &Content, at: Point) -> Ve
         cursor += PADDING + compartment.len().max(1) as f64 * line_h;
     }
     (0..node.ports.len())
-        .map(|i| Point { x: at.x + content.width + 24.0, y: cursor + line_h * 0.45 + i as f64 * line_h * 0.9 })
+        .map(|i| Point { x: at.x + content.width + PORT_REACH, y: cursor + line_h * 0.45 + i as f64 * line_h * 0.9 })
         .collect()
 }

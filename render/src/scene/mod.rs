@@ -16,7 +16,7 @@ use crate::{
     layout::{layered, LayoutInput, LayoutNode, Spacing},
     text::{self, Style},
 };
-use measure::{content, label_lines, label_size, port_anchors, port_text, text_top, Content};
+use measure::{content, label_lines, label_size, port_anchors, port_text, text_top, Content, PORT_REACH};
 use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
 
 /// An axis-parallel box: top-left corner and size.
@@ -76,12 +76,14 @@ pub struct SceneCompartment {
     pub lines: Vec<TextLine>,
 }
 
-/// A port: its line of text, and the row on the right border where its symbol sits.
+/// A port: its line of text, the row on the right border where its symbol sits, and where
+/// connections meet it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScenePort {
     pub id: String,
     pub text: TextLine,
     pub symbol_y: f64,
+    pub anchor: Point,
     /// `provider` (lollipop) or `processor` (socket); `None`: no symbol.
     pub provider: Option<bool>,
 }
@@ -387,7 +389,9 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
     for port in &node.ports {
         let text =
             TextLine { x: rect.x + PADDING, y: cursor + ascent * 0.85, text: port_text(port), style: Style::Regular };
-        ports.push(ScenePort { id: port.id.clone(), text, symbol_y: cursor + line_h * 0.45, provider: port.provider });
+        let symbol_y = cursor + line_h * 0.45;
+        let anchor = Point { x: rect.x + rect.width + PORT_REACH, y: symbol_y };
+        ports.push(ScenePort { id: port.id.clone(), text, symbol_y, anchor, provider: port.provider });
         cursor += line_h * 0.9;
     }
     SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports }

@@ -80,6 +80,10 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
             ],
             work_done_progress_options: lsp::WorkDoneProgressOptions { work_done_progress: Some(true) },
         }),
+        // The requests beyond LSP a client may send (`docs/protocol.md`).
+        experimental: Some(serde_json::json!({
+            "gudsl": { "requests": ["gudsl/diagrams", "gudsl/graph", "gudsl/viewFileText"] }
+        })),
         ..Default::default()
     }
 }

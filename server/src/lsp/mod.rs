@@ -7,6 +7,7 @@
 
 mod capabilities;
 mod from_proto;
+mod graph;
 mod handlers;
 mod host;
 mod pipeline;
@@ -44,6 +45,8 @@ pub fn run() -> ExitCode {
     let code = runtime.block_on(async {
         let (service, socket) = tower_lsp_server::LspService::build(server::Backend::new)
             .custom_method("gudsl/viewFileText", server::Backend::view_file_text)
+            .custom_method("gudsl/diagrams", server::Backend::diagrams)
+            .custom_method("gudsl/graph", server::Backend::graph)
             .custom_method("window/workDoneProgress/cancel", server::Backend::work_done_progress_cancel)
             .finish();
         transport::serve(service, socket).await

@@ -21,7 +21,7 @@ use crate::workspace;
 
 use super::{
     capabilities::{server_capabilities, Encoding},
-    from_proto, handlers,
+    from_proto, graph, handlers,
     host::{ChangeRefused, Document, Host, Snapshot},
     pipeline, run, to_proto, wgsl,
 };
@@ -557,6 +557,17 @@ impl Backend {
             return self.on_snapshot(move |s| wgsl::generated(s, &diagram)).await?.map(Some).map_err(request_failed);
         }
         Ok(lock(&self.host).text(&params.uri).map(str::to_string))
+    }
+
+    /// `gudsl/diagrams`: a document's diagrams (`docs/protocol.md`); `null` for a document the
+    /// server does not know.
+    pub async fn diagrams(&self, params: graph::DiagramsParams) -> Result<Option<graph::Diagrams>> {
+        self.on_snapshot(move |s| graph::diagrams(s, &params)).await
+    }
+
+    /// `gudsl/graph`: one diagram as a laid-out graph (`docs/protocol.md`).
+    pub async fn graph(&self, params: graph::GraphParams) -> Result<graph::GraphView> {
+        self.on_snapshot(move |s| graph::graph(s, &params)).await?.map_err(invalid_params)
     }
 
     /// `window/workDoneProgress/cancel`: stops the run reporting under the token (between

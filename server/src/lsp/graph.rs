@@ -1,0 +1,299 @@
+//! The graph view over LSP (`docs/protocol.md`): `gudsl/diagrams` lists a document's diagrams,
+//! `gudsl/graph` gives one as a graph — the model's nodes, edges and groups with their stable
+//! ids and source ranges, the renderer's geometry for each (boxes, edge routes, lanes), the
+//! document version it describes, and the SVG of the same scene when asked.
+
+use std::collections::HashMap;
+
+use gudsl_model::{
+    graph::{EdgeEnd, Graph, GraphKind},
+    text::LineIndex,
+    Cancellable,
+};
+use gudsl_render::scene::{self, Rect, Scene};
+use serde::{Deserialize, Serialize};
+use tower_lsp_server::ls_types as lsp;
+
+use super::{host::Snapshot, to_proto};
+
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct DiagramsParams {
+    pub text_document: lsp::TextDocumentIdentifier,
+}
+
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Diagrams {
+    pub uri: lsp::Uri,
+    /// The document version the list describes (`null` for a file the editor has not open).
+    pub version: Option<i32>,
+    pub diagrams: Vec<DiagramInfo>,
+}
+
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct DiagramInfo {
+    /// The diagram's fully qualified name: what `gudsl/graph` takes.
+    pub id: String,
+    pub name: String,
+    pub kind: String,
+    /// The whole declaration, and its name (where to put the cursor).
+    pub range: lsp::Range,
+    pub selection_range: lsp::Range,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GraphParams {
+    pub text_document: lsp::TextDocumentIdentifier,
+    /// A diagram's id, as `gudsl/diagrams` lists it.
+    pub diagram: String,
+    /// Whether to add the SVG of the scene.
+    #[serde(default)]
+    pub svg: bool,
+}
+
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GraphView {
+    pub uri: lsp::Uri,
+    pub version: Option<i32>,
+    pub diagram: DiagramInfo,
+    /// The scene's size; coordinates are in points, x to the right, y down.
+    pub width: f64,
+    pub height: f64,
+    pub nodes: Vec<NodeView>,
+    pub edges: Vec<EdgeView>,
+    pub groups: Vec<GroupView>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub svg: Option<String>,
+}
+
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct NodeView {
+    pub id: String,
+    pub shape: String,
+    pub label: String,
+    pub stereotype: Option<String>,
+    pub is_abstract: bool,
+    pub compartments: Vec<CompartmentView>,
+    pub ports: Vec<PortView>,
+    pub group: Option<String>,
+    pub range: lsp::Range,
+    pub bounds: Option<Bounds>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct CompartmentView {
+    pub title: Option<String>,
+    pub lines: Vec<String>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct PortView {
+    pub id: String,
+    pub label: String,
+    /// `true` a provider (lollipop), `false` a processor (socket), `null` a port instance.
+    pub provider: Option<bool>,
+    /// Where connections meet it (just outside its symbol, right of the node's box).
+    pub anchor: Option<Point>,
+}
+
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct EdgeView {
+    pub id: String,
+    pub kind: String,
+    pub source: EndView,
+    pub target: EndView,
+    pub label: Option<String>,
+    pub source_label: Option<String>,
+    pub target_label: Option<String>,
+    /// The route, source to target; empty where an end is not in the diagram.
+    pub points: Vec<Point>,
+    pub label_bounds: Option<Bounds>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct EndView {
+    pub node: String,
+    pub port: Option<String>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct GroupView {
+    pub id: String,
+    pub label: String,
+    pub owner: Option<String>,
+    pub bounds: Option<Bounds>,
+}
+
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Bounds {
+    pub x: f64,
+    pub y: f64,
+    pub width: f64,
+    pub height: f64,
+}
+
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Point {
+    pub x: f64,
+    pub y: f64,
+}
+
+impl From<Rect> for Bounds {
+    fn from(r: Rect) -> Bounds {
+        Bounds { x: r.x, y: r.y, width: r.width, height: r.height }
+    }
+}
+
+/// `gudsl/diagrams`: the diagrams of a document in the order declared; `None` for a document
+/// the server does not know.
+pub fn diagrams(snap: &Snapshot, params: &DiagramsParams) -> Cancellable<Option<Diagrams>> {
+    let uri = &params.text_document.uri;
+    let Some(file) = snap.file(uri) else { return Ok(None) };
+    let index = snap.analysis.line_index(file)?;
+    let diagrams = snap.analysis.graphs(file)?.iter().map(|graph| info(index, graph, snap)).collect();
+    Ok(Some(Diagrams { uri: uri.clone(), version: version(snap, uri), diagrams }))
+}
+
+/// `gudsl/graph`: the diagram `params.diagram` of a document, laid out; `Err` with the reason
+/// when the document or the diagram is unknown.
+pub fn graph(snap: &Snapshot, params: &GraphParams) -> Cancellable<Result<GraphView, String>> {
+    let uri = &params.text_document.uri;
+    let Some(file) = snap.file(uri) else {
+        return Ok(Err(format!("{} is not a document of the workspace", uri.as_str())));
+    };
+    let index = snap.analysis.line_index(file)?;
+    let graphs = snap.analysis.graphs(file)?;
+    let Some(graph) = graphs.iter().find(|g| g.id == params.diagram) else {
+        let known: Vec<&str> = graphs.iter().map(|g| g.id.as_str()).collect();
+        return Ok(Err(format!(
+            "{} declares no diagram `{}` (it declares: {})",
+            uri.as_str(),
+            params.diagram,
+            if known.is_empty() { "none".to_string() } else { known.join(", ") }
+        )));
+    };
+    let scene = scene::build(graph);
+    snap.analysis.check_cancelled()?;
+    Ok(Ok(view(snap, index, graph, &scene, params.svg, version(snap, uri), uri)))
+}
+
+fn version(snap: &Snapshot, uri: &lsp::Uri) -> Option<i32> {
+    snap.document(uri).and_then(|d| d.version)
+}
+
+fn info(index: &LineIndex, graph: &Graph, snap: &Snapshot) -> DiagramInfo {
+    let range = to_proto::range(index, graph.range, snap.encoding);
+    DiagramInfo {
+        id: graph.id.clone(),
+        name: graph.id.rsplit('.').next().unwrap_or(&graph.id).to_string(),
+        kind: match graph.kind {
+            GraphKind::Class => "class",
+            GraphKind::Activity => "activity",
+            GraphKind::Component => "component",
+            GraphKind::ComponentInstance => "componentInstance",
+        }
+        .to_string(),
+        range,
+        selection_range: graph.name_range.map_or(range, |r| to_proto::range(index, r, snap.encoding)),
+    }
+}
+
+/// The graph with the scene's geometry, by id.
+fn view(
+    snap: &Snapshot,
+    index: &LineIndex,
+    graph: &Graph,
+    scene: &Scene,
+    svg: bool,
+    version: Option<i32>,
+    uri: &lsp::Uri,
+) -> GraphView {
+    let boxes: HashMap<&str, Rect> = scene.nodes.iter().map(|n| (n.id.as_str(), n.rect)).collect();
+    let anchors: HashMap<&str, Point> = scene
+        .nodes
+        .iter()
+        .flat_map(|n| &n.ports)
+        .map(|p| (p.id.as_str(), Point { x: p.anchor.x, y: p.anchor.y }))
+        .collect();
+    let lanes: HashMap<&str, Rect> = scene.lanes.iter().map(|l| (l.id.as_str(), l.rect)).collect();
+    let routes: HashMap<&str, &scene::SceneEdge> = scene.edges.iter().map(|e| (e.id.as_str(), e)).collect();
+    let end = |end: &EdgeEnd| EndView { node: end.node.clone(), port: end.port.clone() };
+    GraphView {
+        uri: uri.clone(),
+        version,
+        diagram: info(index, graph, snap),
+        width: scene.width,
+        height: scene.height,
+        nodes: graph
+            .nodes
+            .iter()
+            .map(|node| NodeView {
+                id: node.id.clone(),
+                shape: lower_camel(&format!("{:?}", node.shape)),
+                label: node.label.clone(),
+                stereotype: node.stereotype.clone(),
+                is_abstract: node.is_abstract,
+                compartments: node
+                    .compartments
+                    .iter()
+                    .map(|c| CompartmentView { title: c.title.clone(), lines: c.lines.clone() })
+                    .collect(),
+                ports: node
+                    .ports
+                    .iter()
+                    .map(|p| PortView {
+                        id: p.id.clone(),
+                        label: p.label.clone(),
+                        provider: p.provider,
+                        anchor: anchors.get(p.id.as_str()).copied(),
+                    })
+                    .collect(),
+                group: node.group.clone(),
+                range: to_proto::range(index, node.range, snap.encoding),
+                bounds: boxes.get(node.id.as_str()).map(|&r| r.into()),
+            })
+            .collect(),
+        edges: graph
+            .edges
+            .iter()
+            .map(|edge| {
+                let routed = routes.get(edge.id.as_str());
+                EdgeView {
+                    id: edge.id.clone(),
+                    kind: lower_camel(&format!("{:?}", edge.kind)),
+                    source: end(&edge.source),
+                    target: end(&edge.target),
+                    label: edge.label.clone(),
+                    source_label: edge.source_label.clone(),
+                    target_label: edge.target_label.clone(),
+                    points: routed
+                        .map_or_else(Vec::new, |e| e.points.iter().map(|p| Point { x: p.x, y: p.y }).collect()),
+                    label_bounds: routed.and_then(|e| e.label.as_ref()).map(|l| l.rect.into()),
+                }
+            })
+            .collect(),
+        groups: graph
+            .groups
+            .iter()
+            .map(|g| GroupView {
+                id: g.id.clone(),
+                label: g.label.clone(),
+                owner: g.owner.clone(),
+                bounds: lanes.get(g.id.as_str()).map(|&r| r.into()),
+            })
+            .collect(),
+        svg: svg.then(|| gudsl_render::svg::write(scene)),
+    }
+}
+
+/// `LoopWindow` → `loopWindow`.
+fn lower_camel(name: &str) -> String {
+    let mut chars = name.chars();
+    chars.next().map(|c| c.to_ascii_lowercase().to_string() + chars.as_str()).unwrap_or_default()
+}

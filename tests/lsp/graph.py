@@ -1,0 +1,165 @@
+"""End-to-end test of the graph view over LSP (docs/protocol.md): pygls's LanguageClient drives
+`gudsl lsp` as a diagram client would. Usage: python3 graph.py PATH_TO_GUDSL REPO_DIR.
+Exits non-zero on the first failure.
+
+In a scratch copy of the dissertation's listings (samples/seed) it checks that the server names
+the requests in its capabilities; lists every document's diagrams (`gudsl/diagrams`) and fetches
+each as a graph (`gudsl/graph`): ids unique, every node with a box inside the scene, every edge
+between drawn ends with a route that starts and ends on them, each node's range the text that
+declares it, and the SVG it answers the very file `gudsl render` writes for the same diagram.
+Then, on an open document: the version in the answers follows the editor's, ids and geometry
+survive an edit that only adds a comment (ranges move with the text), a new class appears under
+its fully qualified name; and the refusals: an unknown diagram and an unknown document."""
+
+import asyncio
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from lsprotocol import types as t
+
+from checks import fail, refused, start_client, wait_for
+
+SHAPES = """ClassDiagram Shapes
+{
+    public abstract class Shape
+    {
+        public float area();
+    }
+    public class Circle extends Shape
+    {
+        private float radius;
+    }
+}
+"""
+
+
+async def graph(client, uri, diagram, svg=False):
+    params = {"textDocument": {"uri": uri}, "diagram": diagram, "svg": svg}
+    return await client.protocol.send_request_async("gudsl/graph", params)
+
+
+def offset(text, position):
+    lines = text.split("\n")
+    return sum(len(line) + 1 for line in lines[: position.line]) + position.character
+
+
+def check_graph(answer, text, what):
+    """What every graph must be: unique ids, boxes inside the scene, routes on their ends."""
+    width, height = answer.width, answer.height
+    nodes = {node.id: node for node in answer.nodes}
+    if len(nodes) != len(answer.nodes) or len({e.id for e in answer.edges}) != len(answer.edges):
+        fail(f"{what}: ids are not unique")
+    for node in answer.nodes:
+        b = node.bounds
+        if b is None or b.x < 0 or b.y < 0 or b.x + b.width > width + 0.5 or b.y + b.height > height + 0.5:
+            fail(f"{what}: {node.id}'s box {b} is not inside the scene {width}×{height}")
+        written = text[offset(text, node.range.start) : offset(text, node.range.end)]
+        if node.label.split(" ")[0] not in written and node.shape not in ("external", "start", "final"):
+            fail(f"{what}: {node.id}'s range holds {written!r}, not its label {node.label!r}")
+    for edge in answer.edges:
+        ends = [nodes.get(edge.source.node), nodes.get(edge.target.node)]
+        if None in ends:
+            continue  # an end the model does not have: no route, the diagnostics say why
+        if len(edge.points) < 2:
+            fail(f"{what}: {edge.id} between drawn nodes has no route")
+        for point, node, end in ((edge.points[0], ends[0], edge.source), (edge.points[-1], ends[1], edge.target)):
+            port = next((p for p in node.ports if p.id == end.port), None) if end.port else None
+            if port is not None:
+                # A connection or a binding meets its port where the port says.
+                if abs(point.x - port.anchor.x) > 1 or abs(point.y - port.anchor.y) > 1:
+                    fail(f"{what}: {edge.id} does not meet {port.id} at {port.anchor}: {point}")
+                continue
+            b = node.bounds
+            if not (b.x - 1 <= point.x <= b.x + b.width + 1 and b.y - 1 <= point.y <= b.y + b.height + 1):
+                fail(f"{what}: {edge.id} does not start or end on {node.id}: {point} vs {b}")
+
+
+async def main(gudsl, repo):
+    work = Path(tempfile.mkdtemp(prefix="gudsl-graph-"))
+    workspace = work / "models"
+    shutil.copytree(repo / "samples" / "seed", workspace)
+    rendered = work / "rendered"
+    done = subprocess.run([gudsl, "render", str(workspace), "-o", str(rendered)], capture_output=True, text=True)
+    if done.returncode != 0:
+        fail(f"gudsl render: {done.stdout}\n{done.stderr}")
+
+    client, seen = await start_client("gudsl-graph-e2e", gudsl, workspace)
+    requests = seen.capabilities.experimental["gudsl"]["requests"]
+    if "gudsl/graph" not in requests or "gudsl/diagrams" not in requests:
+        fail(f"the requests are not named in the capabilities: {requests}")
+
+    drawn = 0
+    for path in sorted(workspace.glob("*.gudsl")):
+        text = path.read_text()
+        # The server reads the folder's files after `initialized`: their diagnostics say it has.
+        await wait_for(lambda: path.as_uri() in seen.diagnostics, f"{path.name}'s diagnostics", timeout=60.0)
+        listed = await client.protocol.send_request_async("gudsl/diagrams", {"textDocument": {"uri": path.as_uri()}})
+        if listed.version is not None:
+            fail(f"{path.name} is not open: no version expected, got {listed.version}")
+        for diagram in listed.diagrams:
+            name = text[offset(text, diagram.selectionRange.start) : offset(text, diagram.selectionRange.end)]
+            if name != diagram.name or not diagram.id.endswith(diagram.name):
+                fail(f"{path.name}: the selection range holds {name!r}, not {diagram.name!r}")
+            answer = await graph(client, path.as_uri(), diagram.id, svg=True)
+            if answer.diagram.id != diagram.id or answer.diagram.kind != diagram.kind:
+                fail(f"{path.name}: asked for {diagram.id}, answered {answer.diagram}")
+            check_graph(answer, text, f"{path.name}:{diagram.id}")
+            if answer.svg != (rendered / f"{diagram.id}.svg").read_text():
+                fail(f"{diagram.id}: the SVG differs from the one gudsl render writes")
+            drawn += 1
+    if drawn < 20:
+        fail(f"only {drawn} diagrams drawn from the listings")
+
+    # An open document: versions, an edit that moves text, a new class.
+    uri = (workspace / "shapes.gudsl").as_uri()
+    client.text_document_did_open(t.DidOpenTextDocumentParams(t.TextDocumentItem(uri, "gudsl", 1, SHAPES)))
+    first = await graph(client, uri, "Shapes")
+    if first.version != 1 or [n.id for n in first.nodes] != ["Shapes.Shape", "Shapes.Circle"]:
+        fail(f"the open document's graph: version {first.version}, nodes {[n.id for n in first.nodes]}")
+    if [(e.kind, e.source.node, e.target.node) for e in first.edges] != [("generalization", "Shapes.Circle", "Shapes.Shape")]:
+        fail(f"Circle extends Shape: {first.edges}")
+    check_graph(first, SHAPES, "shapes.gudsl")
+    commented = "// the shapes of the tutorial\n" + SHAPES
+    change = t.TextDocumentContentChangeWholeDocument(text=commented)
+    client.text_document_did_change(
+        t.DidChangeTextDocumentParams(t.VersionedTextDocumentIdentifier(uri=uri, version=2), [change])
+    )
+    second = await graph(client, uri, "Shapes")
+    if second.version != 2:
+        fail(f"the answer describes version {second.version}, the editor has 2")
+    same = [(n.id, n.bounds) for n in first.nodes] == [(n.id, n.bounds) for n in second.nodes]
+    moved = all(b.range.start.line == a.range.start.line + 1 for a, b in zip(first.nodes, second.nodes))
+    if not same or not moved or [e.id for e in first.edges] != [e.id for e in second.edges]:
+        fail("a comment changed the graph's ids or geometry, or its ranges did not move with the text")
+    grown = commented.replace("    public class Circle", "    public class Square extends Shape { }\n    public class Circle")
+    change = t.TextDocumentContentChangeWholeDocument(text=grown)
+    client.text_document_did_change(
+        t.DidChangeTextDocumentParams(t.VersionedTextDocumentIdentifier(uri=uri, version=3), [change])
+    )
+    third = await graph(client, uri, "Shapes")
+    if "Shapes.Square" not in [n.id for n in third.nodes] or len(third.edges) != 2:
+        fail(f"the new class and its generalization: {[n.id for n in third.nodes]}, {third.edges}")
+    check_graph(third, grown, "shapes.gudsl, grown")
+
+    # Refusals: what does not exist is named, with what does.
+    error = await refused(graph(client, uri, "Circles"), "an unknown diagram")
+    if "declares no diagram `Circles` (it declares: Shapes)" not in str(error):
+        fail(f"an unknown diagram's error: {error}")
+    unknown = (work / "nowhere.gudsl").as_uri()
+    error = await refused(graph(client, unknown, "Shapes"), "an unknown document")
+    if "is not a document of the workspace" not in str(error):
+        fail(f"an unknown document's error: {error}")
+    listed = await client.protocol.send_request_async("gudsl/diagrams", {"textDocument": {"uri": unknown}})
+    if listed is not None:
+        fail(f"an unknown document has no diagrams: {listed}")
+
+    await client.shutdown_async(None)
+    client.exit(None)
+    print(f"{drawn} diagrams drawn; 1 passed, 0 failed")
+
+
+if __name__ == "__main__":
+    asyncio.run(main(sys.argv[1], Path(sys.argv[2])))
