@@ -1,6 +1,8 @@
 //! Graphs of the sample diagrams: ids, stereotypes, compartments, ports and edge ends.
 
 use super::*;
+use salsa::Setter;
+
 use crate::db::RootDatabase;
 
 fn seed(name: &str) -> String {
@@ -118,4 +120,64 @@ fn edges_of_different_kinds_between_two_classes_have_ids_of_their_own() {
     // Image has a composition (pixel) and an association (contains) to Pixel.
     assert!(ids.contains(&"Associations.Image->Associations.Pixel#0"), "{ids:?}");
     assert!(ids.contains(&"Associations.Image->Associations.Pixel#1"), "{ids:?}");
+}
+
+/// The graphs of `files` (computed once), the database logging what it executes.
+fn logged(files: &[(&str, &str)]) -> (RootDatabase, Workspace, Vec<SourceFile>) {
+    let db = RootDatabase::with_execution_log();
+    let inputs: Vec<SourceFile> =
+        files.iter().map(|(p, t)| SourceFile::new(&db, p.to_string(), t.to_string())).collect();
+    let ws = Workspace::new(&db, inputs.clone());
+    for &file in &inputs {
+        file_graphs(&db, ws, file);
+    }
+    db.take_executions();
+    (db, ws, inputs)
+}
+
+fn graphs_executed(db: &RootDatabase) -> usize {
+    db.take_executions().iter().filter(|e| e.starts_with("file_graphs(")).count()
+}
+
+const SHAPES: &str = "ClassDiagram Shapes
+{
+    public class Shape { public float area() { return 0.0; } }
+    public class Circle extends Shape { public float radius; }
+}
+";
+const USES: &str = "ClassDiagram Drawing
+{
+    public class Canvas { self [0 .. *] shapes : Shapes.Shape; }
+}
+";
+const ALONE: &str = "ClassDiagram Alone
+{
+    public class Lonely { public int n; }
+}
+";
+
+#[test]
+fn a_graph_is_recomputed_by_edits_that_change_it_only() {
+    let (mut db, ws, files) = logged(&[("shapes.gudsl", SHAPES), ("uses.gudsl", USES), ("alone.gudsl", ALONE)]);
+    let edit = |db: &mut RootDatabase, file: SourceFile, from: &str, to: &str| {
+        let text = file.text(db).replacen(from, to, 1);
+        file.set_text(db).to(text);
+    };
+    let all = |db: &RootDatabase| files.iter().map(|&f| file_graphs(db, ws, f).len()).sum::<usize>();
+
+    // A method body elsewhere: no graph is recomputed (the item trees are backdated).
+    edit(&mut db, files[0], "return 0.0;", "return 1.0;");
+    assert_eq!(all(&db), 3);
+    assert_eq!(graphs_executed(&db), 1, "only the edited file's graph is looked at again");
+
+    // A class added to `Alone`: its graph, and no other.
+    edit(&mut db, files[2], "public class Lonely", "public class Other { } public class Lonely");
+    assert_eq!(all(&db), 3);
+    assert_eq!(graphs_executed(&db), 1);
+    assert!(file_graphs(&db, ws, files[2])[0].nodes.iter().any(|n| n.id == "Alone.Other"));
+
+    // `Shape` renamed: its own graph and the graph whose association reaches it.
+    edit(&mut db, files[0], "public class Shape ", "public class Figure ");
+    assert_eq!(all(&db), 3);
+    assert_eq!(graphs_executed(&db), 2, "shapes.gudsl and uses.gudsl; not alone.gudsl");
 }

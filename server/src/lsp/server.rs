@@ -47,6 +47,8 @@ pub struct Backend {
     next_result_id: AtomicU64,
     /// The diagrams running now (▶ Run), to cancel them.
     pub(super) runs: Arc<run::Runs>,
+    /// The scenes last laid out for `gudsl/graph`.
+    scenes: Arc<graph::SceneCache>,
 }
 
 /// How long after publishing an edited document's diagnostics the other documents' are
@@ -77,6 +79,7 @@ impl Backend {
             semantic_tokens: Mutex::default(),
             next_result_id: AtomicU64::new(1),
             runs: Arc::default(),
+            scenes: Arc::default(),
         }
     }
 
@@ -567,7 +570,8 @@ impl Backend {
 
     /// `gudsl/graph`: one diagram as a laid-out graph (`docs/protocol.md`).
     pub async fn graph(&self, params: graph::GraphParams) -> Result<graph::GraphView> {
-        self.on_snapshot(move |s| graph::graph(s, &params)).await?.map_err(invalid_params)
+        let scenes = self.scenes.clone();
+        self.on_snapshot(move |s| graph::graph(s, &params, &scenes)).await?.map_err(invalid_params)
     }
 
     /// `window/workDoneProgress/cancel`: stops the run reporting under the token (between

@@ -1,0 +1,80 @@
+"""Latency of `gudsl/graph` (docs/protocol.md) on the layout benchmark's generated diagrams of
+200 nodes (tests/render/bench_dot.py: a class diagram, an activity diagram), as a diagram
+client sees it: the request's round trip through `gudsl lsp` over stdio, the answer decoded
+(lsp_raw's client: no pygls, whose decoding of a large untyped answer is the slower part).
+
+usage: python3 bench_graph.py GUDSL_BINARY [REPEATS]
+Prints, per diagram, the first request (cold: parse, resolution, graph, layout) and p50/p95 of
+REPEATS requests after it (warm: the document unchanged), and of requests each after an edit
+in another document (the graph's inputs unchanged)."""
+
+import asyncio
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "render"))
+from bench_dot import activity_diagram, class_diagram  # noqa: E402
+from lsp_raw import Client  # noqa: E402
+
+OTHER = "ClassDiagram Other\n{\n    public class Note { public int n; }\n}\n"
+
+
+def percentile(samples, q):
+    ordered = sorted(samples)
+    return ordered[min(len(ordered) - 1, round(q * (len(ordered) - 1)))]
+
+
+async def timed(client, uri, diagram):
+    started = time.perf_counter()
+    result, error = await client.request("gudsl/graph", {"textDocument": {"uri": uri}, "diagram": diagram})
+    if error:
+        raise SystemExit(f"gudsl/graph failed: {error}")
+    return (time.perf_counter() - started) * 1e3, result
+
+
+def open_document(client, uri, text):
+    item = {"uri": uri, "languageId": "gudsl", "version": 1, "text": text}
+    client.notify("textDocument/didOpen", {"textDocument": item})
+
+
+async def main(gudsl, repeats):
+    root = Path(tempfile.mkdtemp(prefix="gudsl-graph-bench-"))
+    proc = await asyncio.create_subprocess_exec(
+        gudsl, "lsp", stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE, limit=1 << 16
+    )
+    client = Client(proc)
+    await client.request("initialize", {"processId": None, "rootUri": root.as_uri(), "capabilities": {}})
+    client.notify("initialized", {})
+    other = (root / "other.gudsl").as_uri()
+    open_document(client, other, OTHER)
+    version = 1
+    print(f"{'diagram':<22} {'nodes':>5} {'edges':>5} {'cold ms':>8} {'warm p50':>9} {'warm p95':>9} {'edit p50':>9} {'edit p95':>9}")
+    for name, text in (("class, 200 classes", class_diagram(200)), ("activity, 200 nodes", activity_diagram(200))):
+        uri = (root / f"{name.split(',')[0]}.gudsl").as_uri()
+        open_document(client, uri, text)
+        cold, answer = await timed(client, uri, "Bench")
+        warm = [(await timed(client, uri, "Bench"))[0] for _ in range(repeats)]
+        edited = []
+        for k in range(repeats):
+            version += 1
+            change = {"text": OTHER.replace("int n;", f"int n{k};")}
+            client.notify(
+                "textDocument/didChange",
+                {"textDocument": {"uri": other, "version": version}, "contentChanges": [change]},
+            )
+            edited.append((await timed(client, uri, "Bench"))[0])
+        print(
+            f"{name:<22} {len(answer['nodes']):>5} {len(answer['edges']):>5} {cold:>8.1f} "
+            f"{statistics.median(warm):>9.1f} {percentile(warm, 0.95):>9.1f} "
+            f"{statistics.median(edited):>9.1f} {percentile(edited, 0.95):>9.1f}"
+        )
+    await client.request("shutdown", None)
+    client.notify("exit", None)
+    await proc.wait()
+
+
+if __name__ == "__main__":
+    asyncio.run(main(sys.argv[1], int(sys.argv[2]) if len(sys.argv) > 2 else 30))
