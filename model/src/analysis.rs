@@ -281,6 +281,16 @@ impl Analysis {
         self.with(|db, workspace| ide::rename(db, workspace, file, offset, new_name))
     }
 
+    /// The text edits that make `ops` on the diagram `diagram` of `file` (`gudsl/applyGraphEdit`).
+    pub fn graph_edit(
+        &self,
+        file: FileId,
+        diagram: &str,
+        ops: &[ide::GraphOp],
+    ) -> Cancellable<Result<Vec<(ide::FileRange, String)>, ide::GraphEditError>> {
+        self.with(|db, workspace| ide::graph_edit(db, workspace, file, diagram, ops))
+    }
+
     pub fn completions(&self, file: FileId, offset: TextSize) -> Cancellable<ide::Completions> {
         self.with(|db, workspace| ide::completions(db, workspace, file, offset))
     }

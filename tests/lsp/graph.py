@@ -41,6 +41,27 @@ async def graph(client, uri, diagram, svg=False):
     return await client.protocol.send_request_async("gudsl/graph", params)
 
 
+async def apply_graph_edit(client, uri, version, diagram, operations):
+    params = {"textDocument": {"uri": uri, "version": version}, "diagram": diagram, "operations": operations}
+    return await client.protocol.send_request_async("gudsl/applyGraphEdit", params)
+
+
+def text_edits(answer):
+    """The text edits of a `gudsl/applyGraphEdit` answer that changes one document. (pygls gives
+    an untyped answer as namedtuples, whose fields cannot be URIs: it renames them `_0`, …)"""
+    changes = answer.edit.changes
+    documents = list(changes)
+    if len(documents) != 1:
+        fail(f"one document's edits expected: {changes}")
+    return documents[0]
+
+
+def apply_edits(text, edits):
+    for edit in sorted(edits, key=lambda e: offset(text, e.range.start), reverse=True):
+        text = text[: offset(text, edit.range.start)] + edit.newText + text[offset(text, edit.range.end) :]
+    return text
+
+
 def offset(text, position):
     lines = text.split("\n")
     return sum(len(line) + 1 for line in lines[: position.line]) + position.character
@@ -143,6 +164,31 @@ async def main(gudsl, repo):
     if "Shapes.Square" not in [n.id for n in third.nodes] or len(third.edges) != 2:
         fail(f"the new class and its generalization: {[n.id for n in third.nodes]}, {third.edges}")
     check_graph(third, grown, "shapes.gudsl, grown")
+
+    # A graph edit at the graph's version: the text edits that make it, applied by the client.
+    edit = {"op": "rename", "element": "Shapes.Shape", "name": "Figure"}
+    answer = await apply_graph_edit(client, uri, 3, "Shapes", [edit])
+    edits = text_edits(answer)
+    if sorted(grown[offset(grown, e.range.start) : offset(grown, e.range.end)] for e in edits) != ["Shape"] * 3:
+        fail(f"renaming Shape edits its declaration and the two `extends Shape`: {edits}")
+    figured = apply_edits(grown, edits)
+    change = t.TextDocumentContentChangeWholeDocument(text=figured)
+    client.text_document_did_change(
+        t.DidChangeTextDocumentParams(t.VersionedTextDocumentIdentifier(uri=uri, version=4), [change])
+    )
+    fourth = await graph(client, uri, "Shapes")
+    ends = sorted((e.source.node, e.target.node) for e in fourth.edges)
+    if ends != [("Shapes.Circle", "Shapes.Figure"), ("Shapes.Square", "Shapes.Figure")] or fourth.version != 4:
+        fail(f"after the rename: {ends}, version {fourth.version}")
+    # The same edit against the old version: refused, and the server's text unchanged.
+    error = await refused(apply_graph_edit(client, uri, 3, "Shapes", [edit]), "a stale graph edit")
+    if "the edit is for version 3" not in str(error) or "the server has version 4" not in str(error):
+        fail(f"a stale edit's error: {error}")
+    if await client.protocol.send_request_async("gudsl/viewFileText", {"uri": uri}) != figured:
+        fail("a refused edit changed the document")
+    error = await refused(apply_graph_edit(client, uri, 4, "Shapes", [{"op": "teleport"}]), "an unknown operation")
+    if "teleport" not in str(error):
+        fail(f"an unknown operation's error: {error}")
 
     # Refusals: what does not exist is named, with what does.
     error = await refused(graph(client, uri, "Circles"), "an unknown diagram")

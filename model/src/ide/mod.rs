@@ -1,10 +1,11 @@
 //! Editor features computed on the model, in byte offsets and model types only (the server
 //! converts them to LSP): outline, folding, navigation, references and rename, completion,
-//! selection ranges, workspace symbols, semantic tokens.
+//! selection ranges, workspace symbols, semantic tokens, graph edits as text edits.
 
 mod completion;
 mod fixes;
 mod folding;
+mod graph_edit;
 mod hints;
 mod navigation;
 mod references;
@@ -16,6 +17,7 @@ mod test_fixture;
 pub use completion::{completions, CompletionItem, CompletionKind, Completions};
 pub use fixes::{quick_fixes, QuickFix};
 pub use folding::{folding_ranges, Fold, FoldKind};
+pub use graph_edit::{graph_edit, GraphEditError, GraphOp};
 pub use hints::{inlay_hints, signature_help, InlayHint, SignatureHelp};
 pub use navigation::{goto_definition, goto_type_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};

@@ -7,7 +7,7 @@
 //! of their scope.
 
 use crate::{
-    ast::{self, AstNode},
+    ast::{self, AstNode, HasEnds},
     db::{parse, Db, SourceFile, Workspace},
     hir::{uses::segments_named, Semantics},
     library::is_library,
@@ -57,6 +57,21 @@ pub fn find_references(
             for transition in diagram.syntax().descendants().filter_map(ast::Transition::cast) {
                 if let Some(reference) = transition.target().filter(|t| t.text() == name) {
                     found.push(FileRange { file: target.file, range: reference.syntax().text_range() });
+                }
+            }
+        }
+    } else if ast::ComponentInstance::can_cast(declaration.kind()) {
+        // Bindings name another instance of the diagram as `instance.portInstance.connector`.
+        let name = text_of(&declaration, target.focus_range);
+        if let Some(diagram) = declaration.ancestors().find_map(ast::ComponentInstanceDiagram::cast) {
+            for binding in diagram.syntax().descendants().filter_map(ast::Binding::cast) {
+                for path in [binding.source(), binding.target()].into_iter().flatten() {
+                    let segments: Vec<ast::NameRef> = path.segments().collect();
+                    if let [instance, _, _] = segments.as_slice() {
+                        if instance.text() == name {
+                            found.push(FileRange { file: target.file, range: instance.syntax().text_range() });
+                        }
+                    }
                 }
             }
         }
@@ -126,6 +141,7 @@ pub fn prepare_rename(
     let declaration = &resolved.declaration;
     let renameable = is_global(declaration)
         || ast::ActivityNode::can_cast(declaration.kind())
+        || ast::ComponentInstance::can_cast(declaration.kind())
         || matches!(declaration.kind(), SyntaxKind::PARAM | SyntaxKind::VAR_DECL | SyntaxKind::VARIABLE);
     if !renameable {
         return Err(RenameError("renaming fields and methods is not supported yet".into()));

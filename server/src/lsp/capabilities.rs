@@ -82,7 +82,7 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
         }),
         // The requests beyond LSP a client may send (`docs/protocol.md`).
         experimental: Some(serde_json::json!({
-            "gudsl": { "requests": ["gudsl/diagrams", "gudsl/graph", "gudsl/viewFileText"] }
+            "gudsl": { "requests": ["gudsl/diagrams", "gudsl/graph", "gudsl/applyGraphEdit", "gudsl/viewFileText"] }
         })),
         ..Default::default()
     }

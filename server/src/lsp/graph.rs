@@ -1,7 +1,8 @@
 //! The graph view over LSP (`docs/protocol.md`): `gudsl/diagrams` lists a document's diagrams,
 //! `gudsl/graph` gives one as a graph — the model's nodes, edges and groups with their stable
 //! ids and source ranges, the renderer's geometry for each (boxes, edge routes, lanes), the
-//! document version it describes, and the SVG of the same scene when asked.
+//! document version it describes, and the SVG of the same scene when asked;
+//! `gudsl/applyGraphEdit` answers operations on a graph with the text edits that make them.
 
 use std::{
     collections::HashMap,
@@ -10,6 +11,7 @@ use std::{
 
 use gudsl_model::{
     graph::{EdgeEnd, Graph, GraphKind},
+    ide::GraphOp,
     syntax::TextRange,
     text::LineIndex,
     Cancellable, FileId,
@@ -162,6 +164,61 @@ pub fn diagrams(snap: &Snapshot, params: &DiagramsParams) -> Cancellable<Option<
     let index = snap.analysis.line_index(file)?;
     let diagrams = snap.analysis.graphs(file)?.iter().map(|graph| info(index, graph, snap)).collect();
     Ok(Some(Diagrams { uri: uri.clone(), version: version(snap, uri), diagrams }))
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GraphEditParams {
+    /// The document and the version the client's graph describes: an edit against another
+    /// version is refused.
+    pub text_document: lsp::OptionalVersionedTextDocumentIdentifier,
+    pub diagram: String,
+    pub operations: Vec<Operation>,
+}
+
+/// One operation of `gudsl/applyGraphEdit`, named by `op`.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "op", rename_all = "camelCase")]
+pub enum Operation {
+    /// A node and every reference to it, across files.
+    Rename { element: String, name: String },
+}
+
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct GraphEditAnswer {
+    /// The text edits that make the operations, for the client to apply.
+    pub edit: lsp::WorkspaceEdit,
+}
+
+/// `gudsl/applyGraphEdit`: the operations as text edits; `Err` with the reason when they cannot
+/// be made (a stale version, an unknown element, a name that is no name): nothing changes.
+pub fn apply_graph_edit(snap: &Snapshot, params: &GraphEditParams) -> Cancellable<Result<GraphEditAnswer, String>> {
+    let uri = &params.text_document.uri;
+    let Some(file) = snap.file(uri) else {
+        return Ok(Err(format!("{} is not a document of the workspace", uri.as_str())));
+    };
+    let current = version(snap, uri);
+    if params.text_document.version != current {
+        let what = |v: Option<i32>| v.map_or_else(|| "no version (not open)".to_string(), |v| format!("version {v}"));
+        return Ok(Err(format!(
+            "the edit is for {} of {}, the server has {}: ask for the graph again and redo the edit on it",
+            what(params.text_document.version),
+            uri.as_str(),
+            what(current)
+        )));
+    }
+    let ops: Vec<GraphOp> = params
+        .operations
+        .iter()
+        .map(|op| match op {
+            Operation::Rename { element, name } => GraphOp::Rename { element: element.clone(), name: name.clone() },
+        })
+        .collect();
+    Ok(match snap.analysis.graph_edit(file, &params.diagram, &ops)? {
+        Ok(edits) => Ok(GraphEditAnswer { edit: to_proto::workspace_edit(snap, edits)? }),
+        Err(refused) => Err(refused.0),
+    })
 }
 
 /// The scenes last laid out, by document and diagram: a diagram asked for again with nothing

@@ -47,6 +47,7 @@ pub fn run() -> ExitCode {
             .custom_method("gudsl/viewFileText", server::Backend::view_file_text)
             .custom_method("gudsl/diagrams", server::Backend::diagrams)
             .custom_method("gudsl/graph", server::Backend::graph)
+            .custom_method("gudsl/applyGraphEdit", server::Backend::apply_graph_edit)
             .custom_method("window/workDoneProgress/cancel", server::Backend::work_done_progress_cancel)
             .finish();
         transport::serve(service, socket).await

@@ -574,6 +574,11 @@ impl Backend {
         self.on_snapshot(move |s| graph::graph(s, &params, &scenes)).await?.map_err(invalid_params)
     }
 
+    /// `gudsl/applyGraphEdit`: operations on a diagram's graph as text edits (`docs/protocol.md`).
+    pub async fn apply_graph_edit(&self, params: graph::GraphEditParams) -> Result<graph::GraphEditAnswer> {
+        self.on_snapshot(move |s| graph::apply_graph_edit(s, &params)).await?.map_err(request_failed)
+    }
+
     /// `window/workDoneProgress/cancel`: stops the run reporting under the token (between
     /// nodes); other tokens are ignored.
     pub async fn work_done_progress_cancel(&self, params: lsp::WorkDoneProgressCancelParams) {

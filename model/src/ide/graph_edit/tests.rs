@@ -1,0 +1,116 @@
+//! Graph edits over every listing: each operation's text edits, applied and parsed again, give
+//! the graph with exactly that change, touch only what they must, and undo.
+
+use salsa::Setter;
+
+use super::*;
+use crate::db::RootDatabase;
+
+/// Every listing of the dissertation, as one workspace (as `samples_check_clean_as_one_workspace`).
+fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/seed");
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "gudsl"))
+        .collect();
+    paths.sort();
+    let files: Vec<SourceFile> = paths
+        .iter()
+        .map(|p| {
+            SourceFile::new(db, p.file_name().unwrap().to_string_lossy().into(), std::fs::read_to_string(p).unwrap())
+        })
+        .collect();
+    (Workspace::new(db, files.clone()), files)
+}
+
+/// Applies `edits` to the files' texts.
+fn apply(db: &mut RootDatabase, edits: &[(FileRange, String)]) {
+    let mut by_file: Vec<(SourceFile, Vec<(TextRange, String)>)> = Vec::new();
+    for (range, text) in edits {
+        match by_file.iter_mut().find(|(f, _)| *f == range.file) {
+            Some((_, list)) => list.push((range.range, text.clone())),
+            None => by_file.push((range.file, vec![(range.range, text.clone())])),
+        }
+    }
+    for (file, mut list) in by_file {
+        list.sort_by_key(|(r, _)| std::cmp::Reverse(r.start()));
+        let mut text = file.text(db).clone();
+        for (range, new) in list {
+            text.replace_range(usize::from(range.start())..usize::from(range.end()), &new);
+        }
+        file.set_text(db).to(text);
+    }
+}
+
+fn texts(db: &RootDatabase, files: &[SourceFile]) -> Vec<String> {
+    files.iter().map(|f| f.text(db).clone()).collect()
+}
+
+#[test]
+fn renaming_any_node_of_any_listing_renames_exactly_it_and_undoes() {
+    let mut db = RootDatabase::default();
+    let (ws, files) = listings(&db);
+    let original = texts(&db, &files);
+    let mut renamed = 0;
+    for &file in &files {
+        let graphs = file_graphs(&db, ws, file).clone();
+        for graph in &graphs {
+            for node in graph.nodes.iter().filter(|n| !n.range.is_empty()) {
+                let Some(at) = declared_name(&db, file, node.range) else { continue };
+                let old = file.text(&db)[at].to_string();
+                let new = format!("{old}Renamed");
+                let op = GraphOp::Rename { element: node.id.clone(), name: new.clone() };
+                let edits = match graph_edit(&db, ws, file, &graph.id, std::slice::from_ref(&op)) {
+                    Ok(edits) => edits,
+                    Err(refused) => panic!("{}: {}: {}", file.path(&db), node.id, refused.0),
+                };
+                // Only the name, where it is written: the declaration and its references.
+                for (range, _) in &edits {
+                    assert_eq!(&range.file.text(&db)[range.range], old, "{}", node.id);
+                }
+                apply(&mut db, &edits);
+                let after = file_graphs(&db, ws, file).iter().find(|g| g.id == graph.id).unwrap().clone();
+                let new_id = format!("{}{new}", node.id.strip_suffix(&old).unwrap());
+                let expected: Vec<String> =
+                    graph.nodes.iter().map(|n| if n.id == node.id { new_id.clone() } else { n.id.clone() }).collect();
+                let ids: Vec<String> = after.nodes.iter().map(|n| n.id.clone()).collect();
+                assert_eq!(ids, expected, "{}: renaming {}", file.path(&db), node.id);
+                // Every edge still joins the same nodes: the references were renamed too.
+                let ends = |g: &crate::graph::Graph, from: &str, to: &str| -> Vec<(String, String)> {
+                    let id = |n: &String| if n == from { to.to_string() } else { n.clone() };
+                    g.edges.iter().map(|e| (id(&e.source.node), id(&e.target.node))).collect()
+                };
+                assert_eq!(ends(&after, "", ""), ends(graph, &node.id, &new_id), "{}: edges", node.id);
+                // And back: the text as it was, byte for byte.
+                let back = GraphOp::Rename { element: new_id.clone(), name: old.clone() };
+                let edits = graph_edit(&db, ws, file, &graph.id, &[back]).unwrap();
+                apply(&mut db, &edits);
+                assert!(texts(&db, &files) == original, "renaming {} back did not restore the text", node.id);
+                renamed += 1;
+            }
+        }
+    }
+    assert!(renamed > 100, "{renamed} nodes renamed");
+}
+
+#[test]
+fn what_cannot_be_done_is_refused_with_the_reason() {
+    let db = RootDatabase::default();
+    let text = "ClassDiagram Shapes\n{\n    public class Shape { }\n    public class Circle extends Shape { }\n}\n";
+    let file = SourceFile::new(&db, "a.gudsl".into(), text.into());
+    let ws = Workspace::new(&db, vec![file]);
+    let rename = |element: &str, name: &str| GraphOp::Rename { element: element.into(), name: name.into() };
+    let refused = |diagram: &str, ops: &[GraphOp]| graph_edit(&db, ws, file, diagram, ops).unwrap_err().0;
+    assert_eq!(refused("Circles", &[]), "a.gudsl declares no diagram `Circles` (it declares: Shapes)");
+    assert_eq!(refused("Shapes", &[rename("Shapes.Square", "X")]), "operation 0: `Shapes` has no node `Shapes.Square`");
+    assert_eq!(refused("Shapes", &[rename("Shapes.Shape", "1st")]), "operation 0: `1st` is not a valid name");
+    assert_eq!(
+        refused("Shapes", &[rename("Shapes.Shape", "Figure"), rename("Shapes.Shape", "Form")]),
+        "operations 0 and 1 edit the same text: send them in separate batches"
+    );
+    // Two operations on different text in one batch.
+    let both =
+        graph_edit(&db, ws, file, "Shapes", &[rename("Shapes.Shape", "Figure"), rename("Shapes.Circle", "Disc")]);
+    assert_eq!(both.unwrap().len(), 3, "Shape's declaration and reference, Circle's declaration");
+}
