@@ -359,7 +359,7 @@ fn import_position(node: &SyntaxNode, text: &str) -> Option<(TextSize, String, S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::db::RootDatabase;
+    use crate::{db::RootDatabase, ide::test_fixture::with_edits};
 
     fn apply(files: &[(&str, &str)], title_part: &str) -> Vec<String> {
         let db = RootDatabase::default();
@@ -371,12 +371,7 @@ mod tests {
         let fix = fixes.iter().find(|f| f.title.contains(title_part)).unwrap_or_else(|| {
             panic!("no fix `{title_part}` in {:?}", fixes.iter().map(|f| &f.title).collect::<Vec<_>>())
         });
-        let mut text = inputs[0].text(&db).clone();
-        let mut edits = fix.edits.clone();
-        edits.sort_by_key(|(r, _)| std::cmp::Reverse(r.range.start()));
-        for (place, new) in edits {
-            text.replace_range(std::ops::Range::<usize>::from(place.range), &new);
-        }
+        let text = with_edits(inputs[0].text(&db), fix.edits.iter().map(|(place, new)| (place.range, new.as_str())));
         // The fixed text checks clean.
         let fixed = SourceFile::new(&db, "fixed.gudsl".into(), text.clone());
         let mut all = inputs[1..].to_vec();
@@ -516,11 +511,10 @@ mod tests {
                     {
                         applied += 1;
                         let mut fixed = files.clone();
-                        let mut edits = fix.edits.clone();
-                        edits.sort_by_key(|(r, _)| std::cmp::Reverse(r.range.start()));
-                        for (place, new) in edits {
-                            let at = inputs.iter().position(|f| *f == place.file).unwrap_or(index);
-                            fixed[at].1.replace_range(std::ops::Range::<usize>::from(place.range), &new);
+                        let at = |file: SourceFile| inputs.iter().position(|f| *f == file).unwrap_or(index);
+                        for (k, (_, text)) in fixed.iter_mut().enumerate() {
+                            let edits = fix.edits.iter().filter(|(place, _)| at(place.file) == k);
+                            *text = with_edits(text, edits.map(|(place, new)| (place.range, new.as_str())));
                         }
                         let (_, _, _, after) = check(&fixed);
                         let still = after.get(&target).copied().unwrap_or(0);

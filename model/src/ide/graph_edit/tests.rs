@@ -4,7 +4,7 @@
 use salsa::Setter;
 
 use super::*;
-use crate::db::RootDatabase;
+use crate::{db::RootDatabase, ide::test_fixture::with_edits};
 
 /// Every listing of the dissertation, as one workspace (as `samples_check_clean_as_one_workspace`).
 fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
@@ -24,22 +24,18 @@ fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
     (Workspace::new(db, files.clone()), files)
 }
 
-/// Applies `edits` to the files' texts.
-fn apply(db: &mut RootDatabase, edits: &[(FileRange, String)]) {
-    let mut by_file: Vec<(SourceFile, Vec<(TextRange, String)>)> = Vec::new();
-    for (range, text) in edits {
-        match by_file.iter_mut().find(|(f, _)| *f == range.file) {
-            Some((_, list)) => list.push((range.range, text.clone())),
-            None => by_file.push((range.file, vec![(range.range, text.clone())])),
+/// Makes `edits` in the files' texts.
+fn apply(db: &mut RootDatabase, files: &[SourceFile], edits: &[(FileRange, String)]) {
+    for &file in files {
+        let mine: Vec<(TextRange, &str)> = edits
+            .iter()
+            .filter(|(place, _)| place.file == file)
+            .map(|(place, new)| (place.range, new.as_str()))
+            .collect();
+        if !mine.is_empty() {
+            let text = with_edits(file.text(db), mine);
+            file.set_text(db).to(text);
         }
-    }
-    for (file, mut list) in by_file {
-        list.sort_by_key(|(r, _)| std::cmp::Reverse(r.start()));
-        let mut text = file.text(db).clone();
-        for (range, new) in list {
-            text.replace_range(usize::from(range.start())..usize::from(range.end()), &new);
-        }
-        file.set_text(db).to(text);
     }
 }
 
@@ -69,7 +65,7 @@ fn renaming_any_node_of_any_listing_renames_exactly_it_and_undoes() {
                 for (range, _) in &edits {
                     assert_eq!(&range.file.text(&db)[range.range], old, "{}", node.id);
                 }
-                apply(&mut db, &edits);
+                apply(&mut db, &files, &edits);
                 let after = file_graphs(&db, ws, file).iter().find(|g| g.id == graph.id).unwrap().clone();
                 let new_id = format!("{}{new}", node.id.strip_suffix(&old).unwrap());
                 let expected: Vec<String> =
@@ -85,7 +81,7 @@ fn renaming_any_node_of_any_listing_renames_exactly_it_and_undoes() {
                 // And back: the text as it was, byte for byte.
                 let back = GraphOp::Rename { element: new_id.clone(), name: old.clone() };
                 let edits = graph_edit(&db, ws, file, &graph.id, &[back]).unwrap();
-                apply(&mut db, &edits);
+                apply(&mut db, &files, &edits);
                 assert!(texts(&db, &files) == original, "renaming {} back did not restore the text", node.id);
                 renamed += 1;
             }
