@@ -21,7 +21,7 @@ const KINDS: [(&str, &str); 7] = [
 ];
 
 /// The kind of a port whose data the library does not know.
-pub const UNKNOWN: &str = "Unknown";
+const UNKNOWN: &str = "Unknown";
 
 /// The port a library component reads data of `kind` on (`DepthIn`).
 pub fn input_port(kind: &str) -> String {
