@@ -1,5 +1,6 @@
-//! Line index: converts byte offsets to line/column positions (UTF-8 bytes, UTF-16 units or
-//! characters) and back, in time logarithmic in the text, whatever the length of a line.
+//! Text positions and changes: the line index converts byte offsets to line/column positions
+//! (UTF-8 bytes, UTF-16 units or characters) and back, in time logarithmic in the text, whatever
+//! the length of a line; `with_edits` makes a batch of edits in a text.
 //!
 //! Lines end as LSP says they do: at `\n`, at `\r\n` and at a lone `\r`. A position never points
 //! into a line terminator: columns past a line's end clamp to the end of its content.
@@ -335,4 +336,16 @@ mod tests {
             }
         }
     }
+}
+
+/// `text` with `edits` made, each range one of `text` as it is (the last first, so the others
+/// stay where they are).
+pub fn with_edits<'a>(text: &str, edits: impl IntoIterator<Item = (TextRange, &'a str)>) -> String {
+    let mut edits: Vec<(TextRange, &str)> = edits.into_iter().collect();
+    edits.sort_by_key(|(range, _)| std::cmp::Reverse(range.start()));
+    let mut text = text.to_string();
+    for (range, new) in edits {
+        text.replace_range(std::ops::Range::<usize>::from(range), new);
+    }
+    text
 }

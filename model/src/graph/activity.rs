@@ -51,11 +51,11 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
             let mut compartments = Vec::new();
             if let Some(header) = node.loop_header() {
                 let sections: Vec<String> = header.sections().map(|s| text(&s)).collect();
-                compartments.push(Compartment { title: Some("header".into()), lines: sections });
+                compartments.push(Compartment::plain(Some("header".into()), sections));
             }
             let statements: Vec<String> = node.statements().map(|s| text(&s)).collect();
             if !statements.is_empty() {
-                compartments.push(Compartment { title: None, lines: statements });
+                compartments.push(Compartment::plain(None, statements));
             }
             graph.nodes.push(GraphNode {
                 id: node_id,
@@ -96,6 +96,7 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
                     label,
                     source_label: None,
                     target_label: None,
+                    range: transition.syntax().text_range(),
                 });
             }
         }

@@ -41,14 +41,15 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
             ast::TypeDecl::AttributeDef(_) => (NodeShape::Attribute, Some("attribute".to_string()), false, Vec::new()),
         };
         let label = if template.is_empty() { name.clone() } else { format!("{name}<{}>", template.join(", ")) };
-        let mut fields = Vec::new();
-        let mut methods = Vec::new();
+        let mut fields = Compartment::plain(None, Vec::new());
+        let mut methods = Compartment::plain(None, Vec::new());
         for member in decl.members() {
             match &member {
                 ast::Member::Field(f) => {
                     let ty = f.type_ref().map(|t| text(&t)).unwrap_or_default();
                     let name = f.name().map(|n| n.text()).unwrap_or_default();
-                    fields.push(format!("{}{name} : {ty}", visibility_mark(f)));
+                    fields.lines.push(format!("{}{name} : {ty}", visibility_mark(f)));
+                    fields.ids.push(format!("{fqn}.{name}"));
                 }
                 ast::Member::Method(m) => {
                     let ret = m.return_type().map(|t| text(&t)).unwrap_or_default();
@@ -63,18 +64,17 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
                         })
                         .collect();
                     let name = m.name().map(|n| n.text()).unwrap_or_default();
-                    methods.push(format!("{}{name}({}) : {ret}", visibility_mark(m), params.join(", ")));
+                    methods.lines.push(format!("{}{name}({}) : {ret}", visibility_mark(m), params.join(", ")));
+                    methods.ids.push(format!("{fqn}.{name}()"));
                 }
                 ast::Member::Association(_) => {}
             }
         }
-        let mut compartments =
-            vec![Compartment { title: None, lines: fields }, Compartment { title: None, lines: methods }];
+        let mut compartments = vec![fields, methods];
         if let ast::TypeDecl::Enum(e) = &decl {
-            compartments = vec![Compartment {
-                title: None,
-                lines: e.values().filter_map(|v| v.name()).map(|n| n.text()).collect(),
-            }];
+            let values: Vec<String> = e.values().filter_map(|v| v.name()).map(|n| n.text()).collect();
+            let ids = values.iter().map(|v| format!("{fqn}.{v}")).collect();
+            compartments = vec![Compartment { title: None, lines: values, ids }];
         }
         graph.nodes.push(GraphNode {
             id: fqn.clone(),
@@ -92,7 +92,8 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
                     kind: EdgeKind,
                     target: String,
                     label: Option<String>,
-                    ends: (Option<String>, Option<String>)| {
+                    ends: (Option<String>, Option<String>),
+                    range: TextRange| {
             let (source, target) = (EdgeEnd::node(fqn.clone()), EdgeEnd::node(target));
             graph.edges.push(GraphEdge {
                 id: edge_id(graph, &source, &target),
@@ -102,6 +103,7 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
                 label,
                 source_label: ends.0,
                 target_label: ends.1,
+                range,
             });
         };
         let resolve =
@@ -111,11 +113,11 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
             ast::TypeDecl::Interface(i) => (i.extends().collect(), Vec::new()),
             _ => (Vec::new(), Vec::new()),
         };
-        for base in extends.iter().filter_map(|t| t.path()) {
-            edge(&mut graph, EdgeKind::Generalization, resolve(&base.text()), None, (None, None));
-        }
-        for base in implements.iter().filter_map(|t| t.path()) {
-            edge(&mut graph, EdgeKind::Realization, resolve(&base.text()), None, (None, None));
+        for (kind, bases) in [(EdgeKind::Generalization, extends), (EdgeKind::Realization, implements)] {
+            for base in bases {
+                let Some(path) = base.path() else { continue };
+                edge(&mut graph, kind, resolve(&path.text()), None, (None, None), base.syntax().text_range());
+            }
         }
         for member in decl.members() {
             if let ast::Member::Association(a) = member {
@@ -139,6 +141,7 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
                     resolve(&target.text()),
                     role,
                     (bounds(a.target_multiplicity()), bounds(a.own_multiplicity())),
+                    a.syntax().text_range(),
                 );
             }
         }

@@ -70,6 +70,7 @@ pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::Compo
                 label: connection.connection_name().map(|n| n.text()),
                 source_label: None,
                 target_label: None,
+                range: connection.syntax().text_range(),
             });
         }
     }
@@ -81,7 +82,10 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
     for instance in diagram.instances() {
         let Some(name) = instance.name().map(|n| n.text()) else { continue };
         let component = instance.component().map(|c| c.text()).unwrap_or_default();
-        let values: Vec<String> = instance.field_values().map(|f| text(&f)).collect();
+        let (values, value_ids) = instance
+            .field_values()
+            .map(|f| (text(&f), format!("{name}.{}", f.name().map(|n| n.text()).unwrap_or_default())))
+            .unzip();
         let ports = instance
             .port_instances()
             .flat_map(|pi| {
@@ -105,7 +109,7 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
             label: format!("{name} : {}", component.rsplit('.').next().unwrap_or(&component)),
             stereotype: None,
             is_abstract: false,
-            compartments: vec![Compartment { title: None, lines: values }],
+            compartments: vec![Compartment { title: None, lines: values, ids: value_ids }],
             ports,
             group: None,
             range: instance.syntax().text_range(),
@@ -129,9 +133,10 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
                     kind: EdgeKind::Binding,
                     source: source.clone(),
                     target: target.clone(),
-                    label: None,
+                    label: binding.connection_name().map(|n| n.text()),
                     source_label: None,
                     target_label: None,
+                    range: binding.syntax().text_range(),
                 });
             }
         }

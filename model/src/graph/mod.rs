@@ -57,6 +57,18 @@ pub enum NodeShape {
 pub struct Compartment {
     pub title: Option<String>,
     pub lines: Vec<String>,
+    /// `ids[i]` is the id of the element `lines[i]` shows (a field, a method, an enum value, an
+    /// instance's field value: `Owner.name`, a method `Owner.name()`), empty for a line that
+    /// is no element of its own (a statement, a loop header's section).
+    pub ids: Vec<String>,
+}
+
+impl Compartment {
+    /// A compartment of lines that are no elements of their own.
+    fn plain(title: Option<String>, lines: Vec<String>) -> Compartment {
+        let ids = vec![String::new(); lines.len()];
+        Compartment { title, lines, ids }
+    }
 }
 
 /// A port on a node's boundary.
@@ -129,6 +141,9 @@ pub struct GraphEdge {
     /// Multiplicity at the source and target end.
     pub source_label: Option<String>,
     pub target_label: Option<String>,
+    /// The text that states it: a transition, an association, a connection, a binding, the
+    /// type an `extends` or `implements` clause names.
+    pub range: TextRange,
 }
 
 /// A swimlane.

@@ -359,7 +359,7 @@ fn import_position(node: &SyntaxNode, text: &str) -> Option<(TextSize, String, S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{db::RootDatabase, ide::test_fixture::with_edits};
+    use crate::{db::RootDatabase, text::with_edits};
 
     fn apply(files: &[(&str, &str)], title_part: &str) -> Vec<String> {
         let db = RootDatabase::default();

@@ -149,6 +149,13 @@ pub fn prepare_rename(
     Ok(resolved.reference)
 }
 
+/// Whether `name` is a name a user could declare (no keyword).
+pub(crate) fn is_valid_name(name: &str) -> bool {
+    name.chars().next().is_some_and(|c| c == '_' || c.is_ascii_alphabetic())
+        && name.chars().all(|c| c == '_' || c.is_ascii_alphanumeric())
+        && crate::SyntaxKind::from_keyword(name).is_none()
+}
+
 /// The edits that rename what the name at `offset` means to `new_name`.
 pub fn rename(
     db: &dyn Db,
@@ -157,10 +164,7 @@ pub fn rename(
     offset: TextSize,
     new_name: &str,
 ) -> Result<Vec<(FileRange, String)>, RenameError> {
-    let valid = new_name.chars().next().is_some_and(|c| c == '_' || c.is_ascii_alphabetic())
-        && new_name.chars().all(|c| c == '_' || c.is_ascii_alphanumeric())
-        && crate::SyntaxKind::from_keyword(new_name).is_none();
-    if !valid {
+    if !is_valid_name(new_name) {
         return Err(RenameError(format!("`{new_name}` is not a valid name")));
     }
     prepare_rename(db, workspace, file, offset)?;

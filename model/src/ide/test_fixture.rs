@@ -1,22 +1,9 @@
-//! Test fixtures for editor features: a workspace of files with `$0` marking the cursor, and
-//! a text with an answer's edits made.
+//! Test fixtures for editor features: a workspace of files with `$0` marking the cursor.
 
 use crate::{
     db::{RootDatabase, SourceFile, Workspace},
-    syntax::{TextRange, TextSize},
+    syntax::TextSize,
 };
-
-/// `text` with `edits` made, each range one of `text` as it is (the last first, so the others
-/// stay where they are).
-pub(crate) fn with_edits<'a>(text: &str, edits: impl IntoIterator<Item = (TextRange, &'a str)>) -> String {
-    let mut edits: Vec<(TextRange, &str)> = edits.into_iter().collect();
-    edits.sort_by_key(|(range, _)| std::cmp::Reverse(range.start()));
-    let mut text = text.to_string();
-    for (range, new) in edits {
-        text.replace_range(std::ops::Range::<usize>::from(range), new);
-    }
-    text
-}
 
 /// The files as a workspace, and the cursor offset (`$0`, removed from the text).
 pub(crate) fn with_cursor(files: &[(&str, &str)]) -> (RootDatabase, Workspace, Vec<SourceFile>, TextSize) {

@@ -95,6 +95,8 @@ pub struct NodeView {
 pub struct CompartmentView {
     pub title: Option<String>,
     pub lines: Vec<String>,
+    /// The id of the element each line shows (a field, a method, …), `""` for a plain line.
+    pub ids: Vec<String>,
 }
 
 #[derive(Debug, Serialize)]
@@ -117,6 +119,8 @@ pub struct EdgeView {
     pub label: Option<String>,
     pub source_label: Option<String>,
     pub target_label: Option<String>,
+    /// The text that states it.
+    pub range: lsp::Range,
     /// The route, source to target; empty where an end is not in the diagram.
     pub points: Vec<Point>,
     pub label_bounds: Option<Bounds>,
@@ -347,7 +351,7 @@ fn view(
                 compartments: node
                     .compartments
                     .iter()
-                    .map(|c| CompartmentView { title: c.title.clone(), lines: c.lines.clone() })
+                    .map(|c| CompartmentView { title: c.title.clone(), lines: c.lines.clone(), ids: c.ids.clone() })
                     .collect(),
                 ports: node
                     .ports
@@ -377,6 +381,7 @@ fn view(
                     label: edge.label.clone(),
                     source_label: edge.source_label.clone(),
                     target_label: edge.target_label.clone(),
+                    range: to_proto::range(index, edge.range, snap.encoding),
                     points: routed.map_or_else(Vec::new, |e| bends(&e.points)),
                     label_bounds: routed.and_then(|e| e.label.as_ref()).map(|l| l.rect.into()),
                 }

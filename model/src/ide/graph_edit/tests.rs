@@ -4,10 +4,10 @@
 use salsa::Setter;
 
 use super::*;
-use crate::{db::RootDatabase, ide::test_fixture::with_edits};
+use crate::{db::RootDatabase, text::with_edits};
 
 /// Every listing of the dissertation, as one workspace (as `samples_check_clean_as_one_workspace`).
-fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
+pub(super) fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples/seed");
     let mut paths: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
@@ -25,7 +25,7 @@ fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
 }
 
 /// Makes `edits` in the files' texts.
-fn apply(db: &mut RootDatabase, files: &[SourceFile], edits: &[(FileRange, String)]) {
+pub(super) fn apply(db: &mut RootDatabase, files: &[SourceFile], edits: &[(FileRange, String)]) {
     for &file in files {
         let mine: Vec<(TextRange, &str)> = edits
             .iter()
@@ -39,7 +39,7 @@ fn apply(db: &mut RootDatabase, files: &[SourceFile], edits: &[(FileRange, Strin
     }
 }
 
-fn texts(db: &RootDatabase, files: &[SourceFile]) -> Vec<String> {
+pub(super) fn texts(db: &RootDatabase, files: &[SourceFile]) -> Vec<String> {
     files.iter().map(|f| f.text(db).clone()).collect()
 }
 
