@@ -224,6 +224,18 @@ pub fn with_line_ending(text: &str, ending: &str) -> String {
     out
 }
 
+/// `text` with `edits` made, each range one of `text` as it is (the last first, so the others
+/// stay where they are).
+pub fn with_edits<'a>(text: &str, edits: impl IntoIterator<Item = (TextRange, &'a str)>) -> String {
+    let mut edits: Vec<(TextRange, &str)> = edits.into_iter().collect();
+    edits.sort_by_key(|(range, _)| std::cmp::Reverse(range.start()));
+    let mut text = text.to_string();
+    for (range, new) in edits {
+        text.replace_range(std::ops::Range::<usize>::from(range), new);
+    }
+    text
+}
+
 #[cfg(test)]
 mod tests {
     use proptest::prelude::*;
@@ -336,16 +348,4 @@ mod tests {
             }
         }
     }
-}
-
-/// `text` with `edits` made, each range one of `text` as it is (the last first, so the others
-/// stay where they are).
-pub fn with_edits<'a>(text: &str, edits: impl IntoIterator<Item = (TextRange, &'a str)>) -> String {
-    let mut edits: Vec<(TextRange, &str)> = edits.into_iter().collect();
-    edits.sort_by_key(|(range, _)| std::cmp::Reverse(range.start()));
-    let mut text = text.to_string();
-    for (range, new) in edits {
-        text.replace_range(std::ops::Range::<usize>::from(range), new);
-    }
-    text
 }

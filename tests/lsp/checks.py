@@ -38,11 +38,12 @@ async def refused(request, what):
 
 
 class Seen:
-    """What the server sent a client: its capabilities, diagnostics by URI, progress values by
+    """What the server sent a client: its capabilities, diagnostics (and their version) by URI, progress values by
     token, the progress tokens it created, log messages and shown messages (type, text)."""
 
     def __init__(self):
         self.diagnostics, self.progress, self.created, self.logs, self.shown = {}, {}, [], [], []
+        self.diagnostics_version = {}
         self.capabilities = None
 
 
@@ -57,6 +58,7 @@ async def start_client(name, gudsl, root):
     @client.feature(t.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
     def on_diagnostics(params):
         seen.diagnostics[params.uri] = params.diagnostics
+        seen.diagnostics_version[params.uri] = params.version
 
     @client.feature(t.WINDOW_WORK_DONE_PROGRESS_CREATE)
     def on_progress_create(params):

@@ -9,7 +9,10 @@ between drawn ends with a route that starts and ends on them, each node's range 
 declares it, and the SVG it answers the very file `gudsl render` writes for the same diagram.
 Then, on an open document: the version in the answers follows the editor's, ids and geometry
 survive an edit that only adds a comment (ranges move with the text), a new class appears under
-its fully qualified name; and the refusals: an unknown diagram and an unknown document."""
+its fully qualified name; a rename through `gudsl/applyGraphEdit`, a stale edit refused; one edit
+of each kind (create, connect, set a property, reconnect, delete) applied as an editor applies
+it, each checked in the next version's graph and diagnostics; and the refusals: an unknown
+diagram and an unknown document."""
 
 import asyncio
 import shutil
@@ -190,6 +193,8 @@ async def main(gudsl, repo):
     if "teleport" not in str(error):
         fail(f"an unknown operation's error: {error}")
 
+    await edits_of_every_kind(client, seen, uri, figured)
+
     # Refusals: what does not exist is named, with what does.
     error = await refused(graph(client, uri, "Circles"), "an unknown diagram")
     if "declares no diagram `Circles` (it declares: Shapes)" not in str(error):
@@ -205,6 +210,79 @@ async def main(gudsl, repo):
     await client.shutdown_async(None)
     client.exit(None)
     print(f"{drawn} diagrams drawn; 1 passed, 0 failed")
+
+
+FLOW = """ActivityDiagram Flow()
+{
+    start S { => f; }
+    final f;
+}
+"""
+
+
+async def edits_of_every_kind(client, seen, uri, text):
+    """One graph edit of each kind through the protocol, each applied by the client as an editor
+    does and checked in the graph and the diagnostics of the document's next version."""
+    version = 4
+    state = {"text": text, "version": version}
+
+    async def step(document, diagram, operations, expect):
+        answer = await apply_graph_edit(client, document, state["version"], diagram, operations)
+        state["text"] = apply_edits(state["text"], text_edits(answer))
+        state["version"] += 1
+        change = t.TextDocumentContentChangeWholeDocument(text=state["text"])
+        client.text_document_did_change(
+            t.DidChangeTextDocumentParams(t.VersionedTextDocumentIdentifier(uri=document, version=state["version"]), [change])
+        )
+        after = await graph(client, document, diagram)
+        if after.version != state["version"] or not expect(after):
+            fail(f"{operations} gave the graph {after}\n{state['text']}")
+        await wait_for(lambda: seen.diagnostics_version.get(document) == state["version"], "the diagnostics of the edit")
+        syntax = [d for d in seen.diagnostics[document] if str(d.code).startswith("E000")]
+        if syntax:
+            fail(f"{operations} made the text unparsable: {syntax}\n{state['text']}")
+        return after
+
+    nodes = lambda g: [n.id for n in g.nodes]
+    lines = lambda g, node: [i for n in g.nodes if n.id == node for c in n.compartments for i in c.ids]
+    ends = lambda g: sorted((e.kind, e.source.node, e.target.node) for e in g.edges)
+    await step(uri, "Shapes", [{"op": "create", "kind": "interface", "name": "Drawable"}], lambda g: "Shapes.Drawable" in nodes(g))
+    field = {"op": "create", "kind": "field", "name": "sides", "parent": "Shapes.Square", "properties": {"type": "int"}}
+    await step(uri, "Shapes", [field], lambda g: "Shapes.Square.sides" in lines(g, "Shapes.Square"))
+    method = {"op": "create", "kind": "method", "name": "draw", "parent": "Shapes.Drawable"}
+    await step(uri, "Shapes", [method], lambda g: "Shapes.Drawable.draw()" in lines(g, "Shapes.Drawable"))
+    realize = {"op": "connect", "kind": "realization", "source": "Shapes.Circle", "target": "Shapes.Drawable"}
+    await step(uri, "Shapes", [realize], lambda g: ("realization", "Shapes.Circle", "Shapes.Drawable") in ends(g))
+    link = {"op": "connect", "kind": "association", "source": "Shapes.Square", "target": "Shapes.Circle",
+            "properties": {"name": "inner", "targetMultiplicity": "0..*"}}
+    g = await step(uri, "Shapes", [link], lambda g: ("association", "Shapes.Square", "Shapes.Circle") in ends(g))
+    edge = next(e.id for e in g.edges if e.kind == "association")
+    multiplicity = {"op": "setProperty", "element": edge, "property": "targetMultiplicity", "value": "1..4"}
+    await step(uri, "Shapes", [multiplicity], lambda g: any(e.targetLabel == "1..4" for e in g.edges))
+    reconnect = {"op": "reconnect", "edge": edge, "target": "Shapes.Figure"}
+    await step(uri, "Shapes", [reconnect], lambda g: ("association", "Shapes.Square", "Shapes.Figure") in ends(g))
+    gone = lambda g: "Shapes.Circle" not in nodes(g) and all("Shapes.Circle" not in (e.source.node, e.target.node) for e in g.edges)
+    await step(uri, "Shapes", [{"op": "delete", "element": "Shapes.Circle"}], gone)
+
+    # An activity diagram: a node, a transition with a guard, the guard changed, the node deleted.
+    flow = uri.replace("shapes.gudsl", "flow.gudsl")
+    client.text_document_did_open(t.DidOpenTextDocumentParams(t.TextDocumentItem(flow, "gudsl", 1, FLOW)))
+    state.update(text=FLOW, version=1)
+    action = {"op": "create", "kind": "loopWindow", "name": "filter"}
+    await step(flow, "Flow", [action], lambda g: "Flow/filter" in nodes(g))
+    arrow = {"op": "connect", "kind": "transition", "source": "Flow/S", "target": "Flow/filter", "properties": {"guard": "true"}}
+    g = await step(flow, "Flow", [arrow], lambda g: any(e.label == "[true]" for e in g.edges))
+    edge = next(e.id for e in g.edges if e.label == "[true]")
+    guard = {"op": "setProperty", "element": edge, "property": "guard", "value": "ready"}
+    await step(flow, "Flow", [guard], lambda g: any(e.label == "[ready]" for e in g.edges))
+    await step(flow, "Flow", [{"op": "delete", "element": "Flow/filter"}], lambda g: nodes(g) == ["Flow/S", "Flow/f"] and len(g.edges) == 1)
+    if state["text"] != FLOW:
+        fail(f"creating and deleting the node did not give the text back:\n{state['text']}")
+    # What the language cannot state is refused with the reason, and nothing changes.
+    final = {"op": "connect", "kind": "transition", "source": "Flow/f", "target": "Flow/S"}
+    error = await refused(apply_graph_edit(client, flow, state["version"], "Flow", [final]), "a transition from a final node")
+    if "is a final node: no transition leaves it" not in str(error):
+        fail(f"a transition from a final node: {error}")
 
 
 if __name__ == "__main__":

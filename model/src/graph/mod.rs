@@ -109,6 +109,37 @@ pub enum EdgeKind {
     Binding,
 }
 
+impl EdgeKind {
+    pub const ALL: [EdgeKind; 8] = [
+        EdgeKind::Generalization,
+        EdgeKind::Realization,
+        EdgeKind::Association,
+        EdgeKind::Aggregation,
+        EdgeKind::Composition,
+        EdgeKind::Transition,
+        EdgeKind::Connection,
+        EdgeKind::Binding,
+    ];
+
+    /// Its name in the protocol: `generalization`, `transition`, …
+    pub fn name(self) -> &'static str {
+        match self {
+            EdgeKind::Generalization => "generalization",
+            EdgeKind::Realization => "realization",
+            EdgeKind::Association => "association",
+            EdgeKind::Aggregation => "aggregation",
+            EdgeKind::Composition => "composition",
+            EdgeKind::Transition => "transition",
+            EdgeKind::Connection => "connection",
+            EdgeKind::Binding => "binding",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<EdgeKind> {
+        EdgeKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+}
+
 /// Where an edge starts or ends: a node, and for connections and bindings one of its ports.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct EdgeEnd {

@@ -17,7 +17,7 @@ mod test_fixture;
 pub use completion::{completions, CompletionItem, CompletionKind, Completions};
 pub use fixes::{quick_fixes, QuickFix};
 pub use folding::{folding_ranges, Fold, FoldKind};
-pub use graph_edit::{edge_kind_name, graph_edit, property, GraphEditError, GraphOp, NewKind, Properties};
+pub use graph_edit::{graph_edit, property, GraphEditError, GraphOp, NewKind, Properties};
 pub use hints::{inlay_hints, signature_help, InlayHint, SignatureHelp};
 pub use navigation::{goto_definition, goto_type_definition, hover, NavigationTarget};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};

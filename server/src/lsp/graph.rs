@@ -10,8 +10,8 @@ use std::{
 };
 
 use gudsl_model::{
-    graph::{EdgeEnd, Graph, GraphKind},
-    ide::GraphOp,
+    graph::{EdgeEnd, EdgeKind, Graph, GraphKind},
+    ide::{GraphOp, NewKind, Properties},
     syntax::TextRange,
     text::LineIndex,
     Cancellable, FileId,
@@ -184,8 +184,67 @@ pub struct GraphEditParams {
 #[derive(Debug, Deserialize)]
 #[serde(tag = "op", rename_all = "camelCase")]
 pub enum Operation {
+    /// A new node, member, port, connector or port instance (`kind`: `class`, `field`, `action`,
+    /// `loopWindow`, `portInstance`, …), into `parent` (a class, swimlane, component, instance).
+    #[serde(rename_all = "camelCase")]
+    Create {
+        kind: String,
+        name: String,
+        parent: Option<String>,
+        #[serde(default)]
+        properties: Properties,
+    },
+    /// An element and what dangles without it.
+    Delete { element: String },
     /// A node and every reference to it, across files.
     Rename { element: String, name: String },
+    /// A new edge (`kind`: `transition`, `generalization`, `realization`, `association`,
+    /// `aggregation`, `composition`, `connection`, `binding`).
+    Connect {
+        kind: String,
+        source: String,
+        target: String,
+        #[serde(default)]
+        properties: Properties,
+    },
+    /// An edge's new source or target.
+    Reconnect { edge: String, source: Option<String>, target: Option<String> },
+    /// A property's new value; `null` removes it.
+    #[serde(rename_all = "camelCase")]
+    SetProperty { element: String, property: String, value: Option<String> },
+}
+
+impl Operation {
+    fn to_op(&self, k: usize) -> Result<GraphOp, String> {
+        Ok(match self {
+            Operation::Create { kind, name, parent, properties } => GraphOp::Create {
+                kind: NewKind::from_name(kind).ok_or_else(|| {
+                    let kinds: Vec<&str> = NewKind::ALL.iter().map(|(_, n)| *n).collect();
+                    format!("operation {k}: `{kind}` is no kind of element (kinds: {})", kinds.join(", "))
+                })?,
+                name: name.clone(),
+                parent: parent.clone(),
+                properties: properties.clone(),
+            },
+            Operation::Delete { element } => GraphOp::Delete { element: element.clone() },
+            Operation::Rename { element, name } => GraphOp::Rename { element: element.clone(), name: name.clone() },
+            Operation::Connect { kind, source, target, properties } => GraphOp::Connect {
+                kind: EdgeKind::from_name(kind).ok_or_else(|| {
+                    let kinds: Vec<&str> = EdgeKind::ALL.iter().map(|e| e.name()).collect();
+                    format!("operation {k}: `{kind}` is no kind of edge (kinds: {})", kinds.join(", "))
+                })?,
+                source: source.clone(),
+                target: target.clone(),
+                properties: properties.clone(),
+            },
+            Operation::Reconnect { edge, source, target } => {
+                GraphOp::Reconnect { edge: edge.clone(), source: source.clone(), target: target.clone() }
+            }
+            Operation::SetProperty { element, property, value } => {
+                GraphOp::SetProperty { element: element.clone(), property: property.clone(), value: value.clone() }
+            }
+        })
+    }
 }
 
 #[derive(Debug, Serialize)]
@@ -212,13 +271,11 @@ pub fn apply_graph_edit(snap: &Snapshot, params: &GraphEditParams) -> Cancellabl
             what(current)
         )));
     }
-    let ops: Vec<GraphOp> = params
-        .operations
-        .iter()
-        .map(|op| match op {
-            Operation::Rename { element, name } => GraphOp::Rename { element: element.clone(), name: name.clone() },
-        })
-        .collect();
+    let ops: Result<Vec<GraphOp>, String> = params.operations.iter().enumerate().map(|(k, op)| op.to_op(k)).collect();
+    let ops = match ops {
+        Ok(ops) => ops,
+        Err(reason) => return Ok(Err(reason)),
+    };
     Ok(match snap.analysis.graph_edit(file, &params.diagram, &ops)? {
         Ok(edits) => Ok(GraphEditAnswer { edit: to_proto::workspace_edit(snap, edits)? }),
         Err(refused) => Err(refused.0),
@@ -265,6 +322,9 @@ fn without_ranges(graph: &Graph) -> Graph {
     (drawn.range, drawn.name_range) = (TextRange::default(), None);
     for node in &mut drawn.nodes {
         node.range = TextRange::default();
+    }
+    for edge in &mut drawn.edges {
+        edge.range = TextRange::default();
     }
     drawn
 }

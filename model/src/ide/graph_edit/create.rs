@@ -51,7 +51,7 @@ pub(super) fn create(
     };
     if graph.kind != diagram_kind {
         let (wanted, is) = (kind_name(diagram_kind), kind_name(graph.kind));
-        return Err(format!("a {} goes into a {wanted} diagram, `{}` is a {is} diagram", kind.name(), graph.id));
+        return Err(format!("a {} goes into {wanted} diagram, `{}` is {is} diagram", kind.name(), graph.id));
     }
     // The declaration the new one goes into, when it is a node of the graph.
     let parent_node = |shapes: &[NodeShape]| -> Result<SyntaxNode, String> {
@@ -105,7 +105,9 @@ pub(super) fn create(
             };
             let stereotype = match prop("stereotype") {
                 Some(s @ ("class" | "source" | "filter" | "sink")) => s.to_string(),
-                Some(other) => return Err(format!("`{other}` is no component stereotype (class, source, filter, sink)")),
+                Some(other) => {
+                    return Err(format!("`{other}` is no component stereotype (class, source, filter, sink)"))
+                }
                 None => class_stereotype(ctx, &owner, name),
             };
             (owner, At::End, format!("{stereotype} {name} {{ }}"))
@@ -134,10 +136,10 @@ pub(super) fn create(
 
 fn kind_name(kind: GraphKind) -> &'static str {
     match kind {
-        GraphKind::Class => "class",
-        GraphKind::Activity => "activity",
-        GraphKind::Component => "component",
-        GraphKind::ComponentInstance => "component-instance",
+        GraphKind::Class => "a class",
+        GraphKind::Activity => "an activity",
+        GraphKind::Component => "a component",
+        GraphKind::ComponentInstance => "a component-instance",
     }
 }
 
@@ -280,7 +282,7 @@ pub(super) fn insert_into_instance(instance: &SyntaxNode, text: &str, at_end: bo
         let last_port = body.items().into_iter().filter(|c| c.kind() == PORT_INSTANCE).last();
         return Ok(place::insert(&body, last_port.as_ref().map_or(At::Start, At::After), text));
     }
-    let indent = place::indent_of(&instance.first_token().expect("an instance has tokens"));
+    let indent = place::indent_of(&place::first_token(instance).expect("an instance has tokens"));
     let last = instance.last_token().expect("an instance has tokens");
     let range = if last.kind() == SEMICOLON { last.text_range() } else { TextRange::empty(last.text_range().end()) };
     Ok((range, format!("\n{indent}{{\n{indent}{INDENT}{text}\n{indent}}}")))

@@ -28,8 +28,13 @@ fn delete_all(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
         }
         Element::Group(group) => {
             let lane = ctx.swimlane(group).ok_or_else(|| format!("`{id}` is declared in another diagram"))?;
-            let inside: Vec<&str> =
-                ctx.graph().nodes.iter().filter(|n| n.group.as_ref() == Some(&group.id)).map(|n| n.id.as_str()).collect();
+            let inside: Vec<&str> = ctx
+                .graph()
+                .nodes
+                .iter()
+                .filter(|n| n.group.as_ref() == Some(&group.id))
+                .map(|n| n.id.as_str())
+                .collect();
             let mut edits = vec![item(&lane)?];
             edits.extend(dangling(ctx, lane.text_range(), |end| inside.contains(&end.node.as_str()))?);
             Ok(edits)

@@ -32,7 +32,7 @@ pub(super) fn connect(
     };
     if let Some(unknown) = properties.keys().find(|p| !known.contains(&p.as_str())) {
         let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-        return Err(format!("a {} has no property `{unknown}` (it has: {known})", super::edge_kind_name(kind)));
+        return Err(format!("a {} has no property `{unknown}` (it has: {known})", kind.name()));
     }
     let prop = |key: &str| properties.get(key).map(String::as_str);
     match kind {
@@ -119,10 +119,16 @@ pub(super) fn reconnect(ctx: &Ctx, id: &str, source: Option<&str>, target: Optio
             let mut retarget = None;
             if let Some(target) = target {
                 let (written, part) = if is_transition {
-                    (node_name(activity_node(ctx, target)?).to_string(), syntax.children().find(|c| c.kind() == NAME_REF))
+                    (
+                        node_name(activity_node(ctx, target)?).to_string(),
+                        syntax.children().find(|c| c.kind() == NAME_REF),
+                    )
                 } else {
                     let class = ctx.declaration(ctx.node(edge.source.id())?)?;
-                    (ctx.written_type(&class, &type_named(ctx, target)?), syntax.children().find(|c| c.kind() == TYPE_REF))
+                    (
+                        ctx.written_type(&class, &type_named(ctx, target)?),
+                        syntax.children().find(|c| c.kind() == TYPE_REF),
+                    )
                 };
                 let part = part.ok_or("the edge's target is not written")?.text_range();
                 let local = part - syntax.text_range().start();
@@ -198,11 +204,10 @@ fn supertype(ctx: &Ctx, kind: EdgeKind, source: &str, target: &str) -> Result<Ve
         }
         return Ok(vec![place::append(&existing, &format!(" {written}"))]);
     }
-    let anchors: &[_] = if clause == IMPLEMENTS_CLAUSE { &[EXTENDS_CLAUSE, TEMPLATE_PARAMS, NAME] } else { &[TEMPLATE_PARAMS, NAME] };
-    let anchor = anchors
-        .iter()
-        .find_map(|k| class.children().find(|c| c.kind() == *k))
-        .ok_or("the declaration has no name")?;
+    let anchors: &[_] =
+        if clause == IMPLEMENTS_CLAUSE { &[EXTENDS_CLAUSE, TEMPLATE_PARAMS, NAME] } else { &[TEMPLATE_PARAMS, NAME] };
+    let anchor =
+        anchors.iter().find_map(|k| class.children().find(|c| c.kind() == *k)).ok_or("the declaration has no name")?;
     Ok(vec![place::append(&anchor, &format!(" {keyword} {written}"))])
 }
 
@@ -264,7 +269,10 @@ fn free_role(class: &SyntaxNode, written: &str) -> String {
     let mut chars = simple.chars();
     let base = chars.next().map(|c| c.to_ascii_lowercase().to_string() + chars.as_str()).unwrap_or_default();
     let taken: Vec<String> = class.descendants().filter(|n| n.kind() == NAME).map(|n| n.text().to_string()).collect();
-    (1..).map(|k| if k == 1 { base.clone() } else { format!("{base}{k}") }).find(|r| !taken.contains(r)).expect("a free name")
+    (1..)
+        .map(|k| if k == 1 { base.clone() } else { format!("{base}{k}") })
+        .find(|r| !taken.contains(r))
+        .expect("a free name")
 }
 
 /// `0..*` as the formatter writes a multiplicity's bounds: `0 .. *`.

@@ -16,6 +16,8 @@ mod properties;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_edges;
+#[cfg(test)]
 mod tests_ops;
 
 use std::collections::BTreeMap;
@@ -28,7 +30,7 @@ use crate::{
     syntax::{SyntaxKind::*, SyntaxNode, TextRange},
 };
 
-use super::{rename, references::is_valid_name, FileRange};
+use super::{references::is_valid_name, rename, FileRange};
 pub use properties::property;
 
 /// Named values an operation takes (`type`, `guard`, `sourceMultiplicity`, …).
@@ -163,8 +165,14 @@ pub(super) struct Ctx<'a> {
 pub(super) enum Element<'g> {
     Node(&'g GraphNode),
     /// A field, a method, an enum value or an instance's field value, by its name.
-    Member { owner: &'g GraphNode, name: String },
-    Port { owner: &'g GraphNode, port: &'g GraphPort },
+    Member {
+        owner: &'g GraphNode,
+        name: String,
+    },
+    Port {
+        owner: &'g GraphNode,
+        port: &'g GraphPort,
+    },
     Edge(&'g GraphEdge),
     Group(&'g GraphGroup),
 }
@@ -261,8 +269,7 @@ impl<'a> Ctx<'a> {
 
     /// The declaration of a node of the graph.
     pub(super) fn declaration(&self, node: &GraphNode) -> Result<SyntaxNode, String> {
-        self.syntax(node.range)
-            .ok_or_else(|| format!("`{}` is declared in another diagram: edit it there", node.id))
+        self.syntax(node.range).ok_or_else(|| format!("`{}` is declared in another diagram: edit it there", node.id))
     }
 
     pub(super) fn diagram(&self) -> SyntaxNode {
@@ -377,18 +384,4 @@ fn declared_name(db: &dyn Db, file: SourceFile, range: TextRange) -> Option<Text
 
 fn overlap(a: TextRange, b: TextRange) -> bool {
     a.start() < b.end() && b.start() < a.end() || a == b
-}
-
-/// The protocol's name of an edge kind.
-pub fn edge_kind_name(kind: EdgeKind) -> &'static str {
-    match kind {
-        EdgeKind::Generalization => "generalization",
-        EdgeKind::Realization => "realization",
-        EdgeKind::Association => "association",
-        EdgeKind::Aggregation => "aggregation",
-        EdgeKind::Composition => "composition",
-        EdgeKind::Transition => "transition",
-        EdgeKind::Connection => "connection",
-        EdgeKind::Binding => "binding",
-    }
 }

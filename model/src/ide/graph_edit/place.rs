@@ -116,17 +116,13 @@ fn after(last: SyntaxToken, body: &Body, one_line: bool, item: &str) -> Edit {
     }
     // The indentation of the line the item starts on (it may end on a continuation line).
     let holder = body.open.parent();
-    let start = last
-        .parent_ancestors()
-        .find(|n| n.parent() == holder)
-        .and_then(|n| first_token(&n))
-        .unwrap_or(last);
+    let start = last.parent_ancestors().find(|n| n.parent() == holder).and_then(|n| first_token(&n)).unwrap_or(last);
     (place, format!("\n{}{item}", indent_of(&start)))
 }
 
 /// An empty body opened as the formatter writes it: the brace on a line of its own.
 fn open(body: &Body, item: &str) -> Edit {
-    let indent = indent_of(&body.owner.first_token().expect("a declaration has tokens"));
+    let indent = indent_of(&first_token(&body.owner).expect("a declaration has tokens"));
     let before = body.open.prev_token().and_then(|t| significant_from(t, false)).expect("a body follows a name");
     let place = TextRange::new(before.text_range().end(), body.close.text_range().end());
     (place, format!("\n{indent}{{\n{indent}{INDENT}{item}\n{indent}}}"))
@@ -188,7 +184,7 @@ pub(super) fn append(node: &SyntaxNode, text: &str) -> Edit {
 }
 
 /// The first token of `node` that is no comment (a node starts with the comments above it).
-fn first_token(node: &SyntaxNode) -> Option<SyntaxToken> {
+pub(super) fn first_token(node: &SyntaxNode) -> Option<SyntaxToken> {
     let mut token = node.first_token();
     while let Some(t) = token.clone().filter(|t| matches!(t.kind(), WHITESPACE | LINE_COMMENT | BLOCK_COMMENT)) {
         if t.text_range().end() >= node.text_range().end() {
@@ -220,7 +216,11 @@ fn lead_of(token: &SyntaxToken) -> SyntaxToken {
         if space.kind() != WHITESPACE || space.text().matches('\n').count() != 1 {
             break;
         }
-        let Some(comment) = space.prev_token().filter(|c| matches!(c.kind(), LINE_COMMENT | BLOCK_COMMENT) && starts_line(c)) else { break };
+        let Some(comment) =
+            space.prev_token().filter(|c| matches!(c.kind(), LINE_COMMENT | BLOCK_COMMENT) && starts_line(c))
+        else {
+            break;
+        };
         first = comment;
     }
     first

@@ -93,7 +93,7 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
             let guard = child(&syntax, GUARD);
             Slot {
                 value: guard.as_ref().and_then(inside),
-                insert: (syntax.text_range().start(), "[{}] "),
+                insert: (super::place::first_token(&syntax).ok_or_else(missing)?.text_range().start(), "[{}] "),
                 remove: guard.as_ref().map(with_space_after),
             }
         }
@@ -106,7 +106,11 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
                 (Some(list), _) => Some(with_space_before(list)),
                 (None, _) => None,
             };
-            Slot { value: list.as_ref().and_then(inside), insert: (end_of(&after).ok_or_else(missing)?, "({})"), remove }
+            Slot {
+                value: list.as_ref().and_then(inside),
+                insert: (end_of(&after).ok_or_else(missing)?, "({})"),
+                remove,
+            }
         }
         "header" => {
             let header = child(&syntax, LOOP_HEADER).ok_or_else(missing)?;
@@ -115,10 +119,18 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
         "name" => {
             // A connection's or binding's name is optional: `[Name source … ]`.
             let optional = syntax.kind() != ASSOCIATION;
-            let open = syntax.first_token().ok_or_else(missing)?;
+            // Written before `source` (after `[` and the space there may be).
+            let keyword = token(&syntax, L_BRACK)
+                .and_then(|t| t.next_token())
+                .and_then(|t| super::place::significant_from(t, true));
+            let at = match (&name, keyword) {
+                (Some(name), _) => name.text_range().start(),
+                (None, Some(keyword)) if optional => keyword.text_range().start(),
+                _ => return Err(missing()),
+            };
             Slot {
                 value: name.as_ref().map(|n| n.text_range()),
-                insert: (open.text_range().end(), "{} "),
+                insert: (at, "{} "),
                 remove: name.as_ref().filter(|_| optional).map(with_space_after),
             }
         }

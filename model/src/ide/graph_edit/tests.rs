@@ -110,3 +110,56 @@ fn what_cannot_be_done_is_refused_with_the_reason() {
         graph_edit(&db, ws, file, "Shapes", &[rename("Shapes.Shape", "Figure"), rename("Shapes.Circle", "Disc")]);
     assert_eq!(both.unwrap().len(), 3, "Shape's declaration and reference, Circle's declaration");
 }
+
+#[test]
+fn operations_the_language_cannot_state_are_refused_with_the_reason() {
+    let db = RootDatabase::default();
+    let text = "ClassDiagram Shapes\n{\n    public class Shape { }\n    public class Circle extends Shape { }\n}\n\
+                ActivityDiagram A()\n{\n    start S { => f; }\n    final f;\n}\n";
+    let file = SourceFile::new(&db, "a.gudsl".into(), text.into());
+    let ws = Workspace::new(&db, vec![file]);
+    let refused = |diagram: &str, op: GraphOp| graph_edit(&db, ws, file, diagram, &[op]).unwrap_err().0;
+    let connect = |kind, source: &str, target: &str, properties: Properties| GraphOp::Connect {
+        kind,
+        source: source.into(),
+        target: target.into(),
+        properties,
+    };
+    use crate::graph::EdgeKind::*;
+    assert_eq!(
+        refused("Shapes", connect(Generalization, "Shapes.Circle", "Shapes.Shape", Properties::new())),
+        "operation 0: `Shapes.Circle` already extends `Shape`: a class extends one class (reconnect that generalization)"
+    );
+    assert_eq!(
+        refused("A", connect(Transition, "A/S", "Shapes.Shape", Properties::new())),
+        "operation 0: a transition joins nodes of one activity diagram: `A` has no node `Shapes.Shape`"
+    );
+    assert_eq!(
+        refused("A", connect(Transition, "A/f", "A/S", Properties::new())),
+        "operation 0: `A/f` is a final node: no transition leaves it"
+    );
+    let guard = [("guard".to_string(), "x ]; start Z {".to_string())].into_iter().collect();
+    assert!(refused("A", connect(Transition, "A/S", "A/f", guard)).starts_with("the edit would not parse: "));
+    let create = |kind, parent: Option<&str>| GraphOp::Create {
+        kind,
+        name: "New".into(),
+        parent: parent.map(str::to_string),
+        properties: Properties::new(),
+    };
+    assert_eq!(
+        refused("A", create(NewKind::Class, None)),
+        "operation 0: a class goes into a class diagram, `A` is an activity diagram"
+    );
+    assert_eq!(
+        refused("Shapes", create(NewKind::Field, Some("Shapes.Nothing"))),
+        "operation 0: `Shapes` has no node `Shapes.Nothing`"
+    );
+    let set =
+        GraphOp::SetProperty { element: "Shapes.Shape".into(), property: "guard".into(), value: Some("x".into()) };
+    assert_eq!(refused("Shapes", set), "operation 0: `Shapes.Shape` has no property `guard` (it has: none)");
+    let reconnect = GraphOp::Reconnect { edge: "A/S->A/f#0".into(), source: None, target: Some("A/f".into()) };
+    assert_eq!(
+        refused("A", reconnect),
+        "operation 0: the edge already joins these ends: give a new `source` or `target`"
+    );
+}

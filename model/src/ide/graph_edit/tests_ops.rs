@@ -13,17 +13,17 @@ use crate::{
     graph::{Graph, GraphKind, NodeShape},
 };
 
-struct Run {
-    db: RootDatabase,
-    ws: Workspace,
-    files: Vec<SourceFile>,
+pub(super) struct Run {
+    pub(super) db: RootDatabase,
+    pub(super) ws: Workspace,
+    pub(super) files: Vec<SourceFile>,
     /// Whether every file is formatted (then every edit must keep it so).
     formatted: bool,
-    made: BTreeMap<&'static str, usize>,
+    pub(super) made: BTreeMap<&'static str, usize>,
 }
 
 impl Run {
-    fn new(formatted: bool) -> Run {
+    pub(super) fn new(formatted: bool) -> Run {
         let db = RootDatabase::default();
         let (ws, files) = listings(&db);
         let mut run = Run { db, ws, files, formatted, made: BTreeMap::new() };
@@ -37,13 +37,13 @@ impl Run {
         run
     }
 
-    fn graph(&self, file: SourceFile, id: &str) -> Graph {
+    pub(super) fn graph(&self, file: SourceFile, id: &str) -> Graph {
         file_graphs(&self.db, self.ws, file).iter().find(|g| g.id == id).cloned().expect("the diagram is still there")
     }
 
     /// Makes `op`, checks that only whitespace or an empty body was replaced and that the file
     /// keeps its formatting, and gives the graph after it.
-    fn make(&mut self, file: SourceFile, graph: &Graph, op: &GraphOp) -> Graph {
+    pub(super) fn make(&mut self, file: SourceFile, graph: &Graph, op: &GraphOp) -> Graph {
         let edits = match graph_edit(&self.db, self.ws, file, &graph.id, std::slice::from_ref(op)) {
             Ok(edits) => edits,
             Err(refused) => panic!("{}: {op:?}: {}", file.path(&self.db), refused.0),
@@ -68,7 +68,7 @@ impl Run {
 
     /// Makes `op`, checks the graph with `check`, makes `undo(new graph)` and checks the text
     /// is back as it was.
-    fn round_trip(
+    pub(super) fn round_trip(
         &mut self,
         file: SourceFile,
         graph: &Graph,
@@ -102,7 +102,14 @@ impl Run {
     }
 
     /// Makes `op` and checks the graph with `check`, then puts the text back.
-    fn once(&mut self, file: SourceFile, graph: &Graph, name: &'static str, op: GraphOp, check: impl Fn(&Graph)) {
+    pub(super) fn once(
+        &mut self,
+        file: SourceFile,
+        graph: &Graph,
+        name: &'static str,
+        op: GraphOp,
+        check: impl Fn(&Graph),
+    ) {
         let before = file.text(&self.db).clone();
         let after = self.make(file, graph, &op);
         check(&after);
@@ -116,11 +123,10 @@ fn empty_bodies_as_formatted(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     while let Some(open) = rest.find('{') {
-        let after = rest[open + 1..].trim_start();
-        if after.starts_with('}') {
+        if let Some(after) = rest[open + 1..].trim_start().strip_prefix('}') {
             out.push_str(rest[..open].trim_end());
             out.push_str(" { }");
-            rest = &after[1..];
+            rest = after;
         } else {
             out.push_str(&rest[..=open]);
             rest = &rest[open + 1..];
@@ -130,7 +136,7 @@ fn empty_bodies_as_formatted(text: &str) -> String {
     out
 }
 
-fn ids(graph: &Graph) -> Vec<String> {
+pub(super) fn ids(graph: &Graph) -> Vec<String> {
     let mut ids: Vec<String> = graph.nodes.iter().map(|n| n.id.clone()).collect();
     ids.extend(graph.nodes.iter().flat_map(|n| n.ports.iter().map(|p| p.id.clone())));
     ids.extend(graph.nodes.iter().flat_map(|n| n.compartments.iter().flat_map(|c| c.ids.clone())));
@@ -139,14 +145,14 @@ fn ids(graph: &Graph) -> Vec<String> {
     ids
 }
 
-fn edge_ends(graph: &Graph) -> Vec<String> {
+pub(super) fn edge_ends(graph: &Graph) -> Vec<String> {
     let mut ends: Vec<String> =
         graph.edges.iter().map(|e| format!("{:?} {} {}", e.kind, e.source.id(), e.target.id())).collect();
     ends.sort();
     ends
 }
 
-fn props(pairs: &[(&str, &str)]) -> Properties {
+pub(super) fn props(pairs: &[(&str, &str)]) -> Properties {
     pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect()
 }
 
@@ -161,16 +167,25 @@ fn creations(run: &Run, file: SourceFile, graph: &Graph) -> Vec<(&'static str, G
     match graph.kind {
         GraphKind::Class => {
             for kind in [NewKind::Class, NewKind::Interface, NewKind::Enum] {
-                out.push((kind.name(), create(kind, "Created", None, Properties::new()), format!("{}.Created", graph.id)));
+                out.push((
+                    kind.name(),
+                    create(kind, "Created", None, Properties::new()),
+                    format!("{}.Created", graph.id),
+                ));
             }
             if let Some(class) = declared(NodeShape::Class) {
-                let field = create(NewKind::Field, "created", Some(&class.id), props(&[("type", "float"), ("value", "1.0f")]));
+                let field =
+                    create(NewKind::Field, "created", Some(&class.id), props(&[("type", "float"), ("value", "1.0f")]));
                 out.push(("field", field, format!("{}.created", class.id)));
                 let method = create(NewKind::Method, "create", Some(&class.id), props(&[("parameters", "int n")]));
                 out.push(("method", method, format!("{}.create()", class.id)));
             }
             if let Some(e) = declared(NodeShape::Enum) {
-                out.push(("value", create(NewKind::Value, "Created", Some(&e.id), Properties::new()), format!("{}.Created", e.id)));
+                out.push((
+                    "value",
+                    create(NewKind::Value, "Created", Some(&e.id), Properties::new()),
+                    format!("{}.Created", e.id),
+                ));
             }
         }
         GraphKind::Activity => {
@@ -321,4 +336,3 @@ fn deleting_any_element_of_any_listing_removes_it_and_what_dangles() {
     }
     assert!(run.made["delete"] > 300, "{} elements deleted", run.made["delete"]);
 }
-
