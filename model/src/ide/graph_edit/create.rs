@@ -88,16 +88,6 @@ pub(super) fn create(
             let (ty, params) = (prop("type").unwrap_or("void"), prop("parameters").unwrap_or(""));
             (class, At::End, format!("{visibility} {ty} {name}({params});"))
         }
-        NewKind::Start
-        | NewKind::Action
-        | NewKind::Decision
-        | NewKind::Fork
-        | NewKind::Join
-        | NewKind::Loop
-        | NewKind::LoopWindow
-        | NewKind::Calc
-        | NewKind::CalcRange
-        | NewKind::Final => (activity_owner(ctx, parent)?, At::End, activity_node(kind, name, properties)),
         NewKind::Component => {
             let owner = match parent {
                 Some(p) if p != graph.id => parent_node(&[NodeShape::Component])?,
@@ -130,6 +120,8 @@ pub(super) fn create(
             let text = format!("{name} : {port}({});", instance_connectors(ctx, &instance, port)?);
             return Ok(vec![insert_into_instance(&instance, &text, false)?]);
         }
+        // The activity nodes.
+        _ => (activity_owner(ctx, parent)?, At::End, activity_node(kind, name, properties)),
     };
     Ok(vec![insert(&owner, at, &text)?])
 }

@@ -106,6 +106,12 @@ impl NewKind {
         (NewKind::PortInstance, "portInstance"),
     ];
 
+    /// Whether it is a node of an activity diagram.
+    pub fn is_activity_node(self) -> bool {
+        let activity = &NewKind::ALL[NewKind::Start as usize..=NewKind::Final as usize];
+        activity.iter().any(|(k, _)| *k == self)
+    }
+
     pub fn name(self) -> &'static str {
         NewKind::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).expect("every kind is listed")
     }

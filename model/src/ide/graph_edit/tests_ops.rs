@@ -191,21 +191,7 @@ fn creations(run: &Run, file: SourceFile, graph: &Graph) -> Vec<(&'static str, G
         GraphKind::Activity => {
             let lanes = std::iter::once(None).chain(graph.groups.iter().take(1).map(|g| Some(g.id.clone())));
             for lane in lanes {
-                for (kind, name) in NewKind::ALL.iter().filter(|(k, _)| {
-                    matches!(
-                        k,
-                        NewKind::Start
-                            | NewKind::Action
-                            | NewKind::Decision
-                            | NewKind::Fork
-                            | NewKind::Join
-                            | NewKind::Loop
-                            | NewKind::LoopWindow
-                            | NewKind::Calc
-                            | NewKind::CalcRange
-                            | NewKind::Final
-                    )
-                }) {
+                for (kind, name) in NewKind::ALL.iter().filter(|(k, _)| k.is_activity_node()) {
                     let id = format!("{}/created", lane.as_deref().unwrap_or(&graph.id));
                     out.push((*name, create(*kind, "created", lane.as_deref(), Properties::new()), id));
                 }
