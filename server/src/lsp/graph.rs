@@ -435,7 +435,7 @@ fn view(
                 let routed = routes.get(edge.id.as_str());
                 EdgeView {
                     id: edge.id.clone(),
-                    kind: lower_camel(&format!("{:?}", edge.kind)),
+                    kind: edge.kind.name().to_string(),
                     source: end(&edge.source),
                     target: end(&edge.target),
                     label: edge.label.clone(),

@@ -2,7 +2,7 @@
 //! it, after its siblings in the diagram, swimlane, class or component it goes into.
 
 use super::{
-    name_of,
+    has_properties, name_of,
     place::{self, At, Body, Edit, INDENT},
     valid_name, Ctx, Element, NewKind, Properties,
 };
@@ -30,10 +30,7 @@ pub(super) fn create(
         NewKind::PortInstance => &["port"],
         _ => &[],
     };
-    if let Some(unknown) = properties.keys().find(|p| !known.contains(&p.as_str())) {
-        let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-        return Err(format!("a {} has no property `{unknown}` (it has: {known})", kind.name()));
-    }
+    has_properties(&format!("a {}", kind.name()), properties.keys().map(String::as_str), known)?;
     let prop = |key: &str| properties.get(key).map(String::as_str);
     if kind == NewKind::Component {
         name.split('.').try_for_each(valid_name)?;

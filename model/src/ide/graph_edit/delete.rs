@@ -74,7 +74,8 @@ fn delete_all(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
 }
 
 /// Deletions that overlap (a port and the connection after it each take the space between
-/// them) as one; and one that leaves its body with nothing but whitespace closes it.
+/// them) as one; and one that leaves its body with nothing but whitespace closes it, as
+/// deleting a body's last item does.
 fn merged(ctx: &Ctx, mut edits: Vec<Edit>) -> Vec<Edit> {
     edits.sort_by_key(|(range, _)| range.start());
     let mut out: Vec<Edit> = Vec::new();
@@ -89,19 +90,9 @@ fn merged(ctx: &Ctx, mut edits: Vec<Edit>) -> Vec<Edit> {
             _ => out.push((range, text)),
         }
     }
-    let text = ctx.text();
-    for (range, new) in &mut out {
-        if !new.is_empty() {
-            continue;
-        }
-        let before = text[..usize::from(range.start())].trim_end();
-        let after = text[usize::from(range.end())..].trim_start();
-        if before.ends_with('{') && after.starts_with('}') {
-            let open = TextRange::at((before.len() - 1).try_into().expect("a text's length fits"), 1.into());
-            let name_end = text[..usize::from(open.start())].trim_end().len();
-            let close = usize::from(range.end()) + (text.len() - usize::from(range.end()) - after.len()) + 1;
-            *range = TextRange::new((name_end as u32).into(), (close as u32).into());
-            *new = " { }".to_string();
+    for edit in out.iter_mut().filter(|(_, new)| new.is_empty()) {
+        if let Some(closed) = place::emptied_by(ctx.root(), ctx.text(), edit.0).and_then(|body| place::close(&body)) {
+            *edit = closed;
         }
     }
     out

@@ -5,7 +5,7 @@
 
 use super::{
     create::insert_into_instance,
-    delete, name_of,
+    delete, has_properties, name_of,
     place::{self, At, Body, Edit},
     valid_name, Ctx, Element, Properties,
 };
@@ -30,10 +30,7 @@ pub(super) fn connect(
         EdgeKind::Connection | EdgeKind::Binding => &["name"],
         EdgeKind::Generalization | EdgeKind::Realization => &[],
     };
-    if let Some(unknown) = properties.keys().find(|p| !known.contains(&p.as_str())) {
-        let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-        return Err(format!("a {} has no property `{unknown}` (it has: {known})", kind.name()));
-    }
+    has_properties(&format!("a {}", kind.name()), properties.keys().map(String::as_str), known)?;
     let prop = |key: &str| properties.get(key).map(String::as_str);
     match kind {
         EdgeKind::Transition => {

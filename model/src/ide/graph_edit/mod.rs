@@ -108,8 +108,8 @@ impl NewKind {
 
     /// Whether it is a node of an activity diagram.
     pub fn is_activity_node(self) -> bool {
-        let activity = &NewKind::ALL[NewKind::Start as usize..=NewKind::Final as usize];
-        activity.iter().any(|(k, _)| *k == self)
+        use NewKind::*;
+        matches!(self, Start | Action | Decision | Fork | Join | Loop | LoopWindow | Calc | CalcRange | Final)
     }
 
     pub fn name(self) -> &'static str {
@@ -207,7 +207,7 @@ impl<'a> Ctx<'a> {
                 let Some(Element::Node(node)) = self.element(element) else {
                     return Err(format!("`{}` has no node `{element}`", self.graph.id));
                 };
-                let Some(at) = declared_name(self.db, self.file, node.range) else {
+                let Some(at) = declared_name(&self.root, node.range) else {
                     return Err(format!("`{element}` is not declared in this file: rename it where it is"));
                 };
                 rename(self.db, self.workspace, self.file, at.start(), name).map_err(|e| e.0)?
@@ -263,14 +263,7 @@ impl<'a> Ctx<'a> {
 
     /// The syntax of what the graph draws at `range` (the outermost node with exactly it).
     pub(super) fn syntax(&self, range: TextRange) -> Option<SyntaxNode> {
-        if range.is_empty() {
-            return None;
-        }
-        let start = match self.root.covering_element(range) {
-            rowan::NodeOrToken::Node(n) => n,
-            rowan::NodeOrToken::Token(t) => t.parent()?,
-        };
-        start.ancestors().skip_while(|n| n.text_range() != range).take_while(|n| n.text_range() == range).last()
+        syntax_at(&self.root, range)
     }
 
     /// The declaration of a node of the graph.
@@ -329,6 +322,10 @@ impl<'a> Ctx<'a> {
             .unwrap_or_else(|| fqn.to_string())
     }
 
+    pub(super) fn root(&self) -> &SyntaxNode {
+        &self.root
+    }
+
     /// The file's text.
     pub(super) fn text(&self) -> &'a str {
         self.file.text(self.db)
@@ -368,6 +365,21 @@ pub(super) fn name_of(node: &SyntaxNode) -> Option<String> {
     node.children().find(|c| matches!(c.kind(), NAME | NAME_REF)).map(|n| n.text().to_string())
 }
 
+/// Refuses a property `what` does not have, naming those it has.
+pub(super) fn has_properties<'p>(
+    what: &str,
+    given: impl IntoIterator<Item = &'p str>,
+    known: &[&str],
+) -> Result<(), String> {
+    match given.into_iter().find(|p| !known.contains(p)) {
+        Some(unknown) => {
+            let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
+            Err(format!("{what} has no property `{unknown}` (it has: {known})"))
+        }
+        None => Ok(()),
+    }
+}
+
 /// A name a user could type, refused otherwise.
 pub(super) fn valid_name(name: &str) -> Result<(), String> {
     if is_valid_name(name) {
@@ -377,14 +389,22 @@ pub(super) fn valid_name(name: &str) -> Result<(), String> {
     }
 }
 
-/// The name of the declaration at `range` of `file` (a node's range).
-fn declared_name(db: &dyn Db, file: SourceFile, range: TextRange) -> Option<TextRange> {
+/// The outermost node of `root` with exactly `range` (a graph element's); `None` for an empty
+/// range (a node drawn for an edge that leaves the diagram: declared elsewhere).
+fn syntax_at(root: &SyntaxNode, range: TextRange) -> Option<SyntaxNode> {
     if range.is_empty() {
-        return None; // drawn for an edge that leaves the diagram: declared elsewhere
+        return None;
     }
-    let root = parse(db, file).syntax_node();
-    let declaration = root.covering_element(range).into_node()?;
-    let declaration = declaration.ancestors().find(|n| n.text_range() == range)?;
+    let start = match root.covering_element(range) {
+        rowan::NodeOrToken::Node(n) => n,
+        rowan::NodeOrToken::Token(t) => t.parent()?,
+    };
+    start.ancestors().skip_while(|n| n.text_range() != range).take_while(|n| n.text_range() == range).last()
+}
+
+/// The name of the declaration at `range` (a node's range).
+fn declared_name(root: &SyntaxNode, range: TextRange) -> Option<TextRange> {
+    let declaration = syntax_at(root, range)?;
     declaration.children().find_map(ast::Name::cast).map(|name| name.syntax().text_range())
 }
 

@@ -4,7 +4,10 @@
 //! whitespace before it along, and a body left empty closes to `{ }` again. So deleting what
 //! was created gives back the text as it was.
 
-use crate::syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange};
+use crate::{
+    ast::support::token,
+    syntax::{SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange},
+};
 
 /// One replacement in the edited file.
 pub(super) type Edit = (TextRange, String);
@@ -138,8 +141,7 @@ pub(super) fn delete(item: &SyntaxNode) -> Option<Edit> {
     let next = tail.next_token().and_then(|t| significant_from(t, true));
     let (after_open, before_close) = (prev.as_ref() == Some(&body.open), next.as_ref() == Some(&body.close));
     if after_open && before_close {
-        let before = body.open.prev_token().and_then(|t| significant_from(t, false))?;
-        Some((TextRange::new(before.text_range().end(), body.close.text_range().end()), body.emptied().to_string()))
+        close(&body)
     } else if after_open {
         let next = next?;
         Some((TextRange::new(lead.text_range().start(), next.text_range().start()), String::new()))
@@ -147,6 +149,28 @@ pub(super) fn delete(item: &SyntaxNode) -> Option<Edit> {
         let from = prev.map_or(lead.text_range().start(), |p| p.text_range().end());
         Some((TextRange::new(from, tail.text_range().end()), String::new()))
     }
+}
+
+/// The edit that closes a body whose items all go: from the end of what precedes `{` through
+/// `}`, replaced by [`Body::emptied`].
+pub(super) fn close(body: &Body) -> Option<Edit> {
+    let before = body.open.prev_token().and_then(|t| significant_from(t, false))?;
+    Some((TextRange::new(before.text_range().end(), body.close.text_range().end()), body.emptied().to_string()))
+}
+
+/// The innermost body around `range` that holds nothing but `range` and whitespace.
+pub(super) fn emptied_by(root: &SyntaxNode, text: &str, range: TextRange) -> Option<Body> {
+    let start = match root.covering_element(range) {
+        rowan::NodeOrToken::Node(n) => n,
+        rowan::NodeOrToken::Token(t) => t.parent()?,
+    };
+    let body = start.ancestors().find_map(|n| {
+        Body::of(&n)
+            .filter(|b| b.open.text_range().end() <= range.start() && range.end() <= b.close.text_range().start())
+    })?;
+    let blank = |from, to| text[std::ops::Range::<usize>::from(TextRange::new(from, to))].trim().is_empty();
+    (blank(body.open.text_range().end(), range.start()) && blank(range.end(), body.close.text_range().start()))
+        .then_some(body)
 }
 
 /// The edit that deletes `element` from the comma- (or semicolon-) separated list it is in,
@@ -185,14 +209,14 @@ pub(super) fn append(node: &SyntaxNode, text: &str) -> Edit {
 
 /// The first token of `node` that is no comment (a node starts with the comments above it).
 pub(super) fn first_token(node: &SyntaxNode) -> Option<SyntaxToken> {
-    let mut token = node.first_token();
-    while let Some(t) = token.clone().filter(|t| matches!(t.kind(), WHITESPACE | LINE_COMMENT | BLOCK_COMMENT)) {
+    let mut current = node.first_token();
+    while let Some(t) = current.clone().filter(|t| t.kind().is_trivia()) {
         if t.text_range().end() >= node.text_range().end() {
             break;
         }
-        token = t.next_token();
+        current = t.next_token();
     }
-    token
+    current
 }
 
 /// The first token at or after (`forward`) or before `token` that is not whitespace.
@@ -260,8 +284,4 @@ pub(super) fn indent_of(token: &SyntaxToken) -> String {
         t = prev.prev_token();
     }
     String::new()
-}
-
-fn token(node: &SyntaxNode, kind: crate::syntax::SyntaxKind) -> Option<SyntaxToken> {
-    node.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
 }

@@ -2,11 +2,12 @@
 //! association's role and multiplicities, a field's type and value, a node's parameters, …),
 //! each read and written where it stands.
 
-use super::{edges::multiplicity, place::Edit, valid_name, Ctx, Element, GraphEditError};
+use super::{edges::multiplicity, has_properties, place::Edit, valid_name, Ctx, Element, GraphEditError};
 use crate::{
+    ast::support::token,
     db::{Db, SourceFile, Workspace},
     graph::EdgeKind,
-    syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken, TextRange, TextSize},
+    syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, TextRange, TextSize},
 };
 
 /// Where one property's value is written.
@@ -72,21 +73,17 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
         TRANSITION => &["guard", "arguments"],
         ASSOCIATION if is_association => &["name", "sourceMultiplicity", "targetMultiplicity"],
         CONNECTION | BINDING => &["name"],
-        FIELD | ENUM_VALUE => &["type", "value"],
+        FIELD => &["type", "value"],
         METHOD => &["type", "parameters"],
         ACTION_NODE | DECISION_NODE | CALC_NODE | CALC_RANGE_NODE | START_NODE | FORK_NODE | JOIN_NODE => {
             &["parameters"]
         }
         LOOP_NODE | LOOP_WINDOW_NODE => &["header"],
         COMPONENT_INSTANCE => &["component"],
-        NAMED_ARG => &["value"],
+        ENUM_VALUE | NAMED_ARG => &["value"],
         _ => &[],
     };
-    let known = if syntax.kind() == ENUM_VALUE { &["value"][..] } else { known };
-    if !known.contains(&property) {
-        let list = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-        return Err(format!("`{id}` has no property `{property}` (it has: {list})"));
-    }
+    has_properties(&format!("`{id}`"), [property], known)?;
     let missing = || format!("`{id}` is incomplete: its {property} cannot be found");
     Ok(match property {
         "guard" => {
@@ -179,10 +176,6 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
 
 fn child(node: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxNode> {
     node.children().find(|c| c.kind() == kind)
-}
-
-fn token(node: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
-    node.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
 }
 
 /// The text between a bracketed node's first and last token: the guard's condition.

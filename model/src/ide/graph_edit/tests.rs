@@ -53,7 +53,7 @@ fn renaming_any_node_of_any_listing_renames_exactly_it_and_undoes() {
         let graphs = file_graphs(&db, ws, file).clone();
         for graph in &graphs {
             for node in graph.nodes.iter().filter(|n| !n.range.is_empty()) {
-                let Some(at) = declared_name(&db, file, node.range) else { continue };
+                let Some(at) = declared_name(&parse(&db, file).syntax_node(), node.range) else { continue };
                 let old = file.text(&db)[at].to_string();
                 let new = format!("{old}Renamed");
                 let op = GraphOp::Rename { element: node.id.clone(), name: new.clone() };
