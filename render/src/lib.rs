@@ -4,9 +4,12 @@
 
 pub mod json;
 pub mod layout;
+pub mod pins;
 pub mod png;
 pub mod scene;
 pub mod svg;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_arrange;
 pub mod text;

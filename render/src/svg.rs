@@ -18,7 +18,7 @@ use crate::{
 
 /// Lays a graph out and draws it.
 pub fn render(graph: &Graph) -> String {
-    write(&scene::build(graph))
+    write(&scene::build(graph, scene::Hints::default()))
 }
 
 /// A number with at most two decimals, without trailing zeros.

@@ -10,13 +10,13 @@ use crate::{
         self,
         labels::{intersects, segment_meets_box},
         measure::{content, port_anchors, port_text, FONT_SIZE, PADDING, PORT_SIZE},
-        Point, Rect,
+        Point, Rect, Scene,
     },
     svg::render,
     text::{self, Style},
 };
 
-fn sample_graphs() -> Vec<Graph> {
+pub(crate) fn sample_graphs() -> Vec<Graph> {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
     let mut files = Vec::new();
     for dir in ["seed", "framework"] {
@@ -58,7 +58,7 @@ fn every_sample_svg_rasterizes_with_resvg() {
 #[test]
 fn layout_json_is_the_metrics_script_format() {
     for graph in sample_graphs().iter().take(8) {
-        let json = json::write(&scene::build(graph));
+        let json = json::write(&scene::build(graph, scene::Hints::default()));
         assert!(json.starts_with("{\"nodes\":[{\"id\":"), "{json}");
         assert!(json.contains("\"edges\":[") && json.contains("\"labels\":["));
         assert_eq!(json.matches("\"w\":").count() - json.matches("\"kind\":\"mid\"").count(), graph.nodes.len());
@@ -70,77 +70,84 @@ fn layout_json_is_the_metrics_script_format() {
 #[test]
 fn sample_geometry_is_clean() {
     for graph in sample_graphs() {
-        let scene = scene::build(&graph);
-        let boxes: Vec<Rect> = scene.nodes.iter().map(|n| n.rect).collect();
-        for a in 0..boxes.len() {
-            for b in a + 1..boxes.len() {
-                assert!(
-                    !intersects(boxes[a], boxes[b]),
-                    "{}: {} overlaps {}",
-                    graph.id,
-                    graph.nodes[a].id,
-                    graph.nodes[b].id
-                );
+        assert_clean(&graph, &scene::build(&graph, scene::Hints::default()), true);
+    }
+}
+
+/// Boxes do not overlap, no label covers a box or another label (or is crossed by an edge, if
+/// `labels_off_edges`), and every edge starts and ends on the border of its boxes (or at its
+/// ports).
+pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool) {
+    let boxes: Vec<Rect> = scene.nodes.iter().map(|n| n.rect).collect();
+    for a in 0..boxes.len() {
+        for b in a + 1..boxes.len() {
+            assert!(
+                !intersects(boxes[a], boxes[b]),
+                "{}: {} overlaps {}",
+                graph.id,
+                graph.nodes[a].id,
+                graph.nodes[b].id
+            );
+        }
+    }
+    let labels: Vec<(&str, Rect)> =
+        scene.edges.iter().filter_map(|e| Some((e.id.as_str(), e.label.as_ref()?.rect))).collect();
+    for (k, (a, ra)) in labels.iter().enumerate() {
+        for (b, rb) in &labels[k + 1..] {
+            assert!(!intersects(*ra, *rb), "{}: the labels of {a} and {b} overlap", graph.id);
+        }
+    }
+    for edge in &scene.edges {
+        if let Some(label) = &edge.label {
+            for other in scene.edges.iter().filter(|_| labels_off_edges) {
+                let crossed = other.points.windows(2).any(|s| segment_meets_box(s[0], s[1], label.rect));
+                assert!(!crossed, "{}: label of {} is crossed by {}", graph.id, edge.id, other.id);
+            }
+            for (i, b) in boxes.iter().enumerate() {
+                assert!(!intersects(label.rect, *b), "{}: label of {} covers {}", graph.id, edge.id, graph.nodes[i].id);
             }
         }
-        for edge in &scene.edges {
-            if let Some(label) = &edge.label {
-                for other in &scene.edges {
-                    let crossed = other.points.windows(2).any(|s| segment_meets_box(s[0], s[1], label.rect));
-                    assert!(!crossed, "{}: label of {} is crossed by {}", graph.id, edge.id, other.id);
-                }
-                for (i, b) in boxes.iter().enumerate() {
-                    assert!(
-                        !intersects(label.rect, *b),
-                        "{}: label of {} covers {}",
-                        graph.id,
-                        edge.id,
-                        graph.nodes[i].id
-                    );
-                }
-            }
+    }
+    let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+    for edge in &scene.edges {
+        let route = &edge.points;
+        let (Some(s), Some(t)) = (index_of(&edge.source), index_of(&edge.target)) else { continue };
+        if s == t {
+            continue;
         }
-        let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
-        for edge in &scene.edges {
-            let route = &edge.points;
-            let (Some(s), Some(t)) = (index_of(&edge.source), index_of(&edge.target)) else { continue };
-            if s == t {
-                continue;
-            }
-            // Port-to-port edges end at the ports' anchors, right of the boxes.
-            let port_anchor = |node: usize, id: &str| {
-                graph.nodes[node].ports.iter().position(|p| p.id == id).map(|i| {
-                    let at = Point { x: boxes[node].x, y: boxes[node].y };
-                    port_anchors(&graph.nodes[node], &content(&graph.nodes[node]), at)[i]
-                })
-            };
-            if let (Some(a), Some(b)) = (port_anchor(s, &edge.source), port_anchor(t, &edge.target)) {
-                assert_eq!(route[0], a, "{}: {} does not start at its port", graph.id, edge.id);
-                assert_eq!(*route.last().unwrap(), b, "{}: {} does not end at its port", graph.id, edge.id);
-                // Axis-parallel segments: none may pass through a box.
-                for segment in route.windows(2) {
-                    let (x0, x1) = (segment[0].x.min(segment[1].x), segment[0].x.max(segment[1].x));
-                    let (y0, y1) = (segment[0].y.min(segment[1].y), segment[0].y.max(segment[1].y));
-                    for (i, bx) in boxes.iter().enumerate() {
-                        let hit = x0 < bx.x + bx.width
-                            && bx.x < x1.max(x0 + 0.01)
-                            && y0 < bx.y + bx.height
-                            && bx.y < y1.max(y0 + 0.01);
-                        assert!(!hit, "{}: {} passes through {}", graph.id, edge.id, graph.nodes[i].id);
-                    }
+        // Port-to-port edges end at the ports' anchors, right of the boxes.
+        let port_anchor = |node: usize, id: &str| {
+            graph.nodes[node].ports.iter().position(|p| p.id == id).map(|i| {
+                let at = Point { x: boxes[node].x, y: boxes[node].y };
+                port_anchors(&graph.nodes[node], &content(&graph.nodes[node]), at)[i]
+            })
+        };
+        if let (Some(a), Some(b)) = (port_anchor(s, &edge.source), port_anchor(t, &edge.target)) {
+            assert_eq!(route[0], a, "{}: {} does not start at its port", graph.id, edge.id);
+            assert_eq!(*route.last().unwrap(), b, "{}: {} does not end at its port", graph.id, edge.id);
+            // Axis-parallel segments: none may pass through a box.
+            for segment in route.windows(2) {
+                let (x0, x1) = (segment[0].x.min(segment[1].x), segment[0].x.max(segment[1].x));
+                let (y0, y1) = (segment[0].y.min(segment[1].y), segment[0].y.max(segment[1].y));
+                for (i, bx) in boxes.iter().enumerate() {
+                    let hit = x0 < bx.x + bx.width
+                        && bx.x < x1.max(x0 + 0.01)
+                        && y0 < bx.y + bx.height
+                        && bx.y < y1.max(y0 + 0.01);
+                    assert!(!hit, "{}: {} passes through {}", graph.id, edge.id, graph.nodes[i].id);
                 }
-                continue;
             }
-            let on_border = |p: Point, b: Rect| {
-                let e = 0.01;
-                let inside = p.x >= b.x - e && p.x <= b.x + b.width + e && p.y >= b.y - e && p.y <= b.y + b.height + e;
-                let edge_x = (p.x - b.x).abs() < e || (p.x - b.x - b.width).abs() < e;
-                let edge_y = (p.y - b.y).abs() < e || (p.y - b.y - b.height).abs() < e;
-                inside && (edge_x || edge_y)
-            };
-            assert!(on_border(route[0], boxes[s]), "{}: {} does not start on its box", graph.id, edge.id);
-            assert!(on_border(*route.last().unwrap(), boxes[t]), "{}: {} does not end on its box", graph.id, edge.id);
+            continue;
         }
+        let on_border = |p: Point, b: Rect| {
+            let e = 0.01;
+            let inside = p.x >= b.x - e && p.x <= b.x + b.width + e && p.y >= b.y - e && p.y <= b.y + b.height + e;
+            let edge_x = (p.x - b.x).abs() < e || (p.x - b.x - b.width).abs() < e;
+            let edge_y = (p.y - b.y).abs() < e || (p.y - b.y - b.height).abs() < e;
+            inside && (edge_x || edge_y)
+        };
+        assert!(on_border(route[0], boxes[s]), "{}: {} does not start on its box", graph.id, edge.id);
+        assert!(on_border(*route.last().unwrap(), boxes[t]), "{}: {} does not end on its box", graph.id, edge.id);
     }
 }
 

@@ -1,6 +1,7 @@
 //! `gudsl`: the GU-DSL command-line tools and language server.
 
 mod commands;
+mod layout_file;
 mod lsp;
 mod report;
 mod workspace;

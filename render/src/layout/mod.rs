@@ -13,6 +13,8 @@ mod rank;
 mod route;
 mod sifting;
 
+pub(crate) use route::self_loop;
+
 use order::Order;
 use proper::Proper;
 use sifting::GlobalOrder;

@@ -24,7 +24,8 @@ pub(super) fn polylines(
         .iter()
         .map(|chain| {
             if chain[0] == chain[chain.len() - 1] {
-                return self_loop(centre(chain[0]), extent[chain[0]]);
+                let (c, e) = (centre(chain[0]), extent[chain[0]]);
+                return self_loop(c.x + e.right, c.y, e.height);
             }
             let mut route = Vec::with_capacity(chain.len() * 2);
             let last = chain.len() - 1;
@@ -55,14 +56,14 @@ pub(super) fn polylines(
     routed
 }
 
-/// A small loop on the right side of a box.
-fn self_loop(c: Point, extent: Extent) -> Vec<Point> {
-    let (right, h) = (c.x + extent.right, extent.height);
+/// A small loop on the right side of a box (its right border at `right`, its middle at
+/// `middle`, `height` tall).
+pub(crate) fn self_loop(right: f64, middle: f64, height: f64) -> Vec<Point> {
     vec![
-        Point { x: right, y: c.y - h / 4.0 },
-        Point { x: right + 20.0, y: c.y - h / 4.0 },
-        Point { x: right + 20.0, y: c.y + h / 4.0 },
-        Point { x: right, y: c.y + h / 4.0 },
+        Point { x: right, y: middle - height / 4.0 },
+        Point { x: right + 20.0, y: middle - height / 4.0 },
+        Point { x: right + 20.0, y: middle + height / 4.0 },
+        Point { x: right, y: middle + height / 4.0 },
     ]
 }
 

@@ -9,8 +9,9 @@ pub(crate) fn intersects(a: Rect, b: Rect) -> bool {
 }
 
 /// A box for `label` beside its edge, clear of every node, already placed label and edge (its
-/// own included) if any candidate is (along each segment, on either side); else clear of nodes
-/// and labels; else the middle of the edge.
+/// own included) if any candidate is (along each segment, on either side); else clear of nodes,
+/// labels and its own edge; else of nodes and labels; else the nearest place to the edge's
+/// middle clear of nodes and labels; else the middle.
 pub(crate) fn place_label(
     route: &[Point],
     label: &str,
@@ -20,23 +21,25 @@ pub(crate) fn place_label(
 ) -> Rect {
     let (w, h) = label_size(label);
     let mut candidates = Vec::new();
-    for fraction in [0.5, 0.3, 0.7, 0.15, 0.85] {
+    for (fraction, gap) in
+        [4.0, 16.0].into_iter().flat_map(|gap| [0.5, 0.3, 0.7, 0.15, 0.85, 0.4, 0.6].map(|f| (f, gap)))
+    {
         for segment in route.windows(2) {
             let p = Point {
                 x: segment[0].x + (segment[1].x - segment[0].x) * fraction,
                 y: segment[0].y + (segment[1].y - segment[0].y) * fraction,
             };
-            let beside = [(p.x + 4.0, p.y - h / 2.0), (p.x - 4.0 - w, p.y - h / 2.0)];
-            let over = [(p.x - w / 2.0, p.y - h - 3.0), (p.x - w / 2.0, p.y + 3.0)];
+            let beside = [(p.x + gap, p.y - h / 2.0), (p.x - gap - w, p.y - h / 2.0)];
+            let over = [(p.x - w / 2.0, p.y - h - gap + 1.0), (p.x - w / 2.0, p.y + gap - 1.0)];
             // Beside a vertical segment, over or under a horizontal one: never across the line.
             let horizontal = (segment[1].x - segment[0].x).abs() > (segment[1].y - segment[0].y).abs();
             let (preferred, other) = if horizontal { (over, beside) } else { (beside, over) };
             // Off a slanted segment: the two corners at `p` that the line does not pass through.
             let corners = [
-                (p.x + 4.0, p.y - h - 4.0),
-                (p.x - 4.0 - w, p.y + 4.0),
-                (p.x - 4.0 - w, p.y - h - 4.0),
-                (p.x + 4.0, p.y + 4.0),
+                (p.x + gap, p.y - h - gap),
+                (p.x - gap - w, p.y + gap),
+                (p.x - gap - w, p.y - h - gap),
+                (p.x + gap, p.y + gap),
             ];
             candidates.extend(preferred);
             candidates.extend(other);
@@ -48,12 +51,34 @@ pub(crate) fn place_label(
         b.x >= 0.0 && b.y >= 0.0 && !obstacles.iter().chain(placed).any(|o| intersects(padded, *o))
     };
     let boxes: Vec<Rect> = candidates.into_iter().map(|(x, y)| Rect { x, y, width: w, height: h }).collect();
-    let off_edges = |b: &Rect| !routes.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b)));
+    let off = |route: &[Point], b: &Rect| !route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b));
+    let off_edges = |b: &Rect| routes.iter().all(|route| off(route, b));
     let clear_of_all = boxes.iter().copied().find(|b| clear(*b) && off_edges(b));
-    clear_of_all.or_else(|| boxes.iter().copied().find(|b| clear(*b))).unwrap_or_else(|| {
-        let mid = midpoint(route);
-        Rect { x: mid.x + 4.0, y: mid.y - h / 2.0, width: w, height: h }
-    })
+    let off_its_edge = || boxes.iter().copied().find(|b| clear(*b) && off(route, b));
+    let mid = midpoint(route);
+    let at_middle = Rect { x: mid.x + 4.0, y: mid.y - h / 2.0, width: w, height: h };
+    // Crowded: the nearest place around the middle clear of nodes and labels.
+    let nearest_clear = || {
+        (1..40).find_map(|ring: i32| {
+            let around = (-ring..=ring).flat_map(|dx| (-ring..=ring).map(move |dy| (dx, dy)));
+            let mut spots: Vec<Rect> = around
+                .filter(|&(dx, dy)| dx.abs() == ring || dy.abs() == ring)
+                .map(|(dx, dy)| Rect {
+                    x: at_middle.x + 8.0 * dx as f64,
+                    y: at_middle.y + 8.0 * dy as f64,
+                    ..at_middle
+                })
+                .collect();
+            let away = |r: &Rect| (r.x - at_middle.x).hypot(r.y - at_middle.y);
+            spots.sort_by(|a, b| away(a).total_cmp(&away(b)));
+            spots.into_iter().find(|b| clear(*b))
+        })
+    };
+    clear_of_all
+        .or_else(off_its_edge)
+        .or_else(|| boxes.iter().copied().find(|b| clear(*b)))
+        .or_else(nearest_clear)
+        .unwrap_or(at_middle)
 }
 
 /// Whether the segment from `a` to `b` passes through the box (Liang–Barsky clipping).

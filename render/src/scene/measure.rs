@@ -136,8 +136,12 @@ fn text_height(header_lines: usize, compartments: &[Vec<String>], ports: usize) 
     lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING + ports as f64 * line_h * 0.9
 }
 
-/// Where a node's text starts: its block centred vertically in a box whose top is `top`.
+/// Where a node's text starts: at the top of a box with compartments (a class resized taller
+/// keeps its name on top), else its block centred vertically in a box whose top is `top`.
 pub(crate) fn text_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
+    if !content.compartments.is_empty() {
+        return top + PADDING / 2.0;
+    }
     let block = text_height(content.header.len(), &content.compartments, node.ports.len());
     top + (content.height - block).max(0.0) / 2.0 + PADDING / 2.0
 }

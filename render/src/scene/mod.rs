@@ -4,8 +4,11 @@
 //! lays the graph out (`crate::layout`), routes connections port to port, and places the labels
 //! (`labels`). The writers (`svg`, `json`) only draw or serialise it.
 
+mod arrange;
 pub(crate) mod labels;
 pub(crate) mod measure;
+
+pub use arrange::Hints;
 
 use std::collections::HashMap;
 
@@ -125,9 +128,16 @@ struct ResolvedEdge<'g> {
     to: (usize, Option<usize>),
 }
 
-/// Measures and lays out a graph.
-pub fn build(graph: &Graph) -> Scene {
-    let contents: Vec<Content> = graph.nodes.iter().map(content).collect();
+/// Measures and lays out a graph, around the nodes `hints` pins or keeps where they were.
+pub fn build(graph: &Graph, hints: Hints) -> Scene {
+    let mut contents: Vec<Content> = graph.nodes.iter().map(content).collect();
+    // A node the user resized is drawn at that size, never smaller than its text.
+    for (node, content) in graph.nodes.iter().zip(&mut contents) {
+        if let Some((width, height)) = hints.pins.and_then(|p| p.get(&node.id)).and_then(|pin| pin.size()) {
+            content.width = content.width.max(width);
+            content.height = content.height.max(height);
+        }
+    }
     let by_id: HashMap<&str, usize> = graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), i)).collect();
     let resolve = |end: &EdgeEnd| {
         let node = *by_id.get(end.node.as_str())?;
@@ -166,6 +176,23 @@ pub fn build(graph: &Graph) -> Scene {
             route.reverse(); // drawn from the child to the parent
         }
     }
+    let to_place: Vec<arrange::Node> = graph
+        .nodes
+        .iter()
+        .zip(&contents)
+        .map(|(n, c)| arrange::Node { id: &n.id, width: c.width, height: c.height })
+        .collect();
+    let to_route: Vec<arrange::Edge> = edges
+        .iter()
+        .map(|e| arrange::Edge {
+            id: &e.edge.id,
+            source: e.edge.source.id(),
+            target: e.edge.target.id(),
+            from: e.from.0,
+            to: e.to.0,
+        })
+        .collect();
+    arrange::arrange(&mut layout, &to_place, &to_route, hints);
     let anchors: Vec<Vec<Point>> = graph
         .nodes
         .iter()
@@ -182,20 +209,37 @@ pub fn build(graph: &Graph) -> Scene {
     // Connections and bindings run between ports: out of the source port to a vertical lane
     // right of every box, then into the target port.
     let right_of_boxes = boxes.iter().map(|b| b.x + b.width).fold(0.0, f64::max) + 40.0;
-    // The gap below (or above) every box that shares `y`'s band: clear of all boxes there.
-    let in_band = |y: f64| boxes.iter().filter(move |b| b.y <= y && y <= b.y + b.height);
-    let below = |y: f64| in_band(y).map(|b| b.y + b.height).fold(y, f64::max) + 16.0;
-    let above = |y: f64| in_band(y).map(|b| b.y).fold(y, f64::min) - 16.0;
+    // The row below (or above) `y` where a horizontal run from x0 to x1 passes no box.
+    let clear_row = |y: f64, x0: f64, x1: f64, down: bool| {
+        let (left, right) = (x0.min(x1), x0.max(x1));
+        let blocking =
+            |y: f64| boxes.iter().find(|b| b.y <= y && y <= b.y + b.height && b.x <= right && left <= b.x + b.width);
+        let mut y = y;
+        while let Some(b) = blocking(y) {
+            y = if down { b.y + b.height + 16.0 } else { b.y - 16.0 };
+        }
+        y
+    };
+    let below = |y: f64, x0: f64, x1: f64| clear_row(y, x0, x1, true);
+    // Above, unless that leaves the drawing: then below.
+    let above = |y: f64, x0: f64, x1: f64| {
+        Some(clear_row(y, x0, x1, false)).filter(|&y| y > 4.0).unwrap_or_else(|| below(y, x0, x1))
+    };
     let mut lane = 0.0;
     for (route, e) in layout.edges.iter_mut().zip(&edges) {
         let (Some(from_port), Some(to_port)) = (e.from.1, e.to.1) else { continue };
         let (from, to) = (anchors[e.from.0][from_port], anchors[e.to.0][to_port]);
         let x = right_of_boxes + lane;
         lane += 14.0;
-        // Out of the port, into the gap between the rows, along it to the lane, and back in the
-        // same way to the target port: no segment crosses a box.
-        let (out_y, in_y) = if to.y >= from.y { (below(from.y), above(to.y)) } else { (above(from.y), below(to.y)) };
+        // Out of the port along the nearest row that passes no box to the lane right of every
+        // box, along the lane, and back in the same way to the target port: no segment crosses
+        // a box, wherever the boxes are (pinned ones too).
         let (fx, tx) = (from.x + 8.0, to.x + 8.0);
+        let (out_y, in_y) = if to.y >= from.y {
+            (below(from.y, fx, x), above(to.y, tx, x))
+        } else {
+            (above(from.y, fx, x), below(to.y, tx, x))
+        };
         *route = vec![
             from,
             Point { x: fx, y: from.y },
@@ -206,6 +250,7 @@ pub fn build(graph: &Graph) -> Scene {
             Point { x: tx, y: to.y },
             to,
         ];
+        route.dedup();
     }
     layout.width = layout.width.max(right_of_boxes + lane + 20.0);
     let labels = place_labels(&edges, &layout.edges, &layout.labels, &boxes);
@@ -262,7 +307,7 @@ pub fn build(graph: &Graph) -> Scene {
 }
 
 /// Each edge's label box: where the layout reserved it, else placed clear of the boxes, the
-/// labels before it and every edge.
+/// other labels and every edge.
 fn place_labels(
     edges: &[ResolvedEdge],
     routes: &[Vec<Point>],
@@ -270,21 +315,21 @@ fn place_labels(
     boxes: &[Rect],
 ) -> Vec<Option<Rect>> {
     let all_routes: Vec<&[Point]> = routes.iter().map(Vec::as_slice).collect();
-    let mut placed: Vec<Rect> = Vec::new();
-    let mut labels = Vec::with_capacity(edges.len());
-    for ((e, route), at) in edges.iter().zip(routes).zip(laid_out) {
-        let label = e.edge.label.as_ref().map(|label| {
-            let chosen = match at {
-                Some(at) => {
-                    let (width, height) = label_size(label);
-                    Rect { x: at.x, y: at.y, width, height }
-                }
-                None => labels::place_label(route, label, boxes, &placed, &all_routes),
-            };
+    let mut labels: Vec<Option<Rect>> = edges
+        .iter()
+        .zip(laid_out)
+        .map(|(e, at)| {
+            let (width, height) = label_size(e.edge.label.as_ref()?);
+            at.map(|at| Rect { x: at.x, y: at.y, width, height })
+        })
+        .collect();
+    let mut placed: Vec<Rect> = labels.iter().flatten().copied().collect();
+    for ((e, route), label) in edges.iter().zip(routes).zip(&mut labels) {
+        if let (Some(text), None) = (&e.edge.label, *label) {
+            let chosen = labels::place_label(route, text, boxes, &placed, &all_routes);
             placed.push(chosen);
-            chosen
-        });
-        labels.push(label);
+            *label = Some(chosen);
+        }
     }
     labels
 }

@@ -1,6 +1,8 @@
 //! `gudsl render PATH… [--diagram NAME] [--format svg|png|layout-json] [-o DIR]`: draws the
 //! diagrams of the given files (resolved together as one workspace) into one file per diagram,
-//! named after the diagram's fully qualified name. Output is byte-identical for identical input.
+//! named after the diagram's fully qualified name, with the nodes pinned in each file's layout
+//! sidecar (`<file>.gudsl.layout`) where they were put. Output is byte-identical for identical
+//! input.
 //! Exit code: 0 drawn, 1 nothing to draw or a file has syntax errors (what parsed is still
 //! drawn), 2 a path could not be read or an output not written.
 
@@ -8,7 +10,9 @@ use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
 
-use crate::workspace;
+use gudsl_render::{pins::LayoutFile, scene::Hints};
+
+use crate::{layout_file, workspace};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -59,13 +63,19 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         }
     }
     let mut written = 0;
-    for &file in &files {
+    for (document, &file) in loaded.documents.iter().zip(&files) {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
+        // Where the user put nodes; a sidecar that is no layout is said and left alone.
+        let layout = layout_file::read(&layout_file::path_for(&document.path)).unwrap_or_else(|error| {
+            eprintln!("gudsl render: {error}; its positions are not used");
+            LayoutFile::default()
+        });
         for graph in graphs {
             if args.diagram.as_deref().is_some_and(|wanted| !super::names_diagram(wanted, &graph.id)) {
                 continue;
             }
-            let scene = gudsl_render::scene::build(graph);
+            let hints = Hints { pins: layout.pins(&graph.id), previous: None };
+            let scene = gudsl_render::scene::build(graph, hints);
             let (extension, bytes) = match args.format {
                 Format::Svg => ("svg", gudsl_render::svg::write(&scene).into_bytes()),
                 Format::LayoutJson => ("json", gudsl_render::json::write(&scene).into_bytes()),

@@ -1,26 +1,28 @@
 //! The graph view over LSP (`docs/protocol.md`): `gudsl/diagrams` lists a document's diagrams,
 //! `gudsl/graph` gives one as a graph — the model's nodes, edges and groups with their stable
 //! ids and source ranges, the renderer's geometry for each (boxes, edge routes, lanes), the
-//! document version it describes, and the SVG of the same scene when asked;
-//! `gudsl/applyGraphEdit` answers operations on a graph with the text edits that make them.
+//! document version it describes, which nodes are pinned, and the SVG of the same scene when
+//! asked. Scenes come from `scenes` (laid out around the pins and the scene drawn before).
 
-use std::{
-    collections::HashMap,
-    sync::{Arc, Mutex},
-};
+use std::collections::HashMap;
 
 use gudsl_model::{
-    graph::{EdgeEnd, EdgeKind, Graph, GraphKind},
-    ide::{GraphOp, NewKind, Properties},
-    syntax::TextRange,
+    graph::{EdgeEnd, Graph, GraphKind},
     text::LineIndex,
-    Cancellable, FileId,
+    Cancellable,
 };
-use gudsl_render::scene::{self, Rect, Scene};
+use gudsl_render::{
+    pins::Pins,
+    scene::{self, Rect, Scene},
+};
 use serde::{Deserialize, Serialize};
 use tower_lsp_server::ls_types as lsp;
 
-use super::{host::Snapshot, to_proto};
+use super::{
+    host::Snapshot,
+    scenes::{layout_of, SceneCache},
+    to_proto,
+};
 
 #[derive(Debug, Deserialize)]
 #[serde(rename_all = "camelCase")]
@@ -58,6 +60,10 @@ pub struct GraphParams {
     /// Whether to add the SVG of the scene.
     #[serde(default)]
     pub svg: bool,
+    /// Whether to lay the nodes no pin holds out afresh, instead of around the scene drawn
+    /// before (where an edit leaves them).
+    #[serde(default)]
+    pub relayout: bool,
 }
 
 #[derive(Debug, Serialize)]
@@ -74,6 +80,10 @@ pub struct GraphView {
     pub groups: Vec<GroupView>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub svg: Option<String>,
+    /// Why the document's layout sidecar was not used (it is not valid): the sidecar's path and
+    /// the reason.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layout_error: Option<String>,
 }
 
 #[derive(Debug, Serialize)]
@@ -89,6 +99,8 @@ pub struct NodeView {
     pub group: Option<String>,
     pub range: lsp::Range,
     pub bounds: Option<Bounds>,
+    /// Whether the user put it where it is (`move`): the layout sidecar holds it there.
+    pub pinned: bool,
 }
 
 #[derive(Debug, Serialize)]
@@ -170,165 +182,6 @@ pub fn diagrams(snap: &Snapshot, params: &DiagramsParams) -> Cancellable<Option<
     Ok(Some(Diagrams { uri: uri.clone(), version: version(snap, uri), diagrams }))
 }
 
-#[derive(Debug, Deserialize)]
-#[serde(rename_all = "camelCase")]
-pub struct GraphEditParams {
-    /// The document and the version the client's graph describes: an edit against another
-    /// version is refused.
-    pub text_document: lsp::OptionalVersionedTextDocumentIdentifier,
-    pub diagram: String,
-    pub operations: Vec<Operation>,
-}
-
-/// One operation of `gudsl/applyGraphEdit`, named by `op`.
-#[derive(Debug, Deserialize)]
-#[serde(tag = "op", rename_all = "camelCase")]
-pub enum Operation {
-    /// A new node, member, port, connector or port instance (`kind`: `class`, `field`, `action`,
-    /// `loopWindow`, `portInstance`, …), into `parent` (a class, swimlane, component, instance).
-    #[serde(rename_all = "camelCase")]
-    Create {
-        kind: String,
-        name: String,
-        parent: Option<String>,
-        #[serde(default)]
-        properties: Properties,
-    },
-    /// An element and what dangles without it.
-    Delete { element: String },
-    /// A node and every reference to it, across files.
-    Rename { element: String, name: String },
-    /// A new edge (`kind`: `transition`, `generalization`, `realization`, `association`,
-    /// `aggregation`, `composition`, `connection`, `binding`).
-    Connect {
-        kind: String,
-        source: String,
-        target: String,
-        #[serde(default)]
-        properties: Properties,
-    },
-    /// An edge's new source or target.
-    Reconnect { edge: String, source: Option<String>, target: Option<String> },
-    /// A property's new value; `null` removes it.
-    #[serde(rename_all = "camelCase")]
-    SetProperty { element: String, property: String, value: Option<String> },
-}
-
-impl Operation {
-    fn to_op(&self, k: usize) -> Result<GraphOp, String> {
-        Ok(match self {
-            Operation::Create { kind, name, parent, properties } => GraphOp::Create {
-                kind: NewKind::from_name(kind).ok_or_else(|| {
-                    let kinds: Vec<&str> = NewKind::ALL.iter().map(|(_, n)| *n).collect();
-                    format!("operation {k}: `{kind}` is no kind of element (kinds: {})", kinds.join(", "))
-                })?,
-                name: name.clone(),
-                parent: parent.clone(),
-                properties: properties.clone(),
-            },
-            Operation::Delete { element } => GraphOp::Delete { element: element.clone() },
-            Operation::Rename { element, name } => GraphOp::Rename { element: element.clone(), name: name.clone() },
-            Operation::Connect { kind, source, target, properties } => GraphOp::Connect {
-                kind: EdgeKind::from_name(kind).ok_or_else(|| {
-                    let kinds: Vec<&str> = EdgeKind::ALL.iter().map(|e| e.name()).collect();
-                    format!("operation {k}: `{kind}` is no kind of edge (kinds: {})", kinds.join(", "))
-                })?,
-                source: source.clone(),
-                target: target.clone(),
-                properties: properties.clone(),
-            },
-            Operation::Reconnect { edge, source, target } => {
-                GraphOp::Reconnect { edge: edge.clone(), source: source.clone(), target: target.clone() }
-            }
-            Operation::SetProperty { element, property, value } => {
-                GraphOp::SetProperty { element: element.clone(), property: property.clone(), value: value.clone() }
-            }
-        })
-    }
-}
-
-#[derive(Debug, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct GraphEditAnswer {
-    /// The text edits that make the operations, for the client to apply.
-    pub edit: lsp::WorkspaceEdit,
-}
-
-/// `gudsl/applyGraphEdit`: the operations as text edits; `Err` with the reason when they cannot
-/// be made (a stale version, an unknown element, a name that is no name): nothing changes.
-pub fn apply_graph_edit(snap: &Snapshot, params: &GraphEditParams) -> Cancellable<Result<GraphEditAnswer, String>> {
-    let uri = &params.text_document.uri;
-    let Some(file) = snap.file(uri) else {
-        return Ok(Err(format!("{} is not a document of the workspace", uri.as_str())));
-    };
-    let current = version(snap, uri);
-    if params.text_document.version != current {
-        let what = |v: Option<i32>| v.map_or_else(|| "no version (not open)".to_string(), |v| format!("version {v}"));
-        return Ok(Err(format!(
-            "the edit is for {} of {}, the server has {}: ask for the graph again and redo the edit on it",
-            what(params.text_document.version),
-            uri.as_str(),
-            what(current)
-        )));
-    }
-    let ops: Result<Vec<GraphOp>, String> = params.operations.iter().enumerate().map(|(k, op)| op.to_op(k)).collect();
-    let ops = match ops {
-        Ok(ops) => ops,
-        Err(reason) => return Ok(Err(reason)),
-    };
-    Ok(match snap.analysis.graph_edit(file, &params.diagram, &ops)? {
-        Ok(edits) => Ok(GraphEditAnswer { edit: to_proto::workspace_edit(snap, edits)? }),
-        Err(refused) => Err(refused.0),
-    })
-}
-
-/// The scenes last laid out, by document and diagram: a diagram asked for again with nothing
-/// drawn changed (its graph equal but for source ranges: an edit above it moves those) is not
-/// laid out again. The layered layout of a 200-node activity diagram takes about 40 ms.
-#[derive(Default)]
-pub struct SceneCache(Mutex<Scenes>);
-
-/// By document and diagram id: the graph as drawn (ranges cleared) and its scene.
-type Scenes = HashMap<(FileId, String), (Graph, Arc<Scene>)>;
-
-/// Diagrams whose scenes are kept; past it the cache starts again.
-const CACHED_SCENES: usize = 64;
-
-impl SceneCache {
-    fn scene(&self, file: FileId, graph: &Graph) -> Arc<Scene> {
-        let drawn = without_ranges(graph);
-        let key = (file, graph.id.clone());
-        let cached = self.lock().get(&key).filter(|(was, _)| *was == drawn).map(|(_, scene)| scene.clone());
-        if let Some(scene) = cached {
-            return scene;
-        }
-        let scene = Arc::new(scene::build(graph));
-        let mut scenes = self.lock();
-        if scenes.len() >= CACHED_SCENES {
-            scenes.clear();
-        }
-        scenes.insert(key, (drawn, scene.clone()));
-        scene
-    }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, Scenes> {
-        self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
-    }
-}
-
-/// `graph` as drawn: its source ranges cleared.
-fn without_ranges(graph: &Graph) -> Graph {
-    let mut drawn = graph.clone();
-    (drawn.range, drawn.name_range) = (TextRange::default(), None);
-    for node in &mut drawn.nodes {
-        node.range = TextRange::default();
-    }
-    for edge in &mut drawn.edges {
-        edge.range = TextRange::default();
-    }
-    drawn
-}
-
 /// `gudsl/graph`: the diagram `params.diagram` of a document, laid out (or as `scenes` keeps
 /// it); `Err` with the reason when the document or the diagram is unknown.
 pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Cancellable<Result<GraphView, String>> {
@@ -347,12 +200,20 @@ pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Canc
             if known.is_empty() { "none".to_string() } else { known.join(", ") }
         )));
     };
-    let scene = scenes.scene(file, graph);
+    let (layout, layout_error) = match layout_of(uri) {
+        Ok(layout) => (layout, None),
+        Err(error) => (Default::default(), Some(error)),
+    };
+    let pins = layout.pins(&graph.id);
+    let scene = scenes.scene(file, graph, pins, params.relayout);
     snap.analysis.check_cancelled()?;
-    Ok(Ok(view(snap, index, graph, &scene, params.svg, version(snap, uri), uri)))
+    let mut view = view(snap, index, graph, &scene, pins, version(snap, uri), uri);
+    view.svg = params.svg.then(|| gudsl_render::svg::write(&scene));
+    view.layout_error = layout_error;
+    Ok(Ok(view))
 }
 
-fn version(snap: &Snapshot, uri: &lsp::Uri) -> Option<i32> {
+pub(super) fn version(snap: &Snapshot, uri: &lsp::Uri) -> Option<i32> {
     snap.document(uri).and_then(|d| d.version)
 }
 
@@ -379,7 +240,7 @@ fn view(
     index: &LineIndex,
     graph: &Graph,
     scene: &Scene,
-    svg: bool,
+    pins: Option<&Pins>,
     version: Option<i32>,
     uri: &lsp::Uri,
 ) -> GraphView {
@@ -426,6 +287,7 @@ fn view(
                 group: node.group.clone(),
                 range: to_proto::range(index, node.range, snap.encoding),
                 bounds: boxes.get(node.id.as_str()).map(|&r| r.into()),
+                pinned: pins.is_some_and(|p| p.contains_key(&node.id)),
             })
             .collect(),
         edges: graph
@@ -457,7 +319,8 @@ fn view(
                 bounds: lanes.get(g.id.as_str()).map(|&r| r.into()),
             })
             .collect(),
-        svg: svg.then(|| gudsl_render::svg::write(scene)),
+        svg: None,
+        layout_error: None,
     }
 }
 
@@ -483,29 +346,4 @@ fn bends(route: &[scene::Point]) -> Vec<Point> {
 fn lower_camel(name: &str) -> String {
     let mut chars = name.chars();
     chars.next().map(|c| c.to_ascii_lowercase().to_string() + chars.as_str()).unwrap_or_default()
-}
-
-#[cfg(test)]
-mod tests {
-    use gudsl_model::AnalysisHost;
-
-    use super::*;
-
-    #[test]
-    fn a_scene_is_laid_out_again_only_when_what_is_drawn_changes() {
-        let text = "ClassDiagram Shapes\n{\n    public class Shape { }\n    public class Circle extends Shape { }\n}\n";
-        let (mut host, files) = AnalysisHost::with_files([("a.gudsl".to_string(), text.to_string())]);
-        let cache = SceneCache::default();
-        let scene = |host: &AnalysisHost| cache.scene(files[0], &host.analysis().graphs(files[0]).unwrap()[0]);
-        let first = scene(&host);
-        // Text above the diagram moves its ranges, not what is drawn.
-        host.set_file_text(files[0], format!("// shapes\n\n{text}"));
-        assert!(Arc::ptr_eq(&first, &scene(&host)), "laid out again for a comment");
-        let grown = text
-            .replace("    public class Circle", "    public class Square extends Shape { }\n    public class Circle");
-        host.set_file_text(files[0], grown);
-        let second = scene(&host);
-        assert!(!Arc::ptr_eq(&first, &second));
-        assert_eq!(second.nodes.len(), 3);
-    }
 }

@@ -6,12 +6,15 @@
 //! are converted only in `from_proto` and `to_proto`. See ARCHITECTURE.md, "The language server".
 
 mod capabilities;
+mod extensions;
 mod from_proto;
 mod graph;
+mod graph_edit;
 mod handlers;
 mod host;
 mod pipeline;
 mod run;
+mod scenes;
 mod server;
 mod to_proto;
 mod transport;

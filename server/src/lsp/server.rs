@@ -21,9 +21,9 @@ use crate::workspace;
 
 use super::{
     capabilities::{server_capabilities, Encoding},
-    from_proto, graph, handlers,
+    from_proto, handlers,
     host::{ChangeRefused, Document, Host, Snapshot},
-    pipeline, run, to_proto, wgsl,
+    pipeline, run, scenes, to_proto, wgsl,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -31,7 +31,7 @@ type Published = (Option<i32>, Vec<lsp::Diagnostic>);
 
 pub struct Backend {
     pub(super) client: Client,
-    host: Arc<Mutex<Host>>,
+    pub(super) host: Arc<Mutex<Host>>,
     encoding: OnceLock<Encoding>,
     roots: Mutex<Vec<PathBuf>>,
     /// The client accepts `window/workDoneProgress/create`.
@@ -48,7 +48,7 @@ pub struct Backend {
     /// The diagrams running now (▶ Run), to cancel them.
     pub(super) runs: Arc<run::Runs>,
     /// The scenes last laid out for `gudsl/graph`.
-    scenes: Arc<graph::SceneCache>,
+    pub(super) scenes: Arc<scenes::SceneCache>,
 }
 
 /// How long after publishing an edited document's diagnostics the other documents' are
@@ -130,6 +130,7 @@ impl Backend {
         let client = self.client.clone();
         let published = self.published.clone();
         let publishing = self.publishing.clone();
+        let scenes = self.scenes.clone();
         let encoding = self.encoding();
         tokio::spawn(async move {
             tokio::task::yield_now().await;
@@ -163,15 +164,22 @@ impl Backend {
                     continue;
                 }
                 work.sort_by(|a, b| a.0.as_str().cmp(b.0.as_str()));
+                let scenes = scenes.clone();
                 let computed = tokio::task::spawn_blocking(move || {
                     let mut all = Vec::with_capacity(work.len());
+                    let mut redrawn = Vec::new();
                     for (uri, version, file) in work {
+                        // Diagrams a client fetched that the edit changed (`gudsl/graphChanged`).
+                        let diagrams = if phase == 0 { scenes.stale(&snapshot, file)? } else { Vec::new() };
+                        if !diagrams.is_empty() {
+                            redrawn.push(scenes::GraphChanged { uri: uri.clone(), version, diagrams });
+                        }
                         all.push((uri, version, handlers::diagnostics(&snapshot, file)?));
                     }
-                    Cancellable::Ok(all)
+                    Cancellable::Ok((all, redrawn))
                 })
                 .await;
-                let Ok(Ok(all)) = computed else { return };
+                let Ok(Ok((all, redrawn))) = computed else { return };
                 // One run publishes at a time, and only while it is the newest: an older run
                 // cannot publish after a newer one (stale diagnostics, or ones just cleared).
                 let _publishing = publishing.lock().await;
@@ -207,6 +215,9 @@ impl Backend {
                 };
                 for (uri, version, diagnostics) in changed {
                     client.publish_diagnostics(uri, diagnostics, version).await;
+                }
+                for changed in redrawn {
+                    client.send_notification::<scenes::GraphChangedNotification>(changed).await;
                 }
             }
         });
@@ -547,41 +558,6 @@ pub(super) fn request_failed(message: String) -> Error {
 }
 
 /// A request whose parameters are wrong.
-fn invalid_params(message: String) -> Error {
+pub(super) fn invalid_params(message: String) -> Error {
     Error { code: ErrorCode::InvalidParams, message: message.into(), data: None }
-}
-
-impl Backend {
-    /// `gudsl/viewFileText`: the text the server has for a document, to compare with the
-    /// editor's (as rust-analyzer's `viewFileText`), or of a read-only document it makes (the
-    /// bundled library, generated WGSL); `null` for a document it does not know.
-    pub async fn view_file_text(&self, params: lsp::TextDocumentIdentifier) -> Result<Option<String>> {
-        if let Some(diagram) = wgsl::diagram_of(params.uri.as_str()).map(str::to_string) {
-            return self.on_snapshot(move |s| wgsl::generated(s, &diagram)).await?.map(Some).map_err(request_failed);
-        }
-        Ok(lock(&self.host).text(&params.uri).map(str::to_string))
-    }
-
-    /// `gudsl/diagrams`: a document's diagrams (`docs/protocol.md`); `null` for a document the
-    /// server does not know.
-    pub async fn diagrams(&self, params: graph::DiagramsParams) -> Result<Option<graph::Diagrams>> {
-        self.on_snapshot(move |s| graph::diagrams(s, &params)).await
-    }
-
-    /// `gudsl/graph`: one diagram as a laid-out graph (`docs/protocol.md`).
-    pub async fn graph(&self, params: graph::GraphParams) -> Result<graph::GraphView> {
-        let scenes = self.scenes.clone();
-        self.on_snapshot(move |s| graph::graph(s, &params, &scenes)).await?.map_err(invalid_params)
-    }
-
-    /// `gudsl/applyGraphEdit`: operations on a diagram's graph as text edits (`docs/protocol.md`).
-    pub async fn apply_graph_edit(&self, params: graph::GraphEditParams) -> Result<graph::GraphEditAnswer> {
-        self.on_snapshot(move |s| graph::apply_graph_edit(s, &params)).await?.map_err(request_failed)
-    }
-
-    /// `window/workDoneProgress/cancel`: stops the run reporting under the token (between
-    /// nodes); other tokens are ignored.
-    pub async fn work_done_progress_cancel(&self, params: lsp::WorkDoneProgressCancelParams) {
-        self.runs.cancel(&params.token);
-    }
 }

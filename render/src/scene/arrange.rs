@@ -1,0 +1,270 @@
+//! Arranging a fresh layout around what must not move: pinned nodes go exactly where the user
+//! put them (`crate::pins`); nodes of the scene drawn before this one stay where they were (an
+//! edit in the editor moves the drawing little); only new nodes are placed, beside their
+//! neighbours as the fresh layout relates them, in free space. Routes between nodes that did
+//! not move are kept; the others run straight from border to border.
+
+use std::collections::HashMap;
+
+use super::{
+    labels::{intersects, segment_meets_box},
+    Point, Rect, Scene,
+};
+use crate::{
+    layout::{self_loop, Layout},
+    pins::Pins,
+};
+
+/// What a scene is built from besides its graph.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Hints<'a> {
+    /// Where the user put nodes (and the sizes they gave them).
+    pub pins: Option<&'a Pins>,
+    /// The scene of the same diagram drawn before: its nodes stay where they were, if it still
+    /// holds at least half of this one's nodes.
+    pub previous: Option<&'a Scene>,
+}
+
+/// A node to place: its id and size.
+pub(super) struct Node<'a> {
+    pub id: &'a str,
+    pub width: f64,
+    pub height: f64,
+}
+
+/// An edge to route: its id, its ends' ids and their indices.
+pub(super) struct Edge<'a> {
+    pub id: &'a str,
+    pub source: &'a str,
+    pub target: &'a str,
+    pub from: usize,
+    pub to: usize,
+}
+
+/// Space kept between a placed node and the others.
+const CLEARANCE: f64 = 20.0;
+/// The step of the search for free space, and how far it looks before giving up on routes.
+const STEP: f64 = 20.0;
+const RINGS: usize = 60;
+/// Around the drawing.
+const MARGIN: f64 = 20.0;
+
+#[derive(Clone, Copy, PartialEq)]
+enum Wanted {
+    Pinned(Point),
+    Kept(Rect),
+    Free,
+}
+
+/// Moves `layout` (a fresh layout of `nodes` and `edges`) to honour `hints`; without pins and a
+/// previous scene it stays as it is.
+pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints: Hints) {
+    let wanted = wanted(nodes, hints);
+    if wanted.iter().all(|w| *w == Wanted::Free) {
+        return;
+    }
+    let fresh = layout.positions.clone();
+    let boxes = place(nodes, edges, &wanted, &fresh, hints.previous);
+    // Whether a node is not where the previous scene had it.
+    let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
+    let placed: Vec<Option<Rect>> = boxes.iter().copied().map(Some).collect();
+    let mut labels: Vec<Option<Rect>> = vec![None; edges.len()];
+    let mut rerouted = vec![false; edges.len()];
+    for (k, e) in edges.iter().enumerate() {
+        // Kept unless a node that moved landed on it.
+        let kept = previous_route(e, &wanted, &placed, hints.previous).filter(|(route, _)| {
+            !(0..boxes.len()).any(|i| moved(i) && route.windows(2).any(|s| segment_meets_box(s[0], s[1], boxes[i])))
+        });
+        rerouted[k] = kept.is_none();
+        (layout.edges[k], labels[k]) = kept.unwrap_or_else(|| (straight(boxes[e.from], boxes[e.to]), None));
+    }
+    // A kept label stays unless a new route crosses it or a moved node covers it; the others
+    // are placed afresh.
+    let crossed = |r: Rect| {
+        layout
+            .edges
+            .iter()
+            .zip(&rerouted)
+            .any(|(route, &new)| new && route.windows(2).any(|s| segment_meets_box(s[0], s[1], r)))
+    };
+    let covered = |r: Rect| (0..boxes.len()).any(|i| moved(i) && intersects(r, boxes[i]));
+    layout.labels = labels
+        .iter()
+        .map(|label| label.filter(|&r| !crossed(r) && !covered(r)).map(|r| Point { x: r.x, y: r.y }))
+        .collect();
+    layout.positions = boxes.iter().map(|b| Point { x: b.x, y: b.y }).collect();
+    let points = layout.edges.iter().flatten().map(|p| (p.x, p.y));
+    let corners = boxes.iter().map(|b| (b.x + b.width, b.y + b.height));
+    let (right, bottom) = points.chain(corners).fold((0.0f64, 0.0f64), |(w, h), (x, y)| (w.max(x), h.max(y)));
+    layout.width = right + MARGIN;
+    layout.height = bottom + MARGIN;
+}
+
+/// Each node: pinned where its pin says, kept where the previous scene had it (if that scene
+/// holds at least half of the nodes), or free.
+fn wanted(nodes: &[Node], hints: Hints) -> Vec<Wanted> {
+    let before: HashMap<&str, Rect> =
+        hints.previous.map(|s| s.nodes.iter().map(|n| (n.id.as_str(), n.rect)).collect()).unwrap_or_default();
+    let common = nodes.iter().filter(|n| before.contains_key(n.id)).count();
+    let use_before = common > 0 && common * 2 >= nodes.len();
+    nodes
+        .iter()
+        .map(|n| match (hints.pins.and_then(|p| p.get(n.id)), before.get(n.id)) {
+            (Some(pin), _) => Wanted::Pinned(Point { x: pin.x, y: pin.y }),
+            (None, Some(&was)) if use_before => Wanted::Kept(was),
+            _ => Wanted::Free,
+        })
+        .collect()
+}
+
+/// Every node's box: pinned ones first, then kept ones (those of unchanged size first: a node
+/// that grew is the one to make room), each where wanted if that is free, else at the nearest
+/// free spot; then the free ones, beside their neighbours, clear of the routes and labels
+/// that stay.
+fn place(nodes: &[Node], edges: &[Edge], wanted: &[Wanted], fresh: &[Point], previous: Option<&Scene>) -> Vec<Rect> {
+    let at = |i: usize, p: Point| Rect { x: p.x, y: p.y, width: nodes[i].width, height: nodes[i].height };
+    let mut placed: Vec<Option<Rect>> = vec![None; nodes.len()];
+    for (i, w) in wanted.iter().enumerate() {
+        if let Wanted::Pinned(p) = *w {
+            placed[i] = Some(at(i, p));
+        }
+    }
+    let kept: Vec<(usize, Rect)> = wanted
+        .iter()
+        .enumerate()
+        .filter_map(|(i, w)| if let Wanted::Kept(was) = *w { Some((i, was)) } else { None })
+        .collect();
+    let grown = |&(i, was): &(usize, Rect)| (was.width, was.height) != (nodes[i].width, nodes[i].height);
+    for &(i, was) in kept.iter().filter(|k| !grown(k)).chain(kept.iter().filter(|k| grown(k))) {
+        placed[i] = Some(free_spot(at(i, Point { x: was.x, y: was.y }), &placed, &Obstacles::default()));
+    }
+    let (routes, labels): (Vec<Vec<Point>>, Vec<Option<Rect>>) =
+        edges.iter().filter_map(|e| previous_route(e, wanted, &placed, previous)).unzip();
+    let obstacles = Obstacles { routes, labels: labels.into_iter().flatten().collect() };
+    for i in 0..nodes.len() {
+        if wanted[i] == Wanted::Free {
+            let desired = beside_neighbours(i, fresh, &placed, edges);
+            placed[i] = Some(free_spot(at(i, desired), &placed, &obstacles));
+        }
+    }
+    placed.iter().zip(fresh).enumerate().map(|(i, (p, f))| p.unwrap_or(at(i, *f))).collect()
+}
+
+/// The route (and label box) the previous scene drew for `e`, where both its ends are kept
+/// nodes placed where they were.
+fn previous_route(
+    e: &Edge,
+    wanted: &[Wanted],
+    placed: &[Option<Rect>],
+    previous: Option<&Scene>,
+) -> Option<(Vec<Point>, Option<Rect>)> {
+    let unmoved = |i: usize| matches!(wanted[i], Wanted::Kept(was) if placed[i] == Some(was));
+    if !(unmoved(e.from) && unmoved(e.to)) {
+        return None;
+    }
+    let old = previous?.edges.iter().find(|o| o.id == e.id && o.source == e.source && o.target == e.target)?;
+    Some((old.points.clone(), old.label.as_ref().map(|l| l.rect)))
+}
+
+/// Where a new node goes: at the offset from its placed neighbours that the fresh layout has
+/// (below its superclass, after its predecessor), else where the fresh layout put it, moved as
+/// the placed nodes moved on the whole.
+fn beside_neighbours(i: usize, fresh: &[Point], placed: &[Option<Rect>], edges: &[Edge]) -> Point {
+    let shift = |j: usize| placed[j].map(|r| (r.x - fresh[j].x, r.y - fresh[j].y));
+    let near: Vec<(f64, f64)> = edges
+        .iter()
+        .filter_map(|e| match (e.from == i, e.to == i) {
+            (true, false) => shift(e.to),
+            (false, true) => shift(e.from),
+            _ => None,
+        })
+        .collect();
+    let (dx, dy) = if near.is_empty() {
+        let all: Vec<(f64, f64)> = (0..placed.len()).filter_map(shift).collect();
+        (median(all.iter().map(|s| s.0)), median(all.iter().map(|s| s.1)))
+    } else {
+        let n = near.len() as f64;
+        (near.iter().map(|s| s.0).sum::<f64>() / n, near.iter().map(|s| s.1).sum::<f64>() / n)
+    };
+    Point { x: (fresh[i].x + dx).max(MARGIN), y: (fresh[i].y + dy).max(MARGIN) }
+}
+
+fn median(values: impl Iterator<Item = f64>) -> f64 {
+    let mut values: Vec<f64> = values.collect();
+    values.sort_by(f64::total_cmp);
+    values.get(values.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// What a new node should not cover besides the placed nodes: the routes and labels kept.
+#[derive(Default)]
+struct Obstacles {
+    routes: Vec<Vec<Point>>,
+    labels: Vec<Rect>,
+}
+
+/// The spot nearest `wanted` (searched in rings of `STEP`) where the box keeps `CLEARANCE`
+/// from every placed box and covers no route or label of `obstacles`; past `RINGS` rings,
+/// those are no obstacle; past twice that, right of everything.
+fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Rect {
+    let boxes: Vec<Rect> = placed.iter().flatten().copied().collect();
+    let clear_of_boxes = |r: &Rect| {
+        let padded = Rect {
+            x: r.x - CLEARANCE,
+            y: r.y - CLEARANCE,
+            width: r.width + 2.0 * CLEARANCE,
+            height: r.height + 2.0 * CLEARANCE,
+        };
+        !boxes.iter().any(|b| intersects(padded, *b))
+    };
+    let clear_of_obstacles = |r: &Rect| {
+        !obstacles.labels.iter().any(|l| intersects(*l, *r))
+            && !obstacles.routes.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *r)))
+    };
+    let moved = |dx: f64, dy: f64| Rect { x: wanted.x + dx, y: wanted.y + dy, ..wanted };
+    for ring in 0..2 * RINGS {
+        let mut candidates: Vec<Rect> = ring_offsets(ring)
+            .map(|(dx, dy)| moved(dx * STEP, dy * STEP))
+            .filter(|r| r.x >= MARGIN - 1e-9 && r.y >= MARGIN - 1e-9)
+            .collect();
+        candidates.sort_by(|a, b| distance(a, &wanted).total_cmp(&distance(b, &wanted)));
+        let found = candidates.into_iter().find(|r| clear_of_boxes(r) && (ring >= RINGS || clear_of_obstacles(r)));
+        if let Some(spot) = found {
+            return spot;
+        }
+    }
+    let right = boxes.iter().map(|b| b.x + b.width).fold(MARGIN, f64::max);
+    Rect { x: right + CLEARANCE, ..wanted }
+}
+
+/// The offsets (in steps) on the square ring `ring` around the origin.
+fn ring_offsets(ring: usize) -> impl Iterator<Item = (f64, f64)> {
+    let r = ring as i64;
+    (-r..=r)
+        .flat_map(move |dx| (-r..=r).map(move |dy| (dx, dy)))
+        .filter(move |&(dx, dy)| dx.abs() == r || dy.abs() == r)
+        .map(|(dx, dy)| (dx as f64, dy as f64))
+}
+
+fn distance(a: &Rect, b: &Rect) -> f64 {
+    (a.x - b.x).hypot(a.y - b.y)
+}
+
+/// A straight route from the border of `from` to the border of `to`, on the line between their
+/// centres (a loop where they are one box).
+fn straight(from: Rect, to: Rect) -> Vec<Point> {
+    if from == to {
+        return self_loop(from.x + from.width, from.y + from.height / 2.0, from.height);
+    }
+    let centre = |r: Rect| Point { x: r.x + r.width / 2.0, y: r.y + r.height / 2.0 };
+    let (a, b) = (centre(from), centre(to));
+    vec![border_towards(from, a, b), border_towards(to, b, a)]
+}
+
+/// Where the ray from `centre` (of `r`) towards `to` leaves `r`.
+fn border_towards(r: Rect, centre: Point, to: Point) -> Point {
+    let (dx, dy) = (to.x - centre.x, to.y - centre.y);
+    let tx = if dx.abs() > 1e-9 { r.width / 2.0 / dx.abs() } else { f64::INFINITY };
+    let ty = if dy.abs() > 1e-9 { r.height / 2.0 / dy.abs() } else { f64::INFINITY };
+    let t = tx.min(ty).min(1.0);
+    Point { x: centre.x + dx * t, y: centre.y + dy * t }
+}

@@ -1,0 +1,115 @@
+//! Tests of arranging around pins and a previous scene, over every sample diagram: pinned
+//! nodes are drawn exactly where they were put, an added node leaves every other node where it
+//! was, and the geometry stays clean: no overlaps, edges on their boxes, labels clear of boxes
+//! and of each other. (A straight route to a node that moved may cross a label where the
+//! drawing leaves no room; the fresh layout's never do, `tests::sample_geometry_is_clean`.)
+
+use gudsl_model::graph::Graph;
+
+use crate::{
+    pins::{Pin, Pins},
+    scene::{self, labels::intersects, measure::content, Hints, Scene},
+    tests::{assert_clean, sample_graphs},
+};
+
+fn fresh(graph: &Graph) -> Scene {
+    scene::build(graph, Hints::default())
+}
+
+fn pin(x: f64, y: f64) -> Pin {
+    Pin { x, y, width: None, height: None }
+}
+
+/// `graph` without its node `k` and the edges at it.
+fn without(graph: &Graph, k: usize) -> Graph {
+    let mut smaller = graph.clone();
+    let gone = smaller.nodes.remove(k).id;
+    let at = |id: &str| id == gone || id.starts_with(&format!("{gone}."));
+    smaller.edges.retain(|e| !at(&e.source.node) && !at(&e.target.node));
+    smaller
+}
+
+#[test]
+fn pinned_nodes_are_drawn_where_they_were_put_and_the_others_keep_clear() {
+    let mut pinned_somewhere = 0;
+    for graph in sample_graphs().iter().filter(|g| g.nodes.len() >= 2) {
+        // The first node dragged below and right of the drawing, the last onto the first's
+        // old place.
+        let before = fresh(graph);
+        let (first, last) = (&before.nodes[0], &before.nodes[before.nodes.len() - 1]);
+        let mut pins = Pins::new();
+        pins.insert(first.id.clone(), pin(before.width + 35.5, before.height / 2.0));
+        pins.insert(last.id.clone(), pin(first.rect.x, first.rect.y));
+        let scene = scene::build(graph, Hints { pins: Some(&pins), previous: None });
+        for (id, p) in &pins {
+            let drawn = scene.nodes.iter().find(|n| &n.id == id).unwrap().rect;
+            assert_eq!((drawn.x, drawn.y), (p.x, p.y), "{}: {id} is not where it was put", graph.id);
+        }
+        assert!(scene.width >= before.width + 35.5 + first.rect.width, "{}: the canvas holds the node", graph.id);
+        assert_clean(graph, &scene, false);
+        pinned_somewhere += 1;
+    }
+    assert!(pinned_somewhere > 30);
+}
+
+#[test]
+fn a_node_added_to_a_drawing_moves_no_other_node() {
+    let mut added = 0;
+    for graph in sample_graphs().iter().filter(|g| g.nodes.len() >= 3) {
+        for k in [graph.nodes.len() / 2, graph.nodes.len() - 1] {
+            let previous = fresh(&without(graph, k));
+            let scene = scene::build(graph, Hints { pins: None, previous: Some(&previous) });
+            for node in &previous.nodes {
+                let now = scene.nodes.iter().find(|n| n.id == node.id).unwrap().rect;
+                assert_eq!(now, node.rect, "{}: {} moved when {} came", graph.id, node.id, graph.nodes[k].id);
+            }
+            assert_clean(graph, &scene, false);
+            added += 1;
+        }
+    }
+    assert!(added > 40);
+}
+
+#[test]
+fn a_node_keeps_its_place_when_another_is_pinned_onto_it_only_if_there_is_room() {
+    // Dragging a node onto another pushes that one aside, to the nearest free place.
+    for graph in sample_graphs().iter().filter(|g| g.nodes.len() >= 3) {
+        let previous = fresh(graph);
+        let (target, dragged) = (&previous.nodes[0], &previous.nodes[1]);
+        let mut pins = Pins::new();
+        pins.insert(dragged.id.clone(), pin(target.rect.x, target.rect.y));
+        let scene = scene::build(graph, Hints { pins: Some(&pins), previous: Some(&previous) });
+        let moved = scene.nodes.iter().find(|n| n.id == target.id).unwrap().rect;
+        assert_ne!(moved, target.rect, "{}", graph.id);
+        assert!(!intersects(moved, scene.nodes[1].rect), "{}", graph.id);
+        assert_clean(graph, &scene, false);
+    }
+}
+
+#[test]
+fn a_resized_node_has_its_size_but_never_less_than_its_text() {
+    let graph = sample_graphs().into_iter().find(|g| g.nodes.len() >= 3).unwrap();
+    let (id, text) = (&graph.nodes[0].id, content(&graph.nodes[0]));
+    let mut pins = Pins::new();
+    pins.insert(id.clone(), Pin { x: 500.0, y: 20.0, width: Some(text.width + 100.0), height: Some(1.0) });
+    let scene = scene::build(&graph, Hints { pins: Some(&pins), previous: None });
+    let rect = scene.nodes[0].rect;
+    assert_eq!((rect.width, rect.height), (text.width + 100.0, text.height));
+    assert_clean(&graph, &scene, false);
+}
+
+#[test]
+fn a_previous_scene_is_followed_only_while_it_holds_half_the_nodes() {
+    let graph = sample_graphs().into_iter().find(|g| g.nodes.len() >= 6).unwrap();
+    let mut little = graph.clone();
+    little.nodes.truncate(2);
+    // Its two nodes somewhere a fresh layout would not put them.
+    let mut previous = fresh(&little);
+    for node in &mut previous.nodes {
+        node.rect.x += 400.0;
+    }
+    assert_eq!(scene::build(&graph, Hints { pins: None, previous: Some(&previous) }), fresh(&graph));
+    // A previous scene of the same nodes is this one's layout again.
+    let again = fresh(&graph);
+    assert_eq!(scene::build(&graph, Hints { pins: None, previous: Some(&again) }), again);
+}

@@ -1,0 +1,161 @@
+//! The scenes the server has drawn, by document and diagram: asked for again with nothing drawn
+//! changed, a diagram is not laid out again; changed, it is laid out around the scene drawn
+//! before (its nodes stay where they were) and the nodes pinned in the document's layout
+//! sidecar. The same memory says which diagrams a client has fetched that an edit changed
+//! (`gudsl/graphChanged`).
+
+use std::{
+    collections::HashMap,
+    sync::{Arc, Mutex},
+};
+
+use gudsl_model::{graph::Graph, syntax::TextRange, Cancellable, FileId};
+use gudsl_render::{
+    pins::{LayoutFile, Pins},
+    scene::{self, Hints, Scene},
+};
+use serde::{Deserialize, Serialize};
+use tower_lsp_server::ls_types as lsp;
+
+use super::host::Snapshot;
+use crate::layout_file;
+
+/// The scenes last laid out.
+#[derive(Default)]
+pub struct SceneCache(Mutex<Scenes>);
+
+/// By document and diagram id: what was drawn.
+type Scenes = HashMap<(FileId, String), Drawn>;
+
+struct Drawn {
+    /// The graph, its source ranges cleared (an edit above a diagram moves only those).
+    graph: Graph,
+    pins: Option<Pins>,
+    scene: Arc<Scene>,
+}
+
+/// Diagrams whose scenes are kept; past it the cache starts again.
+const CACHED_SCENES: usize = 64;
+
+impl SceneCache {
+    /// The scene of `graph` with `pins`: the one kept if nothing drawn changed, else laid out
+    /// around the one kept (or afresh, `relayout`, for the nodes no pin holds).
+    pub fn scene(&self, file: FileId, graph: &Graph, pins: Option<&Pins>, relayout: bool) -> Arc<Scene> {
+        let drawn = without_ranges(graph);
+        let key = (file, graph.id.clone());
+        let kept = self.lock().get(&key).map(|d| (d.graph == drawn && d.pins.as_ref() == pins, d.scene.clone()));
+        let previous = match kept {
+            Some((true, scene)) if !relayout => return scene,
+            Some((_, scene)) if !relayout => Some(scene),
+            _ => None,
+        };
+        let scene = Arc::new(scene::build(graph, Hints { pins, previous: previous.as_deref() }));
+        let mut scenes = self.lock();
+        if scenes.len() >= CACHED_SCENES {
+            scenes.clear();
+        }
+        scenes.insert(key, Drawn { graph: drawn, pins: pins.cloned(), scene: scene.clone() });
+        scene
+    }
+
+    /// The diagrams of `file` drawn for a client whose graph is no longer what was drawn (or
+    /// that are gone), sorted.
+    pub fn stale(&self, snap: &Snapshot, file: FileId) -> Cancellable<Vec<String>> {
+        let drawn: Vec<(String, Graph)> =
+            self.lock().iter().filter(|(k, _)| k.0 == file).map(|(k, d)| (k.1.clone(), d.graph.clone())).collect();
+        if drawn.is_empty() {
+            return Ok(Vec::new());
+        }
+        let graphs = snap.analysis.graphs(file)?;
+        let mut stale: Vec<String> = drawn
+            .into_iter()
+            .filter(|(id, was)| graphs.iter().find(|g| &g.id == id).is_none_or(|g| without_ranges(g) != *was))
+            .map(|(id, _)| id)
+            .collect();
+        stale.sort();
+        Ok(stale)
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Scenes> {
+        self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+}
+
+/// `graph` as drawn: its source ranges cleared.
+fn without_ranges(graph: &Graph) -> Graph {
+    let mut drawn = graph.clone();
+    (drawn.range, drawn.name_range) = (TextRange::default(), None);
+    for node in &mut drawn.nodes {
+        node.range = TextRange::default();
+    }
+    for edge in &mut drawn.edges {
+        edge.range = TextRange::default();
+    }
+    drawn
+}
+
+/// The layout sidecar of a document: none for a document that is no file (`untitled:`);
+/// `Err` names the sidecar and says why it is no layout.
+pub fn layout_of(uri: &lsp::Uri) -> Result<LayoutFile, String> {
+    match uri.to_file_path() {
+        Some(path) => layout_file::read(&layout_file::path_for(&path)),
+        None => Ok(LayoutFile::default()),
+    }
+}
+
+/// `gudsl/graphChanged`: diagrams a client fetched changed (an edit of the text, or of the
+/// positions, which publishes no diagnostics): ask for them again.
+#[derive(Debug, Serialize, Deserialize)]
+pub struct GraphChanged {
+    pub uri: lsp::Uri,
+    pub version: Option<i32>,
+    pub diagrams: Vec<String>,
+}
+
+pub enum GraphChangedNotification {}
+
+impl lsp::notification::Notification for GraphChangedNotification {
+    type Params = GraphChanged;
+    const METHOD: &'static str = "gudsl/graphChanged";
+}
+
+#[cfg(test)]
+mod tests {
+    use gudsl_model::AnalysisHost;
+    use gudsl_render::pins::Pin;
+
+    use super::*;
+
+    const TEXT: &str =
+        "ClassDiagram Shapes\n{\n    public class Shape { }\n    public class Circle extends Shape { }\n}\n";
+
+    #[test]
+    fn a_scene_is_laid_out_again_only_when_what_is_drawn_changes() {
+        let (mut host, files) = AnalysisHost::with_files([("a.gudsl".to_string(), TEXT.to_string())]);
+        let cache = SceneCache::default();
+        let scene = |host: &AnalysisHost, pins: Option<&Pins>| {
+            cache.scene(files[0], &host.analysis().graphs(files[0]).unwrap()[0], pins, false)
+        };
+        let first = scene(&host, None);
+        // Text above the diagram moves its ranges, not what is drawn.
+        host.set_file_text(files[0], format!("// shapes\n\n{TEXT}"));
+        assert!(Arc::ptr_eq(&first, &scene(&host, None)), "laid out again for a comment");
+        let grown = TEXT
+            .replace("    public class Circle", "    public class Square extends Shape { }\n    public class Circle");
+        host.set_file_text(files[0], grown);
+        let second = scene(&host, None);
+        assert!(!Arc::ptr_eq(&first, &second));
+        assert_eq!(second.nodes.len(), 3);
+        // The nodes drawn before stay where they were.
+        for node in &first.nodes {
+            assert_eq!(second.nodes.iter().find(|n| n.id == node.id).unwrap().rect, node.rect);
+        }
+        // A pin is a change of what is drawn.
+        let mut pins = Pins::new();
+        pins.insert("Shapes.Shape".into(), Pin { x: 400.0, y: 300.0, width: None, height: None });
+        let pinned = scene(&host, Some(&pins));
+        let shape = pinned.nodes.iter().find(|n| n.id == "Shapes.Shape").unwrap().rect;
+        assert_eq!((shape.x, shape.y), (400.0, 300.0));
+        assert!(Arc::ptr_eq(&pinned, &scene(&host, Some(&pins))));
+    }
+}
