@@ -39,11 +39,13 @@ async def refused(request, what):
 
 class Seen:
     """What the server sent a client: its capabilities, diagnostics (and their version) by URI, progress values by
-    token, the progress tokens it created, log messages and shown messages (type, text)."""
+    token, the progress tokens it created, log messages, shown messages (type, text) and `gudsl/graphChanged`
+    notifications."""
 
     def __init__(self):
         self.diagnostics, self.progress, self.created, self.logs, self.shown = {}, {}, [], [], []
         self.diagnostics_version = {}
+        self.graph_changed = []
         self.capabilities = None
 
 
@@ -79,6 +81,10 @@ async def start_client(name, gudsl, root):
     @client.feature(t.WINDOW_SHOW_MESSAGE)
     def on_show(params):
         seen.shown.append((params.type, params.message))
+
+    @client.feature("gudsl/graphChanged")
+    def on_graph_changed(params):
+        seen.graph_changed.append(params)
 
     await client.start_io(gudsl, "lsp")
     seen.capabilities = await client.initialize_async(

@@ -11,7 +11,8 @@ Then, on an open document: the version in the answers follows the editor's, ids 
 survive an edit that only adds a comment (ranges move with the text), a new class appears under
 its fully qualified name; a rename through `gudsl/applyGraphEdit`, a stale edit refused; one edit
 of each kind (create, connect, set a property, reconnect, delete) applied as an editor applies
-it, each checked in the next version's graph and diagnostics; and the refusals: an unknown
+it, each checked in the next version's graph and diagnostics; positions (positions.py: move,
+resize, the layout sidecar, `gudsl/graphChanged`, a re-render); and the refusals: an unknown
 diagram and an unknown document."""
 
 import asyncio
@@ -24,6 +25,7 @@ from pathlib import Path
 from lsprotocol import types as t
 
 from checks import fail, refused, start_client, wait_for
+from positions import positions
 
 SHAPES = """ClassDiagram Shapes
 {
@@ -194,6 +196,7 @@ async def main(gudsl, repo):
         fail(f"an unknown operation's error: {error}")
 
     await edits_of_every_kind(client, seen, uri, figured)
+    await positions(client, seen, gudsl, workspace, graph, apply_graph_edit, text_edits, apply_edits)
 
     # Refusals: what does not exist is named, with what does.
     error = await refused(graph(client, uri, "Circles"), "an unknown diagram")

@@ -80,9 +80,13 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
             ],
             work_done_progress_options: lsp::WorkDoneProgressOptions { work_done_progress: Some(true) },
         }),
-        // The requests beyond LSP a client may send (`docs/protocol.md`).
+        // The requests beyond LSP a client may send, and the notifications it may get
+        // (`docs/protocol.md`).
         experimental: Some(serde_json::json!({
-            "gudsl": { "requests": ["gudsl/diagrams", "gudsl/graph", "gudsl/applyGraphEdit", "gudsl/viewFileText"] }
+            "gudsl": {
+                "requests": ["gudsl/diagrams", "gudsl/graph", "gudsl/applyGraphEdit", "gudsl/viewFileText"],
+                "notifications": ["gudsl/graphChanged"]
+            }
         })),
         ..Default::default()
     }

@@ -1,5 +1,6 @@
-//! LSP → model: positions to byte offsets in the negotiated encoding, and editor changes to
-//! line/column edits. Nothing else in the server reads an LSP position.
+//! LSP → model: positions to byte offsets in the negotiated encoding, editor changes to
+//! line/column edits, and `file:` URIs to paths. Nothing else in the server reads an LSP
+//! position.
 
 use gudsl_model::{
     syntax::{TextRange, TextSize},
@@ -9,6 +10,13 @@ use gudsl_model::{
 use tower_lsp_server::ls_types as lsp;
 
 use super::{capabilities::Encoding, host::Snapshot};
+
+/// The path of a `file:` URI; `None` for any other scheme (`untitled:`, a library document),
+/// whose path is no place on disk.
+pub fn file_path(uri: &lsp::Uri) -> Option<std::path::PathBuf> {
+    let path = uri.scheme().as_str().eq_ignore_ascii_case("file").then(|| uri.to_file_path())??;
+    Some(path.into_owned()).filter(|p| p.is_absolute())
+}
 
 fn line_col(position: lsp::Position) -> LineCol {
     LineCol { line: position.line, col: position.character }

@@ -14,7 +14,7 @@ use gudsl_render::pins::{self, Pin};
 use serde::{Deserialize, Deserializer, Serialize};
 use tower_lsp_server::ls_types as lsp;
 
-use super::{graph::version, host::Snapshot, scenes::SceneCache, to_proto};
+use super::{from_proto, graph::version, host::Snapshot, scenes::SceneCache, to_proto};
 use crate::layout_file;
 
 #[derive(Debug, Deserialize)]
@@ -227,7 +227,7 @@ fn arrange(
     ops: &[(String, LayoutChange)],
     scenes: &SceneCache,
 ) -> Cancellable<Result<LayoutWritten, String>> {
-    let Some(model) = uri.to_file_path() else {
+    let Some(model) = from_proto::file_path(uri) else {
         return Ok(Err(format!(
             "positions are kept in a layout file beside the model file, and {} is no file: save it first",
             uri.as_str()
@@ -252,7 +252,7 @@ fn arrange(
                 "operation {k}: `{element}` is no node of `{diagram}` (only nodes move and resize)"
             )));
         };
-        let here = Pin { x: drawn.x, y: drawn.y, width: None, height: None };
+        let here = Pin { x: pins::rounded(drawn.x), y: pins::rounded(drawn.y), width: None, height: None };
         match *change {
             LayoutChange::Move(None) => {
                 pins.remove(element);

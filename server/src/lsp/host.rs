@@ -100,7 +100,7 @@ impl Snapshot {
 
 /// How a file is named in messages: its path for `file:` URIs.
 fn display_path(uri: &lsp::Uri) -> String {
-    uri.to_file_path().map_or_else(|| uri.as_str().to_string(), |p| p.display().to_string())
+    super::from_proto::file_path(uri).map_or_else(|| uri.as_str().to_string(), |p| p.display().to_string())
 }
 
 impl Host {

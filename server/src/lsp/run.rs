@@ -94,7 +94,7 @@ impl RunRequest {
 
 /// A folder given as a path or a `file:` URI.
 fn folder_path(folder: &str) -> PathBuf {
-    match folder.parse::<lsp::Uri>().ok().and_then(|uri| uri.to_file_path().map(|p| p.into_owned())) {
+    match folder.parse::<lsp::Uri>().ok().and_then(|uri| super::from_proto::file_path(&uri)) {
         Some(path) if folder.starts_with("file:") => path,
         _ => PathBuf::from(folder),
     }

@@ -97,7 +97,7 @@ fn without_ranges(graph: &Graph) -> Graph {
 /// The layout sidecar of a document: none for a document that is no file (`untitled:`);
 /// `Err` names the sidecar and says why it is no layout.
 pub fn layout_of(uri: &lsp::Uri) -> Result<LayoutFile, String> {
-    match uri.to_file_path() {
+    match super::from_proto::file_path(uri) {
         Some(path) => layout_file::read(&layout_file::path_for(&path)),
         None => Ok(LayoutFile::default()),
     }

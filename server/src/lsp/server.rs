@@ -301,15 +301,11 @@ impl LanguageServer for Backend {
         let progress = params.capabilities.window.as_ref().and_then(|w| w.work_done_progress).unwrap_or(false);
         self.progress_supported.store(progress, Ordering::SeqCst);
         let _ = self.encoding.set(encoding);
-        let mut roots: Vec<PathBuf> = params
-            .workspace_folders
-            .unwrap_or_default()
-            .iter()
-            .filter_map(|f| f.uri.to_file_path().map(|p| p.into_owned()))
-            .collect();
+        let mut roots: Vec<PathBuf> =
+            params.workspace_folders.unwrap_or_default().iter().filter_map(|f| from_proto::file_path(&f.uri)).collect();
         #[allow(deprecated)] // `root_uri` is what older clients send.
         if roots.is_empty() {
-            roots.extend(params.root_uri.as_ref().and_then(|u| u.to_file_path().map(|p| p.into_owned())));
+            roots.extend(params.root_uri.as_ref().and_then(from_proto::file_path));
         }
         *lock(&self.roots) = roots;
         Ok(lsp::InitializeResult {
@@ -374,7 +370,7 @@ impl LanguageServer for Backend {
         // Back to the disk's version (the editor may close without saving) for a file of the
         // workspace folders; a file outside them, unsaved or deleted leaves the workspace (and
         // its diagnostics are cleared).
-        let path = uri.to_file_path().map(|p| p.into_owned());
+        let path = from_proto::file_path(&uri);
         let in_workspace = path.as_ref().is_some_and(|p| lock(&self.roots).iter().any(|root| p.starts_with(root)));
         let on_disk = path.filter(|_| in_workspace).and_then(|p| workspace::read_text(&p).ok());
         {
@@ -399,7 +395,9 @@ impl LanguageServer for Backend {
                 }
                 if change.typ == lsp::FileChangeType::DELETED {
                     host.remove(&change.uri);
-                } else if let Some(text) = change.uri.to_file_path().and_then(|p| workspace::read_text(&p).ok()) {
+                } else if let Some(text) =
+                    from_proto::file_path(&change.uri).and_then(|p| workspace::read_text(&p).ok())
+                {
                     host.set_text(&change.uri, text, None, false);
                 }
             }
