@@ -140,10 +140,13 @@ fn place(nodes: &[Node], edges: &[Edge], wanted: &[Wanted], fresh: &[Point], pre
     }
     let (routes, labels): (Vec<Vec<Point>>, Vec<Option<Rect>>) =
         edges.iter().filter_map(|e| previous_route(e, wanted, &placed, previous)).unzip();
-    let obstacles = Obstacles { routes, labels: labels.into_iter().flatten().collect() };
+    let mut obstacles = Obstacles { routes, labels: labels.into_iter().flatten().collect(), linked: Vec::new() };
     for i in 0..nodes.len() {
         if wanted[i] == Wanted::Free {
             let desired = beside_neighbours(i, fresh, &placed, edges);
+            let other_end = |e: &Edge| if e.from == i { e.to } else { e.from };
+            let ends = edges.iter().filter(|e| (e.from == i) != (e.to == i)).map(other_end);
+            obstacles.linked = ends.filter_map(|j| placed[j]).collect();
             placed[i] = Some(free_spot(at(i, desired), &placed, &obstacles));
         }
     }
@@ -200,11 +203,15 @@ fn median(values: impl Iterator<Item = f64>) -> f64 {
 struct Obstacles {
     routes: Vec<Vec<Point>>,
     labels: Vec<Rect>,
+    /// The placed nodes the new one has edges to: its straight routes to them should pass no
+    /// other box.
+    linked: Vec<Rect>,
 }
 
 /// The spot nearest `wanted` (searched in rings of `STEP`) where the box keeps `CLEARANCE`
-/// from every placed box and covers no route or label of `obstacles`; past `RINGS` rings,
-/// those are no obstacle; past twice that, right of everything.
+/// from every placed box, covers no route or label of `obstacles` and its straight routes to
+/// the linked nodes pass no other box; past `RINGS` rings, those are no obstacle; past twice
+/// that, right of everything.
 fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Rect {
     let boxes: Vec<Rect> = placed.iter().flatten().copied().collect();
     let clear_of_boxes = |r: &Rect| {
@@ -216,9 +223,17 @@ fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Re
         };
         !boxes.iter().any(|b| intersects(padded, *b))
     };
+    let centre = |r: &Rect| Point { x: r.x + r.width / 2.0, y: r.y + r.height / 2.0 };
+    let links_clear = |r: &Rect| {
+        obstacles.linked.iter().all(|end| {
+            let (a, b) = (centre(r), centre(end));
+            !boxes.iter().any(|o| o != end && segment_meets_box(a, b, *o))
+        })
+    };
     let clear_of_obstacles = |r: &Rect| {
         !obstacles.labels.iter().any(|l| intersects(*l, *r))
             && !obstacles.routes.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *r)))
+            && links_clear(r)
     };
     let moved = |dx: f64, dy: f64| Rect { x: wanted.x + dx, y: wanted.y + dy, ..wanted };
     for ring in 0..2 * RINGS {

@@ -2,7 +2,7 @@
 //! changed, a diagram is not laid out again; changed, it is laid out around the scene drawn
 //! before (its nodes stay where they were) and the nodes pinned in the document's layout
 //! sidecar. The same memory says which diagrams a client has fetched that an edit changed
-//! (`gudsl/graphChanged`).
+//! (`gudsl/graphChanged`), in any document.
 
 use std::{
     collections::HashMap,
@@ -58,22 +58,30 @@ impl SceneCache {
         scene
     }
 
-    /// The diagrams of `file` drawn for a client whose graph is no longer what was drawn (or
-    /// that are gone), sorted.
-    pub fn stale(&self, snap: &Snapshot, file: FileId) -> Cancellable<Vec<String>> {
-        let drawn: Vec<(String, Graph)> =
-            self.lock().iter().filter(|(k, _)| k.0 == file).map(|(k, d)| (k.1.clone(), d.graph.clone())).collect();
-        if drawn.is_empty() {
-            return Ok(Vec::new());
+    /// The diagrams drawn for a client whose graph is no longer what was drawn (or that are
+    /// gone), by document: an edit can change a diagram of another document (a class diagram
+    /// draws the types its edges reach).
+    pub fn changed(&self, snap: &Snapshot) -> Cancellable<Vec<GraphChanged>> {
+        let drawn: Vec<(FileId, String, Graph)> =
+            self.lock().iter().map(|(k, d)| (k.0, k.1.clone(), d.graph.clone())).collect();
+        let mut drawn: Vec<(lsp::Uri, FileId, String, Graph)> =
+            drawn.into_iter().filter_map(|(file, id, graph)| Some((snap.uri_of(file)?, file, id, graph))).collect();
+        drawn.sort_by(|a, b| (a.0.as_str(), &a.2).cmp(&(b.0.as_str(), &b.2)));
+        let mut changed: Vec<GraphChanged> = Vec::new();
+        for (uri, file, id, was) in drawn {
+            let graphs = snap.analysis.graphs(file)?;
+            if graphs.iter().find(|g| g.id == id).is_some_and(|g| without_ranges(g) == was) {
+                continue;
+            }
+            match changed.last_mut() {
+                Some(last) if last.uri == uri => last.diagrams.push(id),
+                _ => {
+                    let version = snap.document(&uri).and_then(|d| d.version);
+                    changed.push(GraphChanged { uri, version, diagrams: vec![id] });
+                }
+            }
         }
-        let graphs = snap.analysis.graphs(file)?;
-        let mut stale: Vec<String> = drawn
-            .into_iter()
-            .filter(|(id, was)| graphs.iter().find(|g| &g.id == id).is_none_or(|g| without_ranges(g) != *was))
-            .map(|(id, _)| id)
-            .collect();
-        stale.sort();
-        Ok(stale)
+        Ok(changed)
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, Scenes> {

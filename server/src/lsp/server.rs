@@ -167,15 +167,11 @@ impl Backend {
                 let scenes = scenes.clone();
                 let computed = tokio::task::spawn_blocking(move || {
                     let mut all = Vec::with_capacity(work.len());
-                    let mut redrawn = Vec::new();
                     for (uri, version, file) in work {
-                        // Diagrams a client fetched that the edit changed (`gudsl/graphChanged`).
-                        let diagrams = if phase == 0 { scenes.stale(&snapshot, file)? } else { Vec::new() };
-                        if !diagrams.is_empty() {
-                            redrawn.push(scenes::GraphChanged { uri: uri.clone(), version, diagrams });
-                        }
                         all.push((uri, version, handlers::diagnostics(&snapshot, file)?));
                     }
+                    // Diagrams a client fetched that the edit changed (`gudsl/graphChanged`).
+                    let redrawn = if phase == 0 { scenes.changed(&snapshot)? } else { Vec::new() };
                     Cancellable::Ok((all, redrawn))
                 })
                 .await;
