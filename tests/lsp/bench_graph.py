@@ -6,8 +6,9 @@ answer is the slower part).
 
 usage: python3 bench_graph.py GUDSL_BINARY [REPEATS]
 Prints, per diagram, the first `gudsl/graph` (cold: parse, resolution, graph, layout) and p50/p95
-of REPEATS requests after it (warm: the document unchanged), and of requests each after an edit
-in another document (the graph's inputs unchanged); then p50/p95 of REPEATS `gudsl/applyGraphEdit`
+of REPEATS requests after it (warm: the document unchanged), of requests each after an edit in
+another document (the graph's inputs unchanged), and of requests each after a node was added to
+the diagram (laid out around the scene drawn before); then p50/p95 of REPEATS `gudsl/applyGraphEdit`
 requests of each kind (the answer's text edits not applied, so each is made on the same text;
 `move` writes the layout sidecar each time)."""
 
@@ -36,6 +37,15 @@ async def timed(client, uri, diagram):
     if error:
         raise SystemExit(f"gudsl/graph failed: {error}")
     return (time.perf_counter() - started) * 1e3, result
+
+
+def add_node(text, name, k):
+    """`text` with one more node, `k` naming it: a subclass of C{k}, or an action after a{k}."""
+    if name.startswith("class"):
+        return text.replace("\n}\n", f"\n    public class Extra{k} extends C{k} {{ public int e; }}\n}}\n")
+    return text.replace("        final done;", f"        action extra{k} {{ i = i + 1; => done; }}\n        final done;").replace(
+        f"action a{k} {{ i = i + {k}; => ", f"action a{k} {{ i = i + {k}; => extra{k}; => "
+    )
 
 
 def edits():
@@ -76,7 +86,10 @@ async def main(gudsl, repeats):
     other = (root / "other.gudsl").as_uri()
     open_document(client, other, OTHER)
     version = 1
-    print(f"{'diagram':<22} {'nodes':>5} {'edges':>5} {'cold ms':>8} {'warm p50':>9} {'warm p95':>9} {'edit p50':>9} {'edit p95':>9}")
+    print(
+        f"{'diagram':<22} {'nodes':>5} {'edges':>5} {'cold ms':>8} {'warm p50':>9} {'warm p95':>9} {'edit p50':>9} {'edit p95':>9} "
+        f"{'+node p50':>9} {'+node p95':>9}"
+    )
     for name, text in (("class, 200 classes", class_diagram(200)), ("activity, 200 nodes", activity_diagram(200))):
         uri = (root / f"{name.split(',')[0]}.gudsl").as_uri()
         open_document(client, uri, text)
@@ -91,10 +104,17 @@ async def main(gudsl, repeats):
                 {"textDocument": {"uri": other, "version": version}, "contentChanges": [change]},
             )
             edited.append((await timed(client, uri, "Bench"))[0])
+        # Edits of the diagram itself: a node added each time, laid out around the scene before.
+        grown = []
+        for k in range(repeats):
+            change = {"text": add_node(text, name, k)}
+            client.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": k + 2}, "contentChanges": [change]})
+            grown.append((await timed(client, uri, "Bench"))[0])
         print(
             f"{name:<22} {len(answer['nodes']):>5} {len(answer['edges']):>5} {cold:>8.1f} "
             f"{statistics.median(warm):>9.1f} {percentile(warm, 0.95):>9.1f} "
-            f"{statistics.median(edited):>9.1f} {percentile(edited, 0.95):>9.1f}"
+            f"{statistics.median(edited):>9.1f} {percentile(edited, 0.95):>9.1f} "
+            f"{statistics.median(grown):>9.1f} {percentile(grown, 0.95):>9.1f}"
         )
     print()
     print(f"{'gudsl/applyGraphEdit':<22} {'operation':<44} {'p50 ms':>7} {'p95 ms':>7}")

@@ -140,6 +140,7 @@ fn place(nodes: &[Node], edges: &[Edge], wanted: &[Wanted], fresh: &[Point], pre
     }
     let (routes, labels): (Vec<Vec<Point>>, Vec<Option<Rect>>) =
         edges.iter().filter_map(|e| previous_route(e, wanted, &placed, previous)).unzip();
+    let routes = Segments::new(routes.iter().flat_map(|r| r.windows(2).map(|s| (s[0], s[1]))));
     let mut obstacles = Obstacles { routes, labels: labels.into_iter().flatten().collect(), linked: Vec::new() };
     for i in 0..nodes.len() {
         if wanted[i] == Wanted::Free {
@@ -201,7 +202,7 @@ fn median(values: impl Iterator<Item = f64>) -> f64 {
 /// What a new node should not cover besides the placed nodes: the routes and labels kept.
 #[derive(Default)]
 struct Obstacles {
-    routes: Vec<Vec<Point>>,
+    routes: Segments,
     labels: Vec<Rect>,
     /// The placed nodes the new one has edges to: its straight routes to them should pass no
     /// other box.
@@ -230,11 +231,8 @@ fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Re
             !boxes.iter().any(|o| o != end && segment_meets_box(a, b, *o))
         })
     };
-    let clear_of_obstacles = |r: &Rect| {
-        !obstacles.labels.iter().any(|l| intersects(*l, *r))
-            && !obstacles.routes.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], *r)))
-            && links_clear(r)
-    };
+    let clear_of_obstacles =
+        |r: &Rect| !obstacles.labels.iter().any(|l| intersects(*l, *r)) && !obstacles.routes.meet(*r) && links_clear(r);
     let moved = |dx: f64, dy: f64| Rect { x: wanted.x + dx, y: wanted.y + dy, ..wanted };
     for ring in 0..2 * RINGS {
         let mut candidates: Vec<Rect> = ring_offsets(ring)
@@ -249,6 +247,42 @@ fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Re
     }
     let right = boxes.iter().map(|b| b.x + b.width).fold(MARGIN, f64::max);
     Rect { x: right + CLEARANCE, ..wanted }
+}
+
+/// Route segments bucketed by the cells of a grid their bounding boxes touch: which of
+/// thousands of segments meet a box is asked for each of thousands of candidate spots.
+#[derive(Default)]
+struct Segments {
+    cells: HashMap<(i64, i64), Vec<(Point, Point)>>,
+}
+
+/// The side of a cell of `Segments`.
+const CELL: f64 = 80.0;
+
+impl Segments {
+    fn new(segments: impl Iterator<Item = (Point, Point)>) -> Segments {
+        let mut cells: HashMap<(i64, i64), Vec<(Point, Point)>> = HashMap::new();
+        for (a, b) in segments {
+            let bounds = Rect { x: a.x.min(b.x), y: a.y.min(b.y), width: (a.x - b.x).abs(), height: (a.y - b.y).abs() };
+            for cell in cells_of(bounds) {
+                cells.entry(cell).or_default().push((a, b));
+            }
+        }
+        Segments { cells }
+    }
+
+    /// Whether a segment passes through `r`.
+    fn meet(&self, r: Rect) -> bool {
+        cells_of(r)
+            .any(|cell| self.cells.get(&cell).is_some_and(|s| s.iter().any(|&(a, b)| segment_meets_box(a, b, r))))
+    }
+}
+
+/// The grid cells a box touches.
+fn cells_of(r: Rect) -> impl Iterator<Item = (i64, i64)> {
+    let cell = |v: f64| (v / CELL).floor() as i64;
+    let (x0, x1, y0, y1) = (cell(r.x), cell(r.x + r.width), cell(r.y), cell(r.y + r.height));
+    (x0..=x1).flat_map(move |x| (y0..=y1).map(move |y| (x, y)))
 }
 
 /// The offsets (in steps) on the square ring `ring` around the origin.
