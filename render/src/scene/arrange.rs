@@ -7,8 +7,8 @@
 use std::collections::HashMap;
 
 use super::{
-    labels::{intersects, segment_meets_box},
-    Point, Rect, Scene,
+    labels::{around, intersects, segment_meets_box},
+    Point, Rect, Scene, SceneEdge,
 };
 use crate::{
     layout::{self_loop, Layout},
@@ -64,15 +64,14 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
         return;
     }
     let fresh = layout.positions.clone();
-    let boxes = place(nodes, edges, &wanted, &fresh, hints.previous);
+    let (boxes, previous_routes) = place(nodes, edges, &wanted, &fresh, hints.previous);
     // Whether a node is not where the previous scene had it.
     let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
-    let placed: Vec<Option<Rect>> = boxes.iter().copied().map(Some).collect();
     let mut labels: Vec<Option<Rect>> = vec![None; edges.len()];
     let mut rerouted = vec![false; edges.len()];
-    for (k, e) in edges.iter().enumerate() {
+    for ((k, e), previous) in edges.iter().enumerate().zip(previous_routes) {
         // Kept unless a node that moved landed on it.
-        let kept = previous_route(e, &wanted, &placed, hints.previous).filter(|(route, _)| {
+        let kept = previous.filter(|(route, _)| {
             !(0..boxes.len()).any(|i| moved(i) && route.windows(2).any(|s| segment_meets_box(s[0], s[1], boxes[i])))
         });
         rerouted[k] = kept.is_none();
@@ -117,11 +116,21 @@ fn wanted(nodes: &[Node], hints: Hints) -> Vec<Wanted> {
         .collect()
 }
 
+/// A route and its label's box, as the previous scene drew them.
+type Drawn = (Vec<Point>, Option<Rect>);
+
 /// Every node's box: pinned ones first, then kept ones (those of unchanged size first: a node
 /// that grew is the one to make room), each where wanted if that is free, else at the nearest
 /// free spot; then the free ones, beside their neighbours, clear of the routes and labels
-/// that stay.
-fn place(nodes: &[Node], edges: &[Edge], wanted: &[Wanted], fresh: &[Point], previous: Option<&Scene>) -> Vec<Rect> {
+/// that stay. With them, per edge, its previous route where both its ends are kept nodes placed
+/// where they were (the free nodes placed last move none of those).
+fn place(
+    nodes: &[Node],
+    edges: &[Edge],
+    wanted: &[Wanted],
+    fresh: &[Point],
+    previous: Option<&Scene>,
+) -> (Vec<Rect>, Vec<Option<Drawn>>) {
     let at = |i: usize, p: Point| Rect { x: p.x, y: p.y, width: nodes[i].width, height: nodes[i].height };
     let mut placed: Vec<Option<Rect>> = vec![None; nodes.len()];
     for (i, w) in wanted.iter().enumerate() {
@@ -138,10 +147,21 @@ fn place(nodes: &[Node], edges: &[Edge], wanted: &[Wanted], fresh: &[Point], pre
     for &(i, was) in kept.iter().filter(|k| !grown(k)).chain(kept.iter().filter(|k| grown(k))) {
         placed[i] = Some(free_spot(at(i, Point { x: was.x, y: was.y }), &placed, &Obstacles::default()));
     }
-    let (routes, labels): (Vec<Vec<Point>>, Vec<Option<Rect>>) =
-        edges.iter().filter_map(|e| previous_route(e, wanted, &placed, previous)).unzip();
-    let routes = Segments::new(routes.iter().flat_map(|r| r.windows(2).map(|s| (s[0], s[1]))));
-    let mut obstacles = Obstacles { routes, labels: labels.into_iter().flatten().collect(), linked: Vec::new() };
+    let before: HashMap<&str, &SceneEdge> =
+        previous.map(|s| s.edges.iter().map(|e| (e.id.as_str(), e)).collect()).unwrap_or_default();
+    let unmoved = |i: usize| matches!(wanted[i], Wanted::Kept(was) if placed[i] == Some(was));
+    let previous_routes: Vec<Option<Drawn>> = edges
+        .iter()
+        .map(|e| {
+            let old = before.get(e.id).filter(|o| o.source == e.source && o.target == e.target)?;
+            let kept = unmoved(e.from) && unmoved(e.to);
+            kept.then(|| (old.points.clone(), old.label.as_ref().map(|l| l.rect)))
+        })
+        .collect();
+    let kept_routes = previous_routes.iter().flatten();
+    let routes = Segments::new(kept_routes.clone().flat_map(|(r, _)| r.windows(2).map(|s| (s[0], s[1]))));
+    let labels = kept_routes.filter_map(|(_, label)| *label).collect();
+    let mut obstacles = Obstacles { routes, labels, linked: Vec::new() };
     for i in 0..nodes.len() {
         if wanted[i] == Wanted::Free {
             let desired = beside_neighbours(i, fresh, &placed, edges);
@@ -151,23 +171,8 @@ fn place(nodes: &[Node], edges: &[Edge], wanted: &[Wanted], fresh: &[Point], pre
             placed[i] = Some(free_spot(at(i, desired), &placed, &obstacles));
         }
     }
-    placed.iter().zip(fresh).enumerate().map(|(i, (p, f))| p.unwrap_or(at(i, *f))).collect()
-}
-
-/// The route (and label box) the previous scene drew for `e`, where both its ends are kept
-/// nodes placed where they were.
-fn previous_route(
-    e: &Edge,
-    wanted: &[Wanted],
-    placed: &[Option<Rect>],
-    previous: Option<&Scene>,
-) -> Option<(Vec<Point>, Option<Rect>)> {
-    let unmoved = |i: usize| matches!(wanted[i], Wanted::Kept(was) if placed[i] == Some(was));
-    if !(unmoved(e.from) && unmoved(e.to)) {
-        return None;
-    }
-    let old = previous?.edges.iter().find(|o| o.id == e.id && o.source == e.source && o.target == e.target)?;
-    Some((old.points.clone(), old.label.as_ref().map(|l| l.rect)))
+    let boxes = placed.iter().zip(fresh).enumerate().map(|(i, (p, f))| p.unwrap_or(at(i, *f))).collect();
+    (boxes, previous_routes)
 }
 
 /// Where a new node goes: at the offset from its placed neighbours that the fresh layout has
@@ -233,17 +238,11 @@ fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Re
     };
     let clear_of_obstacles =
         |r: &Rect| !obstacles.labels.iter().any(|l| intersects(*l, *r)) && !obstacles.routes.meet(*r) && links_clear(r);
-    let moved = |dx: f64, dy: f64| Rect { x: wanted.x + dx, y: wanted.y + dy, ..wanted };
-    for ring in 0..2 * RINGS {
-        let mut candidates: Vec<Rect> = ring_offsets(ring)
-            .map(|(dx, dy)| moved(dx * STEP, dy * STEP))
-            .filter(|r| r.x >= MARGIN - 1e-9 && r.y >= MARGIN - 1e-9)
-            .collect();
-        candidates.sort_by(|a, b| distance(a, &wanted).total_cmp(&distance(b, &wanted)));
-        let found = candidates.into_iter().find(|r| clear_of_boxes(r) && (ring >= RINGS || clear_of_obstacles(r)));
-        if let Some(spot) = found {
-            return spot;
-        }
+    let found = around(wanted, STEP, 0..2 * RINGS)
+        .filter(|(_, r)| r.x >= MARGIN - 1e-9 && r.y >= MARGIN - 1e-9)
+        .find(|(ring, r)| clear_of_boxes(r) && (*ring >= RINGS || clear_of_obstacles(r)));
+    if let Some((_, spot)) = found {
+        return spot;
     }
     let right = boxes.iter().map(|b| b.x + b.width).fold(MARGIN, f64::max);
     Rect { x: right + CLEARANCE, ..wanted }
@@ -283,19 +282,6 @@ fn cells_of(r: Rect) -> impl Iterator<Item = (i64, i64)> {
     let cell = |v: f64| (v / CELL).floor() as i64;
     let (x0, x1, y0, y1) = (cell(r.x), cell(r.x + r.width), cell(r.y), cell(r.y + r.height));
     (x0..=x1).flat_map(move |x| (y0..=y1).map(move |y| (x, y)))
-}
-
-/// The offsets (in steps) on the square ring `ring` around the origin.
-fn ring_offsets(ring: usize) -> impl Iterator<Item = (f64, f64)> {
-    let r = ring as i64;
-    (-r..=r)
-        .flat_map(move |dx| (-r..=r).map(move |dy| (dx, dy)))
-        .filter(move |&(dx, dy)| dx.abs() == r || dy.abs() == r)
-        .map(|(dx, dy)| (dx as f64, dy as f64))
-}
-
-fn distance(a: &Rect, b: &Rect) -> f64 {
-    (a.x - b.x).hypot(a.y - b.y)
 }
 
 /// A straight route from the border of `from` to the border of `to`, on the line between their

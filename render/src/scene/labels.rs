@@ -58,27 +58,28 @@ pub(crate) fn place_label(
     let mid = midpoint(route);
     let at_middle = Rect { x: mid.x + 4.0, y: mid.y - h / 2.0, width: w, height: h };
     // Crowded: the nearest place around the middle clear of nodes and labels.
-    let nearest_clear = || {
-        (1..40).find_map(|ring: i32| {
-            let around = (-ring..=ring).flat_map(|dx| (-ring..=ring).map(move |dy| (dx, dy)));
-            let mut spots: Vec<Rect> = around
-                .filter(|&(dx, dy)| dx.abs() == ring || dy.abs() == ring)
-                .map(|(dx, dy)| Rect {
-                    x: at_middle.x + 8.0 * dx as f64,
-                    y: at_middle.y + 8.0 * dy as f64,
-                    ..at_middle
-                })
-                .collect();
-            let away = |r: &Rect| (r.x - at_middle.x).hypot(r.y - at_middle.y);
-            spots.sort_by(|a, b| away(a).total_cmp(&away(b)));
-            spots.into_iter().find(|b| clear(*b))
-        })
-    };
+    let nearest_clear = || around(at_middle, 8.0, 1..40).map(|(_, spot)| spot).find(|b| clear(*b));
     clear_of_all
         .or_else(off_its_edge)
         .or_else(|| boxes.iter().copied().find(|b| clear(*b)))
         .or_else(nearest_clear)
         .unwrap_or(at_middle)
+}
+
+/// `origin` moved along square rings `step` apart around it, ring by ring (`rings`), the
+/// nearest first within a ring, each with its ring: where to look for free space.
+pub(crate) fn around(origin: Rect, step: f64, rings: std::ops::Range<usize>) -> impl Iterator<Item = (usize, Rect)> {
+    rings.flat_map(move |ring| {
+        let r = ring as i64;
+        let mut spots: Vec<Rect> = (-r..=r)
+            .flat_map(|dx| (-r..=r).map(move |dy| (dx, dy)))
+            .filter(|&(dx, dy)| dx.abs() == r || dy.abs() == r)
+            .map(|(dx, dy)| Rect { x: origin.x + step * dx as f64, y: origin.y + step * dy as f64, ..origin })
+            .collect();
+        let away = |s: &Rect| (s.x - origin.x).hypot(s.y - origin.y);
+        spots.sort_by(|a, b| away(a).total_cmp(&away(b)));
+        spots.into_iter().map(move |spot| (ring, spot))
+    })
 }
 
 /// Whether the segment from `a` to `b` passes through the box (Liang–Barsky clipping).
