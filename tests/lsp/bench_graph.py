@@ -21,7 +21,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "render"))
 from bench_dot import activity_diagram, class_diagram  # noqa: E402
-from lsp_raw import Client  # noqa: E402
+from lsp_raw import start_server, stop_server  # noqa: E402
 
 OTHER = "ClassDiagram Other\n{\n    public class Note { public int n; }\n}\n"
 
@@ -77,12 +77,7 @@ def open_document(client, uri, text):
 
 async def main(gudsl, repeats):
     root = Path(tempfile.mkdtemp(prefix="gudsl-graph-bench-"))
-    proc = await asyncio.create_subprocess_exec(
-        gudsl, "lsp", stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE, limit=1 << 16
-    )
-    client = Client(proc)
-    await client.request("initialize", {"processId": None, "rootUri": root.as_uri(), "capabilities": {}})
-    client.notify("initialized", {})
+    client = await start_server(gudsl, root)
     other = (root / "other.gudsl").as_uri()
     open_document(client, other, OTHER)
     version = 1
@@ -134,9 +129,7 @@ async def main(gudsl, repeats):
                     raise SystemExit(f"{what}: {error}")
                 times.append((time.perf_counter() - started) * 1e3)
             print(f"{name:<22} {what:<44} {statistics.median(times):>7.1f} {percentile(times, 0.95):>7.1f}")
-    await client.request("shutdown", None)
-    client.notify("exit", None)
-    await proc.wait()
+    await stop_server(client)
 
 
 if __name__ == "__main__":

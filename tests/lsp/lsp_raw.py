@@ -75,3 +75,21 @@ class Client:
 
     def notify(self, method, params):
         self.send({"jsonrpc": "2.0", "method": method, "params": params})
+
+
+async def start_server(gudsl, root):
+    """`gudsl lsp` started with `root` as its workspace, initialised, and its client."""
+    proc = await asyncio.create_subprocess_exec(
+        gudsl, "lsp", stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE, limit=1 << 16
+    )
+    client = Client(proc)
+    await client.request("initialize", {"processId": None, "rootUri": root.as_uri(), "capabilities": {}})
+    client.notify("initialized", {})
+    return client
+
+
+async def stop_server(client):
+    """Shuts the server down and waits for it to exit."""
+    await client.request("shutdown", None)
+    client.notify("exit", None)
+    await client.proc.wait()

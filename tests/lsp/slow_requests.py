@@ -23,7 +23,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from lsp_raw import Client
+from lsp_raw import start_server, stop_server
 
 
 def pct(samples):
@@ -70,12 +70,7 @@ def doc(uri):
 async def main(gudsl, rounds):
     root = Path(tempfile.mkdtemp(prefix="gudsl-slow-"))
     types_workspace(root)
-    proc = await asyncio.create_subprocess_exec(
-        gudsl, "lsp", stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE, limit=1 << 16
-    )
-    client = Client(proc)
-    await client.request("initialize", {"processId": None, "rootUri": root.as_uri(), "capabilities": {}})
-    client.notify("initialized", {})
+    client = await start_server(gudsl, root)
     a_uri = (root / "a.gudsl").as_uri()
 
     async def wait_diagnostics(uri, timeout=300):
@@ -99,7 +94,7 @@ async def main(gudsl, rounds):
         start = time.perf_counter()
         result, error = await make()
         outcome = "answered" if error is None else f"error {error['code']}"
-        rows.append((name, (time.perf_counter() - start) * 1e3, outcome, proc_status(proc.pid, "VmHWM")))
+        rows.append((name, (time.perf_counter() - start) * 1e3, outcome, proc_status(client.proc.pid, "VmHWM")))
 
     # 1. Single requests.
     long_name = "Unknown" + "x" * 20_000
@@ -116,12 +111,12 @@ async def main(gudsl, rounds):
         await wait_diagnostics(uri)
         await timed(f"semantic tokens, {name}", lambda: client.request("textDocument/semanticTokens/full", doc(uri)))
         await timed(f"document symbols, {name}", lambda: client.request("textDocument/documentSymbol", doc(uri)))
-    rss_before = proc_status(proc.pid, "VmRSS")
+    rss_before = proc_status(client.proc.pid, "VmRSS")
     _, huge = one_line_document(10 * 1024, "Huge")
     start = time.perf_counter()
     b3 = open_doc("b3.gudsl", huge)
     await wait_diagnostics(b3)
-    rows.append(("open 10 MB document -> its diagnostics", (time.perf_counter() - start) * 1e3, "answered", proc_status(proc.pid, "VmHWM")))
+    rows.append(("open 10 MB document -> its diagnostics", (time.perf_counter() - start) * 1e3, "answered", proc_status(client.proc.pid, "VmHWM")))
     semantic_tokens = lambda: client.request("textDocument/semanticTokens/full", doc(b3))
     document_symbols = lambda: client.request("textDocument/documentSymbol", doc(b3))
     await timed("semantic tokens, 10 MB document", semantic_tokens)
@@ -181,9 +176,7 @@ async def main(gudsl, rounds):
         failed |= p95 >= 50
         print(f"{kind:<56} {p50:>8.2f} {p95:>8.2f} {n:>5} {counts['answered']:>12}/{counts['cancelled']:<11}")
 
-    await client.request("shutdown", None)
-    client.notify("exit", None)
-    await proc.wait()
+    await stop_server(client)
     return 1 if failed else 0
 
 

@@ -24,7 +24,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-from lsp_raw import Client
+from lsp_raw import start_server
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -90,12 +90,8 @@ async def main(gudsl, minutes, seed):
     root = Path(tempfile.mkdtemp(prefix="gudsl-soak-"))
     shutil.copytree(ROOT / "samples", root / "samples", ignore=shutil.ignore_patterns("rendered"))
     paths = sorted((root / "samples").rglob("*.gudsl"))
-    proc = await asyncio.create_subprocess_exec(
-        gudsl, "lsp", stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE, limit=1 << 16
-    )
-    client = Client(proc)
-    await client.request("initialize", {"processId": None, "rootUri": root.as_uri(), "capabilities": {}})
-    client.notify("initialized", {})
+    client = await start_server(gudsl, root)
+    proc = client.proc
 
     docs = {}  # uri -> [text, version]
     styles = Counter()

@@ -24,7 +24,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "lsp"))
 from bench_dot import activity_diagram, to_dot  # noqa: E402
-from lsp_raw import Client  # noqa: E402
+from lsp_raw import start_server, stop_server  # noqa: E402
 
 
 def realistic_class_diagram(n, extra=False, seed=7):
@@ -99,12 +99,9 @@ def score(metrics, path, fmt):
 async def editor_session(gudsl, work, name, before, after):
     """gudsl/graph before and after the edit in one session; then 10 nodes pinned, the edit
     undone and redone, and the graph laid out afresh around the pins."""
-    proc = await asyncio.create_subprocess_exec(gudsl, "lsp", stdin=asyncio.subprocess.PIPE, stdout=asyncio.subprocess.PIPE, limit=1 << 16)
-    client = Client(proc)
     root = work / f"{name}-editor"
     root.mkdir()
-    await client.request("initialize", {"processId": None, "rootUri": root.as_uri(), "capabilities": {}})
-    client.notify("initialized", {})
+    client = await start_server(gudsl, root)
     path = root / "bench.gudsl"
     path.write_text(before)
     uri = path.as_uri()
@@ -134,9 +131,7 @@ async def editor_session(gudsl, work, name, before, after):
     fresh = await graph(relayout=True)
     drawn = {n["id"]: (n["bounds"]["x"], n["bounds"]["y"]) for n in fresh["nodes"]}
     off = [abs(drawn[i][0] - x) + abs(drawn[i][1] - y) for i, (x, y) in pinned.items()]
-    await client.request("shutdown", None)
-    client.notify("exit", None)
-    await proc.wait()
+    await stop_server(client)
     return neutral(first, work / f"{name}-editor-1.json"), neutral(second, work / f"{name}-editor-2.json"), max(off), len(pinned)
 
 
