@@ -206,7 +206,7 @@ pub fn apply_graph_edit(
     };
     let layout = match layout_ops.is_empty() {
         true => None,
-        false => match arrange(snap, file, uri, &params.diagram, &layout_ops, scenes)? {
+        false => match save_positions(snap, file, uri, &params.diagram, &layout_ops, scenes)? {
             Ok(written) => Some(written),
             Err(reason) => return Ok(Err(reason)),
         },
@@ -219,7 +219,7 @@ static SIDECAR: Mutex<()> = Mutex::new(());
 
 /// Moves and resizes written into the document's layout sidecar (pins of nodes that no longer
 /// exist dropped); `Err` with the reason, and the file untouched, when one cannot be made.
-fn arrange(
+fn save_positions(
     snap: &Snapshot,
     file: FileId,
     uri: &lsp::Uri,
