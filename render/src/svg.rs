@@ -11,7 +11,7 @@ use crate::{
     scene::{
         self,
         measure::{FONT_SIZE, LABEL_SIZE, MULTIPLICITY_SIZE, PORT_SIZE},
-        Scene, SceneEdge, SceneNode, TextLine,
+        Frame, Scene, SceneEdge, SceneNode, TextLine,
     },
     text::{Style, FONT_FAMILY},
 };
@@ -58,6 +58,7 @@ pub fn write(scene: &Scene) -> String {
     let _ = writeln!(out, "<title>{}</title>", escape(&scene.id));
     out.push_str(MARKERS);
     let _ = writeln!(out, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+    draw_frame(&mut out, &scene.frame);
     for lane in &scene.lanes {
         let _ = writeln!(
             out,
@@ -80,6 +81,67 @@ pub fn write(scene: &Scene) -> String {
     }
     out.push_str("</svg>\n");
     out
+}
+
+/// The frame: its rectangle, the name tab with its cut corner, the variable section and an
+/// empty diagram's note.
+fn draw_frame(out: &mut String, frame: &Frame) {
+    let (r, t) = (frame.rect, frame.tab);
+    let cut = 10.0_f64.min(t.height / 2.0);
+    let _ = write!(
+        out,
+        r#"<g class="frame"><rect x="{}" y="{}" width="{}" height="{}" fill="none" stroke="black"/><path d="M{},{} H{} L{},{} V{}" fill="none" stroke="black"/>"#,
+        f(r.x),
+        f(r.y),
+        f(r.width),
+        f(r.height),
+        f(t.x),
+        f(t.y + t.height),
+        f(t.x + t.width - cut),
+        f(t.x + t.width),
+        f(t.y + t.height - cut),
+        f(t.y)
+    );
+    for line in &frame.heading {
+        draw_text(out, line, "");
+    }
+    if let Some((rect, lines)) = &frame.variables {
+        let _ = write!(
+            out,
+            r##"<rect class="variables" x="{}" y="{}" width="{}" height="{}" fill="#fafafa" stroke="#999"/>"##,
+            f(rect.x),
+            f(rect.y),
+            f(rect.width),
+            f(rect.height)
+        );
+        for line in lines {
+            draw_text(out, line, "");
+        }
+    }
+    if let Some(note) = &frame.note {
+        draw_text(out, note, r##" fill="#777""##);
+    }
+    out.push_str("</g>\n");
+}
+
+/// A line of text starting at its point, in its style; `extra` adds attributes.
+fn draw_text(out: &mut String, line: &TextLine, extra: &str) {
+    let _ = write!(
+        out,
+        r#"<text x="{}" y="{}"{}{extra}>{}</text>"#,
+        f(line.x),
+        f(line.y),
+        style_attribute(line.style),
+        escape(&line.text)
+    );
+}
+
+fn style_attribute(style: Style) -> &'static str {
+    match style {
+        Style::Bold => r#" font-weight="bold""#,
+        Style::Oblique => r#" font-style="italic""#,
+        Style::Regular => "",
+    }
 }
 
 fn draw_edge(out: &mut String, edge: &SceneEdge) {
@@ -130,11 +192,7 @@ fn draw_node(out: &mut String, node: &SceneNode) {
     let _ = write!(out, r#"<g class="node" data-id="{}">"#, escape(&node.id));
     draw_shape(out, node.shape, x, y, w, h);
     for line in &node.header {
-        let weight = match line.style {
-            Style::Bold => r#" font-weight="bold""#,
-            Style::Oblique => r#" font-style="italic""#,
-            Style::Regular => "",
-        };
+        let weight = style_attribute(line.style);
         let _ = write!(
             out,
             r#"<text x="{}" y="{}" text-anchor="middle"{weight}>{}</text>"#,

@@ -4,12 +4,35 @@
 use std::collections::HashMap;
 
 use super::{
-    edge_id, text, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge, GraphGroup, GraphKind, GraphNode, NodeShape,
+    attribute_line, edge_id, text, visibility_mark, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge, GraphGroup,
+    GraphKind, GraphNode, NodeShape,
 };
-use crate::ast::{self, AstNode, HasName};
+use crate::ast::{self, AstNode, HasModifiers, HasName};
 
 pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
     let mut graph = Graph::new(id.clone(), GraphKind::Activity, diagram.syntax());
+    graph.parameters = diagram.params().map(|p| text(&p)).collect();
+    graph.owner = diagram.owner().map(|o| text(&o));
+    // Variables (`public int i = 0;`) and `var`/`const` declarations, in the order written.
+    graph.variables = diagram
+        .syntax()
+        .children()
+        .filter_map(|node| {
+            let name = |n: Option<ast::Name>| n.map(|n| n.text()).unwrap_or_default();
+            if let Some(v) = ast::Variable::cast(node.clone()) {
+                let read_only = v.modifiers().is_some_and(|m| m.has(crate::syntax::SyntaxKind::CONST_KW));
+                return Some(attribute_line(
+                    visibility_mark(&v),
+                    &name(v.name()),
+                    v.type_ref(),
+                    v.initializer(),
+                    read_only,
+                ));
+            }
+            let v = ast::VarDecl::cast(node)?;
+            Some(attribute_line("", &name(v.name()), v.type_ref(), v.initializer(), v.const_token().is_some()))
+        })
+        .collect();
     let mut lanes: Vec<(Option<String>, Vec<ast::ActivityNode>)> = Vec::new();
     for lane in diagram.swimlanes() {
         let name = lane.name().map(|n| n.text()).unwrap_or_default();

@@ -197,6 +197,12 @@ pub struct Graph {
     pub nodes: Vec<GraphNode>,
     pub edges: Vec<GraphEdge>,
     pub groups: Vec<GraphGroup>,
+    /// An activity diagram's parameters, as written (`int kernelSize`).
+    pub parameters: Vec<String>,
+    /// The class an activity diagram belongs to (its `owner`), as written.
+    pub owner: Option<String>,
+    /// An activity diagram's variable section: each variable as written, without its `;`.
+    pub variables: Vec<String>,
 }
 
 impl Graph {
@@ -211,6 +217,9 @@ impl Graph {
             nodes: Vec::new(),
             edges: Vec::new(),
             groups: Vec::new(),
+            parameters: Vec::new(),
+            owner: None,
+            variables: Vec::new(),
         }
     }
 }
@@ -236,7 +245,39 @@ pub fn file_graphs(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<G
 
 /// A node's text on one line.
 pub(super) fn text(node: &impl AstNode) -> String {
-    node.syntax().text().to_string().split_whitespace().collect::<Vec<_>>().join(" ")
+    syntax_text(node.syntax())
+}
+
+/// A syntax node's text on one line, without its comments.
+pub(super) fn syntax_text(node: &crate::syntax::SyntaxNode) -> String {
+    use crate::syntax::SyntaxKind::{BLOCK_COMMENT, LINE_COMMENT};
+    let mut out = String::new();
+    for token in node.descendants_with_tokens().filter_map(|e| e.into_token()) {
+        match token.kind() {
+            LINE_COMMENT | BLOCK_COMMENT => out.push(' '),
+            _ => out.push_str(token.text()),
+        }
+    }
+    out.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// An attribute as UML writes one: `+ name : type = initial`, and `{readOnly}` for a constant.
+pub(super) fn attribute_line(
+    visibility: &str,
+    name: &str,
+    ty: Option<ast::TypeRef>,
+    initial: Option<ast::Expr>,
+    read_only: bool,
+) -> String {
+    let mut line = format!("{visibility}{name} : {}", ty.map(|t| text(&t)).unwrap_or_default());
+    if let Some(initial) = initial {
+        line.push_str(" = ");
+        line.push_str(&text(&initial));
+    }
+    if read_only {
+        line.push_str(" {readOnly}");
+    }
+    line
 }
 
 /// UML's mark of a member's visibility.

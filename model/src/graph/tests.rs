@@ -181,3 +181,23 @@ fn a_graph_is_recomputed_by_edits_that_change_it_only() {
     assert_eq!(all(&db), 3);
     assert_eq!(graphs_executed(&db), 2, "shapes.gudsl and uses.gudsl; not alone.gudsl");
 }
+
+#[test]
+fn activity_graph_has_the_frame_heading_parameters_owner_and_variables() {
+    let text = seed("listing08_member_access.gudsl");
+    let g = &graphs_of(&[("a", text.clone())])[0];
+    assert_eq!(g.parameters, ["string filenameLoad", "string filenameSave"]);
+    assert_eq!(g.owner, None);
+    // The comments above the variable are not part of it.
+    assert_eq!(g.variables, ["+ i : int"]);
+    let edited = text
+        .replace(
+            "AdMemberAccess(string filenameLoad, string filenameSave)",
+            "AdMemberAccess(), owner TypeDefinitions.Image",
+        )
+        .replace("public int i;", "public int i;\n    var int k = 2 * 3; // two\n    const float c = 1.5;");
+    let g = &graphs_of(&[("a", edited)])[0];
+    assert!(g.parameters.is_empty());
+    assert_eq!(g.owner.as_deref(), Some("TypeDefinitions.Image"));
+    assert_eq!(g.variables, ["+ i : int", "k : int = 2 * 3", "c : float = 1.5 {readOnly}"]);
+}

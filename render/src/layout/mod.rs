@@ -55,7 +55,7 @@ impl Default for Spacing {
 }
 
 /// A point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Point {
     pub x: f64,
     pub y: f64,
@@ -71,6 +71,21 @@ pub struct Layout {
     pub labels: Vec<Option<Point>>,
     pub width: f64,
     pub height: f64,
+}
+
+impl Layout {
+    /// Moves the whole drawing right and down (its size grows by as much).
+    pub fn translate(&mut self, dx: f64, dy: f64) {
+        let shift = |p: &mut Point| {
+            p.x += dx;
+            p.y += dy;
+        };
+        self.positions.iter_mut().for_each(shift);
+        self.edges.iter_mut().flatten().for_each(shift);
+        self.labels.iter_mut().flatten().for_each(shift);
+        self.width += dx;
+        self.height += dy;
+    }
 }
 
 /// Space between an edge and its label.

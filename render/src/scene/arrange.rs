@@ -46,7 +46,7 @@ const CLEARANCE: f64 = 20.0;
 /// The step of the search for free space, and how far it looks before giving up on routes.
 const STEP: f64 = 20.0;
 const RINGS: usize = 60;
-/// Around the drawing.
+/// Right of and below the drawing.
 const MARGIN: f64 = 20.0;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -58,13 +58,14 @@ enum Wanted {
 
 /// Moves `layout` (a fresh layout of `nodes` and `edges`) to honour `hints`; without pins and a
 /// previous scene it stays as it is.
-pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints: Hints) {
+/// Nodes placed anew keep right of and below `corner` (the top left of the frame's body).
+pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints: Hints, corner: Point) {
     let wanted = wanted(nodes, hints);
     if wanted.iter().all(|w| *w == Wanted::Free) {
         return;
     }
     let fresh = layout.positions.clone();
-    let (boxes, previous_routes) = place(nodes, edges, &wanted, &fresh, hints.previous);
+    let (boxes, previous_routes) = place(nodes, edges, &wanted, &fresh, hints.previous, corner);
     // Whether a node is not where the previous scene had it.
     let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
     let mut labels: Vec<Option<Rect>> = vec![None; edges.len()];
@@ -130,6 +131,7 @@ fn place(
     wanted: &[Wanted],
     fresh: &[Point],
     previous: Option<&Scene>,
+    corner: Point,
 ) -> (Vec<Rect>, Vec<Option<Drawn>>) {
     let at = |i: usize, p: Point| Rect { x: p.x, y: p.y, width: nodes[i].width, height: nodes[i].height };
     let mut placed: Vec<Option<Rect>> = vec![None; nodes.len()];
@@ -145,7 +147,8 @@ fn place(
         .collect();
     let grown = |&(i, was): &(usize, Rect)| (was.width, was.height) != (nodes[i].width, nodes[i].height);
     for &(i, was) in kept.iter().filter(|k| !grown(k)).chain(kept.iter().filter(|k| grown(k))) {
-        placed[i] = Some(free_spot(at(i, Point { x: was.x, y: was.y }), &placed, &Obstacles::default()));
+        let obstacles = Obstacles { corner, ..Obstacles::default() };
+        placed[i] = Some(free_spot(at(i, Point { x: was.x, y: was.y }), &placed, &obstacles));
     }
     let before: HashMap<&str, &SceneEdge> =
         previous.map(|s| s.edges.iter().map(|e| (e.id.as_str(), e)).collect()).unwrap_or_default();
@@ -161,10 +164,10 @@ fn place(
     let kept_routes = previous_routes.iter().flatten();
     let routes = Segments::new(kept_routes.clone().flat_map(|(r, _)| r.windows(2).map(|s| (s[0], s[1]))));
     let labels = kept_routes.filter_map(|(_, label)| *label).collect();
-    let mut obstacles = Obstacles { routes, labels, linked: Vec::new() };
+    let mut obstacles = Obstacles { routes, labels, linked: Vec::new(), corner };
     for i in 0..nodes.len() {
         if wanted[i] == Wanted::Free {
-            let desired = beside_neighbours(i, fresh, &placed, edges);
+            let desired = beside_neighbours(i, fresh, &placed, edges, corner);
             let other_end = |e: &Edge| if e.from == i { e.to } else { e.from };
             let ends = edges.iter().filter(|e| (e.from == i) != (e.to == i)).map(other_end);
             obstacles.linked = ends.filter_map(|j| placed[j]).collect();
@@ -178,7 +181,7 @@ fn place(
 /// Where a new node goes: at the offset from its placed neighbours that the fresh layout has
 /// (below its superclass, after its predecessor), else where the fresh layout put it, moved as
 /// the placed nodes moved on the whole.
-fn beside_neighbours(i: usize, fresh: &[Point], placed: &[Option<Rect>], edges: &[Edge]) -> Point {
+fn beside_neighbours(i: usize, fresh: &[Point], placed: &[Option<Rect>], edges: &[Edge], corner: Point) -> Point {
     let shift = |j: usize| placed[j].map(|r| (r.x - fresh[j].x, r.y - fresh[j].y));
     let near: Vec<(f64, f64)> = edges
         .iter()
@@ -195,7 +198,7 @@ fn beside_neighbours(i: usize, fresh: &[Point], placed: &[Option<Rect>], edges: 
         let n = near.len() as f64;
         (near.iter().map(|s| s.0).sum::<f64>() / n, near.iter().map(|s| s.1).sum::<f64>() / n)
     };
-    Point { x: (fresh[i].x + dx).max(MARGIN), y: (fresh[i].y + dy).max(MARGIN) }
+    Point { x: (fresh[i].x + dx).max(corner.x), y: (fresh[i].y + dy).max(corner.y) }
 }
 
 fn median(values: impl Iterator<Item = f64>) -> f64 {
@@ -212,6 +215,8 @@ struct Obstacles {
     /// The placed nodes the new one has edges to: its straight routes to them should pass no
     /// other box.
     linked: Vec<Rect>,
+    /// No spot is left of or above it.
+    corner: Point,
 }
 
 /// The spot nearest `wanted` (searched in rings of `STEP`) where the box keeps `CLEARANCE`
@@ -239,12 +244,12 @@ fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Re
     let clear_of_obstacles =
         |r: &Rect| !obstacles.labels.iter().any(|l| intersects(*l, *r)) && !obstacles.routes.meet(*r) && links_clear(r);
     let found = around(wanted, STEP, 0..2 * RINGS)
-        .filter(|(_, r)| r.x >= MARGIN - 1e-9 && r.y >= MARGIN - 1e-9)
+        .filter(|(_, r)| r.x >= obstacles.corner.x - 1e-9 && r.y >= obstacles.corner.y - 1e-9)
         .find(|(ring, r)| clear_of_boxes(r) && (*ring >= RINGS || clear_of_obstacles(r)));
     if let Some((_, spot)) = found {
         return spot;
     }
-    let right = boxes.iter().map(|b| b.x + b.width).fold(MARGIN, f64::max);
+    let right = boxes.iter().map(|b| b.x + b.width).fold(obstacles.corner.x, f64::max);
     Rect { x: right + CLEARANCE, ..wanted }
 }
 

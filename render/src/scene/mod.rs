@@ -5,10 +5,12 @@
 //! (`labels`). The writers (`svg`, `json`) only draw or serialise it.
 
 mod arrange;
+mod frame;
 pub(crate) mod labels;
 pub(crate) mod measure;
 
 pub use arrange::Hints;
+pub use frame::Frame;
 
 use std::collections::HashMap;
 
@@ -47,6 +49,8 @@ pub struct Scene {
     pub id: String,
     pub width: f64,
     pub height: f64,
+    /// The frame around the diagram, with its name tab.
+    pub frame: Frame,
     pub lanes: Vec<Lane>,
     pub edges: Vec<SceneEdge>,
     pub nodes: Vec<SceneNode>,
@@ -170,7 +174,12 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
         input.labels.push(e.edge.label.as_deref().filter(|_| routed_by_layout).map(label_size));
     }
-    let mut layout = layered(&input, Spacing::default());
+    // The frame's heading comes first; the diagram is laid out below it.
+    let heading = frame::Heading::measure(graph);
+    let spacing = Spacing::default();
+    let mut layout = layered(&input, spacing);
+    let (body_x, body_y) = heading.body_offset();
+    layout.translate(body_x - spacing.margin, body_y - spacing.margin);
     for (route, e) in layout.edges.iter_mut().zip(&edges) {
         if matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
             route.reverse(); // drawn from the child to the parent
@@ -192,7 +201,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
             to: e.to.0,
         })
         .collect();
-    arrange::arrange(&mut layout, &to_place, &to_route, hints);
+    arrange::arrange(&mut layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
     let anchors: Vec<Vec<Point>> = graph
         .nodes
         .iter()
@@ -267,6 +276,17 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
                 + g.owner.as_ref().map_or(0.0, |o| text::width(&format!(" : {o}"), FONT_SIZE, Style::Bold))
         })
         .fold(width, |w, title| w.max(title + 40.0));
+    let (min_width, min_height) = heading.min_size();
+    let (width, height) = (width.max(min_width), height.max(min_height));
+    let frame = heading.place(width, height);
+    // Lanes fill the frame's body, from under the heading to the frame's bottom.
+    let body_top = heading.body_top();
+    let body = Rect {
+        x: frame.rect.x + 4.0,
+        y: body_top,
+        width: frame.rect.width - 8.0,
+        height: frame.rect.y + frame.rect.height - 4.0 - body_top,
+    };
 
     let lanes = graph
         .groups
@@ -279,7 +299,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
                 .filter(|(n, _)| n.group.as_ref() == Some(&group.id))
                 .map(|(_, b)| b)
                 .collect();
-            lane_of(group, &members, width, height)
+            lane_of(group, &members, body)
         })
         .collect();
     let scene_edges = edges
@@ -303,7 +323,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .zip(&boxes)
         .map(|((node, content), rect)| scene_node(node, content, *rect))
         .collect();
-    Scene { id: graph.id.clone(), width, height, lanes, edges: scene_edges, nodes }
+    Scene { id: graph.id.clone(), width, height, frame, lanes, edges: scene_edges, nodes }
 }
 
 /// Each edge's label box: where the layout reserved it, else placed clear of the boxes, the
@@ -341,8 +361,9 @@ fn lane_title(group: &gudsl_model::graph::GraphGroup) -> String {
     }
 }
 
-/// A swimlane's partition around its members, at least as wide as its title, inside the canvas.
-fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[&Rect], width: f64, height: f64) -> Option<Lane> {
+/// A swimlane's partition around its members, at least as wide as its title, as tall as the
+/// frame's `body` and inside it.
+fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[&Rect], body: Rect) -> Option<Lane> {
     if members.is_empty() {
         return None;
     }
@@ -354,14 +375,14 @@ fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[&Rect], width: f64
         left -= missing / 2.0;
         right += missing / 2.0;
     }
-    left = left.max(1.0);
-    right = right.min(width - 1.0);
+    left = left.max(body.x);
+    right = right.min(body.x + body.width);
     Some(Lane {
         id: group.id.clone(),
-        rect: Rect { x: left, y: 2.0, width: right - left, height: height - 4.0 },
+        rect: Rect { x: left, y: body.y, width: right - left, height: body.height },
         title: TextLine {
             x: (left + right) / 2.0,
-            y: 2.0 + text::ascent(FONT_SIZE) + 2.0,
+            y: body.y + text::ascent(FONT_SIZE) + 2.0,
             text: title,
             style: Style::Bold,
         },
