@@ -215,16 +215,18 @@ fn draw_node(out: &mut String, node: &SceneNode) {
         }
     }
     for port in &node.ports {
+        let anchor = if port.left { "" } else { r#" text-anchor="end""# };
         let _ = write!(
             out,
-            r#"<text class="port" data-id="{}" x="{}" y="{}" font-size="{}">{}</text>"#,
+            r#"<text class="port" data-id="{}" x="{}" y="{}"{anchor} font-size="{}">{}</text>"#,
             escape(&port.id),
             f(port.text.x),
             f(port.text.y),
             f(PORT_SIZE),
             escape(&port.text.text)
         );
-        draw_port_symbol(out, x + w, port.symbol_y, port.provider);
+        let (border, outwards) = if port.left { (x, -1.0) } else { (x + w, 1.0) };
+        draw_port_symbol(out, border, outwards, port.symbol_y, port.provider);
     }
     out.push_str("</g>\n");
 }
@@ -310,39 +312,41 @@ fn draw_shape(out: &mut String, shape: NodeShape, x: f64, y: f64, w: f64, h: f64
     }
 }
 
-/// UML port notation on the right border `bx`: a square on the boundary, then a lollipop
-/// (provided interface) or a socket (required interface).
-fn draw_port_symbol(out: &mut String, bx: f64, cy: f64, provider: Option<bool>) {
+/// UML port notation on a border at `bx`: a square on the boundary, then outside it (`outwards`
+/// is 1 on the right border, -1 on the left) a lollipop (provided interface) or a socket
+/// (required interface) opening away from the box.
+fn draw_port_symbol(out: &mut String, bx: f64, outwards: f64, cy: f64, provider: Option<bool>) {
     let _ = write!(
         out,
         r#"<rect x="{}" y="{}" width="8" height="8" fill="white" stroke="black"/>"#,
         f(bx - 4.0),
         f(cy - 4.0)
     );
+    let stem = format!(
+        r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
+        f(bx + 4.0 * outwards),
+        f(cy),
+        f(bx + 12.0 * outwards),
+        f(cy)
+    );
     match provider {
         Some(true) => {
             let _ = write!(
                 out,
-                r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/><circle cx="{}" cy="{}" r="5" fill="white" stroke="black"/>"#,
-                f(bx + 4.0),
-                f(cy),
-                f(bx + 12.0),
-                f(cy),
-                f(bx + 17.0),
+                r#"{stem}<circle cx="{}" cy="{}" r="5" fill="white" stroke="black"/>"#,
+                f(bx + 17.0 * outwards),
                 f(cy)
             );
         }
         Some(false) => {
+            // A half circle around the end of the stem, open away from the box.
+            let sweep = if outwards > 0.0 { 0 } else { 1 };
             let _ = write!(
                 out,
-                r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/><path d="M{},{} A6,6 0 0,0 {},{}" fill="none" stroke="black"/>"#,
-                f(bx + 4.0),
-                f(cy),
-                f(bx + 12.0),
-                f(cy),
-                f(bx + 18.0),
+                r#"{stem}<path d="M{},{} A6,6 0 0,{sweep} {},{}" fill="none" stroke="black"/>"#,
+                f(bx + 18.0 * outwards),
                 f(cy - 6.0),
-                f(bx + 18.0),
+                f(bx + 18.0 * outwards),
                 f(cy + 6.0)
             );
         }

@@ -9,7 +9,7 @@ use crate::{
     scene::{
         self,
         labels::{intersects, segment_meets_box},
-        measure::{content, port_anchors, port_text, FONT_SIZE, PADDING, PORT_SIZE},
+        measure::{content, port_anchors, FONT_SIZE, PADDING, PORT_INSET, PORT_SIZE},
         Point, Rect, Scene,
     },
     svg::render,
@@ -115,7 +115,7 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
         if s == t {
             continue;
         }
-        // Port-to-port edges end at the ports' anchors, right of the boxes.
+        // Port-to-port edges end at the ports' anchors, outside the boxes.
         let port_anchor = |node: usize, id: &str| {
             graph.nodes[node].ports.iter().position(|p| p.id == id).map(|i| {
                 let at = Point { x: boxes[node].x, y: boxes[node].y };
@@ -167,9 +167,9 @@ fn text_fits_its_box() {
                 );
             }
             for port in &node.ports {
-                let line = port_text(port);
+                let line = &port.label;
                 assert!(
-                    text::width(&line, PORT_SIZE, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
+                    text::width(line, PORT_SIZE, Style::Regular) + PORT_INSET + 2.0 * PADDING <= c.width + 1e-6,
                     "{}: {line}",
                     node.id
                 );

@@ -481,7 +481,7 @@ impl CallInterfaceExpr {
 
 impl Component {
     pub fn kind(&self) -> ClassKind {
-        self.syntax.first_token().and_then(|t| class_kind(t.kind())).unwrap_or(ClassKind::Class)
+        first_keyword(&self.syntax).and_then(class_kind).unwrap_or(ClassKind::Class)
     }
 }
 
@@ -511,8 +511,13 @@ impl ConnectorRole {
     }
 }
 
+/// The kind of a node's first token that is no trivia (a comment above it belongs to it).
+fn first_keyword(node: &SyntaxNode) -> Option<SyntaxKind> {
+    node.descendants_with_tokens().filter_map(|e| e.into_token()).map(|t| t.kind()).find(|k| !k.is_trivia())
+}
+
 fn connector_role(node: &SyntaxNode) -> Option<ConnectorRole> {
-    match node.first_token()?.kind() {
+    match first_keyword(node)? {
         PROVIDER_KW => Some(ConnectorRole::Provider),
         PROCESSOR_KW => Some(ConnectorRole::Processor),
         _ => None,

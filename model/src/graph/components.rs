@@ -34,9 +34,15 @@ pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::Compo
                 let port_id = format!("{fqn}.{port_name}.{name}");
                 let end = EdgeEnd { node: fqn.clone(), port: Some(port_id.clone()) };
                 port_owner.insert(format!("{port_name}.{name}"), end);
+                // UML's property strings mark a port that does not block.
+                let mode = match (port.is_async(), port.is_buffered()) {
+                    (true, true) => " {async, buffered}",
+                    (true, false) => " {async}",
+                    _ => "",
+                };
                 ports.push(GraphPort {
                     id: port_id,
-                    label: format!("{port_name}.{name} : {}", interface.rsplit('.').next().unwrap_or(&interface)),
+                    label: format!("{}{mode}", port_label(&port_name, &name, &interface)),
                     provider: Some(connector.role() == Some(ast::ConnectorRole::Provider)),
                 });
             }
@@ -77,12 +83,22 @@ pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::Compo
     graph
 }
 
+/// A connector's label: `port.connector : Interface`, the port's name once where the connector
+/// has the same name, the interface by its simple name.
+fn port_label(port: &str, connector: &str, interface: &str) -> String {
+    let name = if port == connector { port.to_string() } else { format!("{port}.{connector}") };
+    match interface.rsplit('.').next().filter(|i| !i.is_empty()) {
+        Some(interface) => format!("{name} : {interface}"),
+        None => name,
+    }
+}
+
 pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram) -> Graph {
     let mut graph = Graph::new(id, GraphKind::ComponentInstance, diagram.syntax());
     for instance in diagram.instances() {
         let Some(name) = instance.name().map(|n| n.text()) else { continue };
         let component = instance.component().map(|c| c.text()).unwrap_or_default();
-        let (values, value_ids) = instance
+        let (values, value_ids): (Vec<String>, Vec<String>) = instance
             .field_values()
             .map(|f| (text(&f), format!("{name}.{}", f.name().map(|n| n.text()).unwrap_or_default())))
             .unzip();
@@ -94,9 +110,15 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
                 pi.connectors()
                     .filter_map(move |c| {
                         let connector = c.name()?.text();
+                        let interface = c.interface().map(|i| i.text()).unwrap_or_default();
+                        let values: Vec<String> = c.field_values().map(|v| text(&v)).collect();
+                        let mut label = port_label(&pi_name, &connector, &interface);
+                        if !values.is_empty() {
+                            label.push_str(&format!(" ({})", values.join(", ")));
+                        }
                         Some(GraphPort {
                             id: format!("{name}.{pi_name}.{connector}"),
-                            label: format!("{pi_name}.{connector}"),
+                            label,
                             provider: Some(c.role() == Some(ast::ConnectorRole::Provider)),
                         })
                     })
@@ -109,7 +131,12 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
             label: format!("{name} : {}", component.rsplit('.').next().unwrap_or(&component)),
             stereotype: None,
             is_abstract: false,
-            compartments: vec![Compartment { title: None, lines: values, ids: value_ids }],
+            // Field values, if it sets any.
+            compartments: if values.is_empty() {
+                Vec::new()
+            } else {
+                vec![Compartment { title: None, lines: values, ids: value_ids }]
+            },
             ports,
             group: None,
             range: instance.syntax().text_range(),

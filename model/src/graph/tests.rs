@@ -201,3 +201,22 @@ fn activity_graph_has_the_frame_heading_parameters_owner_and_variables() {
     assert_eq!(g.owner.as_deref(), Some("TypeDefinitions.Image"));
     assert_eq!(g.variables, ["+ i : int", "k : int = 2 * 3", "c : float = 1.5 {readOnly}"]);
 }
+
+#[test]
+fn component_ports_are_named_once_with_their_mode_and_commented_components_keep_their_kind() {
+    let g = &graphs_of(&[("a", seed("listing22_ports_and_connections.gudsl"))])[0];
+    let labels: Vec<&str> = g.nodes.iter().flat_map(|n| n.ports.iter().map(|p| p.label.as_str())).collect();
+    assert_eq!(
+        labels,
+        [
+            "CameraPort.ImageOut : IImageProvider",
+            "FilterPort.ImageIn : IImageProcessor {async, buffered}",
+            "FilterPort.ImageOut : IImageProvider {async, buffered}",
+            "ViewerPort.ImageIn : IImageProcessor {async}",
+        ]
+    );
+    // A comment above a nested component does not hide its keyword.
+    let g = &graphs_of(&[("a", seed("listing20_nested_components.gudsl"))])[0];
+    let camera = g.nodes.iter().find(|n| n.label == "Camera").unwrap();
+    assert_eq!(camera.stereotype.as_deref(), Some("source"));
+}

@@ -88,6 +88,24 @@ impl Layout {
     }
 }
 
+/// Lays out `input` left to right: the layered layout of the boxes turned on their side, turned
+/// back. Labels take no room in it (they are placed afterwards).
+pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
+    let across = LayoutInput {
+        nodes: input.nodes.iter().map(|n| LayoutNode { width: n.height, height: n.width }).collect(),
+        edges: input.edges.clone(),
+        groups: input.groups.clone(),
+        labels: vec![None; input.edges.len()],
+    };
+    let mut layout = layered(&across, spacing);
+    let turn = |p: &mut Point| std::mem::swap(&mut p.x, &mut p.y);
+    layout.positions.iter_mut().for_each(turn);
+    layout.edges.iter_mut().flatten().for_each(turn);
+    layout.labels.iter_mut().for_each(|l| *l = None);
+    std::mem::swap(&mut layout.width, &mut layout.height);
+    layout
+}
+
 /// Space between an edge and its label.
 const LABEL_OFFSET: f64 = 4.0;
 

@@ -25,11 +25,20 @@ pub struct Hints<'a> {
     pub previous: Option<&'a Scene>,
 }
 
-/// A node to place: its id and size.
+/// A node to place: its id, its size, and the room its port symbols take left and right of it
+/// (arranging keeps that room free too: its footprint).
 pub(super) struct Node<'a> {
     pub id: &'a str,
     pub width: f64,
     pub height: f64,
+    pub reach: (f64, f64),
+}
+
+impl Node<'_> {
+    /// Its footprint's box, for its box `r`.
+    fn footprint(&self, r: Rect) -> Rect {
+        Rect { x: r.x - self.reach.0, width: r.width + self.reach.0 + self.reach.1, ..r }
+    }
 }
 
 /// An edge to route: its id, its ends' ids and their indices.
@@ -64,8 +73,14 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
     if wanted.iter().all(|w| *w == Wanted::Free) {
         return;
     }
-    let fresh = layout.positions.clone();
-    let (boxes, previous_routes) = place(nodes, edges, &wanted, &fresh, hints.previous, corner);
+    // Arranged as footprints (boxes with their ports' room), drawn as boxes.
+    let footprints: Vec<Node> = nodes
+        .iter()
+        .map(|n| Node { id: n.id, width: n.width + n.reach.0 + n.reach.1, height: n.height, reach: (0.0, 0.0) })
+        .collect();
+    let fresh: Vec<Point> =
+        layout.positions.iter().zip(nodes).map(|(p, n)| Point { x: p.x - n.reach.0, ..*p }).collect();
+    let (boxes, previous_routes) = place(&footprints, edges, &wanted, &fresh, hints.previous, corner);
     // Whether a node is not where the previous scene had it.
     let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
     let mut labels: Vec<Option<Rect>> = vec![None; edges.len()];
@@ -92,7 +107,7 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
         .iter()
         .map(|label| label.filter(|&r| !crossed(r) && !covered(r)).map(|r| Point { x: r.x, y: r.y }))
         .collect();
-    layout.positions = boxes.iter().map(|b| Point { x: b.x, y: b.y }).collect();
+    layout.positions = boxes.iter().zip(nodes).map(|(b, n)| Point { x: b.x + n.reach.0, y: b.y }).collect();
     let points = layout.edges.iter().flatten().map(|p| (p.x, p.y));
     let corners = boxes.iter().map(|b| (b.x + b.width, b.y + b.height));
     let (right, bottom) = points.chain(corners).fold((0.0f64, 0.0f64), |(w, h), (x, y)| (w.max(x), h.max(y)));
@@ -110,8 +125,8 @@ fn wanted(nodes: &[Node], hints: Hints) -> Vec<Wanted> {
     nodes
         .iter()
         .map(|n| match (hints.pins.and_then(|p| p.get(n.id)), before.get(n.id)) {
-            (Some(pin), _) => Wanted::Pinned(Point { x: pin.x, y: pin.y }),
-            (None, Some(&was)) if use_before => Wanted::Kept(was),
+            (Some(pin), _) => Wanted::Pinned(Point { x: pin.x - n.reach.0, y: pin.y }),
+            (None, Some(&was)) if use_before => Wanted::Kept(n.footprint(was)),
             _ => Wanted::Free,
         })
         .collect()

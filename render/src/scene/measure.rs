@@ -29,15 +29,29 @@ pub(crate) struct Content {
     pub(crate) height: f64,
 }
 
-/// A port's line: its notation symbol (provider lollipop ○, processor socket ◐) and label.
-pub(crate) fn port_text(port: &GraphPort) -> String {
-    let symbol = match port.provider {
-        Some(true) => "○",
-        Some(false) => "◐",
-        None => "□",
-    };
-    format!("{symbol} {}", port.label)
+/// Which border a port sits on: a processor (required interface, socket) on the left, where
+/// data comes in; a provider (provided interface, lollipop) on the right, where it goes out.
+pub(crate) fn port_on_left(port: &GraphPort) -> bool {
+    port.provider == Some(false)
 }
+
+/// Each port's row: the left border's ports first, then the right border's, so that no two
+/// labels share a row.
+pub(crate) fn port_rows(node: &GraphNode) -> Vec<usize> {
+    let left = node.ports.iter().filter(|p| port_on_left(p)).count();
+    let (mut next_left, mut next_right) = (0, left);
+    node.ports
+        .iter()
+        .map(|port| {
+            let row = if port_on_left(port) { &mut next_left } else { &mut next_right };
+            *row += 1;
+            *row - 1
+        })
+        .collect()
+}
+
+/// Room between a port's square on the border and its label.
+pub(crate) const PORT_INSET: f64 = 6.0;
 
 /// An edge label as lines of at most `LABEL_LINE_CHARS` characters, broken at spaces (a word
 /// longer than that gets a line of its own).
@@ -113,7 +127,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
     let widest_line =
         compartments.iter().flatten().map(|l| text::width(l, FONT_SIZE, Style::Regular)).fold(0.0, f64::max);
     let ports_width =
-        node.ports.iter().map(|p| text::width(&port_text(p), PORT_SIZE, Style::Regular)).fold(0.0, f64::max);
+        node.ports.iter().map(|p| text::width(&p.label, PORT_SIZE, Style::Regular) + PORT_INSET).fold(0.0, f64::max);
     let mut width = widest_header.max(widest_line).max(ports_width) + 2.0 * PADDING;
     let mut height = text_height(header.len(), &compartments, 0);
     if node.shape == NodeShape::Decision {
@@ -122,7 +136,9 @@ pub(crate) fn content(node: &GraphNode) -> Content {
         height = height * 1.6 + 10.0;
     }
     if node.shape == NodeShape::Component {
-        width += 24.0; // the component icon
+        // The component icon in the top right corner, and as much on the left: the centred
+        // header stays clear of it.
+        width += 48.0;
     }
     height += node.ports.len() as f64 * line_h * 0.9;
     Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
@@ -146,19 +162,31 @@ pub(crate) fn text_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
     top + (content.height - block).max(0.0) / 2.0 + PADDING / 2.0
 }
 
-/// How far right of its node's box a connection meets a port: just outside its lollipop or
+/// How far outside its node's box a connection meets a port: just beyond its lollipop or
 /// socket.
 pub(crate) const PORT_REACH: f64 = 24.0;
 
-/// Where connections meet each port of a node: just outside its lollipop or socket on the
-/// right border (the rows the port lines are drawn in).
+/// Where connections meet each port of a node: just outside its socket on the left border or
+/// its lollipop on the right one, in the port's row.
 pub(crate) fn port_anchors(node: &GraphNode, content: &Content, at: Point) -> Vec<Point> {
     let line_h = text::line_height(FONT_SIZE);
-    let mut cursor = text_top(node, content, at.y) + content.header.len() as f64 * line_h;
+    let top = port_rows_top(node, content, at.y);
+    node.ports
+        .iter()
+        .zip(port_rows(node))
+        .map(|(port, row)| {
+            let x = if port_on_left(port) { at.x - PORT_REACH } else { at.x + content.width + PORT_REACH };
+            Point { x, y: top + line_h * 0.45 + row as f64 * line_h * 0.9 }
+        })
+        .collect()
+}
+
+/// The top of a node's first row of ports: under its header and compartments.
+pub(crate) fn port_rows_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
+    let line_h = text::line_height(FONT_SIZE);
+    let mut cursor = text_top(node, content, top) + content.header.len() as f64 * line_h;
     for compartment in &content.compartments {
         cursor += PADDING + compartment.len().max(1) as f64 * line_h;
     }
-    (0..node.ports.len())
-        .map(|i| Point { x: at.x + content.width + PORT_REACH, y: cursor + line_h * 0.45 + i as f64 * line_h * 0.9 })
-        .collect()
+    cursor
 }

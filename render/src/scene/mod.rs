@@ -5,6 +5,7 @@
 //! (`labels`). The writers (`svg`, `json`) only draw or serialise it.
 
 mod arrange;
+mod connections;
 mod frame;
 pub(crate) mod labels;
 pub(crate) mod measure;
@@ -14,14 +15,16 @@ pub use frame::Frame;
 
 use std::collections::HashMap;
 
-use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, NodeShape};
+use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, GraphKind, NodeShape};
 
 pub use crate::layout::Point;
 use crate::{
-    layout::{layered, LayoutInput, LayoutNode, Spacing},
+    layout::{layered, layered_left_to_right, LayoutInput, LayoutNode, Spacing},
     text::{self, Style},
 };
-use measure::{content, label_lines, label_size, port_anchors, port_text, text_top, Content, PORT_REACH};
+use measure::{
+    content, label_lines, label_size, port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH,
+};
 use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
 
 /// An axis-parallel box: top-left corner and size.
@@ -83,7 +86,7 @@ pub struct SceneCompartment {
     pub lines: Vec<TextLine>,
 }
 
-/// A port: its line of text, the row on the right border where its symbol sits, and where
+/// A port: its label inside the box, the row where its symbol sits on the border, and where
 /// connections meet it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScenePort {
@@ -93,6 +96,9 @@ pub struct ScenePort {
     pub anchor: Point,
     /// `provider` (lollipop) or `processor` (socket); `None`: no symbol.
     pub provider: Option<bool>,
+    /// On the left border (a processor; its label starts at `text.x`), else on the right one
+    /// (its label ends at `text.x`).
+    pub left: bool,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -154,8 +160,14 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .iter()
         .filter_map(|edge| Some(ResolvedEdge { edge, from: resolve(&edge.source)?, to: resolve(&edge.target)? }))
         .collect();
+    let reaches: Vec<(f64, f64)> = graph.nodes.iter().map(port_reach).collect();
     let mut input = LayoutInput {
-        nodes: contents.iter().map(|c| LayoutNode { width: c.width, height: c.height }).collect(),
+        // Each node with the room its port symbols take beside it.
+        nodes: contents
+            .iter()
+            .zip(&reaches)
+            .map(|(c, reach)| LayoutNode { width: reach.0 + c.width + reach.1, height: c.height })
+            .collect(),
         edges: Vec::new(),
         groups: graph
             .nodes
@@ -176,8 +188,18 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     }
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
+    // Dataflow runs left to right: sources, filters, sinks; class and activity diagrams top
+    // down. Between the columns of a dataflow run the ports' symbols and tracks.
+    let mut layout = match graph.kind {
+        GraphKind::Component | GraphKind::ComponentInstance => {
+            layered_left_to_right(&input, Spacing { rank_gap: 20.0, ..Spacing::default() })
+        }
+        GraphKind::Class | GraphKind::Activity => layered(&input, Spacing::default()),
+    };
     let spacing = Spacing::default();
-    let mut layout = layered(&input, spacing);
+    for (at, reach) in layout.positions.iter_mut().zip(&reaches) {
+        at.x += reach.0;
+    }
     let (body_x, body_y) = heading.body_offset();
     layout.translate(body_x - spacing.margin, body_y - spacing.margin);
     for (route, e) in layout.edges.iter_mut().zip(&edges) {
@@ -189,7 +211,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .nodes
         .iter()
         .zip(&contents)
-        .map(|(n, c)| arrange::Node { id: &n.id, width: c.width, height: c.height })
+        .zip(&reaches)
+        .map(|((n, c), reach)| arrange::Node { id: &n.id, width: c.width, height: c.height, reach: *reach })
         .collect();
     let to_route: Vec<arrange::Edge> = edges
         .iter()
@@ -215,53 +238,35 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .zip(&contents)
         .map(|(p, c)| Rect { x: p.x, y: p.y, width: c.width, height: c.height })
         .collect();
-    // Connections and bindings run between ports: out of the source port to a vertical lane
-    // right of every box, then into the target port.
-    let right_of_boxes = boxes.iter().map(|b| b.x + b.width).fold(0.0, f64::max) + 40.0;
-    // The row below (or above) `y` where a horizontal run from x0 to x1 passes no box.
-    let clear_row = |y: f64, x0: f64, x1: f64, down: bool| {
-        let (left, right) = (x0.min(x1), x0.max(x1));
-        let blocking =
-            |y: f64| boxes.iter().find(|b| b.y <= y && y <= b.y + b.height && b.x <= right && left <= b.x + b.width);
-        let mut y = y;
-        while let Some(b) = blocking(y) {
-            y = if down { b.y + b.height + 16.0 } else { b.y - 16.0 };
-        }
-        y
-    };
-    let below = |y: f64, x0: f64, x1: f64| clear_row(y, x0, x1, true);
-    // Above, unless that leaves the drawing: then below.
-    let above = |y: f64, x0: f64, x1: f64| {
-        Some(clear_row(y, x0, x1, false)).filter(|&y| y > 4.0).unwrap_or_else(|| below(y, x0, x1))
-    };
-    let mut lane = 0.0;
-    for (route, e) in layout.edges.iter_mut().zip(&edges) {
-        let (Some(from_port), Some(to_port)) = (e.from.1, e.to.1) else { continue };
-        let (from, to) = (anchors[e.from.0][from_port], anchors[e.to.0][to_port]);
-        let x = right_of_boxes + lane;
-        lane += 14.0;
-        // Out of the port along the nearest row that passes no box to the lane right of every
-        // box, along the lane, and back in the same way to the target port: no segment crosses
-        // a box, wherever the boxes are (pinned ones too).
-        let (fx, tx) = (from.x + 8.0, to.x + 8.0);
-        let (out_y, in_y) = if to.y >= from.y {
-            (below(from.y, fx, x), above(to.y, tx, x))
-        } else {
-            (above(from.y, fx, x), below(to.y, tx, x))
-        };
-        *route = vec![
-            from,
-            Point { x: fx, y: from.y },
-            Point { x: fx, y: out_y },
-            Point { x, y: out_y },
-            Point { x, y: in_y },
-            Point { x: tx, y: in_y },
-            Point { x: tx, y: to.y },
-            to,
-        ];
-        route.dedup();
+    // Connections and bindings run between ports, orthogonally (`connections`).
+    let (wired, wires): (Vec<usize>, Vec<connections::Connection>) = edges
+        .iter()
+        .enumerate()
+        .filter_map(|(k, e)| {
+            let (from_port, to_port) = (e.from.1?, e.to.1?);
+            let (from, to) = (anchors[e.from.0][from_port], anchors[e.to.0][to_port]);
+            let faces = |node: usize, at: Point| if at.x < boxes[node].x { -1.0 } else { 1.0 };
+            Some((
+                k,
+                connections::Connection {
+                    from,
+                    from_faces: faces(e.from.0, from),
+                    to,
+                    to_faces: faces(e.to.0, to),
+                    from_port: e.edge.source.id(),
+                    to_port: e.edge.target.id(),
+                },
+            ))
+        })
+        .unzip();
+    for (k, route) in wired.into_iter().zip(connections::route(&wires, &boxes)) {
+        layout.edges[k] = route;
     }
-    layout.width = layout.width.max(right_of_boxes + lane + 20.0);
+    // The drawing holds every route.
+    for point in layout.edges.iter().flatten() {
+        layout.width = layout.width.max(point.x + 20.0);
+        layout.height = layout.height.max(point.y + 20.0);
+    }
     let labels = place_labels(&edges, &layout.edges, &layout.labels, &boxes);
 
     // The drawing grows to hold edge labels that reach past the boxes, and lane titles.
@@ -324,6 +329,14 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .map(|((node, content), rect)| scene_node(node, content, *rect))
         .collect();
     Scene { id: graph.id.clone(), width, height, frame, lanes, edges: scene_edges, nodes }
+}
+
+/// The room a node's port symbols and their tracks take left and right of its box.
+fn port_reach(node: &gudsl_model::graph::GraphNode) -> (f64, f64) {
+    let reach = PORT_REACH + connections::TRACKS;
+    let left = node.ports.iter().any(measure::port_on_left);
+    let right = node.ports.iter().any(|p| !measure::port_on_left(p));
+    (if left { reach } else { 0.0 }, if right { reach } else { 0.0 })
 }
 
 /// Each edge's label box: where the layout reserved it, else placed clear of the boxes, the
@@ -451,14 +464,18 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
         }
         compartments.push(SceneCompartment { separator_y, lines });
     }
-    let mut ports = Vec::new();
-    for port in &node.ports {
-        let text =
-            TextLine { x: rect.x + PADDING, y: cursor + ascent * 0.85, text: port_text(port), style: Style::Regular };
-        let symbol_y = cursor + line_h * 0.45;
-        let anchor = Point { x: rect.x + rect.width + PORT_REACH, y: symbol_y };
-        ports.push(ScenePort { id: port.id.clone(), text, symbol_y, anchor, provider: port.provider });
-        cursor += line_h * 0.9;
-    }
+    let anchors = port_anchors(node, content, Point { x: rect.x, y: rect.y });
+    let ports = node
+        .ports
+        .iter()
+        .zip(anchors)
+        .map(|(port, anchor)| {
+            let left = port_on_left(port);
+            let x = if left { rect.x + PADDING + PORT_INSET } else { rect.x + rect.width - PADDING - PORT_INSET };
+            let y = anchor.y - line_h * 0.45 + ascent * 0.85;
+            let text = TextLine { x, y, text: port.label.clone(), style: Style::Regular };
+            ScenePort { id: port.id.clone(), text, symbol_y: anchor.y, anchor, provider: port.provider, left }
+        })
+        .collect();
     SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports }
 }

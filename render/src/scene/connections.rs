@@ -1,0 +1,161 @@
+//! Orthogonal routes of connections and bindings, port to port: out of the source port away
+//! from its box, along a vertical track, and into the target port from its side. Each port has
+//! a track of its own beside its box, so connections into one port join on its track like the
+//! branches of a tree, and no two connections of different ports run along one another (a
+//! shared stretch of two routes reads as a box, not as two wires). A route that a box blocks
+//! detours along the nearest free row between the boxes.
+
+use super::{labels::intersects, Point, Rect};
+
+/// A connection to route: its two port anchors and which way each port faces (1: the right
+/// border, -1: the left), and the ids of the ports.
+pub(super) struct Connection<'a> {
+    pub from: Point,
+    pub from_faces: f64,
+    pub to: Point,
+    pub to_faces: f64,
+    pub from_port: &'a str,
+    pub to_port: &'a str,
+}
+
+/// How far beyond a port's anchor its track starts, and the space between tracks.
+const STUB: f64 = 12.0;
+const TRACK: f64 = 8.0;
+/// Space kept between a route and a box it passes.
+const CLEARANCE: f64 = 6.0;
+/// Tracks tried beside the first one before a route may share a stretch with another.
+const SHIFTS: usize = 12;
+/// The room a port's tracks take beside its symbol (the first few of them).
+pub(super) const TRACKS: f64 = STUB + 3.0 * TRACK;
+
+/// A segment of a route, with the ports of its connection.
+struct Placed<'a> {
+    a: Point,
+    b: Point,
+    from_port: &'a str,
+    to_port: &'a str,
+}
+
+/// Routes every connection among `boxes`, in order.
+pub(super) fn route(connections: &[Connection], boxes: &[Rect]) -> Vec<Vec<Point>> {
+    let mut placed: Vec<Placed> = Vec::new();
+    let mut routes = Vec::new();
+    for c in connections {
+        let route = best_route(c, boxes, &placed);
+        placed.extend(route.windows(2).map(|s| Placed {
+            a: s[0],
+            b: s[1],
+            from_port: c.from_port,
+            to_port: c.to_port,
+        }));
+        routes.push(route);
+    }
+    routes
+}
+
+/// The first clear route: on the ports' own tracks if it can, else on tracks further out; three
+/// segments where the target is ahead, else five around the boxes.
+fn best_route(c: &Connection, boxes: &[Rect], placed: &[Placed]) -> Vec<Point> {
+    let clear_of_boxes = |route: &[Point]| route.windows(2).all(|s| boxes.iter().all(|b| !passes(s[0], s[1], *b)));
+    let alone = |route: &[Point]| {
+        route.windows(2).all(|s| {
+            placed.iter().all(|p| {
+                // Branches of one tree (the same source or target port) may share a stretch.
+                p.from_port == c.from_port || p.to_port == c.to_port || !overlap(s[0], s[1], p.a, p.b)
+            })
+        })
+    };
+    let mut fallback = None;
+    for shift in 0..SHIFTS {
+        let out = c.from.x + c.from_faces * (STUB + shift as f64 * TRACK);
+        let into = c.to.x + c.to_faces * (STUB + shift as f64 * TRACK);
+        for candidate in candidates(c, out, into, boxes) {
+            if clear_of_boxes(&candidate) {
+                if alone(&candidate) {
+                    return candidate;
+                }
+                fallback.get_or_insert(candidate);
+            }
+        }
+    }
+    fallback.unwrap_or_else(|| around_everything(c, boxes))
+}
+
+/// Routes on the tracks at `out` (beside the source) and `into` (beside the target).
+fn candidates(c: &Connection, out: f64, into: f64, boxes: &[Rect]) -> Vec<Vec<Point>> {
+    let mut routes = Vec::new();
+    let ahead = (into - out) * c.from_faces >= 0.0 && c.from_faces == -c.to_faces;
+    if ahead {
+        // Along the target's track (connections into one port join there), or the source's.
+        routes.push(three(c, into));
+        routes.push(three(c, out));
+    }
+    // Out, along a row between the boxes, and in: rows nearest the two ports first.
+    let mut rows: Vec<f64> = vec![c.from.y, c.to.y];
+    for b in boxes {
+        rows.push(b.y - 2.0 * CLEARANCE);
+        rows.push(b.y + b.height + 2.0 * CLEARANCE);
+    }
+    let cost = |y: f64| (y - c.from.y).abs() + (y - c.to.y).abs();
+    rows.sort_by(|a, b| cost(*a).total_cmp(&cost(*b)).then(a.total_cmp(b)));
+    rows.dedup();
+    routes.extend(rows.into_iter().map(|y| five(c, out, y, into)));
+    routes
+}
+
+fn three(c: &Connection, x: f64) -> Vec<Point> {
+    let mut route = vec![c.from, Point { x, y: c.from.y }, Point { x, y: c.to.y }, c.to];
+    route.dedup();
+    route
+}
+
+fn five(c: &Connection, out: f64, y: f64, into: f64) -> Vec<Point> {
+    let mut route = vec![
+        c.from,
+        Point { x: out, y: c.from.y },
+        Point { x: out, y },
+        Point { x: into, y },
+        Point { x: into, y: c.to.y },
+        c.to,
+    ];
+    route.dedup();
+    route
+}
+
+/// The last resort: below every box.
+fn around_everything(c: &Connection, boxes: &[Rect]) -> Vec<Point> {
+    let bottom = boxes.iter().map(|b| b.y + b.height).fold(c.from.y.max(c.to.y), f64::max);
+    let left = boxes.iter().map(|b| b.x).fold(c.from.x.min(c.to.x), f64::min) - STUB;
+    let right = boxes.iter().map(|b| b.x + b.width).fold(c.from.x.max(c.to.x), f64::max) + STUB;
+    let side = |faces: f64, x: f64| if faces > 0.0 { right.max(x + STUB) } else { left.min(x - STUB) };
+    five(c, side(c.from_faces, c.from.x), bottom + 2.0 * CLEARANCE, side(c.to_faces, c.to.x))
+}
+
+/// Whether the axis-parallel segment a–b passes through `b` grown by `CLEARANCE`.
+fn passes(a: Point, b: Point, r: Rect) -> bool {
+    let grown = Rect {
+        x: r.x - CLEARANCE,
+        y: r.y - CLEARANCE,
+        width: r.width + 2.0 * CLEARANCE,
+        height: r.height + 2.0 * CLEARANCE,
+    };
+    let span = Rect {
+        x: a.x.min(b.x),
+        y: a.y.min(b.y),
+        width: (a.x - b.x).abs().max(0.01),
+        height: (a.y - b.y).abs().max(0.01),
+    };
+    intersects(span, grown)
+}
+
+/// Whether two axis-parallel segments run along one another (collinear within 2 pt, sharing
+/// more than a point).
+fn overlap(a0: Point, a1: Point, b0: Point, b1: Point) -> bool {
+    let shared = |p0: f64, p1: f64, q0: f64, q1: f64| p0.max(p1).min(q0.max(q1)) - p0.min(p1).max(q0.min(q1)) > 1.0;
+    let horizontal = |p: Point, q: Point| (p.y - q.y).abs() < 1e-9;
+    match (horizontal(a0, a1), horizontal(b0, b1)) {
+        (true, true) => (a0.y - b0.y).abs() < 2.0 && shared(a0.x, a1.x, b0.x, b1.x),
+        (false, false) => (a0.x - b0.x).abs() < 2.0 && shared(a0.y, a1.y, b0.y, b1.y),
+        _ => false,
+    }
+}
