@@ -2,7 +2,10 @@
 //! their boxes and ports), text that fits its box, and the writers (SVG deterministic and
 //! rasterizable, layout JSON in the metrics script's format).
 
-use gudsl_model::{graph::Graph, AnalysisHost};
+use gudsl_model::{
+    graph::{Graph, NodeShape},
+    AnalysisHost,
+};
 
 use crate::{
     json,
@@ -39,7 +42,12 @@ fn every_sample_diagram_renders_deterministically() {
         let svg = render(graph);
         assert!(svg.starts_with("<svg ") && svg.ends_with("</svg>\n"), "{}", graph.id);
         assert_eq!(svg, render(graph), "{}: not deterministic", graph.id);
-        assert_eq!(svg.matches("<g class=\"node\"").count(), graph.nodes.len(), "{}", graph.id);
+        // Every node of the graph, and the decisions and merges the text leaves implicit.
+        let scene = scene::build(graph, scene::Hints::default());
+        assert_eq!(svg.matches("<g class=\"node\"").count(), scene.nodes.len(), "{}", graph.id);
+        for node in &graph.nodes {
+            assert!(svg.contains(&format!("<g class=\"node\" data-id=\"{}\"", node.id)), "{}: {}", graph.id, node.id);
+        }
         assert!(!svg.contains("NaN") && !svg.contains("inf"), "{}", graph.id);
     }
 }
@@ -85,8 +93,8 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
                 !intersects(boxes[a], boxes[b]),
                 "{}: {} overlaps {}",
                 graph.id,
-                graph.nodes[a].id,
-                graph.nodes[b].id
+                scene.nodes[a].id,
+                scene.nodes[b].id
             );
         }
     }
@@ -104,11 +112,12 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
                 assert!(!crossed, "{}: label of {} is crossed by {}", graph.id, edge.id, other.id);
             }
             for (i, b) in boxes.iter().enumerate() {
-                assert!(!intersects(label.rect, *b), "{}: label of {} covers {}", graph.id, edge.id, graph.nodes[i].id);
+                assert!(!intersects(label.rect, *b), "{}: label of {} covers {}", graph.id, edge.id, scene.nodes[i].id);
             }
         }
     }
-    let index_of = |id: &str| graph.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+    let index_of = |id: &str| scene.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+    let graph_node = |node: usize| graph.nodes.iter().find(|n| n.id == scene.nodes[node].id);
     for edge in &scene.edges {
         let route = &edge.points;
         let (Some(s), Some(t)) = (index_of(&edge.source), index_of(&edge.target)) else { continue };
@@ -117,9 +126,10 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
         }
         // Port-to-port edges end at the ports' anchors, outside the boxes.
         let port_anchor = |node: usize, id: &str| {
-            graph.nodes[node].ports.iter().position(|p| p.id == id).map(|i| {
+            let drawn = graph_node(node)?;
+            drawn.ports.iter().position(|p| p.id == id).map(|i| {
                 let at = Point { x: boxes[node].x, y: boxes[node].y };
-                port_anchors(&graph.nodes[node], &content(&graph.nodes[node]), at)[i]
+                port_anchors(drawn, &content(drawn), at)[i]
             })
         };
         if let (Some(a), Some(b)) = (port_anchor(s, &edge.source), port_anchor(t, &edge.target)) {
@@ -134,7 +144,7 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
                         && bx.x < x1.max(x0 + 0.01)
                         && y0 < bx.y + bx.height
                         && bx.y < y1.max(y0 + 0.01);
-                    assert!(!hit, "{}: {} passes through {}", graph.id, edge.id, graph.nodes[i].id);
+                    assert!(!hit, "{}: {} passes through {}", graph.id, edge.id, scene.nodes[i].id);
                 }
             }
             continue;
@@ -176,4 +186,29 @@ fn text_fits_its_box() {
             }
         }
     }
+}
+
+/// Where an activity's control branches or meets, the drawing has UML's diamond: no action
+/// has two guarded flows out or two flows in, and the empty guard reads `[else]`.
+#[test]
+fn activity_branches_and_meetings_go_through_diamonds() {
+    let mut diamonds = 0;
+    for graph in sample_graphs().iter().filter(|g| g.kind == gudsl_model::graph::GraphKind::Activity) {
+        let scene = scene::build(graph, scene::Hints::default());
+        for node in scene.nodes.iter().filter(|n| !matches!(n.shape, NodeShape::Decision | NodeShape::Fork)) {
+            let out: Vec<_> = scene.edges.iter().filter(|e| e.source == node.id && e.target != node.id).collect();
+            let guarded =
+                out.iter().filter(|e| e.label.as_ref().is_some_and(|l| l.lines[0].1.starts_with('['))).count();
+            assert!(out.len() < 2 || guarded == 0, "{}: {} branches without a decision", graph.id, node.id);
+        }
+        for node in scene.nodes.iter().filter(|n| !matches!(n.shape, NodeShape::Decision | NodeShape::Join)) {
+            let into = scene.edges.iter().filter(|e| e.target == node.id && e.source != node.id).count();
+            assert!(into < 2, "{}: flows meet at {} without a merge", graph.id, node.id);
+        }
+        for edge in &scene.edges {
+            assert!(edge.label.as_ref().is_none_or(|l| !l.lines[0].1.starts_with("[]")), "{}: {}", graph.id, edge.id);
+        }
+        diamonds += scene.nodes.iter().filter(|n| n.id.ends_with("#decision") || n.id.ends_with("#merge")).count();
+    }
+    assert!(diamonds > 10, "{diamonds}");
 }

@@ -101,6 +101,29 @@ def check_graph(answer, text, what):
             b = node.bounds
             if not (b.x - 1 <= point.x <= b.x + b.width + 1 and b.y - 1 <= point.y <= b.y + b.height + 1):
                 fail(f"{what}: {edge.id} does not start or end on {node.id}: {point} vs {b}")
+    # A decision or merge diamond lies on the route of every transition that leaves or enters
+    # its node through it, and there is one wherever guarded flows branch.
+    for control in answer.controls:
+        c = control.bounds
+        centre = (c.x + c.width / 2, c.y + c.height / 2)
+        end = "source" if control.kind == "decision" else "target"
+        through = [
+            e
+            for e in answer.edges
+            if getattr(e, end).node == control.node
+            and e.source.node != e.target.node
+            and e.source.node in nodes
+            and e.target.node in nodes
+        ]
+        passes = lambda e: any(abs(p.x - centre[0]) < 0.5 and abs(p.y - centre[1]) < 0.5 for p in e.points)
+        if len(through) < 2 or not all(passes(e) for e in through):
+            fail(f"{what}: not every transition at {control.node} passes its {control.kind} at {centre}")
+    for node in answer.nodes:
+        out = [e for e in answer.edges if e.source.node == node.id and e.target.node != node.id and e.target.node in nodes]
+        branches = len(out) >= 2 and any((e.label or "").startswith("[") for e in out)
+        decided = any(c.id == node.id + "#decision" for c in answer.controls)
+        if branches and node.shape not in ("decision", "fork") and not decided:
+            fail(f"{what}: guarded flows branch at {node.id} without a decision")
 
 
 async def main(gudsl, repo):

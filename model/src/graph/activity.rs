@@ -104,7 +104,8 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
                 let source = EdgeEnd::node(source.clone());
                 let guard = transition.guard().map(|g| match g.condition() {
                     Some(c) => format!("[{}]", text(&c)),
-                    None => "[]".to_string(),
+                    // An empty guard is taken when no other is: UML's `[else]`.
+                    None => "[else]".to_string(),
                 });
                 let args = transition.arg_list().map(|a| text(&a));
                 let label = match (guard, args) {

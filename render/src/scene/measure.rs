@@ -90,6 +90,10 @@ pub(crate) fn content(node: &GraphNode) -> Content {
     match node.shape {
         NodeShape::Start => return Content { header: Vec::new(), compartments: Vec::new(), width: 20.0, height: 20.0 },
         NodeShape::Final => return Content { header: Vec::new(), compartments: Vec::new(), width: 24.0, height: 24.0 },
+        // A decision or merge the text leaves implicit: a bare diamond.
+        NodeShape::Decision if node.label.is_empty() => {
+            return Content { header: Vec::new(), compartments: Vec::new(), width: 26.0, height: 26.0 };
+        }
         NodeShape::Fork | NodeShape::Join => {
             return Content { header: Vec::new(), compartments: Vec::new(), width: 80.0, height: 8.0 };
         }

@@ -9,6 +9,7 @@ mod connections;
 mod frame;
 pub(crate) mod labels;
 pub(crate) mod measure;
+mod notation;
 
 pub use arrange::Hints;
 pub use frame::Frame;
@@ -140,6 +141,7 @@ struct ResolvedEdge<'g> {
 
 /// Measures and lays out a graph, around the nodes `hints` pins or keeps where they were.
 pub fn build(graph: &Graph, hints: Hints) -> Scene {
+    let graph = &*notation::with_control_nodes(graph);
     let mut contents: Vec<Content> = graph.nodes.iter().map(content).collect();
     // A node the user resized is drawn at that size, never smaller than its text.
     for (node, content) in graph.nodes.iter().zip(&mut contents) {
@@ -297,13 +299,15 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .groups
         .iter()
         .filter_map(|group| {
-            let members: Vec<&Rect> = graph
-                .nodes
-                .iter()
-                .zip(&boxes)
-                .filter(|(n, _)| n.group.as_ref() == Some(&group.id))
-                .map(|(_, b)| b)
-                .collect();
+            let inside = |node: usize| graph.nodes[node].group.as_ref() == Some(&group.id);
+            let mut members: Vec<Rect> = (0..boxes.len()).filter(|&i| inside(i)).map(|i| boxes[i]).collect();
+            // The lane holds the routes and labels of the edges between its nodes too.
+            for ((e, route), label) in edges.iter().zip(&layout.edges).zip(&labels) {
+                if inside(e.from.0) && inside(e.to.0) && !members.is_empty() {
+                    members.extend(route.iter().map(|p| Rect { x: p.x, y: p.y, width: 0.0, height: 0.0 }));
+                    members.extend(*label);
+                }
+            }
             lane_of(group, &members, body)
         })
         .collect();
@@ -376,7 +380,7 @@ fn lane_title(group: &gudsl_model::graph::GraphGroup) -> String {
 
 /// A swimlane's partition around its members, at least as wide as its title, as tall as the
 /// frame's `body` and inside it.
-fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[&Rect], body: Rect) -> Option<Lane> {
+fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[Rect], body: Rect) -> Option<Lane> {
     if members.is_empty() {
         return None;
     }

@@ -78,12 +78,27 @@ pub struct GraphView {
     pub nodes: Vec<NodeView>,
     pub edges: Vec<EdgeView>,
     pub groups: Vec<GroupView>,
+    /// The decision and merge diamonds the drawing adds where an activity's text leaves them
+    /// implicit; the routes of the transitions through them pass their centres.
+    pub controls: Vec<ControlView>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub svg: Option<String>,
     /// Why the document's layout sidecar was not used (it is not valid): the sidecar's path and
     /// the reason.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub layout_error: Option<String>,
+}
+
+/// A decision (branches leave it) or merge (flows meet at it) drawn before or after a node.
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ControlView {
+    pub id: String,
+    /// `decision` or `merge`.
+    pub kind: String,
+    /// The node it belongs to: the one whose flows branch, or meet.
+    pub node: String,
+    pub bounds: Bounds,
 }
 
 #[derive(Debug, Serialize)]
@@ -304,7 +319,7 @@ fn view(
                     source_label: edge.source_label.clone(),
                     target_label: edge.target_label.clone(),
                     range: to_proto::range(index, edge.range, snap.encoding),
-                    points: routed.map_or_else(Vec::new, |e| bends(&e.points)),
+                    points: routed.map_or_else(Vec::new, |e| bends(&through_controls(e, &routes, &boxes))),
                     label_bounds: routed.and_then(|e| e.label.as_ref()).map(|l| l.rect.into()),
                 }
             })
@@ -319,9 +334,38 @@ fn view(
                 bounds: lanes.get(g.id.as_str()).map(|&r| r.into()),
             })
             .collect(),
+        controls: scene
+            .nodes
+            .iter()
+            .filter_map(|n| {
+                let (node, kind) = n.id.rsplit_once('#').filter(|(_, k)| matches!(*k, "decision" | "merge"))?;
+                Some(ControlView { id: n.id.clone(), kind: kind.into(), node: node.into(), bounds: n.rect.into() })
+            })
+            .collect(),
         svg: None,
         layout_error: None,
     }
+}
+
+/// A transition's whole route: from its node through the decision it leaves by (or the merge it
+/// enters by), the diamond's centre, to its other node.
+fn through_controls(
+    edge: &scene::SceneEdge,
+    routes: &HashMap<&str, &scene::SceneEdge>,
+    boxes: &HashMap<&str, Rect>,
+) -> Vec<scene::Point> {
+    let centre = |id: &str| boxes.get(id).map(|r| scene::Point { x: r.x + r.width / 2.0, y: r.y + r.height / 2.0 });
+    let mut points = Vec::new();
+    if let (Some(trunk), Some(c)) = (routes.get(edge.source.as_str()), centre(&edge.source)) {
+        points.extend(&trunk.points);
+        points.push(c);
+    }
+    points.extend(&edge.points);
+    if let (Some(tail), Some(c)) = (routes.get(edge.target.as_str()), centre(&edge.target)) {
+        points.push(c);
+        points.extend(&tail.points);
+    }
+    points
 }
 
 /// A route's ends and the points where it turns: a point on the straight line between its
