@@ -241,12 +241,7 @@ struct Obstacles {
 fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Rect {
     let boxes: Vec<Rect> = placed.iter().flatten().copied().collect();
     let clear_of_boxes = |r: &Rect| {
-        let padded = Rect {
-            x: r.x - CLEARANCE,
-            y: r.y - CLEARANCE,
-            width: r.width + 2.0 * CLEARANCE,
-            height: r.height + 2.0 * CLEARANCE,
-        };
+        let padded = r.grown(CLEARANCE);
         !boxes.iter().any(|b| intersects(padded, *b))
     };
     let centre = |r: &Rect| Point { x: r.x + r.width / 2.0, y: r.y + r.height / 2.0 };

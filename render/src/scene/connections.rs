@@ -133,19 +133,13 @@ fn around_everything(c: &Connection, boxes: &[Rect]) -> Vec<Point> {
 
 /// Whether the axis-parallel segment a–b passes through `b` grown by `CLEARANCE`.
 fn passes(a: Point, b: Point, r: Rect) -> bool {
-    let grown = Rect {
-        x: r.x - CLEARANCE,
-        y: r.y - CLEARANCE,
-        width: r.width + 2.0 * CLEARANCE,
-        height: r.height + 2.0 * CLEARANCE,
-    };
     let span = Rect {
         x: a.x.min(b.x),
         y: a.y.min(b.y),
         width: (a.x - b.x).abs().max(0.01),
         height: (a.y - b.y).abs().max(0.01),
     };
-    intersects(span, grown)
+    intersects(span, r.grown(CLEARANCE))
 }
 
 /// Whether two axis-parallel segments run along one another (collinear within 2 pt, sharing

@@ -37,6 +37,13 @@ pub struct Rect {
     pub height: f64,
 }
 
+impl Rect {
+    /// The box grown by `by` on every side.
+    pub(crate) fn grown(self, by: f64) -> Rect {
+        Rect { x: self.x - by, y: self.y - by, width: self.width + 2.0 * by, height: self.height + 2.0 * by }
+    }
+}
+
 /// A line of text at its baseline's start (or centre).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextLine {
@@ -198,12 +205,13 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         }
         GraphKind::Class | GraphKind::Activity => layered(&input, Spacing::default()),
     };
-    let spacing = Spacing::default();
     for (at, reach) in layout.positions.iter_mut().zip(&reaches) {
         at.x += reach.0;
     }
+    // The layout starts at its margin; the frame's body starts below the heading.
     let (body_x, body_y) = heading.body_offset();
-    layout.translate(body_x - spacing.margin, body_y - spacing.margin);
+    let margin = Spacing::default().margin;
+    layout.translate(body_x - margin, body_y - margin);
     for (route, e) in layout.edges.iter_mut().zip(&edges) {
         if matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
             route.reverse(); // drawn from the child to the parent

@@ -5,7 +5,10 @@
 //! (ids `node#decision`, `node#merge`); each transition keeps its id and label, and runs from
 //! the decision or into the merge.
 
-use std::borrow::Cow;
+use std::{
+    borrow::Cow,
+    collections::{HashMap, HashSet},
+};
 
 use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, GraphEdge, GraphKind, GraphNode, NodeShape};
 
@@ -14,50 +17,52 @@ pub(super) fn with_control_nodes(graph: &Graph) -> Cow<'_, Graph> {
     if graph.kind != GraphKind::Activity {
         return Cow::Borrowed(graph);
     }
-    let is_node = |id: &str| graph.nodes.iter().any(|n| n.id == id);
-    // A node's transitions out (or in) to other nodes of the diagram.
-    let transitions = |id: &str, outgoing: bool| -> Vec<&GraphEdge> {
-        graph
-            .edges
-            .iter()
-            .filter(|e| e.kind == EdgeKind::Transition && e.source.node != e.target.node)
-            .filter(|e| is_node(&e.source.node) && is_node(&e.target.node))
-            .filter(|e| if outgoing { e.source.node == id } else { e.target.node == id })
-            .collect()
+    // The flows: transitions between two different nodes of the diagram, counted per node (one
+    // pass: this runs on every drawing, hundreds of nodes in an editor).
+    let ids: HashSet<&str> = graph.nodes.iter().map(|n| n.id.as_str()).collect();
+    let is_flow = |e: &GraphEdge| {
+        e.kind == EdgeKind::Transition
+            && e.source.node != e.target.node
+            && ids.contains(e.source.node.as_str())
+            && ids.contains(e.target.node.as_str())
     };
+    let mut out: HashMap<&str, (usize, bool)> = HashMap::new();
+    let mut into: HashMap<&str, usize> = HashMap::new();
+    for e in graph.edges.iter().filter(|e| is_flow(e)) {
+        let (count, guarded) = out.entry(e.source.node.as_str()).or_default();
+        *count += 1;
+        *guarded |= e.label.as_deref().is_some_and(|l| l.starts_with('['));
+        *into.entry(e.target.node.as_str()).or_default() += 1;
+    }
     // Branches: several transitions out of a node that is no decision or fork, some guarded.
     let branching: Vec<&GraphNode> = graph
         .nodes
         .iter()
         .filter(|n| !matches!(n.shape, NodeShape::Decision | NodeShape::Fork))
-        .filter(|n| {
-            let out = transitions(&n.id, true);
-            out.len() >= 2 && out.iter().any(|e| e.label.as_deref().is_some_and(|l| l.starts_with('[')))
-        })
+        .filter(|n| out.get(n.id.as_str()).is_some_and(|&(count, guarded)| count >= 2 && guarded))
         .collect();
     // Meetings: several transitions into a node that is no decision, merge or join.
     let meeting: Vec<&GraphNode> = graph
         .nodes
         .iter()
         .filter(|n| !matches!(n.shape, NodeShape::Decision | NodeShape::Join))
-        .filter(|n| transitions(&n.id, false).len() >= 2)
+        .filter(|n| into.get(n.id.as_str()).is_some_and(|&count| count >= 2))
         .collect();
     if branching.is_empty() && meeting.is_empty() {
         return Cow::Borrowed(graph);
     }
+    let branches: HashSet<&str> = branching.iter().map(|n| n.id.as_str()).collect();
+    let meets: HashSet<&str> = meeting.iter().map(|n| n.id.as_str()).collect();
     let mut drawn = graph.clone();
-    let branches = |id: &str| branching.iter().any(|n| n.id == id);
-    let meets = |id: &str| meeting.iter().any(|n| n.id == id);
-    for edge in drawn.edges.iter_mut() {
-        let (from, to) = (edge.source.node.clone(), edge.target.node.clone());
-        if edge.kind != EdgeKind::Transition || from == to || !is_node(&from) || !is_node(&to) {
+    for (edge, before) in drawn.edges.iter_mut().zip(&graph.edges) {
+        if !is_flow(before) {
             continue;
         }
-        if branches(&from) {
-            edge.source.node = format!("{from}#decision");
+        if branches.contains(before.source.node.as_str()) {
+            edge.source.node = format!("{}#decision", before.source.node);
         }
-        if meets(&to) {
-            edge.target.node = format!("{to}#merge");
+        if meets.contains(before.target.node.as_str()) {
+            edge.target.node = format!("{}#merge", before.target.node);
         }
     }
     for (node, decision) in branching.iter().map(|n| (n, true)).chain(meeting.iter().map(|n| (n, false))) {
