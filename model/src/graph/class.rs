@@ -135,14 +135,12 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
                     })
                 };
                 let role = a.name().map(|n| n.text());
-                edge(
-                    &mut graph,
-                    kind,
-                    resolve(&target.text()),
-                    role,
-                    (bounds(a.target_multiplicity()), bounds(a.own_multiplicity())),
-                    a.syntax().text_range(),
-                );
+                // `self [m] role : T` gives T's end m; `self [m] role : T [n]` gives this
+                // class's end m and T's n (the dissertation's "self [1] contains : Pixel [0 .. *]":
+                // one image per pixel, any number of pixels per image).
+                let (own, far) = (bounds(a.own_multiplicity()), bounds(a.target_multiplicity()));
+                let ends = if far.is_some() { (own, far) } else { (None, own) };
+                edge(&mut graph, kind, resolve(&target.text()), role, ends, a.syntax().text_range());
             }
         }
     }

@@ -63,10 +63,19 @@ pub(super) fn connect(
                 EdgeKind::Composition => "composition ",
                 _ => "",
             };
-            let own = prop("targetMultiplicity").map(multiplicity).transpose()?.map(|m| format!("[{m}] "));
-            let far = prop("sourceMultiplicity").map(multiplicity).transpose()?.map(|m| format!(" [{m}]"));
-            let text =
-                format!("self {keyword}{}{role} : {written}{};", own.unwrap_or_default(), far.unwrap_or_default());
+            // `self [t] role : Type;` states the target's end alone; `self [s] role : Type [t];`
+            // both ends.
+            let source = prop("sourceMultiplicity").map(multiplicity).transpose()?;
+            let target = prop("targetMultiplicity").map(multiplicity).transpose()?;
+            let (before_role, after_type) = match (source, target) {
+                (Some(s), Some(t)) => (format!("[{s}] "), format!(" [{t}]")),
+                (None, Some(t)) => (format!("[{t}] "), String::new()),
+                (None, None) => (String::new(), String::new()),
+                (Some(_), None) => {
+                    return Err("an association's source multiplicity needs its target multiplicity beside it (a lone multiplicity is the target's)".to_string())
+                }
+            };
+            let text = format!("self {keyword}{before_role}{role} : {written}{after_type};");
             Ok(vec![into_body(&class, &text)?])
         }
         EdgeKind::Connection | EdgeKind::Binding => {

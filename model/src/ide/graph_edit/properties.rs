@@ -36,6 +36,11 @@ pub fn property(
 
 pub(super) fn set(ctx: &Ctx, element: &str, property: &str, value: Option<&str>) -> Result<Vec<Edit>, String> {
     let slot = slot(ctx, element, property)?;
+    match (property, value, slot.value) {
+        ("sourceMultiplicity", Some(v), None) => return source_multiplicity(ctx, element, Some(&multiplicity(v)?)),
+        ("sourceMultiplicity", None, Some(_)) => return source_multiplicity(ctx, element, None),
+        _ => {}
+    }
     let value = match (property, value) {
         ("sourceMultiplicity" | "targetMultiplicity", Some(v)) => Some(multiplicity(v)?),
         ("name", Some(v)) => {
@@ -54,8 +59,52 @@ pub(super) fn set(ctx: &Ctx, element: &str, property: &str, value: Option<&str>)
     })
 }
 
-fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
-    let syntax = match ctx.element(id) {
+/// An association's role name, type and the multiplicities written before the role and after
+/// the type.
+struct AssociationEnds {
+    name: SyntaxNode,
+    ty: SyntaxNode,
+    before_role: Option<SyntaxNode>,
+    after_type: Option<SyntaxNode>,
+}
+
+impl AssociationEnds {
+    fn of(syntax: &SyntaxNode) -> Option<AssociationEnds> {
+        let (name, ty) = (child(syntax, NAME)?, child(syntax, TYPE_REF)?);
+        let mut multiplicities = syntax.children().filter(|c| c.kind() == MULTIPLICITY);
+        let before_role = multiplicities.clone().find(|m| m.text_range().end() <= name.text_range().start());
+        let after_type = multiplicities.find(|m| m.text_range().start() >= ty.text_range().end());
+        Some(AssociationEnds { name, ty, before_role, after_type })
+    }
+}
+
+/// Writes (`Some`) or removes (`None`) an association's source multiplicity, moving the
+/// target's with it: `self [t] role : Type;` (the target's end alone) becomes
+/// `self [s] role : Type [t];` and back.
+fn source_multiplicity(ctx: &Ctx, id: &str, value: Option<&str>) -> Result<Vec<Edit>, String> {
+    let syntax = element_syntax(ctx, id)?;
+    let ends = AssociationEnds::of(&syntax).ok_or_else(|| format!("`{id}` is incomplete"))?;
+    let before = ends.before_role.as_ref().and_then(inside).ok_or_else(|| {
+        format!("`{id}` has no target multiplicity: set `targetMultiplicity` first (a lone multiplicity before the role is the target's)")
+    })?;
+    let text = |range: TextRange| ctx.text()[range].to_string();
+    Ok(match (value, &ends.after_type) {
+        (Some(value), None) => {
+            vec![
+                (before, value.to_string()),
+                (TextRange::empty(ends.ty.text_range().end()), format!(" [{}]", text(before))),
+            ]
+        }
+        (None, Some(after)) => {
+            let target = inside(after).ok_or_else(|| format!("`{id}` is incomplete"))?;
+            vec![(before, text(target)), (with_space_before(after), String::new())]
+        }
+        _ => Vec::new(),
+    })
+}
+
+fn element_syntax(ctx: &Ctx, id: &str) -> Result<SyntaxNode, String> {
+    Ok(match ctx.element(id) {
         Some(Element::Node(node)) => ctx.declaration(node)?,
         Some(Element::Edge(edge)) => {
             ctx.syntax(edge.range).ok_or_else(|| format!("`{id}` is stated in another diagram"))?
@@ -65,7 +114,11 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
         }
         Some(_) => return Err(format!("`{id}` has no properties")),
         None => return Err(format!("`{}` has no element `{id}`", ctx.graph().id)),
-    };
+    })
+}
+
+fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
+    let syntax = element_syntax(ctx, id)?;
     let is_association = matches!(ctx.element(id), Some(Element::Edge(e)) if matches!(e.kind, EdgeKind::Association | EdgeKind::Aggregation | EdgeKind::Composition));
     let name = child(&syntax, NAME);
     let end_of = |n: &Option<SyntaxNode>| n.as_ref().map(|n| n.text_range().end());
@@ -132,23 +185,25 @@ fn slot(ctx: &Ctx, id: &str, property: &str) -> Result<Slot, String> {
             }
         }
         "sourceMultiplicity" | "targetMultiplicity" => {
-            // `self [target] role : Type [source];`
-            let ty = child(&syntax, TYPE_REF).ok_or_else(missing)?;
-            let name = name.ok_or_else(missing)?;
-            let own = property == "targetMultiplicity";
-            let found = syntax.children().filter(|c| c.kind() == MULTIPLICITY).find(|m| {
-                if own {
-                    m.text_range().end() <= name.text_range().start()
-                } else {
-                    m.text_range().start() >= ty.text_range().end()
-                }
-            });
-            let (insert, remove) = if own {
-                ((name.text_range().start(), "[{}] "), found.as_ref().map(with_space_after))
-            } else {
-                ((ty.text_range().end(), " [{}]"), found.as_ref().map(with_space_before))
-            };
-            Slot { value: found.as_ref().and_then(inside), insert, remove }
+            // `self [t] role : Type;` states the target's end; `self [s] role : Type [t];` the
+            // source's end before the role and the target's after the type.
+            let ends = AssociationEnds::of(&syntax).ok_or_else(missing)?;
+            let before_role = (ends.name.text_range().start(), "[{}] ");
+            match (property, &ends.before_role, &ends.after_type) {
+                ("targetMultiplicity", before, Some(after)) => Slot {
+                    value: inside(after),
+                    insert: (ends.ty.text_range().end(), " [{}]"),
+                    // Without it the source's multiplicity would read as the target's.
+                    remove: before.is_none().then(|| with_space_before(after)),
+                },
+                ("targetMultiplicity", before, None) | ("sourceMultiplicity", before, Some(_)) => Slot {
+                    value: before.as_ref().and_then(inside),
+                    insert: before_role,
+                    remove: before.as_ref().map(with_space_after),
+                },
+                // No source end is written (`set` writes one by moving the target's after the type).
+                _ => Slot { value: None, insert: before_role, remove: None },
+            }
         }
         "type" => {
             let ty = child(&syntax, TYPE_REF).ok_or_else(missing)?;

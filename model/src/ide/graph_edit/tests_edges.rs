@@ -244,8 +244,20 @@ fn setting_any_property_shows_in_the_graph_and_setting_it_back_undoes() {
                     }
                     EdgeKind::Association | EdgeKind::Aggregation | EdgeKind::Composition => {
                         targets.push((edge.id.clone(), "name", "renamed"));
-                        targets.push((edge.id.clone(), "sourceMultiplicity", "2..*"));
                         targets.push((edge.id.clone(), "targetMultiplicity", "3"));
+                        if edge.target_label.is_some() {
+                            targets.push((edge.id.clone(), "sourceMultiplicity", "2..*"));
+                        } else {
+                            // A lone multiplicity is the target's: a source end needs one.
+                            let op = GraphOp::SetProperty {
+                                element: edge.id.clone(),
+                                property: "sourceMultiplicity".into(),
+                                value: Some("2..*".into()),
+                            };
+                            let refused = graph_edit(&run.db, run.ws, file, &graph.id, &[op]).unwrap_err();
+                            assert!(refused.0.contains("set `targetMultiplicity` first"), "{}", refused.0);
+                            *run.made.entry("refused source multiplicity").or_default() += 1;
+                        }
                     }
                     EdgeKind::Connection | EdgeKind::Binding => targets.push((edge.id.clone(), "name", "Named")),
                     _ => {}
@@ -337,6 +349,7 @@ fn setting_any_property_shows_in_the_graph_and_setting_it_back_undoes() {
         "component",
         "value",
         "type",
+        "refused source multiplicity",
     ] {
         assert!(run.made.get(p).is_some_and(|&n| n > 0), "no {p} was set");
     }
