@@ -10,7 +10,7 @@ use gudsl_model::graph::{EdgeKind, Graph, NodeShape};
 use crate::{
     scene::{
         self,
-        measure::{FONT_SIZE, LABEL_SIZE, MULTIPLICITY_SIZE, PORT_SIZE},
+        measure::{FONT_SIZE, LABEL_SIZE, PORT_SIZE},
         Frame, Scene, SceneEdge, SceneNode, TextLine,
     },
     text::{Style, FONT_FAMILY},
@@ -160,18 +160,10 @@ fn draw_edge(out: &mut String, edge: &SceneEdge) {
         escape(&edge.id),
         path.join(" ")
     );
-    for multiplicity in &edge.multiplicities {
-        let anchor = if multiplicity.end_anchored { r#" text-anchor="end""# } else { "" };
-        let _ = writeln!(
-            out,
-            r##"<text class="multiplicity" x="{}" y="{}"{anchor} font-size="{}" fill="#333">{}</text>"##,
-            f(multiplicity.x),
-            f(multiplicity.y),
-            f(MULTIPLICITY_SIZE),
-            escape(&multiplicity.text)
-        );
-    }
-    if let Some(label) = &edge.label {
+    for (class, label) in
+        [("edge-label", &edge.label), ("end-label", &edge.tail_label), ("end-label", &edge.head_label)]
+    {
+        let Some(label) = label else { continue };
         let lines: Vec<String> = label
             .lines
             .iter()
@@ -179,7 +171,7 @@ fn draw_edge(out: &mut String, edge: &SceneEdge) {
             .collect();
         let _ = writeln!(
             out,
-            r##"<text class="edge-label" y="{}" font-size="{}" fill="#333">{}</text>"##,
+            r##"<text class="{class}" y="{}" font-size="{}" fill="#333">{}</text>"##,
             f(label.rect.y),
             f(LABEL_SIZE),
             lines.join("")

@@ -65,12 +65,28 @@ fn every_sample_svg_rasterizes_with_resvg() {
 
 #[test]
 fn layout_json_is_the_metrics_script_format() {
-    for graph in sample_graphs().iter().take(8) {
-        let json = json::write(&scene::build(graph, scene::Hints::default()));
-        assert!(json.starts_with("{\"nodes\":[{\"id\":"), "{json}");
-        assert!(json.contains("\"edges\":[") && json.contains("\"labels\":["));
-        assert_eq!(json.matches("\"w\":").count() - json.matches("\"kind\":\"mid\"").count(), graph.nodes.len());
+    let mut kinds = std::collections::BTreeSet::new();
+    for graph in sample_graphs().iter() {
+        let scene = scene::build(graph, scene::Hints::default());
+        let json: serde_json::Value = serde_json::from_str(&json::write(&scene)).expect("layout JSON parses");
+        let (nodes, edges, labels) = (&json["nodes"], &json["edges"], &json["labels"]);
+        assert_eq!(nodes.as_array().map(Vec::len), Some(scene.nodes.len()), "{}", graph.id);
+        assert!(nodes.as_array().unwrap().iter().all(|n| ["id", "x", "y", "w", "h"].iter().all(|k| !n[k].is_null())));
+        assert_eq!(edges.as_array().map(Vec::len), Some(scene.edges.len()), "{}", graph.id);
+        for edge in edges.as_array().unwrap() {
+            assert!(edge["src"].is_string() && edge["dst"].is_string() && edge["kind"].is_string(), "{edge}");
+            assert!(edge["points"].as_array().is_some_and(|p| p.len() >= 2), "{edge}");
+        }
+        for label in labels.as_array().unwrap() {
+            let edge = label["edge"].as_u64().expect("a label names its edge") as usize;
+            let kind = label["kind"].as_str().unwrap_or_default();
+            assert!(edge < scene.edges.len() && ["mid", "head", "tail"].contains(&kind), "{label}");
+            assert!(label["text"].as_str().is_some_and(|t| !t.is_empty()), "{label}");
+            kinds.insert(kind.to_string());
+        }
     }
+    // The samples have guards (middle labels) and associations with roles and multiplicities.
+    assert_eq!(kinds.into_iter().collect::<Vec<_>>(), ["head", "mid", "tail"]);
 }
 
 /// Geometry of every sample diagram: boxes do not overlap, no label covers a box or is crossed
@@ -98,23 +114,31 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
             );
         }
     }
-    let labels: Vec<(&str, Rect)> =
-        scene.edges.iter().filter_map(|e| Some((e.id.as_str(), e.label.as_ref()?.rect))).collect();
+    // Every label: the middle one and those at the ends.
+    let labels: Vec<(&str, Rect)> = scene
+        .edges
+        .iter()
+        .flat_map(|e| [&e.label, &e.tail_label, &e.head_label].into_iter().flatten().map(|l| (e.id.as_str(), l.rect)))
+        .collect();
     for (k, (a, ra)) in labels.iter().enumerate() {
         for (b, rb) in &labels[k + 1..] {
             assert!(!intersects(*ra, *rb), "{}: the labels of {a} and {b} overlap", graph.id);
         }
     }
-    for edge in &scene.edges {
-        if let Some(label) = &edge.label {
-            for other in scene.edges.iter().filter(|_| labels_off_edges) {
-                let crossed = other.points.windows(2).any(|s| segment_meets_box(s[0], s[1], label.rect));
-                assert!(!crossed, "{}: label of {} is crossed by {}", graph.id, edge.id, other.id);
-            }
-            for (i, b) in boxes.iter().enumerate() {
-                assert!(!intersects(label.rect, *b), "{}: label of {} covers {}", graph.id, edge.id, scene.nodes[i].id);
-            }
+    let frame = scene.frame.rect;
+    for &(edge, label) in &labels {
+        for other in scene.edges.iter().filter(|_| labels_off_edges) {
+            let crossed = other.points.windows(2).any(|s| segment_meets_box(s[0], s[1], label));
+            assert!(!crossed, "{}: label of {edge} is crossed by {}", graph.id, other.id);
         }
+        for (i, b) in boxes.iter().enumerate() {
+            assert!(!intersects(label, *b), "{}: label of {edge} covers {}", graph.id, scene.nodes[i].id);
+        }
+        let inside = label.x >= frame.x
+            && label.y >= frame.y
+            && label.x + label.width <= frame.x + frame.width
+            && label.y + label.height <= frame.y + frame.height;
+        assert!(inside, "{}: label of {edge} is outside the frame", graph.id);
     }
     let index_of = |id: &str| scene.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
     let graph_node = |node: usize| graph.nodes.iter().find(|n| n.id == scene.nodes[node].id);

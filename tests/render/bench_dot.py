@@ -1,18 +1,33 @@
-"""Layout benchmark: gudsl's layout next to Graphviz `dot` on the same generated class and
-activity diagrams of 10, 50 and 200 nodes, scored by research/layout_metrics.py.
+"""Layout benchmark: gudsl's layout next to Graphviz `dot` on the same generated diagrams,
+scored by research/layout_metrics.py, side by side in one run.
 
-usage: python3 bench_dot.py GUDSL_BINARY LAYOUT_METRICS_PY
+Two families: near-trees (`class_diagram`, `activity_diagram`: 10, 50 and 200 nodes), where
+layered layout has it easy, and realistic diagrams (50 and 200 nodes): class diagrams with a
+random inheritance forest over ~60 % of the classes and n/2 associations between random pairs
+with role names and multiplicities at both ends (`realistic_class_diagram`), and activities of
+structured control flow as programs have it — sequences, guarded branches that meet again,
+loops back (`realistic_activity_diagram`).
+
+usage: python3 bench_dot.py GUDSL_BINARY LAYOUT_METRICS_PY [--quick]
 Needs `dot` (Debian package graphviz; only the benchmark needs it, not the product). Both tools
-get the same boxes (gudsl's measured node sizes) and edges; time is per diagram (gudsl: the
-whole `gudsl render --format layout-json` process, parse and resolution included; dot: `dot -Tjson`)."""
+get the same boxes (gudsl's measured node sizes, its decision and merge diamonds included), the
+same edges (generalizations pointing up in both) and the same labels: the texts of gudsl's
+middle, head and tail labels, in the font gudsl measures them in (DejaVu Sans, 10.2 pt). Time
+is per diagram, median of 5 (gudsl: the whole `gudsl render --format layout-json` process,
+parse and resolution included; dot: `dot -Tjson`). `--quick`: the realistic diagrams only, one
+timing run each."""
 
 import json
+import random
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+# Edge labels as gudsl draws them (scene::measure::LABEL_SIZE, the bundled DejaVu Sans).
+LABEL_FONT = 'fontname="DejaVu Sans", fontsize=10.2'
 
 
 def class_diagram(n):
@@ -43,12 +58,117 @@ def activity_diagram(n):
     return "\n".join(lines) + "\n"
 
 
+def realistic_class_diagram(n, extra=False, seed=7):
+    """n classes: ~60 % extend an earlier class, n/2 associations with roles and multiplicities
+    at both ends; `extra`: one more class at the end, a subclass of a random class with an
+    association (bench_stability's edit)."""
+    rng = random.Random(seed)
+    parents = {i: rng.randrange(i) for i in range(1, n) if rng.random() < 0.6}
+    associations = {}
+    for k in range(n // 2):
+        a, b = rng.randrange(n), rng.randrange(n)
+        many = rng.choice(["0 .. *", "1", "1 .. *", "0 .. 1"])
+        associations.setdefault(a, []).append(f"self [{rng.choice(['1', '0 .. 1'])}] role{k} : C{b} [{many}];")
+    lines = ["ClassDiagram Bench", "{"]
+    classes = [(f"C{i}", parents.get(i), associations.get(i, [])) for i in range(n)]
+    if extra:
+        classes.append(("Extra", rng.randrange(n), [f"self [1] extraRole : C{rng.randrange(n)} [0 .. *];"]))
+    for name, parent, owned in classes:
+        base = f" extends C{parent}" if parent is not None else ""
+        lines += [f"    public class {name}{base}", "    {", f"        public int {name.lower()}Value;"]
+        lines += [f"        {a}" for a in owned]
+        lines.append("    }")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def realistic_activity_diagram(n, seed=11):
+    """About n nodes of structured control flow: sequences of actions, if/else branches (a
+    decision with a guard and an else) that meet again, loops back (a decision whose guarded
+    flow returns to the loop's first node); a start and a final node."""
+    rng = random.Random(seed)
+    nodes = []  # [kind, name, [(guard or None, target name)]]
+
+    def new(kind):
+        node = [kind, f"a{len(nodes)}", []]
+        nodes.append(node)
+        return node
+
+    def link(exits, target):
+        for node, guard in exits:
+            node[2].append((guard, target[1]))
+
+    def sequence(budget):
+        """Nodes for `budget` (>= 1): the first node and the (node, guard) pairs leaving it."""
+        entry, exits = None, []
+        while budget > 0:
+            roll = rng.random()
+            if roll < 0.55 or budget < 4:
+                action = new("action")
+                first, last, budget = action, [(action, None)], budget - 1
+            elif roll < 0.8:
+                decision = new("decision")
+                size = min(budget - 1, rng.randint(2, 8))
+                then = rng.randint(1, size)
+                then_entry, then_exits = sequence(then)
+                decision[2].append((f"i < {len(nodes)}", then_entry[1]))
+                if size > then:
+                    else_entry, else_exits = sequence(size - then)
+                    decision[2].append(("", else_entry[1]))
+                else:
+                    else_exits = [(decision, "")]
+                first, last, budget = decision, then_exits + else_exits, budget - 1 - size
+            else:
+                size = min(budget - 1, rng.randint(1, 6))
+                body_entry, body_exits = sequence(size)
+                check = new("decision")
+                link(body_exits, check)
+                check[2].append((f"i < {len(nodes)}", body_entry[1]))
+                first, last, budget = body_entry, [(check, "")], budget - 1 - size
+            if entry is None:
+                entry = first
+            else:
+                link(exits, first)
+            exits = last
+        return entry, exits
+
+    entry, exits = sequence(n - 2)
+    link(exits, [None, "done"])
+    lines = ["ActivityDiagram Bench(int k)", "{", "    public int i;", f"    start S {{ => {entry[1]}; }}"]
+    for kind, name, outs in nodes:
+        flows = " ".join(f"[{g}] => {t};" if g is not None else f"=> {t};" for g, t in outs)
+        body = "i = i + 1; " if kind == "action" else ""
+        lines.append(f"    {kind} {name} {{ {body}{flows} }}")
+    lines += ["    final done;", "}"]
+    return "\n".join(lines) + "\n"
+
+
+def quoted(text):
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+
+
 def to_dot(layout):
-    out = ["digraph G {", "  rankdir=TB; nodesep=0.55; ranksep=0.8;", "  node [shape=box, fixedsize=true, label=\"\"];"]
+    """The same boxes, edges and labels for dot: a generalization or realization is laid out
+    parent first (as gudsl does, and as UML draws them upwards) and drawn back to the child."""
+    out = [
+        "digraph G {",
+        "  rankdir=TB; nodesep=0.55; ranksep=0.8;",
+        '  node [shape=box, fixedsize=true, label=""];',
+        f"  edge [{LABEL_FONT}];",
+    ]
     for node in layout["nodes"]:
         out.append(f'  "{node["id"]}" [width={node["w"] / 72:.4f}, height={node["h"] / 72:.4f}];')
-    for edge in layout["edges"]:
-        out.append(f'  "{edge["src"]}" -> "{edge["dst"]}";')
+    texts = {}
+    for label in layout.get("labels", []):
+        texts.setdefault(label["edge"], {})[label["kind"]] = label.get("text", "")
+    for i, edge in enumerate(layout["edges"]):
+        attributes = {"mid": "label", "head": "headlabel", "tail": "taillabel"}
+        labels = [f"{attributes[k]}={quoted(t)}" for k, t in sorted(texts.get(i, {}).items())]
+        src, dst = edge["src"], edge["dst"]
+        if edge.get("kind") in ("generalization", "realization"):
+            src, dst = dst, src
+            labels.append("dir=back")
+        out.append(f'  "{src}" -> "{dst}" [{", ".join(labels)}];')
     out.append("}")
     return "\n".join(out) + "\n"
 
@@ -58,46 +178,60 @@ def score(metrics, path, fmt):
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def main(gudsl, metrics):
+def run(gudsl, metrics, work, name, text, repeat):
+    """gudsl's and dot's layouts of `text`, timed and scored."""
+    src = work / f"{name}.gudsl"
+    src.write_text(text)
+    out = work / name
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        subprocess.run([gudsl, "render", str(src), "--format", "layout-json", "-o", str(out)], check=True, capture_output=True)
+        times.append(time.perf_counter() - start)
+    ours_path = out / "Bench.json"
+    ours_json = json.loads(ours_path.read_text())
+    dot_src = work / f"{name}.dot"
+    dot_src.write_text(to_dot(ours_json))
+    dot_out = work / f"{name}.dot.json"
+    dot_times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        with open(dot_out, "w") as f:
+            subprocess.run(["dot", "-Tjson", str(dot_src)], check=True, stdout=f)
+        dot_times.append(time.perf_counter() - start)
+    ours, theirs = score(metrics, ours_path, "neutral"), score(metrics, dot_out, "dotjson")
+    return len(ours_json["edges"]), statistics.median(times) * 1e3, statistics.median(dot_times) * 1e3, ours, theirs
+
+
+COLUMNS = [
+    ("crossings", "crossings", 6),
+    ("edge-node", "edge_node_hits", 5),
+    ("lbl-node", "label_node_overlaps", 5),
+    ("lbl-lbl", "label_label_overlaps", 5),
+    ("lbl-edge", "label_edge_hits", 5),
+    ("bends/e", "bends_mean", 5),
+    ("area kpt2", "area", 6),
+    ("aspect", "aspect", 5),
+]
+
+
+def cell(key, value):
+    return f"{value / 1000:.0f}" if key == "area" else f"{value:g}"
+
+
+def main(gudsl, metrics, quick=False):
     work = Path(tempfile.mkdtemp(prefix="gudsl-layout-"))
-    rows = []
-    for kind, make in [("class", class_diagram), ("activity", activity_diagram)]:
-        for n in [10, 50, 200]:
-            src = work / f"{kind}{n}.gudsl"
-            src.write_text(make(n))
-            times = []
-            for _ in range(5):
-                start = time.perf_counter()
-                subprocess.run([gudsl, "render", str(src), "--format", "layout-json", "-o", str(work)], check=True, capture_output=True)
-                times.append(time.perf_counter() - start)
-            ours_path = work / "Bench.json"
-            ours_json = json.loads(ours_path.read_text())
-            ours_copy = work / f"{kind}{n}.ours.json"
-            ours_copy.write_text(json.dumps(ours_json))
-            dot_src = work / f"{kind}{n}.dot"
-            dot_src.write_text(to_dot(ours_json))
-            dot_out = work / f"{kind}{n}.dot.json"
-            dot_times = []
-            for _ in range(5):
-                start = time.perf_counter()
-                with open(dot_out, "w") as f:
-                    subprocess.run(["dot", "-Tjson", str(dot_src)], check=True, stdout=f)
-                dot_times.append(time.perf_counter() - start)
-            ours = score(metrics, ours_copy, "neutral")
-            theirs = score(metrics, dot_out, "dotjson")
-            rows.append((kind, n, len(ours_json["edges"]), statistics.median(times) * 1e3, statistics.median(dot_times) * 1e3, ours, theirs))
-    print(f"{'diagram':<14} {'edges':>5} | {'gudsl ms':>8} {'dot ms':>8} | {'crossings':>13} | {'edge-node hits':>14} | {'area (k pt²)':>17}")
-    for kind, n, e, t_ours, t_dot, o, d in rows:
-        print(
-            f"{kind + ' ' + str(n):<14} {e:>5} | {t_ours:>8.1f} {t_dot:>8.1f} | {o['crossings']:>6} {d['crossings']:>6} | "
-            f"{o['edge_node_hits']:>6} {d['edge_node_hits']:>7} | {o['area'] / 1000:>8.0f} {d['area'] / 1000:>8.0f}"
-        )
-    print("(each pair: gudsl, dot)")
-    import os
-    if os.environ.get("FULL"):
-        for kind, n, e, t_ours, t_dot, o, d in rows:
-            print(kind, n, {k: (o[k], d[k]) for k in o if not isinstance(o[k], (dict, list))})
+    cases = [] if quick else [(f"{k} {n}", f(n)) for k, f in [("tree class", class_diagram), ("tree activity", activity_diagram)] for n in [10, 50, 200]]
+    cases += [(f"{k} {n}", f(n)) for k, f in [("class", realistic_class_diagram), ("activity", realistic_activity_diagram)] for n in [50, 200]]
+    header = f"{'diagram':<18} {'nodes':>5} {'edges':>5} {'labels':>6} | {'time ms':>13} | " + " | ".join(f"{c[0]:>{2 * c[2] + 1}}" for c in COLUMNS)
+    print(header)
+    print("-" * len(header))
+    for k, (name, text) in enumerate(cases):
+        edges, t_ours, t_dot, o, d = run(gudsl, metrics, work, f"case{k}", text, 1 if quick else 5)
+        cells = " | ".join(f"{cell(key, o[key]):>{w}} {cell(key, d[key]):>{w}}" for _, key, w in COLUMNS)
+        print(f"{name:<18} {o['nodes']:>5} {edges:>5} {o['labels']:>6} | {t_ours:>6.0f} {t_dot:>6.0f} | {cells}", flush=True)
+    print("(each pair: gudsl, dot; label counts are gudsl's, dot is given the same texts)")
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    main(sys.argv[1], sys.argv[2], "--quick" in sys.argv[3:])

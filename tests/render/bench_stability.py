@@ -16,38 +16,14 @@ Needs `dot` (Debian package graphviz)."""
 
 import asyncio
 import json
-import random
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "lsp"))
-from bench_dot import activity_diagram, to_dot  # noqa: E402
+from bench_dot import activity_diagram, realistic_class_diagram, to_dot  # noqa: E402
 from lsp_raw import start_server, stop_server  # noqa: E402
-
-
-def realistic_class_diagram(n, extra=False, seed=7):
-    """n classes: ~60 % extend an earlier class, n/2 associations with roles and multiplicities;
-    `extra`: one more class at the end, a subclass of a random class with an association."""
-    rng = random.Random(seed)
-    parents = {i: rng.randrange(i) for i in range(1, n) if rng.random() < 0.6}
-    associations = {}
-    for k in range(n // 2):
-        a, b = rng.randrange(n), rng.randrange(n)
-        many = rng.choice(["0 .. *", "1", "1 .. *", "0 .. 1"])
-        associations.setdefault(a, []).append(f"self [{rng.choice(['1', '0 .. 1'])}] role{k} : C{b} [{many}];")
-    lines = ["ClassDiagram Bench", "{"]
-    classes = [(f"C{i}", parents.get(i), associations.get(i, [])) for i in range(n)]
-    if extra:
-        classes.append(("Extra", rng.randrange(n), [f"self [1] extraRole : C{rng.randrange(n)} [0 .. *];"]))
-    for name, parent, owned in classes:
-        base = f" extends C{parent}" if parent is not None else ""
-        lines += [f"    public class {name}{base}", "    {", f"        public int {name.lower()}Value;"]
-        lines += [f"        {a}" for a in owned]
-        lines.append("    }")
-    lines.append("}")
-    return "\n".join(lines) + "\n"
 
 
 def activity_with_insert(n):

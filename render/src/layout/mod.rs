@@ -1,5 +1,5 @@
 //! Layered (Sugiyama-style) layout of a directed graph of boxes, top to bottom: cycle breaking
-//! and longest-path ranks (`rank`), dummy vertices for long edges (`proper`), crossing
+//! (`rank`), ranks by network simplex (`simplex`), dummy vertices for long edges (`proper`), crossing
 //! minimisation (`order`, `sifting`), coordinates (`place`, `align`) and edge polylines
 //! (`route`). Edge labels take room in the layout as dot's do: with labels, ranks are doubled
 //! and each labelled edge's label sits beside a dummy in a rank between its boxes' ranks.
@@ -7,11 +7,13 @@
 
 mod align;
 mod order;
+mod pack;
 mod place;
 mod proper;
 mod rank;
 mod route;
 mod sifting;
+mod simplex;
 
 pub(crate) use route::self_loop;
 
@@ -117,8 +119,36 @@ pub(super) struct Extent {
     pub height: f64,
 }
 
-/// Lays out `input` top to bottom.
+/// Lays out `input` top to bottom: the boxes joined by edges (or in swimlanes) in layers, the
+/// boxes alone packed in rows under them (`pack`).
 pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
+    let alone = pack::alone(input);
+    if !alone.contains(&true) {
+        return layered_joined(input, spacing);
+    }
+    // The joined boxes alone, their indices mapped back afterwards.
+    let kept: Vec<usize> = (0..input.nodes.len()).filter(|&v| !alone[v]).collect();
+    let mut index = vec![usize::MAX; input.nodes.len()];
+    for (i, &v) in kept.iter().enumerate() {
+        index[v] = i;
+    }
+    let joined = LayoutInput {
+        nodes: kept.iter().map(|&v| input.nodes[v].clone()).collect(),
+        edges: input.edges.iter().map(|&(a, b)| (index[a], index[b])).collect(),
+        groups: kept.iter().map(|&v| input.groups.get(v).copied().flatten()).collect(),
+        labels: input.labels.clone(),
+    };
+    let inner = layered_joined(&joined, spacing);
+    let mut positions = vec![Point::default(); input.nodes.len()];
+    for (i, &v) in kept.iter().enumerate() {
+        positions[v] = inner.positions[i];
+    }
+    let layout = Layout { positions, ..inner };
+    pack::under(layout, input, &alone, spacing, !kept.is_empty())
+}
+
+/// Lays out `input` top to bottom, every box in the layers.
+fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let n = input.nodes.len();
     if n == 0 {
         let empty = 2.0 * spacing.margin;
@@ -127,7 +157,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     let label_of = |e: usize| input.labels.get(e).copied().flatten();
     let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
     let edges = rank::orient(n, &input.edges);
-    let mut rank = rank::longest_path(n, &edges);
+    let mut rank = simplex::network_simplex(n, &edges, &rank::longest_path(n, &edges));
     if labelled {
         rank.iter_mut().for_each(|r| *r *= 2);
     }
@@ -150,7 +180,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
             Some(dummy)
         })
         .collect();
-    let mut layers = graph.initial_layers();
+    let mut layers = graph.initial_layers(true, false);
     minimise_crossings(&mut layers, &graph);
     let x = place::horizontal(&graph, &layers, &extent, spacing);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
@@ -167,25 +197,78 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     Layout { positions, edges: routed, labels, width, height: bands.total_height }
 }
 
-/// Reorders every rank of `layers` to reduce crossings: barycentre sweeps with transposition
-/// from a breadth-first start, then global sifting of whole blocks; the order with the fewest
-/// crossings wins.
+/// Reorders every rank of `layers` to reduce crossings: from `layers` and from seven more starts
+/// (breadth and depth first, down the edges and both ways, each also mirrored), median sweeps
+/// with transposition, then global sifting of whole blocks; the order with the fewest crossings
+/// wins (the first of equals: deterministic).
 fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper) {
-    for layer in layers.iter_mut() {
-        layer.sort_by_key(|&v| graph.group[v]);
-    }
-    let mut order = Order::new(layers.to_vec(), graph.vertices());
-    let mut best = order.layers.clone();
-    let mut best_crossings = order.crossings(graph);
-    // Barycentre sweeps, alternately down and up, each followed by transposition; stop once a
-    // few sweeps in a row bring nothing.
-    let mut fruitless = 0;
-    for sweep in 0..24 {
-        if best_crossings == 0 || fruitless == 3 {
+    let starts = [
+        layers.to_vec(),
+        graph.initial_layers(false, false),
+        graph.initial_layers(true, true),
+        graph.initial_layers(false, true),
+    ];
+    let mut best: Option<(Vec<Vec<usize>>, usize)> = None;
+    // Each start mirrored too: the sweeps break ties by position, so a mirror is a new start.
+    let mirrored: Vec<Vec<Vec<usize>>> =
+        starts.iter().map(|layers| layers.iter().map(|rank| rank.iter().rev().copied().collect()).collect()).collect();
+    for start in starts.into_iter().chain(mirrored) {
+        let (order, crossings) = sifted(sweeps(start, graph), graph);
+        if best.as_ref().is_none_or(|(_, fewest)| crossings < *fewest) {
+            best = Some((order, crossings));
+        }
+        if crossings == 0 {
             break;
         }
-        order.barycentre_sweep(graph, sweep % 2 == 0);
-        order.transpose(graph);
+    }
+    if let Some((best, _)) = best {
+        layers.clone_from_slice(&best);
+    }
+}
+
+/// Global sifting from `order`: long edges move as a whole, which sweeps cannot do; then
+/// transposition. The better of `order` and the result, with its crossings.
+fn sifted((order, crossings): (Vec<Vec<usize>>, usize), graph: &Proper) -> (Vec<Vec<usize>>, usize) {
+    if crossings == 0 {
+        return (order, crossings);
+    }
+    let mut global = GlobalOrder::new(&Order::new(order.clone(), graph.vertices()), graph);
+    let mut now = global.order.crossings(graph);
+    for _ in 0..12 {
+        global.sift_all(graph);
+        let after = global.order.crossings(graph);
+        if after >= now {
+            break;
+        }
+        now = after;
+    }
+    let mut result = global.order;
+    result.transpose(graph, false);
+    let after = result.crossings(graph);
+    if after < crossings {
+        (result.layers, after)
+    } else {
+        (order, crossings)
+    }
+}
+
+/// Median sweeps from `start`, alternately down and up, each followed by transposition (every
+/// other pair of sweeps also swapping neighbours whose crossings tie, to leave a plateau), until
+/// eight sweeps in a row bring nothing: the best order seen and its crossings.
+fn sweeps(mut start: Vec<Vec<usize>>, graph: &Proper) -> (Vec<Vec<usize>>, usize) {
+    for layer in start.iter_mut() {
+        layer.sort_by_key(|&v| graph.group[v]);
+    }
+    let mut order = Order::new(start, graph.vertices());
+    let mut best = order.layers.clone();
+    let mut best_crossings = order.crossings(graph);
+    let mut fruitless = 0;
+    for sweep in 0..24 {
+        if best_crossings == 0 || fruitless == 8 {
+            break;
+        }
+        order.median_sweep(graph, sweep % 2 == 0);
+        order.transpose(graph, sweep % 4 >= 2);
         let crossings = order.crossings(graph);
         if crossings < best_crossings {
             best_crossings = crossings;
@@ -195,25 +278,7 @@ fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper) {
             fruitless += 1;
         }
     }
-    // Global sifting from there: long edges move as a whole, which sweeps cannot do.
-    if best_crossings > 0 {
-        let mut sifted = GlobalOrder::new(&Order::new(best.clone(), graph.vertices()), graph);
-        let mut crossings = sifted.order.crossings(graph);
-        for _ in 0..12 {
-            sifted.sift_all(graph);
-            let now = sifted.order.crossings(graph);
-            if now >= crossings {
-                break;
-            }
-            crossings = now;
-        }
-        let mut order = sifted.order;
-        order.transpose(graph);
-        if order.crossings(graph) < best_crossings {
-            best = order.layers;
-        }
-    }
-    layers.clone_from_slice(&best);
+    (best, best_crossings)
 }
 
 #[cfg(test)]
@@ -372,6 +437,58 @@ mod tests {
                     assert!(!meets(label, thin), "an edge crosses label {e}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn boxes_alone_are_packed_in_rows_not_one_long_row() {
+        // Twelve unconnected boxes: a block of rows, about as wide as tall.
+        let input = LayoutInput { nodes: boxes(12), ..Default::default() };
+        let layout = layered(&input, Spacing::default());
+        assert!(!overlaps(&layout, &input));
+        let aspect = layout.width.max(layout.height) / layout.width.min(layout.height);
+        assert!(aspect < 2.5, "{} x {}", layout.width, layout.height);
+        // Beside a layered drawing they go under it, in input order, and the drawing keeps them.
+        let input = LayoutInput { nodes: boxes(8), edges: vec![(0, 1), (1, 2), (0, 3)], ..Default::default() };
+        let layout = layered(&input, Spacing::default());
+        assert!(!overlaps(&layout, &input));
+        let lowest_joined = (0..4).map(|v| layout.positions[v].y + input.nodes[v].height).fold(0.0, f64::max);
+        assert!((4..8).all(|v| layout.positions[v].y > lowest_joined));
+        assert!(layout.positions[4].x < layout.positions[5].x || layout.positions[4].y < layout.positions[5].y);
+        assert!((0..8).all(|v| layout.positions[v].x + input.nodes[v].width <= layout.width));
+        assert!((0..8).all(|v| layout.positions[v].y + input.nodes[v].height <= layout.height));
+    }
+
+    #[test]
+    fn network_simplex_ranks_keep_edges_short_and_pointing_down() {
+        // 0 -> 1 -> 2 -> 3 and 4 -> 3: longest path puts 4 at the top (its edge three ranks
+        // long); the least total length puts it just above 3.
+        let edges = rank::orient(5, &[(0, 1), (1, 2), (2, 3), (4, 3)]);
+        let rank = simplex::network_simplex(5, &edges, &rank::longest_path(5, &edges));
+        assert_eq!(rank, vec![0, 1, 2, 3, 2]);
+        // On a larger graph with cycles and parallel edges: every edge points down, and the total
+        // length is no more than longest path's.
+        let pairs: Vec<(usize, usize)> = (1..120)
+            .map(|i| ((i * 7) % i, i))
+            .chain((0..60).map(|i| ((i * 13 + 5) % 120, (i * 29 + 1) % 120)))
+            .collect();
+        let edges = rank::orient(120, &pairs);
+        let start = rank::longest_path(120, &edges);
+        let rank = simplex::network_simplex(120, &edges, &start);
+        let length = |r: &[usize]| edges.iter().filter(|e| e.0 != e.1).map(|e| r[e.1] - r[e.0]).sum::<usize>();
+        assert!(edges.iter().filter(|e| e.0 != e.1).all(|e| rank[e.1] > rank[e.0]));
+        assert!(length(&rank) <= length(&start));
+    }
+
+    #[test]
+    fn every_start_holds_each_vertex_once_even_with_parallel_edges() {
+        let pairs = [(0, 1), (0, 1), (1, 2), (1, 2), (2, 0), (0, 3), (3, 2)];
+        let edges = rank::orient(4, &pairs);
+        let graph = Proper::new(&[], &edges, &rank::longest_path(4, &edges));
+        for (breadth_first, undirected) in [(true, false), (false, false), (true, true), (false, true)] {
+            let mut all: Vec<usize> = graph.initial_layers(breadth_first, undirected).concat();
+            all.sort_unstable();
+            assert_eq!(all, (0..graph.vertices()).collect::<Vec<_>>());
         }
     }
 }

@@ -1,5 +1,5 @@
 //! The order of the vertices within each rank, its crossing count, and the local moves that
-//! reduce it: barycentre sweeps and transposition. Swimlanes stay contiguous and in lane order
+//! reduce it: median sweeps and transposition. Swimlanes stay contiguous and in lane order
 //! within every rank.
 
 use super::proper::Proper;
@@ -81,9 +81,10 @@ impl Order {
         (a_left, b_left)
     }
 
-    /// Sorts each rank by the mean position of its neighbours in the rank before it (sweeping
-    /// down) or after it (sweeping up); a vertex without such neighbours keeps its place.
-    pub(super) fn barycentre_sweep(&mut self, graph: &Proper, downward: bool) {
+    /// Sorts each rank by the median position of its neighbours in the rank before it (sweeping
+    /// down) or after it (sweeping up; the mean of the two middle ones for an even count); a
+    /// vertex without such neighbours keeps its place.
+    pub(super) fn median_sweep(&mut self, graph: &Proper, downward: bool) {
         let ranks: Vec<usize> = if downward {
             (1..self.layers.len()).collect()
         } else {
@@ -95,10 +96,13 @@ impl Order {
                 .iter()
                 .map(|&v| {
                     let adjacent = &neighbours[v];
-                    let key = if adjacent.is_empty() {
-                        self.position[v] as f64
-                    } else {
-                        adjacent.iter().map(|&u| self.position[u] as f64).sum::<f64>() / adjacent.len() as f64
+                    let mut at: Vec<usize> = adjacent.iter().map(|&u| self.position[u]).collect();
+                    at.sort_unstable();
+                    let m = at.len() / 2;
+                    let key = match at.len() {
+                        0 => self.position[v] as f64,
+                        len if len % 2 == 1 => at[m] as f64,
+                        _ => (at[m - 1] + at[m]) as f64 / 2.0,
                     };
                     (graph.group[v], key, self.position[v], v)
                 })
@@ -109,8 +113,9 @@ impl Order {
         }
     }
 
-    /// Swaps neighbours of one lane while that removes crossings.
-    pub fn transpose(&mut self, graph: &Proper) {
+    /// Swaps neighbours of one lane while that removes crossings (and, with `ties`, where it
+    /// keeps them: a way off a plateau; at most eight passes).
+    pub fn transpose(&mut self, graph: &Proper, ties: bool) {
         for _ in 0..8 {
             let mut improved = false;
             for r in 0..self.layers.len() {
@@ -120,7 +125,7 @@ impl Order {
                         continue;
                     }
                     let (a_left, b_left) = self.pair_crossings(a, b, graph);
-                    if b_left < a_left {
+                    if b_left < a_left || (ties && b_left == a_left && a_left > 0) {
                         self.layers[r].swap(i, i + 1);
                         self.position[a] = i + 1;
                         self.position[b] = i;

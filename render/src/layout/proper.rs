@@ -74,9 +74,10 @@ impl Proper {
         self.rank.iter().max().map_or(0, |m| m + 1)
     }
 
-    /// The vertices of each rank in breadth-first order from the sources: a good start for
+    /// The vertices of each rank in breadth-first (else depth-first) order from the sources,
+    /// along the edges downwards (or `undirected`, both ways, as dot starts): starts for
     /// crossing minimisation.
-    pub fn initial_layers(&self) -> Vec<Vec<usize>> {
+    pub fn initial_layers(&self, breadth_first: bool, undirected: bool) -> Vec<Vec<usize>> {
         let mut layers = vec![Vec::new(); self.ranks()];
         let mut seen = vec![false; self.vertices()];
         for root in (0..self.vertices()).filter(|&v| self.up[v].is_empty()).chain(0..self.vertices()) {
@@ -84,14 +85,23 @@ impl Proper {
                 continue;
             }
             seen[root] = true;
-            let mut queue = VecDeque::from([root]);
-            while let Some(v) = queue.pop_front() {
+            let mut pending = VecDeque::from([root]);
+            while let Some(v) = if breadth_first { pending.pop_front() } else { pending.pop_back() } {
                 layers[self.rank[v]].push(v);
-                for &w in &self.down[v] {
+                // Depth first visits the first neighbour first: push them in reverse.
+                let neighbours = self.down[v].iter().chain(if undirected { &self.up[v] } else { &[][..] });
+                let mut next: Vec<usize> = Vec::new();
+                for &w in neighbours {
+                    // A neighbour twice (parallel edges) is visited once.
                     if !seen[w] {
                         seen[w] = true;
-                        queue.push_back(w);
+                        next.push(w);
                     }
+                }
+                if breadth_first {
+                    pending.extend(next);
+                } else {
+                    pending.extend(next.into_iter().rev());
                 }
             }
         }

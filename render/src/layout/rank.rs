@@ -1,5 +1,6 @@
 //! Ranks: edges oriented so that the graph is acyclic (reversing the edges that close a cycle in
-//! a depth-first search from the sources), then each box's rank by the longest path to it.
+//! a depth-first search from the sources), then each box's rank by the longest path to it: the
+//! feasible ranks network simplex (`simplex`) starts from.
 
 use std::collections::VecDeque;
 

@@ -186,7 +186,7 @@ mod tests {
             let edges: Vec<(usize, usize)> = raw.into_iter().map(|(a, b)| (a % n, b % n)).collect();
             let groups: Vec<Option<usize>> = lanes[..n].iter().map(|&g| Some(g)).collect();
             let graph = proper(n, &edges, &groups);
-            let mut layers = graph.initial_layers();
+            let mut layers = graph.initial_layers(true, false);
             for layer in layers.iter_mut() {
                 layer.sort_by_key(|&v| graph.group[v]);
             }

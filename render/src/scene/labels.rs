@@ -1,8 +1,91 @@
-//! Placing edge labels the layout did not place (port-to-port connections): beside their edge,
-//! clear of every box, every label placed before and every edge; and the geometry tests that
-//! placement (and the layout's tests) rely on.
+//! Placing edge labels the layout did not place: a middle label (of a port-to-port connection)
+//! beside its edge, an end label (an association end's role and multiplicity) beside the end
+//! of its edge; each clear of every box, every label placed before and every edge, and inside
+//! the frame's body; and the geometry tests that placement (and the layout's tests) rely on.
 
-use super::{measure::label_size, Point, Rect};
+use gudsl_model::graph::{EdgeKind, GraphEdge};
+
+use super::{
+    measure::{label_lines, label_size},
+    Point, Rect,
+};
+
+/// The texts an edge carries, as lines: along it (a guard, arguments, a connection's name), and
+/// at its ends as UML draws an association's ends (the source's multiplicity at the source; the
+/// role name and the target's multiplicity at the target).
+pub(crate) struct EdgeTexts {
+    pub(crate) middle: Vec<String>,
+    pub(crate) tail: Vec<String>,
+    pub(crate) head: Vec<String>,
+}
+
+pub(crate) fn texts(edge: &GraphEdge) -> EdgeTexts {
+    let written = |text: &Option<String>| text.iter().filter(|t| !t.is_empty()).cloned().collect::<Vec<String>>();
+    match edge.kind {
+        EdgeKind::Association | EdgeKind::Aggregation | EdgeKind::Composition => EdgeTexts {
+            middle: Vec::new(),
+            tail: written(&edge.source_label),
+            head: written(&edge.label).into_iter().chain(written(&edge.target_label)).collect(),
+        },
+        _ => EdgeTexts {
+            middle: edge.label.as_deref().filter(|l| !l.is_empty()).map(label_lines).unwrap_or_default(),
+            tail: Vec::new(),
+            head: Vec::new(),
+        },
+    }
+}
+
+/// Where an edge's labels went.
+#[derive(Default)]
+pub(crate) struct Placed {
+    pub(crate) middle: Option<Rect>,
+    pub(crate) tail: Option<Rect>,
+    pub(crate) head: Option<Rect>,
+}
+
+impl Placed {
+    pub(crate) fn all(&self) -> impl Iterator<Item = Rect> {
+        [self.middle, self.tail, self.head].into_iter().flatten()
+    }
+}
+
+/// Every edge's label boxes: a middle label where the layout reserved room for it, else placed
+/// beside its edge; then the end labels beside their ends. Each is clear of the boxes, the
+/// labels placed before and every edge where it can be, and right of and below `corner`.
+pub(crate) fn place_all(
+    texts: &[EdgeTexts],
+    routes: &[Vec<Point>],
+    laid_out: &[Option<Point>],
+    boxes: &[Rect],
+    corner: Point,
+) -> Vec<Placed> {
+    let all_routes: Vec<&[Point]> = routes.iter().map(Vec::as_slice).collect();
+    let mut placed: Vec<Placed> = texts
+        .iter()
+        .zip(laid_out)
+        .map(|(t, at)| {
+            let (width, height) = label_size(&t.middle);
+            let middle = at.filter(|_| !t.middle.is_empty()).map(|at| Rect { x: at.x, y: at.y, width, height });
+            Placed { middle, ..Placed::default() }
+        })
+        .collect();
+    let mut room =
+        Room { obstacles: boxes, placed: placed.iter().flat_map(Placed::all).collect(), routes: &all_routes, corner };
+    for ((t, route), at) in texts.iter().zip(routes).zip(&mut placed) {
+        if !t.middle.is_empty() && at.middle.is_none() {
+            at.middle = Some(place_label(route, label_size(&t.middle), &mut room));
+        }
+    }
+    for ((t, route), at) in texts.iter().zip(routes).zip(&mut placed) {
+        if !t.tail.is_empty() {
+            at.tail = Some(place_end_label(route, false, label_size(&t.tail), &mut room));
+        }
+        if !t.head.is_empty() {
+            at.head = Some(place_end_label(route, true, label_size(&t.head), &mut room));
+        }
+    }
+    placed
+}
 
 pub(crate) fn intersects(a: Rect, b: Rect) -> bool {
     a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height
@@ -12,14 +95,7 @@ pub(crate) fn intersects(a: Rect, b: Rect) -> bool {
 /// own included) if any candidate is (along each segment, on either side); else clear of nodes,
 /// labels and its own edge; else of nodes and labels; else the nearest place to the edge's
 /// middle clear of nodes and labels; else the middle.
-pub(crate) fn place_label(
-    route: &[Point],
-    label: &str,
-    obstacles: &[Rect],
-    placed: &[Rect],
-    routes: &[&[Point]],
-) -> Rect {
-    let (w, h) = label_size(label);
+fn place_label(route: &[Point], (w, h): (f64, f64), room: &mut Room) -> Rect {
     let mut candidates = Vec::new();
     for (fraction, gap) in
         [4.0, 16.0].into_iter().flat_map(|gap| [0.5, 0.3, 0.7, 0.15, 0.85, 0.4, 0.6].map(|f| (f, gap)))
@@ -46,24 +122,93 @@ pub(crate) fn place_label(
             candidates.extend(corners);
         }
     }
-    let clear = |b: Rect| {
-        let padded = Rect { x: b.x - 2.0, y: b.y - 2.0, width: b.width + 4.0, height: b.height + 4.0 };
-        b.x >= 0.0 && b.y >= 0.0 && !obstacles.iter().chain(placed).any(|o| intersects(padded, *o))
-    };
     let boxes: Vec<Rect> = candidates.into_iter().map(|(x, y)| Rect { x, y, width: w, height: h }).collect();
-    let off = |route: &[Point], b: &Rect| !route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b));
-    let off_edges = |b: &Rect| routes.iter().all(|route| off(route, b));
-    let clear_of_all = boxes.iter().copied().find(|b| clear(*b) && off_edges(b));
-    let off_its_edge = || boxes.iter().copied().find(|b| clear(*b) && off(route, b));
     let mid = midpoint(route);
-    let at_middle = Rect { x: mid.x + 4.0, y: mid.y - h / 2.0, width: w, height: h };
-    // Crowded: the nearest place around the middle clear of nodes and labels.
-    let nearest_clear = || around(at_middle, 8.0, 1..40).map(|(_, spot)| spot).find(|b| clear(*b));
-    clear_of_all
-        .or_else(off_its_edge)
-        .or_else(|| boxes.iter().copied().find(|b| clear(*b)))
-        .or_else(nearest_clear)
-        .unwrap_or(at_middle)
+    room.choose(&boxes, route, Rect { x: mid.x + 4.0, y: mid.y - h / 2.0, width: w, height: h })
+}
+
+/// A box of size `(w, h)` for the label at an end of `route` (its last point if `at_target`,
+/// else its first): beside the edge's last (first) segment, as near the end as it is clear of
+/// the end's node, of the other labels and of every edge; on the side the end's segment leaves
+/// free first.
+fn place_end_label(route: &[Point], at_target: bool, (w, h): (f64, f64), room: &mut Room) -> Rect {
+    let points: Vec<Point> = if at_target { route.iter().rev().copied().collect() } else { route.to_vec() };
+    let Some(&end) = points.first() else {
+        return room.choose(&[], route, Rect { x: room.corner.x, y: room.corner.y, width: w, height: h });
+    };
+    let mut candidates = Vec::new();
+    for away in [3.0f64, 8.0, 14.0, 22.0, 32.0, 44.0, 60.0] {
+        // Walk `away` from the end along the route: the point and the direction back to the end.
+        let (mut left, mut at, mut towards_end) = (away, end, Point { x: 0.0, y: 1.0 });
+        for segment in points.windows(2) {
+            let (dx, dy) = (segment[1].x - segment[0].x, segment[1].y - segment[0].y);
+            let length = dx.hypot(dy);
+            if length < 1e-9 {
+                continue;
+            }
+            towards_end = Point { x: -dx / length, y: -dy / length };
+            let step = left.min(length);
+            at = Point { x: segment[0].x + dx / length * step, y: segment[0].y + dy / length * step };
+            left -= step;
+            if left <= 0.0 {
+                break;
+            }
+        }
+        // The label's corner nearest the end touches the line `GAP` off it, on either side; it
+        // reaches away from the end, so it never covers the end's node.
+        const GAP: f64 = 3.0;
+        let vertical = towards_end.y.abs() >= towards_end.x.abs();
+        let spots = if vertical {
+            let y = if towards_end.y > 0.0 { at.y - h } else { at.y };
+            [(at.x + GAP, y), (at.x - GAP - w, y)]
+        } else {
+            let x = if towards_end.x > 0.0 { at.x - w } else { at.x };
+            [(x, at.y - GAP - h), (x, at.y + GAP)]
+        };
+        candidates.extend(spots.map(|(x, y)| Rect { x, y, width: w, height: h }));
+    }
+    room.choose(&candidates, route, candidates[0])
+}
+
+/// What a label must keep clear of: the boxes, the labels placed before, every edge, and the
+/// frame's heading (it stays right of and below `corner`).
+struct Room<'a> {
+    obstacles: &'a [Rect],
+    placed: Vec<Rect>,
+    routes: &'a [&'a [Point]],
+    corner: Point,
+}
+
+impl Room<'_> {
+    /// The first of `candidates` clear of nodes, labels and every edge; else the nearest place
+    /// around the first candidate clear of all that; else the first candidate clear of nodes,
+    /// labels and its own edge; else of nodes and labels; else the nearest place around
+    /// `fallback` clear of nodes and labels; else `fallback`. The chosen box counts as placed.
+    fn choose(&mut self, candidates: &[Rect], route: &[Point], fallback: Rect) -> Rect {
+        let clear = |b: &Rect| {
+            b.x >= self.corner.x
+                && b.y >= self.corner.y
+                && !self.obstacles.iter().chain(&self.placed).any(|o| intersects(b.grown(2.0), *o))
+        };
+        let off = |route: &[Point], b: &Rect| !route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b));
+        let off_edges = |b: &Rect| self.routes.iter().all(|route| off(route, b));
+        // Near the first candidate, clear of everything, where no candidate is.
+        let nearby = || {
+            let first = candidates.first()?;
+            around(*first, 4.0, 1..16).map(|(_, spot)| spot).find(|b| clear(b) && off_edges(b))
+        };
+        let chosen = candidates
+            .iter()
+            .find(|b| clear(b) && off_edges(b))
+            .copied()
+            .or_else(nearby)
+            .or_else(|| candidates.iter().find(|b| clear(b) && off(route, b)).copied())
+            .or_else(|| candidates.iter().find(|b| clear(b)).copied())
+            .or_else(|| around(fallback, 8.0, 1..40).map(|(_, spot)| spot).find(|b| clear(b)))
+            .unwrap_or(fallback);
+        self.placed.push(chosen);
+        chosen
+    }
 }
 
 /// `origin` moved along square rings `step` apart around it, ring by ring (`rings`), the

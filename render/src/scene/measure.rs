@@ -12,8 +12,6 @@ pub(crate) const PADDING: f64 = 8.0;
 pub(crate) const LABEL_SIZE: f64 = FONT_SIZE * 0.85;
 /// Font size of port lines.
 pub(crate) const PORT_SIZE: f64 = FONT_SIZE * 0.85;
-/// Font size of association multiplicities.
-pub(crate) const MULTIPLICITY_SIZE: f64 = FONT_SIZE * 0.8;
 /// Lines of an action's body shown before it is collapsed to "…".
 const MAX_BODY_LINES: usize = 6;
 /// Longest body line shown, in characters.
@@ -70,8 +68,7 @@ pub(crate) fn label_lines(label: &str) -> Vec<String> {
 }
 
 /// The width and height of an edge label as drawn.
-pub(crate) fn label_size(label: &str) -> (f64, f64) {
-    let lines = label_lines(label);
+pub(crate) fn label_size(lines: &[String]) -> (f64, f64) {
     let width = lines.iter().map(|line| text::width(line, LABEL_SIZE, Style::Regular)).fold(0.0, f64::max);
     (width, text::line_height(LABEL_SIZE) * lines.len() as f64)
 }

@@ -23,9 +23,7 @@ use crate::{
     layout::{layered, layered_left_to_right, LayoutInput, LayoutNode, Spacing},
     text::{self, Style},
 };
-use measure::{
-    content, label_lines, label_size, port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH,
-};
+use measure::{content, label_size, port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH};
 use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
 
 /// An axis-parallel box: top-left corner and size.
@@ -118,9 +116,12 @@ pub struct SceneEdge {
     pub target: String,
     /// From the source's border (or port) to the target's.
     pub points: Vec<Point>,
+    /// The label along the edge: a guard, arguments, a connection's name.
     pub label: Option<EdgeLabel>,
-    /// Multiplicities beside the source and target ends.
-    pub multiplicities: Vec<Multiplicity>,
+    /// The labels at its source and target end (UML's association ends: the target's role
+    /// name and multiplicity at the target, the source's multiplicity at the source).
+    pub tail_label: Option<EdgeLabel>,
+    pub head_label: Option<EdgeLabel>,
 }
 
 /// An edge label: its box and lines, each with its baseline offset from the previous one.
@@ -128,15 +129,6 @@ pub struct SceneEdge {
 pub struct EdgeLabel {
     pub rect: Rect,
     pub lines: Vec<(f64, String)>,
-}
-
-/// A multiplicity beside an end of an association; `end_anchored` text ends at `x`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Multiplicity {
-    pub x: f64,
-    pub y: f64,
-    pub text: String,
-    pub end_anchored: bool,
 }
 
 /// A graph's edge with both ends found: node indices, and port indices on them.
@@ -185,7 +177,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
             .collect(),
         labels: Vec::new(),
     };
-    for e in &edges {
+    let texts: Vec<labels::EdgeTexts> = edges.iter().map(|e| labels::texts(e.edge)).collect();
+    for (e, texts) in edges.iter().zip(&texts) {
         // Generalization and realization point upwards in UML: lay them out parent first.
         input.edges.push(match e.edge.kind {
             EdgeKind::Generalization | EdgeKind::Realization => (e.to.0, e.from.0),
@@ -193,7 +186,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         });
         // The layout makes room for the labels of the edges it routes (not port to port).
         let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
-        input.labels.push(e.edge.label.as_deref().filter(|_| routed_by_layout).map(label_size));
+        let middle = Some(&texts.middle).filter(|m| routed_by_layout && !m.is_empty());
+        input.labels.push(middle.map(|m| label_size(m)));
     }
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
@@ -277,11 +271,13 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         layout.width = layout.width.max(point.x + 20.0);
         layout.height = layout.height.max(point.y + 20.0);
     }
-    let labels = place_labels(&edges, &layout.edges, &layout.labels, &boxes);
+    let corner = Point { x: frame::MARGIN + 4.0, y: heading.body_top() };
+    let labels = labels::place_all(&texts, &layout.edges, &layout.labels, &boxes, corner);
 
     // The drawing grows to hold edge labels that reach past the boxes, and lane titles.
-    let width = labels.iter().flatten().map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);
-    let height = labels.iter().flatten().map(|l| l.y + l.height + 8.0).fold(layout.height, f64::max);
+    let width = labels.iter().flat_map(labels::Placed::all).map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);
+    let height =
+        labels.iter().flat_map(labels::Placed::all).map(|l| l.y + l.height + 8.0).fold(layout.height, f64::max);
     // Room for every lane title (measured as its two runs, `lane` and ` : owner`).
     let width = graph
         .groups
@@ -313,7 +309,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
             for ((e, route), label) in edges.iter().zip(&layout.edges).zip(&labels) {
                 if inside(e.from.0) && inside(e.to.0) && !members.is_empty() {
                     members.extend(route.iter().map(|p| Rect { x: p.x, y: p.y, width: 0.0, height: 0.0 }));
-                    members.extend(*label);
+                    members.extend(label.all());
                 }
             }
             lane_of(group, &members, body)
@@ -322,14 +318,16 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let scene_edges = edges
         .iter()
         .zip(layout.edges)
+        .zip(texts)
         .zip(labels)
-        .map(|((e, points), label)| SceneEdge {
+        .map(|(((e, points), texts), at)| SceneEdge {
             id: e.edge.id.clone(),
             kind: e.edge.kind,
             source: e.edge.source.id().to_string(),
             target: e.edge.target.id().to_string(),
-            multiplicities: multiplicities(e.edge, &points),
-            label: e.edge.label.as_ref().zip(label).map(|(text, rect)| edge_label(text, rect)),
+            label: at.middle.map(|rect| edge_label(texts.middle, rect)),
+            tail_label: at.tail.map(|rect| edge_label(texts.tail, rect)),
+            head_label: at.head.map(|rect| edge_label(texts.head, rect)),
             points,
         })
         .collect();
@@ -349,34 +347,6 @@ fn port_reach(node: &gudsl_model::graph::GraphNode) -> (f64, f64) {
     let left = node.ports.iter().any(measure::port_on_left);
     let right = node.ports.iter().any(|p| !measure::port_on_left(p));
     (if left { reach } else { 0.0 }, if right { reach } else { 0.0 })
-}
-
-/// Each edge's label box: where the layout reserved it, else placed clear of the boxes, the
-/// other labels and every edge.
-fn place_labels(
-    edges: &[ResolvedEdge],
-    routes: &[Vec<Point>],
-    laid_out: &[Option<Point>],
-    boxes: &[Rect],
-) -> Vec<Option<Rect>> {
-    let all_routes: Vec<&[Point]> = routes.iter().map(Vec::as_slice).collect();
-    let mut labels: Vec<Option<Rect>> = edges
-        .iter()
-        .zip(laid_out)
-        .map(|(e, at)| {
-            let (width, height) = label_size(e.edge.label.as_ref()?);
-            at.map(|at| Rect { x: at.x, y: at.y, width, height })
-        })
-        .collect();
-    let mut placed: Vec<Rect> = labels.iter().flatten().copied().collect();
-    for ((e, route), label) in edges.iter().zip(routes).zip(&mut labels) {
-        if let (Some(text), None) = (&e.edge.label, *label) {
-            let chosen = labels::place_label(route, text, boxes, &placed, &all_routes);
-            placed.push(chosen);
-            *label = Some(chosen);
-        }
-    }
-    labels
 }
 
 fn lane_title(group: &gudsl_model::graph::GraphGroup) -> String {
@@ -414,35 +384,8 @@ fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[Rect], body: Rect)
     })
 }
 
-/// Multiplicities beside each end of an association (source end, then target end), on the side
-/// the edge turns away to (right of a straight one).
-fn multiplicities(edge: &gudsl_model::graph::GraphEdge, points: &[Point]) -> Vec<Multiplicity> {
-    let ends = [
-        (&edge.source_label, points.first(), points.get(1)),
-        (&edge.target_label, points.last(), points.len().checked_sub(2).and_then(|i| points.get(i))),
-    ];
-    let mut out = Vec::new();
-    for (multiplicity, end, next) in ends {
-        let (Some(text), Some(end), Some(next)) = (multiplicity.as_ref().filter(|m| !m.is_empty()), end, next) else {
-            continue;
-        };
-        let (dx, dy) = (next.x - end.x, next.y - end.y);
-        let len = (dx * dx + dy * dy).sqrt().max(1e-9);
-        let leftwards = dx < -0.5;
-        let side = if leftwards { -6.0 } else { 6.0 };
-        let (px, py) = (end.x + dx / len * 14.0 + side, end.y + dy / len * 14.0);
-        out.push(Multiplicity {
-            x: px,
-            y: py + text::ascent(measure::MULTIPLICITY_SIZE) / 2.0,
-            text: text.clone(),
-            end_anchored: leftwards,
-        });
-    }
-    out
-}
-
-fn edge_label(label: &str, rect: Rect) -> EdgeLabel {
-    let lines = label_lines(label)
+fn edge_label(lines: Vec<String>, rect: Rect) -> EdgeLabel {
+    let lines = lines
         .into_iter()
         .enumerate()
         .map(|(n, line)| (if n == 0 { text::ascent(LABEL_SIZE) } else { text::line_height(LABEL_SIZE) }, line))

@@ -150,7 +150,10 @@ pub struct EdgeView {
     pub range: lsp::Range,
     /// The route, source to target; empty where an end is not in the diagram.
     pub points: Vec<Point>,
+    /// The box of the label along it, and of the labels at its source and target end.
     pub label_bounds: Option<Bounds>,
+    pub source_label_bounds: Option<Bounds>,
+    pub target_label_bounds: Option<Bounds>,
 }
 
 #[derive(Debug, Serialize)]
@@ -321,6 +324,8 @@ fn view(
                     range: to_proto::range(index, edge.range, snap.encoding),
                     points: routed.map_or_else(Vec::new, |e| bends(&through_controls(e, &routes, &boxes))),
                     label_bounds: routed.and_then(|e| e.label.as_ref()).map(|l| l.rect.into()),
+                    source_label_bounds: routed.and_then(|e| e.tail_label.as_ref()).map(|l| l.rect.into()),
+                    target_label_bounds: routed.and_then(|e| e.head_label.as_ref()).map(|l| l.rect.into()),
                 }
             })
             .collect(),
