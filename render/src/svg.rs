@@ -182,6 +182,9 @@ fn draw_edge(out: &mut String, edge: &SceneEdge) {
 fn draw_node(out: &mut String, node: &SceneNode) {
     let (x, y, w, h) = (node.rect.x, node.rect.y, node.rect.width, node.rect.height);
     let _ = write!(out, r#"<g class="node" data-id="{}">"#, escape(&node.id));
+    if !node.title.is_empty() {
+        let _ = write!(out, "<title>{}</title>", escape(&node.title));
+    }
     draw_shape(out, node.shape, x, y, w, h);
     for line in &node.header {
         let weight = style_attribute(line.style);

@@ -64,6 +64,52 @@ fn every_sample_svg_rasterizes_with_resvg() {
 }
 
 #[test]
+fn no_text_is_lost_long_lines_wrap_and_the_title_holds_everything() {
+    let mut wrapped = 0;
+    for graph in sample_graphs().iter() {
+        let scene = scene::build(graph, scene::Hints::default());
+        for node in graph.nodes.iter() {
+            let drawn = scene.nodes.iter().find(|n| n.id == node.id).expect("every node is drawn");
+            let lines: Vec<&str> = drawn.compartments.iter().flat_map(|c| &c.lines).map(|l| l.text.as_str()).collect();
+            for line in &lines {
+                assert!(line.chars().count() <= 60, "{}: `{line}` is too long", node.id);
+                assert!(!line.ends_with('…') || line.ends_with("more lines"), "{}: `{line}` is cut", node.id);
+            }
+            // Every line of the model is in the tooltip whole, and drawn (wrapped) unless the
+            // body says how many lines it collapsed.
+            let joined: String = lines.iter().map(|l| l.trim()).collect::<Vec<_>>().join(" ");
+            let collapsed = lines.iter().any(|l| l.ends_with("more lines"));
+            for line in node.compartments.iter().flat_map(|c| &c.lines) {
+                assert!(drawn.title.contains(line.as_str()), "{}: `{line}` is not in the title", node.id);
+                let squeezed = |s: &str| s.split_whitespace().collect::<String>();
+                assert!(collapsed || squeezed(&joined).contains(&squeezed(line)), "{}: `{line}` is not drawn", node.id);
+            }
+            let indented = |l: &&crate::scene::TextLine| l.x > drawn.rect.x + PADDING + 1.0;
+            wrapped += drawn.compartments.iter().flat_map(|c| &c.lines).filter(indented).count();
+        }
+        assert!(crate::svg::write(&scene).contains("<title>"), "{}", graph.id);
+    }
+    assert!(wrapped > 0, "some sample has a line long enough to wrap");
+}
+
+#[test]
+fn wrapping_breaks_after_spaces_and_commas_and_cuts_nothing() {
+    let signature =
+        "+ filterBilateral(inBuffer : image2D_uc, outBuffer : image2D_uc, kernelSize : int, sigma : float) : void";
+    let lines = scene::measure::wrap(signature);
+    assert!(lines.len() > 1 && lines.iter().all(|l| l.chars().count() <= 60), "{lines:?}");
+    assert!(lines[0].ends_with(','), "{lines:?}");
+    assert!(lines[1..].iter().all(|l| l.starts_with("    ")));
+    let back: String = lines.iter().map(|l| l.trim()).collect::<Vec<_>>().join(" ");
+    assert_eq!(back, signature);
+    // A word longer than a line is broken within it.
+    let word = "x".repeat(130);
+    let lines = scene::measure::wrap(&word);
+    assert_eq!(lines.iter().map(|l| l.trim()).collect::<String>(), word);
+    assert_eq!(scene::measure::wrap("short"), ["short"]);
+}
+
+#[test]
 fn layout_json_is_the_metrics_script_format() {
     let mut kinds = std::collections::BTreeSet::new();
     for graph in sample_graphs().iter() {
@@ -180,8 +226,13 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
             let edge_y = (p.y - b.y).abs() < e || (p.y - b.y - b.height).abs() < e;
             inside && (edge_x || edge_y)
         };
-        assert!(on_border(route[0], boxes[s]), "{}: {} does not start on its box", graph.id, edge.id);
-        assert!(on_border(*route.last().unwrap(), boxes[t]), "{}: {} does not end on its box", graph.id, edge.id);
+        // A diamond's edges end on its outline.
+        let on_outline = |p: Point, node: usize| match scene.nodes[node].shape {
+            NodeShape::Decision => (crate::scene::notation::diamond_distance(p, boxes[node]) - 1.0).abs() < 1e-3,
+            _ => on_border(p, boxes[node]),
+        };
+        assert!(on_outline(route[0], s), "{}: {} does not start on its node's outline", graph.id, edge.id);
+        assert!(on_outline(*route.last().unwrap(), t), "{}: {} does not end on its node's outline", graph.id, edge.id);
     }
 }
 

@@ -12,10 +12,13 @@ pub(crate) const PADDING: f64 = 8.0;
 pub(crate) const LABEL_SIZE: f64 = FONT_SIZE * 0.85;
 /// Font size of port lines.
 pub(crate) const PORT_SIZE: f64 = FONT_SIZE * 0.85;
-/// Lines of an action's body shown before it is collapsed to "…".
-const MAX_BODY_LINES: usize = 6;
-/// Longest body line shown, in characters.
+/// Lines of an action's body shown before the rest is collapsed to "… N more lines" (the
+/// whole text is the node's `<title>`, a tooltip in a browser).
+const MAX_BODY_LINES: usize = 12;
+/// Longest line drawn, in characters: longer ones wrap.
 const MAX_LINE_CHARS: usize = 60;
+/// Indentation of a wrapped line's continuation.
+const CONTINUATION: &str = "    ";
 /// Edge labels (guards, arguments) wrap at spaces beyond this many characters per line.
 const LABEL_LINE_CHARS: usize = 40;
 
@@ -73,11 +76,29 @@ pub(crate) fn label_size(lines: &[String]) -> (f64, f64) {
     (width, text::line_height(LABEL_SIZE) * lines.len() as f64)
 }
 
-fn shorten(line: &str) -> String {
-    if line.chars().count() > MAX_LINE_CHARS {
-        format!("{}…", line.chars().take(MAX_LINE_CHARS - 1).collect::<String>())
-    } else {
-        line.to_string()
+/// `line` in lines of at most `MAX_LINE_CHARS` characters, broken after a comma or else a space
+/// where there is one in the line's later two thirds (else within a word); continuations are
+/// indented. Nothing is cut.
+pub(crate) fn wrap(line: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut rest = line;
+    loop {
+        let prefix = if out.is_empty() { "" } else { CONTINUATION };
+        let limit = MAX_LINE_CHARS - prefix.len();
+        let Some((cut, _)) = rest.char_indices().nth(limit) else {
+            out.push(format!("{prefix}{rest}"));
+            return out;
+        };
+        let head = &rest[..cut];
+        // After a comma (between parameters) if one is in the later two thirds, else after a
+        // space there, else within the word.
+        let after = |found: Option<usize>| found.map(|i| i + 1).filter(|&i| head[..i].chars().count() > limit / 3);
+        let at = after(head.rfind(',')).or_else(|| after(head.rfind(' '))).unwrap_or(cut);
+        out.push(format!("{prefix}{}", rest[..at].trim_end()));
+        rest = rest[at..].trim_start();
+        if rest.is_empty() {
+            return out;
+        }
     }
 }
 
@@ -106,7 +127,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
         .compartments
         .iter()
         .map(|c| {
-            let mut lines: Vec<String> = c.lines.iter().map(|l| shorten(l)).collect();
+            let mut lines: Vec<String> = c.lines.iter().flat_map(|l| wrap(l)).collect();
             if matches!(
                 node.shape,
                 NodeShape::Action | NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow
@@ -114,7 +135,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
             {
                 let hidden = lines.len() - MAX_BODY_LINES + 1;
                 lines.truncate(MAX_BODY_LINES - 1);
-                lines.push(format!("… {hidden} more"));
+                lines.push(format!("… {hidden} more lines"));
             }
             lines
         })

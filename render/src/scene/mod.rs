@@ -9,7 +9,7 @@ mod connections;
 mod frame;
 pub(crate) mod labels;
 pub(crate) mod measure;
-mod notation;
+pub(crate) mod notation;
 
 pub use arrange::Hints;
 pub use frame::Frame;
@@ -83,6 +83,8 @@ pub struct SceneNode {
     pub header: Vec<TextLine>,
     pub compartments: Vec<SceneCompartment>,
     pub ports: Vec<ScenePort>,
+    /// Everything the node says, unwrapped and uncollapsed: its tooltip.
+    pub title: String,
 }
 
 /// A compartment: the line above it and its text lines.
@@ -271,6 +273,14 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         layout.width = layout.width.max(point.x + 20.0);
         layout.height = layout.height.max(point.y + 20.0);
     }
+    // Edges end on a diamond's outline.
+    for (route, e) in layout.edges.iter_mut().zip(&edges) {
+        for (node, at_end) in [(e.from.0, false), (e.to.0, true)] {
+            if graph.nodes[node].shape == NodeShape::Decision && e.from.0 != e.to.0 {
+                notation::clip_to_diamond(route, at_end, boxes[node]);
+            }
+        }
+    }
     let corner = Point { x: frame::MARGIN + 4.0, y: heading.body_top() };
     let labels = labels::place_all(&texts, &layout.edges, &layout.labels, &boxes, corner);
 
@@ -411,7 +421,11 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
         cursor += PADDING / 2.0;
         let mut lines = Vec::new();
         for line in compartment {
-            lines.push(TextLine { x: rect.x + PADDING, y: cursor + ascent, text: line.clone(), style: Style::Regular });
+            // A wrapped line's continuation starts indented (SVG collapses leading spaces).
+            let text = line.trim_start();
+            let indent = text::width(&line[..line.len() - text.len()], FONT_SIZE, Style::Regular);
+            let (x, text) = (rect.x + PADDING + indent, text.to_string());
+            lines.push(TextLine { x, y: cursor + ascent, text, style: Style::Regular });
             cursor += line_h;
         }
         if compartment.is_empty() {
@@ -432,5 +446,15 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
             ScenePort { id: port.id.clone(), text, symbol_y: anchor.y, anchor, provider: port.provider, left }
         })
         .collect();
-    SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports }
+    let title = node
+        .stereotype
+        .iter()
+        .map(|s| format!("«{s}»"))
+        .chain([node.label.clone()])
+        .chain(node.compartments.iter().flat_map(|c| c.lines.iter().cloned()))
+        .chain(node.ports.iter().map(|p| p.label.clone()))
+        .filter(|line| !line.is_empty())
+        .collect::<Vec<String>>()
+        .join("\n");
+    SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports, title }
 }

@@ -3,7 +3,8 @@
 //! transitions into one node, where UML draws a decision diamond that the branches leave and a
 //! merge diamond that the flows meet at. The drawing gets those diamonds as nodes of its own
 //! (ids `node#decision`, `node#merge`); each transition keeps its id and label, and runs from
-//! the decision or into the merge.
+//! the decision or into the merge. Edges end on a diamond's outline, not its bounding box
+//! (`clip_to_diamond`).
 
 use std::{
     borrow::Cow,
@@ -11,6 +12,8 @@ use std::{
 };
 
 use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, GraphEdge, GraphKind, GraphNode, NodeShape};
+
+use super::{Point, Rect};
 
 /// The graph as drawn: `graph` with the decision and merge diamonds it leaves implicit.
 pub(super) fn with_control_nodes(graph: &Graph) -> Cow<'_, Graph> {
@@ -91,4 +94,49 @@ pub(super) fn with_control_nodes(graph: &Graph) -> Cow<'_, Graph> {
         });
     }
     Cow::Owned(drawn)
+}
+
+/// How far `p` lies out of the diamond inscribed in `rect`: 1 on its outline, less inside.
+pub(crate) fn diamond_distance(p: Point, rect: Rect) -> f64 {
+    let (a, b) = (rect.width / 2.0, rect.height / 2.0);
+    (p.x - rect.x - a).abs() / a.max(1e-9) + (p.y - rect.y - b).abs() / b.max(1e-9)
+}
+
+/// Moves a route's end (its last point if `at_end`, else its first), which lies on the bounding
+/// box of a diamond, along its last segment (extended past the box where it must be) onto the
+/// diamond's outline.
+pub(super) fn clip_to_diamond(route: &mut [Point], at_end: bool, rect: Rect) {
+    let len = route.len();
+    if len < 2 {
+        return;
+    }
+    let (end, from) = if at_end { (len - 1, len - 2) } else { (0, 1) };
+    let (p, e) = (route[from], route[end]);
+    let along = |t: f64| Point { x: p.x + (e.x - p.x) * t, y: p.y + (e.y - p.y) * t };
+    let distance = |t: f64| diamond_distance(along(t), rect);
+    // The distance is convex along the ray: find its least value (ternary search), then where it
+    // first falls to 1 (bisection).
+    let (mut lo, mut hi) = (0.0f64, 4.0f64);
+    for _ in 0..80 {
+        let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+        if distance(m1) < distance(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    let nearest = (lo + hi) / 2.0;
+    if distance(0.0) <= 1.0 || distance(nearest) > 1.0 {
+        return; // the segment starts inside the diamond, or never meets it
+    }
+    let (mut outside, mut inside) = (0.0, nearest);
+    for _ in 0..60 {
+        let mid = (outside + inside) / 2.0;
+        if distance(mid) > 1.0 {
+            outside = mid;
+        } else {
+            inside = mid;
+        }
+    }
+    route[end] = along(inside);
 }
