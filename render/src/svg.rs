@@ -140,6 +140,7 @@ fn style_attribute(style: Style) -> &'static str {
     match style {
         Style::Bold => r#" font-weight="bold""#,
         Style::Oblique => r#" font-style="italic""#,
+        Style::Underlined => r#" text-decoration="underline""#,
         Style::Regular => "",
     }
 }
@@ -205,8 +206,9 @@ fn draw_node(out: &mut String, node: &SceneNode) {
             let y = f(compartment.separator_y);
             let _ = write!(out, r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}" stroke="black"/>"#, f(x), f(x + w));
         }
-        for TextLine { x, y, text, .. } in &compartment.lines {
-            let _ = write!(out, r#"<text x="{}" y="{}">{}</text>"#, f(*x), f(*y), escape(text));
+        for TextLine { x, y, text, style } in &compartment.lines {
+            let style = style_attribute(*style);
+            let _ = write!(out, r#"<text x="{}" y="{}"{style}>{}</text>"#, f(*x), f(*y), escape(text));
         }
     }
     for port in &node.ports {

@@ -93,6 +93,19 @@ fn no_text_is_lost_long_lines_wrap_and_the_title_holds_everything() {
 }
 
 #[test]
+fn static_members_are_underlined() {
+    let graphs = sample_graphs();
+    let qualifiers = graphs.iter().find(|g| g.id == "Qualifiers").expect("listing 3 is a sample");
+    let svg = render(qualifiers);
+    let underlined: Vec<&str> = svg.lines().filter(|l| l.contains(r#"text-decoration="underline""#)).collect();
+    assert_eq!(underlined.len(), 1, "one node line holds them: {svg}");
+    let line = underlined[0];
+    // g, k and memcpy, wrapped on two lines.
+    assert_eq!(line.matches(r#"text-decoration="underline""#).count(), 4, "{line}");
+    assert!(line.contains(r#"text-decoration="underline">+ memcpy("#), "{line}");
+}
+
+#[test]
 fn wrapping_breaks_after_spaces_and_commas_and_cuts_nothing() {
     let signature =
         "+ filterBilateral(inBuffer : image2D_uc, outBuffer : image2D_uc, kernelSize : int, sigma : float) : void";
@@ -244,12 +257,8 @@ fn text_fits_its_box() {
             for (line, style) in &c.header {
                 assert!(text::width(line, FONT_SIZE, *style) + 2.0 * PADDING <= c.width + 1e-6, "{}: {line}", node.id);
             }
-            for line in c.compartments.iter().flatten() {
-                assert!(
-                    text::width(line, FONT_SIZE, Style::Regular) + 2.0 * PADDING <= c.width + 1e-6,
-                    "{}: {line}",
-                    node.id
-                );
+            for (line, style) in c.compartments.iter().flatten() {
+                assert!(text::width(line, FONT_SIZE, *style) + 2.0 * PADDING <= c.width + 1e-6, "{}: {line}", node.id);
             }
             for port in &node.ports {
                 let line = &port.label;

@@ -18,6 +18,8 @@ pub enum Style {
     Regular,
     Bold,
     Oblique,
+    /// Regular, underlined (UML's static members).
+    Underlined,
 }
 
 /// Advance widths of one face, in font units.
@@ -65,7 +67,7 @@ fn face(style: Style) -> &'static Face {
     static FACES: OnceLock<[Face; 3]> = OnceLock::new();
     let faces = FACES.get_or_init(|| [Face::load(REGULAR), Face::load(BOLD), Face::load(OBLIQUE)]);
     match style {
-        Style::Regular => &faces[0],
+        Style::Regular | Style::Underlined => &faces[0],
         Style::Bold => &faces[1],
         Style::Oblique => &faces[2],
     }

@@ -20,17 +20,20 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
         .filter_map(|node| {
             let name = |n: Option<ast::Name>| n.map(|n| n.text()).unwrap_or_default();
             if let Some(v) = ast::Variable::cast(node.clone()) {
-                let read_only = v.modifiers().is_some_and(|m| m.has(crate::syntax::SyntaxKind::CONST_KW));
+                let read_only = v.has_modifier(crate::syntax::SyntaxKind::CONST_KW);
+                let is_ref = v.has_modifier(crate::syntax::SyntaxKind::REF_KW);
                 return Some(attribute_line(
                     visibility_mark(&v),
                     &name(v.name()),
                     v.type_ref(),
+                    is_ref,
                     v.initializer(),
                     read_only,
                 ));
             }
             let v = ast::VarDecl::cast(node)?;
-            Some(attribute_line("", &name(v.name()), v.type_ref(), v.initializer(), v.const_token().is_some()))
+            let (is_ref, read_only) = (v.has_modifier(crate::syntax::SyntaxKind::REF_KW), v.is_const());
+            Some(attribute_line("", &name(v.name()), v.type_ref(), is_ref, v.initializer(), read_only))
         })
         .collect();
     let mut lanes: Vec<(Option<String>, Vec<ast::ActivityNode>)> = Vec::new();

@@ -2,11 +2,13 @@
 //! generalizations, realizations and associations, and the types of other diagrams they reach.
 
 use super::{
-    edge_id, text, visibility_mark, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge, GraphKind, GraphNode, NodeShape,
+    attribute_line, edge_id, text, type_text, visibility_mark, Compartment, EdgeEnd, EdgeKind, Graph, GraphEdge,
+    GraphKind, GraphNode, NodeShape,
 };
 use crate::{
-    ast::{self, AstNode, HasName},
+    ast::{self, AstNode, HasModifiers, HasName},
     hir::{items::TypeKind, DefKind, Scope, Semantics},
+    syntax::SyntaxKind::{CONST_KW, GLOBAL_KW, REF_KW},
     syntax::TextRange,
 };
 
@@ -41,31 +43,42 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
             ast::TypeDecl::AttributeDef(_) => (NodeShape::Attribute, Some("attribute".to_string()), false, Vec::new()),
         };
         let label = if template.is_empty() { name.clone() } else { format!("{name}<{}>", template.join(", ")) };
+        // Generator attributes applied to the type (`[CppType(name = "x")]`), as UML shows
+        // applied stereotypes: beside its kind's, as written.
+        let applied: Vec<String> = decl.attribute_lists().iter().flat_map(|l| l.uses()).map(|u| text(&u)).collect();
+        let stereotype = match (stereotype, applied.is_empty()) {
+            (stereotype, true) => stereotype,
+            (None, false) => Some(applied.join(", ")),
+            (Some(kind), false) => Some(format!("{kind}, {}", applied.join(", "))),
+        };
         let mut fields = Compartment::plain(None, Vec::new());
         let mut methods = Compartment::plain(None, Vec::new());
         for member in decl.members() {
             match &member {
+                // As UML writes members: `+ name : type = initial {readOnly}`, references as
+                // `ref type`, static (`global`) members underlined.
                 ast::Member::Field(f) => {
-                    let ty = f.type_ref().map(|t| text(&t)).unwrap_or_default();
                     let name = f.name().map(|n| n.text()).unwrap_or_default();
-                    fields.lines.push(format!("{}{name} : {ty}", visibility_mark(f)));
+                    let (is_ref, is_const) = (f.has_modifier(REF_KW), f.has_modifier(CONST_KW));
+                    let line =
+                        attribute_line(visibility_mark(f), &name, f.type_ref(), is_ref, f.initializer(), is_const);
+                    fields.lines.push(line);
                     fields.ids.push(format!("{fqn}.{name}"));
+                    fields.statics.push(f.has_modifier(GLOBAL_KW));
                 }
                 ast::Member::Method(m) => {
-                    let ret = m.return_type().map(|t| text(&t)).unwrap_or_default();
+                    let ret = type_text(m.return_type(), m.has_modifier(REF_KW));
                     let params: Vec<String> = m
                         .params()
                         .map(|p| {
-                            format!(
-                                "{} : {}",
-                                p.name().map(|n| n.text()).unwrap_or_default(),
-                                p.type_ref().map(|t| text(&t)).unwrap_or_default()
-                            )
+                            let name = p.name().map(|n| n.text()).unwrap_or_default();
+                            format!("{name} : {}", type_text(p.type_ref(), p.has_modifier(REF_KW)))
                         })
                         .collect();
                     let name = m.name().map(|n| n.text()).unwrap_or_default();
                     methods.lines.push(format!("{}{name}({}) : {ret}", visibility_mark(m), params.join(", ")));
                     methods.ids.push(format!("{fqn}.{name}()"));
+                    methods.statics.push(m.has_modifier(GLOBAL_KW));
                 }
                 ast::Member::Association(_) => {}
             }
@@ -74,7 +87,8 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
         if let ast::TypeDecl::Enum(e) = &decl {
             let values: Vec<String> = e.values().filter_map(|v| v.name()).map(|n| n.text()).collect();
             let ids = values.iter().map(|v| format!("{fqn}.{v}")).collect();
-            compartments = vec![Compartment { title: None, lines: values, ids }];
+            let statics = vec![false; values.len()];
+            compartments = vec![Compartment { title: None, lines: values, ids, statics }];
         }
         graph.nodes.push(GraphNode {
             id: fqn.clone(),

@@ -135,7 +135,8 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
             compartments: if values.is_empty() {
                 Vec::new()
             } else {
-                vec![Compartment { title: None, lines: values, ids: value_ids }]
+                let statics = vec![false; values.len()];
+                vec![Compartment { title: None, lines: values, ids: value_ids, statics }]
             },
             ports,
             group: None,

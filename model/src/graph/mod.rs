@@ -61,13 +61,16 @@ pub struct Compartment {
     /// instance's field value: `Owner.name`, a method `Owner.name()`), empty for a line that
     /// is no element of its own (a statement, a loop header's section).
     pub ids: Vec<String>,
+    /// `statics[i]`: `lines[i]` shows a static (`global`) member, which UML underlines.
+    pub statics: Vec<bool>,
 }
 
 impl Compartment {
     /// A compartment of lines that are no elements of their own.
     fn plain(title: Option<String>, lines: Vec<String>) -> Compartment {
         let ids = vec![String::new(); lines.len()];
-        Compartment { title, lines, ids }
+        let statics = vec![false; lines.len()];
+        Compartment { title, lines, ids, statics }
     }
 }
 
@@ -261,15 +264,17 @@ pub(super) fn syntax_text(node: &crate::syntax::SyntaxNode) -> String {
     out.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// An attribute as UML writes one: `+ name : type = initial`, and `{readOnly}` for a constant.
+/// An attribute as UML writes one: `+ name : type = initial`, and `{readOnly}` for a constant;
+/// a reference's type is `ref type`.
 pub(super) fn attribute_line(
     visibility: &str,
     name: &str,
     ty: Option<ast::TypeRef>,
+    is_ref: bool,
     initial: Option<ast::Expr>,
     read_only: bool,
 ) -> String {
-    let mut line = format!("{visibility}{name} : {}", ty.map(|t| text(&t)).unwrap_or_default());
+    let mut line = format!("{visibility}{name} : {}", type_text(ty, is_ref));
     if let Some(initial) = initial {
         line.push_str(" = ");
         line.push_str(&text(&initial));
@@ -278,6 +283,18 @@ pub(super) fn attribute_line(
         line.push_str(" {readOnly}");
     }
     line
+}
+
+/// A type as written, `ref type` where a `ref` modifier (not the type itself) makes it a
+/// reference.
+pub(super) fn type_text(ty: Option<ast::TypeRef>, is_ref: bool) -> String {
+    let written = ty.as_ref().map(text).unwrap_or_default();
+    let written_ref = ty.is_some_and(|t| t.is_ref());
+    if is_ref && !written_ref {
+        format!("ref {written}")
+    } else {
+        written
+    }
 }
 
 /// UML's mark of a member's visibility.

@@ -220,3 +220,26 @@ fn component_ports_are_named_once_with_their_mode_and_commented_components_keep_
     let camera = g.nodes.iter().find(|n| n.label == "Camera").unwrap();
     assert_eq!(camera.stereotype.as_deref(), Some("source"));
 }
+
+#[test]
+fn class_members_show_their_qualifiers_as_uml_does_and_applied_attributes_their_usage() {
+    // Listing 3: constants are {readOnly} with their values, references `ref type`, statics
+    // (`global`) flagged for underlining.
+    let g = &graphs_of(&[("a", seed("listing03_qualifiers.gudsl"))])[0];
+    let memory = &g.nodes[0];
+    let (fields, methods) = (&memory.compartments[0], &memory.compartments[1]);
+    assert_eq!(
+        fields.lines,
+        ["+ i : int = 0 {readOnly}", "# j : ref real", "- g : int = 100", "+ k : ref int = ref g {readOnly}"]
+    );
+    assert_eq!(fields.statics, [false, false, true, true]);
+    assert_eq!(methods.lines, ["+ memcpy(dst : ref void, src : ref void, numBytes : int) : void"]);
+    assert_eq!(methods.statics, [true]);
+    // Listing 5: an applied generator attribute shows as written beside the type's kind.
+    let g = &graphs_of(&[("a", seed("listing05_attribute_usage.gudsl")), ("b", seed("listing04_attributes.gudsl"))])[0];
+    let image = g.nodes.iter().find(|n| n.id == "AttributeUsage.Image").unwrap();
+    assert_eq!(image.stereotype.as_deref(), Some("Attributes.GeneratorVisibility(visible = false)"));
+    // Listing 8's activity variables: a `ref` modifier shows in the type.
+    let g = &graphs_of(&[("a", "ActivityDiagram A() { public ref int r; var ref Image im; }".to_string())])[0];
+    assert_eq!(g.variables, ["+ r : ref int", "im : ref Image"]);
+}

@@ -22,10 +22,11 @@ const CONTINUATION: &str = "    ";
 /// Edge labels (guards, arguments) wrap at spaces beyond this many characters per line.
 const LABEL_LINE_CHARS: usize = 40;
 
-/// A node's drawn content: header lines (stereotype, name) and compartments of lines.
+/// A node's drawn content: header lines (stereotype, name) and compartments of lines, each in
+/// its style.
 pub(crate) struct Content {
     pub(crate) header: Vec<(String, Style)>,
-    pub(crate) compartments: Vec<Vec<String>>,
+    pub(crate) compartments: Vec<Vec<(String, Style)>>,
     pub(crate) width: f64,
     pub(crate) height: f64,
 }
@@ -123,11 +124,13 @@ pub(crate) fn content(node: &GraphNode) -> Content {
     }
     let name_style = if node.is_abstract { Style::Oblique } else { Style::Bold };
     header.push((node.label.clone(), name_style));
-    let mut compartments: Vec<Vec<String>> = node
+    let mut compartments: Vec<Vec<(String, Style)>> = node
         .compartments
         .iter()
         .map(|c| {
-            let mut lines: Vec<String> = c.lines.iter().flat_map(|l| wrap(l)).collect();
+            let style = |i: usize| if c.statics.get(i) == Some(&true) { Style::Underlined } else { Style::Regular };
+            let mut lines: Vec<(String, Style)> =
+                c.lines.iter().enumerate().flat_map(|(i, l)| wrap(l).into_iter().map(move |w| (w, style(i)))).collect();
             if matches!(
                 node.shape,
                 NodeShape::Action | NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow
@@ -135,7 +138,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
             {
                 let hidden = lines.len() - MAX_BODY_LINES + 1;
                 lines.truncate(MAX_BODY_LINES - 1);
-                lines.push(format!("… {hidden} more lines"));
+                lines.push((format!("… {hidden} more lines"), Style::Regular));
             }
             lines
         })
@@ -147,7 +150,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
     }
     let widest_header = header.iter().map(|(t, s)| text::width(t, FONT_SIZE, *s)).fold(0.0, f64::max);
     let widest_line =
-        compartments.iter().flatten().map(|l| text::width(l, FONT_SIZE, Style::Regular)).fold(0.0, f64::max);
+        compartments.iter().flatten().map(|(l, style)| text::width(l, FONT_SIZE, *style)).fold(0.0, f64::max);
     let ports_width =
         node.ports.iter().map(|p| text::width(&p.label, PORT_SIZE, Style::Regular) + PORT_INSET).fold(0.0, f64::max);
     let mut width = widest_header.max(widest_line).max(ports_width) + 2.0 * PADDING;
@@ -168,7 +171,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
 
 /// The height of a node's text: header lines, compartments (an empty one keeps one line) with
 /// their separators, and the port lines.
-fn text_height(header_lines: usize, compartments: &[Vec<String>], ports: usize) -> f64 {
+fn text_height(header_lines: usize, compartments: &[Vec<(String, Style)>], ports: usize) -> f64 {
     let line_h = text::line_height(FONT_SIZE);
     let lines = header_lines + compartments.iter().map(|c| c.len().max(1)).sum::<usize>();
     lines as f64 * line_h + (1 + compartments.len()) as f64 * PADDING + ports as f64 * line_h * 0.9

@@ -420,12 +420,12 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
         let separator_y = cursor;
         cursor += PADDING / 2.0;
         let mut lines = Vec::new();
-        for line in compartment {
+        for (line, style) in compartment {
             // A wrapped line's continuation starts indented (SVG collapses leading spaces).
             let text = line.trim_start();
             let indent = text::width(&line[..line.len() - text.len()], FONT_SIZE, Style::Regular);
             let (x, text) = (rect.x + PADDING + indent, text.to_string());
-            lines.push(TextLine { x, y: cursor + ascent, text, style: Style::Regular });
+            lines.push(TextLine { x, y: cursor + ascent, text, style: *style });
             cursor += line_h;
         }
         if compartment.is_empty() {

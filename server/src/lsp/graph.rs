@@ -124,6 +124,8 @@ pub struct CompartmentView {
     pub lines: Vec<String>,
     /// The id of the element each line shows (a field, a method, …), `""` for a plain line.
     pub ids: Vec<String>,
+    /// Whether each line shows a static (`global`) member: UML underlines it.
+    pub statics: Vec<bool>,
 }
 
 #[derive(Debug, Serialize)]
@@ -290,7 +292,12 @@ fn view(
                 compartments: node
                     .compartments
                     .iter()
-                    .map(|c| CompartmentView { title: c.title.clone(), lines: c.lines.clone(), ids: c.ids.clone() })
+                    .map(|c| CompartmentView {
+                        title: c.title.clone(),
+                        lines: c.lines.clone(),
+                        ids: c.ids.clone(),
+                        statics: c.statics.clone(),
+                    })
                     .collect(),
                 ports: node
                     .ports
