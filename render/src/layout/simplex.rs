@@ -227,23 +227,16 @@ impl Simplex {
         self.tree = Tree::of(self);
     }
 
-    /// Ranks with each connected part's top at 0.
+    /// Ranks with each connected part's top at 0 (a part is its tree root's subtree).
     fn normalised(&self) -> Vec<usize> {
-        let n = self.rank.len();
-        let mut top = vec![i64::MAX; n];
-        // The tree's roots are the parts' first boxes; postorder puts a part's boxes together.
-        let root_of = |v: usize| {
-            let mut v = v;
-            while let Some(arc) = self.tree.parent_arc[v] {
-                let (a, b) = self.arcs[arc];
-                v = if a == v { b } else { a };
+        let mut rank = vec![0; self.rank.len()];
+        for root in (0..self.rank.len()).filter(|&v| self.tree.parent_arc[v].is_none()) {
+            let part = self.tree.subtree(root);
+            let top = part.iter().map(|&v| self.rank[v]).min().unwrap_or(0);
+            for &v in part {
+                rank[v] = (self.rank[v] - top) as usize;
             }
-            v
-        };
-        let roots: Vec<usize> = (0..n).map(root_of).collect();
-        for v in 0..n {
-            top[roots[v]] = top[roots[v]].min(self.rank[v]);
         }
-        (0..n).map(|v| (self.rank[v] - top[roots[v]]) as usize).collect()
+        rank
     }
 }

@@ -91,10 +91,8 @@ pub(crate) fn intersects(a: Rect, b: Rect) -> bool {
     a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height
 }
 
-/// A box for `label` beside its edge, clear of every node, already placed label and edge (its
-/// own included) if any candidate is (along each segment, on either side); else clear of nodes,
-/// labels and its own edge; else of nodes and labels; else the nearest place to the edge's
-/// middle clear of nodes and labels; else the middle.
+/// A box of size `(w, h)` for a middle label beside its edge: candidates along each segment, on
+/// either side, chosen as `Room::choose` does (the edge's middle where none is clear).
 fn place_label(route: &[Point], (w, h): (f64, f64), room: &mut Room) -> Rect {
     let mut candidates = Vec::new();
     for (fraction, gap) in
