@@ -266,20 +266,18 @@ fn draw_shape(out: &mut String, shape: NodeShape, x: f64, y: f64, w: f64, h: f64
                 f(y + h / 2.0)
             );
         }
-        NodeShape::Action | NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow => {
-            let fill = match shape {
-                NodeShape::Calc | NodeShape::CalcRange => "#eef4ff",
-                NodeShape::Loop | NodeShape::LoopWindow => "#f2fbef",
-                _ => "white",
-            };
+        NodeShape::Action => {
             let _ = write!(
                 out,
-                r#"<rect x="{}" y="{}" width="{}" height="{}" rx="10" fill="{fill}" stroke="black"/>"#,
+                r#"<rect x="{}" y="{}" width="{}" height="{}" rx="10" fill="white" stroke="black"/>"#,
                 f(x),
                 f(y),
                 f(w),
                 f(h)
             );
+        }
+        NodeShape::Calc | NodeShape::CalcRange | NodeShape::Loop | NodeShape::LoopWindow => {
+            draw_expansion_region(out, shape, x, y, w, h)
         }
         _ => {
             let dash = if shape == NodeShape::External { r#" stroke-dasharray="4,3""# } else { "" };
@@ -306,6 +304,40 @@ fn draw_shape(out: &mut String, shape: NodeShape, x: f64, y: f64, w: f64, h: f64
                 );
             }
         }
+    }
+}
+
+/// A loop or calc node as UML draws an expansion region: a dashed rounded box (tinted: blue
+/// runs on the GPU, green loops) with an expansion node, a box of three cells, on its left
+/// border where the iterated range (the work grid, the loop's values) comes in.
+fn draw_expansion_region(out: &mut String, shape: NodeShape, x: f64, y: f64, w: f64, h: f64) {
+    let fill = if matches!(shape, NodeShape::Calc | NodeShape::CalcRange) { "#eef4ff" } else { "#f2fbef" };
+    let _ = write!(
+        out,
+        r#"<rect x="{}" y="{}" width="{}" height="{}" rx="10" fill="{fill}" stroke="black" stroke-dasharray="6,4"/>"#,
+        f(x),
+        f(y),
+        f(w),
+        f(h)
+    );
+    let (cell, top) = (8.0, y + h / 2.0 - 12.0);
+    let _ = write!(
+        out,
+        r#"<rect class="expansion-node" x="{}" y="{}" width="{}" height="{}" fill="white" stroke="black"/>"#,
+        f(x - cell / 2.0),
+        f(top),
+        f(cell),
+        f(3.0 * cell)
+    );
+    for divider in [top + cell, top + 2.0 * cell] {
+        let _ = write!(
+            out,
+            r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="black"/>"#,
+            f(x - cell / 2.0),
+            f(divider),
+            f(x + cell / 2.0),
+            f(divider)
+        );
     }
 }
 

@@ -296,3 +296,40 @@ fn activity_branches_and_meetings_go_through_diamonds() {
     }
     assert!(diamonds > 10, "{diamonds}");
 }
+
+#[test]
+fn loops_and_calc_nodes_are_drawn_as_expansion_regions() {
+    let graphs = sample_graphs();
+    let window = graphs.iter().find(|g| g.id == "LoopWindowExample").expect("listing 12 is a sample");
+    let svg = render(window);
+    let node = node_svg(&svg, "LoopWindowExample/Lane/filterKernel");
+    assert!(node.contains(r#"stroke-dasharray="6,4""#), "a dashed region: {node}");
+    assert!(node.contains(r#"class="expansion-node""#), "with its expansion node: {node}");
+    // The dissertation's areas, labelled, each loop of the window in every area.
+    for area in ["setup: var int u = -n_radius, var float v", "test: u &lt; n_radius, v &lt; n_radius", "increment: u"]
+    {
+        assert!(node.contains(area), "{area}: {node}");
+    }
+    let scene = scene::build(window, scene::Hints::default());
+    let region = scene.nodes.iter().find(|n| n.id.ends_with("filterKernel")).unwrap();
+    // The keyword in the top left corner, the name centred.
+    let (keyword, name) = (&region.header[0], &region.header[1]);
+    assert_eq!(keyword.text, "«loopWindow»");
+    let keyword_left = keyword.x - text::width(&keyword.text, FONT_SIZE, keyword.style) / 2.0;
+    assert!((keyword_left - region.rect.x - PADDING).abs() < 0.01, "{keyword_left} vs {:?}", region.rect);
+    assert!((name.x - region.rect.x - region.rect.width / 2.0).abs() < 0.01);
+    // An action stays a solid box without expansion nodes.
+    let action = node_svg(&svg, "LoopWindowExample/Lane/writeOutput");
+    assert!(!action.contains("stroke-dasharray") && !action.contains("expansion-node"), "{action}");
+
+    let calc = graphs.iter().find(|g| g.id == "CalcNodeExample").expect("listing 10 is a sample");
+    let svg = render(calc);
+    let node = node_svg(&svg, "CalcNodeExample/Lane/filterData");
+    assert!(node.contains(r#"stroke-dasharray="6,4""#) && node.contains("expansion-node"), "{node}");
+}
+
+/// The SVG group that draws the node `id` (its title may span lines).
+fn node_svg<'a>(svg: &'a str, id: &str) -> &'a str {
+    let start = svg.find(&format!(r#"<g class="node" data-id="{id}">"#)).expect("the node is drawn");
+    &svg[start..start + svg[start..].find("</g>").unwrap()]
+}

@@ -76,8 +76,7 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
             let label = if params.is_empty() { name.clone() } else { format!("{name}({})", params.join(", ")) };
             let mut compartments = Vec::new();
             if let Some(header) = node.loop_header() {
-                let sections: Vec<String> = header.sections().map(|s| text(&s)).collect();
-                compartments.push(Compartment::plain(Some("header".into()), sections));
+                compartments.push(Compartment::plain(Some("header".into()), loop_section_lines(&header)));
             }
             let statements: Vec<String> = node.statements().map(|s| text(&s)).collect();
             if !statements.is_empty() {
@@ -129,4 +128,17 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
         }
     }
     graph
+}
+
+/// A loop header's sections as the dissertation names its areas (§10.2.1.4): `setup`, `test`
+/// and `increment` of `(setup; test; increment)`, the `test` of a `while` loop `(test)`; a
+/// header of another shape (an error the validator reports) shows its sections as written.
+fn loop_section_lines(header: &ast::LoopHeader) -> Vec<String> {
+    let sections: Vec<String> = header.sections().map(|s| text(&s)).collect();
+    let names: &[&str] = match sections.len() {
+        1 => &["test"],
+        3 => &["setup", "test", "increment"],
+        _ => return sections,
+    };
+    names.iter().zip(&sections).filter(|(_, s)| !s.is_empty()).map(|(name, s)| format!("{name}: {s}")).collect()
 }

@@ -243,3 +243,29 @@ fn class_members_show_their_qualifiers_as_uml_does_and_applied_attributes_their_
     let g = &graphs_of(&[("a", "ActivityDiagram A() { public ref int r; var ref Image im; }".to_string())])[0];
     assert_eq!(g.variables, ["+ r : ref int", "im : ref Image"]);
 }
+
+#[test]
+fn loop_headers_show_the_dissertations_setup_test_and_increment_areas() {
+    let text = "ActivityDiagram L(int n) { swimlane Lane {
+        start s { => a; }
+        loop a(var int i = 0; i < n; i = i + 1) { n = n; => b; }
+        loop b(i < n) { => c; }
+        loopWindow c(var int u = 0, var int v = 0; u < n, v < n; u = u + 1, v = v + 1) { => d; }
+        loop d(i < n; i) { => f; }
+        final f;
+    } }";
+    let g = &graphs_of(&[("a", text.to_string())])[0];
+    let header = |name: &str| {
+        let node = g.nodes.iter().find(|n| n.id == format!("L/Lane/{name}")).unwrap();
+        assert_eq!(node.stereotype.as_deref(), Some(if name == "c" { "loopWindow" } else { "loop" }));
+        node.compartments[0].lines.clone()
+    };
+    assert_eq!(header("a"), ["setup: var int i = 0", "test: i < n", "increment: i = i + 1"]);
+    assert_eq!(header("b"), ["test: i < n"]);
+    assert_eq!(
+        header("c"),
+        ["setup: var int u = 0, var int v = 0", "test: u < n, v < n", "increment: u = u + 1, v = v + 1"]
+    );
+    // A header the validator rejects is shown as written.
+    assert_eq!(header("d"), ["i < n", "i"]);
+}

@@ -403,6 +403,12 @@ fn edge_label(lines: Vec<String>, rect: Rect) -> EdgeLabel {
     EdgeLabel { rect, lines }
 }
 
+/// The activity nodes the dissertation draws like UML expansion regions (chapter 10): loops
+/// and loop windows iterate over their ranges, calc and calcRange nodes over a GPU work grid.
+pub fn is_expansion_region(shape: NodeShape) -> bool {
+    matches!(shape, NodeShape::Loop | NodeShape::LoopWindow | NodeShape::Calc | NodeShape::CalcRange)
+}
+
 /// A node's text lines and port rows at their places: the header centred, compartments
 /// left-aligned under their separators, then the ports.
 fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rect) -> SceneNode {
@@ -410,8 +416,15 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
     let ascent = text::ascent(FONT_SIZE);
     let mut cursor = text_top(node, content, rect.y);
     let mut header = Vec::new();
-    for (line, style) in &content.header {
-        header.push(TextLine { x: rect.x + rect.width / 2.0, y: cursor + ascent, text: line.clone(), style: *style });
+    for (n, (line, style)) in content.header.iter().enumerate() {
+        // An expansion region's keyword sits in its top left corner (UML 2, §16.12); header
+        // lines are drawn centred on their x, so the keyword's x is its middle.
+        let x = if n == 0 && node.stereotype.is_some() && is_expansion_region(node.shape) {
+            rect.x + PADDING + text::width(line, FONT_SIZE, *style) / 2.0
+        } else {
+            rect.x + rect.width / 2.0
+        };
+        header.push(TextLine { x, y: cursor + ascent, text: line.clone(), style: *style });
         cursor += line_h;
     }
     let mut compartments = Vec::new();
