@@ -73,10 +73,15 @@ pub fn write(scene: &Scene) -> String {
             escape(&lane.title.text)
         );
     }
+    // Nodes that hold others first (parents before children): the edges inside them on top.
+    let holds = |node: &SceneNode| scene.nodes.iter().any(|n| n.parent.as_ref() == Some(&node.id));
+    for node in scene.nodes.iter().filter(|n| holds(n)) {
+        draw_node(&mut out, node);
+    }
     for edge in &scene.edges {
         draw_edge(&mut out, edge);
     }
-    for node in &scene.nodes {
+    for node in scene.nodes.iter().filter(|n| !holds(n)) {
         draw_node(&mut out, node);
     }
     out.push_str("</svg>\n");

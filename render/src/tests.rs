@@ -162,8 +162,23 @@ fn sample_geometry_is_clean() {
 /// ports).
 pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool) {
     let boxes: Vec<Rect> = scene.nodes.iter().map(|n| n.rect).collect();
+    // A nested component and the nodes that hold it: it lies inside each of them.
+    let lineage = |node: usize| {
+        std::iter::successors(Some(node), |&n| {
+            let parent = scene.nodes[n].parent.as_ref()?;
+            scene.nodes.iter().position(|m| &m.id == parent)
+        })
+        .collect::<Vec<usize>>()
+    };
     for a in 0..boxes.len() {
         for b in a + 1..boxes.len() {
+            let (outer, inner) = if lineage(a).contains(&b) { (b, a) } else { (a, b) };
+            if lineage(inner).contains(&outer) {
+                let (o, i) = (boxes[outer], boxes[inner]);
+                let within = i.x > o.x && i.y > o.y && i.x + i.width < o.x + o.width && i.y + i.height < o.y + o.height;
+                assert!(within, "{}: {} sticks out of {}", graph.id, scene.nodes[inner].id, scene.nodes[outer].id);
+                continue;
+            }
             assert!(
                 !intersects(boxes[a], boxes[b]),
                 "{}: {} overlaps {}",
@@ -185,13 +200,22 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
         }
     }
     let frame = scene.frame.rect;
+    let index_of = |id: &str| scene.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
+    // The nodes that hold an edge's two ends (or are one end and hold the other).
+    let holding = |edge: &str| {
+        let e = scene.edges.iter().find(|e| e.id == edge).unwrap();
+        let (Some(s), Some(t)) = (index_of(&e.source), index_of(&e.target)) else { return Vec::new() };
+        lineage(s).into_iter().filter(|&n| lineage(t).contains(&n) && (n != s || n != t)).collect::<Vec<usize>>()
+    };
     for &(edge, label) in &labels {
         for other in scene.edges.iter().filter(|_| labels_off_edges) {
             let crossed = other.points.windows(2).any(|s| segment_meets_box(s[0], s[1], label));
             assert!(!crossed, "{}: label of {edge} is crossed by {}", graph.id, other.id);
         }
+        let open = holding(edge);
         for (i, b) in boxes.iter().enumerate() {
-            assert!(!intersects(label, *b), "{}: label of {edge} covers {}", graph.id, scene.nodes[i].id);
+            let clear = !intersects(label, *b) || (open.contains(&i) && !intersects(label, text_area(&scene.nodes[i])));
+            assert!(clear, "{}: label of {edge} covers {}", graph.id, scene.nodes[i].id);
         }
         let inside = label.x >= frame.x
             && label.y >= frame.y
@@ -199,7 +223,6 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
             && label.y + label.height <= frame.y + frame.height;
         assert!(inside, "{}: label of {edge} is outside the frame", graph.id);
     }
-    let index_of = |id: &str| scene.nodes.iter().position(|n| id == n.id || id.starts_with(&format!("{}.", n.id)));
     let graph_node = |node: usize| graph.nodes.iter().find(|n| n.id == scene.nodes[node].id);
     for edge in &scene.edges {
         let route = &edge.points;
@@ -212,9 +235,15 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
             let drawn = graph_node(node)?;
             drawn.ports.iter().position(|p| p.id == id).map(|i| {
                 let at = Point { x: boxes[node].x, y: boxes[node].y };
-                port_anchors(drawn, &content(drawn), at)[i]
+                let mut measured = content(drawn);
+                // A parent's text stays on top of the room its nested components take.
+                measured.nested = boxes[node].height - measured.height;
+                (measured.width, measured.height) = (boxes[node].width, boxes[node].height);
+                port_anchors(drawn, &measured, at)[i]
             })
         };
+        // It runs inside its ends' parents, never through their text.
+        let inside: Vec<usize> = lineage(s).into_iter().skip(1).chain(lineage(t).into_iter().skip(1)).collect();
         if let (Some(a), Some(b)) = (port_anchor(s, &edge.source), port_anchor(t, &edge.target)) {
             assert_eq!(route[0], a, "{}: {} does not start at its port", graph.id, edge.id);
             assert_eq!(*route.last().unwrap(), b, "{}: {} does not end at its port", graph.id, edge.id);
@@ -223,6 +252,7 @@ pub(crate) fn assert_clean(graph: &Graph, scene: &Scene, labels_off_edges: bool)
                 let (x0, x1) = (segment[0].x.min(segment[1].x), segment[0].x.max(segment[1].x));
                 let (y0, y1) = (segment[0].y.min(segment[1].y), segment[0].y.max(segment[1].y));
                 for (i, bx) in boxes.iter().enumerate() {
+                    let bx = if inside.contains(&i) { &text_area(&scene.nodes[i]) } else { bx };
                     let hit = x0 < bx.x + bx.width
                         && bx.x < x1.max(x0 + 0.01)
                         && y0 < bx.y + bx.height
@@ -332,4 +362,55 @@ fn loops_and_calc_nodes_are_drawn_as_expansion_regions() {
 fn node_svg<'a>(svg: &'a str, id: &str) -> &'a str {
     let start = svg.find(&format!(r#"<g class="node" data-id="{id}">"#)).expect("the node is drawn");
     &svg[start..start + svg[start..].find("</g>").unwrap()]
+}
+
+/// A node's box down to its last line of text or port row (a nested component's parent holds
+/// its children under it).
+fn text_area(node: &scene::SceneNode) -> Rect {
+    let line_h = text::line_height(FONT_SIZE);
+    let last = node.header.iter().chain(node.compartments.iter().flat_map(|c| &c.lines)).map(|l| l.y);
+    let bottom = last.chain(node.ports.iter().map(|p| p.anchor.y)).fold(node.rect.y, f64::max) + line_h / 2.0;
+    Rect { height: bottom - node.rect.y, ..node.rect }
+}
+
+#[test]
+fn nested_components_are_drawn_inside_their_parents_with_their_connections() {
+    let text = "ComponentDiagram Nested {
+        filter P.Pipeline {
+            port PipeIn ( processor In : P.IImageProcessor )
+            port PipeOut ( provider Out : P.IImageProvider )
+            [Delegate source PipeIn.In ==> target FilterPort.ImageIn]
+            source P.Camera {
+                port CameraPort ( provider ImageOut : P.IImageProvider )
+                [CameraToFilter source CameraPort.ImageOut ==> target FilterPort.ImageIn]
+                class P.Inner { }
+            }
+            filter P.MeanFilter {
+                port FilterPort ( processor ImageIn : P.IImageProcessor, provider ImageOut : P.IImageProvider )
+                [FilterToViewer source FilterPort.ImageOut ==> target ViewerPort.ImageIn]
+                [Out source FilterPort.ImageOut ==> target PipeOut.Out]
+            }
+        }
+        source P.Source {
+            port SrcPort ( provider O : P.IImageProvider )
+            [ToPipe source SrcPort.O ==> target PipeIn.In]
+        }
+        sink P.Viewer { port ViewerPort ( processor ImageIn : P.IImageProcessor ) }
+    }";
+    let (host, files) = AnalysisHost::with_files(vec![("nested.gudsl".to_string(), text.to_string())]);
+    let graph = host.analysis().graphs(files[0]).unwrap()[0].clone();
+    let scene = scene::build(&graph, scene::Hints::default());
+    let parent = |id: &str| scene.nodes.iter().find(|n| n.id == id).unwrap().parent.clone();
+    assert_eq!(parent("P.Camera").as_deref(), Some("P.Pipeline"));
+    assert_eq!(parent("P.Inner").as_deref(), Some("P.Camera"));
+    assert_eq!(parent("P.Source"), None);
+    // Inside their parents, clear of each other; every connection from port to port, through
+    // no box but its ends' parents and through none of their text.
+    assert_clean(&graph, &scene, true);
+    assert_eq!(scene.edges.iter().filter(|e| e.points.len() >= 2).count(), 5);
+    // Parents are drawn before the connections inside them, the rest after.
+    let svg = render(&graph);
+    let at = |what: &str| svg.find(what).unwrap_or_else(|| panic!("{what} is drawn"));
+    assert!(at(r#"data-id="P.Pipeline""#) < at(r#"class="edge" data-id="P.Camera.CameraPort"#));
+    assert!(at(r#"class="edge" data-id="P.Camera.CameraPort"#) < at(r#"data-id="P.MeanFilter""#));
 }

@@ -3,9 +3,10 @@ moved through `gudsl/applyGraphEdit` is pinned in the layout sidecar beside the 
 (`<file>.gudsl.layout`, sorted keys), `gudsl/graphChanged` says so, and both `gudsl/graph` and
 `gudsl render` draw it exactly where it was put while the other nodes stay where they were; a
 resize gives a node its size; a text edit leaves pinned and unpinned nodes in place; pins of
-deleted nodes are dropped; unpinning the last node removes the file; and the refusals: a stale
-version, a member instead of a node, a missing position, a sidecar that is no layout (reported in
-the graph, never overwritten), a document that is no file."""
+deleted nodes are dropped; unpinning the last node removes the file; nested components are drawn
+inside their parents and move with them; and the refusals: a stale version, a member instead of
+a node, a missing position, a nested component moved on its own, a sidecar that is no layout
+(reported in the graph, never overwritten), a document that is no file."""
 
 import json
 import subprocess
@@ -26,6 +27,29 @@ MOVES = """ClassDiagram Moves
         private float radius;
     }
     public class Square extends Shape { }
+}
+"""
+
+NESTED = """ComponentDiagram Nest
+{
+    filter N.Pipeline
+    {
+        port PipeIn ( processor In : N.IImageProcessor )
+        source N.Camera
+        {
+            port CameraPort ( provider ImageOut : N.IImageProvider )
+            [CameraToFilter source CameraPort.ImageOut ==> target FilterPort.ImageIn]
+        }
+        filter N.MeanFilter
+        {
+            port FilterPort ( processor ImageIn : N.IImageProcessor )
+        }
+    }
+    source N.Source
+    {
+        port SrcPort ( provider O : N.IImageProvider )
+        [ToPipe source SrcPort.O ==> target PipeIn.In]
+    }
 }
 """
 
@@ -133,6 +157,34 @@ async def positions(client, seen, gudsl, workspace, graph, apply_graph_edit, tex
     await apply_graph_edit(client, uri, 3, "Moves", unpin)
     if sidecar.exists():
         fail(f"no pin left, yet the sidecar is there: {sidecar.read_text()}")
+
+    # Nested components: inside their parents, moving with them, never on their own.
+    nest_path = workspace / "nest.gudsl"
+    nest_path.write_text(NESTED)
+    nest_uri, nest_sidecar = nest_path.as_uri(), Path(str(nest_path) + ".layout")
+    client.text_document_did_open(t.DidOpenTextDocumentParams(t.TextDocumentItem(nest_uri, "gudsl", 1, NESTED)))
+    nodes = {n.id: n for n in (await graph(client, nest_uri, "Nest")).nodes}
+    pipeline = nodes["N.Pipeline"].bounds
+    for inner in ["N.Camera", "N.MeanFilter"]:
+        b = nodes[inner].bounds
+        inside = pipeline.x < b.x and b.x + b.width < pipeline.x + pipeline.width
+        inside = inside and pipeline.y < b.y and b.y + b.height < pipeline.y + pipeline.height
+        if nodes[inner].parent != "N.Pipeline" or not inside:
+            fail(f"{inner} ({nodes[inner].parent}, {b}) is not drawn inside N.Pipeline ({pipeline})")
+    if nodes["N.Pipeline"].parent is not None:
+        fail("N.Pipeline is nested in nothing")
+    move = {"op": "move", "element": "N.Camera", "position": {"x": 5, "y": 5}}
+    error = await refused(apply_graph_edit(client, nest_uri, 1, "Nest", [move]), "moving a nested component")
+    if "is nested in `N.Pipeline` and moves with it" not in str(error) or nest_sidecar.exists():
+        fail(f"moving a nested component: {error}")
+    put = {"x": round(pipeline.x) + 300.0, "y": round(pipeline.y) + 40.0}
+    await apply_graph_edit(client, nest_uri, 1, "Nest", [{"op": "move", "element": "N.Pipeline", "position": put}])
+    moved = {n.id: n.bounds for n in (await graph(client, nest_uri, "Nest")).nodes}
+    for inner in ["N.Camera", "N.MeanFilter"]:
+        was, now = nodes[inner].bounds, moved[inner]
+        if (now.x - was.x, now.y - was.y) != (put["x"] - pipeline.x, put["y"] - pipeline.y):
+            fail(f"{inner} did not move with N.Pipeline: {was} -> {now}")
+    nest_sidecar.unlink()
 
     # A sidecar that is no layout: reported with the graph, a move refused, the file untouched.
     sidecar.write_text("{ not a layout")

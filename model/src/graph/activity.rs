@@ -91,6 +91,7 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
                 compartments,
                 ports: Vec::new(),
                 group: lane_id.clone(),
+                parent: None,
                 range: node.syntax().text_range(),
             });
         }

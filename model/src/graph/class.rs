@@ -99,6 +99,7 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
             compartments,
             ports: Vec::new(),
             group: None,
+            parent: None,
             range: decl.syntax().text_range(),
         });
         // Edges: generalization, realization, associations.
@@ -177,6 +178,7 @@ pub(super) fn graph(sema: &Semantics, id: String, diagram: &ast::ClassDiagram) -
             compartments: Vec::new(),
             ports: Vec::new(),
             group: None,
+            parent: None,
             range: TextRange::default(),
         });
     }

@@ -14,17 +14,23 @@ use crate::{
 pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::ComponentDiagram) -> Graph {
     let scope = Scope::at(diagram.syntax());
     let mut graph = Graph::new(id, GraphKind::Component, diagram.syntax());
-    let mut stack: Vec<ast::Component> = diagram.components().collect();
+    // Components with the fqn of the one they are nested in, parents before their children.
+    let mut stack: Vec<(ast::Component, Option<String>)> = diagram.components().map(|c| (c, None)).collect();
     stack.reverse();
     // `port.connector` as connections write it -> the end it names.
     let mut port_owner: HashMap<String, EdgeEnd> = HashMap::new();
     let mut all = Vec::new();
-    while let Some(component) = stack.pop() {
-        let mut nested: Vec<ast::Component> = component.components().collect();
+    while let Some((component, parent)) = stack.pop() {
+        let fqn = component
+            .class()
+            .map(|class| sema.resolve(&scope, &class.text()).map(|d| d.fqn.clone()).unwrap_or_else(|| class.text()));
+        // The components of one that names no class (being typed) nest in its parent.
+        let holder = fqn.clone().or(parent.clone());
+        let mut nested: Vec<(ast::Component, Option<String>)> =
+            component.components().map(|c| (c, holder.clone())).collect();
         nested.reverse();
         stack.extend(nested);
-        let Some(class) = component.class() else { continue };
-        let fqn = sema.resolve(&scope, &class.text()).map(|d| d.fqn.clone()).unwrap_or_else(|| class.text());
+        let Some(fqn) = fqn else { continue };
         let mut ports = Vec::new();
         for port in component.ports() {
             let Some(port_name) = port.name().map(|n| n.text()) else { continue };
@@ -57,6 +63,7 @@ pub(super) fn component_graph(sema: &Semantics, id: String, diagram: &ast::Compo
             compartments: Vec::new(),
             ports,
             group: None,
+            parent,
             range: component.syntax().text_range(),
         });
         all.push(component);
@@ -140,6 +147,7 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
             },
             ports,
             group: None,
+            parent: None,
             range: instance.syntax().text_range(),
         });
         for binding in instance.bindings() {

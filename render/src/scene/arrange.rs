@@ -32,6 +32,8 @@ pub(super) struct Node<'a> {
     pub width: f64,
     pub height: f64,
     pub reach: (f64, f64),
+    /// A nested component: its parent holds it (and moves it), arranging does not.
+    pub held: bool,
 }
 
 impl Node<'_> {
@@ -63,6 +65,8 @@ enum Wanted {
     Pinned(Point),
     Kept(Rect),
     Free,
+    /// Where its parent puts it.
+    Held,
 }
 
 /// Moves `layout` (a fresh layout of `nodes` and `edges`) to honour `hints`; without pins and a
@@ -70,14 +74,12 @@ enum Wanted {
 /// Nodes placed anew keep right of and below `corner` (the top left of the frame's body).
 pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints: Hints, corner: Point) {
     let wanted = wanted(nodes, hints);
-    if wanted.iter().all(|w| *w == Wanted::Free) {
+    if wanted.iter().all(|w| matches!(w, Wanted::Free | Wanted::Held)) {
         return;
     }
     // Arranged as footprints (boxes with their ports' room), drawn as boxes.
-    let footprints: Vec<Node> = nodes
-        .iter()
-        .map(|n| Node { id: n.id, width: n.width + n.reach.0 + n.reach.1, height: n.height, reach: (0.0, 0.0) })
-        .collect();
+    let footprints: Vec<Node> =
+        nodes.iter().map(|n| Node { width: n.width + n.reach.0 + n.reach.1, reach: (0.0, 0.0), ..*n }).collect();
     let fresh: Vec<Point> =
         layout.positions.iter().zip(nodes).map(|(p, n)| Point { x: p.x - n.reach.0, ..*p }).collect();
     let (boxes, previous_routes) = place(&footprints, edges, &wanted, &fresh, hints.previous, corner);
@@ -125,6 +127,7 @@ fn wanted(nodes: &[Node], hints: Hints) -> Vec<Wanted> {
     nodes
         .iter()
         .map(|n| match (hints.pins.and_then(|p| p.get(n.id)), before.get(n.id)) {
+            _ if n.held => Wanted::Held,
             (Some(pin), _) => Wanted::Pinned(Point { x: pin.x - n.reach.0, y: pin.y }),
             (None, Some(&was)) if use_before => Wanted::Kept(n.footprint(was)),
             _ => Wanted::Free,

@@ -16,6 +16,8 @@ pub(super) struct Connection<'a> {
     pub to_faces: f64,
     pub from_port: &'a str,
     pub to_port: &'a str,
+    /// The boxes it runs inside (its ends' parents, when components nest): not in its way.
+    pub inside: Vec<usize>,
 }
 
 /// How far beyond a port's anchor its track starts, and the space between tracks.
@@ -56,7 +58,10 @@ pub(super) fn route(connections: &[Connection], boxes: &[Rect]) -> Vec<Vec<Point
 /// The first clear route: on the ports' own tracks if it can, else on tracks further out; three
 /// segments where the target is ahead, else five around the boxes.
 fn best_route(c: &Connection, boxes: &[Rect], placed: &[Placed]) -> Vec<Point> {
-    let clear_of_boxes = |route: &[Point]| route.windows(2).all(|s| boxes.iter().all(|b| !passes(s[0], s[1], *b)));
+    let in_the_way = |i: usize| !c.inside.contains(&i);
+    let clear_of_boxes = |route: &[Point]| {
+        route.windows(2).all(|s| boxes.iter().enumerate().all(|(i, b)| !in_the_way(i) || !passes(s[0], s[1], *b)))
+    };
     let alone = |route: &[Point]| {
         route.windows(2).all(|s| {
             placed.iter().all(|p| {

@@ -51,12 +51,15 @@ impl Placed {
 
 /// Every edge's label boxes: a middle label where the layout reserved room for it, else placed
 /// beside its edge; then the end labels beside their ends. Each is clear of the boxes, the
-/// labels placed before and every edge where it can be, and right of and below `corner`.
+/// labels placed before and every edge where it can be, and right of and below `corner`; an
+/// edge's label may lie in the boxes `inside` lists for it (by index: the nested components'
+/// parents that hold both its ends).
 pub(crate) fn place_all(
     texts: &[EdgeTexts],
     routes: &[Vec<Point>],
     laid_out: &[Option<Point>],
     boxes: &[Rect],
+    inside: &[Vec<usize>],
     corner: Point,
 ) -> Vec<Placed> {
     let all_routes: Vec<&[Point]> = routes.iter().map(Vec::as_slice).collect();
@@ -69,14 +72,16 @@ pub(crate) fn place_all(
             Placed { middle, ..Placed::default() }
         })
         .collect();
-    let mut room =
-        Room { obstacles: boxes, placed: placed.iter().flat_map(Placed::all).collect(), routes: &all_routes, corner };
-    for ((t, route), at) in texts.iter().zip(routes).zip(&mut placed) {
+    let placed_before = placed.iter().flat_map(Placed::all).collect();
+    let mut room = Room { obstacles: boxes, open: &[], placed: placed_before, routes: &all_routes, corner };
+    for (((t, route), at), inside) in texts.iter().zip(routes).zip(&mut placed).zip(inside) {
         if !t.middle.is_empty() && at.middle.is_none() {
+            room.open = inside;
             at.middle = Some(place_label(route, label_size(&t.middle), &mut room));
         }
     }
-    for ((t, route), at) in texts.iter().zip(routes).zip(&mut placed) {
+    for (((t, route), at), inside) in texts.iter().zip(routes).zip(&mut placed).zip(inside) {
+        room.open = inside;
         if !t.tail.is_empty() {
             at.tail = Some(place_end_label(route, false, label_size(&t.tail), &mut room));
         }
@@ -172,6 +177,8 @@ fn place_end_label(route: &[Point], at_target: bool, (w, h): (f64, f64), room: &
 /// frame's heading (it stays right of and below `corner`).
 struct Room<'a> {
     obstacles: &'a [Rect],
+    /// The obstacles the label being placed may lie in.
+    open: &'a [usize],
     placed: Vec<Rect>,
     routes: &'a [&'a [Point]],
     corner: Point,
@@ -186,7 +193,14 @@ impl Room<'_> {
         let clear = |b: &Rect| {
             b.x >= self.corner.x
                 && b.y >= self.corner.y
-                && !self.obstacles.iter().chain(&self.placed).any(|o| intersects(b.grown(2.0), *o))
+                && !self
+                    .obstacles
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, _)| !self.open.contains(i))
+                    .map(|(_, o)| o)
+                    .chain(&self.placed)
+                    .any(|o| intersects(b.grown(2.0), *o))
         };
         let off = |route: &[Point], b: &Rect| !route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b));
         let off_edges = |b: &Rect| self.routes.iter().all(|route| off(route, b));

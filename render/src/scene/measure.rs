@@ -29,6 +29,15 @@ pub(crate) struct Content {
     pub(crate) compartments: Vec<Vec<(String, Style)>>,
     pub(crate) width: f64,
     pub(crate) height: f64,
+    /// The height of the area under the text that holds nested components (0: none).
+    pub(crate) nested: f64,
+}
+
+impl Content {
+    /// A shape without text (start, final, a bare diamond, a bar).
+    fn bare(width: f64, height: f64) -> Content {
+        Content { header: Vec::new(), compartments: Vec::new(), width, height, nested: 0.0 }
+    }
 }
 
 /// Which border a port sits on: a processor (required interface, socket) on the left, where
@@ -107,14 +116,14 @@ pub(crate) fn wrap(line: &str) -> Vec<String> {
 pub(crate) fn content(node: &GraphNode) -> Content {
     let line_h = text::line_height(FONT_SIZE);
     match node.shape {
-        NodeShape::Start => return Content { header: Vec::new(), compartments: Vec::new(), width: 20.0, height: 20.0 },
-        NodeShape::Final => return Content { header: Vec::new(), compartments: Vec::new(), width: 24.0, height: 24.0 },
+        NodeShape::Start => return Content::bare(20.0, 20.0),
+        NodeShape::Final => return Content::bare(24.0, 24.0),
         // A decision or merge the text leaves implicit: a bare diamond.
         NodeShape::Decision if node.label.is_empty() => {
-            return Content { header: Vec::new(), compartments: Vec::new(), width: 26.0, height: 26.0 };
+            return Content::bare(26.0, 26.0);
         }
         NodeShape::Fork | NodeShape::Join => {
-            return Content { header: Vec::new(), compartments: Vec::new(), width: 80.0, height: 8.0 };
+            return Content::bare(80.0, 8.0);
         }
         _ => {}
     }
@@ -166,7 +175,7 @@ pub(crate) fn content(node: &GraphNode) -> Content {
         width += 48.0;
     }
     height += node.ports.len() as f64 * line_h * 0.9;
-    Content { header, compartments, width: width.max(40.0), height: height.max(30.0) }
+    Content { header, compartments, width: width.max(40.0), height: height.max(30.0), nested: 0.0 }
 }
 
 /// The height of a node's text: header lines, compartments (an empty one keeps one line) with
@@ -178,13 +187,14 @@ fn text_height(header_lines: usize, compartments: &[Vec<(String, Style)>], ports
 }
 
 /// Where a node's text starts: at the top of a box with compartments (a class resized taller
-/// keeps its name on top), else its block centred vertically in a box whose top is `top`.
+/// keeps its name on top), else its block centred vertically in a box whose top is `top` (above
+/// the nested components it holds).
 pub(crate) fn text_top(node: &GraphNode, content: &Content, top: f64) -> f64 {
     if !content.compartments.is_empty() {
         return top + PADDING / 2.0;
     }
     let block = text_height(content.header.len(), &content.compartments, node.ports.len());
-    top + (content.height - block).max(0.0) / 2.0 + PADDING / 2.0
+    top + (content.height - content.nested - block).max(0.0) / 2.0 + PADDING / 2.0
 }
 
 /// How far outside its node's box a connection meets a port: just beyond its lollipop or

@@ -9,6 +9,7 @@ mod connections;
 mod frame;
 pub(crate) mod labels;
 pub(crate) mod measure;
+mod nesting;
 pub(crate) mod notation;
 
 pub use arrange::Hints;
@@ -85,6 +86,8 @@ pub struct SceneNode {
     pub ports: Vec<ScenePort>,
     /// Everything the node says, unwrapped and uncollapsed: its tooltip.
     pub title: String,
+    /// The node it is drawn inside (a nested component's parent).
+    pub parent: Option<String>,
 }
 
 /// A compartment: the line above it and its text lines.
@@ -195,9 +198,15 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let heading = frame::Heading::measure(graph);
     // Dataflow runs left to right: sources, filters, sinks; class and activity diagrams top
     // down. Between the columns of a dataflow run the ports' symbols and tracks.
+    let mut nesting = nesting::Nesting::of(graph);
     let mut layout = match graph.kind {
         GraphKind::Component | GraphKind::ComponentInstance => {
-            layered_left_to_right(&input, Spacing { rank_gap: 20.0, ..Spacing::default() })
+            let spacing = Spacing { rank_gap: 20.0, ..Spacing::default() };
+            if nesting.is_flat() {
+                layered_left_to_right(&input, spacing)
+            } else {
+                nesting.layout(&input, &mut contents, &reaches, spacing)
+            }
         }
         GraphKind::Class | GraphKind::Activity => layered(&input, Spacing::default()),
     };
@@ -218,7 +227,14 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .iter()
         .zip(&contents)
         .zip(&reaches)
-        .map(|((n, c), reach)| arrange::Node { id: &n.id, width: c.width, height: c.height, reach: *reach })
+        .enumerate()
+        .map(|(i, ((n, c), reach))| arrange::Node {
+            id: &n.id,
+            width: c.width,
+            height: c.height,
+            reach: *reach,
+            held: nesting.is_nested(i),
+        })
         .collect();
     let to_route: Vec<arrange::Edge> = edges
         .iter()
@@ -231,6 +247,11 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         })
         .collect();
     arrange::arrange(&mut layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
+    if !nesting.is_flat() {
+        // Nested components stay where their parents hold them, wherever those went.
+        let corners: Vec<(f64, f64)> = reaches.iter().map(|_| (0.0, 0.0)).collect();
+        nesting.follow(&mut layout.positions, &corners);
+    }
     let anchors: Vec<Vec<Point>> = graph
         .nodes
         .iter()
@@ -244,6 +265,12 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .zip(&contents)
         .map(|(p, c)| Rect { x: p.x, y: p.y, width: c.width, height: c.height })
         .collect();
+    // A nested component's parent is in the way of what runs outside it, its text (header and
+    // port rows) in the way of everything.
+    let text_areas = (0..boxes.len())
+        .filter(|&i| contents[i].nested > 0.0)
+        .map(|i| Rect { height: boxes[i].height - contents[i].nested, ..boxes[i] });
+    let obstacles: Vec<Rect> = boxes.iter().copied().chain(text_areas).collect();
     // Connections and bindings run between ports, orthogonally (`connections`).
     let (wired, wires): (Vec<usize>, Vec<connections::Connection>) = edges
         .iter()
@@ -261,11 +288,13 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
                     to_faces: faces(e.to.0, to),
                     from_port: e.edge.source.id(),
                     to_port: e.edge.target.id(),
+                    // Its ends' ancestors hold it: it runs inside them.
+                    inside: nesting.lineage(e.from.0).skip(1).chain(nesting.lineage(e.to.0).skip(1)).collect(),
                 },
             ))
         })
         .unzip();
-    for (k, route) in wired.into_iter().zip(connections::route(&wires, &boxes)) {
+    for (k, route) in wired.into_iter().zip(connections::route(&wires, &obstacles)) {
         layout.edges[k] = route;
     }
     // The drawing holds every route.
@@ -282,7 +311,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         }
     }
     let corner = Point { x: frame::MARGIN + 4.0, y: heading.body_top() };
-    let labels = labels::place_all(&texts, &layout.edges, &layout.labels, &boxes, corner);
+    let shared: Vec<Vec<usize>> = edges.iter().map(|e| nesting.holding_both(e.from.0, e.to.0)).collect();
+    let labels = labels::place_all(&texts, &layout.edges, &layout.labels, &obstacles, &shared, corner);
 
     // The drawing grows to hold edge labels that reach past the boxes, and lane titles.
     let width = labels.iter().flat_map(labels::Placed::all).map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);
@@ -469,5 +499,6 @@ fn scene_node(node: &gudsl_model::graph::GraphNode, content: &Content, rect: Rec
         .filter(|line| !line.is_empty())
         .collect::<Vec<String>>()
         .join("\n");
-    SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports, title }
+    let parent = node.parent.clone();
+    SceneNode { id: node.id.clone(), shape: node.shape, rect, header, compartments, ports, title, parent }
 }

@@ -112,6 +112,8 @@ pub struct NodeView {
     pub compartments: Vec<CompartmentView>,
     pub ports: Vec<PortView>,
     pub group: Option<String>,
+    /// The node it is drawn inside (a nested component's parent).
+    pub parent: Option<String>,
     pub range: lsp::Range,
     pub bounds: Option<Bounds>,
     /// Whether the user put it where it is (`move`): the layout sidecar holds it there.
@@ -310,6 +312,7 @@ fn view(
                     })
                     .collect(),
                 group: node.group.clone(),
+                parent: node.parent.clone(),
                 range: to_proto::range(index, node.range, snap.encoding),
                 bounds: boxes.get(node.id.as_str()).map(|&r| r.into()),
                 pinned: pins.is_some_and(|p| p.contains_key(&node.id)),

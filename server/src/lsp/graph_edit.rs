@@ -247,11 +247,17 @@ fn save_positions(
     let scene = scenes.scene(file, graph, layout.pins(diagram), false);
     let pins = layout.diagrams.entry(diagram.to_string()).or_default();
     for (k, (element, change)) in ops.iter().enumerate() {
-        let Some(drawn) = scene.nodes.iter().find(|n| &n.id == element).map(|n| n.rect) else {
+        let Some(node) = scene.nodes.iter().find(|n| &n.id == element) else {
             return Ok(Err(format!(
                 "operation {k}: `{element}` is no node of `{diagram}` (only nodes move and resize)"
             )));
         };
+        if let (Some(parent), LayoutChange::Move(Some(_))) = (&node.parent, change) {
+            return Ok(Err(format!(
+                "operation {k}: `{element}` is nested in `{parent}` and moves with it: move `{parent}` instead"
+            )));
+        }
+        let drawn = node.rect;
         let here = Pin { x: pins::rounded(drawn.x), y: pins::rounded(drawn.y), width: None, height: None };
         match *change {
             LayoutChange::Move(None) => {

@@ -1,0 +1,184 @@
+//! Nested components drawn inside their parents (components nest to any depth, §11.3.2): each
+//! parent's children are laid out left to right as a diagram of their own, the parent grows to
+//! hold them under its header and port rows, and they move with it; the top level is laid out
+//! with each tree as its root's box.
+
+use gudsl_model::graph::Graph;
+
+use super::{measure::Content, Point};
+use crate::layout::{layered_left_to_right, Layout, LayoutInput, LayoutNode, Spacing};
+
+/// Which node holds which.
+pub(super) struct Nesting {
+    /// Each node's parent, if it is nested.
+    parent: Vec<Option<usize>>,
+    /// Where each nested node's box lies from its parent's top-left corner.
+    offset: Vec<Point>,
+}
+
+impl Nesting {
+    pub(super) fn of(graph: &Graph) -> Nesting {
+        let index = |id: &String| graph.nodes.iter().position(|n| &n.id == id);
+        let mut parent: Vec<Option<usize>> = graph.nodes.iter().map(|n| n.parent.as_ref().and_then(index)).collect();
+        // A cycle (two components of one class, one in the other) would nest forever: such a
+        // node is drawn at the top level.
+        for node in 0..parent.len() {
+            let mut seen = vec![node];
+            let mut at = parent[node];
+            while let Some(p) = at {
+                if seen.contains(&p) {
+                    parent[node] = None;
+                    break;
+                }
+                seen.push(p);
+                at = parent[p];
+            }
+        }
+        let offset = vec![Point::default(); parent.len()];
+        Nesting { parent, offset }
+    }
+
+    pub(super) fn is_flat(&self) -> bool {
+        self.parent.iter().all(Option::is_none)
+    }
+
+    pub(super) fn is_nested(&self, node: usize) -> bool {
+        self.parent[node].is_some()
+    }
+
+    /// The node and its ancestors, innermost first.
+    pub(super) fn lineage(&self, node: usize) -> impl Iterator<Item = usize> + '_ {
+        std::iter::successors(Some(node), |&n| self.parent[n])
+    }
+
+    /// The nodes that hold both `a` and `b` or are one of them and hold the other.
+    pub(super) fn holding_both(&self, a: usize, b: usize) -> Vec<usize> {
+        self.lineage(a).filter(|&n| self.lineage(b).any(|m| m == n) && (n != a || n != b)).collect()
+    }
+
+    /// The ancestor of `node` (or the node) that lies directly in `level` (`None`: the top).
+    fn in_level(&self, node: usize, level: Option<usize>) -> Option<usize> {
+        self.lineage(node).find(|&n| self.parent[n] == level)
+    }
+
+    /// Each node's depth (0: the top level).
+    fn depth(&self, node: usize) -> usize {
+        self.lineage(node).count() - 1
+    }
+
+    /// Lays out a component diagram's nodes with their nesting: innermost parents first, each
+    /// one's children as a left-to-right diagram inside it, then the top level. `input` holds
+    /// every node (its box with the room its port symbols take, `reaches`) and edge;
+    /// `contents` grow to hold their children. The result is in `layered`'s terms: layout
+    /// boxes' corners and routes for every node and edge (a route between a node and its own
+    /// ancestor, a delegation, is left to the connection router).
+    pub(super) fn layout(
+        &mut self,
+        input: &LayoutInput,
+        contents: &mut [Content],
+        reaches: &[(f64, f64)],
+        spacing: Spacing,
+    ) -> Layout {
+        let n = self.parent.len();
+        let mut parents: Vec<usize> = (0..n).filter(|&p| self.parent.contains(&Some(p))).collect();
+        parents.sort_by_key(|&p| std::cmp::Reverse(self.depth(p)));
+        // Routes of edges laid out inside a parent, from the parent's corner.
+        let mut inner_routes: Vec<Option<(usize, Vec<Point>)>> = vec![None; input.edges.len()];
+        let layout_box = |contents: &[Content], v: usize| LayoutNode {
+            width: reaches[v].0 + contents[v].width + reaches[v].1,
+            height: contents[v].height,
+        };
+        for parent in parents {
+            let (level, sub, edges) = self.level(input, Some(parent), |v| layout_box(contents, v));
+            let inner = layered_left_to_right(&sub, spacing);
+            let top = contents[parent].height;
+            for (&child, at) in level.iter().zip(&inner.positions) {
+                self.offset[child] = Point { x: at.x + reaches[child].0, y: top + at.y };
+            }
+            for (&k, route) in edges.iter().zip(&inner.edges) {
+                let route = route.iter().map(|p| Point { x: p.x, y: top + p.y }).collect();
+                inner_routes[k] = Some((parent, route));
+            }
+            let content = &mut contents[parent];
+            content.width = content.width.max(inner.width);
+            content.height += inner.height;
+            content.nested = inner.height;
+        }
+        let (level, top_input, edges) = self.level(input, None, |v| layout_box(contents, v));
+        let top_input = LayoutInput {
+            labels: edges.iter().map(|&k| input.labels[k]).collect(),
+            groups: level.iter().map(|&v| input.groups[v]).collect(),
+            ..top_input
+        };
+        let top = layered_left_to_right(&top_input, spacing);
+        let mut layout = Layout {
+            positions: vec![Point::default(); n],
+            edges: vec![Vec::new(); input.edges.len()],
+            labels: vec![None; input.edges.len()],
+            width: top.width,
+            height: top.height,
+        };
+        for (&v, at) in level.iter().zip(&top.positions) {
+            layout.positions[v] = *at;
+        }
+        for ((&k, route), label) in edges.iter().zip(top.edges).zip(top.labels) {
+            layout.edges[k] = route;
+            layout.labels[k] = label;
+        }
+        let corners = self.follow(&mut layout.positions, reaches);
+        for (k, inner) in inner_routes.into_iter().enumerate() {
+            if let Some((parent, route)) = inner {
+                let at = corners[parent];
+                layout.edges[k] = route.into_iter().map(|p| Point { x: at.x + p.x, y: at.y + p.y }).collect();
+            }
+        }
+        layout
+    }
+
+    /// Moves every nested node to its place in its parent, outermost first, wherever the
+    /// parent is (`positions` are layout boxes' corners, the port symbols' room, `reaches`,
+    /// beside each box); answers each node's box corner.
+    pub(super) fn follow(&self, positions: &mut [Point], reaches: &[(f64, f64)]) -> Vec<Point> {
+        let mut nested: Vec<usize> = (0..positions.len()).filter(|&v| self.parent[v].is_some()).collect();
+        nested.sort_by_key(|&v| self.depth(v));
+        for v in nested {
+            let parent = self.parent[v].expect("nested");
+            let corner = Point { x: positions[parent].x + reaches[parent].0, y: positions[parent].y };
+            positions[v] = Point { x: corner.x + self.offset[v].x - reaches[v].0, y: corner.y + self.offset[v].y };
+        }
+        positions.iter().zip(reaches).map(|(p, r)| Point { x: p.x + r.0, y: p.y }).collect()
+    }
+
+    /// The nodes directly in `level`, the layout input of their boxes (`size`) and the edges
+    /// between them — an edge between two of their descendants counts as one between them —
+    /// and which of `input`'s edges those are.
+    fn level(
+        &self,
+        input: &LayoutInput,
+        level: Option<usize>,
+        size: impl Fn(usize) -> LayoutNode,
+    ) -> (Vec<usize>, LayoutInput, Vec<usize>) {
+        let members: Vec<usize> = (0..self.parent.len()).filter(|&v| self.parent[v] == level).collect();
+        let local = |v: usize| {
+            let at = self.in_level(v, level)?;
+            members.iter().position(|&m| m == at)
+        };
+        let mut edges = Vec::new();
+        let mut which = Vec::new();
+        for (k, &(from, to)) in input.edges.iter().enumerate() {
+            if let (Some(a), Some(b)) = (local(from), local(to)) {
+                if a != b {
+                    edges.push((a, b));
+                    which.push(k);
+                }
+            }
+        }
+        let sub = LayoutInput {
+            nodes: members.iter().map(|&v| size(v)).collect(),
+            labels: vec![None; edges.len()],
+            groups: vec![None; members.len()],
+            edges,
+        };
+        (members, sub, which)
+    }
+}
