@@ -321,6 +321,9 @@ fn activity_branches_and_meetings_go_through_diamonds() {
         }
         for edge in &scene.edges {
             assert!(edge.label.as_ref().is_none_or(|l| !l.lines[0].1.starts_with("[]")), "{}: {}", graph.id, edge.id);
+            // Every branch has its guard; the one taken when none holds is `[else]`.
+            let guarded = edge.label.as_ref().is_some_and(|l| l.lines[0].1.starts_with('['));
+            assert!(!edge.source.ends_with("#decision") || guarded, "{}: {} has no guard", graph.id, edge.id);
         }
         diamonds += scene.nodes.iter().filter(|n| n.id.ends_with("#decision") || n.id.ends_with("#merge")).count();
     }

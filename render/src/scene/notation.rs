@@ -1,5 +1,6 @@
 //! UML's control nodes where an activity diagram's text leaves them implicit: GU-DSL writes
-//! guarded transitions straight out of an action (`[i < 10] => a; [else] => b;`) and several
+//! guarded transitions straight out of an action (`[i < 10] => a; [] => b;`, the unguarded or
+//! empty-guarded one drawn `[else]`) and several
 //! transitions into one node, where UML draws a decision diamond that the branches leave and a
 //! merge diamond that the flows meet at. The drawing gets those diamonds as nodes of its own
 //! (ids `node#decision`, `node#merge`); each transition keeps its id and label, and runs from
@@ -63,6 +64,10 @@ pub(super) fn with_control_nodes(graph: &Graph) -> Cow<'_, Graph> {
         }
         if branches.contains(before.source.node.as_str()) {
             edge.source.node = format!("{}#decision", before.source.node);
+            // The unguarded branch is taken when no guard holds: UML's `[else]`.
+            if !before.label.as_deref().is_some_and(|l| l.starts_with('[')) {
+                edge.label = Some(before.label.as_ref().map_or("[else]".to_string(), |args| format!("[else] {args}")));
+            }
         }
         if meets.contains(before.target.node.as_str()) {
             edge.target.node = format!("{}#merge", before.target.node);
