@@ -3,7 +3,7 @@
 //! no geometry: every position comes from the scene. Coordinates are written with two decimals,
 //! so the output is byte-identical for identical input.
 
-use std::fmt::Write;
+use std::{collections::HashSet, fmt::Write};
 
 use gudsl_model::graph::{EdgeKind, Graph, NodeShape};
 
@@ -74,7 +74,8 @@ pub fn write(scene: &Scene) -> String {
         );
     }
     // Nodes that hold others first (parents before children): the edges inside them on top.
-    let holds = |node: &SceneNode| scene.nodes.iter().any(|n| n.parent.as_ref() == Some(&node.id));
+    let parents: HashSet<&String> = scene.nodes.iter().filter_map(|n| n.parent.as_ref()).collect();
+    let holds = |node: &SceneNode| parents.contains(&node.id);
     for node in scene.nodes.iter().filter(|n| holds(n)) {
         draw_node(&mut out, node);
     }

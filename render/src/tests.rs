@@ -19,20 +19,9 @@ use crate::{
     text::{self, Style},
 };
 
-pub(crate) fn sample_graphs() -> Vec<Graph> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
-    let mut files = Vec::new();
-    for dir in ["seed", "framework"] {
-        let mut entries: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().flatten().map(|e| e.path()).collect();
-        entries.sort();
-        for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "gudsl")) {
-            files.push((path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
-        }
-    }
-    let (host, files) = AnalysisHost::with_files(files);
-    let analysis = host.analysis();
-    files.iter().flat_map(|&f| analysis.graphs(f).unwrap().to_vec()).collect()
-}
+#[path = "../tests/common/samples.rs"]
+mod samples;
+pub(crate) use samples::sample_graphs;
 
 #[test]
 fn every_sample_diagram_renders_deterministically() {

@@ -8,9 +8,13 @@
 
 use std::path::{Path, PathBuf};
 
-use gudsl_model::{graph::Graph, AnalysisHost};
 use gudsl_render::png;
 use resvg::tiny_skia::{Pixmap, PremultipliedColorU8};
+
+mod common {
+    pub(crate) mod samples;
+}
+use common::samples::sample_graphs;
 
 /// The diagrams drawn, by id: at least one of each kind, and each notation the issue names.
 const PICTURES: &[&str] = &[
@@ -34,22 +38,6 @@ const CHANNEL_TOLERANCE: u8 = 2;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
-}
-
-/// Every diagram of the samples, in one workspace (the pipelines use the seed's classes).
-fn sample_graphs() -> Vec<Graph> {
-    let samples = root().join("../samples");
-    let mut files = Vec::new();
-    for dir in ["seed", "framework", "pipelines", "gpu"] {
-        let mut entries: Vec<_> = std::fs::read_dir(samples.join(dir)).unwrap().flatten().map(|e| e.path()).collect();
-        entries.sort();
-        for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "gudsl")) {
-            files.push((path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
-        }
-    }
-    let (host, files) = AnalysisHost::with_files(files);
-    let analysis = host.analysis();
-    files.iter().flat_map(|&f| analysis.graphs(f).unwrap().to_vec()).collect()
 }
 
 #[test]

@@ -247,11 +247,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         })
         .collect();
     arrange::arrange(&mut layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
-    if !nesting.is_flat() {
-        // Nested components stay where their parents hold them, wherever those went.
-        let corners: Vec<(f64, f64)> = reaches.iter().map(|_| (0.0, 0.0)).collect();
-        nesting.follow(&mut layout.positions, &corners);
-    }
+    // Nested components stay where their parents hold them, wherever those went.
+    nesting.follow(&mut layout.positions);
     let anchors: Vec<Vec<Point>> = graph
         .nodes
         .iter()
@@ -435,7 +432,7 @@ fn edge_label(lines: Vec<String>, rect: Rect) -> EdgeLabel {
 
 /// The activity nodes the dissertation draws like UML expansion regions (chapter 10): loops
 /// and loop windows iterate over their ranges, calc and calcRange nodes over a GPU work grid.
-pub fn is_expansion_region(shape: NodeShape) -> bool {
+fn is_expansion_region(shape: NodeShape) -> bool {
     matches!(shape, NodeShape::Loop | NodeShape::LoopWindow | NodeShape::Calc | NodeShape::CalcRange)
 }
 

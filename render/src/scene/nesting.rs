@@ -105,48 +105,42 @@ impl Nesting {
             content.nested = inner.height;
         }
         let (level, top_input, edges) = self.level(input, None, |v| layout_box(contents, v));
-        let top_input = LayoutInput {
-            labels: edges.iter().map(|&k| input.labels[k]).collect(),
-            groups: level.iter().map(|&v| input.groups[v]).collect(),
-            ..top_input
-        };
         let top = layered_left_to_right(&top_input, spacing);
-        let mut layout = Layout {
-            positions: vec![Point::default(); n],
-            edges: vec![Vec::new(); input.edges.len()],
-            labels: vec![None; input.edges.len()],
-            width: top.width,
-            height: top.height,
-        };
+        // Every box's corner: the top level's from its layout, the nested ones' from their parents.
+        let mut corners = vec![Point::default(); n];
         for (&v, at) in level.iter().zip(&top.positions) {
-            layout.positions[v] = *at;
+            corners[v] = Point { x: at.x + reaches[v].0, y: at.y };
         }
-        for ((&k, route), label) in edges.iter().zip(top.edges).zip(top.labels) {
-            layout.edges[k] = route;
-            layout.labels[k] = label;
+        self.follow(&mut corners);
+        let mut edge_routes = vec![Vec::new(); input.edges.len()];
+        for (&k, route) in edges.iter().zip(top.edges) {
+            edge_routes[k] = route;
         }
-        let corners = self.follow(&mut layout.positions, reaches);
         for (k, inner) in inner_routes.into_iter().enumerate() {
             if let Some((parent, route)) = inner {
                 let at = corners[parent];
-                layout.edges[k] = route.into_iter().map(|p| Point { x: at.x + p.x, y: at.y + p.y }).collect();
+                edge_routes[k] = route.into_iter().map(|p| Point { x: at.x + p.x, y: at.y + p.y }).collect();
             }
         }
-        layout
+        Layout {
+            positions: corners.iter().zip(reaches).map(|(c, r)| Point { x: c.x - r.0, y: c.y }).collect(),
+            edges: edge_routes,
+            // Left-to-right layouts place no labels (they are placed afterwards).
+            labels: vec![None; input.edges.len()],
+            width: top.width,
+            height: top.height,
+        }
     }
 
-    /// Moves every nested node to its place in its parent, outermost first, wherever the
-    /// parent is (`positions` are layout boxes' corners, the port symbols' room, `reaches`,
-    /// beside each box); answers each node's box corner.
-    pub(super) fn follow(&self, positions: &mut [Point], reaches: &[(f64, f64)]) -> Vec<Point> {
-        let mut nested: Vec<usize> = (0..positions.len()).filter(|&v| self.parent[v].is_some()).collect();
+    /// Moves every nested node's box corner (in `corners`, one per node) to its place in its
+    /// parent, outermost first, wherever the parent is.
+    pub(super) fn follow(&self, corners: &mut [Point]) {
+        let mut nested: Vec<usize> = (0..corners.len()).filter(|&v| self.parent[v].is_some()).collect();
         nested.sort_by_key(|&v| self.depth(v));
         for v in nested {
-            let parent = self.parent[v].expect("nested");
-            let corner = Point { x: positions[parent].x + reaches[parent].0, y: positions[parent].y };
-            positions[v] = Point { x: corner.x + self.offset[v].x - reaches[v].0, y: corner.y + self.offset[v].y };
+            let parent = corners[self.parent[v].expect("nested")];
+            corners[v] = Point { x: parent.x + self.offset[v].x, y: parent.y + self.offset[v].y };
         }
-        positions.iter().zip(reaches).map(|(p, r)| Point { x: p.x + r.0, y: p.y }).collect()
     }
 
     /// The nodes directly in `level`, the layout input of their boxes (`size`) and the edges
