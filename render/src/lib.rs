@@ -2,6 +2,7 @@
 //! of `layout` and text measured in the bundled font) → writers that only draw it: SVG, the
 //! layout JSON of the metrics script, and PNG through resvg.
 
+mod geometry;
 pub mod json;
 pub mod layout;
 pub mod pins;

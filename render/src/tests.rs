@@ -8,10 +8,10 @@ use gudsl_model::{
 };
 
 use crate::{
+    geometry::{intersects, segment_meets_box},
     json,
     scene::{
         self,
-        labels::{intersects, segment_meets_box},
         measure::{content, port_anchors, FONT_SIZE, PADDING, PORT_INSET, PORT_SIZE},
         Point, Rect, Scene,
     },

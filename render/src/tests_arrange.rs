@@ -7,8 +7,9 @@
 use gudsl_model::graph::Graph;
 
 use crate::{
+    geometry::intersects,
     pins::{Pin, Pins},
-    scene::{self, labels::intersects, measure::content, Hints, Scene},
+    scene::{self, measure::content, Hints, Scene},
     tests::{assert_clean, sample_graphs},
 };
 

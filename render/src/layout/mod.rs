@@ -17,6 +17,8 @@ mod simplex;
 
 pub(crate) use route::self_loop;
 
+pub use crate::geometry::Point;
+
 use order::Order;
 use proper::Proper;
 use sifting::GlobalOrder;
@@ -37,6 +39,14 @@ pub struct LayoutInput {
     pub edges: Vec<(usize, usize)>,
     pub groups: Vec<Option<usize>>,
     pub labels: Vec<Option<(f64, f64)>>,
+    /// The edges are a flow read from its sources (control flow, dataflow): a cycle is drawn
+    /// with the edge back that a depth-first search from the sources closes it with (a loop's
+    /// last edge), as it reads. Otherwise the edges drawn upwards are whichever make the
+    /// drawing shortest (`rank::ranks`).
+    pub flow: bool,
+    /// Per edge (or none): the edge must point down where any choice allows it (a
+    /// generalization, laid out parent first).
+    pub firm: Vec<bool>,
 }
 
 /// Spacing of the layout.
@@ -54,13 +64,6 @@ impl Default for Spacing {
     fn default() -> Self {
         Spacing { node_gap: 40.0, rank_gap: 60.0, margin: 20.0 }
     }
-}
-
-/// A point.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Point {
-    pub x: f64,
-    pub y: f64,
 }
 
 /// The result: each box's top-left corner, each edge's polyline (first and last points on the
@@ -98,6 +101,8 @@ pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
         edges: input.edges.clone(),
         groups: input.groups.clone(),
         labels: vec![None; input.edges.len()],
+        flow: input.flow,
+        firm: input.firm.clone(),
     };
     let mut layout = layered(&across, spacing);
     let turn = |p: &mut Point| std::mem::swap(&mut p.x, &mut p.y);
@@ -137,6 +142,8 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         edges: input.edges.iter().map(|&(a, b)| (index[a], index[b])).collect(),
         groups: kept.iter().map(|&v| input.groups.get(v).copied().flatten()).collect(),
         labels: input.labels.clone(),
+        flow: input.flow,
+        firm: input.firm.clone(),
     };
     let inner = layered_joined(&joined, spacing);
     let mut positions = vec![Point::default(); input.nodes.len()];
@@ -144,7 +151,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         positions[v] = inner.positions[i];
     }
     let layout = Layout { positions, ..inner };
-    pack::under(layout, input, &alone, spacing, !kept.is_empty())
+    pack::place_alone(layout, input, &alone, spacing, !kept.is_empty())
 }
 
 /// Lays out `input` top to bottom, every box in the layers.
@@ -156,8 +163,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     }
     let label_of = |e: usize| input.labels.get(e).copied().flatten();
     let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
-    let edges = rank::orient(n, &input.edges);
-    let mut rank = simplex::network_simplex(n, &edges, &rank::longest_path(n, &edges));
+    let (edges, mut rank) = rank::ranks(n, &input.edges, input.flow, &input.firm);
     if labelled {
         rank.iter_mut().for_each(|r| *r *= 2);
     }
@@ -284,6 +290,7 @@ fn sweeps(mut start: Vec<Vec<usize>>, graph: &Proper) -> (Vec<Vec<usize>>, usize
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{segment_meets_box, Rect};
 
     fn boxes(n: usize) -> Vec<LayoutNode> {
         (0..n)
@@ -457,6 +464,28 @@ mod tests {
         assert!(layout.positions[4].x < layout.positions[5].x || layout.positions[4].y < layout.positions[5].y);
         assert!((0..8).all(|v| layout.positions[v].x + input.nodes[v].width <= layout.width));
         assert!((0..8).all(|v| layout.positions[v].y + input.nodes[v].height <= layout.height));
+    }
+
+    #[test]
+    fn boxes_alone_fill_free_room_beside_a_rank_without_growing_the_drawing() {
+        // A root over six children leaves room beside the root: two boxes alone go there, level
+        // with it, at the drawing's sides, clear of every box and edge.
+        let joined = LayoutInput { nodes: boxes(7), edges: (1..7).map(|v| (0, v)).collect(), ..Default::default() };
+        let without = layered(&joined, Spacing::default());
+        let input = LayoutInput { nodes: boxes(9), ..joined.clone() };
+        let layout = layered(&input, Spacing::default());
+        assert_eq!((layout.width, layout.height), (without.width, without.height));
+        assert!(!overlaps(&layout, &input));
+        for v in [7, 8] {
+            assert_eq!(layout.positions[v].y, layout.positions[0].y);
+            let (at, size) = (layout.positions[v], &input.nodes[v]);
+            let r = Rect { x: at.x, y: at.y, width: size.width, height: size.height };
+            assert!(!layout.edges.iter().any(|route| route.windows(2).any(|s| segment_meets_box(s[0], s[1], r))));
+        }
+        let right = |v: usize| layout.positions[v].x + input.nodes[v].width;
+        let margin = Spacing::default().margin;
+        assert_eq!(layout.positions[7].x.min(layout.positions[8].x), margin);
+        assert_eq!(right(7).max(right(8)), layout.width - margin);
     }
 
     #[test]

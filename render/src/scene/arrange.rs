@@ -6,11 +6,9 @@
 
 use std::collections::HashMap;
 
-use super::{
-    labels::{around, intersects, segment_meets_box},
-    Point, Rect, Scene, SceneEdge,
-};
+use super::{labels::around, Point, Rect, Scene, SceneEdge};
 use crate::{
+    geometry::{intersects, segment_meets_box},
     layout::{self_loop, Layout},
     pins::Pins,
 };

@@ -5,7 +5,8 @@
 //! shared stretch of two routes reads as a box, not as two wires). A route that a box blocks
 //! detours along the nearest free row between the boxes.
 
-use super::{labels::intersects, Point, Rect};
+use super::{Point, Rect};
+use crate::geometry::intersects;
 
 /// A connection to route: its two port anchors and which way each port faces (1: the right
 /// border, -1: the left), and the ids of the ports.

@@ -1,8 +1,9 @@
 //! Placing edge labels the layout did not place: a middle label (of a port-to-port connection)
 //! beside its edge, an end label (an association end's role and multiplicity) beside the end
 //! of its edge; each clear of every box, every label placed before and every edge, and inside
-//! the frame's body; and the geometry tests that placement (and the layout's tests) rely on.
+//! the frame's body.
 
+use crate::geometry::{intersects, segment_meets_box};
 use gudsl_model::graph::{EdgeKind, GraphEdge};
 
 use super::{
@@ -90,10 +91,6 @@ pub(crate) fn place_all(
         }
     }
     placed
-}
-
-pub(crate) fn intersects(a: Rect, b: Rect) -> bool {
-    a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height
 }
 
 /// A box of size `(w, h)` for a middle label beside its edge: candidates along each segment, on
@@ -237,27 +234,6 @@ pub(crate) fn around(origin: Rect, step: f64, rings: std::ops::Range<usize>) -> 
         spots.sort_by(|a, b| away(a).total_cmp(&away(b)));
         spots.into_iter().map(move |spot| (ring, spot))
     })
-}
-
-/// Whether the segment from `a` to `b` passes through the box (Liang–Barsky clipping).
-pub(crate) fn segment_meets_box(a: Point, b: Point, r: Rect) -> bool {
-    let (dx, dy) = (b.x - a.x, b.y - a.y);
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [(-dx, a.x - r.x), (dx, r.x + r.width - a.x), (-dy, a.y - r.y), (dy, r.y + r.height - a.y)] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return false;
-            }
-        } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    t0 <= t1
 }
 
 fn midpoint(points: &[Point]) -> Point {

@@ -19,29 +19,13 @@ use std::collections::HashMap;
 
 use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, GraphKind, NodeShape};
 
-pub use crate::layout::Point;
+pub use crate::geometry::{Point, Rect};
 use crate::{
     layout::{layered, layered_left_to_right, LayoutInput, LayoutNode, Spacing},
     text::{self, Style},
 };
 use measure::{content, label_size, port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH};
 use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
-
-/// An axis-parallel box: top-left corner and size.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Rect {
-    pub x: f64,
-    pub y: f64,
-    pub width: f64,
-    pub height: f64,
-}
-
-impl Rect {
-    /// The box grown by `by` on every side.
-    pub(crate) fn grown(self, by: f64) -> Rect {
-        Rect { x: self.x - by, y: self.y - by, width: self.width + 2.0 * by, height: self.height + 2.0 * by }
-    }
-}
 
 /// A line of text at its baseline's start (or centre).
 #[derive(Debug, Clone, PartialEq)]
@@ -181,14 +165,15 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
             .map(|n| n.group.as_ref().and_then(|g| graph.groups.iter().position(|group| &group.id == g)))
             .collect(),
         labels: Vec::new(),
+        flow: graph.kind != GraphKind::Class,
+        firm: Vec::new(),
     };
     let texts: Vec<labels::EdgeTexts> = edges.iter().map(|e| labels::texts(e.edge)).collect();
     for (e, texts) in edges.iter().zip(&texts) {
         // Generalization and realization point upwards in UML: lay them out parent first.
-        input.edges.push(match e.edge.kind {
-            EdgeKind::Generalization | EdgeKind::Realization => (e.to.0, e.from.0),
-            _ => (e.from.0, e.to.0),
-        });
+        let upwards = matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization);
+        input.edges.push(if upwards { (e.to.0, e.from.0) } else { (e.from.0, e.to.0) });
+        input.firm.push(upwards);
         // The layout makes room for the labels of the edges it routes (not port to port).
         let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
         let middle = Some(&texts.middle).filter(|m| routed_by_layout && !m.is_empty());

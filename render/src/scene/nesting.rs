@@ -172,6 +172,8 @@ impl Nesting {
             labels: vec![None; edges.len()],
             groups: vec![None; members.len()],
             edges,
+            flow: input.flow,
+            firm: Vec::new(),
         };
         (members, sub, which)
     }
