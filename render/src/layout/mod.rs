@@ -163,11 +163,19 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     }
     let label_of = |e: usize| input.labels.get(e).copied().flatten();
     let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
-    let (edges, mut rank) = rank::ranks(n, &input.edges, input.flow, &input.firm);
-    if labelled {
-        rank.iter_mut().for_each(|r| *r *= 2);
-    }
-    let graph = proper::Proper::new(&input.groups, &edges, &rank);
+    // Of the ways to rank the boxes, the one whose order sweeps find the fewest crossings in
+    // (fewer ranks are shorter but may crowd them), the first of equals.
+    let (rank::Ranked { edges, rank }, graph) = rank::candidates(n, &input.edges, input.flow, &input.firm)
+        .into_iter()
+        .map(|mut ranked| {
+            if labelled {
+                ranked.rank.iter_mut().for_each(|r| *r *= 2);
+            }
+            let graph = proper::Proper::new(&input.groups, &ranked.edges, &ranked.rank);
+            (ranked, graph)
+        })
+        .min_by_key(|(_, graph)| swept_crossings(graph))
+        .expect("one way to rank at least");
     let mut extent: Vec<Extent> = input
         .nodes
         .iter()
@@ -187,7 +195,11 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         })
         .collect();
     let mut layers = graph.initial_layers(true, false);
-    minimise_crossings(&mut layers, &graph);
+    let width = |layers: &[Vec<usize>]| {
+        let x = place::horizontal(&graph, layers, &extent, spacing);
+        (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max)
+    };
+    minimise_crossings(&mut layers, &graph, &width);
     let x = place::horizontal(&graph, &layers, &extent, spacing);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
     let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing });
@@ -203,33 +215,79 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     Layout { positions, edges: routed, labels, width, height: bands.total_height }
 }
 
-/// Reorders every rank of `layers` to reduce crossings: from `layers` and from seven more starts
-/// (breadth and depth first, down the edges and both ways, each also mirrored), median sweeps
-/// with transposition, then global sifting of whole blocks; the order with the fewest crossings
-/// wins (the first of equals: deterministic).
-fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper) {
+/// Reorders every rank of `layers` to reduce crossings: median sweeps with transposition from
+/// `layers` and from seven more starts (breadth and depth first, down the edges and both ways,
+/// each also mirrored) and from `SHUFFLED` shuffles of `layers` (a fixed seed: deterministic),
+/// then global sifting of whole blocks from the `SIFTED` best of those; the order with the fewest
+/// crossings wins, of equals the one whose drawing is narrowest (by `width`), then the first.
+/// The sweeps end in local optima that differ much from start to start, so the many starts;
+/// sifting costs more than the sweeps, and a start's sweeps predict where sifting ends, so only
+/// the best are sifted.
+fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, width: &dyn Fn(&[Vec<usize>]) -> f64) {
     let starts = [
         layers.to_vec(),
         graph.initial_layers(false, false),
         graph.initial_layers(true, true),
         graph.initial_layers(false, true),
     ];
-    let mut best: Option<(Vec<Vec<usize>>, usize)> = None;
     // Each start mirrored too: the sweeps break ties by position, so a mirror is a new start.
     let mirrored: Vec<Vec<Vec<usize>>> =
         starts.iter().map(|layers| layers.iter().map(|rank| rank.iter().rev().copied().collect()).collect()).collect();
-    for start in starts.into_iter().chain(mirrored) {
-        let (order, crossings) = sifted(sweeps(start, graph), graph);
-        if best.as_ref().is_none_or(|(_, fewest)| crossings < *fewest) {
-            best = Some((order, crossings));
-        }
+    let mut swept: Vec<(Vec<Vec<usize>>, usize)> = Vec::new();
+    for start in starts.into_iter().chain(mirrored).chain(shuffled(layers, SHUFFLED)) {
+        let (order, crossings) = sweeps(start, graph);
         if crossings == 0 {
-            break;
+            layers.clone_from_slice(&order);
+            return;
         }
+        swept.push((order, crossings));
     }
-    if let Some((best, _)) = best {
+    swept.sort_by_key(|(_, crossings)| *crossings); // stable: the first of equals stays first
+    let sifted: Vec<(Vec<Vec<usize>>, usize)> =
+        swept.into_iter().take(SIFTED).map(|start| sifted(start, graph)).collect();
+    let fewest = sifted.iter().map(|(_, crossings)| *crossings).min();
+    let best = sifted
+        .into_iter()
+        .filter(|(_, crossings)| Some(*crossings) == fewest)
+        .map(|(order, _)| (width(&order), order))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((_, best)) = best {
         layers.clone_from_slice(&best);
     }
+}
+
+/// The fewest crossings median sweeps find from the four plain starts.
+fn swept_crossings(graph: &Proper) -> usize {
+    let starts = [(true, false), (false, false), (true, true), (false, true)];
+    starts
+        .iter()
+        .map(|&(breadth_first, undirected)| sweeps(graph.initial_layers(breadth_first, undirected), graph).1)
+        .min()
+        .unwrap_or(0)
+}
+
+/// Random starts for crossing minimisation, and how many of all starts are sifted.
+const SHUFFLED: usize = 16;
+const SIFTED: usize = 4;
+
+/// `count` shuffles of every rank of `layers`, from a fixed seed.
+fn shuffled(layers: &[Vec<usize>], count: usize) -> Vec<Vec<Vec<usize>>> {
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut below = |bound: usize| {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) as usize % bound
+    };
+    (0..count)
+        .map(|_| {
+            let mut start = layers.to_vec();
+            for rank in start.iter_mut() {
+                for i in (1..rank.len()).rev() {
+                    rank.swap(i, below(i + 1));
+                }
+            }
+            start
+        })
+        .collect()
 }
 
 /// Global sifting from `order`: long edges move as a whole, which sweeps cannot do; then

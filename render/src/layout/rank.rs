@@ -6,25 +6,31 @@
 //! and Eades, Lin and Smyth's greedy feedback arc set — and the one that reverses the fewest firm
 //! edges, then gives the least total edge length, then the fewest ranks, is kept.
 
-use std::collections::VecDeque;
+use std::{
+    cmp::Reverse,
+    collections::{BinaryHeap, VecDeque},
+};
 
 use super::simplex;
 
-/// Edges oriented so that the graph is acyclic, `(from, to, reversed)`, and each box's rank;
-/// `flow` and `firm` as `LayoutInput` says.
-pub(super) fn ranks(
-    n: usize,
-    edges: &[(usize, usize)],
-    flow: bool,
-    firm: &[bool],
-) -> (Vec<(usize, usize, bool)>, Vec<usize>) {
-    let candidates = if flow {
+/// Edges oriented so that the graph is acyclic, `(from, to, reversed)`, and each box's rank.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Ranked {
+    pub edges: Vec<(usize, usize, bool)>,
+    pub rank: Vec<usize>,
+}
+
+/// The ways to rank the boxes worth laying out, best guess first: for a flow the one it reads
+/// as; otherwise those of the three orientations that reverse the fewest firm edges, each
+/// once, by least total edge length, then fewest ranks. `flow` and `firm` as `LayoutInput`
+/// says.
+pub(super) fn candidates(n: usize, edges: &[(usize, usize)], flow: bool, firm: &[bool]) -> Vec<Ranked> {
+    let orientations = if flow {
         vec![depth_first(n, edges, true)]
     } else {
-        vec![depth_first(n, edges, true), depth_first(n, edges, false), greedy(n, edges)]
+        vec![depth_first(n, edges, true), depth_first(n, edges, false), greedy(n, edges, firm)]
     };
-    // The first with the least (firm edges reversed, total length, ranks).
-    candidates
+    let mut scored: Vec<((usize, usize, usize), Ranked)> = orientations
         .into_iter()
         .map(|reversed| {
             let against = reversed.iter().zip(firm).filter(|(&r, &f)| r && f).count();
@@ -33,11 +39,18 @@ pub(super) fn ranks(
             let rank = simplex::network_simplex(n, &oriented, &longest_path(n, &oriented));
             let length: usize = oriented.iter().filter(|e| e.0 != e.1).map(|e| rank[e.1] - rank[e.0]).sum();
             let height = rank.iter().max().map_or(0, |r| r + 1);
-            ((against, length, height), oriented, rank)
+            ((against, length, height), Ranked { edges: oriented, rank })
         })
-        .min_by_key(|candidate| candidate.0)
-        .map(|(_, oriented, rank)| (oriented, rank))
-        .expect("at least one candidate")
+        .collect();
+    scored.sort_by_key(|(key, _)| *key); // stable: of equals the first tried stays first
+    let fewest_against = scored[0].0 .0;
+    let mut kept: Vec<Ranked> = Vec::new();
+    for (key, ranked) in scored {
+        if key.0 == fewest_against && !kept.contains(&ranked) {
+            kept.push(ranked);
+        }
+    }
+    kept
 }
 
 /// Edges oriented so that the graph is acyclic by the first candidate alone (for tests that
@@ -94,8 +107,9 @@ fn depth_first(n: usize, edges: &[(usize, usize)], sources_first: bool) -> Vec<b
 
 /// The edges that point backwards in Eades, Lin and Smyth's vertex sequence (1993): sinks are
 /// taken to the end and sources to the front as they appear; otherwise the box with the most
-/// more outgoing than incoming edges goes to the front (the lowest index among equals).
-fn greedy(n: usize, edges: &[(usize, usize)]) -> Vec<bool> {
+/// more outgoing than incoming edges goes to the front (the lowest index among equals); then
+/// reordered so that firm edges point forwards (`firm_first`).
+fn greedy(n: usize, edges: &[(usize, usize)], firm: &[bool]) -> Vec<bool> {
     let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut into: Vec<Vec<usize>> = vec![Vec::new(); n];
     for &(a, b) in edges.iter().filter(|e| e.0 != e.1) {
@@ -139,11 +153,42 @@ fn greedy(n: usize, edges: &[(usize, usize)]) -> Vec<bool> {
         }
     }
     front.extend(back.into_iter().rev());
-    let mut position = vec![0usize; n];
-    for (i, &v) in front.iter().enumerate() {
-        position[v] = i;
-    }
+    let position = firm_first(n, edges, firm, &front);
     edges.iter().map(|&(a, b)| a != b && position[a] > position[b]).collect()
+}
+
+/// Each box's position in `sequence` reordered as little as makes every firm edge point
+/// forwards: the earliest box in `sequence` whose firm predecessors are all placed goes next
+/// (where firm edges close a cycle, the rest follow in `sequence`'s order).
+fn firm_first(n: usize, edges: &[(usize, usize)], firm: &[bool], sequence: &[usize]) -> Vec<usize> {
+    let mut at = vec![0usize; n];
+    for (i, &v) in sequence.iter().enumerate() {
+        at[v] = i;
+    }
+    let mut waiting = vec![0usize; n];
+    let mut after: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (&(a, b), _) in edges.iter().zip(firm).filter(|(e, &f)| f && e.0 != e.1) {
+        waiting[b] += 1;
+        after[a].push(b);
+    }
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&v| waiting[v] == 0).map(|v| Reverse(at[v])).collect();
+    let mut placed = vec![false; n];
+    let mut position = vec![0usize; n];
+    let mut next = 0;
+    while let Some(Reverse(i)) = ready.pop() {
+        let v = sequence[i];
+        (placed[v], position[v], next) = (true, next, next + 1);
+        for &w in &after[v] {
+            waiting[w] -= 1;
+            if waiting[w] == 0 {
+                ready.push(Reverse(at[w]));
+            }
+        }
+    }
+    for &v in sequence.iter().filter(|&&v| !placed[v]) {
+        (position[v], next) = (next, next + 1);
+    }
+    position
 }
 
 /// Each box's rank: the length of the longest path to it from a source (feasible ranks).
@@ -174,6 +219,12 @@ pub(super) fn longest_path(n: usize, edges: &[(usize, usize, bool)]) -> Vec<usiz
 mod tests {
     use super::*;
 
+    /// The first candidate.
+    fn ranks(n: usize, edges: &[(usize, usize)], flow: bool, firm: &[bool]) -> (Vec<(usize, usize, bool)>, Vec<usize>) {
+        let Ranked { edges, rank } = candidates(n, edges, flow, firm).remove(0);
+        (edges, rank)
+    }
+
     fn total_length(edges: &[(usize, usize, bool)], rank: &[usize]) -> usize {
         edges.iter().filter(|e| e.0 != e.1).map(|e| rank[e.1] - rank[e.0]).sum()
     }
@@ -199,7 +250,7 @@ mod tests {
     }
 
     #[test]
-    fn the_orientation_kept_is_the_shortest_of_the_three() {
+    fn the_first_candidate_is_the_shortest_of_the_three() {
         // Pseudo-random graphs with cycles: every edge points down, the ranks kept are never
         // longer than the search from the sources gives, and on some strictly shorter.
         let mut shorter = 0;
