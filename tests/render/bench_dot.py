@@ -8,14 +8,16 @@ with role names and multiplicities at both ends (`realistic_class_diagram`), and
 structured control flow as programs have it — sequences, guarded branches that meet again,
 loops back (`realistic_activity_diagram`).
 
-usage: python3 bench_dot.py GUDSL_BINARY LAYOUT_METRICS_PY [--quick]
+usage: python3 bench_dot.py GUDSL_BINARY LAYOUT_METRICS_PY [--quick] [--seeds N]
 Needs `dot` (Debian package graphviz; only the benchmark needs it, not the product). Both tools
 get the same boxes (gudsl's measured node sizes, its decision and merge diamonds included), the
 same edges (generalizations pointing up in both) and the same labels: the texts of gudsl's
 middle, head and tail labels, in the font gudsl measures them in (DejaVu Sans, 10.2 pt). Time
 is per diagram, median of 5 (gudsl: the whole `gudsl render --format layout-json` process,
 parse and resolution included; dot: `dot -Tjson`). `--quick`: the realistic diagrams only, one
-timing run each."""
+timing run each. `--seeds N`: the realistic diagrams also from N more random seeds (one row
+each, "class 50 #2"), and a last line counting per metric on how many diagrams gudsl is
+better, equal and worse than dot — one seed can flatter either tool."""
 
 import json
 import random
@@ -219,10 +221,17 @@ def cell(key, value):
     return f"{value / 1000:.0f}" if key == "area" else f"{value:g}"
 
 
-def main(gudsl, metrics, quick=False):
+def main(gudsl, metrics, quick=False, seeds=0):
     work = Path(tempfile.mkdtemp(prefix="gudsl-layout-"))
     cases = [] if quick else [(f"{k} {n}", f(n)) for k, f in [("tree class", class_diagram), ("tree activity", activity_diagram)] for n in [10, 50, 200]]
     cases += [(f"{k} {n}", f(n)) for k, f in [("class", realistic_class_diagram), ("activity", realistic_activity_diagram)] for n in [50, 200]]
+    cases += [
+        (f"{k} {n} #{seed}", f(n, seed=100 + seed))
+        for seed in range(1, seeds + 1)
+        for k, f in [("class", realistic_class_diagram), ("activity", realistic_activity_diagram)]
+        for n in [50, 200]
+    ]
+    tally = {key: [0, 0, 0] for _, key, _ in COLUMNS}
     header = f"{'diagram':<18} {'nodes':>5} {'edges':>5} {'labels':>6} | {'time ms':>13} | " + " | ".join(f"{c[0]:>{2 * c[2] + 1}}" for c in COLUMNS)
     print(header)
     print("-" * len(header))
@@ -230,8 +239,16 @@ def main(gudsl, metrics, quick=False):
         edges, t_ours, t_dot, o, d = run(gudsl, metrics, work, f"case{k}", text, 1 if quick else 5)
         cells = " | ".join(f"{cell(key, o[key]):>{w}} {cell(key, d[key]):>{w}}" for _, key, w in COLUMNS)
         print(f"{name:<18} {o['nodes']:>5} {edges:>5} {o['labels']:>6} | {t_ours:>6.0f} {t_dot:>6.0f} | {cells}", flush=True)
+        if name.startswith(("class", "activity")):
+            for _, key, _ in COLUMNS:
+                # Less is better for every metric (the aspect ratio, max/min side, nearer 1).
+                ours, theirs = o[key], d[key]
+                tally[key][0 if ours < theirs else 1 if ours == theirs else 2] += 1
     print("(each pair: gudsl, dot; label counts are gudsl's, dot is given the same texts)")
+    print("realistic diagrams, gudsl better/equal/worse: " + ", ".join(f"{c} {'/'.join(map(str, tally[k]))}" for c, k, _ in COLUMNS))
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2], "--quick" in sys.argv[3:])
+    flags = sys.argv[3:]
+    seeds = int(flags[flags.index("--seeds") + 1]) if "--seeds" in flags else 0
+    main(sys.argv[1], sys.argv[2], "--quick" in flags, seeds)

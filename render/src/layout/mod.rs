@@ -1,11 +1,12 @@
 //! Layered (Sugiyama-style) layout of a directed graph of boxes, top to bottom: cycle breaking
 //! (`rank`), ranks by network simplex (`simplex`), dummy vertices for long edges (`proper`), crossing
-//! minimisation (`order`, `sifting`), coordinates (`place`, `align`) and edge polylines
-//! (`route`). Edge labels take room in the layout as dot's do: with labels, ranks are doubled
+//! minimisation (`minimise`, with `order` and `sifting`), coordinates (`place`, `align`), edge polylines
+//! (`route`) and small parts apart (`pack`). Edge labels take room as dot's do: with labels, ranks are doubled
 //! and each labelled edge's label sits beside a dummy in a rank between its boxes' ranks.
 //! Deterministic: the same input gives the same output.
 
 mod align;
+mod minimise;
 mod order;
 mod pack;
 mod place;
@@ -19,9 +20,7 @@ pub(crate) use route::self_loop;
 
 pub use crate::geometry::Point;
 
-use order::Order;
-use proper::Proper;
-use sifting::GlobalOrder;
+use minimise::{minimise_crossings, swept_crossings};
 
 /// A box to place.
 #[derive(Debug, Clone, PartialEq)]
@@ -127,31 +126,50 @@ pub(super) struct Extent {
 /// Lays out `input` top to bottom: the boxes joined by edges (or in swimlanes) in layers, the
 /// boxes alone packed in rows under them (`pack`).
 pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
-    let alone = pack::alone(input);
-    if !alone.contains(&true) {
+    let (joined, apart) = pack::split(input);
+    if apart.is_empty() {
         return layered_joined(input, spacing);
     }
-    // The joined boxes alone, their indices mapped back afterwards.
-    let kept: Vec<usize> = (0..input.nodes.len()).filter(|&v| !alone[v]).collect();
+    let (joined_input, joined_edges) = sub_input(input, &joined);
+    let inner = layered_joined(&joined_input, spacing);
+    let m = input.edges.len();
+    let mut layout = Layout {
+        positions: vec![Point::default(); input.nodes.len()],
+        edges: vec![Vec::new(); m],
+        labels: vec![None; m],
+        ..inner.clone()
+    };
+    let joined_part = pack::Part { boxes: joined, edges: joined_edges, layout: inner };
+    joined_part.put(&mut layout, Point { x: spacing.margin, y: spacing.margin }, spacing);
+    let parts: Vec<pack::Part> = apart
+        .into_iter()
+        .map(|boxes| {
+            let (sub, edges) = sub_input(input, &boxes);
+            pack::Part { layout: layered_joined(&sub, spacing), boxes, edges }
+        })
+        .collect();
+    pack::place_apart(layout, input, &parts, spacing, !joined_part.boxes.is_empty())
+}
+
+/// The part of `input` made of `boxes` (in that order) and the edges between them, and those
+/// edges' indices in `input`.
+fn sub_input(input: &LayoutInput, boxes: &[usize]) -> (LayoutInput, Vec<usize>) {
     let mut index = vec![usize::MAX; input.nodes.len()];
-    for (i, &v) in kept.iter().enumerate() {
+    for (i, &v) in boxes.iter().enumerate() {
         index[v] = i;
     }
-    let joined = LayoutInput {
-        nodes: kept.iter().map(|&v| input.nodes[v].clone()).collect(),
-        edges: input.edges.iter().map(|&(a, b)| (index[a], index[b])).collect(),
-        groups: kept.iter().map(|&v| input.groups.get(v).copied().flatten()).collect(),
-        labels: input.labels.clone(),
+    let edges: Vec<usize> = (0..input.edges.len())
+        .filter(|&e| index[input.edges[e].0] != usize::MAX && index[input.edges[e].1] != usize::MAX)
+        .collect();
+    let sub = LayoutInput {
+        nodes: boxes.iter().map(|&v| input.nodes[v].clone()).collect(),
+        edges: edges.iter().map(|&e| (index[input.edges[e].0], index[input.edges[e].1])).collect(),
+        groups: boxes.iter().map(|&v| input.groups.get(v).copied().flatten()).collect(),
+        labels: edges.iter().map(|&e| input.labels.get(e).copied().flatten()).collect(),
         flow: input.flow,
-        firm: input.firm.clone(),
+        firm: edges.iter().map(|&e| input.firm.get(e).copied().unwrap_or(false)).collect(),
     };
-    let inner = layered_joined(&joined, spacing);
-    let mut positions = vec![Point::default(); input.nodes.len()];
-    for (i, &v) in kept.iter().enumerate() {
-        positions[v] = inner.positions[i];
-    }
-    let layout = Layout { positions, ..inner };
-    pack::place_alone(layout, input, &alone, spacing, !kept.is_empty())
+    (sub, edges)
 }
 
 /// Lays out `input` top to bottom, every box in the layers.
@@ -213,136 +231,6 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
     let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
     Layout { positions, edges: routed, labels, width, height: bands.total_height }
-}
-
-/// Reorders every rank of `layers` to reduce crossings: median sweeps with transposition from
-/// `layers` and from seven more starts (breadth and depth first, down the edges and both ways,
-/// each also mirrored) and from `SHUFFLED` shuffles of `layers` (a fixed seed: deterministic),
-/// then global sifting of whole blocks from the `SIFTED` best of those; the order with the fewest
-/// crossings wins, of equals the one whose drawing is narrowest (by `width`), then the first.
-/// The sweeps end in local optima that differ much from start to start, so the many starts;
-/// sifting costs more than the sweeps, and a start's sweeps predict where sifting ends, so only
-/// the best are sifted.
-fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, width: &dyn Fn(&[Vec<usize>]) -> f64) {
-    let starts = [
-        layers.to_vec(),
-        graph.initial_layers(false, false),
-        graph.initial_layers(true, true),
-        graph.initial_layers(false, true),
-    ];
-    // Each start mirrored too: the sweeps break ties by position, so a mirror is a new start.
-    let mirrored: Vec<Vec<Vec<usize>>> =
-        starts.iter().map(|layers| layers.iter().map(|rank| rank.iter().rev().copied().collect()).collect()).collect();
-    let mut swept: Vec<(Vec<Vec<usize>>, usize)> = Vec::new();
-    for start in starts.into_iter().chain(mirrored).chain(shuffled(layers, SHUFFLED)) {
-        let (order, crossings) = sweeps(start, graph);
-        if crossings == 0 {
-            layers.clone_from_slice(&order);
-            return;
-        }
-        swept.push((order, crossings));
-    }
-    swept.sort_by_key(|(_, crossings)| *crossings); // stable: the first of equals stays first
-    let sifted: Vec<(Vec<Vec<usize>>, usize)> =
-        swept.into_iter().take(SIFTED).map(|start| sifted(start, graph)).collect();
-    let fewest = sifted.iter().map(|(_, crossings)| *crossings).min();
-    let best = sifted
-        .into_iter()
-        .filter(|(_, crossings)| Some(*crossings) == fewest)
-        .map(|(order, _)| (width(&order), order))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    if let Some((_, best)) = best {
-        layers.clone_from_slice(&best);
-    }
-}
-
-/// The fewest crossings median sweeps find from the four plain starts.
-fn swept_crossings(graph: &Proper) -> usize {
-    let starts = [(true, false), (false, false), (true, true), (false, true)];
-    starts
-        .iter()
-        .map(|&(breadth_first, undirected)| sweeps(graph.initial_layers(breadth_first, undirected), graph).1)
-        .min()
-        .unwrap_or(0)
-}
-
-/// Random starts for crossing minimisation, and how many of all starts are sifted.
-const SHUFFLED: usize = 16;
-const SIFTED: usize = 4;
-
-/// `count` shuffles of every rank of `layers`, from a fixed seed.
-fn shuffled(layers: &[Vec<usize>], count: usize) -> Vec<Vec<Vec<usize>>> {
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut below = |bound: usize| {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 33) as usize % bound
-    };
-    (0..count)
-        .map(|_| {
-            let mut start = layers.to_vec();
-            for rank in start.iter_mut() {
-                for i in (1..rank.len()).rev() {
-                    rank.swap(i, below(i + 1));
-                }
-            }
-            start
-        })
-        .collect()
-}
-
-/// Global sifting from `order`: long edges move as a whole, which sweeps cannot do; then
-/// transposition. The better of `order` and the result, with its crossings.
-fn sifted((order, crossings): (Vec<Vec<usize>>, usize), graph: &Proper) -> (Vec<Vec<usize>>, usize) {
-    if crossings == 0 {
-        return (order, crossings);
-    }
-    let mut global = GlobalOrder::new(&Order::new(order.clone(), graph.vertices()), graph);
-    let mut now = global.order.crossings(graph);
-    for _ in 0..12 {
-        global.sift_all(graph);
-        let after = global.order.crossings(graph);
-        if after >= now {
-            break;
-        }
-        now = after;
-    }
-    let mut result = global.order;
-    result.transpose(graph, false);
-    let after = result.crossings(graph);
-    if after < crossings {
-        (result.layers, after)
-    } else {
-        (order, crossings)
-    }
-}
-
-/// Median sweeps from `start`, alternately down and up, each followed by transposition (every
-/// other pair of sweeps also swapping neighbours whose crossings tie, to leave a plateau), until
-/// eight sweeps in a row bring nothing: the best order seen and its crossings.
-fn sweeps(mut start: Vec<Vec<usize>>, graph: &Proper) -> (Vec<Vec<usize>>, usize) {
-    for layer in start.iter_mut() {
-        layer.sort_by_key(|&v| graph.group[v]);
-    }
-    let mut order = Order::new(start, graph.vertices());
-    let mut best = order.layers.clone();
-    let mut best_crossings = order.crossings(graph);
-    let mut fruitless = 0;
-    for sweep in 0..24 {
-        if best_crossings == 0 || fruitless == 8 {
-            break;
-        }
-        order.median_sweep(graph, sweep % 2 == 0);
-        order.transpose(graph, sweep % 4 >= 2);
-        let crossings = order.crossings(graph);
-        if crossings < best_crossings {
-            best_crossings = crossings;
-            best.clone_from(&order.layers);
-            fruitless = 0;
-        } else {
-            fruitless += 1;
-        }
-    }
-    (best, best_crossings)
 }
 
 #[cfg(test)]
@@ -547,6 +435,34 @@ mod tests {
     }
 
     #[test]
+    fn a_small_part_apart_fills_free_room_with_its_edge() {
+        // 0 over 1..=6, 1 -> 7 -> 8: room right of 7 and 8, under the wide rank. The part 9 -> 10
+        // goes there, laid out on its own, its edge between its boxes; the drawing does not grow.
+        let mut edges: Vec<(usize, usize)> = (1..7).map(|v| (0, v)).collect();
+        edges.extend([(1, 7), (7, 8)]);
+        let joined = LayoutInput { nodes: boxes(9), edges: edges.clone(), ..Default::default() };
+        let without = layered(&joined, Spacing::default());
+        edges.push((9, 10));
+        let input = LayoutInput { nodes: boxes(11), edges, ..Default::default() };
+        let layout = layered(&input, Spacing::default());
+        assert_eq!((layout.width, layout.height), (without.width, without.height));
+        assert!(!overlaps(&layout, &input));
+        assert!(layout.positions[9].y >= layout.positions[7].y && layout.positions[9].y < layout.positions[10].y);
+        let route = &layout.edges[8];
+        let (first, last) = (route[0], route[route.len() - 1]);
+        assert_eq!(first.y, layout.positions[9].y + input.nodes[9].height);
+        assert_eq!(last.y, layout.positions[10].y);
+        for (e, route) in layout.edges.iter().enumerate() {
+            let (a, b) = input.edges[e];
+            for v in (0..11).filter(|&v| v != a && v != b) {
+                let (at, size) = (layout.positions[v], &input.nodes[v]);
+                let r = Rect { x: at.x, y: at.y, width: size.width, height: size.height };
+                assert!(!route.windows(2).any(|s| segment_meets_box(s[0], s[1], r)), "edge {e} through box {v}");
+            }
+        }
+    }
+
+    #[test]
     fn network_simplex_ranks_keep_edges_short_and_pointing_down() {
         // 0 -> 1 -> 2 -> 3 and 4 -> 3: longest path puts 4 at the top (its edge three ranks
         // long); the least total length puts it just above 3.
@@ -571,7 +487,7 @@ mod tests {
     fn every_start_holds_each_vertex_once_even_with_parallel_edges() {
         let pairs = [(0, 1), (0, 1), (1, 2), (1, 2), (2, 0), (0, 3), (3, 2)];
         let edges = rank::orient(4, &pairs);
-        let graph = Proper::new(&[], &edges, &rank::longest_path(4, &edges));
+        let graph = proper::Proper::new(&[], &edges, &rank::longest_path(4, &edges));
         for (breadth_first, undirected) in [(true, false), (false, false), (true, true), (false, true)] {
             let mut all: Vec<usize> = graph.initial_layers(breadth_first, undirected).concat();
             all.sort_unstable();

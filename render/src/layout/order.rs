@@ -178,7 +178,7 @@ pub(super) mod tests {
         let groups = [0, 0, 1, 1, 0, 0, 1, 1].map(Some);
         let graph = proper(8, &[(0, 5), (1, 4), (2, 7), (3, 6)], &groups);
         let mut layers = vec![vec![0, 2, 1, 3], vec![4, 6, 5, 7]];
-        super::super::minimise_crossings(&mut layers, &graph, &|_: &[Vec<usize>]| 0.0);
+        super::super::minimise::minimise_crossings(&mut layers, &graph, &|_: &[Vec<usize>]| 0.0);
         assert_eq!(Order::new(layers.clone(), 8).crossings(&graph), 0);
         for layer in &layers {
             let lanes: Vec<usize> = layer.iter().map(|&v| graph.group[v]).collect();
@@ -200,10 +200,10 @@ pub(super) mod tests {
             };
             let edges: Vec<(usize, usize)> = (0..70).map(|_| (next(50), next(50))).collect();
             let graph = proper(50, &edges, &[]);
-            let plain = super::super::swept_crossings(&graph);
+            let plain = super::super::minimise::swept_crossings(&graph);
             let minimised = |_: ()| {
                 let mut layers = graph.initial_layers(true, false);
-                super::super::minimise_crossings(&mut layers, &graph, &|_: &[Vec<usize>]| 0.0);
+                super::super::minimise::minimise_crossings(&mut layers, &graph, &|_: &[Vec<usize>]| 0.0);
                 layers
             };
             let layers = minimised(());

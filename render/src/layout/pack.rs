@@ -1,52 +1,122 @@
-//! Boxes without edges: each, in input order, where it fits in the free room of the layered
-//! drawing of the others (level with a rank's boxes, at the drawing's sides first), clear of its
-//! boxes, edges and labels — as dot puts them into its ranks, but growing the drawing by
-//! nothing. The rest are packed in rows under it, about as wide as the drawing (or, where there
-//! is none or it is narrow, as wide as makes the packed boxes a block of about 3:2) — not one
-//! long row across the top.
+//! Small parts of the graph — boxes without edges, and connected parts of a few boxes apart
+//! from the rest — each laid out on its own, then, in input order, put where it fits in the free
+//! room of the layered drawing of the others (level with a rank's boxes, at the drawing's sides
+//! first), clear of its boxes, edges and labels: as dot puts them into its ranks, but growing
+//! the drawing by nothing. The rest are packed in rows under it, about as wide as the drawing
+//! (or, where there is none or it is narrow, as wide as makes them a block of about 3:2) — not
+//! one long row across the top.
 
 use super::{Layout, LayoutInput, Point, Spacing};
 use crate::geometry::{intersects, segment_meets_box, Rect};
 
-/// Whether box `v` is alone: no edge touches it and it is in no swimlane.
-pub(super) fn alone(input: &LayoutInput) -> Vec<bool> {
-    let mut alone: Vec<bool> =
-        (0..input.nodes.len()).map(|v| input.groups.get(v).copied().flatten().is_none()).collect();
-    for &(a, b) in &input.edges {
-        alone[a] = false;
-        alone[b] = false;
+/// The most boxes of a part laid out apart.
+const SMALL_PART: usize = 4;
+
+/// Boxes joined by edges or in swimlanes, and the small parts apart from them (by box, in input
+/// order): a part is small when it has at most `SMALL_PART` boxes, none in a swimlane, and is
+/// not the largest part (unless that is one box alone too).
+pub(super) fn split(input: &LayoutInput) -> (Vec<usize>, Vec<Vec<usize>>) {
+    let n = input.nodes.len();
+    let mut part: Vec<usize> = (0..n).collect();
+    fn find(part: &mut [usize], v: usize) -> usize {
+        let mut root = v;
+        while part[root] != root {
+            root = part[root];
+        }
+        let mut at = v;
+        while part[at] != root {
+            (part[at], at) = (root, part[at]);
+        }
+        root
     }
-    alone
+    for &(a, b) in &input.edges {
+        let (ra, rb) = (find(&mut part, a), find(&mut part, b));
+        part[ra.max(rb)] = ra.min(rb);
+    }
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for v in 0..n {
+        let root = find(&mut part, v);
+        members[root].push(v);
+    }
+    let largest = (0..n).max_by_key(|&r| (members[r].len(), std::cmp::Reverse(r))).unwrap_or(0);
+    let in_lane = |v: usize| input.groups.get(v).copied().flatten().is_some();
+    let in_lanes = |r: usize| members[r].iter().any(|&v| in_lane(v));
+    // The largest part is laid out in layers unless it is a box alone too.
+    let layered = |r: usize| r == largest && (members[r].len() > 1 || in_lanes(r));
+    let small = |r: usize| !layered(r) && members[r].len() <= SMALL_PART && !in_lanes(r);
+    let apart: Vec<Vec<usize>> =
+        (0..n).filter(|&r| !members[r].is_empty() && small(r)).map(|r| members[r].clone()).collect();
+    let joined: Vec<usize> = (0..n).filter(|&v| !small(find(&mut part, v))).collect();
+    (joined, apart)
 }
 
-/// `layout` (of the boxes that are not alone, at their indices; the others' positions are
-/// placeholders) with the boxes that are alone placed in its free room or in rows under it.
-pub(super) fn place_alone(
+/// A part laid out on its own: its boxes, its edges (by input index), and its layout.
+pub(super) struct Part {
+    pub boxes: Vec<usize>,
+    pub edges: Vec<usize>,
+    pub layout: Layout,
+}
+
+impl Part {
+    /// The part's drawing without its margin.
+    fn size(&self, spacing: Spacing) -> (f64, f64) {
+        (self.layout.width - 2.0 * spacing.margin, self.layout.height - 2.0 * spacing.margin)
+    }
+
+    /// Writes the part into `layout` with its drawing's top-left corner at `at`.
+    pub(super) fn put(&self, layout: &mut Layout, at: Point, spacing: Spacing) {
+        let (dx, dy) = (at.x - spacing.margin, at.y - spacing.margin);
+        let moved = |p: Point| Point { x: p.x + dx, y: p.y + dy };
+        for (i, &v) in self.boxes.iter().enumerate() {
+            layout.positions[v] = moved(self.layout.positions[i]);
+        }
+        for (i, &e) in self.edges.iter().enumerate() {
+            layout.edges[e] = self.layout.edges[i].iter().map(|&p| moved(p)).collect();
+            layout.labels[e] = self.layout.labels[i].map(moved);
+        }
+    }
+}
+
+/// `layout` (of the joined boxes, at their indices; the others' positions, edges and labels are
+/// placeholders) with the small parts placed in its free room or in rows under it.
+pub(super) fn place_apart(
     mut layout: Layout,
     input: &LayoutInput,
-    alone: &[bool],
+    parts: &[Part],
     spacing: Spacing,
     drawn: bool,
 ) -> Layout {
-    let lonely: Vec<usize> = (0..input.nodes.len()).filter(|&v| alone[v]).collect();
-    let rest = if drawn { into_free_room(&mut layout, input, alone, &lonely, spacing) } else { lonely };
-    under(layout, input, rest, spacing, drawn)
+    let sizes: Vec<(f64, f64)> = parts.iter().map(|p| p.size(spacing)).collect();
+    let mut spots =
+        if drawn { into_free_room(&layout, input, parts, &sizes, spacing) } else { vec![None; parts.len()] };
+    under(&mut layout, &sizes, &mut spots, spacing, drawn);
+    for (part, spot) in parts.iter().zip(spots) {
+        part.put(&mut layout, spot.expect("every part placed"), spacing);
+    }
+    layout
 }
 
-/// Places each of `lonely` where it fits inside `layout`; returns those that fit nowhere.
+/// Where each part (of drawing size `sizes`) fits inside `layout` (of the joined boxes): the
+/// top-left corner of its drawing, or none.
 fn into_free_room(
-    layout: &mut Layout,
+    layout: &Layout,
     input: &LayoutInput,
-    alone: &[bool],
-    lonely: &[usize],
+    parts: &[Part],
+    sizes: &[(f64, f64)],
     spacing: Spacing,
-) -> Vec<usize> {
+) -> Vec<Option<Point>> {
     let gap = spacing.node_gap;
+    let mut apart = vec![false; input.nodes.len()];
+    parts.iter().flat_map(|p| &p.boxes).for_each(|&v| apart[v] = true);
+    let mut part_edge = vec![false; input.edges.len()];
+    parts.iter().flat_map(|p| &p.edges).for_each(|&e| part_edge[e] = true);
     let rect =
         |v: usize, at: Point| Rect { x: at.x, y: at.y, width: input.nodes[v].width, height: input.nodes[v].height };
     let mut boxes: Vec<Rect> =
-        (0..input.nodes.len()).filter(|&v| !alone[v]).map(|v| rect(v, layout.positions[v])).collect();
-    let labels: Vec<Rect> = (layout.labels.iter().zip(&input.labels))
+        (0..input.nodes.len()).filter(|&v| !apart[v]).map(|v| rect(v, layout.positions[v])).collect();
+    let labels: Vec<Rect> = (layout.labels.iter().zip(&input.labels).zip(&part_edge))
+        .filter(|(_, &apart)| !apart)
+        .map(|(label, _)| label)
         .filter_map(|(at, size)| Some(((*at)?, (*size)?)))
         .map(|(at, (width, height))| Rect { x: at.x, y: at.y, width, height })
         .collect();
@@ -56,9 +126,8 @@ fn into_free_room(
     rows.sort_by(f64::total_cmp);
     rows.dedup_by(|a, b| (*a - *b).abs() < 0.5);
     let (left, right, bottom) = (spacing.margin, layout.width - spacing.margin, layout.height - spacing.margin);
-    let mut rest = Vec::new();
-    for &v in lonely {
-        let (width, height) = (input.nodes[v].width, input.nodes[v].height);
+    let mut spots = Vec::with_capacity(parts.len());
+    for &(width, height) in sizes {
         let clear = |r: Rect, boxes: &[Rect]| {
             let near = r.grown(gap / 2.0);
             r.x >= left
@@ -82,44 +151,39 @@ fn into_free_room(
             xs.into_iter().map(move |x| Rect { x, y, width, height })
         });
         let spot = sides.chain(inside).find(|r| clear(*r, &boxes));
-        match spot {
-            Some(r) => {
-                layout.positions[v] = Point { x: r.x, y: r.y };
-                boxes.push(r);
-            }
-            None => rest.push(v),
+        if let Some(r) = spot {
+            boxes.push(r);
         }
+        spots.push(spot.map(|r| Point { x: r.x, y: r.y }));
     }
-    rest
+    spots
 }
 
-/// `layout` with `lonely` placed in rows under it.
-fn under(mut layout: Layout, input: &LayoutInput, lonely: Vec<usize>, spacing: Spacing, drawn: bool) -> Layout {
-    if lonely.is_empty() {
-        return layout;
+/// The parts (of drawing size `sizes`) without a spot yet placed in rows under `layout`, which
+/// grows to hold them.
+fn under(layout: &mut Layout, sizes: &[(f64, f64)], spots: &mut [Option<Point>], spacing: Spacing, drawn: bool) {
+    let rest: Vec<usize> = (0..sizes.len()).filter(|&i| spots[i].is_none()).collect();
+    if rest.is_empty() {
+        return;
     }
-    let area: f64 = lonely
-        .iter()
-        .map(|&v| (input.nodes[v].width + spacing.node_gap) * (input.nodes[v].height + spacing.node_gap))
-        .sum();
-    let widest = lonely.iter().map(|&v| input.nodes[v].width).fold(0.0, f64::max);
+    let area: f64 = rest.iter().map(|&i| (sizes[i].0 + spacing.node_gap) * (sizes[i].1 + spacing.node_gap)).sum();
+    let widest = rest.iter().map(|&i| sizes[i].0).fold(0.0, f64::max);
     let drawing_width = if drawn { layout.width - 2.0 * spacing.margin } else { 0.0 };
     let row_width = drawing_width.max((area * 1.5).sqrt()).max(widest);
     let top = if drawn { layout.height } else { spacing.margin };
     let (mut x, mut y, mut row_height, mut right) = (spacing.margin, top, 0.0f64, 0.0f64);
-    for v in lonely {
-        let node = &input.nodes[v];
-        if x > spacing.margin && x + node.width > spacing.margin + row_width {
+    for i in rest {
+        let (width, height) = sizes[i];
+        if x > spacing.margin && x + width > spacing.margin + row_width {
             x = spacing.margin;
             y += row_height + spacing.node_gap;
             row_height = 0.0;
         }
-        layout.positions[v] = Point { x, y };
-        right = right.max(x + node.width);
-        x += node.width + spacing.node_gap;
-        row_height = row_height.max(node.height);
+        spots[i] = Some(Point { x, y });
+        right = right.max(x + width);
+        x += width + spacing.node_gap;
+        row_height = row_height.max(height);
     }
     layout.width = if drawn { layout.width.max(right + spacing.margin) } else { right + spacing.margin };
     layout.height = y + row_height + spacing.margin;
-    layout
 }
