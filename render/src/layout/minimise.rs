@@ -1,17 +1,18 @@
 //! Crossing minimisation: which order each rank's vertices take. Median sweeps with
 //! transposition from many starts, global sifting from the best of them, the order with the
-//! fewest crossings kept (of equals, the narrowest drawing).
+//! fewest crossings kept (a shuffle's only where it saves enough: plain starts move less under an
+//! edit).
 
 use super::{order::Order, proper::Proper, sifting::GlobalOrder};
 
 /// Reorders every rank of `layers` to reduce crossings: median sweeps with transposition from
-/// `layers` and from seven more starts (breadth and depth first, down the edges and both ways,
-/// each also mirrored) and from `SHUFFLED` shuffles of `layers` (a fixed seed: deterministic),
-/// then global sifting of whole blocks from the `SIFTED` best of those; the order with the fewest
-/// crossings wins, of equals the one whose drawing is narrowest (by `width`), then the first.
-/// The sweeps end in local optima that differ much from start to start, so the many starts;
-/// sifting costs more than the sweeps, and a start's sweeps predict where sifting ends, so only
-/// the best are sifted.
+/// `layers` and from seven more plain starts (breadth and depth first, down the edges and both
+/// ways, each also mirrored) and from `SHUFFLED` shuffles of `layers` (a fixed seed:
+/// deterministic), then global sifting of whole blocks from every plain start and the
+/// `SIFTED_SHUFFLES` shuffles whose sweeps came out best. The best plain start's order wins
+/// (`best_of`) unless the best shuffle's has `FEWER` crossings. The sweeps end in local optima that differ
+/// much from start to start, so the many starts; sifting costs more than the sweeps, and a
+/// start's sweeps predict where sifting ends, so only the best shuffles are sifted.
 pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, width: &dyn Fn(&[Vec<usize>]) -> f64) {
     let starts = [
         layers.to_vec(),
@@ -22,27 +23,47 @@ pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, widt
     // Each start mirrored too: the sweeps break ties by position, so a mirror is a new start.
     let mirrored: Vec<Vec<Vec<usize>>> =
         starts.iter().map(|layers| layers.iter().map(|rank| rank.iter().rev().copied().collect()).collect()).collect();
-    let mut swept: Vec<(Vec<Vec<usize>>, usize)> = Vec::new();
-    for start in starts.into_iter().chain(mirrored).chain(shuffled(layers, SHUFFLED)) {
+    let plain: Vec<Vec<Vec<usize>>> = starts.into_iter().chain(mirrored).collect();
+    let plain_count = plain.len();
+    let mut swept: Vec<(usize, Vec<Vec<usize>>, usize)> = Vec::new();
+    for (i, start) in plain.into_iter().chain(shuffled(layers, graph, SHUFFLED)).enumerate() {
         let (order, crossings) = sweeps(start, graph);
         if crossings == 0 {
             layers.clone_from_slice(&order);
             return;
         }
-        swept.push((order, crossings));
+        swept.push((i, order, crossings));
     }
-    swept.sort_by_key(|(_, crossings)| *crossings); // stable: the first of equals stays first
-    let sifted: Vec<(Vec<Vec<usize>>, usize)> =
-        swept.into_iter().take(SIFTED).map(|start| sifted(start, graph)).collect();
-    let fewest = sifted.iter().map(|(_, crossings)| *crossings).min();
-    let best = sifted
-        .into_iter()
-        .filter(|(_, crossings)| Some(*crossings) == fewest)
-        .map(|(order, _)| (width(&order), order))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    if let Some((_, best)) = best {
-        layers.clone_from_slice(&best);
+    // Every plain start and the shuffles whose sweeps came out best are sifted.
+    let mut shuffles = swept.split_off(plain_count);
+    shuffles.sort_by_key(|&(_, _, crossings)| crossings); // stable: the first of equals stays first
+    swept.extend(shuffles.into_iter().take(SIFTED_SHUFFLES));
+    let mut sifted: Vec<(Vec<Vec<usize>>, usize)> =
+        swept.into_iter().map(|(_, order, crossings)| sifted((order, crossings), graph)).collect();
+    let shuffles = sifted.split_off(plain_count);
+    let plain = best_of(sifted, width);
+    let chosen = match (plain, best_of(shuffles, width)) {
+        (Some(plain), Some(shuffle)) if (shuffle.1 as f64) <= FEWER * plain.1 as f64 => Some(shuffle),
+        (Some(plain), _) => Some(plain),
+        (None, shuffle) => shuffle,
+    };
+    if let Some((order, _)) = chosen {
+        layers.clone_from_slice(&order);
     }
+}
+
+/// Of `candidates` (orders and their crossings, earliest start first) the one with the fewest
+/// crossings; of equals the first, unless another makes the drawing (by `width`) `NARROWER`.
+fn best_of(
+    mut candidates: Vec<(Vec<Vec<usize>>, usize)>,
+    width: &dyn Fn(&[Vec<usize>]) -> f64,
+) -> Option<(Vec<Vec<usize>>, usize)> {
+    let fewest = candidates.iter().map(|&(_, crossings)| crossings).min()?;
+    candidates.retain(|&(_, crossings)| crossings == fewest);
+    let widths: Vec<f64> = candidates.iter().map(|(order, _)| width(order)).collect();
+    let narrowest = (0..widths.len()).min_by(|&a, &b| widths[a].total_cmp(&widths[b]))?;
+    let chosen = if widths[narrowest] < NARROWER * widths[0] { narrowest } else { 0 };
+    Some(candidates.swap_remove(chosen))
 }
 
 /// The fewest crossings median sweeps find from the four plain starts.
@@ -55,28 +76,50 @@ pub(super) fn swept_crossings(graph: &Proper) -> usize {
         .unwrap_or(0)
 }
 
-/// Random starts for crossing minimisation, and how many of all starts are sifted.
-const SHUFFLED: usize = 16;
-const SIFTED: usize = 8;
+/// How much narrower (as a share of its width) another order with as few crossings must make
+/// the drawing to be kept instead of the earliest start's.
+const NARROWER: f64 = 0.95;
 
-/// `count` shuffles of every rank of `layers`, from a fixed seed.
-fn shuffled(layers: &[Vec<usize>], count: usize) -> Vec<Vec<Vec<usize>>> {
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut below = |bound: usize| {
-        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-        (state >> 33) as usize % bound
-    };
-    (0..count)
-        .map(|_| {
-            let mut start = layers.to_vec();
-            for rank in start.iter_mut() {
-                for i in (1..rank.len()).rev() {
-                    rank.swap(i, below(i + 1));
-                }
-            }
-            start
+/// How many fewer crossings (as a share) the best shuffle's order must have to be kept instead
+/// of the best plain start's: a shuffle's order is new after every edit, a plain start's moves
+/// little, so a shuffle must be worth it.
+const FEWER: f64 = 0.95;
+
+/// Random starts for crossing minimisation, and how many of them are sifted.
+const SHUFFLED: usize = 16;
+const SIFTED_SHUFFLES: usize = 4;
+
+/// `count` shuffles of every rank of `layers`: each vertex sorted by a pseudo-random key of
+/// the shuffle's number and the vertex's identity (a box's index; a dummy's edge and place on
+/// it), so that an edit shuffles the boxes it leaves alone as before.
+fn shuffled(layers: &[Vec<usize>], graph: &Proper, count: usize) -> Vec<Vec<Vec<usize>>> {
+    let mut identity: Vec<u64> = (0..graph.vertices() as u64).collect();
+    for (e, chain) in graph.chains.iter().enumerate() {
+        for (k, &v) in chain.iter().enumerate().filter(|&(_, &v)| v >= graph.boxes) {
+            identity[v] = ((e as u64 + 1) << 32) | k as u64;
+        }
+    }
+    (0..count as u64)
+        .map(|shuffle| {
+            let key = |v: usize| mix(identity[v] ^ mix(shuffle + 1));
+            layers
+                .iter()
+                .map(|rank| {
+                    let mut rank = rank.clone();
+                    rank.sort_by_key(|&v| key(v));
+                    rank
+                })
+                .collect()
         })
         .collect()
+}
+
+/// SplitMix64's finaliser: a well-mixed 64-bit hash of `x`.
+fn mix(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    x ^ (x >> 31)
 }
 
 /// Global sifting from `order`: long edges move as a whole, which sweeps cannot do; then
