@@ -234,9 +234,19 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geometry::{segment_meets_box, Rect};
+
+    /// `m` edges between random boxes of `n`, from `seed` (a linear congruential generator).
+    pub(crate) fn pseudo_random_edges(seed: u64, n: usize, m: usize) -> Vec<(usize, usize)> {
+        let mut state = seed * 7919 + 3;
+        let mut next = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((state >> 33) as usize) % n
+        };
+        (0..m).map(|_| (next(), next())).collect()
+    }
 
     fn boxes(n: usize) -> Vec<LayoutNode> {
         (0..n)

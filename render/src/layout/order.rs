@@ -193,12 +193,7 @@ pub(super) mod tests {
         // same order.
         let mut better = 0;
         for seed in 0..12u64 {
-            let mut state = seed * 7919 + 3;
-            let mut next = |m: usize| {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                ((state >> 33) as usize) % m
-            };
-            let edges: Vec<(usize, usize)> = (0..70).map(|_| (next(50), next(50))).collect();
+            let edges = crate::layout::tests::pseudo_random_edges(seed, 50, 70);
             let graph = proper(50, &edges, &[]);
             let plain = super::super::minimise::swept_crossings(&graph);
             let minimised = |_: ()| {

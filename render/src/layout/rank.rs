@@ -255,13 +255,8 @@ mod tests {
         // longer than the search from the sources gives, and on some strictly shorter.
         let mut shorter = 0;
         for seed in 0..20u64 {
-            let mut state = seed * 2654435761 + 1;
-            let mut next = |m: usize| {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                ((state >> 33) as usize) % m
-            };
             let n = 40;
-            let edges: Vec<(usize, usize)> = (0..60).map(|_| (next(n), next(n))).collect();
+            let edges = crate::layout::tests::pseudo_random_edges(seed + 100, n, 60);
             let (oriented, rank) = ranks(n, &edges, false, &[]);
             assert!(oriented.iter().filter(|e| e.0 != e.1).all(|e| rank[e.1] > rank[e.0]));
             let length = total_length(&oriented, &rank);
