@@ -21,7 +21,7 @@ use crate::{
 
 #[path = "../tests/common/samples.rs"]
 mod samples;
-pub(crate) use samples::sample_graphs;
+pub(crate) use samples::{sample, sample_graphs};
 
 #[test]
 fn every_sample_diagram_renders_deterministically() {
@@ -84,8 +84,7 @@ fn no_text_is_lost_long_lines_wrap_and_the_title_holds_everything() {
 #[test]
 fn static_members_are_underlined() {
     let graphs = sample_graphs();
-    let qualifiers = graphs.iter().find(|g| g.id == "Qualifiers").expect("listing 3 is a sample");
-    let svg = render(qualifiers);
+    let svg = render(sample(&graphs, "Qualifiers")); // listing 3
     let underlined: Vec<&str> = svg.lines().filter(|l| l.contains(r#"text-decoration="underline""#)).collect();
     assert_eq!(underlined.len(), 1, "one node line holds them: {svg}");
     let line = underlined[0];
@@ -322,7 +321,7 @@ fn activity_branches_and_meetings_go_through_diamonds() {
 #[test]
 fn loops_and_calc_nodes_are_drawn_as_expansion_regions() {
     let graphs = sample_graphs();
-    let window = graphs.iter().find(|g| g.id == "LoopWindowExample").expect("listing 12 is a sample");
+    let window = sample(&graphs, "LoopWindowExample"); // listing 12
     let svg = render(window);
     let node = node_svg(&svg, "LoopWindowExample/Lane/filterKernel");
     assert!(node.contains(r#"stroke-dasharray="6,4""#), "a dashed region: {node}");
@@ -344,8 +343,7 @@ fn loops_and_calc_nodes_are_drawn_as_expansion_regions() {
     let action = node_svg(&svg, "LoopWindowExample/Lane/writeOutput");
     assert!(!action.contains("stroke-dasharray") && !action.contains("expansion-node"), "{action}");
 
-    let calc = graphs.iter().find(|g| g.id == "CalcNodeExample").expect("listing 10 is a sample");
-    let svg = render(calc);
+    let svg = render(sample(&graphs, "CalcNodeExample")); // listing 10
     let node = node_svg(&svg, "CalcNodeExample/Lane/filterData");
     assert!(node.contains(r#"stroke-dasharray="6,4""#) && node.contains("expansion-node"), "{node}");
 }

@@ -14,7 +14,7 @@ use resvg::tiny_skia::{Pixmap, PremultipliedColorU8};
 mod common {
     pub(crate) mod samples;
 }
-use common::samples::sample_graphs;
+use common::samples::{sample, sample_graphs};
 
 /// The diagrams drawn, by id: at least one of each kind, and each notation the issue names.
 const PICTURES: &[&str] = &[
@@ -48,7 +48,7 @@ fn diagrams_look_like_their_reviewed_reference_pictures() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reference-pictures");
     let mut failures = Vec::new();
     for id in PICTURES {
-        let graph = graphs.iter().find(|g| g.id == *id).unwrap_or_else(|| panic!("no sample diagram `{id}`"));
+        let graph = sample(&graphs, id);
         let drawn = png::to_png(&gudsl_render::svg::render(graph), 1.0).unwrap();
         let reference = references.join(format!("{id}.png"));
         if update {

@@ -7,7 +7,7 @@ use super::{order::Order, proper::Proper, sifting::GlobalOrder};
 
 /// Reorders every rank of `layers` to reduce crossings: median sweeps with transposition from
 /// `layers` and from seven more plain starts (breadth and depth first, down the edges and both
-/// ways, each also mirrored) and from `SHUFFLED` shuffles of `layers` (a fixed seed:
+/// ways, each also mirrored) and from `SHUFFLED` shuffles of `layers` (`shuffled`:
 /// deterministic), then global sifting of whole blocks from every plain start and the
 /// `SIFTED_SHUFFLES` shuffles whose sweeps came out best. The best plain start's order wins
 /// (`best_of`) unless the best shuffle's has `FEWER` crossings. The sweeps end in local optima that differ
@@ -25,21 +25,20 @@ pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, widt
         starts.iter().map(|layers| layers.iter().map(|rank| rank.iter().rev().copied().collect()).collect()).collect();
     let plain: Vec<Vec<Vec<usize>>> = starts.into_iter().chain(mirrored).collect();
     let plain_count = plain.len();
-    let mut swept: Vec<(usize, Vec<Vec<usize>>, usize)> = Vec::new();
-    for (i, start) in plain.into_iter().chain(shuffled(layers, graph, SHUFFLED)).enumerate() {
+    let mut swept: Vec<(Vec<Vec<usize>>, usize)> = Vec::new();
+    for start in plain.into_iter().chain(shuffled(layers, graph, SHUFFLED)) {
         let (order, crossings) = sweeps(start, graph);
         if crossings == 0 {
             layers.clone_from_slice(&order);
             return;
         }
-        swept.push((i, order, crossings));
+        swept.push((order, crossings));
     }
     // Every plain start and the shuffles whose sweeps came out best are sifted.
     let mut shuffles = swept.split_off(plain_count);
-    shuffles.sort_by_key(|&(_, _, crossings)| crossings); // stable: the first of equals stays first
+    shuffles.sort_by_key(|&(_, crossings)| crossings); // stable: the first of equals stays first
     swept.extend(shuffles.into_iter().take(SIFTED_SHUFFLES));
-    let mut sifted: Vec<(Vec<Vec<usize>>, usize)> =
-        swept.into_iter().map(|(_, order, crossings)| sifted((order, crossings), graph)).collect();
+    let mut sifted: Vec<(Vec<Vec<usize>>, usize)> = swept.into_iter().map(|start| sifted(start, graph)).collect();
     let shuffles = sifted.split_off(plain_count);
     let plain = best_of(sifted, width);
     let chosen = match (plain, best_of(shuffles, width)) {

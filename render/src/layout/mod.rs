@@ -21,6 +21,7 @@ pub(crate) use route::self_loop;
 pub use crate::geometry::Point;
 
 use minimise::{minimise_crossings, swept_crossings};
+use proper::Proper;
 
 /// A box to place.
 #[derive(Debug, Clone, PartialEq)]
@@ -137,7 +138,8 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         positions: vec![Point::default(); input.nodes.len()],
         edges: vec![Vec::new(); m],
         labels: vec![None; m],
-        ..inner.clone()
+        width: inner.width,
+        height: inner.height,
     };
     let joined_part = pack::Part { boxes: joined, edges: joined_edges, layout: inner };
     joined_part.put(&mut layout, Point { x: spacing.margin, y: spacing.margin }, spacing);
@@ -183,17 +185,23 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
     // Of the ways to rank the boxes, the one whose order sweeps find the fewest crossings in
     // (fewer ranks are shorter but may crowd them), the first of equals.
-    let (rank::Ranked { edges, rank }, graph) = rank::candidates(n, &input.edges, input.flow, &input.firm)
+    let mut ways: Vec<(rank::Ranked, Proper)> = rank::candidates(n, &input.edges, input.flow, &input.firm)
         .into_iter()
         .map(|mut ranked| {
             if labelled {
                 ranked.rank.iter_mut().for_each(|r| *r *= 2);
             }
-            let graph = proper::Proper::new(&input.groups, &ranked.edges, &ranked.rank);
+            let graph = Proper::new(&input.groups, &ranked.edges, &ranked.rank);
             (ranked, graph)
         })
-        .min_by_key(|(_, graph)| swept_crossings(graph))
-        .expect("one way to rank at least");
+        .collect();
+    // Sweeps only where there is a choice (a flow has one way).
+    let chosen = if ways.len() == 1 {
+        0
+    } else {
+        (0..ways.len()).min_by_key(|&i| swept_crossings(&ways[i].1)).expect("one way to rank at least")
+    };
+    let (rank::Ranked { edges, rank }, graph) = ways.swap_remove(chosen);
     let mut extent: Vec<Extent> = input
         .nodes
         .iter()
@@ -497,7 +505,7 @@ pub(crate) mod tests {
     fn every_start_holds_each_vertex_once_even_with_parallel_edges() {
         let pairs = [(0, 1), (0, 1), (1, 2), (1, 2), (2, 0), (0, 3), (3, 2)];
         let edges = rank::orient(4, &pairs);
-        let graph = proper::Proper::new(&[], &edges, &rank::longest_path(4, &edges));
+        let graph = Proper::new(&[], &edges, &rank::longest_path(4, &edges));
         for (breadth_first, undirected) in [(true, false), (false, false), (true, true), (false, true)] {
             let mut all: Vec<usize> = graph.initial_layers(breadth_first, undirected).concat();
             all.sort_unstable();

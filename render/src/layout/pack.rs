@@ -108,15 +108,12 @@ fn into_free_room(
     let gap = spacing.node_gap;
     let mut apart = vec![false; input.nodes.len()];
     parts.iter().flat_map(|p| &p.boxes).for_each(|&v| apart[v] = true);
-    let mut part_edge = vec![false; input.edges.len()];
-    parts.iter().flat_map(|p| &p.edges).for_each(|&e| part_edge[e] = true);
     let rect =
         |v: usize, at: Point| Rect { x: at.x, y: at.y, width: input.nodes[v].width, height: input.nodes[v].height };
     let mut boxes: Vec<Rect> =
         (0..input.nodes.len()).filter(|&v| !apart[v]).map(|v| rect(v, layout.positions[v])).collect();
-    let labels: Vec<Rect> = (layout.labels.iter().zip(&input.labels).zip(&part_edge))
-        .filter(|(_, &apart)| !apart)
-        .map(|(label, _)| label)
+    // The parts' edges and labels are not in `layout` yet; their boxes are placeholders.
+    let labels: Vec<Rect> = (layout.labels.iter().zip(&input.labels))
         .filter_map(|(at, size)| Some(((*at)?, (*size)?)))
         .map(|(at, (width, height))| Rect { x: at.x, y: at.y, width, height })
         .collect();

@@ -3,8 +3,9 @@
 //! from its sources: a loop's edge back points up). Elsewhere which edges to reverse decides how
 //! long the drawing is, and no one rule is best on every graph: three orientations are tried —
 //! depth-first search from the sources, depth-first search in box order (as dot breaks cycles),
-//! and Eades, Lin and Smyth's greedy feedback arc set — and the one that reverses the fewest firm
-//! edges, then gives the least total edge length, then the fewest ranks, is kept.
+//! and Eades, Lin and Smyth's greedy feedback arc set — and those that reverse the fewest firm
+//! edges are the candidates, by least total edge length, then fewest ranks (the layout keeps
+//! the one its sweeps find the fewest crossings in).
 
 use std::{
     cmp::Reverse,
@@ -34,8 +35,7 @@ pub(super) fn candidates(n: usize, edges: &[(usize, usize)], flow: bool, firm: &
         .into_iter()
         .map(|reversed| {
             let against = reversed.iter().zip(firm).filter(|(&r, &f)| r && f).count();
-            let oriented: Vec<(usize, usize, bool)> =
-                edges.iter().zip(reversed).map(|(&(a, b), r)| if r { (b, a, true) } else { (a, b, false) }).collect();
+            let oriented = turned(edges, reversed);
             let rank = simplex::network_simplex(n, &oriented, &longest_path(n, &oriented));
             let length: usize = oriented.iter().filter(|e| e.0 != e.1).map(|e| rank[e.1] - rank[e.0]).sum();
             let height = rank.iter().max().map_or(0, |r| r + 1);
@@ -57,7 +57,11 @@ pub(super) fn candidates(n: usize, edges: &[(usize, usize)], flow: bool, firm: &
 /// need a proper graph without network simplex).
 #[cfg(test)]
 pub(super) fn orient(n: usize, edges: &[(usize, usize)]) -> Vec<(usize, usize, bool)> {
-    let reversed = depth_first(n, edges, true);
+    turned(edges, depth_first(n, edges, true))
+}
+
+/// `edges` with those marked `reversed` turned round: `(from, to, reversed)`.
+fn turned(edges: &[(usize, usize)], reversed: Vec<bool>) -> Vec<(usize, usize, bool)> {
     edges.iter().zip(reversed).map(|(&(a, b), r)| if r { (b, a, true) } else { (a, b, false) }).collect()
 }
 
@@ -144,9 +148,7 @@ fn greedy(n: usize, edges: &[(usize, usize)], firm: &[bool]) -> Vec<bool> {
                 }
             }
         }
-        if let Some(v) =
-            (0..n).filter(|&v| !removed[v]).max_by_key(|&v| (outdegree[v] - indegree[v], std::cmp::Reverse(v)))
-        {
+        if let Some(v) = (0..n).filter(|&v| !removed[v]).max_by_key(|&v| (outdegree[v] - indegree[v], Reverse(v))) {
             take(v, &mut removed, &mut outdegree, &mut indegree);
             front.push(v);
             left -= 1;

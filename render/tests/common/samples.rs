@@ -18,3 +18,8 @@ pub(crate) fn sample_graphs() -> Vec<Graph> {
     let analysis = host.analysis();
     files.iter().flat_map(|&f| analysis.graphs(f).unwrap().to_vec()).collect()
 }
+
+/// The sample diagram named `id` among `graphs`.
+pub(crate) fn sample<'g>(graphs: &'g [Graph], id: &str) -> &'g Graph {
+    graphs.iter().find(|g| g.id == id).unwrap_or_else(|| panic!("no sample diagram `{id}`"))
+}
