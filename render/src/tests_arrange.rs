@@ -7,10 +7,10 @@
 use gudsl_model::graph::Graph;
 
 use crate::{
-    geometry::intersects,
+    geometry::{intersects, Point},
     pins::{Pin, Pins},
     scene::{self, measure::content, Hints, Scene},
-    tests::{assert_clean, sample_graphs},
+    tests::{assert_clean, sample, sample_graphs},
 };
 
 fn fresh(graph: &Graph) -> Scene {
@@ -104,6 +104,40 @@ fn a_node_keeps_its_place_when_another_is_pinned_onto_it_only_if_there_is_room()
         assert!(!intersects(moved, dropped), "{}", graph.id);
         assert_clean(graph, &scene, false);
     }
+}
+
+#[test]
+fn parallel_edges_to_a_moved_node_stay_apart() {
+    // Image and Pixel have three edges between them: moved, they run apart, not on one line.
+    let graphs = sample_graphs();
+    let graph = sample(&graphs, "Associations");
+    let before = fresh(graph);
+    let image = before.nodes.iter().find(|n| n.id.ends_with("Image")).unwrap();
+    let mut pins = Pins::new();
+    pins.insert(image.id.clone(), pin(before.width + 60.0, before.height + 40.0));
+    let scene = scene::build(graph, Hints { pins: Some(&pins), previous: None });
+    assert_clean(graph, &scene, false);
+    let between: Vec<&[Point]> = scene.edges.iter().filter(|e| e.source != e.target).map(|e| &e.points[..]).collect();
+    assert_eq!(between.len(), 3);
+    let distance = |p: Point, route: &[Point]| {
+        route.windows(2).map(|s| distance_to_segment(p, s[0], s[1])).fold(f64::INFINITY, f64::min)
+    };
+    for (i, a) in between.iter().enumerate() {
+        for b in &between[i + 1..] {
+            // Their middles are far apart (their ends may meet on the boxes).
+            let middle = |r: &[Point]| {
+                let (p, q) = (r[(r.len() - 1) / 2], r[r.len() / 2]);
+                Point { x: (p.x + q.x) / 2.0, y: (p.y + q.y) / 2.0 }
+            };
+            assert!(distance(middle(a), b) > 20.0, "{a:?} runs along {b:?}");
+        }
+    }
+}
+
+fn distance_to_segment(p: Point, a: Point, b: Point) -> f64 {
+    let (dx, dy) = (b.x - a.x, b.y - a.y);
+    let t = (((p.x - a.x) * dx + (p.y - a.y) * dy) / (dx * dx + dy * dy).max(1e-12)).clamp(0.0, 1.0);
+    (p.x - a.x - t * dx).hypot(p.y - a.y - t * dy)
 }
 
 #[test]

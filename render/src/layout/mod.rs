@@ -2,10 +2,12 @@
 //! (`rank`), ranks by network simplex (`simplex`), dummy vertices for long edges (`proper`), crossing
 //! minimisation (`minimise`, with `order` and `sifting`), coordinates (`place`, `align`), edge polylines
 //! (`route`) and small parts apart (`pack`). Edge labels take room as dot's do: with labels, ranks are doubled
-//! and each labelled edge's label sits beside a dummy in a rank between its boxes' ranks.
+//! and each labelled edge's label sits beside a dummy in a rank between its boxes' ranks. Parallel
+//! edges with end labels are fanned apart with room for those labels (`bundle`).
 //! Deterministic: the same input gives the same output.
 
 mod align;
+mod bundle;
 mod minimise;
 mod order;
 mod pack;
@@ -47,6 +49,10 @@ pub struct LayoutInput {
     /// Per edge (or none): the edge must point down where any choice allows it (a
     /// generalization, laid out parent first).
     pub firm: Vec<bool>,
+    /// Per edge (or none): the size of the labels at its source's end and at its target's end
+    /// (an association's multiplicities and role names). The layout makes room for them only
+    /// where edges run in parallel (`bundle`); elsewhere they are placed afterwards.
+    pub end_labels: Vec<[Option<(f64, f64)>; 2]>,
 }
 
 /// Spacing of the layout.
@@ -68,12 +74,14 @@ impl Default for Spacing {
 
 /// The result: each box's top-left corner, each edge's polyline (first and last points on the
 /// boxes' borders), the top-left corner of each edge's label where the layout placed it (not
-/// for self loops), and the drawing's size.
+/// for self loops), the top-left corners of the end labels it made room for (at the edge's
+/// source and at its target), and the drawing's size.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Layout {
     pub positions: Vec<Point>,
     pub edges: Vec<Vec<Point>>,
     pub labels: Vec<Option<Point>>,
+    pub end_labels: Vec<[Option<Point>; 2]>,
     pub width: f64,
     pub height: f64,
 }
@@ -88,6 +96,7 @@ impl Layout {
         self.positions.iter_mut().for_each(shift);
         self.edges.iter_mut().flatten().for_each(shift);
         self.labels.iter_mut().flatten().for_each(shift);
+        self.end_labels.iter_mut().flatten().flatten().for_each(shift);
         self.width += dx;
         self.height += dy;
     }
@@ -103,6 +112,7 @@ pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
         labels: vec![None; input.edges.len()],
         flow: input.flow,
         firm: input.firm.clone(),
+        end_labels: Vec::new(),
     };
     let mut layout = layered(&across, spacing);
     let turn = |p: &mut Point| std::mem::swap(&mut p.x, &mut p.y);
@@ -138,6 +148,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         positions: vec![Point::default(); input.nodes.len()],
         edges: vec![Vec::new(); m],
         labels: vec![None; m],
+        end_labels: vec![[None; 2]; m],
         width: inner.width,
         height: inner.height,
     };
@@ -170,6 +181,7 @@ fn sub_input(input: &LayoutInput, boxes: &[usize]) -> (LayoutInput, Vec<usize>) 
         labels: edges.iter().map(|&e| input.labels.get(e).copied().flatten()).collect(),
         flow: input.flow,
         firm: edges.iter().map(|&e| input.firm.get(e).copied().unwrap_or(false)).collect(),
+        end_labels: edges.iter().map(|&e| input.end_labels.get(e).copied().unwrap_or_default()).collect(),
     };
     (sub, edges)
 }
@@ -179,20 +191,30 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let n = input.nodes.len();
     if n == 0 {
         let empty = 2.0 * spacing.margin;
-        return Layout { positions: Vec::new(), edges: Vec::new(), labels: Vec::new(), width: empty, height: empty };
+        let edges = Vec::new();
+        return Layout {
+            positions: Vec::new(),
+            edges,
+            labels: Vec::new(),
+            end_labels: Vec::new(),
+            width: empty,
+            height: empty,
+        };
     }
     let label_of = |e: usize| input.labels.get(e).copied().flatten();
     let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
+    let bundled = bundle::bundled(&input.edges, &input.end_labels);
     // Of the ways to rank the boxes, the one whose order sweeps find the fewest crossings in
     // (fewer ranks are shorter but may crowd them), the first of equals.
-    let mut ways: Vec<(rank::Ranked, Proper)> = rank::candidates(n, &input.edges, input.flow, &input.firm)
+    let mut ways: Vec<(rank::Ranked, Proper, Vec<bool>)> = rank::candidates(n, &input.edges, input.flow, &input.firm)
         .into_iter()
         .map(|mut ranked| {
             if labelled {
                 ranked.rank.iter_mut().for_each(|r| *r *= 2);
             }
+            let lane_ranks = bundle::insert_lane_ranks(&mut ranked.rank, &ranked.edges, &bundled);
             let graph = Proper::new(&input.groups, &ranked.edges, &ranked.rank);
-            (ranked, graph)
+            (ranked, graph, lane_ranks)
         })
         .collect();
     // Sweeps only where there is a choice (a flow has one way).
@@ -201,7 +223,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     } else {
         (0..ways.len()).min_by_key(|&i| swept_crossings(&ways[i].1)).expect("one way to rank at least")
     };
-    let (rank::Ranked { edges, rank }, graph) = ways.swap_remove(chosen);
+    let (rank::Ranked { edges, rank }, graph, lane_ranks) = ways.swap_remove(chosen);
     let mut extent: Vec<Extent> = input
         .nodes
         .iter()
@@ -220,15 +242,19 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
             Some(dummy)
         })
         .collect();
+    let end_room = bundle::Room::reserve(&graph, &edges, &bundled, &input.end_labels, &mut extent);
     let mut layers = graph.initial_layers(true, false);
     let width = |layers: &[Vec<usize>]| {
         let x = place::horizontal(&graph, layers, &extent, spacing);
         (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max)
     };
     minimise_crossings(&mut layers, &graph, &width);
-    let x = place::horizontal(&graph, &layers, &extent, spacing);
+    let mut x = place::horizontal(&graph, &layers, &extent, spacing);
+    let separation = |u: usize, v: usize| place::separation(&graph, &extent, spacing, u, v);
+    let least = |v: usize| spacing.margin + extent[v].left;
+    bundle::gather(&graph, &layers, &lane_ranks, &bundled, &mut x, &separation, &least);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
-    let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing });
+    let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing }, &lane_ranks);
     let positions: Vec<Point> = (0..n)
         .map(|v| Point { x: x[v] - input.nodes[v].width / 2.0, y: bands.middle(rank[v]) - input.nodes[v].height / 2.0 })
         .collect();
@@ -236,9 +262,15 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         .iter()
         .map(|v| v.map(|d| Point { x: x[d] + LABEL_OFFSET, y: bands.middle(graph.rank[d]) - extent[d].height / 2.0 }))
         .collect();
+    let mut end_labels = vec![[None; 2]; edges.len()];
+    for placed in &end_room.labels {
+        let (top, height) = (bands.top[graph.rank[placed.dummy]], bands.height[graph.rank[placed.dummy]]);
+        let y = if placed.at_top { top } else { top + height - placed.size.1 };
+        end_labels[placed.edge][placed.end] = Some(Point { x: x[placed.dummy] + LABEL_OFFSET, y });
+    }
     let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
     let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
-    Layout { positions, edges: routed, labels, width, height: bands.total_height }
+    Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height }
 }
 
 #[cfg(test)]

@@ -73,6 +73,7 @@ impl Part {
         for (i, &e) in self.edges.iter().enumerate() {
             layout.edges[e] = self.layout.edges[i].iter().map(|&p| moved(p)).collect();
             layout.labels[e] = self.layout.labels[i].map(moved);
+            layout.end_labels[e] = self.layout.end_labels[i].map(|at| at.map(moved));
         }
     }
 }

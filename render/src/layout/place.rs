@@ -5,16 +5,21 @@ use super::align;
 use super::proper::Proper;
 use super::{Extent, Spacing};
 
-/// Centre x per vertex, the leftmost box edge at `spacing.margin`.
-pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing) -> Vec<f64> {
-    // Long edges run closer to each other than to boxes, and boxes keep the full gap.
+/// The least distance between the centres of `u` and its right neighbour `v` in a rank: long
+/// edges run closer to each other than to boxes, and boxes keep the full gap.
+pub(super) fn separation(graph: &Proper, extent: &[Extent], spacing: Spacing, u: usize, v: usize) -> f64 {
     let dummy = |v: usize| v >= graph.boxes;
-    let gap = |u: usize, v: usize| match (dummy(u), dummy(v)) {
+    let gap = match (dummy(u), dummy(v)) {
         (true, true) => spacing.node_gap * 0.35,
         (false, false) => spacing.node_gap,
         _ => spacing.node_gap * 0.5,
     };
-    let separation = |u: usize, v: usize| extent[u].right + gap(u, v) + extent[v].left;
+    extent[u].right + gap + extent[v].left
+}
+
+/// Centre x per vertex, the leftmost box edge at `spacing.margin`.
+pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing) -> Vec<f64> {
+    let separation = |u: usize, v: usize| separation(graph, extent, spacing, u, v);
     let mut x = align::brandes_koepf(graph, layers, &separation);
     separate_groups(graph, &mut x, extent, spacing.node_gap * 2.0);
     let min_x = (0..graph.vertices()).map(|v| x[v] - extent[v].left).fold(f64::INFINITY, f64::min);
@@ -58,7 +63,8 @@ fn separate_groups(graph: &Proper, x: &mut [f64], extent: &[Extent], gap: f64) {
     }
 }
 
-/// The horizontal band of each rank: as tall as its tallest box.
+/// The horizontal band of each rank: as tall as its tallest box. A lane rank (`bundle`) is
+/// half the rank gap from its neighbours.
 pub(super) struct Bands {
     pub top: Vec<f64>,
     pub height: Vec<f64>,
@@ -67,16 +73,20 @@ pub(super) struct Bands {
 }
 
 impl Bands {
-    pub fn new(layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing) -> Bands {
+    pub fn new(layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing, lane_ranks: &[bool]) -> Bands {
         let heights: Vec<f64> =
             layers.iter().map(|l| l.iter().map(|&v| extent[v].height).fold(0.0, f64::max)).collect();
+        let lane = |r: usize| lane_ranks.get(r).copied().unwrap_or(false);
         let mut top = Vec::with_capacity(layers.len());
         let mut cursor = spacing.margin;
-        for h in &heights {
+        for (r, h) in heights.iter().enumerate() {
+            if r > 0 {
+                cursor += if lane(r) || lane(r - 1) { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
+            }
             top.push(cursor);
-            cursor += h + spacing.rank_gap;
+            cursor += h;
         }
-        Bands { top, height: heights, total_height: cursor - spacing.rank_gap + spacing.margin }
+        Bands { top, height: heights, total_height: cursor + spacing.margin }
     }
 
     /// The y of the middle of rank `r`.

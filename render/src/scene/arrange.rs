@@ -48,6 +48,8 @@ pub(super) struct Edge<'a> {
     pub target: &'a str,
     pub from: usize,
     pub to: usize,
+    /// The width of its widest end label (0 without): parallel edges run that far apart.
+    pub end_label_width: f64,
 }
 
 /// Space kept between a placed node and the others.
@@ -83,15 +85,20 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
     let (boxes, previous_routes) = place(&footprints, edges, &wanted, &fresh, hints.previous, corner);
     // Whether a node is not where the previous scene had it.
     let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
-    let mut labels: Vec<Option<Rect>> = vec![None; edges.len()];
+    let parallel = fan_positions(edges);
+    let mut labels: Vec<[Option<Rect>; 3]> = vec![[None; 3]; edges.len()];
     let mut rerouted = vec![false; edges.len()];
     for ((k, e), previous) in edges.iter().enumerate().zip(previous_routes) {
         // Kept unless a node that moved landed on it.
-        let kept = previous.filter(|(route, _)| {
-            !(0..boxes.len()).any(|i| moved(i) && route.windows(2).any(|s| segment_meets_box(s[0], s[1], boxes[i])))
+        let kept = previous.filter(|drawn| {
+            !(0..boxes.len())
+                .any(|i| moved(i) && drawn.route.windows(2).any(|s| segment_meets_box(s[0], s[1], boxes[i])))
         });
         rerouted[k] = kept.is_none();
-        (layout.edges[k], labels[k]) = kept.unwrap_or_else(|| (straight(boxes[e.from], boxes[e.to]), None));
+        (layout.edges[k], labels[k]) = match kept {
+            Some(drawn) => (drawn.route, drawn.labels),
+            None => (straight(boxes[e.from], boxes[e.to], parallel[k]), [None; 3]),
+        };
     }
     // A kept label stays unless a new route crosses it or a moved node covers it; the others
     // are placed afresh.
@@ -103,10 +110,9 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
             .any(|(route, &new)| new && route.windows(2).any(|s| segment_meets_box(s[0], s[1], r)))
     };
     let covered = |r: Rect| (0..boxes.len()).any(|i| moved(i) && intersects(r, boxes[i]));
-    layout.labels = labels
-        .iter()
-        .map(|label| label.filter(|&r| !crossed(r) && !covered(r)).map(|r| Point { x: r.x, y: r.y }))
-        .collect();
+    let still = |label: Option<Rect>| label.filter(|&r| !crossed(r) && !covered(r)).map(|r| Point { x: r.x, y: r.y });
+    layout.labels = labels.iter().map(|[middle, _, _]| still(*middle)).collect();
+    layout.end_labels = labels.iter().map(|[_, tail, head]| [still(*tail), still(*head)]).collect();
     layout.positions = boxes.iter().zip(nodes).map(|(b, n)| Point { x: b.x + n.reach.0, y: b.y }).collect();
     let points = layout.edges.iter().flatten().map(|p| (p.x, p.y));
     let corners = boxes.iter().map(|b| (b.x + b.width, b.y + b.height));
@@ -133,8 +139,11 @@ fn wanted(nodes: &[Node], hints: Hints) -> Vec<Wanted> {
         .collect()
 }
 
-/// A route and its label's box, as the previous scene drew them.
-type Drawn = (Vec<Point>, Option<Rect>);
+/// A route and its labels' boxes (middle, tail, head), as the previous scene drew them.
+struct Drawn {
+    route: Vec<Point>,
+    labels: [Option<Rect>; 3],
+}
 
 /// Every node's box: pinned ones first, then kept ones (those of unchanged size first: a node
 /// that grew is the one to make room), each where wanted if that is free, else at the nearest
@@ -174,12 +183,14 @@ fn place(
         .map(|e| {
             let old = before.get(e.id).filter(|o| o.source == e.source && o.target == e.target)?;
             let kept = unmoved(e.from) && unmoved(e.to);
-            kept.then(|| (old.points.clone(), old.label.as_ref().map(|l| l.rect)))
+            let rect = |label: &Option<super::EdgeLabel>| label.as_ref().map(|l| l.rect);
+            let labels = [rect(&old.label), rect(&old.tail_label), rect(&old.head_label)];
+            kept.then(|| Drawn { route: old.points.clone(), labels })
         })
         .collect();
     let kept_routes = previous_routes.iter().flatten();
-    let routes = Segments::new(kept_routes.clone().flat_map(|(r, _)| r.windows(2).map(|s| (s[0], s[1]))));
-    let labels = kept_routes.filter_map(|(_, label)| *label).collect();
+    let routes = Segments::new(kept_routes.clone().flat_map(|d| d.route.windows(2).map(|s| (s[0], s[1]))));
+    let labels = kept_routes.flat_map(|d| d.labels.into_iter().flatten()).collect();
     let mut obstacles = Obstacles { routes, labels, linked: Vec::new(), corner };
     for i in 0..nodes.len() {
         if wanted[i] == Wanted::Free {
@@ -302,13 +313,46 @@ fn cells_of(r: Rect) -> impl Iterator<Item = (i64, i64)> {
 
 /// A straight route from the border of `from` to the border of `to`, on the line between their
 /// centres (a loop where they are one box).
-fn straight(from: Rect, to: Rect) -> Vec<Point> {
+/// Per edge, how far its route bows out of the line between its boxes' centres, to the left of
+/// the line from the box of lower index to the other: 0 for an edge alone; edges between the
+/// same two boxes at least `FAN` apart and room for their end labels between them, centred on
+/// that line.
+fn fan_positions(edges: &[Edge]) -> Vec<f64> {
+    let mut bundles: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+    for (k, e) in edges.iter().enumerate().filter(|(_, e)| e.from != e.to) {
+        bundles.entry((e.from.min(e.to), e.from.max(e.to))).or_default().push(k);
+    }
+    let mut offsets = vec![0.0; edges.len()];
+    for members in bundles.values() {
+        let middle = (members.len() as f64 - 1.0) / 2.0;
+        let step = members.iter().map(|&k| edges[k].end_label_width + 16.0).fold(FAN, f64::max);
+        for (i, &k) in members.iter().enumerate() {
+            let turned = if edges[k].from > edges[k].to { -1.0 } else { 1.0 };
+            offsets[k] = (i as f64 - middle) * step * turned;
+        }
+    }
+    offsets
+}
+
+/// How far apart the routes of edges between the same two boxes bow out at least.
+const FAN: f64 = 40.0;
+
+/// A route from border to border: the line between the boxes' centres, or for a parallel edge
+/// (`fan` off that line, `fan_positions`) two lines through a point that far off the line's
+/// middle.
+fn straight(from: Rect, to: Rect, fan: f64) -> Vec<Point> {
     if from == to {
         return self_loop(from.x + from.width, from.y + from.height / 2.0, from.height);
     }
     let centre = |r: Rect| Point { x: r.x + r.width / 2.0, y: r.y + r.height / 2.0 };
     let (a, b) = (centre(from), centre(to));
-    vec![border_towards(from, a, b), border_towards(to, b, a)]
+    let length = (b.x - a.x).hypot(b.y - a.y);
+    if fan == 0.0 || length < 1e-9 {
+        return vec![border_towards(from, a, b), border_towards(to, b, a)];
+    }
+    let off = fan / length;
+    let bend = Point { x: (a.x + b.x) / 2.0 + (a.y - b.y) * off, y: (a.y + b.y) / 2.0 + (b.x - a.x) * off };
+    vec![border_towards(from, a, bend), bend, border_towards(to, b, bend)]
 }
 
 /// Where the ray from `centre` (of `r`) towards `to` leaves `r`.

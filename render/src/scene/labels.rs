@@ -51,14 +51,16 @@ impl Placed {
 }
 
 /// Every edge's label boxes: a middle label where the layout reserved room for it, else placed
-/// beside its edge; then the end labels beside their ends. Each is clear of the boxes, the
-/// labels placed before and every edge where it can be, and right of and below `corner`; an
-/// edge's label may lie in the boxes `inside` lists for it (by index: the nested components'
-/// parents that hold both its ends).
+/// beside its edge; then the end labels where the layout reserved room for them if that is
+/// clear, else beside their ends. Each is clear of the boxes, the labels placed before and
+/// every edge where it can be, and right of and below `corner`; an edge's label may lie in the
+/// boxes `inside` lists for it (by index: the nested components' parents that hold both its
+/// ends).
 pub(crate) fn place_all(
     texts: &[EdgeTexts],
     routes: &[Vec<Point>],
     laid_out: &[Option<Point>],
+    laid_out_ends: &[[Option<Point>; 2]],
     boxes: &[Rect],
     inside: &[Vec<usize>],
     corner: Point,
@@ -81,13 +83,14 @@ pub(crate) fn place_all(
             at.middle = Some(place_label(route, label_size(&t.middle), &mut room));
         }
     }
-    for (((t, route), at), inside) in texts.iter().zip(routes).zip(&mut placed).zip(inside) {
+    for (e, (((t, route), at), inside)) in texts.iter().zip(routes).zip(&mut placed).zip(inside).enumerate() {
         room.open = inside;
+        let [tail_at, head_at] = laid_out_ends.get(e).copied().unwrap_or_default();
         if !t.tail.is_empty() {
-            at.tail = Some(place_end_label(route, false, label_size(&t.tail), &mut room));
+            at.tail = Some(place_end_label(route, false, label_size(&t.tail), tail_at, &mut room));
         }
         if !t.head.is_empty() {
-            at.head = Some(place_end_label(route, true, label_size(&t.head), &mut room));
+            at.head = Some(place_end_label(route, true, label_size(&t.head), head_at, &mut room));
         }
     }
     placed
@@ -128,16 +131,26 @@ fn place_label(route: &[Point], (w, h): (f64, f64), room: &mut Room) -> Rect {
 }
 
 /// A box of size `(w, h)` for the label at an end of `route` (its last point if `at_target`,
-/// else its first): beside the edge's last (first) segment, as near the end as it is clear of
-/// the end's node, of the other labels and of every edge; on the side the end's segment leaves
-/// free first.
-fn place_end_label(route: &[Point], at_target: bool, (w, h): (f64, f64), room: &mut Room) -> Rect {
+/// else its first): at `laid_out` if given and clear; else beside the edge's last (first)
+/// segment, as near the end as it is clear of the end's node, of the other labels and of every
+/// edge; on the side the end's segment leaves free first.
+fn place_end_label(
+    route: &[Point],
+    at_target: bool,
+    (w, h): (f64, f64),
+    laid_out: Option<Point>,
+    room: &mut Room,
+) -> Rect {
     let points: Vec<Point> = if at_target { route.iter().rev().copied().collect() } else { route.to_vec() };
     let Some(&end) = points.first() else {
         return room.choose(&[], route, Rect { x: room.corner.x, y: room.corner.y, width: w, height: h });
     };
-    let mut candidates = Vec::new();
-    for away in [3.0f64, 8.0, 14.0, 22.0, 32.0, 44.0, 60.0] {
+    let mut candidates: Vec<Rect> =
+        laid_out.map(|at| Rect { x: at.x, y: at.y, width: w, height: h }).into_iter().collect();
+    // Farther than 60 only where the edge is crowded near its end, and never past its middle.
+    let half = route.windows(2).map(|s| (s[1].x - s[0].x).hypot(s[1].y - s[0].y)).sum::<f64>() / 2.0;
+    let farther = [80.0, 100.0, 125.0, 150.0].into_iter().filter(|&away| away <= half);
+    for away in [3.0f64, 8.0, 14.0, 22.0, 32.0, 44.0, 60.0].into_iter().chain(farther) {
         // Walk `away` from the end along the route: the point and the direction back to the end.
         let (mut left, mut at, mut towards_end) = (away, end, Point { x: 0.0, y: 1.0 });
         for segment in points.windows(2) {
@@ -155,10 +168,19 @@ fn place_end_label(route: &[Point], at_target: bool, (w, h): (f64, f64), room: &
             }
         }
         // The label's corner nearest the end touches the line `GAP` off it, on either side; it
-        // reaches away from the end, so it never covers the end's node.
+        // reaches away from the end, so it never covers the end's node. Off a slanted line, the
+        // two corners at the point that the line does not pass through.
         const GAP: f64 = 3.0;
         let vertical = towards_end.y.abs() >= towards_end.x.abs();
-        let spots = if vertical {
+        let slanted = towards_end.x.abs().min(towards_end.y.abs()) > 0.25;
+        let corner = |right: bool, below: bool| {
+            (if right { at.x + GAP } else { at.x - GAP - w }, if below { at.y + GAP } else { at.y - GAP - h })
+        };
+        let spots = if slanted {
+            // The one reaching away from the end first.
+            let (right, below) = (towards_end.x > 0.0, towards_end.y > 0.0);
+            [corner(right, !below), corner(!right, below)]
+        } else if vertical {
             let y = if towards_end.y > 0.0 { at.y - h } else { at.y };
             [(at.x + GAP, y), (at.x - GAP - w, y)]
         } else {

@@ -167,6 +167,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         labels: Vec::new(),
         flow: graph.kind != GraphKind::Class,
         firm: Vec::new(),
+        end_labels: Vec::new(),
     };
     let texts: Vec<labels::EdgeTexts> = edges.iter().map(|e| labels::texts(e.edge)).collect();
     for (e, texts) in edges.iter().zip(&texts) {
@@ -178,6 +179,10 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
         let middle = Some(&texts.middle).filter(|m| routed_by_layout && !m.is_empty());
         input.labels.push(middle.map(|m| label_size(m)));
+        let end =
+            |lines: &Vec<String>| Some(lines).filter(|l| routed_by_layout && !l.is_empty()).map(|l| label_size(l));
+        let (tail, head) = (end(&texts.tail), end(&texts.head));
+        input.end_labels.push(if upwards { [head, tail] } else { [tail, head] });
     }
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
@@ -223,12 +228,14 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .collect();
     let to_route: Vec<arrange::Edge> = edges
         .iter()
-        .map(|e| arrange::Edge {
+        .zip(&input.end_labels)
+        .map(|(e, ends)| arrange::Edge {
             id: &e.edge.id,
             source: e.edge.source.id(),
             target: e.edge.target.id(),
             from: e.from.0,
             to: e.to.0,
+            end_label_width: ends.iter().flatten().map(|size| size.0).fold(0.0, f64::max),
         })
         .collect();
     arrange::arrange(&mut layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
@@ -294,7 +301,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     }
     let corner = Point { x: frame::MARGIN + 4.0, y: heading.body_top() };
     let shared: Vec<Vec<usize>> = edges.iter().map(|e| nesting.holding_both(e.from.0, e.to.0)).collect();
-    let labels = labels::place_all(&texts, &layout.edges, &layout.labels, &obstacles, &shared, corner);
+    let labels =
+        labels::place_all(&texts, &layout.edges, &layout.labels, &layout.end_labels, &obstacles, &shared, corner);
 
     // The drawing grows to hold edge labels that reach past the boxes, and lane titles.
     let width = labels.iter().flat_map(labels::Placed::all).map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);

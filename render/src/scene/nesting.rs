@@ -127,6 +127,7 @@ impl Nesting {
             edges: edge_routes,
             // Left-to-right layouts place no labels (they are placed afterwards).
             labels: vec![None; input.edges.len()],
+            end_labels: vec![[None; 2]; input.edges.len()],
             width: top.width,
             height: top.height,
         }
@@ -174,6 +175,7 @@ impl Nesting {
             edges,
             flow: input.flow,
             firm: Vec::new(),
+            end_labels: Vec::new(),
         };
         (members, sub, which)
     }
