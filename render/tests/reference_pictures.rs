@@ -18,18 +18,21 @@ use common::samples::{sample, sample_graphs};
 
 /// The diagrams drawn, by id: at least one of each kind, and each notation the issue names.
 const PICTURES: &[&str] = &[
-    // Class diagrams: association ends, qualifiers and static members.
+    // Class diagrams: association ends, qualifiers and static members, interfaces realized.
     "Associations",
     "Qualifiers",
+    "ComponentClassDefinitions",
     // Activity diagrams: frame header, decisions and merges, loops as expansion regions.
     "AdFilterMean",
     "LoopWindowExample",
     "TransitionExample",
     // Component diagrams: dataflow left to right, ports and their modes, nesting.
     "ComponentExampleComponents",
+    "ComponentExampleDiagram",
     "NestedComponents",
     // Component-instance diagrams: instances, port instances and bindings.
     "ComponentExamplePipeline",
+    "ComponentInstanceExampleDiagram",
 ];
 
 /// A channel may differ by this much (rounding in the rasterizer) before the pixel counts as
