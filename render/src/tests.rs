@@ -3,7 +3,7 @@
 //! rasterizable, layout JSON in the metrics script's format).
 
 use gudsl_model::{
-    graph::{Graph, NodeShape},
+    graph::{Graph, GraphKind, NodeShape},
     AnalysisHost,
 };
 
@@ -38,6 +38,49 @@ fn every_sample_diagram_renders_deterministically() {
             assert!(svg.contains(&format!("<g class=\"node\" data-id=\"{}\"", node.id)), "{}: {}", graph.id, node.id);
         }
         assert!(!svg.contains("NaN") && !svg.contains("inf"), "{}", graph.id);
+    }
+}
+
+#[test]
+fn every_sample_diagram_has_its_frame_and_heading() {
+    for graph in &sample_graphs() {
+        let scene = scene::build(graph, scene::Hints::default());
+        let frame = &scene.frame;
+        let kind = match graph.kind {
+            GraphKind::Class => "class",
+            GraphKind::Activity => "act",
+            GraphKind::Component => "cmp",
+            GraphKind::ComponentInstance => "inst",
+        };
+        let lines: Vec<&str> = frame.heading.iter().map(|l| l.text.as_str()).collect();
+        assert_eq!(lines[0], format!("{kind} {}", graph.id));
+        // An activity's parameters, its owner and its variables are in its header.
+        let heading = lines.join(" ");
+        for parameter in &graph.parameters {
+            assert!(heading.contains(parameter.as_str()), "{}: {parameter} not in {heading}", graph.id);
+        }
+        if let Some(owner) = &graph.owner {
+            assert!(heading.contains(&format!("owner {owner}")), "{}: no owner in {heading}", graph.id);
+        }
+        let variables: Vec<&str> =
+            frame.variables.iter().flat_map(|(_, l)| l.iter().map(|l| l.text.as_str())).collect();
+        for variable in &graph.variables {
+            assert!(variables.contains(&variable.as_str()), "{}: variable {variable} not shown", graph.id);
+        }
+        // The tab is in the frame, and the frame holds every node.
+        let inside = |r: Rect| {
+            r.x >= frame.rect.x
+                && r.y >= frame.rect.y
+                && r.x + r.width <= frame.rect.x + frame.rect.width
+                && r.y + r.height <= frame.rect.y + frame.rect.height
+        };
+        assert!(inside(frame.tab), "{}: the tab sticks out", graph.id);
+        for node in &scene.nodes {
+            assert!(inside(node.rect), "{}: {} is outside the frame", graph.id, node.id);
+        }
+        let svg = render(graph);
+        assert!(svg.contains("<g class=\"frame\">"), "{}", graph.id);
+        assert!(svg.contains(&format!(">{kind} {}<", graph.id)), "{}: no heading drawn", graph.id);
     }
 }
 
@@ -295,7 +338,7 @@ fn text_fits_its_box() {
 #[test]
 fn activity_branches_and_meetings_go_through_diamonds() {
     let mut diamonds = 0;
-    for graph in sample_graphs().iter().filter(|g| g.kind == gudsl_model::graph::GraphKind::Activity) {
+    for graph in sample_graphs().iter().filter(|g| g.kind == GraphKind::Activity) {
         let scene = scene::build(graph, scene::Hints::default());
         for node in scene.nodes.iter().filter(|n| !matches!(n.shape, NodeShape::Decision | NodeShape::Fork)) {
             let out: Vec<_> = scene.edges.iter().filter(|e| e.source == node.id && e.target != node.id).collect();
