@@ -34,14 +34,25 @@ pub(super) fn bundled(edges: &[(usize, usize)], end_labels: &[[Option<Size>; 2]]
 }
 
 /// Inserts a lane rank between every two adjacent ranks that a bundled edge joins; the ranks
-/// below move down. Returns, per rank after that, whether it is a lane rank.
-pub(super) fn insert_lane_ranks(rank: &mut [usize], edges: &[(usize, usize, bool)], bundled: &[bool]) -> Vec<bool> {
+/// below move down. Returns, per rank after that, whether it is a lane rank. Where the ranks
+/// were `doubled` (for middle labels), a bundle between boxes two ranks apart already has the
+/// rank between them: it becomes the lane rank, and none is inserted.
+pub(super) fn insert_lane_ranks(
+    rank: &mut [usize],
+    edges: &[(usize, usize, bool)],
+    bundled: &[bool],
+    doubled: bool,
+) -> Vec<bool> {
     let ranks = rank.iter().max().map_or(0, |r| r + 1);
+    let step = if doubled { 2 } else { 1 };
     let mut lane_below = vec![false; ranks];
     for (&(a, b, _), _) in edges.iter().zip(bundled).filter(|(_, &bundled)| bundled) {
-        if rank[b] == rank[a] + 1 {
+        if rank[b] == rank[a] + step {
             lane_below[rank[a]] = true;
         }
+    }
+    if doubled {
+        return (0..ranks).map(|r| r > 0 && lane_below[r - 1]).collect();
     }
     let mut shift = Vec::with_capacity(ranks);
     let mut lane_rank = Vec::with_capacity(ranks * 2);
@@ -199,10 +210,15 @@ mod tests {
     fn a_lane_rank_goes_only_where_a_bundle_joins_adjacent_ranks() {
         // Ranks 0 1 2 3: a bundle between ranks 1 and 2, another edge from 0 to 1.
         let mut rank = vec![0, 1, 2, 3];
-        let edges = [(0, 1, false), (1, 2, false), (2, 1, true), (2, 3, false)];
-        let lanes = insert_lane_ranks(&mut rank, &edges, &[false, true, true, false]);
+        let edges = [(0, 1, false), (1, 2, false), (1, 2, true), (2, 3, false)];
+        let lanes = insert_lane_ranks(&mut rank, &edges, &[false, true, true, false], false);
         assert_eq!(rank, vec![0, 1, 3, 4]);
         assert_eq!(lanes, vec![false, false, true, false, false]);
+        // Doubled ranks: the rank between is the lane, nothing moves.
+        let mut doubled = vec![0, 2, 4, 6];
+        let lanes = insert_lane_ranks(&mut doubled, &edges, &[false, true, true, false], true);
+        assert_eq!(doubled, vec![0, 2, 4, 6]);
+        assert_eq!(lanes, vec![false, false, false, true, false, false, false]);
     }
 
     /// Two boxes over a third; `k` edges from 0 to 1 (every other one turned), each with an end
@@ -218,8 +234,13 @@ mod tests {
 
     #[test]
     fn parallel_edges_fan_out_with_their_end_labels_beside_them() {
-        for k in [2, 3, 4] {
-            let input = parallel(k);
+        // Also where a middle label doubles the ranks (then the rank between is the lane).
+        for (k, middle) in [(2, false), (3, false), (4, false), (3, true)] {
+            let mut input = parallel(k);
+            if middle {
+                input.labels = vec![None; k + 1];
+                input.labels[k] = Some((50.0, 14.0));
+            }
             let layout = layered(&input, Spacing::default());
             let boxes: Vec<Rect> = layout
                 .positions
@@ -253,7 +274,14 @@ mod tests {
             }
             // The gap under box 1 keeps its height: the lane rank is only between 0 and 1.
             let gap = boxes[2].y - boxes[1].y - boxes[1].height;
-            assert_eq!(gap, Spacing::default().rank_gap);
+            let labelled = if middle { 14.0 } else { 0.0 };
+            assert_eq!(gap, Spacing::default().rank_gap + labelled, "{k} edges");
+            // The bundle runs under its boxes (gathered in its lane), not off to a side.
+            for route in &layout.edges[..k] {
+                let lane = route[route.len() / 2].x;
+                let centre = boxes[0].x + boxes[0].width / 2.0;
+                assert!((lane - centre).abs() < k as f64 * 90.0, "{k} edges: lane at {lane}, boxes at {centre}");
+            }
         }
     }
 

@@ -212,7 +212,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
             if labelled {
                 ranked.rank.iter_mut().for_each(|r| *r *= 2);
             }
-            let lane_ranks = bundle::insert_lane_ranks(&mut ranked.rank, &ranked.edges, &bundled);
+            let lane_ranks = bundle::insert_lane_ranks(&mut ranked.rank, &ranked.edges, &bundled, labelled);
             let graph = Proper::new(&input.groups, &ranked.edges, &ranked.rank);
             (ranked, graph, lane_ranks)
         })
@@ -254,7 +254,9 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let least = |v: usize| spacing.margin + extent[v].left;
     bundle::gather(&graph, &layers, &lane_ranks, &bundled, &mut x, &separation, &least);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
-    let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing }, &lane_ranks);
+    // With labels every other rank is already half a gap from its neighbours.
+    let inserted: &[bool] = if labelled { &[] } else { &lane_ranks };
+    let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing }, inserted);
     let positions: Vec<Point> = (0..n)
         .map(|v| Point { x: x[v] - input.nodes[v].width / 2.0, y: bands.middle(rank[v]) - input.nodes[v].height / 2.0 })
         .collect();

@@ -114,7 +114,9 @@ fn into_free_room(
     let mut boxes: Vec<Rect> =
         (0..input.nodes.len()).filter(|&v| !apart[v]).map(|v| rect(v, layout.positions[v])).collect();
     // The parts' edges and labels are not in `layout` yet; their boxes are placeholders.
+    let ends = layout.end_labels.iter().zip(&input.end_labels).flat_map(|(at, size)| at.iter().zip(size));
     let labels: Vec<Rect> = (layout.labels.iter().zip(&input.labels))
+        .chain(ends)
         .filter_map(|(at, size)| Some(((*at)?, (*size)?)))
         .map(|(at, (width, height))| Rect { x: at.x, y: at.y, width, height })
         .collect();

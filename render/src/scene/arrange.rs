@@ -311,9 +311,7 @@ fn cells_of(r: Rect) -> impl Iterator<Item = (i64, i64)> {
     (x0..=x1).flat_map(move |x| (y0..=y1).map(move |y| (x, y)))
 }
 
-/// A straight route from the border of `from` to the border of `to`, on the line between their
-/// centres (a loop where they are one box).
-/// Per edge, how far its route bows out of the line between its boxes' centres, to the left of
+/// Per edge, how far its route bows out of the line between its boxes' centres, to one side of
 /// the line from the box of lower index to the other: 0 for an edge alone; edges between the
 /// same two boxes at least `FAN` apart and room for their end labels between them, centred on
 /// that line.
@@ -337,9 +335,9 @@ fn fan_positions(edges: &[Edge]) -> Vec<f64> {
 /// How far apart the routes of edges between the same two boxes bow out at least.
 const FAN: f64 = 40.0;
 
-/// A route from border to border: the line between the boxes' centres, or for a parallel edge
-/// (`fan` off that line, `fan_positions`) two lines through a point that far off the line's
-/// middle.
+/// A route from the border of `from` to the border of `to`: the line between their centres, or
+/// for a parallel edge (`fan` off that line, `fan_positions`) two lines through a point that far
+/// off the line's middle; a loop where they are one box.
 fn straight(from: Rect, to: Rect, fan: f64) -> Vec<Point> {
     if from == to {
         return self_loop(from.x + from.width, from.y + from.height / 2.0, from.height);

@@ -77,23 +77,47 @@ pub(crate) fn place_all(
         .collect();
     let placed_before = placed.iter().flat_map(Placed::all).collect();
     let mut room = Room { obstacles: boxes, open: &[], placed: placed_before, routes: &all_routes, corner };
+    // The end labels the layout made room for before any label is placed by searching.
+    for e in 0..texts.len() {
+        let [tail_at, head_at] = laid_out_ends.get(e).copied().unwrap_or_default();
+        for (at_target, laid_out) in [(false, tail_at), (true, head_at)] {
+            if laid_out.is_some() {
+                room.open = &inside[e];
+                place_end(&texts[e], &routes[e], at_target, laid_out, &mut placed[e], &mut room);
+            }
+        }
+    }
     for (((t, route), at), inside) in texts.iter().zip(routes).zip(&mut placed).zip(inside) {
         if !t.middle.is_empty() && at.middle.is_none() {
             room.open = inside;
             at.middle = Some(place_label(route, label_size(&t.middle), &mut room));
         }
     }
-    for (e, (((t, route), at), inside)) in texts.iter().zip(routes).zip(&mut placed).zip(inside).enumerate() {
-        room.open = inside;
+    for e in 0..texts.len() {
         let [tail_at, head_at] = laid_out_ends.get(e).copied().unwrap_or_default();
-        if !t.tail.is_empty() {
-            at.tail = Some(place_end_label(route, false, label_size(&t.tail), tail_at, &mut room));
-        }
-        if !t.head.is_empty() {
-            at.head = Some(place_end_label(route, true, label_size(&t.head), head_at, &mut room));
+        for (at_target, laid_out) in [(false, tail_at), (true, head_at)] {
+            if laid_out.is_none() {
+                room.open = &inside[e];
+                place_end(&texts[e], &routes[e], at_target, None, &mut placed[e], &mut room);
+            }
         }
     }
     placed
+}
+
+/// Places the label at one end of an edge (the target's if `at_target`), if it has one.
+fn place_end(
+    texts: &EdgeTexts,
+    route: &[Point],
+    at_target: bool,
+    laid_out: Option<Point>,
+    placed: &mut Placed,
+    room: &mut Room,
+) {
+    let (lines, slot) = if at_target { (&texts.head, &mut placed.head) } else { (&texts.tail, &mut placed.tail) };
+    if !lines.is_empty() {
+        *slot = Some(place_end_label(route, at_target, label_size(lines), laid_out, room));
+    }
 }
 
 /// A box of size `(w, h)` for a middle label beside its edge: candidates along each segment, on
@@ -169,7 +193,8 @@ fn place_end_label(
         }
         // The label's corner nearest the end touches the line `GAP` off it, on either side; it
         // reaches away from the end, so it never covers the end's node. Off a slanted line, the
-        // two corners at the point that the line does not pass through.
+        // two corners at the point that the line does not pass through (the second reaches
+        // towards the end beside it; `Room::choose` keeps it off the node).
         const GAP: f64 = 3.0;
         let vertical = towards_end.y.abs() >= towards_end.x.abs();
         let slanted = towards_end.x.abs().min(towards_end.y.abs()) > 0.25;

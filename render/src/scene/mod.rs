@@ -207,9 +207,10 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let (body_x, body_y) = heading.body_offset();
     let margin = Spacing::default().margin;
     layout.translate(body_x - margin, body_y - margin);
-    for (route, e) in layout.edges.iter_mut().zip(&edges) {
+    for ((route, ends), e) in layout.edges.iter_mut().zip(&mut layout.end_labels).zip(&edges) {
         if matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
             route.reverse(); // drawn from the child to the parent
+            ends.swap(0, 1);
         }
     }
     let to_place: Vec<arrange::Node> = graph
