@@ -85,6 +85,43 @@ fn every_sample_diagram_has_its_frame_and_heading() {
 }
 
 #[test]
+fn swimlanes_hold_their_nodes_edges_and_labels_and_do_not_overlap() {
+    let mut lanes_seen = 0;
+    for graph in &sample_graphs() {
+        let scene = scene::build(graph, scene::Hints::default());
+        let lane_of = |id: &str| graph.nodes.iter().find(|n| n.id == id).and_then(|n| n.group.clone());
+        let within = |r: Rect, lane: Rect| {
+            r.x >= lane.x
+                && r.y >= lane.y
+                && r.x + r.width <= lane.x + lane.width
+                && r.y + r.height <= lane.y + lane.height
+        };
+        for (k, lane) in scene.lanes.iter().enumerate() {
+            lanes_seen += 1;
+            assert!(within(lane.rect, scene.frame.rect), "{}: lane {} sticks out of the frame", graph.id, lane.id);
+            for other in &scene.lanes[k + 1..] {
+                assert!(!intersects(lane.rect, other.rect), "{}: lanes {} and {} overlap", graph.id, lane.id, other.id);
+            }
+            for node in scene.nodes.iter().filter(|n| lane_of(&n.id).as_deref() == Some(lane.id.as_str())) {
+                assert!(within(node.rect, lane.rect), "{}: {} is outside its lane {}", graph.id, node.id, lane.id);
+            }
+            // An edge between two nodes of the lane runs inside it, with its labels.
+            let inside = |id: &str| lane_of(id).as_deref() == Some(lane.id.as_str());
+            for edge in scene.edges.iter().filter(|e| inside(&e.source) && inside(&e.target)) {
+                for p in &edge.points {
+                    let point = Rect { x: p.x, y: p.y, width: 0.0, height: 0.0 };
+                    assert!(within(point, lane.rect), "{}: {} leaves its lane {}", graph.id, edge.id, lane.id);
+                }
+                for label in [&edge.label, &edge.tail_label, &edge.head_label].into_iter().flatten() {
+                    assert!(within(label.rect, lane.rect), "{}: {}'s label is outside {}", graph.id, edge.id, lane.id);
+                }
+            }
+        }
+    }
+    assert!(lanes_seen > 5, "the samples have swimlanes");
+}
+
+#[test]
 fn every_sample_svg_rasterizes_with_resvg() {
     for graph in sample_graphs().iter() {
         let png = crate::png::to_png(&render(graph), 1.0).unwrap_or_else(|e| panic!("{}: {e}", graph.id));

@@ -309,6 +309,24 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let width = labels.iter().flat_map(labels::Placed::all).map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);
     let height =
         labels.iter().flat_map(labels::Placed::all).map(|l| l.y + l.height + 8.0).fold(layout.height, f64::max);
+    // Each swimlane's span: its nodes, the routes and labels of the edges between them, and
+    // its title; the frame's body holds them all.
+    let lane_spans: Vec<Option<(f64, f64)>> = graph
+        .groups
+        .iter()
+        .map(|group| {
+            let inside = |node: usize| graph.nodes[node].group.as_ref() == Some(&group.id);
+            let mut members: Vec<Rect> = (0..boxes.len()).filter(|&i| inside(i)).map(|i| boxes[i]).collect();
+            for ((e, route), label) in edges.iter().zip(&layout.edges).zip(&labels) {
+                if inside(e.from.0) && inside(e.to.0) && !members.is_empty() {
+                    members.extend(route.iter().map(|p| Rect { x: p.x, y: p.y, width: 0.0, height: 0.0 }));
+                    members.extend(label.all());
+                }
+            }
+            lane_span(group, &members)
+        })
+        .collect();
+    let width = lane_spans.iter().flatten().fold(width, |w, &(_, right)| w.max(right + frame::MARGIN + 4.0));
     // Room for every lane title (measured as its two runs, `lane` and ` : owner`).
     let width = graph
         .groups
@@ -330,22 +348,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         height: frame.rect.y + frame.rect.height - 4.0 - body_top,
     };
 
-    let lanes = graph
-        .groups
-        .iter()
-        .filter_map(|group| {
-            let inside = |node: usize| graph.nodes[node].group.as_ref() == Some(&group.id);
-            let mut members: Vec<Rect> = (0..boxes.len()).filter(|&i| inside(i)).map(|i| boxes[i]).collect();
-            // The lane holds the routes and labels of the edges between its nodes too.
-            for ((e, route), label) in edges.iter().zip(&layout.edges).zip(&labels) {
-                if inside(e.from.0) && inside(e.to.0) && !members.is_empty() {
-                    members.extend(route.iter().map(|p| Rect { x: p.x, y: p.y, width: 0.0, height: 0.0 }));
-                    members.extend(label.all());
-                }
-            }
-            lane_of(group, &members, body)
-        })
-        .collect();
+    let lanes =
+        graph.groups.iter().zip(lane_spans).filter_map(|(group, span)| Some(lane_of(group, span?, body))).collect();
     let scene_edges = edges
         .iter()
         .zip(layout.edges)
@@ -387,23 +391,29 @@ fn lane_title(group: &gudsl_model::graph::GraphGroup) -> String {
     }
 }
 
-/// A swimlane's partition around its members, at least as wide as its title, as tall as the
-/// frame's `body` and inside it.
-fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[Rect], body: Rect) -> Option<Lane> {
+/// The left and right of a swimlane's partition around its members, at least as wide as its
+/// title (none without members).
+fn lane_span(group: &gudsl_model::graph::GraphGroup, members: &[Rect]) -> Option<(f64, f64)> {
     if members.is_empty() {
         return None;
     }
     let mut left = members.iter().map(|b| b.x).fold(f64::INFINITY, f64::min) - 14.0;
     let mut right = members.iter().map(|b| b.x + b.width).fold(f64::NEG_INFINITY, f64::max) + 14.0;
-    let title = lane_title(group);
-    let missing = text::width(&title, FONT_SIZE, Style::Bold) + 16.0 - (right - left);
+    let missing = text::width(&lane_title(group), FONT_SIZE, Style::Bold) + 16.0 - (right - left);
     if missing > 0.0 {
         left -= missing / 2.0;
         right += missing / 2.0;
     }
-    left = left.max(body.x);
-    right = right.min(body.x + body.width);
-    Some(Lane {
+    Some((left, right))
+}
+
+/// A swimlane's partition from `left` to `right` (`lane_span`), as tall as the frame's `body`
+/// and inside it.
+fn lane_of(group: &gudsl_model::graph::GraphGroup, (left, right): (f64, f64), body: Rect) -> Lane {
+    let title = lane_title(group);
+    let left = left.max(body.x);
+    let right = right.min(body.x + body.width);
+    Lane {
         id: group.id.clone(),
         rect: Rect { x: left, y: body.y, width: right - left, height: body.height },
         title: TextLine {
@@ -412,7 +422,7 @@ fn lane_of(group: &gudsl_model::graph::GraphGroup, members: &[Rect], body: Rect)
             text: title,
             style: Style::Bold,
         },
-    })
+    }
 }
 
 fn edge_label(lines: Vec<String>, rect: Rect) -> EdgeLabel {
