@@ -78,45 +78,45 @@ pub(crate) fn place_all(
     let placed_before = placed.iter().flat_map(Placed::all).collect();
     let mut room = Room { obstacles: boxes, open: &[], placed: placed_before, routes: &all_routes, corner };
     // The end labels the layout made room for before any label is placed by searching.
-    for e in 0..texts.len() {
-        let [tail_at, head_at] = laid_out_ends.get(e).copied().unwrap_or_default();
-        for (at_target, laid_out) in [(false, tail_at), (true, head_at)] {
-            if laid_out.is_some() {
-                room.open = &inside[e];
-                place_end(&texts[e], &routes[e], at_target, laid_out, &mut placed[e], &mut room);
-            }
-        }
-    }
+    let ends = Ends { texts, routes, laid_out: laid_out_ends, inside };
+    ends.place(true, &mut placed, &mut room);
     for (((t, route), at), inside) in texts.iter().zip(routes).zip(&mut placed).zip(inside) {
         if !t.middle.is_empty() && at.middle.is_none() {
             room.open = inside;
             at.middle = Some(place_label(route, label_size(&t.middle), &mut room));
         }
     }
-    for e in 0..texts.len() {
-        let [tail_at, head_at] = laid_out_ends.get(e).copied().unwrap_or_default();
-        for (at_target, laid_out) in [(false, tail_at), (true, head_at)] {
-            if laid_out.is_none() {
-                room.open = &inside[e];
-                place_end(&texts[e], &routes[e], at_target, None, &mut placed[e], &mut room);
-            }
-        }
-    }
+    ends.place(false, &mut placed, &mut room);
     placed
 }
 
-/// Places the label at one end of an edge (the target's if `at_target`), if it has one.
-fn place_end(
-    texts: &EdgeTexts,
-    route: &[Point],
-    at_target: bool,
-    laid_out: Option<Point>,
-    placed: &mut Placed,
-    room: &mut Room,
-) {
-    let (lines, slot) = if at_target { (&texts.head, &mut placed.head) } else { (&texts.tail, &mut placed.tail) };
-    if !lines.is_empty() {
-        *slot = Some(place_end_label(route, at_target, label_size(lines), laid_out, room));
+/// The edges' end labels to place, and where the layout made room for them.
+struct Ends<'a> {
+    texts: &'a [EdgeTexts],
+    routes: &'a [Vec<Point>],
+    laid_out: &'a [[Option<Point>; 2]],
+    inside: &'a [Vec<usize>],
+}
+
+impl<'a> Ends<'a> {
+    /// Places the end labels the layout made room for (`reserved`), or the others.
+    fn place(&self, reserved: bool, placed: &mut [Placed], room: &mut Room<'a>) {
+        for (e, texts) in self.texts.iter().enumerate() {
+            let [tail_at, head_at] = self.laid_out.get(e).copied().unwrap_or_default();
+            for (at_target, laid_out) in [(false, tail_at), (true, head_at)] {
+                let lines = if at_target { &texts.head } else { &texts.tail };
+                if lines.is_empty() || laid_out.is_some() != reserved {
+                    continue;
+                }
+                room.open = &self.inside[e];
+                let at = Some(place_end_label(&self.routes[e], at_target, label_size(lines), laid_out, room));
+                if at_target {
+                    placed[e].head = at;
+                } else {
+                    placed[e].tail = at;
+                }
+            }
+        }
     }
 }
 
