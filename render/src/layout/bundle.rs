@@ -4,7 +4,7 @@
 //! there; the dummy next to each end is made as wide and tall as that end's labels, and the
 //! labels go right of it (`Room::labels`).
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use super::proper::Proper;
 use super::{Extent, LABEL_OFFSET};
@@ -12,22 +12,29 @@ use super::{Extent, LABEL_OFFSET};
 /// A label's size: width and height.
 pub(super) type Size = (f64, f64);
 
+/// The edges between the same two boxes, whichever way each points, in groups of two or more
+/// (edge indices in input order; the groups in the order of their boxes). A box's loops to
+/// itself are in none.
+pub(crate) fn parallel_edges(ends: impl IntoIterator<Item = (usize, usize)>) -> Vec<Vec<usize>> {
+    let mut by_boxes: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+    for (e, (a, b)) in ends.into_iter().enumerate().filter(|(_, (a, b))| a != b) {
+        by_boxes.entry((a.min(b), a.max(b))).or_default().push(e);
+    }
+    by_boxes.into_values().filter(|edges| edges.len() > 1).collect()
+}
+
 /// Per edge: whether it runs in a bundle, between the same two boxes as another edge, whose end
 /// labels need the room: two of its edges carry end labels, or one of three or more does (it
 /// may run between the others). One labelled edge beside one other has a free side for them.
 pub(super) fn bundled(edges: &[(usize, usize)], end_labels: &[[Option<Size>; 2]]) -> Vec<bool> {
     let labelled = |e: usize| end_labels.get(e).is_some_and(|ends| ends.iter().any(Option::is_some));
-    let mut bundles: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
-    for (e, &(a, b)) in edges.iter().enumerate().filter(|(_, (a, b))| a != b) {
-        bundles.entry((a.min(b), a.max(b))).or_default().push(e);
-    }
     let mut bundled = vec![false; edges.len()];
     let crowded = |members: &&Vec<usize>| match members.iter().filter(|&&e| labelled(e)).count() {
         0 => false,
         1 => members.len() > 2,
         _ => true,
     };
-    for members in bundles.values().filter(crowded) {
+    for members in parallel_edges(edges.iter().copied()).iter().filter(crowded) {
         members.iter().for_each(|&e| bundled[e] = true);
     }
     bundled
@@ -69,8 +76,8 @@ pub(super) fn insert_lane_ranks(
     lane_rank
 }
 
-/// Where the end labels of bundled edges go, per oriented edge: beside which dummy, at the top
-/// of its rank's band or at the bottom, with which label (`upper` at the upper box's end).
+/// Where the end labels of bundled edges go: beside which dummy, at the top of its rank's band
+/// (the upper box's end) or at the bottom.
 pub(super) struct Room {
     pub labels: Vec<Placed>,
 }

@@ -18,6 +18,7 @@ mod route;
 mod sifting;
 mod simplex;
 
+pub(crate) use bundle::parallel_edges;
 pub(crate) use route::self_loop;
 
 pub use crate::geometry::Point;
@@ -43,8 +44,8 @@ pub struct LayoutInput {
     pub labels: Vec<Option<(f64, f64)>>,
     /// The edges are a flow read from its sources (control flow, dataflow): a cycle is drawn
     /// with the edge back that a depth-first search from the sources closes it with (a loop's
-    /// last edge), as it reads. Otherwise the edges drawn upwards are whichever make the
-    /// drawing shortest (`rank::ranks`).
+    /// last edge), as it reads. Otherwise several orientations are ranked (`rank::candidates`)
+    /// and the one whose crossings come out fewest is drawn.
     pub flow: bool,
     /// Per edge (or none): the edge must point down where any choice allows it (a
     /// generalization, laid out parent first).
@@ -191,10 +192,9 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let n = input.nodes.len();
     if n == 0 {
         let empty = 2.0 * spacing.margin;
-        let edges = Vec::new();
         return Layout {
             positions: Vec::new(),
-            edges,
+            edges: Vec::new(),
             labels: Vec::new(),
             end_labels: Vec::new(),
             width: empty,

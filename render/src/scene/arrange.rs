@@ -9,7 +9,7 @@ use std::collections::HashMap;
 use super::{labels::around, Point, Rect, Scene, SceneEdge};
 use crate::{
     geometry::{intersects, segment_meets_box},
-    layout::{self_loop, Layout},
+    layout::{parallel_edges, self_loop, Layout},
     pins::Pins,
 };
 
@@ -316,12 +316,8 @@ fn cells_of(r: Rect) -> impl Iterator<Item = (i64, i64)> {
 /// same two boxes at least `FAN` apart and room for their end labels between them, centred on
 /// that line.
 fn fan_positions(edges: &[Edge]) -> Vec<f64> {
-    let mut bundles: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
-    for (k, e) in edges.iter().enumerate().filter(|(_, e)| e.from != e.to) {
-        bundles.entry((e.from.min(e.to), e.from.max(e.to))).or_default().push(k);
-    }
     let mut offsets = vec![0.0; edges.len()];
-    for members in bundles.values() {
+    for members in parallel_edges(edges.iter().map(|e| (e.from, e.to))) {
         let middle = (members.len() as f64 - 1.0) / 2.0;
         let step = members.iter().map(|&k| edges[k].end_label_width + 16.0).fold(FAN, f64::max);
         for (i, &k) in members.iter().enumerate() {
