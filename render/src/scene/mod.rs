@@ -300,7 +300,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
             }
         }
     }
-    let corner = Point { x: frame::MARGIN + 4.0, y: heading.body_top() };
+    let corner = Point { x: BODY_INSET, y: heading.body_top() };
     let shared: Vec<Vec<usize>> = edges.iter().map(|e| nesting.holding_both(e.from.0, e.to.0)).collect();
     let labels =
         labels::place_all(&texts, &layout.edges, &layout.labels, &layout.end_labels, &obstacles, &shared, corner);
@@ -323,26 +323,17 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
                     members.extend(label.all());
                 }
             }
-            lane_span(group, &members)
+            lane_span(group, &members, BODY_INSET)
         })
         .collect();
-    let width = lane_spans.iter().flatten().fold(width, |w, &(_, right)| w.max(right + frame::MARGIN + 4.0));
-    // Room for every lane title (measured as its two runs, `lane` and ` : owner`).
-    let width = graph
-        .groups
-        .iter()
-        .map(|g| {
-            text::width(&g.label, FONT_SIZE, Style::Bold)
-                + g.owner.as_ref().map_or(0.0, |o| text::width(&format!(" : {o}"), FONT_SIZE, Style::Bold))
-        })
-        .fold(width, |w, title| w.max(title + 40.0));
+    let width = lane_spans.iter().flatten().fold(width, |w, &(_, right)| w.max(right + BODY_INSET));
     let (min_width, min_height) = heading.min_size();
     let (width, height) = (width.max(min_width), height.max(min_height));
     let frame = heading.place(width, height);
     // Lanes fill the frame's body, from under the heading to the frame's bottom.
     let body_top = heading.body_top();
     let body = Rect {
-        x: frame.rect.x + 4.0,
+        x: BODY_INSET,
         y: body_top,
         width: frame.rect.width - 8.0,
         height: frame.rect.y + frame.rect.height - 4.0 - body_top,
@@ -391,9 +382,12 @@ fn lane_title(group: &gudsl_model::graph::GraphGroup) -> String {
     }
 }
 
+/// How far inside the drawing's left and right edges the frame's body is (4 inside the frame).
+const BODY_INSET: f64 = frame::MARGIN + 4.0;
+
 /// The left and right of a swimlane's partition around its members, at least as wide as its
-/// title (none without members).
-fn lane_span(group: &gudsl_model::graph::GraphGroup, members: &[Rect]) -> Option<(f64, f64)> {
+/// title, and right of `body_left` (none without members).
+fn lane_span(group: &gudsl_model::graph::GraphGroup, members: &[Rect], body_left: f64) -> Option<(f64, f64)> {
     if members.is_empty() {
         return None;
     }
@@ -404,7 +398,8 @@ fn lane_span(group: &gudsl_model::graph::GraphGroup, members: &[Rect]) -> Option
         left -= missing / 2.0;
         right += missing / 2.0;
     }
-    Some((left, right))
+    let shift = (body_left - left).max(0.0);
+    Some((left + shift, right + shift))
 }
 
 /// A swimlane's partition from `left` to `right` (`lane_span`), as tall as the frame's `body`
