@@ -30,7 +30,16 @@ enum Command {
     /// Run a host activity diagram (e.g. `Main`): its calc nodes' kernels on the GPU (lavapipe without one).
     Run(commands::run::RunArgs),
     /// Run the language server on stdin/stdout (for editors).
-    Lsp,
+    Lsp(LspArgs),
+}
+
+/// `gudsl lsp`'s flags: stdio is its only transport, and `--stdio` (which clients such as
+/// vscode-languageclient append) says so.
+#[derive(clap::Args)]
+struct LspArgs {
+    /// Talk over stdin/stdout (the default and only transport).
+    #[arg(long)]
+    stdio: bool,
 }
 
 fn main() -> ExitCode {
@@ -41,6 +50,6 @@ fn main() -> ExitCode {
         Command::Render(args) => commands::render::run(&args),
         Command::Wgsl(args) => commands::wgsl::run(&args),
         Command::Run(args) => commands::run::run(&args),
-        Command::Lsp => lsp::run(),
+        Command::Lsp(LspArgs { stdio: _ }) => lsp::run(),
     }
 }

@@ -302,7 +302,8 @@ async def samples_session(gudsl, samples):
     def on_register(params):
         return None
 
-    await client.start_io(gudsl, "lsp")
+    # As vscode-languageclient starts it with `transport: stdio`.
+    await client.start_io(gudsl, "lsp", "--stdio")
     await client.initialize_async(
         t.InitializeParams(process_id=None, root_uri=samples.as_uri(), capabilities=t.ClientCapabilities())
     )

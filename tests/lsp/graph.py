@@ -16,6 +16,7 @@ resize, the layout sidecar, `gudsl/graphChanged`, a re-render); and the refusals
 diagram and an unknown document."""
 
 import asyncio
+import base64
 import shutil
 import subprocess
 import sys
@@ -161,6 +162,19 @@ async def main(gudsl, repo):
             drawn += 1
     if drawn < 20:
         fail(f"only {drawn} diagrams drawn from the listings")
+
+    # The PNG a client saves ("Render Diagram to SVG/PNG…") is the one `gudsl render` writes.
+    listing = workspace / "listing07_action_transitions.gudsl"
+    pictures = work / "pictures"
+    done = subprocess.run([gudsl, "render", str(listing), "--format", "png", "-o", str(pictures)], capture_output=True)
+    answer = await client.protocol.send_request_async(
+        "gudsl/graph", {"textDocument": {"uri": listing.as_uri()}, "diagram": "TransitionExample", "png": True}
+    )
+    png = base64.b64decode(answer.png)
+    if not png.startswith(b"\x89PNG") or png != (pictures / "TransitionExample.png").read_bytes():
+        fail(f"gudsl/graph's PNG ({len(png)} bytes) is not the one gudsl render writes ({done.stderr!r})")
+    if getattr(answer, "svg", None) is not None:
+        fail("an SVG came with the PNG though none was asked for")
 
     # An open document: versions, an edit that moves text, a new class.
     uri = (workspace / "shapes.gudsl").as_uri()

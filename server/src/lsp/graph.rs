@@ -6,6 +6,8 @@
 
 use std::collections::HashMap;
 
+use base64::Engine as _;
+
 use gudsl_model::{
     graph::{EdgeEnd, Graph, GraphKind},
     text::LineIndex,
@@ -60,6 +62,10 @@ pub struct GraphParams {
     /// Whether to add the SVG of the scene.
     #[serde(default)]
     pub svg: bool,
+    /// Whether to add the scene as a PNG (base64, drawn at twice its size), as `gudsl render
+    /// --format png` writes it.
+    #[serde(default)]
+    pub png: bool,
     /// Whether to lay the nodes no pin holds out afresh, instead of around the scene drawn
     /// before (where an edit leaves them).
     #[serde(default)]
@@ -83,6 +89,8 @@ pub struct GraphView {
     pub controls: Vec<ControlView>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub svg: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub png: Option<String>,
     /// Why the document's layout sidecar was not used (it is not valid): the sidecar's path and
     /// the reason.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -230,7 +238,15 @@ pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Canc
     let scene = scenes.scene(file, graph, pins, params.relayout);
     snap.analysis.check_cancelled()?;
     let mut view = view(snap, index, graph, &scene, pins, version(snap, uri), uri);
-    view.svg = params.svg.then(|| gudsl_render::svg::write(&scene));
+    let svg = (params.svg || params.png).then(|| gudsl_render::svg::write(&scene));
+    if params.png {
+        let drawn = gudsl_render::png::to_png(svg.as_deref().unwrap_or_default(), 2.0);
+        match drawn {
+            Ok(png) => view.png = Some(base64::engine::general_purpose::STANDARD.encode(png)),
+            Err(error) => return Ok(Err(format!("`{}` cannot be drawn as PNG: {error}", params.diagram))),
+        }
+    }
+    view.svg = svg.filter(|_| params.svg);
     view.layout_error = layout_error;
     Ok(Ok(view))
 }
@@ -358,6 +374,7 @@ fn view(
             })
             .collect(),
         svg: None,
+        png: None,
         layout_error: None,
     }
 }

@@ -1,0 +1,242 @@
+// The GU-DSL extension in a real VS Code (code-server) driven by Debian's Chromium as a user
+// would: diagnostics appear and clear, completion, the diagram panel (selection both ways, drag
+// → layout file, palette → text, undo), a pipeline run with its results, a run cancelled. A
+// screenshot after each step; exits 1 on the first failure. Traffic: 127.0.0.1 only.
+//   CS_URL=http://127.0.0.1:8765 WS=workspace RUNS=run-output OUT=screenshots DRIVER=dir node e2e.mjs
+import fs from 'node:fs';
+import { createRequire } from 'node:module';
+import path from 'node:path';
+
+const home = process.env.GUDSL_E2E_HOME || process.cwd();
+const { chromium } = createRequire(path.join(process.env.DRIVER || path.join(home, 'driver'), 'package.json'))('playwright-core');
+const CS_URL = process.env.CS_URL || 'http://127.0.0.1:8765';
+const WS = process.env.WS;
+const RUNS = process.env.RUNS;
+const OUT = process.env.OUT;
+const T = Number(process.env.STEP_TIMEOUT_MS || 60000);
+const LISTING = 'listing07_action_transitions.gudsl';
+const LISTING_PATH = path.join(WS, 'seed', LISTING);
+const LAYOUT_PATH = LISTING_PATH + '.layout';
+
+const t0 = Date.now();
+let passed = 0;
+const ok = (name, extra = '') => {
+  passed++;
+  console.log(`ok   ${name} (t=${((Date.now() - t0) / 1000).toFixed(1)}s) ${extra}`);
+};
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  headless: true,
+  args: [
+    '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync',
+    // Resolve nothing but 127.0.0.1: no DNS query leaves the machine.
+    '--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1',
+  ],
+});
+const context = await browser.newContext({ viewport: { width: 1600, height: 900 } });
+const page = await context.newPage();
+// Requests for anything but 127.0.0.1. The webviews' own files have https://*.vscode-cdn.net
+// addresses that VS Code's service worker answers from the server: those must never reach the
+// network (Chromium resolves no other host, so they would fail if they did).
+const external = [];
+page.on('request', (r) => {
+  const u = r.url();
+  if (!/^(https?|wss?):\/\/127\.0\.0\.1[:/]/.test(u) && !/^(data|blob|vscode-[a-z-]+):/.test(u)) external.push(r);
+});
+const leftTheMachine = async () => {
+  const left = [];
+  for (const r of external) {
+    const response = await r.response().catch(() => null);
+    if (!(response && response.fromServiceWorker() && /^https:\/\/[^/]+\.vscode-cdn\.net\//.test(r.url()))) left.push(r.url());
+  }
+  return left;
+};
+
+let shots = 0;
+const shot = async (name) => {
+  const file = path.join(OUT, `${String(++shots).padStart(2, '0')}-${name}.png`);
+  await page.screenshot({ path: file });
+  console.log(`     screenshot ${file}`);
+};
+const quickInput = page.locator('.quick-input-widget input.input');
+const palette = async (text) => {
+  await page.keyboard.press('F1');
+  await quickInput.waitFor({ state: 'visible', timeout: T });
+  await quickInput.fill('>' + text);
+  await page.locator('.quick-input-list .monaco-list-row', { hasText: text }).first().waitFor({ timeout: T });
+  await page.keyboard.press('Enter');
+};
+const openFile = async (name) => {
+  await page.keyboard.press('Control+p');
+  await quickInput.waitFor({ state: 'visible', timeout: T });
+  await quickInput.fill(name);
+  await page.locator('.quick-input-list .monaco-list-row', { hasText: name }).first().waitFor({ timeout: T });
+  await page.keyboard.press('Enter');
+  await page.locator(`.tab[aria-label*="${name}"]`).first().waitFor({ timeout: T });
+};
+// The cursor's line as the status bar shows it ("Ln 22, Col 6"): waiting on it keeps keystrokes
+// from racing the workbench on a busy machine.
+const cursorAt = (line) => page.locator('#status\\.editor\\.selection', { hasText: `Ln ${line},` }).waitFor({ timeout: T });
+const goToLine = async (n) => {
+  await page.keyboard.press('Control+g');
+  await quickInput.waitFor({ state: 'visible', timeout: T });
+  await quickInput.fill(':' + n);
+  await page.keyboard.press('Enter');
+  await page.locator('.quick-input-widget').waitFor({ state: 'hidden', timeout: T });
+  await cursorAt(n);
+};
+const focusEditor = async (name) => {
+  await page.locator(`.tab[aria-label*="${name}"]`).first().click();
+  await page.locator('.editor-instance .monaco-editor.focused').first().waitFor({ timeout: T });
+};
+const lineOf = (text, file = LISTING_PATH) => fs.readFileSync(file, 'utf8').split('\n').findIndex((l) => l.includes(text)) + 1;
+const until = async (what, test) => {
+  const end = Date.now() + T;
+  while (Date.now() < end) {
+    if (await test()) return;
+    await page.waitForTimeout(100);
+  }
+  throw new Error(`timed out waiting for ${what}`);
+};
+/** The frame of the webview whose page has `selector` (the diagram's `#canvas`, the results' `.summary`). */
+const webview = async (selector) => {
+  let found;
+  await until(`a webview with ${selector}`, async () => {
+    for (const frame of page.frames()) {
+      if (frame.isDetached()) continue;
+      if (await frame.locator(selector).count().catch(() => 0)) {
+        found = frame;
+        return true;
+      }
+    }
+    return false;
+  });
+  return found;
+};
+
+let failed = false;
+try {
+  // 1. The workbench on the samples; a sample opens as GU-DSL and the server says it is ready.
+  await page.goto(`${CS_URL}/?folder=${encodeURIComponent(WS)}`);
+  await page.locator('.monaco-workbench').waitFor({ timeout: T });
+  await page.locator('.explorer-folders-view .monaco-list-row').first().waitFor({ timeout: T });
+  await openFile(LISTING);
+  await page.locator('.statusbar-item', { hasText: 'GU-DSL' }).first().waitFor({ timeout: T });
+  await page.locator('.statusbar-item[aria-label*="check"], .statusbar-item:has(.codicon-check)', { hasText: 'GU-DSL' }).first().waitFor({ timeout: T });
+  ok('sample opened, language server ready');
+  await shot('opened');
+
+  // 2. A diagnostic appears where the text is wrong, and clears when it is undone.
+  const guarded = lineOf('=> guardedAction;');
+  await focusEditor(LISTING);
+  await goToLine(guarded);
+  await page.keyboard.press('End');
+  await page.keyboard.press('Enter');
+  await cursorAt(guarded + 1);
+  await page.keyboard.type('=> missingNode;', { delay: 15 });
+  await page.locator('.monaco-editor .squiggly-error').first().waitFor({ timeout: T });
+  await page.keyboard.press('Control+Shift+m');
+  await page.locator('.markers-panel .monaco-list-row', { hasText: 'missingNode' }).first().waitFor({ timeout: T });
+  ok('diagnostic appears (squiggle, Problems)');
+  await shot('diagnostic');
+  await focusEditor(LISTING);
+  for (let i = 0; i < 3; i++) await page.keyboard.press('Control+z');
+  await until('the squiggle to clear', async () => (await page.locator('.monaco-editor .squiggly-error').count()) === 0);
+  ok('diagnostic clears after undo');
+
+  // 3. Completion after `=> ` lists the diagram's nodes.
+  await goToLine(guarded);
+  await page.keyboard.press('End');
+  await page.keyboard.press('Enter');
+  await page.keyboard.type('=> ', { delay: 15 });
+  await page.keyboard.press('Control+Space');
+  const suggest = page.locator('.editor-widget.suggest-widget.visible');
+  await suggest.locator('.monaco-list-row', { hasText: 'nonguardedAction' }).first().waitFor({ timeout: T });
+  ok('completion after "=> "', JSON.stringify(await suggest.locator('.monaco-list-row .label-name').allInnerTexts()));
+  await shot('completion');
+  await page.keyboard.press('Escape');
+  await page.keyboard.press('Control+z');
+  await page.keyboard.press('Control+z');
+
+  // 4. The diagram panel shows the diagram under the cursor; cursor → node, click → cursor.
+  await goToLine(lineOf('action guardedAction'));
+  await palette('GU-DSL: Show Diagram');
+  const diagram = await webview('#canvas svg');
+  const canvas = diagram.locator('#canvas');
+  await until('the panel to highlight guardedAction', async () => (await canvas.getAttribute('data-selected')) === 'TransitionExample/Lane/guardedAction');
+  ok('diagram panel: cursor in a declaration highlights its node');
+  await shot('diagram-panel');
+  const nonguarded = diagram.locator('g.node[data-id="TransitionExample/Lane/nonguardedAction"]');
+  await nonguarded.click();
+  await cursorAt(lineOf('action nonguardedAction'));
+  ok('diagram panel: clicking a node puts the cursor on its declaration');
+
+  // 5. Dragging a node pins it: the server writes the layout sidecar, the panel redraws.
+  const versionBefore = await canvas.getAttribute('data-version');
+  const box = await nonguarded.boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  for (let i = 1; i <= 10; i++) await page.mouse.move(box.x + box.width / 2 - 6 * i, box.y + box.height / 2 + 4 * i);
+  await page.mouse.up();
+  await until('the layout file', async () => fs.existsSync(LAYOUT_PATH) && fs.readFileSync(LAYOUT_PATH, 'utf8').includes('nonguardedAction'));
+  await diagram.locator('g.node.pinned[data-id="TransitionExample/Lane/nonguardedAction"]').waitFor({ timeout: T });
+  ok('drag → layout file written, node drawn pinned', fs.readFileSync(LAYOUT_PATH, 'utf8').replace(/\s+/g, ' ').slice(0, 160));
+  await shot('dragged');
+  void versionBefore;
+
+  // 6. The palette creates a node: the text changes (an edit the editor can undo).
+  await diagram.locator('button[data-action="create-action"]').click();
+  await quickInput.waitFor({ state: 'visible', timeout: T });
+  await quickInput.fill('paletteAction');
+  await page.keyboard.press('Enter');
+  await diagram.locator('g.node[data-id="TransitionExample/Lane/paletteAction"]').waitFor({ timeout: T });
+  await focusEditor(LISTING);
+  await page.keyboard.press('Control+s');
+  await until('the saved text to have the new node', async () => fs.readFileSync(LISTING_PATH, 'utf8').includes('paletteAction'));
+  ok('palette → new node in the text and the diagram');
+  await shot('palette-create');
+  await page.keyboard.press('Control+z');
+  await page.keyboard.press('Control+s');
+  await until('undo to remove it', async () => !fs.readFileSync(LISTING_PATH, 'utf8').includes('paletteAction'));
+  await until('the diagram to drop it', async () => (await diagram.locator('g.node[data-id="TransitionExample/Lane/paletteAction"]').count()) === 0);
+  ok('undo in the editor takes the node back out of text and diagram');
+
+  // 7. ▶ Run pipeline: progress, then the results panel with the stages' table and plot.
+  await openFile('ch4_motion_compensation.gudsl');
+  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();
+  const results = await webview('.summary');
+  await results.locator('pre.table', { hasText: 'ToF.MotionCompensation' }).waitFor({ timeout: T });
+  await results.locator('.pictures img').first().waitFor({ timeout: T });
+  const summary = await results.locator('.summary').innerText();
+  if (!fs.existsSync(path.join(RUNS, 'MotionCompensationPipeline', 'report.json'))) throw new Error('no report.json in the output folder');
+  ok('pipeline ran, results panel shows table and plot', summary.slice(0, 120));
+  await shot('pipeline-results');
+
+  // 8. A long run is cancelled from its notification.
+  await openFile('long_pipeline.gudsl');
+  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();
+  const toast = page.locator('.notification-toast', { hasText: 'Running LongMotionPipeline' });
+  await toast.locator('text=/frame \\d+ of 400/').first().waitFor({ timeout: T });
+  await shot('pipeline-progress');
+  await toast.hover();
+  await toast.locator('.monaco-button', { hasText: 'Cancel' }).first().click();
+  await page.locator('.notification-toast', { hasText: 'run cancelled' }).first().waitFor({ timeout: T });
+  ok('long run cancelled from the notification');
+  await shot('pipeline-cancelled');
+} catch (e) {
+  failed = true;
+  console.log(`FAIL ${String(e).split('\n')[0]}`);
+  await shot('failure').catch(() => {});
+}
+const left = await leftTheMachine();
+if (left.length) {
+  failed = true;
+  console.log(`FAIL requests left 127.0.0.1: ${JSON.stringify(left.slice(0, 10))}`);
+} else {
+  ok('no request left 127.0.0.1', `(${external.length} webview files from the service worker)`);
+}
+await browser.close();
+console.log(`${passed} passed${failed ? ', 1 failed' : ''} in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
+process.exit(failed ? 1 : 0);

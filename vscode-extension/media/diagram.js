@@ -1,0 +1,311 @@
+// The diagram panel's page: draws the server's SVG, and turns clicks, drags, the palette, the
+// context menu and keys into messages for the extension (which sends them to the server as
+// `gudsl/applyGraphEdit` operations). It never edits the model itself: the next graph shows
+// what the server made of each gesture.
+(function () {
+  'use strict';
+  const vscode = acquireVsCodeApi();
+  const canvas = document.getElementById('canvas');
+  const toolbar = document.getElementById('toolbar');
+  const status = document.getElementById('status');
+  const menu = document.getElementById('menu');
+
+  /** What each diagram kind's palette creates: [operation kind, button label]. */
+  const PALETTE = {
+    class: [['class', 'Class'], ['interface', 'Interface'], ['enum', 'Enum']],
+    activity: [['action', 'Action'], ['decision', 'Decision'], ['fork', 'Fork'], ['join', 'Join'], ['calc', 'Calc'], ['loop', 'Loop'], ['start', 'Start'], ['final', 'Final']],
+    component: [['component', 'Component']],
+    componentInstance: [['instance', 'Instance']],
+  };
+  /** Movement (screen pixels) below which a press is a click, not a drag. */
+  const DRAG_THRESHOLD = 3;
+
+  let graph = null; // the last graph: {kind, name, version, svg, nodes, groups}
+  let nodes = new Map(); // id -> node of the graph
+  let selected = null; // id of the selected element
+  let connectFrom = null; // id of a connection's source while connecting
+  let connecting = false;
+  let zoom = 1;
+  let drag = null;
+
+  window.addEventListener('message', (event) => {
+    const m = event.data;
+    if (m.type === 'graph') show(m);
+    else if (m.type === 'highlight') select(m.id, false);
+    else if (m.type === 'message') say(m.text, true);
+  });
+
+  function show(m) {
+    const kindChanged = !graph || graph.kind !== m.kind;
+    graph = m;
+    nodes = new Map(m.nodes.map((n) => [n.id, n]));
+    canvas.innerHTML = m.svg || '';
+    const svg = canvas.querySelector('svg');
+    if (svg) {
+      svg.dataset.width = svg.getAttribute('width');
+      svg.dataset.height = svg.getAttribute('height');
+      // A wide invisible twin of each edge makes thin lines easy to hit.
+      for (const edge of svg.querySelectorAll('polyline.edge')) {
+        const hit = edge.cloneNode(false);
+        hit.setAttribute('class', 'edge-hit');
+        hit.removeAttribute('marker-end');
+        hit.removeAttribute('marker-start');
+        edge.after(hit);
+      }
+      for (const n of m.nodes) {
+        if (n.pinned) element(n.id)?.classList.add('pinned');
+      }
+      applyZoom();
+    }
+    if (kindChanged) palette();
+    canvas.dataset.version = String(m.version);
+    canvas.dataset.diagram = m.name;
+    if (selected && !element(selected)) selected = null;
+    markSelected();
+    say(m.layoutError ? `Layout file not used: ${m.layoutError}` : '', !!m.layoutError);
+  }
+
+  function element(id) {
+    return id ? canvas.querySelector(`[data-id="${CSS.escape(id)}"]:not(.edge-hit)`) : null;
+  }
+
+  function palette() {
+    toolbar.textContent = '';
+    for (const [kind, label] of PALETTE[graph.kind] || []) {
+      button(`+ ${label}`, `Create a ${label.toLowerCase()}`, () => create(kind), `create-${kind}`);
+    }
+    separator();
+    button('Connect', 'Connect two elements: click the source, then the target', () => startConnect(null), 'connect');
+    button('Rename', 'Rename the selected element (F2)', () => selected && post({ type: 'rename', id: selected }), 'rename');
+    button('Delete', 'Delete the selected element (Del)', () => selected && post({ type: 'delete', id: selected }), 'delete');
+    separator();
+    button('Re-layout', 'Lay the nodes no pin holds out afresh', () => post({ type: 'relayout' }), 'relayout');
+    button('−', 'Zoom out', () => setZoom(zoom / 1.25), 'zoom-out');
+    button('Fit', 'Zoom to fit', fit, 'zoom-fit');
+    button('+', 'Zoom in', () => setZoom(zoom * 1.25), 'zoom-in');
+  }
+
+  function button(text, title, action, name) {
+    const b = document.createElement('button');
+    b.textContent = text;
+    b.title = title;
+    b.dataset.action = name;
+    b.addEventListener('click', action);
+    toolbar.append(b);
+  }
+
+  function separator() {
+    const s = document.createElement('span');
+    s.className = 'separator';
+    toolbar.append(s);
+  }
+
+  /** A new node; in a diagram with swimlanes, into the selected lane or the selected node's. */
+  function create(kind) {
+    let parent;
+    if (graph.kind === 'activity' && selected) {
+      parent = graph.groups.includes(selected) ? selected : nodes.get(selected)?.group ?? undefined;
+    }
+    post({ type: 'create', kind, parent });
+  }
+
+  function startConnect(source) {
+    connecting = true;
+    connectFrom = source;
+    document.body.classList.add('connecting');
+    say(source ? `Connect ${source} to… (click the target, Esc cancels)` : 'Connect: click the source, then the target (Esc cancels)');
+  }
+
+  function stopConnect() {
+    connecting = false;
+    connectFrom = null;
+    document.body.classList.remove('connecting');
+    say('');
+  }
+
+  function say(text, warning) {
+    status.textContent = text || '';
+    status.classList.toggle('warning', !!warning);
+  }
+
+  function post(message) {
+    vscode.postMessage(message);
+  }
+
+  function select(id, fromView) {
+    selected = id && element(id) ? id : null;
+    markSelected();
+    if (selected && !fromView) {
+      const el = element(selected);
+      const box = el.getBoundingClientRect();
+      if (box.bottom < 0 || box.top > window.innerHeight || box.right < 0 || box.left > window.innerWidth) {
+        el.scrollIntoView({ block: 'center', inline: 'center' });
+      }
+    }
+    if (selected && fromView) post({ type: 'select', id: selected });
+  }
+
+  function markSelected() {
+    for (const el of canvas.querySelectorAll('.selected')) el.classList.remove('selected');
+    element(selected)?.classList.add('selected');
+    canvas.dataset.selected = selected || '';
+  }
+
+  /** The model element an event's target belongs to: a port, an edge, a node or a lane. */
+  function targetOf(event) {
+    const el = event.target.closest('[data-id]');
+    return el ? el.dataset.id : null;
+  }
+
+  function setZoom(z) {
+    zoom = Math.min(4, Math.max(0.1, z));
+    applyZoom();
+  }
+
+  function applyZoom() {
+    const svg = canvas.querySelector('svg');
+    if (!svg) return;
+    svg.setAttribute('width', String(Number(svg.dataset.width) * zoom));
+    svg.setAttribute('height', String(Number(svg.dataset.height) * zoom));
+  }
+
+  function fit() {
+    const svg = canvas.querySelector('svg');
+    if (!svg) return;
+    const w = Number(svg.dataset.width);
+    const h = Number(svg.dataset.height);
+    setZoom(Math.min((canvas.clientWidth - 8) / w, (canvas.clientHeight - 8) / h, 2));
+  }
+
+  // Dragging a node moves it (and the nodes drawn inside it) until the server's new graph comes.
+  canvas.addEventListener('pointerdown', (event) => {
+    hideMenu();
+    if (event.button !== 0) return;
+    const id = targetOf(event);
+    if (connecting) {
+      if (!id) return;
+      if (!connectFrom) startConnect(id);
+      else {
+        post({ type: 'connect', source: connectFrom, target: id });
+        stopConnect();
+      }
+      event.preventDefault();
+      return;
+    }
+    const nodeEl = event.target.closest('g.node');
+    const node = nodeEl && nodes.get(nodeEl.dataset.id);
+    if (node && node.bounds && !event.target.closest('.port')) {
+      const svg = canvas.querySelector('svg');
+      const moved = [nodeEl, ...[...nodes.values()].filter((n) => inside(n, node.id)).map((n) => element(n.id)).filter(Boolean)];
+      drag = { id: node.id, node, els: moved, x: event.clientX, y: event.clientY, scale: svg.getScreenCTM().a, dx: 0, dy: 0, moving: false, pointer: event.pointerId };
+      canvas.setPointerCapture(event.pointerId);
+      event.preventDefault();
+    } else {
+      select(id, true);
+    }
+  });
+
+  /** Whether `n` is drawn inside the node `ancestor` (nested components). */
+  function inside(n, ancestor) {
+    for (let p = n.parent; p; p = nodes.get(p)?.parent) if (p === ancestor) return true;
+    return false;
+  }
+
+  canvas.addEventListener('pointermove', (event) => {
+    if (!drag || event.pointerId !== drag.pointer) return;
+    const sx = event.clientX - drag.x;
+    const sy = event.clientY - drag.y;
+    if (!drag.moving && Math.hypot(sx, sy) < DRAG_THRESHOLD) return;
+    drag.moving = true;
+    drag.dx = sx / drag.scale;
+    drag.dy = sy / drag.scale;
+    for (const el of drag.els) el.setAttribute('transform', `translate(${drag.dx} ${drag.dy})`);
+    document.body.classList.add('dragging');
+  });
+
+  canvas.addEventListener('pointerup', (event) => {
+    if (!drag || event.pointerId !== drag.pointer) return;
+    const d = drag;
+    drag = null;
+    document.body.classList.remove('dragging');
+    if (d.moving) {
+      const x = Math.max(0, Math.round(d.node.bounds.x + d.dx));
+      const y = Math.max(0, Math.round(d.node.bounds.y + d.dy));
+      say(`Moved ${d.id} to ${x}, ${y}`);
+      post({ type: 'move', id: d.id, x, y });
+    } else {
+      select(d.id, true);
+    }
+  });
+
+  canvas.addEventListener('dblclick', (event) => {
+    const id = targetOf(event);
+    if (id && nodes.has(id)) post({ type: 'rename', id });
+  });
+
+  canvas.addEventListener('wheel', (event) => {
+    if (!event.ctrlKey) return;
+    event.preventDefault();
+    setZoom(zoom * (event.deltaY < 0 ? 1.1 : 1 / 1.1));
+  }, { passive: false });
+
+  canvas.addEventListener('contextmenu', (event) => {
+    event.preventDefault();
+    const id = targetOf(event);
+    if (id) select(id, true);
+    const items = [];
+    if (id && (nodes.has(id) || element(id)?.matches('.edge, .port, .node'))) {
+      items.push(['Go to declaration', () => post({ type: 'select', id })]);
+      if (nodes.has(id)) items.push(['Rename…', () => post({ type: 'rename', id })]);
+      items.push(['Connect from here…', () => startConnect(id)]);
+      if (nodes.get(id)?.pinned) items.push(['Unpin (back to the automatic layout)', () => post({ type: 'unpin', id })]);
+      items.push(['Delete', () => post({ type: 'delete', id })]);
+    }
+    if (id && graph.groups.includes(id)) {
+      for (const [kind, label] of PALETTE.activity) items.push([`New ${label.toLowerCase()} in this lane…`, () => post({ type: 'create', kind, parent: id })]);
+    }
+    if (!id) {
+      for (const [kind, label] of PALETTE[graph?.kind] || []) items.push([`New ${label.toLowerCase()}…`, () => create(kind)]);
+      items.push(['Re-layout', () => post({ type: 'relayout' })]);
+    }
+    showMenu(event.clientX, event.clientY, items);
+  });
+
+  function showMenu(x, y, items) {
+    menu.textContent = '';
+    for (const [label, action] of items) {
+      const item = document.createElement('div');
+      item.className = 'item';
+      item.setAttribute('role', 'menuitem');
+      item.textContent = label;
+      item.addEventListener('click', () => {
+        hideMenu();
+        action();
+      });
+      menu.append(item);
+    }
+    menu.hidden = items.length === 0;
+    menu.style.left = `${Math.min(x, window.innerWidth - 260)}px`;
+    menu.style.top = `${Math.min(y, window.innerHeight - 24 * items.length - 8)}px`;
+  }
+
+  function hideMenu() {
+    menu.hidden = true;
+  }
+
+  document.addEventListener('keydown', (event) => {
+    if (event.key === 'Escape') {
+      hideMenu();
+      if (connecting) stopConnect();
+    } else if ((event.key === 'Delete' || event.key === 'Backspace') && selected) {
+      post({ type: 'delete', id: selected });
+    } else if (event.key === 'F2' && selected) {
+      post({ type: 'rename', id: selected });
+    }
+  });
+  document.addEventListener('click', (event) => {
+    if (!menu.contains(event.target)) hideMenu();
+  });
+
+  post({ type: 'ready' });
+})();

@@ -1,0 +1,88 @@
+//! gudsl's requests beyond LSP (`docs/protocol.md`), typed for the client.
+import { NotificationType, Range, RequestType, TextDocumentIdentifier, VersionedTextDocumentIdentifier, WorkspaceEdit } from 'vscode-languageclient';
+
+export type DiagramKind = 'class' | 'activity' | 'component' | 'componentInstance';
+
+export interface DiagramInfo {
+  id: string;
+  name: string;
+  kind: DiagramKind;
+  range: Range;
+  selectionRange: Range;
+}
+
+export interface Diagrams {
+  uri: string;
+  version: number | null;
+  diagrams: DiagramInfo[];
+}
+
+export interface Bounds {
+  x: number;
+  y: number;
+  width: number;
+  height: number;
+}
+
+export interface GraphNode {
+  id: string;
+  shape: string;
+  label: string;
+  range: Range;
+  bounds: Bounds | null;
+  pinned: boolean;
+  group: string | null;
+  parent: string | null;
+  ports: { id: string; label: string; provider: boolean | null }[];
+}
+
+export interface GraphEdge {
+  id: string;
+  kind: string;
+  source: { node: string; port: string | null };
+  target: { node: string; port: string | null };
+  label: string | null;
+  range: Range;
+}
+
+export interface Graph {
+  uri: string;
+  version: number | null;
+  diagram: DiagramInfo;
+  width: number;
+  height: number;
+  nodes: GraphNode[];
+  edges: GraphEdge[];
+  groups: { id: string; label: string; owner: string | null; bounds: Bounds | null }[];
+  svg?: string;
+  png?: string;
+  layoutError?: string;
+}
+
+/** One operation of `gudsl/applyGraphEdit`. */
+export type GraphOperation = { op: string } & Record<string, unknown>;
+
+export interface GraphEditResult {
+  edit: WorkspaceEdit;
+  layout?: { uri: string; diagram: string };
+}
+
+export const diagramsRequest = new RequestType<{ textDocument: TextDocumentIdentifier }, Diagrams | null, void>('gudsl/diagrams');
+
+export const graphRequest = new RequestType<
+  { textDocument: TextDocumentIdentifier; diagram: string; svg?: boolean; png?: boolean; relayout?: boolean },
+  Graph,
+  void
+>('gudsl/graph');
+
+export const applyGraphEditRequest = new RequestType<
+  { textDocument: { uri: string; version: number | null }; diagram: string; operations: GraphOperation[] },
+  GraphEditResult,
+  void
+>('gudsl/applyGraphEdit');
+
+export const viewFileTextRequest = new RequestType<TextDocumentIdentifier, string, void>('gudsl/viewFileText');
+
+export const graphChangedNotification = new NotificationType<{ uri: string; version: number | null; diagrams: string[] }>('gudsl/graphChanged');
+
+export type { VersionedTextDocumentIdentifier };
