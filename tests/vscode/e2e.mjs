@@ -1,7 +1,8 @@
 // The GU-DSL extension in a real VS Code (code-server) driven by Debian's Chromium as a user
 // would: diagnostics appear and clear, completion, the diagram panel (selection both ways, drag
-// → layout file, palette → text, undo), a pipeline run with its results, a run cancelled. A
-// screenshot after each step; exits 1 on the first failure. Traffic: 127.0.0.1 only.
+// → layout file, palette → text, undo), a pipeline run with its results, a run cancelled, the
+// panel on a diagram of every kind. A screenshot after each step; exits 1 on the first failure.
+// Traffic: 127.0.0.1 only.
 //   CS_URL=http://127.0.0.1:8765 WS=workspace RUNS=run-output OUT=screenshots DRIVER=dir node e2e.mjs
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
@@ -225,6 +226,22 @@ try {
   await page.locator('.notification-toast', { hasText: 'run cancelled' }).first().waitFor({ timeout: T });
   ok('long run cancelled from the notification');
   await shot('pipeline-cancelled');
+
+  // 9. The panel follows the editor to a diagram of each other kind (one screenshot each).
+  for (const [file, name] of [
+    ['appendixA_associations.gudsl', 'Associations'],
+    ['listing27_component_example.gudsl', 'ComponentExampleDiagram'],
+    ['listing28_component_instance_example.gudsl', 'ComponentInstanceExampleDiagram'],
+  ]) {
+    await openFile(file);
+    await palette('GU-DSL: Show Diagram');
+    const panel = await webview('#canvas svg');
+    await until(`the panel to show ${name}`, async () => (await panel.locator('#canvas').getAttribute('data-diagram')) === name);
+    await panel.locator('button[data-action="zoom-fit"]').click();
+    await page.waitForTimeout(300);
+    await shot(`panel-${name}`);
+  }
+  ok('the panel follows the editor: class, component and component-instance diagrams drawn');
 } catch (e) {
   failed = true;
   console.log(`FAIL ${String(e).split('\n')[0]}`);

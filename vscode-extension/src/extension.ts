@@ -35,7 +35,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
     }),
   );
   await server.start();
-  output.info(`extension activated in ${Date.now() - started} ms (server: ${server.binary?.command}, from ${server.binary?.origin})`);
+  output.info(`extension activated in ${Date.now() - started} ms, language server started and initialized (server: ${server.binary?.command}, from ${server.binary?.origin})`);
 }
 
 export function deactivate(): Promise<void> | undefined {
