@@ -34,7 +34,8 @@
                     "if" "else" "for" "do" "return" "break" "continue" "call" "behavior" "var" "new")
                   'symbols)
      . font-lock-keyword-face))
-  "Keywords of GU-DSL; the server's semantic tokens tell names from contextual keywords.")
+  "Reserved keywords of GU-DSL and the node and diagram keywords (eglot in Emacs 29 reads no
+semantic tokens, so a name spelled like a contextual keyword is coloured as one).")
 
 ;;;###autoload
 (define-derived-mode gudsl-mode prog-mode "GU-DSL"

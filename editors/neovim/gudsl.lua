@@ -33,6 +33,10 @@ local clients = {}
 --- Starts (or reuses) the server for the buffer's project and attaches it.
 local function attach(bufnr, opts)
   local root = root_of(vim.api.nvim_buf_get_name(bufnr))
+  if vim.lsp.start then -- 0.8 and newer: reuses a client of the same name and root
+    vim.lsp.start({ name = 'gudsl', cmd = opts.cmd, root_dir = root, on_attach = opts.on_attach }, { bufnr = bufnr })
+    return
+  end
   local id = clients[root]
   if not id or vim.lsp.get_client_by_id(id) == nil then
     id = vim.lsp.start_client({
@@ -55,8 +59,10 @@ function M.setup(opts)
     vim.filetype.add({ extension = { gudsl = 'gudsl' } })
   end
   -- Neovim 0.7 detects filetypes with filetype.vim unless told otherwise.
-  vim.api.nvim_create_autocmd({ 'BufRead', 'BufNewFile' }, { pattern = '*.gudsl', command = 'setfiletype gudsl' })
+  local group = vim.api.nvim_create_augroup('gudsl', { clear = true }) -- setup() twice: once
+  vim.api.nvim_create_autocmd({ 'BufRead', 'BufNewFile' }, { group = group, pattern = '*.gudsl', command = 'setfiletype gudsl' })
   vim.api.nvim_create_autocmd('FileType', {
+    group = group,
     pattern = 'gudsl',
     callback = function(args)
       vim.bo[args.buf].commentstring = '// %s'

@@ -38,6 +38,7 @@ const browser = await chromium.launch({
 });
 const context = await browser.newContext({ viewport: { width: 1600, height: 900 } });
 const page = await context.newPage();
+page.setDefaultTimeout(T);
 // Requests for anything but 127.0.0.1. The webviews' own files have https://*.vscode-cdn.net
 // addresses that VS Code's service worker answers from the server: those must never reach the
 // network (Chromium resolves no other host, so they would fail if they did).
@@ -171,6 +172,8 @@ try {
   await shot('diagram-panel');
   const nonguarded = diagram.locator('g.node[data-id="TransitionExample/Lane/nonguardedAction"]');
   await nonguarded.click();
+  // The click leaves the keyboard in the panel (Del, F2 act there); the editor shows the cursor.
+  await page.keyboard.press('Control+1');
   await cursorAt(lineOf('action nonguardedAction'));
   ok('diagram panel: clicking a node puts the cursor on its declaration');
 
@@ -204,7 +207,35 @@ try {
   await until('the diagram to drop it', async () => (await diagram.locator('g.node[data-id="TransitionExample/Lane/paletteAction"]').count()) === 0);
   ok('undo in the editor takes the node back out of text and diagram');
 
-  // 7. ▶ Run pipeline: progress, then the results panel with the stages' table and plot.
+  // 7. Connect from the palette, delete from the context menu: the text follows both.
+  const transitions = () => (fs.readFileSync(LISTING_PATH, 'utf8').match(/=> nonguardedAction;/g) || []).length;
+  const before = transitions();
+  const edgeId = 'TransitionExample/Lane/guardedAction->TransitionExample/Lane/nonguardedAction#0';
+  await diagram.locator('button[data-action="connect"]').click();
+  await diagram.locator('g.node[data-id="TransitionExample/Lane/guardedAction"]').click();
+  await diagram.locator('g.node[data-id="TransitionExample/Lane/nonguardedAction"]').click();
+  const edge = diagram.locator(`polyline.edge-hit[data-id="${edgeId}"]`);
+  await edge.waitFor({ state: 'attached', timeout: T });
+  await focusEditor(LISTING);
+  await page.keyboard.press('Control+s');
+  await until('the new transition in the text', async () => transitions() === before + 1);
+  ok('palette connect → a transition in the text and the diagram');
+  await shot('connected');
+  // Right-click on the middle of the new edge's route.
+  const spot = await edge.evaluate((line) => {
+    const point = line.getPointAtLength(line.getTotalLength() / 2).matrixTransform(line.getScreenCTM());
+    const box = line.getBoundingClientRect();
+    return { x: point.x - box.x, y: point.y - box.y };
+  });
+  await edge.click({ button: 'right', position: spot, force: true });
+  await diagram.locator('#menu .item', { hasText: 'Delete' }).click();
+  await until('the edge to leave the diagram', async () => (await diagram.locator(`polyline.edge[data-id="${edgeId}"]`).count()) === 0);
+  await focusEditor(LISTING);
+  await page.keyboard.press('Control+s');
+  await until('the transition to leave the text', async () => transitions() === before);
+  ok('context menu delete → the transition out of text and diagram');
+
+  // 8. ▶ Run pipeline: progress, then the results panel with the stages' table and plot.
   await openFile('ch4_motion_compensation.gudsl');
   await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();
   const results = await webview('.summary');
@@ -215,7 +246,7 @@ try {
   ok('pipeline ran, results panel shows table and plot', summary.slice(0, 120));
   await shot('pipeline-results');
 
-  // 8. A long run is cancelled from its notification.
+  // 9. A long run is cancelled from its notification.
   await openFile('long_pipeline.gudsl');
   await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();
   const toast = page.locator('.notification-toast', { hasText: 'Running LongMotionPipeline' });
@@ -227,17 +258,23 @@ try {
   ok('long run cancelled from the notification');
   await shot('pipeline-cancelled');
 
-  // 9. The panel follows the editor to a diagram of each other kind (one screenshot each).
+  // 10. The panel follows the editor to a diagram of each other kind (one screenshot each, with
+  // the side bar, the bottom panel and the notifications out of the way).
+  await page.keyboard.press('Control+b');
+  await palette('View: Hide Panel');
+  await palette('Notifications: Clear All Notifications');
   for (const [file, name] of [
     ['appendixA_associations.gudsl', 'Associations'],
     ['listing27_component_example.gudsl', 'ComponentExampleDiagram'],
     ['listing28_component_instance_example.gudsl', 'ComponentInstanceExampleDiagram'],
   ]) {
+    await page.keyboard.press('Control+1');
     await openFile(file);
     await palette('GU-DSL: Show Diagram');
     const panel = await webview('#canvas svg');
     await until(`the panel to show ${name}`, async () => (await panel.locator('#canvas').getAttribute('data-diagram')) === name);
-    await panel.locator('button[data-action="zoom-fit"]').click();
+    // A synthetic click: a real one would leave the keyboard in the panel, away from Ctrl+P.
+    await panel.locator('button[data-action="zoom-fit"]').dispatchEvent('click');
     await page.waitForTimeout(300);
     await shot(`panel-${name}`);
   }

@@ -15,8 +15,11 @@ port=${GUDSL_E2E_PORT:-8765}
 run=$(mktemp -d "${TMPDIR:-/tmp}/gudsl-vscode-e2e.XXXXXX")
 cs_pgid=
 cleanup() {
-    [ -n "$cs_pgid" ] && kill -TERM -- "-$cs_pgid" 2>/dev/null || true
-    rm -rf "$run"
+    if [ -n "$cs_pgid" ]; then
+        kill -TERM -- "-$cs_pgid" 2>/dev/null || true
+        for _ in $(seq 50); do kill -0 -- "-$cs_pgid" 2>/dev/null || break; sleep 0.1; done
+    fi
+    rm -rf "$run" || true
 }
 trap cleanup EXIT
 rm -rf "$out" && mkdir -p "$out"
@@ -25,6 +28,8 @@ rm -rf "$out" && mkdir -p "$out"
 cp -r "$repo/samples" "$run/ws"
 sed -e 's/MotionCompensationPipeline/LongMotionPipeline/' -e 's/frames = 6/frames = 400/' \
     "$repo/samples/pipelines/ch4_motion_compensation.gudsl" >"$run/ws/pipelines/long_pipeline.gudsl"
+grep -q 'frames = 400' "$run/ws/pipelines/long_pipeline.gudsl" ||
+    { echo "run.sh: the chapter 4 sample no longer says frames = 6: fix the long pipeline's edit"; exit 1; }
 mkdir -p "$run/data/User"
 python3 - "$here/settings.json" "$run/data/User/settings.json" "$run/runs" <<'PY'
 import json, sys

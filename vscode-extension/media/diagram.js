@@ -28,9 +28,11 @@
   let zoom = 1;
   let drag = null;
 
+  let heldGraph = null; // a graph that came during a drag, shown when it ends
   window.addEventListener('message', (event) => {
     const m = event.data;
-    if (m.type === 'graph') show(m);
+    if (m.type === 'graph' && drag) heldGraph = m;
+    else if (m.type === 'graph') show(m);
     else if (m.type === 'highlight') select(m.id, false);
     else if (m.type === 'message') say(m.text, true);
   });
@@ -213,6 +215,7 @@
 
   canvas.addEventListener('pointermove', (event) => {
     if (!drag || event.pointerId !== drag.pointer) return;
+    if ((event.buttons & 1) === 0) return cancelDrag();
     const sx = event.clientX - drag.x;
     const sy = event.clientY - drag.y;
     if (!drag.moving && Math.hypot(sx, sy) < DRAG_THRESHOLD) return;
@@ -223,11 +226,30 @@
     document.body.classList.add('dragging');
   });
 
+  /** A drag the pointer left without a release (capture lost, Esc): the node goes back. */
+  function cancelDrag() {
+    if (!drag) return;
+    for (const el of drag.els) el.removeAttribute('transform');
+    endDrag();
+  }
+
+  function endDrag() {
+    drag = null;
+    document.body.classList.remove('dragging');
+    if (heldGraph) {
+      const m = heldGraph;
+      heldGraph = null;
+      show(m);
+    }
+  }
+
+  canvas.addEventListener('pointercancel', cancelDrag);
+  canvas.addEventListener('lostpointercapture', () => setTimeout(cancelDrag, 0));
+
   canvas.addEventListener('pointerup', (event) => {
     if (!drag || event.pointerId !== drag.pointer) return;
     const d = drag;
-    drag = null;
-    document.body.classList.remove('dragging');
+    endDrag();
     if (d.moving) {
       const x = Math.max(0, Math.round(d.node.bounds.x + d.dx));
       const y = Math.max(0, Math.round(d.node.bounds.y + d.dy));
@@ -255,7 +277,7 @@
     if (id) select(id, true);
     const items = [];
     if (id && (nodes.has(id) || element(id)?.matches('.edge, .port, .node'))) {
-      items.push(['Go to declaration', () => post({ type: 'select', id })]);
+      items.push(['Go to declaration', () => post({ type: 'select', id, focus: true })]);
       if (nodes.has(id)) items.push(['Rename…', () => post({ type: 'rename', id })]);
       items.push(['Connect from here…', () => startConnect(id)]);
       if (nodes.get(id)?.pinned) items.push(['Unpin (back to the automatic layout)', () => post({ type: 'unpin', id })]);
@@ -296,6 +318,7 @@
   document.addEventListener('keydown', (event) => {
     if (event.key === 'Escape') {
       hideMenu();
+      cancelDrag();
       if (connecting) stopConnect();
     } else if ((event.key === 'Delete' || event.key === 'Backspace') && selected) {
       post({ type: 'delete', id: selected });

@@ -12,7 +12,7 @@ import { errorText, Server } from './server';
 /** What the webview sends. */
 type FromView =
   | { type: 'ready' }
-  | { type: 'select'; id: string }
+  | { type: 'select'; id: string; focus?: boolean }
   | { type: 'move'; id: string; x: number; y: number }
   | { type: 'unpin'; id: string }
   | { type: 'create'; kind: string; parent?: string }
@@ -36,6 +36,9 @@ export class DiagramPanel implements vscode.Disposable {
   private generation = 0;
   private diagramsCache: { uri: string; version: number; diagrams: DiagramInfo[] } | undefined;
   private readonly disposables: vscode.Disposable[] = [];
+  private staleTimer: NodeJS.Timeout | undefined;
+  /** Counts cursor moves followed: a move's answer older than the newest is dropped. */
+  private followed = 0;
 
   constructor(
     private readonly server: Server,
@@ -50,6 +53,15 @@ export class DiagramPanel implements vscode.Disposable {
     this.disposables.push(
       vscode.window.onDidChangeTextEditorSelection((e) => void this.follow(e.textEditor)),
       vscode.window.onDidChangeActiveTextEditor((editor) => void this.follow(editor)),
+      // An edit that only moves text sends no graphChanged, but it moves the ranges the panel
+      // maps the cursor with and the version edits are made against: ask again once it settles.
+      vscode.workspace.onDidChangeTextDocument((e) => {
+        if (e.document.uri.toString() !== this.uri) return;
+        clearTimeout(this.staleTimer);
+        this.staleTimer = setTimeout(() => {
+          if (this.graph && this.graph.version !== e.document.version) void this.refresh();
+        }, 250);
+      }),
     );
   }
 
@@ -90,13 +102,19 @@ export class DiagramPanel implements vscode.Disposable {
     }
     const document = editor.document;
     const uri = document.uri.toString();
+    const followed = ++this.followed;
     let diagrams: DiagramInfo[];
     if (this.diagramsCache?.uri === uri && this.diagramsCache.version === document.version) {
       diagrams = this.diagramsCache.diagrams;
     } else {
-      diagrams = await diagramsOf(client, document).catch(() => []);
+      try {
+        diagrams = await diagramsOf(client, document);
+      } catch {
+        return; // an edit or a restart came between: the next cursor move asks again
+      }
       this.diagramsCache = { uri, version: document.version, diagrams };
     }
+    if (followed !== this.followed) return;
     const position = editor.selection.active;
     const here = diagramAt(diagrams, position) ?? (uri === this.uri ? undefined : diagrams[0]);
     if (here && (force || uri !== this.uri || here.id !== this.diagram?.id)) {
@@ -158,12 +176,17 @@ export class DiagramPanel implements vscode.Disposable {
         });
         return;
       } catch (e) {
-        if ((e as { code?: number }).code === CONTENT_MODIFIED) continue;
+        if ((e as { code?: number }).code === CONTENT_MODIFIED) {
+          await new Promise((resolve) => setTimeout(resolve, 50 * (attempt + 1)));
+          if (generation !== this.generation) return;
+          continue;
+        }
         if (generation !== this.generation) return;
         // The diagram is gone (renamed, deleted): show the one the document now has there.
         const document = vscode.workspace.textDocuments.find((d) => d.uri.toString() === uri);
         const diagrams = document ? await diagramsOf(client, document).catch(() => []) : [];
         const again = diagrams.find((d) => d.id === diagram.id) ? undefined : diagrams.find((d) => d.name === diagram.name) ?? diagrams[0];
+        if (generation !== this.generation || uri !== this.uri) return;
         if (again && again.id !== diagram.id) {
           this.diagram = again;
           return this.refresh();
@@ -172,6 +195,7 @@ export class DiagramPanel implements vscode.Disposable {
         return;
       }
     }
+    this.post({ type: 'message', text: 'the diagram kept changing while it was drawn; edit again to redraw it' });
   }
 
   private async onMessage(message: FromView): Promise<void> {
@@ -183,7 +207,7 @@ export class DiagramPanel implements vscode.Disposable {
     if (!graph || !this.uri || !this.diagram) return;
     switch (message.type) {
       case 'select':
-        return this.reveal(message.id);
+        return this.reveal(message.id, message.focus ?? false);
       case 'move':
         return this.edit([{ op: 'move', element: message.id, position: { x: Math.max(0, message.x), y: Math.max(0, message.y) } }]);
       case 'unpin':
@@ -200,7 +224,7 @@ export class DiagramPanel implements vscode.Disposable {
         return;
       }
       case 'create': {
-        const name = await askName(`Name of the new ${message.kind}`, defaultName(message.kind, graph));
+        const name = await askName(`Name of the new ${message.kind}`, defaultName(message.kind, graph), message.kind === 'component');
         if (!name) return;
         const operation: GraphOperation = { op: 'create', kind: message.kind, name };
         if (message.parent) operation.parent = message.parent;
@@ -229,6 +253,9 @@ export class DiagramPanel implements vscode.Disposable {
     const uri = this.uri!;
     try {
       const client = await this.server.running();
+      // Ids outlive edits, versions do not: edit the document as it is now.
+      const open = vscode.workspace.textDocuments.find((d) => d.uri.toString() === uri);
+      if (open && this.graph && open.version !== this.graph.version) await this.refresh();
       const answer = await client.sendRequest(applyGraphEditRequest, {
         textDocument: { uri, version: this.graph?.version ?? null },
         diagram: this.diagram!.id,
@@ -244,19 +271,26 @@ export class DiagramPanel implements vscode.Disposable {
     }
   }
 
-  /** Puts the cursor on the declaration of `id` in the editor of the shown document. */
-  private async reveal(id: string): Promise<void> {
-    const element = [...(this.graph?.nodes ?? []), ...(this.graph?.edges ?? [])].find((e) => e.id === id);
+  /** Puts the cursor on the declaration of `id` (a node, an edge, or a port's node) in the editor
+   * of the shown document; `focus` moves the keyboard there too (else it stays in the panel, where
+   * Del and F2 act on the selection). */
+  private async reveal(id: string, focus: boolean): Promise<void> {
+    const elements = [...(this.graph?.nodes ?? []), ...(this.graph?.edges ?? [])];
+    const element = elements.find((e) => e.id === id) ?? this.graph?.nodes.find((n) => n.ports.some((p) => p.id === id));
     if (!element || !this.uri) return;
     const uri = vscode.Uri.parse(this.uri);
     const visible = vscode.window.visibleTextEditors.find((e) => e.document.uri.toString() === this.uri);
     const position = new vscode.Position(element.range.start.line, element.range.start.character);
-    const editor = await vscode.window.showTextDocument(uri, {
-      viewColumn: visible?.viewColumn ?? vscode.ViewColumn.One,
-      selection: new vscode.Range(position, position),
-      preserveFocus: false,
-    });
-    editor.revealRange(new vscode.Range(position, position), vscode.TextEditorRevealType.InCenterIfOutsideViewport);
+    try {
+      const editor = await vscode.window.showTextDocument(uri, {
+        viewColumn: visible?.viewColumn ?? vscode.ViewColumn.One,
+        selection: new vscode.Range(position, position),
+        preserveFocus: !focus,
+      });
+      editor.revealRange(new vscode.Range(position, position), vscode.TextEditorRevealType.InCenterIfOutsideViewport);
+    } catch (e) {
+      void vscode.window.showErrorMessage(`GU-DSL: cannot show ${id}: ${errorText(e)}`);
+    }
   }
 
   private post(message: unknown): void {
@@ -277,17 +311,21 @@ export class DiagramPanel implements vscode.Disposable {
   }
 
   dispose(): void {
+    clearTimeout(this.staleTimer);
     this.panel?.dispose();
     for (const d of this.disposables) d.dispose();
   }
 }
 
-/** Asks for a name (an identifier, as GU-DSL takes it). */
-function askName(prompt: string, value: string): Thenable<string | undefined> {
+/** Asks for a name (an identifier, as GU-DSL takes it; `qualified`: `Diagram.Class` too, as a
+ * component is named by its class). */
+function askName(prompt: string, value: string, qualified = false): Thenable<string | undefined> {
+  const pattern = qualified ? /^[A-Za-z_]\w*(\.[A-Za-z_]\w*)*$/ : /^[A-Za-z_]\w*$/;
   return vscode.window.showInputBox({
     prompt,
     value,
-    validateInput: (text) => (/^[A-Za-z_][A-Za-z0-9_]*$/.test(text) ? undefined : 'a name: letters, digits and _, not starting with a digit'),
+    validateInput: (text) =>
+      pattern.test(text) ? undefined : `a name: letters, digits and _, not starting with a digit${qualified ? ' (qualified with dots)' : ''}`,
   });
 }
 

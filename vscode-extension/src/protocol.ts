@@ -81,7 +81,7 @@ export const applyGraphEditRequest = new RequestType<
   void
 >('gudsl/applyGraphEdit');
 
-export const viewFileTextRequest = new RequestType<TextDocumentIdentifier, string, void>('gudsl/viewFileText');
+export const viewFileTextRequest = new RequestType<TextDocumentIdentifier, string | null, void>('gudsl/viewFileText');
 
 export const graphChangedNotification = new NotificationType<{ uri: string; version: number | null; diagrams: string[] }>('gudsl/graphChanged');
 

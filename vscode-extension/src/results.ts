@@ -33,7 +33,8 @@ export function showResults(context: vscode.ExtensionContext, report: Report): v
   const files = (report.outputs ?? (report.images ?? []).map((name) => path.join(output, name))).map((f) =>
     path.isAbsolute(f) ? f : path.join(output, f),
   );
-  const roots = [vscode.Uri.file(output)];
+  // The pictures are read from the run's folder only (none when the answer names none).
+  const roots = output ? [vscode.Uri.file(output)] : [];
   if (!panel) {
     panel = vscode.window.createWebviewPanel('gudsl.results', 'Run results', { viewColumn: vscode.ViewColumn.Beside, preserveFocus: true }, {
       enableScripts: true,

@@ -1,6 +1,7 @@
 //! "Run Pipeline / Run Diagram" and the ▶ code lenses: `gudsl.runPipeline` or `gudsl.run` sent
 //! with the extension's own progress token, shown as a notification with a cancel button (cancel
 //! sends `$/cancelRequest`, which stops the run between frames or nodes), then the results panel.
+import * as os from 'node:os';
 import * as path from 'node:path';
 import * as vscode from 'vscode';
 import { ExecuteCommandRequest, WorkDoneProgress, WorkDoneProgressBegin, WorkDoneProgressEnd, WorkDoneProgressReport } from 'vscode-languageclient/node';
@@ -51,7 +52,7 @@ export class Runs implements vscode.Disposable {
     command ??= 'gudsl.run';
     const name = diagram;
     const args: Record<string, unknown> = { diagram };
-    const folder = vscode.workspace.getConfiguration('gudsl').get<string | null>('run.outputFolder');
+    const folder = outputFolder();
     if (folder) args.output = path.join(folder, diagram.replace(/[^A-Za-z0-9_.-]/g, '_'));
 
     const token = `gudsl-vscode/run/${++this.next}`;
@@ -97,4 +98,14 @@ export class Runs implements vscode.Disposable {
   }
 
   dispose(): void {}
+}
+
+/** `gudsl.run.outputFolder` as an absolute path (`~` is the home folder; a relative path is
+ * taken from the first workspace folder), or undefined for the server's default. */
+function outputFolder(): string | undefined {
+  const configured = vscode.workspace.getConfiguration('gudsl').get<string | null>('run.outputFolder')?.trim();
+  if (!configured) return undefined;
+  const expanded = configured.replace(/^~(?=$|\/|\\)/, os.homedir());
+  const base = vscode.workspace.workspaceFolders?.[0]?.uri.fsPath ?? os.homedir();
+  return path.resolve(base, expanded);
 }

@@ -70,6 +70,7 @@ export class Server {
   client: LanguageClient | undefined;
   binary: ServerBinary | undefined;
   private readonly listeners: ((client: LanguageClient) => void)[] = [];
+  private restarting: Promise<void> = Promise.resolve();
 
   constructor(
     private readonly context: vscode.ExtensionContext,
@@ -134,9 +135,15 @@ export class Server {
     }
   }
 
-  async restart(): Promise<void> {
-    await this.stop();
-    await this.start();
+  /** Restarts one after another (a command and a settings change, a double click), each after the
+   * client it stops has finished starting: a client stopped while starting would keep running. */
+  restart(): Promise<void> {
+    this.restarting = this.restarting.then(async () => {
+      if (this.client?.state === State.Starting) await this.running().catch(() => undefined);
+      await this.stop();
+      await this.start();
+    });
+    return this.restarting;
   }
 }
 

@@ -25,9 +25,9 @@ export class WgslDocuments implements vscode.TextDocumentContentProvider, vscode
   }
 
   async provideTextDocumentContent(uri: vscode.Uri): Promise<string> {
-    const client = await this.server.running();
     try {
-      return await client.sendRequest(viewFileTextRequest, { uri: uri.toString() });
+      const client = await this.server.running();
+      return (await client.sendRequest(viewFileTextRequest, { uri: uri.toString() })) ?? `// ${uri.toString()}: no such generated document\n`;
     } catch (e) {
       return `// ${errorText(e)}\n`;
     }
