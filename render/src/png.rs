@@ -44,7 +44,11 @@ pub fn parse(svg: &str) -> Result<usvg::Tree, PngError> {
     usvg::Tree::from_str(svg, options()).map_err(|e| PngError::Svg(e.to_string()))
 }
 
-/// Rasterizes an SVG at `scale` (2.0 for sharp text) into PNG bytes.
+/// The scale exported pictures are drawn at (`gudsl render --format png`, `gudsl/graph`'s PNG, a
+/// pipeline's plots): twice the scene's size, for sharp text.
+pub const EXPORT_SCALE: f32 = 2.0;
+
+/// Rasterizes an SVG at `scale` ([`EXPORT_SCALE`] for pictures a user keeps) into PNG bytes.
 pub fn to_png(svg: &str, scale: f32) -> Result<Vec<u8>, PngError> {
     let tree = parse(svg)?;
     let size = tree.size().to_int_size().scale_by(scale).ok_or(PngError::Size)?;

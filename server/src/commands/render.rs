@@ -79,13 +79,16 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             let (extension, bytes) = match args.format {
                 Format::Svg => ("svg", gudsl_render::svg::write(&scene).into_bytes()),
                 Format::LayoutJson => ("json", gudsl_render::json::write(&scene).into_bytes()),
-                Format::Png => match gudsl_render::png::to_png(&gudsl_render::svg::write(&scene), 2.0) {
-                    Ok(png) => ("png", png),
-                    Err(error) => {
-                        eprintln!("gudsl render: {}: {error}", graph.id);
-                        return ExitCode::from(1);
+                Format::Png => {
+                    match gudsl_render::png::to_png(&gudsl_render::svg::write(&scene), gudsl_render::png::EXPORT_SCALE)
+                    {
+                        Ok(png) => ("png", png),
+                        Err(error) => {
+                            eprintln!("gudsl render: {}: {error}", graph.id);
+                            return ExitCode::from(1);
+                        }
                     }
-                },
+                }
             };
             let path = args.output.join(format!("{}.{extension}", graph.id));
             if let Err(error) = std::fs::write(&path, bytes) {

@@ -238,15 +238,16 @@ pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Canc
     let scene = scenes.scene(file, graph, pins, params.relayout);
     snap.analysis.check_cancelled()?;
     let mut view = view(snap, index, graph, &scene, pins, version(snap, uri), uri);
-    let svg = (params.svg || params.png).then(|| gudsl_render::svg::write(&scene));
-    if params.png {
-        let drawn = gudsl_render::png::to_png(svg.as_deref().unwrap_or_default(), 2.0);
-        match drawn {
-            Ok(png) => view.png = Some(base64::engine::general_purpose::STANDARD.encode(png)),
-            Err(error) => return Ok(Err(format!("`{}` cannot be drawn as PNG: {error}", params.diagram))),
+    if params.svg || params.png {
+        let svg = gudsl_render::svg::write(&scene);
+        if params.png {
+            match gudsl_render::png::to_png(&svg, gudsl_render::png::EXPORT_SCALE) {
+                Ok(png) => view.png = Some(base64::engine::general_purpose::STANDARD.encode(png)),
+                Err(error) => return Ok(Err(format!("`{}` cannot be drawn as PNG: {error}", params.diagram))),
+            }
         }
+        view.svg = params.svg.then_some(svg);
     }
-    view.svg = svg.filter(|_| params.svg);
     view.layout_error = layout_error;
     Ok(Ok(view))
 }

@@ -222,7 +222,8 @@ impl Component for AccuracyReport {
         output.write(&self.instance, "accuracy.csv", csv.as_bytes())?;
         let svg = plot(&self.rows);
         output.write(&self.instance, "accuracy.svg", svg.as_bytes())?;
-        let png = gudsl_render::png::to_png(&svg, 2.0).map_err(|e| format!("the plot as PNG: {e}"))?;
+        let png = gudsl_render::png::to_png(&svg, gudsl_render::png::EXPORT_SCALE)
+            .map_err(|e| format!("the plot as PNG: {e}"))?;
         output.write(&self.instance, "accuracy.png", &png)?;
         Ok(())
     }
