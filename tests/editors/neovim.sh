@@ -7,10 +7,7 @@ repo=$(cd "$(dirname "$0")/../.." && pwd)
 gudsl=$(realpath "${1:-$repo/target/debug/gudsl}")
 if ! command -v nvim >/dev/null; then
     echo "== installing neovim (Debian)" >&2
-    sudo=()
-    [ "$(id -u)" -eq 0 ] || sudo=(sudo)
-    "${sudo[@]}" apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends neovim >/dev/null
+    "$repo/scripts/apt-install" neovim
 fi
 work=$(mktemp -d "${TMPDIR:-/tmp}/gudsl-nvim.XXXXXX")
 trap 'rm -rf "$work"' EXIT

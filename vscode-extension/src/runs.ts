@@ -1,29 +1,22 @@
 //! "Run Pipeline / Run Diagram" and the ▶ code lenses: `gudsl.runPipeline` or `gudsl.run` sent
 //! with the extension's own progress token, shown as a notification with a cancel button (cancel
 //! sends `$/cancelRequest`, which stops the run between frames or nodes), then the results panel.
-import * as os from 'node:os';
 import * as path from 'node:path';
 import * as vscode from 'vscode';
-import { ExecuteCommandRequest, WorkDoneProgress, WorkDoneProgressBegin, WorkDoneProgressEnd, WorkDoneProgressReport } from 'vscode-languageclient/node';
+import { ExecuteCommandRequest, LSPErrorCodes, WorkDoneProgress, WorkDoneProgressBegin, WorkDoneProgressEnd, WorkDoneProgressReport } from 'vscode-languageclient/node';
 import { chooseDiagram } from './diagrams';
 import { Report, showResults } from './results';
-import { errorText, Server } from './server';
+import { errorText, Server, settingPath } from './server';
 import type { StatusItem } from './status';
 
-/** What a code lens or a caller passes: the diagram, its document, and the server's command. */
+/** What a code lens or a caller passes: the diagram and the server's command. */
 export interface RunArgument {
   diagram?: string;
-  uri?: string;
   /** `gudsl.runPipeline` or `gudsl.run`, as the lens named it. */
   serverCommand?: string;
 }
 
-/** JSON-RPC's RequestFailed: the server refused and has shown the user why. */
-const REQUEST_FAILED = -32803;
-/** JSON-RPC's RequestCancelled. */
-const REQUEST_CANCELLED = -32800;
-
-export class Runs implements vscode.Disposable {
+export class Runs {
   private next = 0;
   private running = 0;
 
@@ -81,9 +74,10 @@ export class Runs implements vscode.Disposable {
             return answer;
           } catch (e) {
             const code = (e as { code?: number }).code;
-            if (cancelled.isCancellationRequested || code === REQUEST_CANCELLED) {
+            if (cancelled.isCancellationRequested || code === LSPErrorCodes.RequestCancelled) {
               void vscode.window.showInformationMessage(`GU-DSL: ${name}: run cancelled`);
-            } else if (code !== REQUEST_FAILED) {
+            } else if (code !== LSPErrorCodes.RequestFailed) {
+              // (RequestFailed: the server refused and has shown the user why.)
               void vscode.window.showErrorMessage(`GU-DSL: ${name} did not run: ${errorText(e)}`);
             }
             return undefined;
@@ -96,16 +90,10 @@ export class Runs implements vscode.Disposable {
       if (--this.running === 0) this.status.working(undefined);
     }
   }
-
-  dispose(): void {}
 }
 
-/** `gudsl.run.outputFolder` as an absolute path (`~` is the home folder; a relative path is
- * taken from the first workspace folder), or undefined for the server's default. */
+/** `gudsl.run.outputFolder` as an absolute path, or undefined for the server's default. */
 function outputFolder(): string | undefined {
   const configured = vscode.workspace.getConfiguration('gudsl').get<string | null>('run.outputFolder')?.trim();
-  if (!configured) return undefined;
-  const expanded = configured.replace(/^~(?=$|\/|\\)/, os.homedir());
-  const base = vscode.workspace.workspaceFolders?.[0]?.uri.fsPath ?? os.homedir();
-  return path.resolve(base, expanded);
+  return configured ? settingPath(configured) : undefined;
 }

@@ -25,16 +25,22 @@ export interface ServerBinary {
 function findServer(context: vscode.ExtensionContext): ServerBinary {
   const configured = vscode.workspace.getConfiguration('gudsl').get<string | null>('server.path');
   if (configured && configured.trim() !== '') {
-    const expanded = configured.replace(/^~(?=$|\/|\\)/, os.homedir());
-    const folder = vscode.workspace.workspaceFolders?.[0]?.uri.fsPath;
-    const resolved = path.isAbsolute(expanded) || !folder || !expanded.includes(path.sep) ? expanded : path.join(folder, expanded);
-    return { command: resolved, origin: 'setting' };
+    // A bare name (`gudsl-dev`) is looked up on PATH; anything with a folder is a path.
+    const bare = !configured.includes('/') && !configured.includes(path.sep) && !configured.startsWith('~');
+    return { command: bare ? configured : settingPath(configured), origin: 'setting' };
   }
   const bundled = context.asAbsolutePath(path.join('server', process.platform === 'win32' ? 'gudsl.exe' : 'gudsl'));
   if (fs.existsSync(bundled)) {
     return { command: bundled, origin: 'bundled' };
   }
   return { command: 'gudsl', origin: 'PATH' };
+}
+
+/** A path a setting names: `~` is the home folder, a relative path is taken from the first
+ * workspace folder (the home folder without one). */
+export function settingPath(value: string): string {
+  const expanded = value.trim().replace(/^~(?=$|\/|\\)/, os.homedir());
+  return path.resolve(vscode.workspace.workspaceFolders?.[0]?.uri.fsPath ?? os.homedir(), expanded);
 }
 
 /** A language client for `gudsl lsp`, not yet started. */
@@ -55,7 +61,7 @@ function createClient(binary: ServerBinary, output: vscode.LogOutputChannel): La
         for (const lens of lenses ?? []) {
           const own = lens.command && LENS_COMMANDS[lens.command.command];
           if (lens.command && own) {
-            lens.command = { ...lens.command, command: own, arguments: [{ ...lens.command.arguments?.[0], uri: document.uri.toString(), serverCommand: lens.command.command }] };
+            lens.command = { ...lens.command, command: own, arguments: [{ ...lens.command.arguments?.[0], serverCommand: lens.command.command }] };
           }
         }
         return lenses;
