@@ -178,7 +178,7 @@ export class DiagramPanel implements vscode.Disposable {
         if (generation !== this.generation || uri !== this.uri) return;
         if (again && again.id !== diagram.id) {
           this.diagram = again;
-          return this.refresh();
+          return this.refresh(relayout);
         }
         this.post({ type: 'message', text: errorText(e) });
         return;
