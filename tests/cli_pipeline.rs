@@ -55,7 +55,7 @@ fn rust_api(gpu: &Gpu) -> Vec<Vec<f32>> {
         let raw = p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0];
         let mask = p.step(Kernel::DetectMotion { theta: 0.01 * 65535.0 }, &[raw]).unwrap()[1];
         let restriction = direction.map(|mean| (mean, 45f32.to_radians()));
-        let flow = p.step(Kernel::MatchBlocks { window: 5, restriction }, &[raw, mask]).unwrap()[0];
+        let flow = p.step(Kernel::MatchBlocks { window: 5, restriction, subpixel: false }, &[raw, mask]).unwrap()[0];
         let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
         let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap()[3];
         p.sink(distance).unwrap();

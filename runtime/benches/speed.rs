@@ -60,7 +60,7 @@ fn motion_chain(width: usize, height: usize) -> Pipeline {
     let (raw, black) = (p.source("raw", shape), p.source("black", shape));
     let raw = p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0];
     let mask = p.step(Kernel::DetectMotion { theta: 655.0 }, &[raw]).unwrap()[1];
-    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None }, &[raw, mask]).unwrap()[0];
+    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false }, &[raw, mask]).unwrap()[0];
     let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
     let outputs = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap();
     p.sink(outputs[1]).unwrap();
@@ -134,7 +134,7 @@ fn main() {
         let intensity = random(w, h, 1, 30_000.0, 4);
         let intensity_bg = random(w, h, 1, 30_000.0, 6);
         let [_, mask] = gudsl_runtime::kernels::motion::detect(&raw, 655.0);
-        let flow = gudsl_runtime::kernels::motion::match_blocks(&raw, &mask, 5, None);
+        let flow = gudsl_runtime::kernels::motion::match_blocks(&raw, &mask, 5, None, false);
         let k = intrinsics(w, h);
         let rays = k.rays();
         let points = gudsl_runtime::kernels::car::point_cloud(&image, &rays);
@@ -149,8 +149,8 @@ fn main() {
                 vec![image.clone(), intensity],
             ),
             (Kernel::DetectMotion { theta: 655.0 }, vec![raw.clone()]),
-            (Kernel::MatchBlocks { window: 5, restriction: None }, vec![raw.clone(), mask.clone()]),
-            (Kernel::MatchBlocks { window: 7, restriction: None }, vec![raw.clone(), mask.clone()]),
+            (Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false }, vec![raw.clone(), mask.clone()]),
+            (Kernel::MatchBlocks { window: 7, restriction: None, subpixel: false }, vec![raw.clone(), mask.clone()]),
             (Kernel::SmoothFlow { window: 5 }, vec![flow.clone()]),
             (Kernel::CorrectRaw, vec![raw.clone(), flow]),
             (Kernel::Mean { radius: 1 }, vec![image.clone()]),

@@ -14,6 +14,7 @@ pub mod image;
 pub mod kernels;
 pub mod linalg;
 pub mod listings;
+pub mod phase_normalization;
 pub mod pipeline;
 pub mod ply;
 pub mod program;

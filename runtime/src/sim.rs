@@ -1,11 +1,12 @@
 //! A simulated PMD camera with ground truth, after the evaluation setup of chapter 4: a planar
-//! wall at 4 m and an object at about 3 m (sphere, box or a detailed height field), seen by a
+//! wall at 4 m and an object at about 3 m (sphere, box, a relief or a bunny), seen by a
 //! 200×200 sensor with the intrinsics and distortion of Table 2.1 at 20 MHz. The four phase
 //! images are taken one after another, the camera moving (1 cm) or turning (1°) between them;
 //! each pixel integrates 3×3 sub-rays, so depth edges give flying pixels. A and B channels carry
 //! `S/2·(1 ± m·cos(φ + i·π/2))` with `S` falling with distance and rising with reflectivity and
-//! integration time, plus ambient light, a fixed-pattern offset (the black image), shot noise, a
-//! response that bends above a knee and saturation at 65535.
+//! integration time, plus ambient light, times a per-tap gain (pixel response non-uniformity, off
+//! by default), a fixed-pattern offset (the black image), shot noise, a response that bends above
+//! a knee and saturation at 65535.
 
 use std::f32::consts::PI;
 
@@ -49,7 +50,23 @@ pub enum Object {
         base: f32,
         size: f32,
     },
+    /// A bunny of ellipsoids around `centre` (body, head, two thin ears, tail, paw), about
+    /// 0.5 m wide and 0.7 m tall: thin structures and a detailed silhouette, a stand-in for the
+    /// scanned buddha and dragon of chapter 4.
+    Bunny {
+        centre: [f32; 3],
+    },
 }
+
+/// The bunny's ellipsoids relative to its centre: (centre, semi-axes) in metres, y downwards.
+const BUNNY: [([f32; 3], [f32; 3]); 6] = [
+    ([0.0, 0.08, 0.0], [0.22, 0.18, 0.18]),
+    ([0.12, -0.15, -0.05], [0.11, 0.10, 0.10]),
+    ([0.08, -0.33, -0.05], [0.03, 0.12, 0.025]),
+    ([0.17, -0.32, -0.02], [0.028, 0.12, 0.025]),
+    ([-0.22, 0.05, 0.0], [0.05, 0.05, 0.05]),
+    ([0.15, 0.25, -0.1], [0.06, 0.03, 0.05]),
+];
 
 /// A wall at `wall_distance` (plane z = const) and an object, with their reflectivities.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,6 +93,10 @@ impl Scene {
 
     pub fn height_field() -> Scene {
         Scene::wall_and(Object::HeightField { centre: [0.0, 0.0], base: 3.1, size: 1.0 })
+    }
+
+    pub fn bunny() -> Scene {
+        Scene::wall_and(Object::Bunny { centre: [0.0, 0.05, 3.0] })
     }
 
     /// A box turned 35° about the vertical and 20° about the horizontal axis at about 3 m.
@@ -156,6 +177,13 @@ fn intersect(object: Object, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])
             let n = [(p[0] - centre[0]) / radius, (p[1] - centre[1]) / radius, (p[2] - centre[2]) / radius];
             (t > 0.0).then_some((t, n))
         }
+        Object::Bunny { centre } => BUNNY
+            .iter()
+            .filter_map(|&(offset, semi)| {
+                let c = [centre[0] + offset[0], centre[1] + offset[1], centre[2] + offset[2]];
+                intersect_ellipsoid(c, semi, o, d)
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0)),
         Object::Cuboid { min, max } => {
             let (mut near, mut far, mut axis) = (f32::NEG_INFINITY, f32::INFINITY, 0);
             for k in 0..3 {
@@ -233,6 +261,23 @@ fn intersect(object: Object, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])
     }
 }
 
+/// Distance along the ray and surface normal of the first hit on the axis-aligned ellipsoid
+/// around `c` with semi-axes `semi`: a unit sphere after scaling by `1/semi`.
+fn intersect_ellipsoid(c: [f32; 3], semi: [f32; 3], o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])> {
+    let scaled = |v: [f32; 3]| [v[0] / semi[0], v[1] / semi[1], v[2] / semi[2]];
+    let (o_s, d_s) = (scaled([o[0] - c[0], o[1] - c[1], o[2] - c[2]]), scaled(d));
+    let (a, b, cc) = (dot(d_s, d_s), dot(o_s, d_s), dot(o_s, o_s) - 1.0);
+    let disc = b * b - a * cc;
+    if disc < 0.0 {
+        return None;
+    }
+    let t = (-b - disc.sqrt()) / a;
+    let p = along(o_s, d_s, t);
+    let n = [p[0] / semi[0], p[1] / semi[1], p[2] / semi[2]];
+    let length = dot(n, n).sqrt();
+    (t > 0.0).then_some((t, [n[0] / length, n[1] / length, n[2] / length]))
+}
+
 /// How the camera moves between two phase images.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Motion {
@@ -258,6 +303,9 @@ pub struct Camera {
     pub ambient: f32,
     /// Shot noise on or off.
     pub noise: bool,
+    /// Pixel response non-uniformity: each pixel's A and B taps have their own gain, spread
+    /// with this relative σ around 1 (a fixed pattern, like the black image); 0 for none.
+    pub gain_spread: f32,
     /// Sub-rays per pixel side (3: 3×3).
     pub supersampling: usize,
     pub seed: u64,
@@ -278,6 +326,7 @@ impl Default for Camera {
             contrast: 0.6,
             ambient: 0.05,
             noise: true,
+            gain_spread: 0.0,
             supersampling: 3,
             seed: 1,
             knee: 40_000.0,
@@ -340,6 +389,36 @@ fn response(charge: f32, knee: f32) -> f32 {
     knee + headroom * ((charge - knee) / headroom).tanh()
 }
 
+/// The scene's visible surface at frame `index`'s first phase image (the pose its ground truth
+/// is at) as a dense cloud in that camera's frame: `per_side × per_side` hits per pixel, over
+/// the image and `margin` pixels around it. The model a cloud-to-model distance is measured
+/// against (CloudCompare measures against the mesh; this samples it finer than the pixels).
+pub fn surface_points(
+    scene: &Scene,
+    motion: Motion,
+    camera: &Camera,
+    index: usize,
+    per_side: usize,
+    margin: usize,
+) -> Vec<[f32; 3]> {
+    let k = camera.intrinsics;
+    let (origin, angle) = pose(motion, 4 * index);
+    let world_origin = apply(&camera.pose, origin, true);
+    let side = |pixels: usize| (pixels + 2 * margin) * per_side;
+    let (columns, rows) = (side(k.width), side(k.height));
+    let mut points = Vec::with_capacity(columns * rows);
+    for row in 0..rows {
+        for column in 0..columns {
+            let at = |j: usize| (j as f32 + 0.5) / per_side as f32 - 0.5 - margin as f32;
+            let dir = k.ray(at(column), at(row));
+            if let Some((t, _, _)) = scene.hit(world_origin, apply(&camera.pose, rotate_z(dir, angle), false)) {
+                points.push([t * dir[0], t * dir[1], t * dir[2]]);
+            }
+        }
+    }
+    points
+}
+
 /// Simulates frame number `index` of a sequence (its phase images are steps `4·index … 4·index+3`).
 pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) -> Frame {
     let k = camera.intrinsics;
@@ -354,6 +433,10 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
     for value in black.data.iter_mut() {
         *value = (60.0 + 15.0 * pattern.gaussian()).round().max(0.0);
     }
+    // The taps' gains: a fixed pattern of its own (planes A, B), drawn even when unused so
+    // that one does not change the other.
+    let mut gains = Random(0x0009_a145_eed5);
+    let tap_gain: Vec<f32> = (0..2 * n).map(|_| 1.0 + camera.gain_spread * gains.gaussian()).collect();
     let wavelength_phase = 4.0 * PI * camera.modulation_hz / SPEED_OF_LIGHT;
     let ss = camera.supersampling.max(1);
     let rays: Vec<[f32; 3]> = (0..n * ss * ss)
@@ -390,7 +473,8 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
             let ambient = camera.ambient * camera.integration_us;
             for (channel, sign) in [(0, 1.0), (1, -1.0)] {
                 let plane = 2 * phase + channel;
-                let clean = 0.5 * (sum + sign * camera.contrast * modulated) + ambient;
+                let clean =
+                    tap_gain[channel * n + pixel] * (0.5 * (sum + sign * camera.contrast * modulated) + ambient);
                 let noisy = if camera.noise { clean + clean.max(0.0).sqrt() * random.gaussian() } else { clean };
                 let value = (response(noisy, camera.knee) + black.data[plane * n + pixel]).round().clamp(0.0, 65535.0);
                 raw.data[plane * n + pixel] = value;

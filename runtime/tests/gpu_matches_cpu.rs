@@ -101,24 +101,34 @@ fn motion_compensation_kernels_match_on_a_moving_scene() {
     let Some(gpu) = gpu() else { return };
     let frame = simulate(&Scene::height_field(), Motion::Translation([0.02, 0.0, 0.0]), &Camera::default(), 0);
     let raw = gudsl_runtime::kernels::tof::subtract_black(&frame.raw, &frame.black);
+    let calibration = gudsl_runtime::phase_normalization::PhaseCalibration::simulated(&Camera {
+        intrinsics: gudsl_runtime::camera::Intrinsics::camcube_at(raw.width, raw.height),
+        gain_spread: 0.02,
+        ..Camera::default()
+    });
+    check(&gpu, Kernel::NormalizePhases, &[raw.clone(), calibration.coefficients], 1e-5);
     check(&gpu, Kernel::DetectMotion { theta: 655.0 }, std::slice::from_ref(&raw), 0.0);
     let [_, mask] = gudsl_runtime::kernels::motion::detect(&raw, 655.0);
     let moving = mask.data.iter().filter(|&&m| m == 1.0).count();
     assert!(moving > 1000, "the moving scene has moving pixels: {moving}");
     for restriction in [None, Some((0.0, std::f32::consts::FRAC_PI_4)), Some((3.0, std::f32::consts::FRAC_PI_2))] {
-        for window in [5, 7] {
+        for (window, subpixel) in [(5, false), (7, false), (5, true)] {
             // SSD sums may round differently on the GPU (fused multiply-add): a near tie may
             // pick another vector; allow one pixel in ten thousand.
-            let kernel = Kernel::MatchBlocks { window, restriction };
+            let kernel = Kernel::MatchBlocks { window, restriction, subpixel };
             let (cpu, gpu_flow) = both(&gpu, kernel, &[raw.clone(), mask.clone()]);
             let differing = (0..cpu.pixels())
                 .filter(|&i| {
                     cpu.data[i] != gpu_flow.data[i] || cpu.data[cpu.pixels() + i] != gpu_flow.data[cpu.pixels() + i]
                 })
                 .count();
-            assert!(differing * 10_000 <= cpu.pixels(), "{window} {restriction:?}: {differing} flow vectors differ");
+            assert!(
+                differing * 10_000 <= cpu.pixels(),
+                "{window} {subpixel} {restriction:?}: {differing} flow vectors differ"
+            );
             check(&gpu, Kernel::SmoothFlow { window }, std::slice::from_ref(&cpu), 0.0);
-            check(&gpu, Kernel::CorrectRaw, &[raw.clone(), cpu], 0.0);
+            // Whole-pixel flows copy samples; quarter-pixel ones blend four (FMA may round apart).
+            check(&gpu, Kernel::CorrectRaw, &[raw.clone(), cpu], if subpixel { 1e-6 } else { 0.0 });
         }
     }
 }

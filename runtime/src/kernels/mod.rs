@@ -134,15 +134,20 @@ pub enum Kernel {
     SubtractBlack,
     /// Intensity-related distance correction (sec. 2.1.2.2): distance, intensity → distance.
     CorrectIntensity { q: [f32; 3], int_time_calib: f32, int_time: f32 },
+    /// Phase normalization (sec. 4.2.2.1): raw frame, calibration (8 planes, see
+    /// [`crate::phase_normalization`]) → normalised raw frame.
+    NormalizePhases,
     /// Motion detection (eq. 4.4, 4.5): raw frame → M, mask (`M > theta`).
     DetectMotion { theta: f32 },
     /// Block matching (eq. 4.6–4.10): raw frame, mask → flow (2 planes: dx, dy per phase image)
     /// over a `window × window` search (MWS), optionally only directions within
-    /// `restriction.1` radians of `restriction.0` (ρ/2 around the previous mean direction).
-    MatchBlocks { window: u32, restriction: Option<(f32, f32)> },
+    /// `restriction.1` radians of `restriction.0` (ρ/2 around the previous mean direction); with
+    /// `subpixel`, refined to a quarter pixel (bilinear samples) beyond the text's whole pixels.
+    MatchBlocks { window: u32, restriction: Option<(f32, f32)>, subpixel: bool },
     /// Median smoothing of flow directions over a `window × window` neighbourhood ("NH").
     SmoothFlow { window: u32 },
-    /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame.
+    /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame (bilinear
+    /// samples where the flow is fractional).
     CorrectRaw,
     /// An amplitude as a grey RGBA image of 8-bit values (sec. 11.5's camera): amplitude → 4
     /// planes.
@@ -190,8 +195,11 @@ impl Kernel {
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 f(&tof::CorrectIntensity { q, int_time_calib, int_time })
             }
+            Kernel::NormalizePhases => f(&motion::NormalizePhases),
             Kernel::DetectMotion { theta } => f(&motion::DetectMotion { theta }),
-            Kernel::MatchBlocks { window, restriction } => f(&motion::MatchBlocks { window, restriction }),
+            Kernel::MatchBlocks { window, restriction, subpixel } => {
+                f(&motion::MatchBlocks { window, restriction, subpixel })
+            }
             Kernel::SmoothFlow { window } => f(&motion::SmoothFlow { window }),
             Kernel::CorrectRaw => f(&motion::CorrectRaw),
             Kernel::GreyImage { gain } => f(&tof::GreyImage { gain }),
@@ -224,8 +232,9 @@ impl Kernel {
             Kernel::Demodulate { modulation_hz: 20.0e6 },
             Kernel::SubtractBlack,
             Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
+            Kernel::NormalizePhases,
             Kernel::DetectMotion { theta: 0.0 },
-            Kernel::MatchBlocks { window: 5, restriction: None },
+            Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false },
             Kernel::SmoothFlow { window: 3 },
             Kernel::CorrectRaw,
             Kernel::GreyImage { gain: 2.0 },

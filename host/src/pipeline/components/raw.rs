@@ -201,7 +201,7 @@ impl Component for MotionCompensation {
             let mask =
                 run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&frame.raw])?.remove(1);
             let restriction = self.half_rho.zip(item.direction).map(|(half, mean)| (mean, half));
-            let matching = Kernel::MatchBlocks { window: self.window, restriction };
+            let matching = Kernel::MatchBlocks { window: self.window, restriction, subpixel: false };
             let mut flow = run(device, &mut item.matching, matching, &[&frame.raw, &mask])?.remove(0);
             if self.smooth {
                 flow = run(device, &mut item.smooth, Kernel::SmoothFlow { window: self.window }, &[&flow])?.remove(0);

@@ -46,7 +46,8 @@ impl Unit for CorrectRaw {
 }
 
 /// Raw phase correction (sec. 4.2.5): `A_i(x, y) ← A_i(x + i·u, y + i·v)` and the same for `B_i`,
-/// with `(u, v)` the pixel's flow, coordinates clamped.
+/// with `(u, v)` the pixel's flow, coordinates clamped; bilinear between the four pixels around
+/// where the flow is fractional (sub-pixel matching), exactly the pixel where it is whole.
 pub fn correct_raw(raw: &Image, flow: &Image) -> Image {
     let (w, h) = (raw.width, raw.height);
     let n = w * h;
@@ -54,11 +55,17 @@ pub fn correct_raw(raw: &Image, flow: &Image) -> Image {
     for y in 0..h {
         for x in 0..w {
             let i = y * w + x;
-            let (u, v) = (flow.data[i] as isize, flow.data[n + i] as isize);
+            let (u, v) = (flow.data[i], flow.data[n + i]);
             for k in 0..4 {
-                let (sx, sy) = (x as isize + k as isize * u, y as isize + k as isize * v);
+                let (sx, sy) = (x as f32 + k as f32 * u, y as f32 + k as f32 * v);
+                let (x0, y0) = (sx.floor(), sy.floor());
+                let (tx, ty) = (sx - x0, sy - y0);
+                let (x0, y0) = (x0 as isize, y0 as isize);
                 for plane in [2 * k, 2 * k + 1] {
-                    out.data[plane * n + i] = raw.at_clamped(plane, sx, sy);
+                    let at = |dx: isize, dy: isize| raw.at_clamped(plane, x0 + dx, y0 + dy);
+                    let top = (1.0 - tx) * at(0, 0) + tx * at(1, 0);
+                    let bottom = (1.0 - tx) * at(0, 1) + tx * at(1, 1);
+                    out.data[plane * n + i] = (1.0 - ty) * top + ty * bottom;
                 }
             }
         }

@@ -1,7 +1,9 @@
 // Block matching (eq. 4.6–4.10): per masked pixel, the displacement per phase image (dx, dy) in
 // ±radius minimising Σ_{i=1..3} (P⁺_0(x,y) − P⁺_i(x+i·dx, y+i·dy))², optionally only directions
-// within half_width of mean_dir (radians); ties: shorter vector, then scan order.
-struct Params { width: u32, height: u32, radius: u32, restricted: u32, mean_dir: f32, half_width: f32, _pad: vec2<u32> }
+// within half_width of mean_dir (radians); ties: shorter vector, then scan order. With subpixel,
+// refined: the eight vectors ½ px around, then ¼ px around the better one, scored on bilinear
+// samples and taken only when strictly better.
+struct Params { width: u32, height: u32, radius: u32, restricted: u32, mean_dir: f32, half_width: f32, subpixel: u32, _pad: u32 }
 
 @group(0) @binding(0) var<uniform> p: Params;
 @group(0) @binding(1) var<storage, read> raw: array<f32>;
@@ -18,9 +20,22 @@ fn plus(k: u32, x: i32, y: i32) -> f32 {
     return raw[2u * k * n + i] + raw[(2u * k + 1u) * n + i];
 }
 
-fn allowed(dx: i32, dy: i32) -> bool {
-    if p.restricted == 0u || (dx == 0 && dy == 0) { return true; }
-    let angle = atan2(f32(dy), f32(dx));
+// P⁺_k at a fractional position: bilinear between the four pixels around, coordinates clamped.
+fn plus_bilinear(k: u32, x: f32, y: f32) -> f32 {
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let tx = x - x0;
+    let ty = y - y0;
+    let xi = i32(x0);
+    let yi = i32(y0);
+    let top = (1.0 - tx) * plus(k, xi, yi) + tx * plus(k, xi + 1, yi);
+    let bottom = (1.0 - tx) * plus(k, xi, yi + 1) + tx * plus(k, xi + 1, yi + 1);
+    return (1.0 - ty) * top + ty * bottom;
+}
+
+fn allowed(dx: f32, dy: f32) -> bool {
+    if p.restricted == 0u || (dx == 0.0 && dy == 0.0) { return true; }
+    let angle = atan2(dy, dx);
     var diff = abs(angle - p.mean_dir) % (2.0 * PI);
     if diff > PI { diff = 2.0 * PI - diff; }
     return diff <= p.half_width + 1e-6;
@@ -46,7 +61,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     var best_dy = 0;
     for (var dy = -r; dy <= r; dy++) {
         for (var dx = -r; dx <= r; dx++) {
-            if !allowed(dx, dy) { continue; }
+            if !allowed(f32(dx), f32(dy)) { continue; }
             var ssd = 0.0;
             for (var k = 1; k < 4; k++) {
                 let d = p0 - plus(u32(k), x + k * dx, y + k * dy);
@@ -61,6 +76,32 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
-    flow[i] = f32(best_dx);
-    flow[n + i] = f32(best_dy);
+    var u = f32(best_dx);
+    var v = f32(best_dy);
+    if p.subpixel == 1u {
+        for (var level = 0; level < 2; level++) {
+            let step = select(0.25, 0.5, level == 0);
+            let cu = u;
+            let cv = v;
+            for (var oy = -1; oy <= 1; oy++) {
+                for (var ox = -1; ox <= 1; ox++) {
+                    let du = cu + f32(ox) * step;
+                    let dv = cv + f32(oy) * step;
+                    if (ox == 0 && oy == 0) || !allowed(du, dv) { continue; }
+                    var ssd = 0.0;
+                    for (var k = 1; k < 4; k++) {
+                        let d = p0 - plus_bilinear(u32(k), f32(x) + f32(k) * du, f32(y) + f32(k) * dv);
+                        ssd += d * d;
+                    }
+                    if ssd < best {
+                        best = ssd;
+                        u = du;
+                        v = dv;
+                    }
+                }
+            }
+        }
+    }
+    flow[i] = u;
+    flow[n + i] = v;
 }

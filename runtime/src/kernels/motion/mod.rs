@@ -1,5 +1,5 @@
-//! Motion-artifact compensation (chapter 4), one kernel a module with its CPU reference: motion
-//! detection on the channel sums, per-pixel block matching of the phase images along a
+//! Motion-artifact compensation (chapter 4), one kernel a module with its CPU reference: phase
+//! normalization with a per-pixel calibration, motion detection on the channel sums, per-pixel block matching of the phase images along a
 //! constant-velocity path (SSD over a motion window, optionally restricted to directions near the
 //! previous frame's mean), median smoothing of the flow directions, and correction of the raw
 //! channels along the flow; and the flow statistics the host needs between frames.
@@ -11,6 +11,7 @@ use crate::Image;
 pub mod correct_raw;
 pub mod detect_motion;
 pub mod match_blocks;
+pub mod normalize_phases;
 pub mod smooth_flow;
 
 pub use correct_raw::correct_raw;
@@ -19,6 +20,8 @@ pub use detect_motion::detect;
 pub(crate) use detect_motion::DetectMotion;
 pub use match_blocks::match_blocks;
 pub(crate) use match_blocks::MatchBlocks;
+pub use normalize_phases::normalize_phases;
+pub(crate) use normalize_phases::NormalizePhases;
 pub use smooth_flow::smooth_flow;
 pub(crate) use smooth_flow::SmoothFlow;
 
@@ -27,14 +30,25 @@ fn plus(raw: &Image, i: usize, x: isize, y: isize) -> f32 {
     raw.at_clamped(2 * i, x, y) + raw.at_clamped(2 * i + 1, x, y)
 }
 
+/// `P⁺_i` at a fractional position: bilinear between the four pixels around, coordinates
+/// clamped; exactly [`plus`] at whole pixels.
+fn plus_bilinear(raw: &Image, i: usize, x: f32, y: f32) -> f32 {
+    let (x0, y0) = (x.floor(), y.floor());
+    let (tx, ty) = (x - x0, y - y0);
+    let (x0, y0) = (x0 as isize, y0 as isize);
+    let top = (1.0 - tx) * plus(raw, i, x0, y0) + tx * plus(raw, i, x0 + 1, y0);
+    let bottom = (1.0 - tx) * plus(raw, i, x0, y0 + 1) + tx * plus(raw, i, x0 + 1, y0 + 1);
+    (1.0 - ty) * top + ty * bottom
+}
+
 /// Whether candidate `(dx, dy)` lies within `half_width` (radians) of direction `mean` (radians);
 /// the zero vector always does.
-pub fn allowed(dx: i32, dy: i32, restriction: Option<(f32, f32)>) -> bool {
+pub fn allowed(dx: f32, dy: f32, restriction: Option<(f32, f32)>) -> bool {
     let Some((mean, half_width)) = restriction else { return true };
-    if dx == 0 && dy == 0 {
+    if dx == 0.0 && dy == 0.0 {
         return true;
     }
-    let angle = (dy as f32).atan2(dx as f32);
+    let angle = dy.atan2(dx);
     let mut diff = (angle - mean).abs() % (2.0 * PI);
     if diff > PI {
         diff = 2.0 * PI - diff;
@@ -76,7 +90,7 @@ pub fn rejected_share(window: u32, restriction: Option<(f32, f32)>) -> f32 {
     let total = (window * window) as f32;
     let kept = (-r..=r)
         .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
-        .filter(|&(dx, dy)| allowed(dx, dy, restriction))
+        .filter(|&(dx, dy)| allowed(dx as f32, dy as f32, restriction))
         .count();
     1.0 - kept as f32 / total
 }

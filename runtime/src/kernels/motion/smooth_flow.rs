@@ -1,8 +1,9 @@
 //! Median smoothing of flow directions ("NH", sec. 4.2.4): flow → flow.
 
+use std::f32::consts::PI;
+
 use bytemuck::{Pod, Zeroable};
 
-use super::angle_of;
 use crate::{
     kernels::{Pass, Shape, Unit},
     Image,
@@ -51,7 +52,9 @@ impl Unit for SmoothFlow {
 
 /// Flow smoothing ("NH", sec. 4.2.4): each non-zero vector takes the median direction of the
 /// non-zero vectors in its `window × window` neighbourhood, keeps its length, and is rounded
-/// to whole pixels.
+/// to whole pixels (ties to even, as WGSL's `round`). The median is circular: the neighbours' directions are taken relative to the
+/// pixel's own, wrapped to (−π, π], and the median neighbour's direction is the result — so
+/// directions either side of 0°/360° are neighbours, not opposites.
 pub fn smooth_flow(flow: &Image, window: u32) -> Image {
     let (w, h) = (flow.width, flow.height);
     let r = (window as isize - 1) / 2;
@@ -64,7 +67,8 @@ pub fn smooth_flow(flow: &Image, window: u32) -> Image {
             if u == 0.0 && v == 0.0 {
                 continue;
             }
-            let mut angles: Vec<f32> = Vec::new();
+            // (direction relative to the pixel's own, the neighbour's vector)
+            let mut neighbours: Vec<(f32, f32, f32)> = Vec::new();
             for dy in -r..=r {
                 for dx in -r..=r {
                     let (nx, ny) = (x + dx, y + dy);
@@ -74,16 +78,51 @@ pub fn smooth_flow(flow: &Image, window: u32) -> Image {
                     let j = ny as usize * w + nx as usize;
                     let (a, b) = (flow.data[j], flow.data[n + j]);
                     if a != 0.0 || b != 0.0 {
-                        angles.push(angle_of(a, b));
+                        neighbours.push((relative_angle(u, v, a, b), a, b));
                     }
                 }
             }
-            angles.sort_by(f32::total_cmp);
-            let median = angles[angles.len() / 2];
-            let length = (u * u + v * v).sqrt();
-            out.data[i] = (length * median.cos()).round();
-            out.data[n + i] = (length * median.sin()).round();
+            neighbours.sort_by(|p, q| p.0.total_cmp(&q.0));
+            let (_, a, b) = neighbours[neighbours.len() / 2];
+            let scale = (u * u + v * v).sqrt() / (a * a + b * b).sqrt();
+            out.data[i] = (a * scale).round_ties_even();
+            out.data[n + i] = (b * scale).round_ties_even();
         }
     }
     out
+}
+
+/// The direction of `(a, b)` relative to `(u, v)` in (−π, π], from their cross and dot products:
+/// exact in sign for the flow's whole and quarter pixels, so the GPU sorts as the CPU does.
+fn relative_angle(u: f32, v: f32, a: f32, b: f32) -> f32 {
+    let d = (u * b - v * a).atan2(u * a + v * b);
+    if d <= -PI {
+        PI
+    } else {
+        d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3×3 flow: the centre's vector points up (90°) among four vectors at 14° and four at
+    /// 346°. The directions around 0° are the majority; a linear median of [0, 2π) angles
+    /// would sort them apart, with 90° in the middle.
+    #[test]
+    fn the_median_direction_wraps_around_zero() {
+        let mut flow = Image::zeros(3, 3, 2);
+        for i in 0..9 {
+            let (u, v) = match i {
+                4 => (0.0, 4.0),
+                i if i % 2 == 0 => (4.0, 1.0),
+                _ => (4.0, -1.0),
+            };
+            flow.data[i] = u;
+            flow.data[9 + i] = v;
+        }
+        let smoothed = smooth_flow(&flow, 3);
+        assert_eq!((smoothed.data[4], smoothed.data[13]), (4.0, 1.0), "length 4 along 14°");
+    }
 }

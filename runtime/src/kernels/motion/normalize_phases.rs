@@ -1,0 +1,67 @@
+//! Phase normalization (sec. 4.2.2.1, eq. 4.1): raw frame, calibration → normalised raw frame.
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::{
+    kernels::{Pass, Shape, Unit},
+    Image,
+};
+
+/// The uniform block of `normalize_phases.wgsl`, field for field.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Params {
+    width: u32,
+    height: u32,
+    _pad: [u32; 2],
+    _pad2: [u32; 4],
+}
+
+/// Phase normalization with a per-pixel calibration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct NormalizePhases;
+
+impl Unit for NormalizePhases {
+    const NAME: &'static str = "normalize_phases";
+    const SOURCE: &'static str = include_str!("normalize_phases.wgsl");
+    const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8)];
+    type Params = Params;
+
+    fn params(&self, inputs: &[Shape]) -> Params {
+        let s = inputs[0];
+        Params { width: s.width as u32, height: s.height as u32, _pad: [0; 2], _pad2: [0; 4] }
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        vec![inputs[0]]
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        vec![Pass::tiles(inputs[0])]
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        vec![normalize_phases(inputs[0], inputs[1])]
+    }
+}
+
+/// `f(X) = a·√max(X + b, 0) + c·X + d` with the pixel's coefficients for its tap.
+pub fn normalize_value(x: f32, [a, b, c, d]: [f32; 4]) -> f32 {
+    a * (x + b).max(0.0).sqrt() + c * x + d
+}
+
+/// Phase normalization (eq. 4.1): every channel `A_i`, `B_i` through its pixel's tap function;
+/// `calibration` holds the coefficients `a b c d` of tap A, then of tap B (8 planes, see
+/// [`crate::phase_normalization`]).
+pub fn normalize_phases(raw: &Image, calibration: &Image) -> Image {
+    let n = raw.pixels();
+    let mut out = raw.clone();
+    for plane in 0..8 {
+        let tap = plane % 2;
+        for i in 0..n {
+            let coefficients = std::array::from_fn(|k| calibration.data[(4 * tap + k) * n + i]);
+            out.data[plane * n + i] = normalize_value(raw.data[plane * n + i], coefficients);
+        }
+    }
+    out
+}
