@@ -108,6 +108,57 @@ fn the_chapter_4_sample_runs_and_equals_the_rust_api() {
     assert_eq!(distance.color(), image::ColorType::L16);
 }
 
+#[test]
+fn a_phase_calibration_is_written_used_and_refused_when_it_does_not_fit() {
+    let dir = temp_dir("pipeline-ch4-calibrated");
+    let out = gudsl().args(["calibrate-phases", dir.join("calibration.npy").to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(arrays::header(&dir.join("calibration.npy")).unwrap().0, [8, 200, 200]);
+    let out = gudsl().args(["calibrate-phases", dir.join("no/such/folder/c.npy").to_str().unwrap()]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2), "an unwritable file");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("c.npy"));
+
+    // The sample with the calibration and sub-pixel matching.
+    let sample = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    let with = |calibration: &str| {
+        let text = sample.replace(
+            "directionRestriction = 90)",
+            &format!("directionRestriction = 90, phaseCalibration = \"{calibration}\", subpixel = true)"),
+        );
+        assert_ne!(text, sample, "the sample's MotionCompensation has changed");
+        let path = dir.join("calibrated.gudsl");
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    // Of the wrong shape (E0404, at the parameter) and of another size (E0405): refused.
+    arrays::write(&dir.join("flat.npy"), &[4, 30, 40], &[0.0; 4800], arrays::Dtype::F32).unwrap();
+    let (code, stderr) = refused(&[&with("flat.npy"), "-o", dir.join("out").to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("E0404") && stderr.contains("shape (8, H, W)"), "{stderr}");
+    arrays::write(&dir.join("small.npy"), &[8, 30, 40], &[0.0; 9600], arrays::Dtype::F32).unwrap();
+    let (code, stderr) = refused(&[&with("small.npy"), "-o", dir.join("out").to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("E0405") && stderr.contains("calibrate for this camera"), "{stderr}");
+    assert!(!dir.join("out").exists(), "nothing written for a refused pipeline");
+    if !gpu() {
+        return;
+    }
+    let (code, stdout, stderr) =
+        run(&[&with("calibration.npy"), "--frames", "2", "-o", dir.join("out").to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let csv = std::fs::read_to_string(dir.join("out/Accuracy/accuracy.csv")).unwrap();
+    let mean = |series: &str| -> f64 {
+        let rows: Vec<f64> = csv
+            .lines()
+            .filter(|l| l.contains(&format!(",{series},")))
+            .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+            .collect();
+        rows.iter().sum::<f64>() / rows.len() as f64
+    };
+    let (before, after) = (mean("Uncompensated"), mean("Compensated"));
+    assert!(after < 0.7 * before, "calibrated, sub-pixel compensation: {before:.2} cm -> {after:.2} cm");
+}
+
 /// A pipeline file in a scratch folder, `body` inside `ComponentInstanceDiagram Bad`.
 fn pipeline(dir: &Path, body: &str) -> String {
     let path = dir.join("bad.gudsl");

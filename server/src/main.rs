@@ -29,6 +29,8 @@ enum Command {
     Wgsl(commands::wgsl::WgslArgs),
     /// Run a host activity diagram (e.g. `Main`): its calc nodes' kernels on the GPU (lavapipe without one).
     Run(commands::run::RunArgs),
+    /// Fit chapter 4's phase-normalization calibration on the simulated camera and write it as .npy.
+    CalibratePhases(commands::calibrate_phases::CalibratePhasesArgs),
     /// Run the language server on stdin/stdout (for editors).
     Lsp(LspArgs),
 }
@@ -49,6 +51,7 @@ fn main() -> ExitCode {
         Command::Fmt(args) => commands::fmt::run(&args),
         Command::Render(args) => commands::render::run(&args),
         Command::Wgsl(args) => commands::wgsl::run(&args),
+        Command::CalibratePhases(args) => commands::calibrate_phases::run(&args),
         Command::Run(args) => commands::run::run(&args),
         Command::Lsp(LspArgs { stdio: _ }) => lsp::run(),
     }

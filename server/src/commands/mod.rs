@@ -1,6 +1,7 @@
 //! One module per `gudsl` subcommand, and what the commands that act on a model share: loading
 //! and checking it, refusing one with errors.
 
+pub mod calibrate_phases;
 pub mod check;
 pub mod fmt;
 pub mod pipeline;

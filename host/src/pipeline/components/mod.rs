@@ -175,7 +175,7 @@ fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Ve
         "ToF.DepthFile" => sources::DepthFile::new(params).and_then(made),
         "ToF.BlackImageCorrection" => raw::BlackImageCorrection::new(params).and_then(made),
         "ToF.Demodulation" => made(raw::Demodulation::new(params)),
-        "ToF.MotionCompensation" => made(raw::MotionCompensation::new(params)),
+        "ToF.MotionCompensation" => raw::MotionCompensation::new(params).and_then(made),
         "ToF.IntegrationTimeControl" => exposure::IntegrationTimeControl::new(params).and_then(made),
         "ToF.IntensityCorrection"
         | "ToF.AmplitudeMask"

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use gudsl_runtime::{kernels::motion::mean_direction, Image, Kernel};
+use gudsl_runtime::{kernels::motion::mean_direction, phase_normalization::PhaseCalibration, Image, Kernel};
 
 use super::{size_text, slots, Component, Ctx, Inputs, Outputs, Params, SizesByPort};
 use crate::pipeline::{
@@ -153,20 +153,27 @@ impl Component for Demodulation {
     }
 }
 
-/// `ToF.MotionCompensation`: detection (θ), block matching (MWS, restricted to ρ around the
-/// previous frame's mean direction), optional direction smoothing (NH), raw correction.
+/// `ToF.MotionCompensation`: optional phase normalization (a calibration file), detection (θ)
+/// and block matching (MWS, restricted to ρ around the previous frame's mean direction, whole
+/// or quarter pixels) on the normalised frame, optional direction smoothing (NH), correction of
+/// the raw frame.
 pub struct MotionCompensation {
     window: u32,
     theta: f32,
     /// Half of ρ in radians, when restricted.
     half_rho: Option<f32>,
     smooth: bool,
+    subpixel: bool,
+    /// The phase-normalization calibration (8 planes), if given, and its upload.
+    calibration: Option<Image>,
+    uploaded: BufferSlot,
     /// Per item position: the kernels, and the previous frame's mean direction.
     items: Vec<MotionItem>,
 }
 
 #[derive(Default)]
 struct MotionItem {
+    normalize: KernelSlot,
     detect: KernelSlot,
     matching: KernelSlot,
     smooth: KernelSlot,
@@ -176,19 +183,46 @@ struct MotionItem {
 }
 
 impl MotionCompensation {
-    pub fn new(params: &Params) -> MotionCompensation {
+    pub fn new(params: &Params) -> Result<MotionCompensation, Vec<PipelineError>> {
         let rho = params.f32("directionRestriction");
-        MotionCompensation {
+        let calibration = match params.file("phaseCalibration") {
+            Some(path) => Some(
+                PhaseCalibration::load(&path)
+                    .map_err(|e| vec![params.error("phaseCalibration", ErrorKind::Input, e.to_string())])?
+                    .coefficients,
+            ),
+            None => None,
+        };
+        Ok(MotionCompensation {
             window: params.count("windowSize") as u32,
             theta: params.f32("threshold") / 100.0 * 65535.0,
             half_rho: (rho > 0.0).then(|| (rho / 2.0).to_radians()),
             smooth: params.flag("smoothNeighbourhood"),
+            subpixel: params.flag("subpixel"),
+            calibration,
+            uploaded: BufferSlot::default(),
             items: Vec::new(),
-        }
+        })
     }
 }
 
 impl Component for MotionCompensation {
+    fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
+        let Some(calibration) = &self.calibration else { return Ok(()) };
+        let own = (calibration.width, calibration.height);
+        match sizes.get("RawIn").into_iter().flatten().find(|&&size| size != own) {
+            Some(&frames) => Err((
+                Some("phaseCalibration"),
+                format!(
+                    "the phase calibration is {}, the frames it is given {}: calibrate for this camera",
+                    size_text(own),
+                    size_text(frames)
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let mut out = Vec::new();
         for (k, frame) in raw_frames(inputs) {
@@ -198,11 +232,18 @@ impl Component for MotionCompensation {
                 |device: &mut crate::pipeline::device::Device, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {
                     device.kernel(ctx.stage, slot, kernel, inputs).map_err(|e| e.to_string())
                 };
+            let matched = match &self.calibration {
+                Some(calibration) => {
+                    let calibration = device.upload(&mut self.uploaded, calibration);
+                    run(device, &mut item.normalize, Kernel::NormalizePhases, &[&frame.raw, &calibration])?.remove(0)
+                }
+                None => frame.raw.clone(),
+            };
             let mask =
-                run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&frame.raw])?.remove(1);
+                run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&matched])?.remove(1);
             let restriction = self.half_rho.zip(item.direction).map(|(half, mean)| (mean, half));
-            let matching = Kernel::MatchBlocks { window: self.window, restriction, subpixel: false };
-            let mut flow = run(device, &mut item.matching, matching, &[&frame.raw, &mask])?.remove(0);
+            let matching = Kernel::MatchBlocks { window: self.window, restriction, subpixel: self.subpixel };
+            let mut flow = run(device, &mut item.matching, matching, &[&matched, &mask])?.remove(0);
             if self.smooth {
                 flow = run(device, &mut item.smooth, Kernel::SmoothFlow { window: self.window }, &[&flow])?.remove(0);
             }
