@@ -67,6 +67,18 @@ fn rust_api(gpu: &Gpu) -> Vec<Vec<f32>> {
     distances
 }
 
+/// The mean error (cm) of `series` over its `frames` rows of the accuracy report in `out`.
+fn accuracy_mean(out: &Path, series: &str, frames: usize) -> f64 {
+    let csv = std::fs::read_to_string(out.join("Accuracy/accuracy.csv")).unwrap();
+    let rows: Vec<f64> = csv
+        .lines()
+        .filter(|l| l.contains(&format!(",{series},")))
+        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rows.len(), frames, "{series} in\n{csv}");
+    rows.iter().sum::<f64>() / frames as f64
+}
+
 #[test]
 fn the_chapter_4_sample_runs_and_equals_the_rust_api() {
     if !gpu() {
@@ -89,17 +101,7 @@ fn the_chapter_4_sample_runs_and_equals_the_rust_api() {
         assert!(same, "frame {frame}: the pipeline's distances differ from the Rust API's");
     }
 
-    let csv = std::fs::read_to_string(out.join("Accuracy/accuracy.csv")).unwrap();
-    let mean = |series: &str| -> f64 {
-        let rows: Vec<f64> = csv
-            .lines()
-            .filter(|l| l.contains(&format!(",{series},")))
-            .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
-            .collect();
-        assert_eq!(rows.len(), 2, "{series} in\n{csv}");
-        rows.iter().sum::<f64>() / 2.0
-    };
-    let (before, after) = (mean("Uncompensated"), mean("Compensated"));
+    let (before, after) = (accuracy_mean(&out, "Uncompensated", 2), accuracy_mean(&out, "Compensated", 2));
     assert!(after < 0.7 * before, "compensation: {before:.2} cm -> {after:.2} cm");
     for file in ["Accuracy/accuracy.svg", "Accuracy/accuracy.png", "Images/preview_0001.png", "report.json"] {
         assert!(out.join(file).is_file(), "{file}");
@@ -146,16 +148,8 @@ fn a_phase_calibration_is_written_used_and_refused_when_it_does_not_fit() {
     let (code, stdout, stderr) =
         run(&[&with("calibration.npy"), "--frames", "2", "-o", dir.join("out").to_str().unwrap()]);
     assert_eq!(code, Some(0), "{stdout}\n{stderr}");
-    let csv = std::fs::read_to_string(dir.join("out/Accuracy/accuracy.csv")).unwrap();
-    let mean = |series: &str| -> f64 {
-        let rows: Vec<f64> = csv
-            .lines()
-            .filter(|l| l.contains(&format!(",{series},")))
-            .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
-            .collect();
-        rows.iter().sum::<f64>() / rows.len() as f64
-    };
-    let (before, after) = (mean("Uncompensated"), mean("Compensated"));
+    let out = dir.join("out");
+    let (before, after) = (accuracy_mean(&out, "Uncompensated", 2), accuracy_mean(&out, "Compensated", 2));
     assert!(after < 0.7 * before, "calibrated, sub-pixel compensation: {before:.2} cm -> {after:.2} cm");
 }
 

@@ -58,6 +58,24 @@ impl BlackImageCorrection {
     }
 }
 
+/// Whether every raw frame arriving on `RawIn` is `own` in size; if not, the error at `param`:
+/// "`what` is W×H, the frames it is given W×H: `advice`".
+fn frames_of_size(
+    sizes: &SizesByPort,
+    own: (usize, usize),
+    param: &'static str,
+    what: &str,
+    advice: &str,
+) -> Result<(), (Option<&'static str>, String)> {
+    match sizes.get("RawIn").into_iter().flatten().find(|&&size| size != own) {
+        Some(&frames) => Err((
+            Some(param),
+            format!("{what} is {}, the frames it is given {}: {advice}", size_text(own), size_text(frames)),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// A recording's channel files (`channelA`, `channelB`), each problem at its parameter.
 pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, Vec<PipelineError>> {
     RawFiles::open(a, b).map_err(|errors| {
@@ -69,18 +87,13 @@ pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, V
 impl Component for BlackImageCorrection {
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(files) = &self.files else { return Ok(()) };
-        let black = (files.extent.width, files.extent.height);
-        match sizes.get("RawIn").into_iter().flatten().find(|&&size| size != black) {
-            Some(&frames) => Err((
-                Some("channelA"),
-                format!(
-                    "the black image is {}, the frames it is given {}: they cannot meet",
-                    size_text(black),
-                    size_text(frames)
-                ),
-            )),
-            None => Ok(()),
-        }
+        frames_of_size(
+            sizes,
+            (files.extent.width, files.extent.height),
+            "channelA",
+            "the black image",
+            "they cannot meet",
+        )
     }
 
     fn load(&mut self) -> Result<(), String> {
@@ -210,17 +223,7 @@ impl Component for MotionCompensation {
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(calibration) = &self.calibration else { return Ok(()) };
         let own = (calibration.width, calibration.height);
-        match sizes.get("RawIn").into_iter().flatten().find(|&&size| size != own) {
-            Some(&frames) => Err((
-                Some("phaseCalibration"),
-                format!(
-                    "the phase calibration is {}, the frames it is given {}: calibrate for this camera",
-                    size_text(own),
-                    size_text(frames)
-                ),
-            )),
-            None => Ok(()),
-        }
+        frames_of_size(sizes, own, "phaseCalibration", "the phase calibration", "calibrate for this camera")
     }
 
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
