@@ -2,6 +2,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use super::bilinear;
+
 use crate::{
     kernels::{Pass, Shape, Unit},
     Image,
@@ -58,14 +60,8 @@ pub fn correct_raw(raw: &Image, flow: &Image) -> Image {
             let (u, v) = (flow.data[i], flow.data[n + i]);
             for k in 0..4 {
                 let (sx, sy) = (x as f32 + k as f32 * u, y as f32 + k as f32 * v);
-                let (x0, y0) = (sx.floor(), sy.floor());
-                let (tx, ty) = (sx - x0, sy - y0);
-                let (x0, y0) = (x0 as isize, y0 as isize);
                 for plane in [2 * k, 2 * k + 1] {
-                    let at = |dx: isize, dy: isize| raw.at_clamped(plane, x0 + dx, y0 + dy);
-                    let top = (1.0 - tx) * at(0, 0) + tx * at(1, 0);
-                    let bottom = (1.0 - tx) * at(0, 1) + tx * at(1, 1);
-                    out.data[plane * n + i] = (1.0 - ty) * top + ty * bottom;
+                    out.data[plane * n + i] = bilinear(sx, sy, |px, py| raw.at_clamped(plane, px, py));
                 }
             }
         }

@@ -70,7 +70,7 @@ impl Unit for MatchBlocks {
 }
 
 /// The steps of the sub-pixel refinement, in pixels.
-pub const REFINEMENT_STEPS: [f32; 2] = [0.5, 0.25];
+const REFINEMENT_STEPS: [f32; 2] = [0.5, 0.25];
 
 /// Block matching (eq. 4.6–4.10): for each masked pixel the displacement per phase image
 /// `(dx, dy)` within `±(window−1)/2` minimising `Σ_{i=1..3} (P⁺_0(x,y) − P⁺_i(x+i·dx, y+i·dy))²`

@@ -1,8 +1,9 @@
 //! Motion-artifact compensation (chapter 4), one kernel a module with its CPU reference: phase
-//! normalization with a per-pixel calibration, motion detection on the channel sums, per-pixel block matching of the phase images along a
-//! constant-velocity path (SSD over a motion window, optionally restricted to directions near the
-//! previous frame's mean), median smoothing of the flow directions, and correction of the raw
-//! channels along the flow; and the flow statistics the host needs between frames.
+//! normalization with a per-pixel calibration, motion detection on the channel sums, per-pixel
+//! block matching of the phase images along a constant-velocity path (SSD over a motion window,
+//! optionally restricted to directions near the previous frame's mean, optionally refined to a
+//! quarter pixel), median smoothing of the flow directions, and correction of the raw channels
+//! along the flow; and the flow statistics the host needs between frames.
 
 use std::f32::consts::PI;
 
@@ -30,14 +31,20 @@ fn plus(raw: &Image, i: usize, x: isize, y: isize) -> f32 {
     raw.at_clamped(2 * i, x, y) + raw.at_clamped(2 * i + 1, x, y)
 }
 
-/// `P⁺_i` at a fractional position: bilinear between the four pixels around, coordinates
-/// clamped; exactly [`plus`] at whole pixels.
+/// `P⁺_i` at a fractional position (see [`bilinear`]); exactly [`plus`] at whole pixels.
 fn plus_bilinear(raw: &Image, i: usize, x: f32, y: f32) -> f32 {
+    bilinear(x, y, |px, py| plus(raw, i, px, py))
+}
+
+/// The value at fractional `(x, y)` bilinear between the four whole pixels around it, `at`
+/// giving a whole pixel's value (clamping as it likes); exactly `at(x, y)` at whole pixels. The
+/// WGSL twins blend in the same order.
+fn bilinear(x: f32, y: f32, at: impl Fn(isize, isize) -> f32) -> f32 {
     let (x0, y0) = (x.floor(), y.floor());
     let (tx, ty) = (x - x0, y - y0);
     let (x0, y0) = (x0 as isize, y0 as isize);
-    let top = (1.0 - tx) * plus(raw, i, x0, y0) + tx * plus(raw, i, x0 + 1, y0);
-    let bottom = (1.0 - tx) * plus(raw, i, x0, y0 + 1) + tx * plus(raw, i, x0 + 1, y0 + 1);
+    let top = (1.0 - tx) * at(x0, y0) + tx * at(x0 + 1, y0);
+    let bottom = (1.0 - tx) * at(x0, y0 + 1) + tx * at(x0 + 1, y0 + 1);
     (1.0 - ty) * top + ty * bottom
 }
 

@@ -46,7 +46,7 @@ impl Unit for NormalizePhases {
 }
 
 /// `f(X) = a·√max(X + b, 0) + c·X + d` with the pixel's coefficients for its tap.
-pub fn normalize_value(x: f32, [a, b, c, d]: [f32; 4]) -> f32 {
+fn normalize_value(x: f32, [a, b, c, d]: [f32; 4]) -> f32 {
     a * (x + b).max(0.0).sqrt() + c * x + d
 }
 

@@ -52,9 +52,10 @@ impl Unit for SmoothFlow {
 
 /// Flow smoothing ("NH", sec. 4.2.4): each non-zero vector takes the median direction of the
 /// non-zero vectors in its `window × window` neighbourhood, keeps its length, and is rounded
-/// to whole pixels (ties to even, as WGSL's `round`). The median is circular: the neighbours' directions are taken relative to the
-/// pixel's own, wrapped to (−π, π], and the median neighbour's direction is the result — so
-/// directions either side of 0°/360° are neighbours, not opposites.
+/// to whole pixels (ties to even, as WGSL's `round`). The median is circular: the neighbours'
+/// directions are taken relative to the pixel's own, wrapped to (−π, π], and the median
+/// neighbour's direction is the result — so directions either side of 0°/360° are neighbours,
+/// not opposites.
 pub fn smooth_flow(flow: &Image, window: u32) -> Image {
     let (w, h) = (flow.width, flow.height);
     let r = (window as isize - 1) / 2;
