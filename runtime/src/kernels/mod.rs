@@ -142,7 +142,8 @@ pub enum Kernel {
     /// Block matching (eq. 4.6–4.10): raw frame, mask → flow (2 planes: dx, dy per phase image)
     /// over a `window × window` search (MWS), optionally only directions within
     /// `restriction.1` radians of `restriction.0` (ρ/2 around the previous mean direction); with
-    /// `subpixel`, refined to a quarter pixel (bilinear samples) beyond the text's whole pixels.
+    /// `subpixel`, refined to a quarter pixel beyond the text's whole pixels (never to a vector
+    /// whose samples blend across an edge).
     MatchBlocks { window: u32, restriction: Option<(f32, f32)>, subpixel: bool },
     /// Median smoothing of flow directions over a `window × window` neighbourhood ("NH").
     SmoothFlow { window: u32 },

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{allowed, plus, plus_bilinear};
+use super::{allowed, blended_squared_difference, plus};
 use crate::{
     kernels::{Pass, Shape, Unit},
     Image,
@@ -77,8 +77,10 @@ const REFINEMENT_STEPS: [f32; 2] = [0.5, 0.25];
 /// (ties: the shorter vector, then scan order); unmasked pixels get (0, 0). Two planes: dx, dy.
 ///
 /// With `subpixel` (beyond the text), the whole-pixel vector is refined: the eight vectors half
-/// a pixel around it, then the eight a quarter pixel around the better one, each scored with
-/// bilinear samples of `P⁺` and taken only when strictly better. The text's whole pixels leave
+/// a pixel around it, then the eight a quarter pixel around the better one, each scored by the
+/// bilinearly weighted squared differences of the whole pixels around its samples (see
+/// [`blended_squared_difference`]: a blend across an edge scores worse than either side) and
+/// taken only when strictly better. The text's whole pixels leave
 /// up to half a pixel per phase image, three halves by the last one: at 1 cm per phase image and
 /// 3 m the image moves about 0.9 px, and a turn moves most pixels less than half of one.
 pub fn match_blocks(raw: &Image, mask: &Image, window: u32, restriction: Option<(f32, f32)>, subpixel: bool) -> Image {
@@ -124,8 +126,7 @@ pub fn match_blocks(raw: &Image, mask: &Image, window: u32, restriction: Option<
                             let candidate: f32 = (1..4)
                                 .map(|k| {
                                     let (fx, fy) = (x as f32 + k as f32 * du, y as f32 + k as f32 * dv);
-                                    let d = p0 - plus_bilinear(raw, k, fx, fy);
-                                    d * d
+                                    blended_squared_difference(raw, k, fx, fy, p0)
                                 })
                                 .sum();
                             if candidate < ssd {
@@ -140,4 +141,55 @@ pub fn match_blocks(raw: &Image, mask: &Image, window: u32, restriction: Option<
         }
     }
     flow
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 16 × 5 raw frame whose phase image `k` has `P⁺ = value(k, x) + 1000·y` (split evenly
+    /// over A and B: the rows differ so much that only horizontal vectors match), all pixels
+    /// masked.
+    fn frame(value: impl Fn(usize, usize) -> f32) -> (Image, Image) {
+        let width = 16;
+        let mut raw = Image::zeros(width, 5, 8);
+        let n = raw.pixels();
+        for k in 0..4 {
+            for i in 0..n {
+                let half = (value(k, i % width) + 1000.0 * (i / width) as f32) / 2.0;
+                raw.data[2 * k * n + i] = half;
+                raw.data[(2 * k + 1) * n + i] = half;
+            }
+        }
+        let mut mask = Image::zeros(width, 5, 1);
+        mask.data.fill(1.0);
+        (raw, mask)
+    }
+
+    #[test]
+    fn a_ramp_moving_half_a_pixel_per_phase_image_is_refined_to_half_a_pixel() {
+        let (raw, mask) = frame(|k, x| 10.0 * (x as f32 - 0.5 * k as f32));
+        let i = 2 * 16 + 4;
+        let whole = match_blocks(&raw, &mask, 5, None, false);
+        assert!(whole.data[i] == 0.0 || whole.data[i] == 1.0, "whole pixels: {}", whole.data[i]);
+        let refined = match_blocks(&raw, &mask, 5, None, true);
+        assert_eq!((refined.data[i], refined.data[refined.pixels() + i]), (0.5, 0.0));
+    }
+
+    #[test]
+    fn a_vector_that_would_blend_object_and_wall_does_not_beat_a_whole_one() {
+        // The object (P⁺ 100) left of the wall (200) moves one pixel per phase image; the
+        // reference pixel at x = 8 is mixed (150) in phase image 0 only. Half a pixel blends
+        // object and wall to exactly 150 in every later phase image: bilinear samples would
+        // match it perfectly, the blended squared difference scores it as the whole vectors.
+        let (raw, mask) = frame(|k, x| match (x as isize - k as isize).cmp(&8) {
+            std::cmp::Ordering::Less => 100.0,
+            std::cmp::Ordering::Equal if k == 0 => 150.0,
+            _ => 200.0,
+        });
+        let i = 2 * 16 + 8;
+        let flow = match_blocks(&raw, &mask, 5, None, true);
+        let (u, v) = (flow.data[i], flow.data[flow.pixels() + i]);
+        assert_eq!((u.fract(), v.fract()), (0.0, 0.0), "({u}, {v}) blends across the edge");
+    }
 }

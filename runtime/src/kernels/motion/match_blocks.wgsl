@@ -1,8 +1,9 @@
 // Block matching (eq. 4.6–4.10): per masked pixel, the displacement per phase image (dx, dy) in
 // ±radius minimising Σ_{i=1..3} (P⁺_0(x,y) − P⁺_i(x+i·dx, y+i·dy))², optionally only directions
 // within half_width of mean_dir (radians); ties: shorter vector, then scan order. With subpixel,
-// refined: the eight vectors ½ px around, then ¼ px around the better one, scored on bilinear
-// samples and taken only when strictly better.
+// refined: the eight vectors ½ px around, then ¼ px around the better one, scored by the
+// bilinearly weighted squared differences of the pixels around each sample and taken only when
+// strictly better.
 struct Params { width: u32, height: u32, radius: u32, restricted: u32, mean_dir: f32, half_width: f32, subpixel: u32, _pad: u32 }
 
 @group(0) @binding(0) var<uniform> p: Params;
@@ -20,17 +21,22 @@ fn plus(k: u32, x: i32, y: i32) -> f32 {
     return raw[2u * k * n + i] + raw[(2u * k + 1u) * n + i];
 }
 
-// P⁺_k at a fractional position: bilinear between the four pixels around, coordinates clamped.
-fn plus_bilinear(k: u32, x: f32, y: f32) -> f32 {
+// The squared differences of P⁺_k at the four pixels around fractional (x, y) from p0, weighted
+// bilinearly (coordinates clamped): a blend across an edge scores worse than either side.
+fn blended_squared_difference(k: u32, x: f32, y: f32, p0: f32) -> f32 {
     let x0 = floor(x);
     let y0 = floor(y);
     let tx = x - x0;
     let ty = y - y0;
     let xi = i32(x0);
     let yi = i32(y0);
-    let top = (1.0 - tx) * plus(k, xi, yi) + tx * plus(k, xi + 1, yi);
-    let bottom = (1.0 - tx) * plus(k, xi, yi + 1) + tx * plus(k, xi + 1, yi + 1);
+    let top = (1.0 - tx) * squared(p0 - plus(k, xi, yi)) + tx * squared(p0 - plus(k, xi + 1, yi));
+    let bottom = (1.0 - tx) * squared(p0 - plus(k, xi, yi + 1)) + tx * squared(p0 - plus(k, xi + 1, yi + 1));
     return (1.0 - ty) * top + ty * bottom;
+}
+
+fn squared(d: f32) -> f32 {
+    return d * d;
 }
 
 fn allowed(dx: f32, dy: f32) -> bool {
@@ -90,8 +96,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                     if (ox == 0 && oy == 0) || !allowed(du, dv) { continue; }
                     var ssd = 0.0;
                     for (var k = 1; k < 4; k++) {
-                        let d = p0 - plus_bilinear(u32(k), f32(x) + f32(k) * du, f32(y) + f32(k) * dv);
-                        ssd += d * d;
+                        ssd += blended_squared_difference(u32(k), f32(x) + f32(k) * du, f32(y) + f32(k) * dv, p0);
                     }
                     if ssd < best {
                         best = ssd;

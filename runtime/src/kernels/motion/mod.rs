@@ -31,9 +31,13 @@ fn plus(raw: &Image, i: usize, x: isize, y: isize) -> f32 {
     raw.at_clamped(2 * i, x, y) + raw.at_clamped(2 * i + 1, x, y)
 }
 
-/// `P⁺_i` at a fractional position (see [`bilinear`]); exactly [`plus`] at whole pixels.
-fn plus_bilinear(raw: &Image, i: usize, x: f32, y: f32) -> f32 {
-    bilinear(x, y, |px, py| plus(raw, i, px, py))
+/// How far `P⁺_i` around fractional `(x, y)` is from `p0`: the squared differences of the four
+/// whole pixels around it, weighted as [`bilinear`] weighs them. Exactly `(p0 − P⁺_i(x, y))²` at
+/// whole pixels; where the four differ (an edge), more than the squared difference of their
+/// blend — so a fractional vector that would blend an object with its background never matches
+/// better than the whole one that samples either. The WGSL twin sums in the same order.
+fn blended_squared_difference(raw: &Image, i: usize, x: f32, y: f32, p0: f32) -> f32 {
+    bilinear(x, y, |px, py| (p0 - plus(raw, i, px, py)).powi(2))
 }
 
 /// The value at fractional `(x, y)` bilinear between the four whole pixels around it, `at`
