@@ -113,21 +113,26 @@ fn the_chapter_4_sample_runs_and_equals_the_rust_api() {
 #[test]
 fn a_phase_calibration_is_written_used_and_refused_when_it_does_not_fit() {
     let dir = temp_dir("pipeline-ch4-calibrated");
-    let out = gudsl().args(["calibrate-phases", dir.join("calibration.npy").to_str().unwrap()]).output().unwrap();
+    let calibration = dir.join("calibration.npy");
+    let out =
+        gudsl().args(["calibrate-phases", calibration.to_str().unwrap(), "--gain-spread", "0.02"]).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(arrays::header(&dir.join("calibration.npy")).unwrap().0, [8, 200, 200]);
     let out = gudsl().args(["calibrate-phases", dir.join("no/such/folder/c.npy").to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(2), "an unwritable file");
     assert!(String::from_utf8_lossy(&out.stderr).contains("c.npy"));
 
-    // The sample with the calibration and sub-pixel matching.
+    // The sample on a camera whose pixels' gains spread 2 %, with sub-pixel matching and the
+    // calibration.
     let sample = std::fs::read_to_string(repo(SAMPLE)).unwrap();
     let with = |calibration: &str| {
-        let text = sample.replace(
-            "directionRestriction = 90)",
-            &format!("directionRestriction = 90, phaseCalibration = \"{calibration}\", subpixel = true)"),
-        );
-        assert_ne!(text, sample, "the sample's MotionCompensation has changed");
+        let text = sample
+            .replace(
+                "directionRestriction = 90)",
+                &format!("directionRestriction = 90, phaseCalibration = \"{calibration}\", subpixel = true)"),
+            )
+            .replace("frames = 6)", "frames = 6, gainSpread = 0.02)");
+        assert!(text.contains("gainSpread") && text.contains("subpixel"), "the sample has changed");
         let path = dir.join("calibrated.gudsl");
         std::fs::write(&path, text).unwrap();
         path.to_str().unwrap().to_string()
@@ -145,12 +150,17 @@ fn a_phase_calibration_is_written_used_and_refused_when_it_does_not_fit() {
     if !gpu() {
         return;
     }
-    let (code, stdout, stderr) =
-        run(&[&with("calibration.npy"), "--frames", "2", "-o", dir.join("out").to_str().unwrap()]);
-    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
-    let out = dir.join("out");
-    let (before, after) = (accuracy_mean(&out, "Uncompensated", 2), accuracy_mean(&out, "Compensated", 2));
-    assert!(after < 0.7 * before, "calibrated, sub-pixel compensation: {before:.2} cm -> {after:.2} cm");
+    let compensate = |calibration: &str, out: &str| {
+        let out = dir.join(out);
+        let (code, stdout, stderr) = run(&[&with(calibration), "--frames", "2", "-o", out.to_str().unwrap()]);
+        assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+        (accuracy_mean(&out, "Uncompensated", 2), accuracy_mean(&out, "Compensated", 2))
+    };
+    let (before, calibrated) = compensate("calibration.npy", "calibrated");
+    let (_, uncalibrated) = compensate("", "uncalibrated");
+    assert!(calibrated < 0.7 * before, "calibrated, sub-pixel compensation: {before:.2} cm -> {calibrated:.2} cm");
+    // Uncalibrated, the pixels' gains travel with the values the correction moves.
+    assert!(calibrated < uncalibrated, "calibrated {calibrated:.2} cm, uncalibrated {uncalibrated:.2} cm");
 }
 
 /// A pipeline file in a scratch folder, `body` inside `ComponentInstanceDiagram Bad`.

@@ -169,7 +169,9 @@ impl Component for Demodulation {
 /// `ToF.MotionCompensation`: optional phase normalization (a calibration file), detection (θ)
 /// and block matching (MWS, restricted to ρ around the previous frame's mean direction, whole
 /// or quarter pixels) on the normalised frame, optional direction smoothing (NH), correction of
-/// the raw frame.
+/// the normalised frame (the raw one without a calibration): the correction moves each phase
+/// image's charges to another pixel, so the pixels' own gains must be undone first or they
+/// travel with them.
 pub struct MotionCompensation {
     window: u32,
     theta: f32,
@@ -235,7 +237,7 @@ impl Component for MotionCompensation {
                 |device: &mut crate::pipeline::device::Device, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {
                     device.kernel(ctx.stage, slot, kernel, inputs).map_err(|e| e.to_string())
                 };
-            let matched = match &self.calibration {
+            let normalized = match &self.calibration {
                 Some(calibration) => {
                     let calibration = device.upload(&mut self.uploaded, calibration);
                     run(device, &mut item.normalize, Kernel::NormalizePhases, &[&frame.raw, &calibration])?.remove(0)
@@ -243,14 +245,14 @@ impl Component for MotionCompensation {
                 None => frame.raw.clone(),
             };
             let mask =
-                run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&matched])?.remove(1);
+                run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&normalized])?.remove(1);
             let restriction = self.half_rho.zip(item.direction).map(|(half, mean)| (mean, half));
             let matching = Kernel::MatchBlocks { window: self.window, restriction, subpixel: self.subpixel };
-            let mut flow = run(device, &mut item.matching, matching, &[&matched, &mask])?.remove(0);
+            let mut flow = run(device, &mut item.matching, matching, &[&normalized, &mask])?.remove(0);
             if self.smooth {
                 flow = run(device, &mut item.smooth, Kernel::SmoothFlow { window: self.window }, &[&flow])?.remove(0);
             }
-            let raw = run(device, &mut item.correct, Kernel::CorrectRaw, &[&frame.raw, &flow])?.remove(0);
+            let raw = run(device, &mut item.correct, Kernel::CorrectRaw, &[&normalized, &flow])?.remove(0);
             // ρ restricts the next frame around this one's mean direction.
             item.flow = self.half_rho.map(|_| device.read_later(&flow));
             out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));

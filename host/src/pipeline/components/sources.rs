@@ -70,6 +70,7 @@ impl Simulated {
             integration_us: params.f32("integrationTime"),
             noise: params.flag("noise"),
             supersampling: params.count("supersampling").max(1),
+            gain_spread: params.f32("gainSpread"),
             seed: params.number("seed") as i64 as u64,
             pose,
             ..Camera::default()
