@@ -11,7 +11,7 @@
 use std::f32::consts::PI;
 
 pub use crate::camera::Intrinsics;
-use crate::camera::{apply, Pose, IDENTITY};
+use crate::camera::{apply, compose, pose_from, Pose, IDENTITY};
 use crate::kernels::tof::SPEED_OF_LIGHT;
 use crate::Image;
 
@@ -372,6 +372,15 @@ fn pose(motion: Motion, step: usize) -> ([f32; 3], f32) {
         Motion::Translation(v) => ([v[0] * s, v[1] * s, v[2] * s], 0.0),
         Motion::Rotation(degrees) => ([0.0; 3], (degrees * s).to_radians()),
     }
+}
+
+/// The camera standing still where `motion` has taken it at phase step `step`: its frames are
+/// what a perfect motion compensation of that step's frame would give (the static reference
+/// of chapter 4's Table 4.1, seen from the same place).
+pub fn standing_at(camera: &Camera, motion: Motion, step: usize) -> Camera {
+    let (origin, angle) = pose(motion, step);
+    let moved = pose_from([0.0, 0.0, angle as f64], origin.map(f64::from));
+    Camera { pose: compose(&camera.pose, &moved), ..*camera }
 }
 
 fn rotate_z([x, y, z]: [f32; 3], angle: f32) -> [f32; 3] {

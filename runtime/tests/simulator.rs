@@ -1,9 +1,10 @@
 //! The simulated camera against its ground truth: demodulating a still, noiseless frame gives
 //! the true distance away from depth edges, noise and motion add the errors they should, and
-//! saturation and frames survive a trip through `.npy`.
+//! saturation and frames survive a trip through `.npy`; a camera standing where a motion took it
+//! sees what the moving one saw in that phase image.
 
 use gudsl_runtime::kernels::tof::{demodulate, subtract_black, unambiguous_range};
-use gudsl_runtime::sim::{simulate, Camera, Motion, Scene};
+use gudsl_runtime::sim::{simulate, standing_at, Camera, Motion, Scene};
 use gudsl_runtime::{arrays, Image};
 
 /// |measured − truth| over pixels whose 3×3 neighbourhood is one surface (no depth edge).
@@ -93,4 +94,23 @@ fn long_integration_saturates_and_frames_round_trip_through_npy() {
     assert_eq!((array.shape, array.dtype), (vec![8, 200, 200], arrays::Dtype::U16));
     assert_eq!(array.values, frame.raw.data);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_camera_standing_where_the_motion_took_it_sees_that_phase_image() {
+    let camera = Camera { noise: false, ..Camera::default() };
+    let scene = Scene::cuboid();
+    for motion in [Motion::Translation([0.01, 0.0, 0.0]), Motion::Rotation(1.0)] {
+        let moving = simulate(&scene, motion, &camera, 2);
+        let standing = simulate(&scene, Motion::Still, &standing_at(&camera, motion, 8), 2);
+        let n = moving.truth.pixels();
+        let differing = (0..2 * n).filter(|&i| (moving.raw.data[i] - standing.raw.data[i]).abs() > 1.0).count();
+        assert!(differing <= n / 1000, "{motion:?}: {differing} of phase image 0's channels differ");
+        let truth_gap =
+            moving.truth.data.iter().zip(&standing.truth.data).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        assert!(truth_gap < 1e-4, "{motion:?}: the truths differ by {truth_gap} m");
+        // The later phase images differ: the standing camera does not move on.
+        let later = (6 * n..8 * n).filter(|&i| (moving.raw.data[i] - standing.raw.data[i]).abs() > 1.0).count();
+        assert!(later > n / 100, "{motion:?}: phase image 3 is the same standing and moving");
+    }
 }

@@ -39,6 +39,10 @@ pub const GRID: [Row; 16] = [
 /// The default parameters (sec. 4.3.1: "a good default parameter set is θ = 1 % and MWS = 5").
 pub const DEFAULT: Row = GRID[1];
 
+/// The row of the widest search without restriction (MWS 7, θ 0, no NH, no ρ): the buddha's
+/// best.
+pub const UNRESTRICTED: usize = 9;
+
 /// A scene of the dissertation: Table 4.1 (static and dynamic, mean and σ) and its column of
 /// Table 4.2 or 4.3 (mean, σ, time) row by row.
 pub struct Reference {
