@@ -102,6 +102,15 @@ const until = async (what, test) => {
   }
   throw new Error(`timed out waiting for ${what}`);
 };
+/** The keyboard in the first editor group's text editor: a webview that reveals itself (the
+ * results panel after a run) can take it back just after a file opens, and commands shown only
+ * for GU-DSL editors (`editorLangId`) then leave the palette. */
+const focusFirstEditor = () =>
+  until('the keyboard in the text editor', async () => {
+    await page.keyboard.press('Control+1');
+    await page.waitForTimeout(200);
+    return page.evaluate(() => !!document.activeElement?.closest('.monaco-editor'));
+  });
 /** The frame of the webview whose page has `selector` (the diagram's `#canvas`, the results' `.summary`). */
 const webview = async (selector) => {
   let found;
@@ -268,6 +277,7 @@ try {
   ]) {
     await page.keyboard.press('Control+1');
     await openFile(file);
+    await focusFirstEditor();
     await palette('GU-DSL: Show Diagram');
     const panel = await webview('#canvas svg');
     await until(`the panel to show ${name}`, async () => (await panel.locator('#canvas').getAttribute('data-diagram')) === name);

@@ -323,6 +323,14 @@ fn main() {
             ("NH circular median", Method::literal(GRID[4])),
             ("improved: sub-pixel", Method { subpixel: true, ..Method::literal(DEFAULT) }),
             ("improved: sub-pixel, MWS 7 θ 0", Method { subpixel: true, ..Method::literal(GRID[UNRESTRICTED]) }),
+            (
+                "MWS 7 θ 0, without normalization",
+                Method { normalization: Normalization::Off, ..Method::literal(GRID[UNRESTRICTED]) },
+            ),
+            (
+                "MWS 7 θ 0, normalised for matching only",
+                Method { normalization: Normalization::MatchingOnly, ..Method::literal(GRID[UNRESTRICTED]) },
+            ),
         ];
         let variant_scores: Vec<(&str, Score, Option<f64>)> = variants
             .iter()
@@ -334,8 +342,8 @@ fn main() {
         summaries.push((s, *still, *moving, grid[1], grid[UNRESTRICTED], grid[best.1], best.1, variant_scores));
     }
     println!("\nSummary (C2M mean in cm, change against the moving scene; default: MWS 5, θ 1 %, normalised)\n");
-    println!("| scene | static | moving | default | best row | default, not normalised | default, normalised for matching only | NH linear | NH circular | improved | improved MWS 7 θ 0 | motion's error removed: default / improved MWS 7 θ 0 | ms: default / improved; MWS 7 θ 0: literal / improved |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| scene | static | moving | default | best row | default, not normalised | default, normalised for matching only | MWS 7 θ 0: not normalised / for matching only / normalised | NH linear | NH circular | improved | improved MWS 7 θ 0 | motion's error removed: default / improved MWS 7 θ 0 | ms: default / improved; MWS 7 θ 0: literal / improved |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (s, still, moving, default, mws7, best, best_index, variants) in &summaries {
         let cell = |score: &Score| format!("{:.2} ({})", score.c2m.mean, reduction(moving.c2m.mean, score.c2m.mean));
         let row = GRID[*best_index];
@@ -344,7 +352,7 @@ fn main() {
             format!("{:.0} %", (moving.c2m.mean - score.c2m.mean) / (moving.c2m.mean - still.c2m.mean) * 100.0)
         };
         println!(
-            "| {} | {:.2} | {:.2} | {} | {} MWS {} {}θ {:.0} ρ {} | {} | {} | {} | {} | {} | {} | {} / {} | {} / {}; {} / {} |",
+            "| {} | {:.2} | {:.2} | {} | {} MWS {} {}θ {:.0} ρ {} | {} | {} | {:.2} / {:.2} / {:.2} | {} | {} | {} | {} | {} / {} | {} / {}; {} / {} |",
             s.name,
             still.c2m.mean,
             moving.c2m.mean,
@@ -356,6 +364,9 @@ fn main() {
             row.rho.map_or("-".into(), |r| format!("{r:.0}")),
             cell(&variants[0].1),
             cell(&variants[1].1),
+            variants[6].1.c2m.mean,
+            variants[7].1.c2m.mean,
+            mws7.0.c2m.mean,
             cell(&variants[2].1),
             cell(&variants[3].1),
             cell(&variants[4].1),
