@@ -64,6 +64,23 @@ fn linear_groups(len: usize, threads: usize) -> [u32; 3] {
     [x as u32, groups.div_ceil(x) as u32, 1]
 }
 
+/// The uniform block of a kernel that needs only the image's size: its shader's `Params`
+/// begins `width: u32, height: u32` and pads to 32 bytes like every other kernel's.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct SizeParams {
+    width: u32,
+    height: u32,
+    _pad: [u32; 6],
+}
+
+impl SizeParams {
+    /// The size of `shape`.
+    pub(crate) fn of(shape: Shape) -> SizeParams {
+        SizeParams { width: shape.width as u32, height: shape.height as u32, _pad: [0; 6] }
+    }
+}
+
 /// What a kernel module defines.
 pub(crate) trait Unit {
     /// A stable name (pipeline cache key and benchmark label).

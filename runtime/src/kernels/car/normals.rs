@@ -1,21 +1,9 @@
 //! Normals by central differences (sec. 6.5.3): points → normals (3 planes).
 
-use bytemuck::{Pod, Zeroable};
-
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{Pass, Shape, SizeParams, Unit},
     Image,
 };
-
-/// The uniform block of `normals.wgsl`, field for field.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub(crate) struct Params {
-    width: u32,
-    height: u32,
-    _pad: [u32; 2],
-    _pad2: [u32; 4],
-}
 
 /// Normals of a point cloud.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,11 +13,10 @@ impl Unit for Normals {
     const NAME: &'static str = "normals";
     const SOURCE: &'static str = include_str!("normals.wgsl");
     const INPUTS: &'static [Option<usize>] = &[Some(3)];
-    type Params = Params;
+    type Params = SizeParams;
 
-    fn params(&self, inputs: &[Shape]) -> Params {
-        let s = inputs[0];
-        Params { width: s.width as u32, height: s.height as u32, _pad: [0; 2], _pad2: [0; 4] }
+    fn params(&self, inputs: &[Shape]) -> SizeParams {
+        SizeParams::of(inputs[0])
     }
 
     fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {

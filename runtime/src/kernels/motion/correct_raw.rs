@@ -1,23 +1,11 @@
 //! Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame.
 
-use bytemuck::{Pod, Zeroable};
-
 use super::bilinear;
 
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{Pass, Shape, SizeParams, Unit},
     Image,
 };
-
-/// The uniform block of `correct_raw.wgsl`, field for field.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub(crate) struct Params {
-    width: u32,
-    height: u32,
-    _pad: [u32; 2],
-    _pad2: [u32; 4],
-}
 
 /// Raw phase correction.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,11 +15,10 @@ impl Unit for CorrectRaw {
     const NAME: &'static str = "correct_raw";
     const SOURCE: &'static str = include_str!("correct_raw.wgsl");
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(2)];
-    type Params = Params;
+    type Params = SizeParams;
 
-    fn params(&self, inputs: &[Shape]) -> Params {
-        let s = inputs[0];
-        Params { width: s.width as u32, height: s.height as u32, _pad: [0; 2], _pad2: [0; 4] }
+    fn params(&self, inputs: &[Shape]) -> SizeParams {
+        SizeParams::of(inputs[0])
     }
 
     fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {

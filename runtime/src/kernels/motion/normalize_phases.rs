@@ -1,21 +1,9 @@
 //! Phase normalization (sec. 4.2.2.1, eq. 4.1): raw frame, calibration → normalised raw frame.
 
-use bytemuck::{Pod, Zeroable};
-
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{Pass, Shape, SizeParams, Unit},
     Image,
 };
-
-/// The uniform block of `normalize_phases.wgsl`, field for field.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub(crate) struct Params {
-    width: u32,
-    height: u32,
-    _pad: [u32; 2],
-    _pad2: [u32; 4],
-}
 
 /// Phase normalization with a per-pixel calibration.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,11 +13,10 @@ impl Unit for NormalizePhases {
     const NAME: &'static str = "normalize_phases";
     const SOURCE: &'static str = include_str!("normalize_phases.wgsl");
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8)];
-    type Params = Params;
+    type Params = SizeParams;
 
-    fn params(&self, inputs: &[Shape]) -> Params {
-        let s = inputs[0];
-        Params { width: s.width as u32, height: s.height as u32, _pad: [0; 2], _pad2: [0; 4] }
+    fn params(&self, inputs: &[Shape]) -> SizeParams {
+        SizeParams::of(inputs[0])
     }
 
     fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
