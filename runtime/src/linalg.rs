@@ -1,5 +1,6 @@
 //! Small dense least squares: the Cholesky solve of a symmetric positive definite system (the
-//! 6×6 ICP step, polynomial fits) and polynomial fitting and evaluation.
+//! 6×6 ICP step, the normal equations of a fit), least squares on any basis, and polynomial
+//! fitting and evaluation.
 
 /// Solves `a x = b` for symmetric positive definite `a` by Cholesky; `None` when a pivot is tiny
 /// next to the largest diagonal entry (a direction the data does not fix).
@@ -31,23 +32,31 @@ pub fn cholesky_solve<const N: usize>(a: &[[f64; N]; N], b: &[f64; N]) -> Option
     Some(x)
 }
 
+/// The least-squares `x` minimising `Σ (basis · x − y)²` over `rows` of `(basis, y)`, through the
+/// normal equations; `None` where the data does not fix it (see [`cholesky_solve`]). Scale the
+/// basis functions to about 1 for conditioning.
+#[allow(clippy::needless_range_loop)] // matrix code reads best with indices
+pub fn least_squares<const N: usize>(rows: impl IntoIterator<Item = ([f64; N], f64)>) -> Option<[f64; N]> {
+    let mut a = [[0.0f64; N]; N];
+    let mut b = [0.0f64; N];
+    for (basis, y) in rows {
+        for r in 0..N {
+            for c in 0..N {
+                a[r][c] += basis[r] * basis[c];
+            }
+            b[r] += basis[r] * y;
+        }
+    }
+    cholesky_solve(&a, &b)
+}
+
 /// The least-squares polynomial of degree `N − 1` through `(x, y)` points, coefficients highest
 /// degree first (as Table 5.1 prints them). `x` is scaled to about 1 inside, for conditioning.
 pub fn polyfit<const N: usize>(points: &[(f64, f64)]) -> Option<[f64; N]> {
     let scale = points.iter().map(|p| p.0.abs()).fold(0.0f64, f64::max).max(f64::MIN_POSITIVE);
-    let mut a = [[0.0f64; N]; N];
-    let mut b = [0.0f64; N];
-    for &(x, y) in points {
-        // Powers of the scaled x, lowest first.
-        let powers: [f64; N] = std::array::from_fn(|k| (x / scale).powi(k as i32));
-        for r in 0..N {
-            for c in 0..N {
-                a[r][c] += powers[r] * powers[c];
-            }
-            b[r] += powers[r] * y;
-        }
-    }
-    let scaled = cholesky_solve(&a, &b)?;
+    // Powers of the scaled x, lowest first.
+    let powers = |x: f64| -> [f64; N] { std::array::from_fn(|k| (x / scale).powi(k as i32)) };
+    let scaled = least_squares(points.iter().map(|&(x, y)| (powers(x), y)))?;
     Some(std::array::from_fn(|k| {
         let degree = N - 1 - k;
         scaled[degree] / scale.powi(degree as i32)

@@ -12,7 +12,7 @@ use std::{fmt, path::Path};
 use crate::{
     arrays::{self, ArrayError, Dtype},
     kernels::{filters::mean, tof::subtract_black},
-    linalg::cholesky_solve,
+    linalg::{least_squares, polyfit},
     sim::{simulate, Camera, Motion, Scene},
     Image,
 };
@@ -164,33 +164,12 @@ fn fit_pixel(samples: &[(f64, f64)]) -> [f64; 4] {
     let residual = |[a, b, c, d]: [f64; 4]| -> f64 {
         samples.iter().map(|&(x, y)| (a * (x + b).max(0.0).sqrt() + c * x + d - y).powi(2)).sum()
     };
-    let line = {
-        // Columns scaled to about 1 for conditioning.
-        let (mut m, mut v) = ([[0.0; 2]; 2], [0.0; 2]);
-        for &(x, y) in samples {
-            let basis = [x / x_max, 1.0];
-            for r in 0..2 {
-                for c in 0..2 {
-                    m[r][c] += basis[r] * basis[c];
-                }
-                v[r] += basis[r] * y;
-            }
-        }
-        cholesky_solve(&m, &v).map(|[c, d]| [0.0, 0.0, c / x_max, d])
-    };
+    let line = polyfit::<2>(samples).map(|[c, d]| [0.0, 0.0, c, d]);
     let curves = OFFSETS.iter().filter_map(|&b| {
+        // Basis functions scaled to about 1 for conditioning.
         let root_max = (x_max + b).sqrt();
-        let (mut m, mut v) = ([[0.0; 3]; 3], [0.0; 3]);
-        for &(x, y) in samples {
-            let basis = [(x + b).max(0.0).sqrt() / root_max, x / x_max, 1.0];
-            for r in 0..3 {
-                for c in 0..3 {
-                    m[r][c] += basis[r] * basis[c];
-                }
-                v[r] += basis[r] * y;
-            }
-        }
-        cholesky_solve(&m, &v).map(|[a, c, d]| [a / root_max, b, c / x_max, d])
+        least_squares(samples.iter().map(|&(x, y)| ([(x + b).max(0.0).sqrt() / root_max, x / x_max, 1.0], y)))
+            .map(|[a, c, d]| [a / root_max, b, c / x_max, d])
     });
     line.into_iter()
         .chain(curves)
