@@ -164,19 +164,7 @@ fn relief(x: f32, y: f32, size: f32) -> f32 {
 /// Distance along the ray and surface normal of the first hit on `object`.
 fn intersect(object: Object, o: [f32; 3], d: [f32; 3]) -> Option<(f32, [f32; 3])> {
     match object {
-        Object::Sphere { centre, radius } => {
-            let oc = [o[0] - centre[0], o[1] - centre[1], o[2] - centre[2]];
-            let b = dot(oc, d);
-            let c = dot(oc, oc) - radius * radius;
-            let disc = b * b - c;
-            if disc < 0.0 {
-                return None;
-            }
-            let t = -b - disc.sqrt();
-            let p = along(o, d, t);
-            let n = [(p[0] - centre[0]) / radius, (p[1] - centre[1]) / radius, (p[2] - centre[2]) / radius];
-            (t > 0.0).then_some((t, n))
-        }
+        Object::Sphere { centre, radius } => intersect_ellipsoid(centre, [radius; 3], o, d),
         Object::Bunny { centre } => BUNNY
             .iter()
             .filter_map(|&(offset, semi)| {
