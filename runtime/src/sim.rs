@@ -371,6 +371,11 @@ pub fn standing_at(camera: &Camera, motion: Motion, step: usize) -> Camera {
     Camera { pose: compose(&camera.pose, &moved), ..*camera }
 }
 
+/// The world ray (origin, direction) of camera-frame ray `dir` at a phase step's pose.
+fn world_ray(camera: &Camera, (origin, angle): ([f32; 3], f32), dir: [f32; 3]) -> ([f32; 3], [f32; 3]) {
+    (apply(&camera.pose, origin, true), apply(&camera.pose, rotate_z(dir, angle), false))
+}
+
 fn rotate_z([x, y, z]: [f32; 3], angle: f32) -> [f32; 3] {
     let (s, c) = angle.sin_cos();
     [c * x - s * y, s * x + c * y, z]
@@ -399,8 +404,7 @@ pub fn surface_points(
     margin: usize,
 ) -> Vec<[f32; 3]> {
     let k = camera.intrinsics;
-    let (origin, angle) = pose(motion, 4 * index);
-    let world_origin = apply(&camera.pose, origin, true);
+    let first = pose(motion, 4 * index);
     let side = |pixels: usize| (pixels + 2 * margin) * per_side;
     let (columns, rows) = (side(k.width), side(k.height));
     let mut points = Vec::with_capacity(columns * rows);
@@ -408,7 +412,8 @@ pub fn surface_points(
         for column in 0..columns {
             let at = |j: usize| (j as f32 + 0.5) / per_side as f32 - 0.5 - margin as f32;
             let dir = k.ray(at(column), at(row));
-            if let Some((t, _, _)) = scene.hit(world_origin, apply(&camera.pose, rotate_z(dir, angle), false)) {
+            let (origin, world_dir) = world_ray(camera, first, dir);
+            if let Some((t, _, _)) = scene.hit(origin, world_dir) {
                 points.push([t * dir[0], t * dir[1], t * dir[2]]);
             }
         }
@@ -444,13 +449,9 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
             k.ray(u, v)
         })
         .collect();
-    // The world ray of a camera-frame ray at a phase step's pose.
-    let world = |(origin, angle): ([f32; 3], f32), dir: [f32; 3]| {
-        (apply(&camera.pose, origin, true), apply(&camera.pose, rotate_z(dir, angle), false))
-    };
     let first = pose(motion, 4 * index);
     for pixel in 0..n {
-        let (origin, dir) = world(first, k.ray((pixel % w) as f32, (pixel / w) as f32));
+        let (origin, dir) = world_ray(camera, first, k.ray((pixel % w) as f32, (pixel / w) as f32));
         truth.data[pixel] = scene.hit(origin, dir).map_or(f32::NAN, |(t, _, _)| t);
     }
     for phase in 0..4 {
@@ -459,7 +460,7 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
         for pixel in 0..n {
             let (mut sum, mut modulated) = (0.0f32, 0.0f32);
             for sub in 0..ss * ss {
-                let (origin, dir) = world(step, rays[pixel * ss * ss + sub]);
+                let (origin, dir) = world_ray(camera, step, rays[pixel * ss * ss + sub]);
                 if let Some((t, reflectivity, cos)) = scene.hit(origin, dir) {
                     let signal = camera.gain * camera.integration_us * reflectivity * cos / (t * t);
                     sum += signal;
