@@ -36,8 +36,12 @@ pub const GRID: [Row; 16] = [
     row(7, true, 1.0, Some(180.0)),
 ];
 
-/// The default parameters (sec. 4.3.1: "a good default parameter set is θ = 1 % and MWS = 5").
-pub const DEFAULT: Row = GRID[1];
+/// The row of the default parameters (sec. 4.3.1: "a good default parameter set is θ = 1 % and
+/// MWS = 5").
+pub const DEFAULT: usize = 1;
+
+/// The row of the default parameters with the NH filter.
+pub const DEFAULT_WITH_NH: usize = 4;
 
 /// The row of the widest search without restriction (MWS 7, θ 0, no NH, no ρ): the buddha's
 /// best.

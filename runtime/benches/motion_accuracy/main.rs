@@ -22,7 +22,7 @@ mod scoring;
 
 use std::time::Instant;
 
-use dissertation::{Reference, Row, BUDDHA, DEFAULT, DRAGON, GRID, UNRESTRICTED};
+use dissertation::{Reference, Row, BUDDHA, DEFAULT, DEFAULT_WITH_NH, DRAGON, GRID, UNRESTRICTED};
 use gudsl_runtime::kernels::motion::{angle_of, correct_raw, mean_direction};
 use gudsl_runtime::kernels::tof::{demodulate, subtract_black};
 use gudsl_runtime::phase_normalization::PhaseCalibration;
@@ -90,8 +90,8 @@ impl Sequence {
         let (mut frames, mut truths, mut still, mut still_truths) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for k in 0..FRAMES {
             let frame = simulate(&scene, motion, camera, k);
-            // The static reference sees what this frame's first phase image saw: the frame a
-            // perfect compensation would give.
+            // The static reference sees what this frame's first phase image saw: the view
+            // compensation reconstructs.
             let standing = standing_at(camera, motion, 4 * k);
             let frame_still = simulate(&scene, Motion::Still, &standing, k);
             if k > 0 {
@@ -314,14 +314,14 @@ fn main() {
             grid.push((score, time));
         }
         let variants = [
-            ("without normalization", Method { normalization: Normalization::Off, ..Method::literal(DEFAULT) }),
+            ("without normalization", Method { normalization: Normalization::Off, ..Method::literal(GRID[DEFAULT]) }),
             (
                 "normalised for matching only",
-                Method { normalization: Normalization::MatchingOnly, ..Method::literal(DEFAULT) },
+                Method { normalization: Normalization::MatchingOnly, ..Method::literal(GRID[DEFAULT]) },
             ),
-            ("NH linear median", Method { nh: Nh::Linear, ..Method::literal(GRID[4]) }),
-            ("NH circular median", Method::literal(GRID[4])),
-            ("improved: sub-pixel", Method { subpixel: true, ..Method::literal(DEFAULT) }),
+            ("NH linear median", Method { nh: Nh::Linear, ..Method::literal(GRID[DEFAULT_WITH_NH]) }),
+            ("NH circular median", Method::literal(GRID[DEFAULT_WITH_NH])),
+            ("improved: sub-pixel", Method { subpixel: true, ..Method::literal(GRID[DEFAULT]) }),
             ("improved: sub-pixel, MWS 7 θ 0", Method { subpixel: true, ..Method::literal(GRID[UNRESTRICTED]) }),
             (
                 "MWS 7 θ 0, without normalization",
@@ -332,14 +332,15 @@ fn main() {
                 Method { normalization: Normalization::MatchingOnly, ..Method::literal(GRID[UNRESTRICTED]) },
             ),
         ];
-        let variant_scores: Vec<(&str, Score, Option<f64>)> = variants
+        // The labels say which column each is; the summary takes them in this order.
+        let variant_scores: Vec<(Score, Option<f64>)> = variants
             .iter()
-            .map(|(label, method)| {
+            .map(|(_, method)| {
                 let (score, _, time) = compensate(gpu.as_ref(), method, s, &calibration);
-                (*label, score, time)
+                (score, time)
             })
             .collect();
-        summaries.push((s, *still, *moving, grid[1], grid[UNRESTRICTED], grid[best.1], best.1, variant_scores));
+        summaries.push((s, *still, *moving, grid[DEFAULT], grid[UNRESTRICTED], grid[best.1], best.1, variant_scores));
     }
     println!("\nSummary (C2M mean in cm, change against the moving scene; default: MWS 5, θ 1 %, normalised)\n");
     println!("| scene | static | moving | default | best row | default, not normalised | default, normalised for matching only | MWS 7 θ 0: not normalised / for matching only / normalised | NH linear | NH circular | improved | improved MWS 7 θ 0 | motion's error removed: default / improved MWS 7 θ 0 | ms: default / improved; MWS 7 θ 0: literal / improved |");
@@ -362,21 +363,21 @@ fn main() {
             if row.smooth { "NH " } else { "" },
             row.theta_percent,
             row.rho.map_or("-".into(), |r| format!("{r:.0}")),
-            cell(&variants[0].1),
-            cell(&variants[1].1),
-            variants[6].1.c2m.mean,
-            variants[7].1.c2m.mean,
+            cell(&variants[0].0),
+            cell(&variants[1].0),
+            variants[6].0.c2m.mean,
+            variants[7].0.c2m.mean,
             mws7.0.c2m.mean,
-            cell(&variants[2].1),
-            cell(&variants[3].1),
-            cell(&variants[4].1),
-            cell(&variants[5].1),
+            cell(&variants[2].0),
+            cell(&variants[3].0),
+            cell(&variants[4].0),
+            cell(&variants[5].0),
             removed(&default.0),
-            removed(&variants[5].1),
+            removed(&variants[5].0),
             time_text(default.1),
-            time_text(variants[4].2),
+            time_text(variants[4].1),
             time_text(mws7.1),
-            time_text(variants[5].2)
+            time_text(variants[5].1)
         );
     }
     println!("\nThe dissertation: buddha 5.96 → 1.14 cm (−81 %), dragon 7.75 → 2.07 cm (−73 %), best rows.");
