@@ -362,9 +362,9 @@ fn pose(motion: Motion, step: usize) -> ([f32; 3], f32) {
     }
 }
 
-/// The camera standing still where `motion` has taken it at phase step `step`: its frames are
-/// what a perfect motion compensation of that step's frame would give (the static reference
-/// of chapter 4's Table 4.1, seen from the same place).
+/// The camera standing still where `motion` has taken it at phase step `step`: its frames show
+/// the view a motion compensation of that step's frame reconstructs (the static reference of
+/// chapter 4's Table 4.1, seen from the same place).
 pub fn standing_at(camera: &Camera, motion: Motion, step: usize) -> Camera {
     let (origin, angle) = pose(motion, step);
     let moved = pose_from([0.0, 0.0, angle as f64], origin.map(f64::from));
