@@ -15,89 +15,18 @@ use crate::{
     Binding, CodegenError, KernelParam,
 };
 
-/// WGSL's keywords and reserved words that a GU-DSL name may be: such a name gets a `_` appended.
-const RESERVED: &[&str] = &[
-    "alias",
-    "array",
-    "atomic",
-    "bitcast",
-    "bool",
-    "break",
-    "case",
-    "const",
-    "const_assert",
-    "continue",
-    "continuing",
-    "default",
-    "diagnostic",
-    "discard",
-    "else",
-    "enable",
-    "f16",
-    "f32",
-    "fn",
-    "for",
-    "i32",
-    "if",
-    "let",
-    "loop",
-    "mat2x2",
-    "mat3x3",
-    "mat4x4",
-    "override",
-    "ptr",
-    "requires",
-    "return",
-    "sampler",
-    "struct",
-    "switch",
-    "texture_2d",
-    "true",
-    "false",
-    "u32",
-    "var",
-    "vec2",
-    "vec3",
-    "vec4",
-    "while",
-    "params",
-    "main",
-    "select",
-    "min",
-    "max",
-    "clamp",
-    "abs",
-    "dot",
-    "cross",
-    "length",
-    "distance",
-    "normalize",
-    "floor",
-    "ceil",
-    "exp",
-    "log",
-    "pow",
-    "sqrt",
-    "sin",
-    "cos",
-    "tan",
-    "atan2",
-    "mix",
-    "step",
-    "sign",
-    "any",
-    "all",
-    "self",
-    "target",
-    "type",
-    "module",
-    "handle",
-    "storage",
-    "uniform",
-    "workgroup",
-    "private",
-    "function",
-];
+/// Names the generated module declares itself, besides those starting with [`GENERATED`]: the
+/// uniform block, the entry point, and naga's address space of textures.
+const OWN_NAMES: &[&str] = &["params", "main", "handle"];
+
+/// Whether a GU-DSL name cannot stand in WGSL as it is: a keyword or reserved word, a
+/// predeclared type, enumerant or built-in function (naga's lists, kept with the WGSL
+/// specification), or a name of the generator's own.
+fn is_taken(name: &str) -> bool {
+    naga::keywords::wgsl::RESERVED.contains(&name)
+        || naga::keywords::wgsl::BUILTIN_IDENTIFIERS.contains(&name)
+        || OWN_NAMES.contains(&name)
+}
 
 /// Names the generator itself declares start with this; a user name that does is renamed.
 pub(crate) const GENERATED: &str = "gudsl_";
@@ -137,7 +66,7 @@ pub(crate) fn bare(code: String) -> String {
 
 /// A GU-DSL name as a WGSL identifier.
 pub(crate) fn ident(name: &str) -> String {
-    if RESERVED.contains(&name) || name.starts_with(GENERATED) || name.starts_with("__") {
+    if is_taken(name) || name.starts_with(GENERATED) || name.starts_with("__") {
         format!("{name}_")
     } else {
         name.to_string()

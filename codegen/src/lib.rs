@@ -13,6 +13,7 @@ mod flow;
 mod functions;
 mod images;
 mod kernel;
+pub mod queries;
 mod stmt;
 mod structured;
 mod types;
@@ -168,7 +169,16 @@ pub fn implementation<'db>(
     }
 }
 
-/// The kernel of a device diagram, validated; or what could not be generated.
+/// The kernel of a device diagram, validated; or what could not be generated. Remembered by
+/// the database ([`queries::device_kernel`]): asked again in the same revision, it is not
+/// generated again.
 pub fn generate(sema: &Semantics<'_>, diagram: &Definition) -> Result<Kernel, Vec<CodegenError>> {
-    kernel::generate(sema, diagram)
+    let db = sema.db();
+    let fqn = gudsl_model::hir::Fqn::new(db, diagram.fqn.clone());
+    let remembered = queries::device_kernel(db, sema.workspace(), fqn);
+    // The query answers for the first device diagram of the name; a duplicate is generated here.
+    match remembered {
+        Some(kernel) if queries::device_diagram_named(sema, &diagram.fqn) == Some(diagram) => kernel.clone(),
+        _ => queries::generate_uncached(sema, diagram),
+    }
 }

@@ -1,7 +1,7 @@
 //! Source hygiene (ARCHITECTURE.md, "Invariants"): every Rust file of the project opens with a
 //! `//!` line saying what it does and, unless generated, has at most 600 lines; ARCHITECTURE.md
-//! names every top-level module of every crate; the modules of `hir` depend on each other
-//! without circles.
+//! names every top-level module of every crate; the modules of every module folder of every
+//! crate depend on each other without circles.
 
 use std::{
     collections::{BTreeMap, BTreeSet},
@@ -83,8 +83,10 @@ fn code_of(path: &Path) -> String {
     text.lines().map(|line| line.split("//").next().unwrap_or_default()).collect::<Vec<_>>().join("\n")
 }
 
-/// The modules of `hir` that `code` uses: a module name followed by `::` (`items::TypeKind`,
-/// `use super::{scope::Scope}`), or a name `hir/mod.rs` re-exports (`use super::Semantics`).
+/// The sibling modules that `code` uses: a module name followed by `::` where it starts a path
+/// or follows `super::`, `self::` or `crate::` (`items::TypeKind`, `use super::{scope::Scope}`,
+/// `crate::commands::run`), or a name the parent re-exports imported from it
+/// (`use super::Semantics`).
 fn used_modules(code: &str, modules: &BTreeSet<String>, reexports: &BTreeMap<String, String>) -> BTreeSet<String> {
     let mut used = BTreeSet::new();
     let words: Vec<(usize, &str)> = code
@@ -99,14 +101,11 @@ fn used_modules(code: &str, modules: &BTreeSet<String>, reexports: &BTreeMap<Str
     for (at, word) in words {
         let before = code[..at].trim_end();
         let after = &code[at + word.len()..];
-        if modules.contains(word) && after.starts_with("::") && !before.ends_with('.') {
+        if modules.contains(word) && after.starts_with("::") && !before.ends_with('.') && names_a_sibling(code, at) {
             used.insert(word.to_string());
         } else if let Some(module) = reexports.get(word) {
-            if before.ends_with("super::")
-                || before.ends_with("hir::")
-                || before.ends_with(',')
-                || before.ends_with('{')
-            {
+            let in_use = code[..at].rfind("use ").is_some_and(|start| !code[start..at].contains(';'));
+            if in_use && (before.ends_with("super::") || before.ends_with(',') || before.ends_with('{')) {
                 used.insert(module.clone());
             }
         }
@@ -114,46 +113,71 @@ fn used_modules(code: &str, modules: &BTreeSet<String>, reexports: &BTreeMap<Str
     used
 }
 
-#[test]
-fn hir_modules_depend_on_each_other_without_circles() {
-    let hir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/hir");
-    let test_only = ["golden", "tests"];
-    let mut files: BTreeMap<String, Vec<PathBuf>> = BTreeMap::new();
-    for entry in std::fs::read_dir(&hir).unwrap().flatten() {
-        let path = entry.path();
-        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-        if name == "mod" || test_only.contains(&name.as_str()) {
+/// Whether the path segment at `at` is the first of a path that starts here or in the folder's
+/// parent (`super::`, `self::`, `crate::`): inside a `use` tree, the path the innermost brace
+/// around it extends decides (`use gudsl_model::{graph::Graph}` names no sibling `graph`).
+fn names_a_sibling(code: &str, at: usize) -> bool {
+    let from_parent = |before: &str| {
+        let before = before.trim_end();
+        !before.ends_with("::") || ["super::", "self::", "crate::"].iter().any(|p| before.ends_with(p))
+    };
+    let statement = code[..at].rfind(';').map_or(0, |end| end + 1);
+    let is_use = |&(u, _): &(usize, &str)| {
+        code[..statement + u].chars().next_back().is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+    };
+    let Some(tree) = code[statement..at].match_indices("use ").find(is_use).map(|(u, _)| statement + u) else {
+        return from_parent(&code[..at]);
+    };
+    let mut depth = 0;
+    for (offset, c) in code[tree..at].char_indices().rev() {
+        match c {
+            '}' => depth += 1,
+            '{' if depth == 0 => {
+                let extended = code[tree..tree + offset].trim_end();
+                return ["super::", "self::", "crate::"].iter().any(|p| extended.ends_with(p));
+            }
+            '{' => depth -= 1,
+            _ => {}
+        }
+    }
+    from_parent(&code[..at])
+}
+
+/// The modules a module folder declares (`mod x;` in its `mod.rs`, `lib.rs` or `main.rs`),
+/// with their files, leaving out those only tests compile (`#[cfg(test)]`).
+fn child_modules(parent: &Path) -> BTreeMap<String, Vec<PathBuf>> {
+    let dir = parent.parent().unwrap();
+    let code = code_of(parent);
+    let mut children = BTreeMap::new();
+    let mut test_only = false;
+    for line in code.lines().map(str::trim) {
+        if line.starts_with("#[cfg(test)]") {
+            test_only = true;
             continue;
         }
-        let mut module_files = Vec::new();
-        if path.is_dir() {
-            rust_files(&path, &mut module_files);
-        } else {
-            module_files.push(path);
+        let declared = line.trim_start_matches("pub(crate) ").trim_start_matches("pub ");
+        if let Some(name) = declared.strip_prefix("mod ").and_then(|rest| rest.strip_suffix(';')) {
+            let (file, folder) = (dir.join(format!("{name}.rs")), dir.join(name));
+            let mut files = Vec::new();
+            if folder.is_dir() {
+                rust_files(&folder, &mut files);
+            }
+            if file.is_file() {
+                files.push(file);
+            }
+            if !test_only && !files.is_empty() {
+                children.insert(name.to_string(), files);
+            }
         }
-        files.insert(name, module_files);
-    }
-    let modules: BTreeSet<String> = files.keys().cloned().collect();
-    assert!(modules.contains("semantics") && modules.contains("validate"), "{modules:?}");
-    // `pub use x::{A, B};` in hir/mod.rs: A and B stand for module x.
-    let mut reexports = BTreeMap::new();
-    for line in code_of(&hir.join("mod.rs")).lines() {
-        let Some(rest) = line.trim().strip_prefix("pub use ") else { continue };
-        let Some((module, names)) = rest.split_once("::") else { continue };
-        for name in names.split(|c: char| !(c.is_alphanumeric() || c == '_')).filter(|n| !n.is_empty()) {
-            reexports.insert(name.to_string(), module.to_string());
+        if !line.is_empty() {
+            test_only = false;
         }
     }
-    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    for (module, paths) in &files {
-        let mut deps = BTreeSet::new();
-        for path in paths {
-            deps.extend(used_modules(&code_of(path), &modules, &reexports));
-        }
-        deps.remove(module);
-        graph.insert(module.clone(), deps);
-    }
-    // Depth-first search for a back edge.
+    children
+}
+
+/// A circle in `graph`, if it has one (depth-first search for a back edge).
+fn find_circle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
     fn visit(
         module: &str,
         graph: &BTreeMap<String, BTreeSet<String>>,
@@ -178,11 +202,75 @@ fn hir_modules_depend_on_each_other_without_circles() {
         None
     }
     let mut done = BTreeSet::new();
-    for module in graph.keys() {
-        let circle = visit(module, &graph, &mut Vec::new(), &mut done);
-        assert!(circle.is_none(), "hir modules in a circle: {}\ngraph: {graph:#?}", circle.unwrap().join(" -> "));
+    graph.keys().find_map(|module| visit(module, graph, &mut Vec::new(), &mut done))
+}
+
+/// How the modules declared by `parent` (a `mod.rs`, `lib.rs` or `main.rs`) use each other.
+fn module_graph(parent: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let files = child_modules(parent);
+    let modules: BTreeSet<String> = files.keys().cloned().collect();
+    // `pub use x::{A, B};` in the parent: A and B stand for module x.
+    let mut reexports = BTreeMap::new();
+    for line in code_of(parent).lines() {
+        let Some(rest) = line.trim().strip_prefix("pub use ") else { continue };
+        let Some((module, names)) = rest.split_once("::") else { continue };
+        if !modules.contains(module) {
+            continue;
+        }
+        for name in names.split(|c: char| !(c.is_alphanumeric() || c == '_')).filter(|n| !n.is_empty()) {
+            reexports.insert(name.to_string(), module.to_string());
+        }
     }
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for (module, paths) in &files {
+        let mut deps = BTreeSet::new();
+        for path in paths {
+            deps.extend(used_modules(&code_of(path), &modules, &reexports));
+        }
+        deps.remove(module);
+        graph.insert(module.clone(), deps);
+    }
+    graph
+}
+
+/// Every module folder of the crates: their `lib.rs`/`main.rs` and every `mod.rs` under `src/`.
+fn module_folders() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut parents = Vec::new();
+    for krate in ["codegen", "host", "model", "server", "render", "runtime"] {
+        let mut files = Vec::new();
+        rust_files(&root.join(krate).join("src"), &mut files);
+        parents.extend(files.into_iter().filter(|f| {
+            let name = f.file_name().unwrap().to_string_lossy();
+            name == "mod.rs" || (f.parent().unwrap().ends_with("src") && (name == "lib.rs" || name == "main.rs"))
+        }));
+    }
+    parents.sort();
+    parents
+}
+
+#[test]
+fn modules_depend_on_each_other_without_circles() {
+    let folders = module_folders();
+    assert!(folders.len() > 20, "{folders:?}");
+    let circles: Vec<String> = folders
+        .iter()
+        .filter_map(|parent| {
+            let circle = find_circle(&module_graph(parent))?;
+            Some(format!("{}: {}", parent.parent().unwrap().display(), circle.join(" -> ")))
+        })
+        .collect();
+    assert!(circles.is_empty(), "modules in a circle:\n{}", circles.join("\n"));
+}
+
+#[test]
+fn the_modules_stand_where_architecture_says() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let hir = module_graph(&src.join("hir/mod.rs"));
     // The facade sits above resolution, validation above everything it checks.
-    assert!(graph["validate"].contains("semantics") && !graph["semantics"].contains("validate"), "{graph:#?}");
-    assert!(graph["infer"].contains("semantics"), "{graph:#?}");
+    assert!(hir["validate"].contains("semantics") && !hir["semantics"].contains("validate"), "{hir:#?}");
+    assert!(hir["infer"].contains("semantics"), "{hir:#?}");
+    // The language server and the commands share what they share below both.
+    let server = module_graph(&src.join("../../server/src/main.rs"));
+    assert!(!server["lsp"].contains("commands") && !server["commands"].contains("lsp"), "{server:#?}");
 }

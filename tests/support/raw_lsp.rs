@@ -125,7 +125,17 @@ impl Lsp {
     /// The next notification `method` for which `wanted` holds, within `seconds` (the server's
     /// requests are answered meanwhile); `None` if none came.
     pub fn notification(&mut self, method: &str, seconds: u64, wanted: impl Fn(&Value) -> bool) -> Option<Value> {
-        let deadline = std::time::Instant::now() + Duration::from_secs(seconds);
+        self.notification_within(method, Duration::from_secs(seconds), wanted)
+    }
+
+    /// [`Lsp::notification`] within `wait`.
+    pub fn notification_within(
+        &mut self,
+        method: &str,
+        wait: Duration,
+        wanted: impl Fn(&Value) -> bool,
+    ) -> Option<Value> {
+        let deadline = std::time::Instant::now() + wait;
         loop {
             let left = deadline.checked_duration_since(std::time::Instant::now())?;
             let message = self.messages.recv_timeout(left).ok()?;

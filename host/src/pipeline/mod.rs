@@ -17,13 +17,16 @@ mod apart;
 mod components;
 pub mod data;
 pub mod device;
+mod error;
 mod files;
 mod output;
+mod preparations;
+mod report;
 mod sizes;
 
 use std::{
     collections::VecDeque,
-    path::{Path, PathBuf},
+    path::Path,
     sync::atomic::{AtomicBool, Ordering},
     thread::{JoinHandle, Scope, ScopedJoinHandle},
     time::{Duration, Instant},
@@ -31,8 +34,7 @@ use std::{
 
 use gudsl_model::{
     ast::ClassKind,
-    hir::{pipeline::PipelinePlan, Diagnostic, DiagnosticCode, Semantics, Severity},
-    syntax::TextRange,
+    hir::{pipeline::PipelinePlan, Semantics},
 };
 use gudsl_runtime::Gpu;
 
@@ -41,85 +43,19 @@ pub use components::Behaviors;
 use components::{Component, Inputs, Outputs};
 use data::Item;
 use device::Device;
+pub use error::{ErrorKind, PipelineError};
 pub use output::OutputDir;
+pub use preparations::{model_dir, Preparations};
+pub use report::{summary, table, write_report, PipelineReport, StageTime};
 
-/// A problem that stops a pipeline, at a place of the model file when it has one.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PipelineError {
-    pub kind: ErrorKind,
-    /// The instance it concerns, if any.
-    pub stage: Option<String>,
-    /// Where in the model file (an instance's name, a parameter's value).
-    pub range: Option<TextRange>,
-    pub message: String,
-}
-
-/// What kind of problem: as the diagnostic codes say.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ErrorKind {
-    /// A file that cannot be read or is not what the component expects (E0404).
-    Input,
-    /// Images that cannot meet (E0405).
-    Mismatch,
-    /// A component the runtime cannot run, a diagram with nothing to run (E0405 when it is
-    /// run; the model itself is right).
-    NotRunnable,
-    /// A stage failed while running.
-    Failed,
-    /// An output that cannot be written.
-    Output,
-    Cancelled,
-}
-
-impl PipelineError {
-    /// Its diagnostic code: E0404 for an input, E0405 for the rest.
-    pub fn code(&self) -> DiagnosticCode {
-        match self.kind {
-            ErrorKind::Input => DiagnosticCode::PipelineInput,
-            _ => DiagnosticCode::PipelineMismatch,
-        }
+/// The GPU a pipeline runs on: the first adapter, its kernels timed where it has timestamp
+/// queries; `None`, the CPU reference, with `cpu` or when there is no adapter (`no_adapter`
+/// told why).
+pub fn gpu(cpu: bool, no_adapter: impl FnOnce(String)) -> Option<Gpu> {
+    if cpu {
+        return None;
     }
-}
-
-impl std::fmt::Display for PipelineError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match &self.stage {
-            Some(stage) => write!(f, "`{stage}`: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-/// What a run did.
-#[derive(Debug, Clone)]
-pub struct PipelineReport {
-    pub diagram: String,
-    pub device: String,
-    pub frames: usize,
-    pub total: Duration,
-    /// Of `total`, reading the components' files before the first frame.
-    pub loading: Duration,
-    /// Per stage, in the plan's order.
-    pub stages: Vec<StageTime>,
-    /// Files written, under the output folder.
-    pub outputs: Vec<PathBuf>,
-    pub outcome: Result<(), PipelineError>,
-}
-
-/// The time one stage took over the run.
-#[derive(Debug, Clone, PartialEq)]
-pub struct StageTime {
-    pub instance: String,
-    pub class: String,
-    /// On the CPU: processing, encoding, writing.
-    pub host: Duration,
-    /// Its kernels on the GPU (where the adapter has timestamp queries).
-    pub device: Duration,
-    /// Items it processed.
-    pub items: usize,
-    /// Whether it runs on a thread of its own (bound through an `async` port): its host time
-    /// then overlaps the others'.
-    pub apart: bool,
+    Gpu::with_timestamps().map_err(|error| no_adapter(error.to_string())).ok()
 }
 
 /// Told about a run's progress.
@@ -140,7 +76,7 @@ struct At<'a, 'g> {
 }
 
 /// A plan with a component for each stage, ready to run.
-pub struct Prepared {
+pub struct PreparedPipeline {
     plan: PipelinePlan,
     /// Each stage's component, `None` while a writer thread has it.
     components: Vec<Option<Box<dyn Component>>>,
@@ -180,7 +116,7 @@ pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
 /// Makes the plan's components: each a component of the ToF library or of the workspace (with
 /// the kernels of `behaviors`), with its parameters and the files it reads (relative to
 /// `model_dir`) checked; every problem found, not just the first.
-pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> Result<Prepared, Vec<PipelineError>> {
+pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> Result<PreparedPipeline, Vec<PipelineError>> {
     let mut errors = Vec::new();
     let mut made = Vec::new();
     for (index, stage) in plan.stages.iter().enumerate() {
@@ -229,7 +165,7 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
                 _ => Mode::InOrder,
             })
             .collect();
-        Ok(Prepared {
+        Ok(PreparedPipeline {
             plan: plan.clone(),
             writers: made.iter().map(|_| None).collect(),
             components: made,
@@ -241,27 +177,7 @@ pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> 
     }
 }
 
-/// What keeps a pipeline the plan found no problem in from running, found without running it
-/// (its files' headers read, its components made): diagnostics of the plan's file, E0404 and
-/// E0405, at the instance or parameter concerned (else at the diagram's name). A component
-/// the runtime cannot run is not one: the model is right, only `run` refuses it.
-pub fn check(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> Vec<Diagnostic> {
-    let Err(errors) = prepare(plan, behaviors, model_dir) else { return Vec::new() };
-    errors
-        .into_iter()
-        .filter(|error| error.kind != ErrorKind::NotRunnable)
-        .map(|error| Diagnostic {
-            code: error.code(),
-            severity: Severity::Error,
-            range: error.range.unwrap_or(plan.name_range),
-            message: error.message,
-            suggestion: None,
-            related: Vec::new(),
-        })
-        .collect()
-}
-
-impl Prepared {
+impl PreparedPipeline {
     /// The frames the sources give (the longest source).
     pub fn frames(&self) -> usize {
         self.frames
@@ -462,7 +378,7 @@ impl Prepared {
     ) -> Result<(), PipelineError> {
         let processed = thread.join().map_err(|panic| {
             let why = apart::panic_message(&*panic);
-            // Its component is lost with the thread: this `Prepared` cannot run again.
+            // Its component is lost with the thread: this pipeline cannot run again.
             self.error(Some(index), ErrorKind::Failed, format!("its thread panicked: {why}"))
         })?;
         self.components[index] = Some(processed.component);
@@ -483,7 +399,7 @@ impl Prepared {
         let Some(writer) = self.writers[index].take() else { return Ok(()) };
         let written = writer.join().map_err(|panic| {
             let why = apart::panic_message(&*panic);
-            // Its component is lost with the thread: this `Prepared` cannot run again.
+            // Its component is lost with the thread: this pipeline cannot run again.
             self.error(Some(index), ErrorKind::Failed, format!("its writer thread panicked: {why}"))
         })?;
         self.components[index] = Some(written.component);

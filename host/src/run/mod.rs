@@ -1,6 +1,6 @@
 //! Running host activity diagrams (chapter 10.3): `Main` and any other diagram without
 //! parameters. [`prepare`] lowers the diagram (everything that cannot run is an error with its
-//! range, before anything runs) and generates the kernels its calc nodes launch; [`Prepared::run`]
+//! range, before anything runs) and generates the kernels its calc nodes launch; [`PreparedRun::run`]
 //! then runs it on a wgpu device without the model — viewer images go to the output folder, and
 //! the [`Report`] says how the run ended, what each calc node took and what was printed.
 
@@ -13,6 +13,7 @@ mod ir;
 mod lower;
 mod native;
 mod printf;
+mod report;
 mod value;
 
 use std::{
@@ -29,12 +30,13 @@ use gudsl_model::{
 use gudsl_runtime::Gpu;
 
 pub use ir::Span;
+pub use report::{summary, write_report};
 pub use value::Value;
 
 use crate::launch::Launcher;
 
 /// A diagram ready to run: lowered, its kernels generated.
-pub struct Prepared {
+pub struct PreparedRun {
     program: ir::Program,
     kernels: Vec<Kernel>,
     /// The file the diagram is declared in.
@@ -47,11 +49,18 @@ pub struct Prepared {
 
 /// Lowers the activity diagram `def` and generates its kernels; or every construct that
 /// cannot run.
-pub fn prepare(sema: &Semantics<'_>, def: &Definition) -> Result<Prepared, Vec<RunError>> {
+pub fn prepare(sema: &Semantics<'_>, def: &Definition) -> Result<PreparedRun, Vec<RunError>> {
     let lowered = lower::lower(sema, def)?;
     let path = def.file.path(sema.db());
     let base_dir = Path::new(path).parent().map(Path::to_path_buf).unwrap_or_default();
-    Ok(Prepared { program: lowered.program, kernels: lowered.kernels, file: def.file, base_dir, native_loops: true })
+    Ok(PreparedRun { program: lowered.program, kernels: lowered.kernels, file: def.file, base_dir, native_loops: true })
+}
+
+/// The GPU a host run launches its kernels on: the first wgpu adapter; else what to install.
+pub fn gpu() -> Result<Gpu, String> {
+    Gpu::new().map_err(|error| {
+        format!("no GPU adapter ({error}); without a GPU, install Mesa's Vulkan driver (Debian: mesa-vulkan-drivers)")
+    })
 }
 
 /// What a run tells as it goes, and how it is stopped.
@@ -168,7 +177,7 @@ impl fmt::Display for RunError {
 
 impl std::error::Error for RunError {}
 
-impl Prepared {
+impl PreparedRun {
     pub fn diagram(&self) -> &str {
         &self.program.diagram
     }

@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use gudsl_codegen::Kernel;
 use gudsl_host::{
-    run::{prepare, Prepared, RunError},
+    run::{prepare, PreparedRun, RunError},
     Arg, Launcher, Number, WorkRange,
 };
 use gudsl_model::{
@@ -123,7 +123,7 @@ pub fn generation(sources: &[(String, String)], name: &str) -> Result<Kernel, Ve
 }
 
 /// The host diagram `name` of these `(path, text)` files, prepared to run.
-pub fn prepared(sources: &[(String, String)], name: &str) -> Result<Prepared, Vec<RunError>> {
+pub fn prepared(sources: &[(String, String)], name: &str) -> Result<PreparedRun, Vec<RunError>> {
     with_diagram(sources, name, prepare)
 }
 

@@ -1,11 +1,13 @@
 //! `gudsl check [PATH…]`: reports every syntax and semantic problem in the given files and
 //! folders (the current folder by default), checked together as one workspace, in the format
-//! asked for (`report`). Exit code: 0 clean, 1 errors (or warnings with `--deny-warnings`),
+//! asked for (`report`): every diagnostic the editor shows, decided in one place
+//! (`gudsl_host::diagnostics`). Exit code: 0 clean, 1 errors (or warnings with `--deny-warnings`),
 //! 2 when a path could not be read (the others are still checked and reported).
 
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::Args;
+use gudsl_host::{diagnostics::file_diagnostics, pipeline::Preparations};
 use gudsl_model::{hir::Severity, Analysis, FileId};
 
 use crate::{
@@ -34,7 +36,7 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     let loaded = workspace::load(&paths);
     // The documents form one workspace.
     let (host, files) = workspace::analysis_host(&loaded.documents);
-    let Some(report) = diagnose(loaded, &host.analysis(), &files) else {
+    let Some(report) = diagnose(loaded, &host.analysis(), &files, &Preparations::default()) else {
         eprintln!("gudsl check: the analysis was cancelled");
         return ExitCode::from(2);
     };
@@ -56,15 +58,18 @@ pub fn run(args: &CheckArgs) -> ExitCode {
 }
 
 /// Every problem of the loaded documents (one workspace, `files` in the same order), with the
-/// paths that could not be read; `None` if the analysis was cancelled.
-pub(crate) fn diagnose(loaded: workspace::Loaded, analysis: &Analysis, files: &[FileId]) -> Option<Report> {
+/// paths that could not be read; `None` if the analysis was cancelled. The pipelines the check
+/// prepares stay in `preparations`, for a run.
+pub(crate) fn diagnose(
+    loaded: workspace::Loaded,
+    analysis: &Analysis,
+    files: &[FileId],
+    preparations: &Preparations,
+) -> Option<Report> {
     let mut report = Report { unreadable: loaded.errors, ..Report::default() };
     for (document, &file) in loaded.documents.into_iter().zip(files) {
-        let (found, index) = analysis.diagnostics(file).ok()?;
-        let mut found = found.to_vec();
-        if !found.iter().any(|d| d.severity == Severity::Error) {
-            found.extend(super::pipeline::file_diagnostics(analysis, file).ok()?);
-        }
+        let found = file_diagnostics(analysis, file, preparations).ok()?;
+        let index = analysis.line_index(file).ok()?;
         let file_index = report.files.len();
         report.findings.extend(found.iter().map(|d| {
             Finding {

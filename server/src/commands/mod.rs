@@ -11,6 +11,7 @@ pub mod wgsl;
 
 use std::{path::PathBuf, process::ExitCode};
 
+use gudsl_host::pipeline::Preparations;
 use gudsl_model::{
     analysis::FileId,
     hir::{DiagnosticCode, Severity},
@@ -22,17 +23,24 @@ use crate::{
     workspace,
 };
 
+/// A model loaded and checked without errors: its files, the report of its warnings, and the
+/// pipelines the check prepared.
+pub struct Checked {
+    pub host: AnalysisHost,
+    pub files: Vec<FileId>,
+    pub report: report::Report,
+    pub preparations: Preparations,
+}
+
 /// The files under `paths`, loaded into one workspace and checked; or, when a path could not be
 /// read (exit code 2), the model has errors (1) or a file a pipeline reads is missing or
 /// malformed (E0404, 2), the exit code after printing why `command` does nothing.
-pub fn checked_model(
-    paths: &[PathBuf],
-    command: &str,
-) -> Result<(AnalysisHost, Vec<FileId>, report::Report), ExitCode> {
+pub fn checked_model(paths: &[PathBuf], command: &str) -> Result<Checked, ExitCode> {
     let loaded = workspace::load(paths);
     let unreadable = !loaded.errors.is_empty();
     let (host, files) = workspace::analysis_host(&loaded.documents);
-    let Some(report) = check::diagnose(loaded, &host.analysis(), &files) else {
+    let preparations = Preparations::default();
+    let Some(report) = check::diagnose(loaded, &host.analysis(), &files, &preparations) else {
         eprintln!("gudsl {command}: the analysis was cancelled");
         return Err(ExitCode::from(2));
     };
@@ -45,12 +53,7 @@ pub fn checked_model(
         let unreadable_input = report.findings.iter().any(|f| f.code == DiagnosticCode::PipelineInput);
         return Err(refuse(&report, if unreadable_input { 2 } else { 1 }));
     }
-    Ok((host, files, report))
-}
-
-/// Whether `--diagram wanted` names the diagram `fqn`: its fully qualified or its simple name.
-pub fn names_diagram(wanted: &str, fqn: &str) -> bool {
-    wanted == fqn || fqn.rsplit('.').next() == Some(wanted)
+    Ok(Checked { host, files, report, preparations })
 }
 
 /// Prints the problems and the unreadable paths (as `gudsl check` does) and exits with `code`.

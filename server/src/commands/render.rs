@@ -71,7 +71,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             LayoutFile::default()
         });
         for graph in graphs {
-            if args.diagram.as_deref().is_some_and(|wanted| !super::names_diagram(wanted, &graph.id)) {
+            if args.diagram.as_deref().is_some_and(|wanted| !gudsl_host::named::names_diagram(wanted, &graph.id)) {
                 continue;
             }
             let hints = Hints { pins: layout.pins(&graph.id), previous: None };

@@ -12,18 +12,22 @@
 use std::{
     collections::HashSet,
     io::{IsTerminal, Write},
-    path::{Path, PathBuf},
+    path::PathBuf,
     process::ExitCode,
     time::{Duration, Instant},
 };
 
 use clap::Args;
-use gudsl_host::run::{Ending, Observer, Prepared, Report, RunError, RunErrorKind};
+use gudsl_host::{
+    named::{self, Runnable},
+    run::{summary, write_report, Observer, Report, RunError, RunErrorKind},
+};
 use gudsl_model::{
     analysis::FileId,
-    hir::{DefKind, Definition, DiagnosticCode, Semantics, Severity},
+    hir::{DiagnosticCode, Severity},
 };
 
+use super::Checked;
 use crate::report::{self, Finding};
 
 #[derive(Args)]
@@ -49,27 +53,29 @@ pub struct RunArgs {
 }
 
 pub fn run(args: &RunArgs) -> ExitCode {
-    let (host, files, mut checked) = match super::checked_model(&args.paths, "run") {
+    let Checked { host, files, report: mut checked, preparations } = match super::checked_model(&args.paths, "run") {
         Ok(checked) => checked,
         Err(code) => return code,
     };
     let analysis = host.analysis();
-    let chosen = analysis.with_semantics(|sema| choose(sema, &files, args.diagram.as_deref()));
+    let chosen = analysis.with_semantics(|sema| named::runnable(sema, &files, args.diagram.as_deref()));
     let diagram = match answered(chosen) {
         Err(code) => return code,
-        Ok(Chosen::Pipeline(fqn)) => {
+        Ok(Runnable::Pipeline(fqn)) => {
             let pipeline = super::pipeline::PipelineArgs {
                 diagram: &fqn,
                 frames: args.frames,
                 cpu: args.cpu,
                 output: args.output.as_deref(),
             };
-            return super::pipeline::run(&analysis, &files, checked, &pipeline);
+            return super::pipeline::run(&analysis, &files, &preparations, checked, &pipeline);
         }
-        Ok(Chosen::Activity(fqn)) => fqn,
+        Ok(Runnable::Activity(fqn)) => fqn,
     };
     let output = args.output.clone().unwrap_or_else(|| PathBuf::from("."));
-    let prepared = analysis.with_semantics(|sema| prepare_named(sema, &files, &diagram));
+    let prepared = analysis.with_semantics(|sema| {
+        named::activity_named(sema, &files, &diagram).map(|def| gudsl_host::run::prepare(sema, def))
+    });
     let prepared = match answered(prepared) {
         Err(code) => return code,
         Ok(Err(errors)) => {
@@ -79,12 +85,10 @@ pub fn run(args: &RunArgs) -> ExitCode {
         }
         Ok(Ok(prepared)) => prepared,
     };
-    let gpu = match gudsl_runtime::Gpu::new() {
+    let gpu = match gudsl_host::run::gpu() {
         Ok(gpu) => gpu,
-        Err(error) => {
-            eprintln!(
-                "gudsl run: no GPU adapter ({error}); without a GPU, install Mesa's Vulkan driver (Debian: mesa-vulkan-drivers)"
-            );
+        Err(why) => {
+            eprintln!("gudsl run: {why}");
             return ExitCode::from(2);
         }
     };
@@ -126,135 +130,6 @@ fn answered<T>(answer: Result<Result<T, String>, gudsl_model::Cancelled>) -> Res
             eprintln!("gudsl run: the analysis was cancelled");
             Err(ExitCode::from(2))
         }
-    }
-}
-
-/// The kind of diagram `run` runs.
-enum Chosen {
-    Pipeline(String),
-    Activity(String),
-}
-
-/// The diagram of `files` that `--diagram` names (simple or fully qualified), or without it the
-/// one diagram that can run: a component-instance diagram or a host activity diagram without
-/// parameters; `Err` says why none is meant, listing those that can run.
-fn choose(sema: &Semantics<'_>, files: &[FileId], name: Option<&str>) -> Result<Chosen, String> {
-    let mut runnable: Vec<(&str, bool)> = sema
-        .def_map()
-        .definitions
-        .values()
-        .flatten()
-        .filter(|def| files.contains(&def.file))
-        .filter_map(|def| match def.kind {
-            DefKind::ComponentInstanceDiagram => Some((def.fqn.as_str(), true)),
-            _ if is_runnable(sema, def) => Some((def.fqn.as_str(), false)),
-            _ => None,
-        })
-        .collect();
-    runnable.sort();
-    runnable.dedup();
-    let listed = || {
-        let names: Vec<&str> = runnable.iter().map(|(fqn, _)| *fqn).collect();
-        if names.is_empty() {
-            "none".to_string()
-        } else {
-            names.join(", ")
-        }
-    };
-    let Some(name) = name else {
-        return match runnable[..] {
-            [(fqn, true)] => Ok(Chosen::Pipeline(fqn.to_string())),
-            [(fqn, false)] => Ok(Chosen::Activity(fqn.to_string())),
-            [] => Err("the files have no diagram that can run (a component-instance diagram, or an activity diagram without parameters)".into()),
-            _ => Err(format!("name the diagram to run with --diagram: {}", listed())),
-        };
-    };
-    let pipelines: Vec<&str> =
-        runnable.iter().filter(|(fqn, is)| *is && super::names_diagram(name, fqn)).map(|(f, _)| *f).collect();
-    match pipelines[..] {
-        [fqn] => Ok(Chosen::Pipeline(fqn.to_string())),
-        [] => Ok(Chosen::Activity(name.to_string())),
-        _ => Err(format!(
-            "several component-instance diagrams are named `{name}`: {}; name one fully qualified",
-            pipelines.join(", ")
-        )),
-    }
-}
-
-/// The fully qualified name of the component-instance diagram of `files` named `name` (simple
-/// or fully qualified); `Err` says why none is meant, listing the pipelines there are.
-pub fn pipeline_named(sema: &Semantics<'_>, files: &[FileId], name: &str) -> Result<String, String> {
-    let mut pipelines: Vec<&str> = sema
-        .def_map()
-        .definitions
-        .values()
-        .flatten()
-        .filter(|def| matches!(def.kind, DefKind::ComponentInstanceDiagram) && files.contains(&def.file))
-        .map(|def| def.fqn.as_str())
-        .collect();
-    pipelines.sort();
-    pipelines.dedup();
-    let named: Vec<&str> = pipelines.iter().copied().filter(|fqn| super::names_diagram(name, fqn)).collect();
-    match named[..] {
-        [fqn] => Ok(fqn.to_string()),
-        [] => Err(format!(
-            "no component-instance diagram named `{name}`; pipelines: {}",
-            if pipelines.is_empty() { "none".to_string() } else { pipelines.join(", ") }
-        )),
-        _ => Err(format!(
-            "several component-instance diagrams are named `{name}`: {}; name one fully qualified",
-            named.join(", ")
-        )),
-    }
-}
-
-/// The activity diagram of `files` named `name` (simple or fully qualified), prepared to run;
-/// `Err` says why no diagram is meant (none or several have the name, listing those that can
-/// run), `Ok(Err)` what in the diagram cannot run.
-pub fn prepare_named(
-    sema: &Semantics<'_>,
-    files: &[FileId],
-    name: &str,
-) -> Result<Result<Prepared, Vec<RunError>>, String> {
-    let candidates: Vec<_> = sema
-        .def_map()
-        .definitions
-        .values()
-        .flatten()
-        .filter(|def| matches!(def.kind, DefKind::Activity(_)) && files.contains(&def.file))
-        .collect();
-    let named: Vec<_> = candidates.iter().filter(|def| super::names_diagram(name, &def.fqn)).collect();
-    match named[..] {
-        [def] => Ok(gudsl_host::run::prepare(sema, def)),
-        [] => {
-            let mut runnable: Vec<&str> =
-                candidates.iter().filter(|def| is_runnable(sema, def)).map(|def| def.fqn.as_str()).collect();
-            runnable.sort();
-            Err(format!(
-                "no activity diagram named `{name}`; diagrams that can run: {}",
-                if runnable.is_empty() { "none".to_string() } else { runnable.join(", ") }
-            ))
-        }
-        _ => Err(format!(
-            "several activity diagrams are named `{name}`: {}; name one fully qualified",
-            named.iter().map(|d| d.fqn.as_str()).collect::<Vec<_>>().join(", ")
-        )),
-    }
-}
-
-/// Whether `def` is a host activity diagram without parameters (what `run` offers to run).
-pub fn is_runnable(sema: &Semantics<'_>, def: &Definition) -> bool {
-    matches!(&def.kind, DefKind::Activity(a) if a.params.is_empty()) && !gudsl_codegen::is_device_diagram(sema, def)
-}
-
-/// Writes `report.json` into `output` (created if missing); the report as written.
-pub fn write_report(report: &Report, output: &Path) -> Result<serde_json::Value, String> {
-    let json = report_json(report);
-    let text = serde_json::to_string_pretty(&json).expect("a report serialises");
-    let path = output.join("report.json");
-    match std::fs::create_dir_all(output).and_then(|()| std::fs::write(&path, text + "\n")) {
-        Ok(()) => Ok(json),
-        Err(error) => Err(format!("{}: {error}", path.display())),
     }
 }
 
@@ -329,25 +204,6 @@ impl Progress {
     }
 }
 
-/// One line: how the run ended, in how long, on which device.
-pub fn summary(report: &Report) -> String {
-    let ended = match &report.outcome {
-        Ok(Ending::Final(node)) => format!("ran {} to final node `{node}`", report.diagram),
-        Ok(Ending::NoTransition(node)) => {
-            format!("ran {} until `{node}`, which has no transition whose guard holds", report.diagram)
-        }
-        Err(error) if error.kind == RunErrorKind::Cancelled => format!("{}: {error}", report.diagram),
-        Err(_) => format!("{} stopped with an error", report.diagram),
-    };
-    format!(
-        "{ended} in {} ({} nodes; kernels compiled in {}) on {}",
-        ms(report.total),
-        report.nodes_run,
-        ms(report.compile),
-        report.device
-    )
-}
-
 fn print_report(report: &Report) {
     println!("{}", summary(report));
     if !report.calcs.is_empty() {
@@ -378,32 +234,4 @@ fn print_report(report: &Report) {
 
 fn ms(duration: Duration) -> String {
     format!("{:.1} ms", duration.as_secs_f64() * 1000.0)
-}
-
-/// `report.json`: what the run did, for scripts.
-fn report_json(report: &Report) -> serde_json::Value {
-    let millis = |d: Duration| d.as_secs_f64() * 1000.0;
-    let (ended_at, error) = match &report.outcome {
-        Ok(Ending::Final(node)) | Ok(Ending::NoTransition(node)) => (Some(node.clone()), None),
-        Err(error) => (None, Some(error.message.clone())),
-    };
-    serde_json::json!({
-        "diagram": report.diagram,
-        "device": report.device,
-        "ended_at": ended_at,
-        "reached_final_node": matches!(report.outcome, Ok(Ending::Final(_))),
-        "error": error,
-        "nodes_run": report.nodes_run,
-        "compile_ms": millis(report.compile),
-        "total_ms": millis(report.total),
-        "nodes": report.nodes.iter().map(|n| serde_json::json!({
-            "name": n.name, "runs": n.runs, "wall_ms": millis(n.wall),
-        })).collect::<Vec<_>>(),
-        "calcs": report.calcs.iter().map(|c| serde_json::json!({
-            "node": c.node, "kernel": c.kernel, "launches": c.launches,
-            "device_ms": millis(c.device), "wall_ms": millis(c.wall),
-        })).collect::<Vec<_>>(),
-        "images": report.images.iter().map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned())).collect::<Vec<_>>(),
-        "printed": report.printed,
-    })
 }

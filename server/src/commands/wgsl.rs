@@ -8,9 +8,7 @@
 use std::{io::Write, path::PathBuf, process::ExitCode};
 
 use clap::Args;
-use gudsl_model::hir::{DiagnosticCode, Severity};
-
-use crate::report::Finding;
+use gudsl_host::named::names_diagram;
 
 #[derive(Args)]
 pub struct WgslArgs {
@@ -26,52 +24,37 @@ pub struct WgslArgs {
 }
 
 pub fn run(args: &WgslArgs) -> ExitCode {
-    let (host, files, mut report) = match super::checked_model(&args.paths, "wgsl") {
+    // The check reports what cannot be generated (E0301) with the model's other problems.
+    let checked = match super::checked_model(&args.paths, "wgsl") {
         Ok(checked) => checked,
         Err(code) => return code,
     };
-    let analysis = host.analysis();
-    let generated = analysis.with_semantics(|sema| {
+    let generated = checked.host.analysis().with_semantics(|sema| {
         gudsl_codegen::device_diagrams(sema)
             .into_iter()
-            .filter(|def| args.diagram.as_deref().is_none_or(|wanted| super::names_diagram(wanted, &def.fqn)))
-            .map(|def| gudsl_codegen::generate(sema, def))
-            .collect::<Vec<_>>()
+            .filter(|def| args.diagram.as_deref().is_none_or(|wanted| names_diagram(wanted, &def.fqn)))
+            .map(|def| gudsl_codegen::generate(sema, def).map_err(|errors| (def.fqn.clone(), errors.len())))
+            .collect::<Result<Vec<_>, _>>()
     });
-    let Ok(generated) = generated else { return cancelled() };
-    if generated.is_empty() {
-        match &args.diagram {
-            Some(name) => {
-                eprintln!("gudsl wgsl: no device diagram named `{name}` (an activity diagram owned by an OpenCL class)")
-            }
-            None => {
-                eprintln!("gudsl wgsl: no device diagrams (activity diagrams owned by a class that implements OpenCL)")
-            }
+    let kernels = match generated {
+        Err(_) => return cancelled(),
+        Ok(Err((diagram, problems))) => {
+            eprintln!("gudsl wgsl: `{diagram}` cannot be generated ({problems} problem(s); `gudsl check` lists them)");
+            return ExitCode::from(1);
         }
-        return ExitCode::from(1);
-    }
-    let mut kernels = Vec::new();
-    for result in generated {
-        match result {
-            Ok(kernel) => kernels.push(kernel),
-            Err(errors) => report.findings.extend(errors.into_iter().filter_map(|error| {
-                Some(Finding {
-                    file: files.iter().position(|f| *f == error.file)?,
-                    severity: Severity::Error,
-                    code: DiagnosticCode::NotGenerated,
-                    message: error.message,
-                    range: error.range,
-                    related: Vec::new(),
-                })
-            })),
+        Ok(Ok(kernels)) if kernels.is_empty() => {
+            match &args.diagram {
+                Some(name) => eprintln!(
+                    "gudsl wgsl: no device diagram named `{name}` (an activity diagram owned by an OpenCL class)"
+                ),
+                None => eprintln!(
+                    "gudsl wgsl: no device diagrams (activity diagrams owned by a class that implements OpenCL)"
+                ),
+            }
+            return ExitCode::from(1);
         }
-    }
-    if report.count(Severity::Error) > 0 {
-        report.findings.retain(|f| f.severity == Severity::Error);
-        report.findings.sort_by_key(|f| (f.file, f.range.start()));
-        eprintln!("gudsl wgsl: some device code cannot be generated");
-        return super::refuse(&report, 1);
-    }
+        Ok(Ok(kernels)) => kernels,
+    };
     match &args.output {
         None => {
             let mut stdout = std::io::stdout().lock();

@@ -3,6 +3,8 @@
 use gudsl_model::text::ColumnUnit;
 use tower_lsp_server::ls_types as lsp;
 
+use super::ext;
+
 /// Positions in the encoding negotiated at initialisation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Encoding(pub ColumnUnit);
@@ -73,20 +75,13 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
         })),
         code_lens_provider: Some(lsp::CodeLensOptions { resolve_provider: Some(false) }),
         execute_command_provider: Some(lsp::ExecuteCommandOptions {
-            commands: vec![
-                super::run::RUN.to_string(),
-                super::pipeline::RUN_PIPELINE.to_string(),
-                super::wgsl::SHOW_WGSL.to_string(),
-            ],
+            commands: ext::COMMANDS.iter().map(|c| c.to_string()).collect(),
             work_done_progress_options: lsp::WorkDoneProgressOptions { work_done_progress: Some(true) },
         }),
         // The requests beyond LSP a client may send, and the notifications it may get
         // (`docs/protocol.md`).
         experimental: Some(serde_json::json!({
-            "gudsl": {
-                "requests": ["gudsl/diagrams", "gudsl/graph", "gudsl/applyGraphEdit", "gudsl/viewFileText"],
-                "notifications": ["gudsl/graphChanged"]
-            }
+            "gudsl": { "requests": ext::REQUESTS, "notifications": ext::NOTIFICATIONS }
         })),
         ..Default::default()
     }

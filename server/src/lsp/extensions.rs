@@ -1,12 +1,13 @@
-//! The requests of gudsl's own protocol (`docs/protocol.md`): `gudsl/viewFileText`,
+//! The handlers of gudsl's own requests (`ext.rs`, `docs/protocol.md`): `gudsl/viewFileText`,
 //! `gudsl/diagrams`, `gudsl/graph` and `gudsl/applyGraphEdit` (with the `gudsl/graphChanged`
 //! it sends when positions change), and the cancel of a run's progress.
 
 use tower_lsp_server::{jsonrpc::Result, ls_types as lsp};
 
 use super::{
-    graph, graph_edit, scenes,
-    server::{invalid_params, lock, request_failed, Backend},
+    ext::{self, GraphChanged, GraphChangedNotification},
+    graph, graph_edit, invalid_params, lock, request_failed,
+    server::Backend,
     wgsl,
 };
 
@@ -23,18 +24,18 @@ impl Backend {
 
     /// `gudsl/diagrams`: a document's diagrams (`docs/protocol.md`); `null` for a document the
     /// server does not know.
-    pub async fn diagrams(&self, params: graph::DiagramsParams) -> Result<Option<graph::Diagrams>> {
+    pub async fn diagrams(&self, params: ext::DiagramsParams) -> Result<Option<ext::Diagrams>> {
         self.on_snapshot(move |s| graph::diagrams(s, &params)).await
     }
 
     /// `gudsl/graph`: one diagram as a laid-out graph (`docs/protocol.md`).
-    pub async fn graph(&self, params: graph::GraphParams) -> Result<graph::GraphView> {
+    pub async fn graph(&self, params: ext::GraphParams) -> Result<ext::GraphView> {
         let scenes = self.scenes.clone();
         self.on_snapshot(move |s| graph::graph(s, &params, &scenes)).await?.map_err(invalid_params)
     }
 
     /// `gudsl/applyGraphEdit`: operations on a diagram's graph as text edits (`docs/protocol.md`).
-    pub async fn apply_graph_edit(&self, params: graph_edit::GraphEditParams) -> Result<graph_edit::GraphEditAnswer> {
+    pub async fn apply_graph_edit(&self, params: ext::GraphEditParams) -> Result<ext::GraphEditAnswer> {
         let scenes = self.scenes.clone();
         let uri = params.text_document.uri.clone();
         let version = params.text_document.version;
@@ -42,8 +43,8 @@ impl Backend {
         let answer = answer.map_err(request_failed)?;
         // Positions publish no diagnostics: say so.
         if let Some(written) = &answer.layout {
-            let changed = scenes::GraphChanged { uri, version, diagrams: vec![written.diagram.clone()] };
-            self.client.send_notification::<scenes::GraphChangedNotification>(changed).await;
+            let changed = GraphChanged { uri, version, diagrams: vec![written.diagram.clone()] };
+            self.client.send_notification::<GraphChangedNotification>(changed).await;
         }
         Ok(answer)
     }

@@ -5,11 +5,11 @@
 use gudsl_model::{
     syntax::{TextRange, TextSize},
     text::{LineCol, LineIndex},
-    Cancellable, FileId, LineColEdit,
+    LineColEdit,
 };
 use tower_lsp_server::ls_types as lsp;
 
-use super::{capabilities::Encoding, host::Snapshot};
+use super::capabilities::Encoding;
 
 /// The path of a `file:` URI; `None` for any other scheme (`untitled:`, a library document),
 /// whose path is no place on disk.
@@ -45,24 +45,6 @@ pub fn ordered_range(range: lsp::Range) -> Result<lsp::Range, String> {
 pub fn text_range(index: &LineIndex, range: lsp::Range, encoding: Encoding) -> TextRange {
     let (start, end) = (offset(index, range.start, encoding), offset(index, range.end, encoding));
     TextRange::new(start.min(end), end.max(start))
-}
-
-/// The file and byte offset a request points at; `None` for a document the server does not know.
-pub fn file_position(
-    snap: &Snapshot,
-    uri: &lsp::Uri,
-    position: lsp::Position,
-) -> Cancellable<Option<(FileId, TextSize)>> {
-    let Some(file) = snap.file(uri) else { return Ok(None) };
-    let index = snap.analysis.line_index(file)?;
-    Ok(Some((file, offset(index, position, snap.encoding))))
-}
-
-/// The file and byte range a request points at.
-pub fn file_range(snap: &Snapshot, uri: &lsp::Uri, range: lsp::Range) -> Cancellable<Option<(FileId, TextRange)>> {
-    let Some(file) = snap.file(uri) else { return Ok(None) };
-    let index = snap.analysis.line_index(file)?;
-    Ok(Some((file, text_range(index, range, snap.encoding))))
 }
 
 /// An editor's content changes as edits of the model (each against the text changed so far).

@@ -7,88 +7,21 @@ use std::sync::Mutex;
 
 use gudsl_model::{
     graph::EdgeKind,
-    ide::{GraphOp, NewKind, Properties},
+    ide::{GraphOp, NewKind},
     Cancellable, FileId,
 };
 use gudsl_render::pins::{self, Pin};
-use serde::{Deserialize, Deserializer, Serialize};
 use tower_lsp_server::ls_types as lsp;
 
-use super::{from_proto, graph::version, host::Snapshot, scenes::SceneCache, to_proto};
+use super::{
+    ext::{GraphEditAnswer, GraphEditParams, LayoutWritten, Operation, Position, Size},
+    from_proto,
+    graph::version,
+    host::Snapshot,
+    scenes::SceneCache,
+    to_proto,
+};
 use crate::layout_file;
-
-#[derive(Debug, Deserialize)]
-#[serde(rename_all = "camelCase")]
-pub struct GraphEditParams {
-    /// The document and the version the client's graph describes: an edit against another
-    /// version is refused.
-    pub text_document: lsp::OptionalVersionedTextDocumentIdentifier,
-    pub diagram: String,
-    pub operations: Vec<Operation>,
-}
-
-/// One operation of `gudsl/applyGraphEdit`, named by `op`.
-#[derive(Debug, Deserialize)]
-#[serde(tag = "op", rename_all = "camelCase")]
-pub enum Operation {
-    /// A new node, member, port, connector or port instance (`kind`: `class`, `field`, `action`,
-    /// `loopWindow`, `portInstance`, …), into `parent` (a class, swimlane, component, instance).
-    #[serde(rename_all = "camelCase")]
-    Create {
-        kind: String,
-        name: String,
-        parent: Option<String>,
-        #[serde(default)]
-        properties: Properties,
-    },
-    /// An element and what dangles without it.
-    Delete { element: String },
-    /// A node and every reference to it, across files.
-    Rename { element: String, name: String },
-    /// A new edge (`kind`: `transition`, `generalization`, `realization`, `association`,
-    /// `aggregation`, `composition`, `connection`, `binding`).
-    Connect {
-        kind: String,
-        source: String,
-        target: String,
-        #[serde(default)]
-        properties: Properties,
-    },
-    /// An edge's new source or target.
-    Reconnect { edge: String, source: Option<String>, target: Option<String> },
-    /// A property's new value; `null` removes it.
-    #[serde(rename_all = "camelCase")]
-    SetProperty { element: String, property: String, value: Option<String> },
-    /// Pins a node with its top-left corner at `position`; `null` unpins it.
-    Move {
-        element: String,
-        #[serde(default, deserialize_with = "given")]
-        position: Option<Option<Position>>,
-    },
-    /// Gives a node `size` (it is never drawn smaller than its text); `null` its own size again.
-    Resize {
-        element: String,
-        #[serde(default, deserialize_with = "given")]
-        size: Option<Option<Size>>,
-    },
-}
-
-/// A field that may be `null` but must be there: `Some(None)` for `null`, `None` if missing.
-fn given<'de, D: Deserializer<'de>, T: Deserialize<'de>>(d: D) -> Result<Option<Option<T>>, D::Error> {
-    Option::<T>::deserialize(d).map(Some)
-}
-
-#[derive(Debug, Clone, Copy, Deserialize)]
-pub struct Position {
-    pub x: f64,
-    pub y: f64,
-}
-
-#[derive(Debug, Clone, Copy, Deserialize)]
-pub struct Size {
-    pub width: f64,
-    pub height: f64,
-}
 
 /// An operation as made: on the text, or on the positions.
 enum Planned {
@@ -141,24 +74,6 @@ impl Operation {
             }
         }))
     }
-}
-
-#[derive(Debug, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct GraphEditAnswer {
-    /// The text edits that make the operations, for the client to apply.
-    pub edit: lsp::WorkspaceEdit,
-    /// The layout sidecar written for `move` and `resize` (already on disk).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub layout: Option<LayoutWritten>,
-}
-
-#[derive(Debug, Serialize)]
-pub struct LayoutWritten {
-    /// The sidecar (`file:///…/model.gudsl.layout`).
-    pub uri: lsp::Uri,
-    /// The diagram whose positions changed.
-    pub diagram: String,
 }
 
 /// `gudsl/applyGraphEdit`: the operations as text edits, and the positions written; `Err` with

@@ -2,27 +2,27 @@
 //! question to the snapshot's [`Analysis`](gudsl_model::Analysis), the answer back to LSP
 //! (`to_proto`). A handler returns `Err(Cancelled)` when a newer edit made its answer moot.
 
+use gudsl_host::{diagnostics::file_diagnostics, named::is_runnable};
 use gudsl_model::{
-    hir::{DefKind, Severity},
+    hir::DefKind,
     syntax::TextRange,
     Cancellable, FileId,
 };
 use tower_lsp_server::ls_types as lsp;
 
-use super::{from_proto, host::Snapshot, pipeline, run, to_proto, wgsl};
+use super::{
+    ext::{RUN, RUN_PIPELINE, SHOW_WGSL},
+    from_proto,
+    host::Snapshot,
+    to_proto,
+};
 
-/// The diagnostics to publish for a document: the model's, and when it has no errors, what of
-/// its device diagrams cannot be generated (E0301) and what keeps its pipelines from running
-/// (E0404, E0405).
+/// The diagnostics to publish for a document: those `gudsl check` reports
+/// (`gudsl_host::diagnostics`, the one place that decides them).
 pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<lsp::Diagnostic>> {
-    let (diagnostics, index) = snap.analysis.diagnostics(file)?;
-    let mut out = convert(snap, diagnostics, |d| to_proto::diagnostic(snap, index, d))?;
-    if !diagnostics.iter().any(|d| d.severity == Severity::Error) {
-        let generation = wgsl::diagnostics(snap, file)?;
-        let pipelines = crate::commands::pipeline::file_diagnostics(&snap.analysis, file)?;
-        out.extend(generation.iter().chain(&pipelines).map(|d| to_proto::diagnostic(snap, index, d)));
-    }
-    Ok(out)
+    let diagnostics = file_diagnostics(&snap.analysis, file, &snap.preparations)?;
+    let index = snap.analysis.line_index(file)?;
+    convert(snap, &diagnostics, |d| to_proto::diagnostic(snap, index, d))
 }
 
 /// Above each diagram of a document that can be run or generated: "▶ Run" for a host activity
@@ -35,13 +35,13 @@ pub fn code_lenses(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec<ls
         let mut lenses = Vec::new();
         for def in sema.file_diagrams(file) {
             let (title, command) = if matches!(def.kind, DefKind::ComponentInstanceDiagram) {
-                ("▶ Run pipeline", pipeline::RUN_PIPELINE)
+                ("▶ Run pipeline", RUN_PIPELINE)
             } else if !matches!(def.kind, DefKind::Activity(_)) {
                 continue;
             } else if gudsl_codegen::is_device_diagram(sema, def) {
-                ("Show generated WGSL", wgsl::SHOW_WGSL)
-            } else if crate::commands::run::is_runnable(sema, def) {
-                ("▶ Run", run::RUN)
+                ("Show generated WGSL", SHOW_WGSL)
+            } else if is_runnable(sema, def) {
+                ("▶ Run", RUN)
             } else {
                 continue;
             };
@@ -110,7 +110,7 @@ pub fn goto_definition(
     snap: &Snapshot,
     at: lsp::TextDocumentPositionParams,
 ) -> Cancellable<Option<lsp::GotoDefinitionResponse>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     locations(snap, snap.analysis.goto_definition(file, offset)?)
@@ -120,14 +120,14 @@ pub fn goto_type_definition(
     snap: &Snapshot,
     at: lsp::TextDocumentPositionParams,
 ) -> Cancellable<Option<lsp::GotoDefinitionResponse>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     locations(snap, snap.analysis.goto_type_definition(file, offset)?)
 }
 
 pub fn hover(snap: &Snapshot, at: lsp::TextDocumentPositionParams) -> Cancellable<Option<lsp::Hover>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     let Some((range, markdown)) = snap.analysis.hover(file, offset)? else { return Ok(None) };
@@ -143,7 +143,7 @@ pub fn folding_ranges(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec
 
 pub fn references(snap: &Snapshot, params: lsp::ReferenceParams) -> Cancellable<Option<Vec<lsp::Location>>> {
     let at = params.text_document_position;
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     let mut found = Vec::new();
@@ -157,7 +157,7 @@ pub fn document_highlight(
     snap: &Snapshot,
     at: lsp::TextDocumentPositionParams,
 ) -> Cancellable<Option<Vec<lsp::DocumentHighlight>>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     let index = snap.analysis.line_index(file)?;
@@ -174,7 +174,7 @@ pub fn prepare_rename(
     snap: &Snapshot,
     at: lsp::TextDocumentPositionParams,
 ) -> Cancellable<Result<Option<lsp::PrepareRenameResponse>, String>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(Ok(None));
     };
     let index = snap.analysis.line_index(file)?;
@@ -186,7 +186,7 @@ pub fn prepare_rename(
 
 pub fn rename(snap: &Snapshot, params: lsp::RenameParams) -> Cancellable<Result<Option<lsp::WorkspaceEdit>, String>> {
     let at = params.text_document_position;
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(Ok(None));
     };
     Ok(match snap.analysis.rename(file, offset, &params.new_name)? {
@@ -212,7 +212,7 @@ pub fn completion(
     snap: &Snapshot,
     at: lsp::TextDocumentPositionParams,
 ) -> Cancellable<Option<lsp::CompletionResponse>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     let completions = snap.analysis.completions(file, offset)?;
@@ -260,7 +260,7 @@ pub fn code_actions(
     snap: &Snapshot,
     params: lsp::CodeActionParams,
 ) -> Cancellable<Option<Vec<lsp::CodeActionOrCommand>>> {
-    let Some((file, range)) = from_proto::file_range(snap, &params.text_document.uri, params.range)? else {
+    let Some((file, range)) = snap.file_range(&params.text_document.uri, params.range)? else {
         return Ok(None);
     };
     let index = snap.analysis.line_index(file)?;
@@ -269,7 +269,7 @@ pub fn code_actions(
 }
 
 pub fn inlay_hints(snap: &Snapshot, params: lsp::InlayHintParams) -> Cancellable<Option<Vec<lsp::InlayHint>>> {
-    let Some((file, range)) = from_proto::file_range(snap, &params.text_document.uri, params.range)? else {
+    let Some((file, range)) = snap.file_range(&params.text_document.uri, params.range)? else {
         return Ok(None);
     };
     let index = snap.analysis.line_index(file)?;
@@ -278,7 +278,7 @@ pub fn inlay_hints(snap: &Snapshot, params: lsp::InlayHintParams) -> Cancellable
 }
 
 pub fn signature_help(snap: &Snapshot, at: lsp::TextDocumentPositionParams) -> Cancellable<Option<lsp::SignatureHelp>> {
-    let Some((file, offset)) = from_proto::file_position(snap, &at.text_document.uri, at.position)? else {
+    let Some((file, offset)) = snap.file_position(&at.text_document.uri, at.position)? else {
         return Ok(None);
     };
     Ok(snap.analysis.signature_help(file, offset)?.map(to_proto::signature_help))

@@ -3,10 +3,14 @@
 
 use std::{collections::HashMap, sync::Arc};
 
-use gudsl_model::{Analysis, AnalysisHost, FileId, InvalidEdit, LineColEdit};
+use gudsl_host::pipeline::Preparations;
+use gudsl_model::{
+    syntax::{TextRange, TextSize},
+    Analysis, AnalysisHost, Cancellable, FileId, InvalidEdit, LineColEdit,
+};
 use tower_lsp_server::ls_types as lsp;
 
-use super::capabilities::Encoding;
+use super::{capabilities::Encoding, from_proto};
 
 /// A document of the workspace.
 #[derive(Clone)]
@@ -53,6 +57,8 @@ impl Documents {
 
 pub struct Host {
     analysis: AnalysisHost,
+    /// What the diagnostics of the pipelines prepared (`gudsl_host::pipeline::Preparations`).
+    preparations: Arc<Preparations>,
     /// Shared with snapshots, copied only when changed while a snapshot holds it.
     documents: Arc<Documents>,
 }
@@ -70,7 +76,7 @@ impl Default for Host {
             }
         }
         drop(snapshot);
-        Host { analysis, documents: Arc::new(documents) }
+        Host { analysis, preparations: Arc::default(), documents: Arc::new(documents) }
     }
 }
 
@@ -81,6 +87,8 @@ pub struct Snapshot {
     pub analysis: Analysis,
     pub documents: Arc<Documents>,
     pub encoding: Encoding,
+    /// The pipelines the diagnostics prepared, for ▶ Run pipeline to take.
+    pub preparations: Arc<Preparations>,
 }
 
 impl Snapshot {
@@ -96,16 +104,39 @@ impl Snapshot {
     pub fn uri_of(&self, file: FileId) -> Option<lsp::Uri> {
         self.documents.uris.get(&file).cloned()
     }
+
+    /// The file and byte offset a request points at; `None` for a document the server does not know.
+    pub fn file_position(
+        &self,
+        uri: &lsp::Uri,
+        position: lsp::Position,
+    ) -> Cancellable<Option<(FileId, TextSize)>> {
+        let Some(file) = self.file(uri) else { return Ok(None) };
+        let index = self.analysis.line_index(file)?;
+        Ok(Some((file, from_proto::offset(index, position, self.encoding))))
+    }
+
+    /// The file and byte range a request points at.
+    pub fn file_range(&self, uri: &lsp::Uri, range: lsp::Range) -> Cancellable<Option<(FileId, TextRange)>> {
+        let Some(file) = self.file(uri) else { return Ok(None) };
+        let index = self.analysis.line_index(file)?;
+        Ok(Some((file, from_proto::text_range(index, range, self.encoding))))
+    }
 }
 
 /// How a file is named in messages: its path for `file:` URIs.
 fn display_path(uri: &lsp::Uri) -> String {
-    super::from_proto::file_path(uri).map_or_else(|| uri.as_str().to_string(), |p| p.display().to_string())
+    from_proto::file_path(uri).map_or_else(|| uri.as_str().to_string(), |p| p.display().to_string())
 }
 
 impl Host {
     pub fn snapshot(&self, encoding: Encoding) -> Snapshot {
-        Snapshot { analysis: self.analysis.analysis(), documents: self.documents.clone(), encoding }
+        Snapshot {
+            analysis: self.analysis.analysis(),
+            documents: self.documents.clone(),
+            encoding,
+            preparations: self.preparations.clone(),
+        }
     }
 
     /// The workspace is every known document, ordered by URI.

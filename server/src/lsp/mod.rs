@@ -6,12 +6,15 @@
 //! are converted only in `from_proto` and `to_proto`. See ARCHITECTURE.md, "The language server".
 
 mod capabilities;
+mod execute;
+mod ext;
 mod extensions;
 mod from_proto;
 mod graph;
 mod graph_edit;
 mod handlers;
 mod host;
+mod jobs;
 mod pipeline;
 mod run;
 mod scenes;
@@ -20,11 +23,32 @@ mod to_proto;
 mod transport;
 mod wgsl;
 
-use std::process::ExitCode;
+use std::{process::ExitCode, sync::Mutex, time::Duration};
+
+use tower_lsp_server::jsonrpc::{Error, ErrorCode};
 
 /// The fewest threads requests and diagnostics run on (a slow request, the diagnostics of an
 /// edit and a hover at once, and one to spare). Stdin and stdout have threads of their own.
 const BLOCKING_THREADS: usize = 4;
+
+/// How long the server waits for the client's answer to a request of its own before going on
+/// without (progress reporting); a client that never answers must not stall the server.
+const CLIENT_ANSWER: Duration = Duration::from_secs(2);
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// A request the server understood but cannot do (a rename it refuses), with the reason for
+/// the user: LSP's RequestFailed.
+fn request_failed(message: String) -> Error {
+    Error { code: ErrorCode::ServerError(-32803), message: message.into(), data: None }
+}
+
+/// A request whose parameters are wrong.
+fn invalid_params(message: String) -> Error {
+    Error { code: ErrorCode::InvalidParams, message: message.into(), data: None }
+}
 
 /// Serves LSP on stdin/stdout until the client exits.
 pub fn run() -> ExitCode {

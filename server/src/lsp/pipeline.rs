@@ -3,26 +3,26 @@
 //! errors, when its plan has problems (E0401–E0403) or when its files and components do not fit
 //! (E0404, E0405) — on a thread of its own, reporting "frame k of N" as `$/progress`, stopping
 //! between frames when cancelled, and answering with `report.json` and the stages' table. The
-//! outputs go to the folder the command names, by default `<temp>/gudsl-run/<diagram>`.
+//! outputs go to the folder the command names, by default `<temp>/gudsl-run/<diagram>`. What
+//! runs is the pipeline the diagnostics prepared (`Preparations`), when nothing changed since.
 
 use std::{
     sync::{atomic::AtomicBool, Arc},
     time::Instant,
 };
 
-use gudsl_host::pipeline::{ErrorKind, OutputDir, PipelineObserver, Prepared};
+use gudsl_host::{
+    named::pipeline_named,
+    pipeline::{self, summary, table, write_report, ErrorKind, OutputDir, PipelineObserver, PreparedPipeline},
+};
 use gudsl_model::{Cancellable, FileId};
 use tokio::sync::mpsc;
 
 use super::{
     host::Snapshot,
-    run::{self, Event, Failure, Finished, Job, Places, Refusal, RunRequest},
+    jobs::{Event, Failure, Finished, Job, Refusal, RunRequest, REPORT_EVERY},
+    run::{self, Places},
 };
-use crate::commands::{pipeline as cli, run::pipeline_named};
-
-/// The command that runs a pipeline: its name (simple or fully qualified), or
-/// `{"diagram": name, "output": folder, "frames": n, "cpu": bool}`.
-pub const RUN_PIPELINE: &str = "gudsl.runPipeline";
 
 /// Prepares the pipeline the request names; refused when any document of the workspace has
 /// errors, when no component-instance diagram or several have the name, or when it cannot run.
@@ -43,7 +43,7 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
         let problems = plan.diagnostics.iter().map(|d| (plan.file, d.range, d.code, d.message.clone()));
         return Ok(Err(run::cannot_run(snap, name, problems.collect::<Vec<_>>())?));
     }
-    let prepared = match cli::prepare(&snap.analysis, &plan)? {
+    let prepared = match snap.preparations.take_for(&snap.analysis, &plan)? {
         Ok(prepared) => prepared,
         Err(errors) => {
             let problems =
@@ -57,10 +57,10 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
 
 /// The run of a prepared pipeline: on the first wgpu adapter with timestamp queries (the CPU
 /// reference with `cpu`, or when there is none), its outputs under the request's folder.
-fn job(mut prepared: Prepared, diagram: String, file: FileId, places: Places, request: &RunRequest) -> Job {
+fn job(mut prepared: PreparedPipeline, diagram: String, file: FileId, places: Places, request: &RunRequest) -> Job {
     let (output, frames, cpu) = (request.output.clone(), request.frames, request.cpu);
     let work = move |stop: Arc<AtomicBool>, events: mpsc::UnboundedSender<Event>| {
-        let gpu = cli::device(cpu, |error| {
+        let gpu = pipeline::gpu(cpu, |error| {
             let _ =
                 events.send(Event::Printed(format!("gudsl: no GPU adapter ({error}); running on the CPU reference")));
         });
@@ -68,12 +68,12 @@ fn job(mut prepared: Prepared, diagram: String, file: FileId, places: Places, re
             .map_err(|error| format!("cannot create the output folder {}: {error}", output.display()))?;
         let mut observer = Frames { events, last: None };
         let report = prepared.run(gpu.as_ref(), &mut output_dir, frames, &mut observer, &stop);
-        let report_json = cli::write_report(&report, &mut output_dir).map(|mut json| {
-            json["table"] = cli::table(&report).into();
+        let report_json = write_report(&report, &mut output_dir).map(|mut json| {
+            json["table"] = table(&report).into();
             json
         });
         Ok(Finished {
-            summary: cli::summary(&report),
+            summary: summary(&report),
             report: report_json,
             failure: report.outcome.err().map(|error| Failure {
                 message: error.to_string(),
@@ -86,7 +86,7 @@ fn job(mut prepared: Prepared, diagram: String, file: FileId, places: Places, re
 }
 
 /// A pipeline's observer: "frame k of N" with its percentage, at most one per
-/// [`run::REPORT_EVERY`] (the last frame always).
+/// [`REPORT_EVERY`] (the last frame always).
 struct Frames {
     events: mpsc::UnboundedSender<Event>,
     last: Option<Instant>,
@@ -95,7 +95,7 @@ struct Frames {
 impl PipelineObserver for Frames {
     fn frame(&mut self, index: usize, frames: usize) {
         let last_frame = index + 1 == frames;
-        if last_frame || self.last.is_none_or(|last| last.elapsed() >= run::REPORT_EVERY) {
+        if last_frame || self.last.is_none_or(|last| last.elapsed() >= REPORT_EVERY) {
             self.last = Some(Instant::now());
             let percentage = ((index + 1) * 100 / frames.max(1)) as u32;
             let _ = self.events.send(Event::Progress(format!("frame {} of {frames}", index + 1), Some(percentage)));

@@ -14,10 +14,9 @@ use gudsl_render::{
     pins::{LayoutFile, Pins},
     scene::{self, Hints, Scene},
 };
-use serde::{Deserialize, Serialize};
 use tower_lsp_server::ls_types as lsp;
 
-use super::host::Snapshot;
+use super::{ext::GraphChanged, host::Snapshot};
 use crate::layout_file;
 
 /// The scenes last laid out.
@@ -109,22 +108,6 @@ pub fn layout_of(uri: &lsp::Uri) -> Result<LayoutFile, String> {
         Some(path) => layout_file::read(&layout_file::path_for(&path)),
         None => Ok(LayoutFile::default()),
     }
-}
-
-/// `gudsl/graphChanged`: diagrams a client fetched changed (an edit of the text, or of the
-/// positions, which publishes no diagnostics): ask for them again.
-#[derive(Debug, Serialize, Deserialize)]
-pub struct GraphChanged {
-    pub uri: lsp::Uri,
-    pub version: Option<i32>,
-    pub diagrams: Vec<String>,
-}
-
-pub enum GraphChangedNotification {}
-
-impl lsp::notification::Notification for GraphChangedNotification {
-    type Params = GraphChanged;
-    const METHOD: &'static str = "gudsl/graphChanged";
 }
 
 #[cfg(test)]

@@ -23,7 +23,9 @@ use super::{
     capabilities::{server_capabilities, Encoding},
     from_proto, handlers,
     host::{ChangeRefused, Document, Host, Snapshot},
-    pipeline, run, scenes, to_proto, wgsl,
+    ext::GraphChangedNotification,
+    jobs::Runs,
+    invalid_params, lock, request_failed, scenes, to_proto, CLIENT_ANSWER,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -46,7 +48,7 @@ pub struct Backend {
     semantic_tokens: Mutex<HashMap<String, (String, Vec<u32>)>>,
     next_result_id: AtomicU64,
     /// The diagrams running now (▶ Run), to cancel them.
-    pub(super) runs: Arc<run::Runs>,
+    pub(super) runs: Arc<Runs>,
     /// The scenes last laid out for `gudsl/graph`.
     pub(super) scenes: Arc<scenes::SceneCache>,
 }
@@ -56,14 +58,6 @@ pub struct Backend {
 /// (bench.py linked, 200 files on 2 cores: keystroke -> diagnostics p95 9.6 ms without the pause,
 /// 5.6 ms with 3 ms), and a keystroke typed meanwhile saves the work altogether.
 const BACKGROUND_DELAY: std::time::Duration = std::time::Duration::from_millis(10);
-
-/// How long the server waits for the client's answer to a request of its own before going on
-/// without (progress reporting); a client that never answers must not stall the server.
-pub(super) const CLIENT_ANSWER: std::time::Duration = std::time::Duration::from_secs(2);
-
-pub(super) fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    mutex.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
-}
 
 impl Backend {
     pub fn new(client: Client) -> Backend {
@@ -213,7 +207,7 @@ impl Backend {
                     client.publish_diagnostics(uri, diagnostics, version).await;
                 }
                 for changed in redrawn {
-                    client.send_notification::<scenes::GraphChangedNotification>(changed).await;
+                    client.send_notification::<GraphChangedNotification>(changed).await;
                 }
             }
         });
@@ -520,38 +514,7 @@ impl LanguageServer for Backend {
     }
 
     async fn execute_command(&self, params: lsp::ExecuteCommandParams) -> Result<Option<lsp::LSPAny>> {
-        let argument = params.arguments.into_iter().next();
-        match params.command.as_str() {
-            run::RUN => {
-                let request = run::RunRequest::parse(run::RUN, argument.as_ref()).map_err(invalid_params)?;
-                self.run(request, run::prepare, params.work_done_progress_params.work_done_token).await.map(Some)
-            }
-            pipeline::RUN_PIPELINE => {
-                let request =
-                    run::RunRequest::parse(pipeline::RUN_PIPELINE, argument.as_ref()).map_err(invalid_params)?;
-                self.run(request, pipeline::prepare, params.work_done_progress_params.work_done_token).await.map(Some)
-            }
-            wgsl::SHOW_WGSL => {
-                let argument = argument.unwrap_or_default();
-                self.on_snapshot(move |s| wgsl::show(s, &argument)).await?.map(Some).map_err(request_failed)
-            }
-            other => Err(invalid_params(format!(
-                "no command `{other}`; the server offers {}, {} and {}",
-                run::RUN,
-                pipeline::RUN_PIPELINE,
-                wgsl::SHOW_WGSL
-            ))),
-        }
+        self.execute(params).await
     }
 }
 
-/// A request the server understood but cannot do (a rename it refuses), with the reason for
-/// the user: LSP's RequestFailed.
-pub(super) fn request_failed(message: String) -> Error {
-    Error { code: ErrorCode::ServerError(-32803), message: message.into(), data: None }
-}
-
-/// A request whose parameters are wrong.
-pub(super) fn invalid_params(message: String) -> Error {
-    Error { code: ErrorCode::InvalidParams, message: message.into(), data: None }
-}

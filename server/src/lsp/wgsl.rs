@@ -1,51 +1,19 @@
-//! The generated device code in the editor: what cannot be generated is a diagnostic (E0301) on
-//! the construct, as soon as it is typed; the WGSL of a device diagram is a read-only document,
+//! The generated device code in the editor (what cannot be generated is a diagnostic, E0301,
+//! decided with the others in `gudsl_host::diagnostics`): the WGSL of a device diagram is a read-only document,
 //! `gudsl:/wgsl/<diagram>.wgsl`, that `gudsl.showWgsl` names and `gudsl/viewFileText` serves
 //! (regenerated from the current model each time it is read).
 
+use gudsl_host::named::names_diagram;
 use gudsl_model::{
-    hir::{DefKind, Definition, Diagnostic, DiagnosticCode, Semantics, Severity},
+    hir::{DefKind, Definition, Semantics},
     Cancellable, FileId,
 };
 use serde_json::{json, Value};
 
-use super::{host::Snapshot, to_proto};
-
-/// The command that answers with the generated WGSL of a diagram (its name, simple or fully
-/// qualified, or `{"diagram": name}`), or of every device diagram of a document
-/// (`{"uri": uri}`).
-pub const SHOW_WGSL: &str = "gudsl.showWgsl";
+use super::{ext::SHOW_WGSL, host::Snapshot, to_proto};
 
 /// The scheme and folder of the generated documents' URIs.
 const PREFIX: &str = "gudsl:/wgsl/";
-
-/// What cannot be generated of the device diagrams declared in `file` (E0301), at the
-/// construct when it is in `file`, else at the diagram's name.
-pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<Diagnostic>> {
-    snap.analysis.with_semantics(|sema| {
-        let mut out = Vec::new();
-        for def in device_diagrams_of(sema, file) {
-            let Err(errors) = gudsl_codegen::generate(sema, def) else { continue };
-            for error in errors {
-                let (range, message) = if error.file == file {
-                    (error.range, error.message)
-                } else {
-                    let Some((_, name)) = sema.declaration(def) else { continue };
-                    (name, format!("{} (in {})", error.message, error.file.path(sema.db())))
-                };
-                out.push(Diagnostic {
-                    code: DiagnosticCode::NotGenerated,
-                    severity: Severity::Error,
-                    range,
-                    message,
-                    suggestion: None,
-                    related: Vec::new(),
-                });
-            }
-        }
-        out
-    })
-}
 
 /// The device diagrams declared in `file` (only its own activity diagrams are looked at: this
 /// runs for every file whose diagnostics are computed).
@@ -123,7 +91,7 @@ pub fn generated(snap: &Snapshot, name: &str) -> Cancellable<Result<String, Stri
     snap.analysis.with_semantics(|sema| {
         let named: Vec<&Definition> = gudsl_codegen::device_diagrams(sema)
             .into_iter()
-            .filter(|def| crate::commands::names_diagram(name, &def.fqn))
+            .filter(|def| names_diagram(name, &def.fqn))
             .collect();
         match named[..] {
             [def] => wgsl_of(snap, sema, def),

@@ -1,0 +1,111 @@
+//! What a pipeline run did, for people and scripts: the [`PipelineReport`] (stages' times,
+//! files written, how it ended), its one-line summary, the stages' table and `report.json`,
+//! which `gudsl run` and the editor's ▶ Run pipeline write alike.
+
+use std::{
+    path::{Path, PathBuf},
+    time::Duration,
+};
+
+use super::{ErrorKind, OutputDir, PipelineError};
+
+/// What a run did.
+#[derive(Debug, Clone)]
+pub struct PipelineReport {
+    pub diagram: String,
+    pub device: String,
+    pub frames: usize,
+    pub total: Duration,
+    /// Of `total`, reading the components' files before the first frame.
+    pub loading: Duration,
+    /// Per stage, in the plan's order.
+    pub stages: Vec<StageTime>,
+    /// Files written, under the output folder.
+    pub outputs: Vec<PathBuf>,
+    pub outcome: Result<(), PipelineError>,
+}
+
+/// The time one stage took over the run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageTime {
+    pub instance: String,
+    pub class: String,
+    /// On the CPU: processing, encoding, writing.
+    pub host: Duration,
+    /// Its kernels on the GPU (where the adapter has timestamp queries).
+    pub device: Duration,
+    /// Items it processed.
+    pub items: usize,
+    /// Whether it runs on a thread of its own (bound through an `async` port): its host time
+    /// then overlaps the others'.
+    pub apart: bool,
+}
+
+fn ms(duration: Duration) -> f64 {
+    duration.as_secs_f64() * 1000.0
+}
+
+/// One line: how the run ended, in how long, on which device.
+pub fn summary(report: &PipelineReport) -> String {
+    let per_frame = ms(report.total) / report.frames.max(1) as f64;
+    let ended = match &report.outcome {
+        Ok(()) => format!("ran {} ({} frames)", report.diagram, report.frames),
+        Err(error) if error.kind == ErrorKind::Cancelled => format!("{}: {}", report.diagram, error.message),
+        Err(_) => format!("{} stopped with an error", report.diagram),
+    };
+    format!("{ended} in {:.1} ms ({per_frame:.2} ms per frame) on {}", ms(report.total), report.device)
+}
+
+/// The stages' table: per stage its time per frame on the host and on the GPU, and its share
+/// of the total; a stage on a thread of its own (`async`) is marked so.
+pub fn table(report: &PipelineReport) -> String {
+    let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
+    let total: Duration = report.stages.iter().map(|s| s.host + s.device).sum();
+    let class = |s: &StageTime| if s.apart { format!("{} (async)", s.class) } else { s.class.clone() };
+    let width = report.stages.iter().map(|s| s.instance.len()).max().unwrap_or(5).max(5);
+    let class_width = report.stages.iter().map(|s| class(s).chars().count()).max().unwrap_or(9).max(9);
+    let mut table = format!(
+        "{:width$}  {:class_width$}  {:>12}  {:>12}  {:>6}\n",
+        "stage", "component", "host ms/fr", "GPU ms/fr", "share"
+    );
+    for stage in &report.stages {
+        let share = (stage.host + stage.device).as_secs_f64() / total.as_secs_f64().max(1e-12) * 100.0;
+        table += &format!(
+            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%\n",
+            stage.instance,
+            class(stage),
+            per_frame(stage.host),
+            per_frame(stage.device),
+            share
+        );
+    }
+    table
+}
+
+/// Writes `report.json` into the output folder; the report as written.
+pub fn write_report(report: &PipelineReport, output: &mut OutputDir) -> Result<serde_json::Value, String> {
+    let json = report_json(report);
+    let text = serde_json::to_string_pretty(&json).expect("a report serialises") + "\n";
+    output.write_top("report.json", text.as_bytes()).map_err(|error| error.to_string())?;
+    Ok(json)
+}
+
+/// `report.json`: what the run did, for scripts; `plots` are the SVG plots among the outputs.
+fn report_json(report: &PipelineReport) -> serde_json::Value {
+    let paths = |keep: fn(&Path) -> bool| {
+        report.outputs.iter().filter(|p| keep(p)).map(|p| p.display().to_string()).collect::<Vec<_>>()
+    };
+    serde_json::json!({
+        "diagram": report.diagram,
+        "device": report.device,
+        "frames": report.frames,
+        "total_ms": ms(report.total),
+        "error": report.outcome.as_ref().err().map(|e| e.to_string()),
+        "stages": report.stages.iter().map(|s| serde_json::json!({
+            "instance": s.instance, "component": s.class, "items": s.items,
+            "host_ms": ms(s.host), "device_ms": ms(s.device), "async": s.apart,
+        })).collect::<Vec<_>>(),
+        "outputs": paths(|_| true),
+        "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),
+    })
+}
