@@ -4,16 +4,55 @@
 use std::collections::{HashMap, HashSet};
 
 use gudsl_model::{
-    ast,
+    ast::{self, AstNode},
     db::SourceFile,
     hir::{BodyTypes, Definition, Semantics, Ty},
-    syntax::SyntaxNode,
+    syntax::{SyntaxNode, TextRange},
 };
 
-use crate::{
-    functions::{Call, Function},
-    Binding, CodegenError, KernelParam,
-};
+use crate::{Binding, CodegenError, KernelParam};
+
+/// One method or diagram generated as a function (`functions.rs`).
+#[derive(Clone)]
+pub(crate) struct Function<'db> {
+    pub body: Body<'db>,
+    /// Its name in the module: `Class_method`, or the diagram's name.
+    pub name: String,
+    pub params: Vec<(String, Ty)>,
+    pub returns: Ty,
+}
+
+/// What a function is generated from.
+#[derive(Clone, PartialEq)]
+pub(crate) enum Body<'db> {
+    /// A method with a body, of this class.
+    Method(&'db Definition, ast::Method),
+    /// An activity diagram that `call behavior` reaches.
+    Diagram(&'db Definition, ast::ActivityDiagram),
+}
+
+impl Body<'_> {
+    /// The definition whose file holds the body.
+    pub fn definition(&self) -> &Definition {
+        match self {
+            Body::Method(class, _) | Body::Diagram(class, _) => class,
+        }
+    }
+
+    pub fn syntax(&self) -> &SyntaxNode {
+        match self {
+            Body::Method(_, method) => method.syntax(),
+            Body::Diagram(_, diagram) => diagram.syntax(),
+        }
+    }
+}
+
+/// A call of a generated function: by whom (`None`: the kernel), of which, and where.
+pub(crate) struct Call {
+    pub caller: Option<usize>,
+    pub callee: usize,
+    pub place: (SourceFile, TextRange),
+}
 
 /// Names the generated module declares itself, besides those starting with [`GENERATED`]: the
 /// uniform block, the entry point, and naga's address space of textures.
@@ -86,8 +125,10 @@ pub(crate) struct Emitter<'db> {
     pub atomics: HashSet<String>,
     /// The buffers `atomic_cmpxchg` works on and their element types: each gets a helper.
     pub compare_exchanged: std::collections::BTreeSet<(String, String)>,
-    /// The images read through a sampler: each gets helpers (`images.rs`).
-    pub sampled_images: crate::images::SampledImages,
+    /// The image parameters read through a sampler, and whether at float coordinates: each
+    /// gets a texel helper, and those read at float coordinates a sampling helper too
+    /// (`images.rs`).
+    pub sampled_images: std::collections::BTreeMap<String, bool>,
     /// The OpenCL class that owns the diagram: its methods are what a call that is no built-in
     /// reaches.
     pub owner: Option<&'db Definition>,
@@ -198,15 +239,6 @@ impl<'db> Emitter<'db> {
     pub fn ends_in_return(&self) -> bool {
         let last = self.out.trim_end_matches('\n').rsplit('\n').next().unwrap_or_default();
         last.strip_prefix(&"    ".repeat(self.indent)).is_some_and(|line| line.starts_with("return"))
-    }
-
-    /// Leaves the entry point, or the function being written (with its type's zero where it
-    /// returns a value: a diagram that ends without `final … return`).
-    pub fn leave(&mut self) {
-        match self.current_function.as_ref().and_then(|(_, ty)| crate::types::value_type(ty)) {
-            Some(ty) => self.line(format!("return {ty}();")),
-            None => self.line("return;"),
-        }
     }
 
     /// Records that `node` cannot be generated; the placeholder keeps the output well formed

@@ -9,57 +9,24 @@
 use gudsl_model::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{BodyTypes, DefKind, Definition, Scope, Ty},
-    syntax::{SyntaxKind, SyntaxNode, TextRange},
+    syntax::{SyntaxKind, SyntaxNode},
 };
 
 use crate::{
-    emitter::{bare, ident, Emitter},
+    emitter::{bare, ident, Body, Call, Emitter, Function},
     types::value_type,
 };
 
-/// One method or diagram generated as a function.
-#[derive(Clone)]
-pub(crate) struct Function<'db> {
-    body: Body<'db>,
-    /// Its name in the module: `Class_method`, or the diagram's name.
-    name: String,
-    params: Vec<(String, Ty)>,
-    returns: Ty,
-}
-
-/// What a function is generated from.
-#[derive(Clone, PartialEq)]
-enum Body<'db> {
-    /// A method with a body, of this class.
-    Method(&'db Definition, ast::Method),
-    /// An activity diagram that `call behavior` reaches.
-    Diagram(&'db Definition, ast::ActivityDiagram),
-}
-
-impl Body<'_> {
-    /// The definition whose file holds the body.
-    fn definition(&self) -> &Definition {
-        match self {
-            Body::Method(class, _) | Body::Diagram(class, _) => class,
-        }
-    }
-
-    fn syntax(&self) -> &SyntaxNode {
-        match self {
-            Body::Method(_, method) => method.syntax(),
-            Body::Diagram(_, diagram) => diagram.syntax(),
-        }
-    }
-}
-
-/// A call of a generated function: by whom (`None`: the kernel), of which, and where.
-pub(crate) struct Call {
-    caller: Option<usize>,
-    callee: usize,
-    place: (gudsl_model::db::SourceFile, TextRange),
-}
-
 impl<'db> Emitter<'db> {
+    /// Leaves the entry point, or the function being written (with its type's zero where it
+    /// returns a value: a diagram that ends without `final … return`).
+    pub fn leave(&mut self) {
+        match self.current_function.as_ref().and_then(|(_, ty)| value_type(ty)) {
+            Some(ty) => self.line(format!("return {ty}();")),
+            None => self.line("return;"),
+        }
+    }
+
     /// `name(args)` where `name` is no OpenCL built-in: a method of the diagram's owner.
     pub fn method_call(&mut self, call: &ast::CallExpr, name: &str) -> String {
         let args: Vec<ast::Expr> = call.args().collect();

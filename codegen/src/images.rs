@@ -29,9 +29,6 @@ const ADDRESS_MIRRORED_REPEAT: u32 = 8;
 const NORMALIZED_COORDS: u32 = 1;
 const FILTER_LINEAR: u32 = 32;
 
-/// The image parameters read through a sampler, and whether at float coordinates: each gets a
-/// texel helper, and those read at float coordinates a sampling helper too.
-pub(crate) type SampledImages = std::collections::BTreeMap<String, bool>;
 
 impl Emitter<'_> {
     /// `read_image{f,i,ui}(image, [sampler,] coordinate)` as the call's type.

@@ -5,7 +5,7 @@
 //! Lines end as LSP says they do: at `\n`, at `\r\n` and at a lone `\r`. A position never points
 //! into a line terminator: columns past a line's end clamp to the end of its content.
 
-use crate::syntax::{TextRange, TextSize};
+use rowan::{TextRange, TextSize};
 
 /// Where every line of a text starts and ends, and where its non-ASCII characters are.
 #[derive(Debug, Clone, PartialEq, Eq)]

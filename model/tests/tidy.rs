@@ -176,33 +176,43 @@ fn child_modules(parent: &Path) -> BTreeMap<String, Vec<PathBuf>> {
     children
 }
 
-/// A circle in `graph`, if it has one (depth-first search for a back edge).
-fn find_circle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
-    fn visit(
-        module: &str,
-        graph: &BTreeMap<String, BTreeSet<String>>,
-        path: &mut Vec<String>,
-        done: &mut BTreeSet<String>,
-    ) -> Option<Vec<String>> {
-        if let Some(start) = path.iter().position(|m| m == module) {
-            let mut circle = path[start..].to_vec();
-            circle.push(module.to_string());
-            return Some(circle);
-        }
-        if !done.insert(module.to_string()) {
-            return None;
-        }
-        path.push(module.to_string());
-        for dep in &graph[module] {
-            if let Some(circle) = visit(dep, graph, path, done) {
-                return Some(circle);
+/// The circles of `graph`: each set of modules that reach each other (of two or more).
+fn circles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<BTreeSet<String>> {
+    let reach = |from: &str| {
+        let mut seen = BTreeSet::new();
+        let mut todo = vec![from.to_string()];
+        while let Some(module) = todo.pop() {
+            for dep in &graph[&module] {
+                if seen.insert(dep.clone()) {
+                    todo.push(dep.clone());
+                }
             }
         }
-        path.pop();
-        None
+        seen
+    };
+    let reached: BTreeMap<&String, BTreeSet<String>> = graph.keys().map(|m| (m, reach(m))).collect();
+    let mut circles: Vec<BTreeSet<String>> = Vec::new();
+    for (module, from_it) in &reached {
+        let circle: BTreeSet<String> = from_it.iter().filter(|other| reached[other].contains(*module)).cloned().collect();
+        if circle.len() > 1 && !circles.contains(&circle) {
+            circles.push(circle);
+        }
     }
-    let mut done = BTreeSet::new();
-    graph.keys().find_map(|module| visit(module, graph, &mut Vec::new(), &mut done))
+    circles
+}
+
+/// The code of a file without its comments and without its `#[cfg(test)]` module at the end
+/// (tests may reach anywhere).
+fn shipped_code_of(path: &Path) -> String {
+    let code = code_of(path);
+    let tests = code.match_indices("#[cfg(test)]\n").map(|(at, _)| at).find(|&at| {
+        let next = code[at..].lines().nth(1).unwrap_or_default().trim();
+        next.trim_start_matches("pub(super) ").trim_start_matches("pub(crate) ").starts_with("mod ") && next.ends_with('{')
+    });
+    match tests {
+        Some(tests) => code[..tests].to_string(),
+        None => code,
+    }
 }
 
 /// How the modules declared by `parent` (a `mod.rs`, `lib.rs` or `main.rs`) use each other.
@@ -225,7 +235,7 @@ fn module_graph(parent: &Path) -> BTreeMap<String, BTreeSet<String>> {
     for (module, paths) in &files {
         let mut deps = BTreeSet::new();
         for path in paths {
-            deps.extend(used_modules(&code_of(path), &modules, &reexports));
+            deps.extend(used_modules(&shipped_code_of(path), &modules, &reexports));
         }
         deps.remove(module);
         graph.insert(module.clone(), deps);
@@ -255,9 +265,16 @@ fn modules_depend_on_each_other_without_circles() {
     assert!(folders.len() > 20, "{folders:?}");
     let circles: Vec<String> = folders
         .iter()
-        .filter_map(|parent| {
-            let circle = find_circle(&module_graph(parent))?;
-            Some(format!("{}: {}", parent.parent().unwrap().display(), circle.join(" -> ")))
+        .flat_map(|parent| {
+            let graph = module_graph(parent);
+            let folder = parent.parent().unwrap().display().to_string();
+            circles(&graph).into_iter().map(move |circle| {
+                let edges: Vec<String> = circle
+                    .iter()
+                    .flat_map(|m| graph[m].iter().filter(|d| circle.contains(*d)).map(move |d| format!("{m} -> {d}")))
+                    .collect();
+                format!("{folder}: {}", edges.join(", "))
+            })
         })
         .collect();
     assert!(circles.is_empty(), "modules in a circle:\n{}", circles.join("\n"));
@@ -273,4 +290,91 @@ fn the_modules_stand_where_architecture_says() {
     // The language server and the commands share what they share below both.
     let server = module_graph(&src.join("../../server/src/main.rs"));
     assert!(!server["lsp"].contains("commands") && !server["commands"].contains("lsp"), "{server:#?}");
+}
+
+/// The functions of `code` longer than `limit` lines: (name, first line, lines). A function
+/// runs from its `fn` to the brace that closes its body (braces in strings and characters
+/// skipped).
+fn long_functions(code: &str, limit: usize) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = code.lines().collect();
+    let mut long = Vec::new();
+    for (start, line) in lines.iter().enumerate() {
+        let trimmed = line.trim_start();
+        let signature = ["pub fn ", "fn ", "pub(crate) fn ", "pub(super) fn ", "async fn ", "pub async fn ", "pub(super) async fn ", "const fn ", "pub const fn "]
+            .iter()
+            .find_map(|prefix| trimmed.strip_prefix(prefix));
+        let Some(rest) = signature else { continue };
+        let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+        let mut depth = 0i32;
+        let mut opened = false;
+        let mut end = None;
+        'lines: for (at, text) in lines.iter().enumerate().skip(start) {
+            let mut chars = text.chars().peekable();
+            let mut in_string = false;
+            while let Some(c) = chars.next() {
+                match c {
+                    '\\' if in_string => {
+                        chars.next();
+                    }
+                    '"' => in_string = !in_string,
+                    '\'' if !in_string => {
+                        // A character literal ('{', '\'') or a lifetime ('a): skip a literal.
+                        let literal: String = chars.clone().take(3).collect();
+                        if literal.starts_with('\\') || literal.chars().nth(1) == Some('\'') {
+                            while chars.next().is_some_and(|c| c != '\'') {}
+                        }
+                    }
+                    ';' if !in_string && !opened && depth == 0 => break 'lines, // a declaration without a body
+                    '{' if !in_string => {
+                        depth += 1;
+                        opened = true;
+                    }
+                    '}' if !in_string => {
+                        depth -= 1;
+                        if opened && depth == 0 {
+                            end = Some(at);
+                            break 'lines;
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+        if let Some(end) = end {
+            let length = end - start + 1;
+            if length > limit {
+                long.push((name, start + 1, length));
+            }
+        }
+    }
+    long
+}
+
+#[test]
+fn no_function_is_longer_than_120_lines() {
+    let crates = ["codegen", "host", "model", "server", "render", "runtime"];
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut long = Vec::new();
+    for krate in crates {
+        let mut files = Vec::new();
+        rust_files(&root.join(krate).join("src"), &mut files);
+        for file in files.iter().filter(|f| !f.ends_with("generated.rs") && !f.ends_with("tests.rs")) {
+            let name = file.file_name().unwrap().to_string_lossy();
+            if name.starts_with("tests_") || file.components().any(|c| c.as_os_str() == "tests") {
+                continue;
+            }
+            for (function, line, lines) in long_functions(&shipped_code_of(file), 120) {
+                long.push(format!("{}:{line}: `{function}` has {lines} lines", file.display()));
+            }
+        }
+    }
+    assert!(long.is_empty(), "split these by stage:\n{}", long.join("\n"));
+}
+
+#[test]
+fn long_functions_are_measured_from_fn_to_its_closing_brace() {
+    let body = "    let x = '{';\n    let s = \"}\";\n".repeat(3);
+    let code = format!("fn short() {{}}\nfn measured() {{\n{body}}}\nfn declared();\n");
+    assert_eq!(long_functions(&code, 5), vec![("measured".to_string(), 2, 8)]);
+    assert!(long_functions(&code, 8).is_empty());
 }

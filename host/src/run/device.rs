@@ -9,7 +9,12 @@ use std::{cell::Ref, time::Duration};
 use gudsl_codegen::Binding;
 use gudsl_runtime::TexelFormat;
 
-use super::{exec::Machine, framework::Object, ir::NodeKind, value::Value, CalcReport};
+use super::{
+    machine::Machine,
+    ir::NodeKind,
+    value::{Object, Value},
+    CalcReport,
+};
 use crate::launch::{Arg, Number, WorkRange};
 
 impl Machine<'_, '_> {

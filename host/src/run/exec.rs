@@ -15,52 +15,19 @@ use crate::launch::Launcher;
 
 use super::{
     arith::int,
-    compile::{self, Block, Compiled},
+    compile,
     framework::{Framework, Method},
     ir::{NodeKind, Program, Span},
+    machine::{failed, run_block, Compiled, Machine, Outcome},
     value::{memory, Pointer, Scalar, Value},
-    CalcReport, Ending, Observer, RunError,
+    Ending, Observer, RunError,
 };
-
-/// How a statement ends.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Flow {
-    Next,
-    Break,
-    Continue,
-    Return,
-}
-
-pub(super) type Outcome<T> = Result<T, Box<RunError>>;
 
 /// Loop iterations between two questions to the observer whether to stop.
 const CANCEL_CHECK_INTERVAL: u32 = 1 << 16;
 
 /// How deep `call behavior` calls may nest (each takes stack of the thread that runs).
 const MAX_CALL_DEPTH: u32 = 200;
-
-pub(super) struct Machine<'r, 'g> {
-    pub program: &'r Program,
-    code: Rc<Compiled>,
-    pub frame: Vec<Value>,
-    pub framework: Framework<'g>,
-    pub launchers: &'r [Launcher],
-    pub observer: &'r mut dyn Observer,
-    /// The work sizes (calc) or ranges (calcRange) the current node was entered with.
-    pub work: Vec<i64>,
-    pub node: usize,
-    pub nodes_run: u64,
-    /// How often a loop ran as machine code.
-    pub native_loops: u64,
-    pub calcs: Vec<CalcReport>,
-    /// Per node: how often it ran, for how long in all, and the order it first ran in.
-    pub times: Vec<(u32, Duration, usize)>,
-    iterations: u32,
-    /// Per diagram: how many of its calls are running.
-    active: Vec<u32>,
-    /// How many calls are running.
-    depth: u32,
-}
 
 impl<'r, 'g> Machine<'r, 'g> {
     pub fn new(
@@ -254,22 +221,4 @@ impl<'r, 'g> Machine<'r, 'g> {
         self.record(kernel, took, started.elapsed());
         Ok(Value::Void)
     }
-}
-
-/// Runs `block`'s statements until one leaves it.
-#[inline]
-pub(super) fn run_block(machine: &mut Machine<'_, '_>, block: &Block) -> Outcome<Flow> {
-    for stmt in block.iter() {
-        match stmt(machine)? {
-            Flow::Next => {}
-            other => return Ok(other),
-        }
-    }
-    Ok(Flow::Next)
-}
-
-/// An error at `span` while the diagram runs.
-#[cold]
-pub(super) fn failed(span: Span, message: String) -> Box<RunError> {
-    Box::new(RunError::failed(Some(span), message))
 }

@@ -11,9 +11,11 @@ use std::{
     rc::Rc,
 };
 
-use gudsl_runtime::{DeviceBuffer, DeviceImage, Gpu, TexelFormat};
+use gudsl_runtime::Gpu;
 
-use super::value::{memory, Memory, Pointer, Scalar, Value};
+use super::value::{
+    memory, BufferContainer, ImageContainer, Object, Pointer, QImage, Scalar, Shown, Value, Viewer,
+};
 
 /// `HCImageChannelOrder`'s constants, in the library's order.
 const CHANNEL_ORDERS: [&str; 4] = ["R", "RGB", "RGBA", "BGRA"];
@@ -21,126 +23,6 @@ const CHANNEL_ORDERS: [&str; 4] = ["R", "RGB", "RGBA", "BGRA"];
 const FORMAT_RGB32: i32 = 0;
 /// OpenGL's `GL_UNSIGNED_BYTE`, the only pixel type the viewer shows.
 const GL_UNSIGNED_BYTE: i32 = 5121;
-
-/// A framework object.
-pub enum Object {
-    Image(QImage),
-    Viewer(Viewer),
-    Images(ImageContainer),
-    Buffer(BufferContainer),
-    Device { max_work_group_size: u32 },
-}
-
-impl Object {
-    pub fn class(&self) -> &'static str {
-        match self {
-            Object::Image(_) => "QImage",
-            Object::Viewer(_) => "Viewer2D",
-            Object::Images(_) => "ImageContainer",
-            Object::Buffer(_) => "BufferContainer",
-            Object::Device { .. } => "HCDevicePtr",
-        }
-    }
-
-    /// A container's host copy, as a pointer to its elements.
-    pub fn host(&self) -> Option<Pointer> {
-        match self {
-            Object::Images(c) => Some(Pointer::to(c.host.clone(), c.element)),
-            Object::Buffer(c) => Some(Pointer::to(c.host.clone(), c.element)),
-            _ => None,
-        }
-    }
-}
-
-/// A `QImage`: 8-bit RGBA pixels, rows top to bottom (a null image has no pixels). Its scan
-/// lines hold R, G, B, A in that order, the channel order the listings' containers declare
-/// (Qt keeps `Format_ARGB32` as B, G, R, A in memory; the listings' images are grey).
-#[derive(Clone)]
-pub struct QImage {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Memory,
-}
-
-/// A `Viewer2D`: its image objects, each the last image it was given.
-pub struct Viewer {
-    pub number: usize,
-    pub images: Vec<Option<Shown>>,
-}
-
-/// An image a viewer shows: RGB or grey bytes, rows top to bottom.
-pub struct Shown {
-    pub width: u32,
-    pub height: u32,
-    pub channels: u8,
-    pub bytes: Vec<u8>,
-}
-
-/// An `ImageContainer<T>`: four channels of `T` per pixel, on the host and on the device.
-pub struct ImageContainer {
-    pub label: String,
-    pub element: Scalar,
-    pub width: u32,
-    pub height: u32,
-    pub host: Memory,
-    pub device: Option<DeviceImage>,
-}
-
-/// A `BufferContainer<T>`: `len` elements of `T`, on the host and on the device.
-pub struct BufferContainer {
-    pub label: String,
-    pub element: Scalar,
-    pub len: u64,
-    pub host: Memory,
-    pub device: Option<DeviceBuffer>,
-}
-
-impl ImageContainer {
-    pub fn format(&self) -> Result<TexelFormat, String> {
-        Ok(match self.element {
-            Scalar::U8 => TexelFormat::Rgba8Uint,
-            Scalar::I8 => TexelFormat::Rgba8Sint,
-            Scalar::U16 => TexelFormat::Rgba16Uint,
-            Scalar::I16 => TexelFormat::Rgba16Sint,
-            Scalar::U32 => TexelFormat::Rgba32Uint,
-            Scalar::I32 => TexelFormat::Rgba32Sint,
-            Scalar::F32 => TexelFormat::Rgba32Float,
-            Scalar::F64 => return Err("images of `double` have no device format; use `float`".into()),
-        })
-    }
-
-    fn bytes(&self) -> usize {
-        self.width as usize * self.height as usize * 4 * self.element.size()
-    }
-
-    /// Its device image, made (zeroed) if the diagram never synchronised it.
-    pub fn device(&mut self, gpu: &Gpu) -> Result<&DeviceImage, String> {
-        if self.width == 0 || self.height == 0 {
-            return Err(format!("the image container `{}` has no size yet (call create(width, height))", self.label));
-        }
-        if self.device.is_none() {
-            let size = [self.width, self.height, 1];
-            let image = DeviceImage::new(gpu, &self.label, self.format()?, 2, size).map_err(|e| e.to_string())?;
-            self.device = Some(image);
-        }
-        Ok(self.device.as_ref().expect("made above"))
-    }
-}
-
-impl BufferContainer {
-    /// Its device buffer, made (zeroed) if the diagram never synchronised it.
-    pub fn device(&mut self, gpu: &Gpu) -> Result<&DeviceBuffer, String> {
-        if self.len == 0 {
-            return Err(format!("the buffer container `{}` has no size yet (call create(width, height))", self.label));
-        }
-        if self.device.is_none() {
-            let buffer = DeviceBuffer::new(gpu, &self.label, self.len * self.element.size() as u64)
-                .map_err(|e| e.to_string())?;
-            self.device = Some(buffer);
-        }
-        Ok(self.device.as_ref().expect("made above"))
-    }
-}
 
 /// A method or function of the framework.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -11,6 +11,7 @@ mod exec;
 mod framework;
 mod ir;
 mod lower;
+mod machine;
 mod native;
 mod printf;
 mod report;
@@ -244,7 +245,7 @@ impl PreparedRun {
             }
         };
         let framework = framework::Framework::new(gpu, self.base_dir.clone());
-        let mut machine = exec::Machine::new(&self.program, framework, &launchers, observer, self.native_loops);
+        let mut machine = machine::Machine::new(&self.program, framework, &launchers, observer, self.native_loops);
         report.outcome = machine.run().map_err(|error| {
             let mut error = *error;
             // An error without a place of its own is placed on the node that was running.

@@ -6,7 +6,7 @@
 use super::{
     super::{
         arith::{convert, float, float_binary, int, int_binary, ordered, same, truthy, uint_binary, undefined},
-        exec::{failed, Flow, Machine, Outcome},
+        machine::{failed, Flow, Machine, Outcome},
         framework::Method,
         ir::{Arith, CmpOp, Conv, Expr, Place, Slot},
         value::{Number, Value},

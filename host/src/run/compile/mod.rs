@@ -10,40 +10,12 @@ mod expr;
 
 use super::{
     arith::{binary, convert, float, float_binary, int, int_binary, pointer, uint_binary, undefined},
-    exec::{failed, run_block, Flow, Machine, Outcome},
     ir::{Arith, BinOp, Conv, Expr, Place, Program, Slot, Span, Stmt},
+    machine::{failed, run_block, Block, Code, Compiled, EdgeCode, Flow, Machine, NodeCode, Outcome},
     native,
     value::{Pointer, Value},
     RunError,
 };
-
-/// A compiled piece of the program: run on the machine, it gives a `T` or stops the run.
-pub(super) type Code<T> = Box<dyn Fn(&mut Machine<'_, '_>) -> Outcome<T>>;
-
-/// Statements, in order.
-pub(super) type Block = Box<[Code<Flow>]>;
-
-/// A compiled program: each diagram's variables' initialisation, and each node.
-pub(super) struct Compiled {
-    pub inits: Vec<Block>,
-    pub nodes: Vec<NodeCode>,
-}
-
-pub(super) struct NodeCode {
-    pub body: Block,
-    pub edges: Vec<EdgeCode>,
-    /// A final node's return value.
-    pub result: Option<Code<Value>>,
-}
-
-/// A transition's guard, arguments and work sizes, as in [`super::ir::Edge`], and the
-/// assignments of the target's `out` parameters to the places the transition names.
-pub(super) struct EdgeCode {
-    pub guard: Option<Code<bool>>,
-    pub args: Vec<(Slot, Code<Value>)>,
-    pub work: Vec<Code<i32>>,
-    pub outs: Block,
-}
 
 /// Compiles `program`; loops of numbers to machine code too where `native` (see `native/`).
 pub(super) fn program(program: &Program, native: bool) -> Compiled {

@@ -14,7 +14,7 @@ use std::{collections::BTreeMap, ffi::c_void, rc::Rc};
 use cranelift_jit::JITModule;
 
 use super::{
-    exec::{failed, Flow, Machine, Outcome},
+    machine::{failed, Flow, Machine, Outcome},
     framework::Method,
     ir::{Conv, Expr, Place, Slot, Span, Stmt},
     value::{Constant, Scalar, Value},

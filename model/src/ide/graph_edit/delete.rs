@@ -3,12 +3,12 @@
 
 use super::{
     edges,
-    place::{self, Body, Edit},
+    place::{self, Edit},
     Ctx, Element,
 };
 use crate::{
     graph::EdgeEnd,
-    syntax::{SyntaxKind::*, SyntaxNode, TextRange},
+    syntax::{SyntaxKind::*, TextRange},
 };
 
 pub(super) fn delete(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
@@ -22,7 +22,7 @@ fn delete_all(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
     match element {
         Element::Node(node) => {
             let declaration = ctx.declaration(node)?;
-            let mut edits = vec![item(&declaration)?];
+            let mut edits = vec![place::delete_declaration(&declaration)?];
             edits.extend(dangling(ctx, declaration.text_range(), |end| end.node == node.id)?);
             Ok(edits)
         }
@@ -35,7 +35,7 @@ fn delete_all(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
                 .filter(|n| n.group.as_ref() == Some(&group.id))
                 .map(|n| n.id.as_str())
                 .collect();
-            let mut edits = vec![item(&lane)?];
+            let mut edits = vec![place::delete_declaration(&lane)?];
             edits.extend(dangling(ctx, lane.text_range(), |end| inside.contains(&end.node.as_str()))?);
             Ok(edits)
         }
@@ -43,7 +43,7 @@ fn delete_all(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
             let declaration = ctx.declaration(owner)?;
             let member = ctx.member(&declaration, &name).ok_or_else(|| format!("`{id}` is not found in the text"))?;
             Ok(vec![match member.kind() {
-                FIELD | METHOD => item(&member)?,
+                FIELD | METHOD => place::delete_declaration(&member)?,
                 _ => match place::delete_from_list(&member) {
                     Some(edit) => edit,
                     // The only value: `{ Red }` → `{ }`, `(width = 1)` → `()`.
@@ -62,7 +62,7 @@ fn delete_all(ctx: &Ctx, id: &str) -> Result<Vec<Edit>, String> {
             // A port's last connector goes with its port (a port has at least one).
             let (edit, removed) = match place::delete_from_list(&connector) {
                 Some(edit) => (edit, connector.text_range()),
-                None => (item(&port_syntax)?, port_syntax.text_range()),
+                None => (place::delete_declaration(&port_syntax)?, port_syntax.text_range()),
             };
             let port_id = port.id.as_str();
             let mut edits = vec![edit];
@@ -96,14 +96,6 @@ fn merged(ctx: &Ctx, mut edits: Vec<Edit>) -> Vec<Edit> {
         }
     }
     out
-}
-
-/// The edit that deletes a declaration from its body.
-pub(super) fn item(node: &SyntaxNode) -> Result<Edit, String> {
-    place::delete(node).ok_or_else(|| {
-        let owner = node.parent().and_then(|p| Body::of(&p).map(|_| p)).map(|p| p.kind());
-        format!("the body around it is incomplete ({owner:?}): complete its braces first")
-    })
 }
 
 /// The edits that remove the edges with an end `gone` (declared outside `removed`, which goes).

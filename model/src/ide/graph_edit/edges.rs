@@ -5,7 +5,7 @@
 
 use super::{
     create::insert_into_instance,
-    delete, has_properties, name_of,
+    has_properties, name_of,
     place::{self, At, Body, Edit},
     valid_name, Ctx, Element, Properties,
 };
@@ -104,7 +104,7 @@ pub(super) fn remove(ctx: &Ctx, edge: &GraphEdge) -> Result<Vec<Edit>, String> {
         let edit = place::delete_from_list(&syntax).or_else(|| place::delete_clause(&syntax.parent()?));
         return Ok(vec![edit.ok_or("the clause is incomplete")?]);
     }
-    Ok(vec![delete::item(&syntax)?])
+    Ok(vec![place::delete_declaration(&syntax)?])
 }
 
 pub(super) fn reconnect(ctx: &Ctx, id: &str, source: Option<&str>, target: Option<&str>) -> Result<Vec<Edit>, String> {
@@ -149,7 +149,7 @@ pub(super) fn reconnect(ctx: &Ctx, id: &str, source: Option<&str>, target: Optio
             if is_transition && from.shape == NodeShape::Final {
                 return Err(format!("`{source}` is a final node: no transition leaves it"));
             }
-            Ok(vec![delete::item(&syntax)?, into_body(&ctx.declaration(from)?, &text)?])
+            Ok(vec![place::delete_declaration(&syntax)?, into_body(&ctx.declaration(from)?, &text)?])
         }
         EdgeKind::Generalization | EdgeKind::Realization => {
             let Some(source) = source else {

@@ -285,3 +285,11 @@ pub(super) fn indent_of(token: &SyntaxToken) -> String {
     }
     String::new()
 }
+
+/// The edit that deletes a declaration from its body.
+pub(super) fn delete_declaration(node: &SyntaxNode) -> Result<Edit, String> {
+    delete(node).ok_or_else(|| {
+        let owner = node.parent().and_then(|p| Body::of(&p).map(|_| p)).map(|p| p.kind());
+        format!("the body around it is incomplete ({owner:?}): complete its braces first")
+    })
+}
