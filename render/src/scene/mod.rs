@@ -1,10 +1,11 @@
 //! The scene: a diagram measured and laid out, as plain data — every box, text line, port,
 //! edge polyline, label and swimlane at its place (as usvg resolves an SVG into a render tree).
-//! [`build`] makes it from a graph: it sizes each node from its measured text (`measure`),
-//! lays the graph out (`crate::layout`), routes connections port to port, and places the labels
-//! (`labels`). The writers (`svg`, `json`) only draw or serialise it.
+//! [`build`] makes it from a graph, stage by stage (`build.rs`): it sizes each node from its
+//! measured text (`measure`), lays the graph out (`crate::layout`), routes connections port to
+//! port, and places the labels (`labels`). The writers (`svg`, `json`) only draw or serialise it.
 
 mod arrange;
+mod build;
 mod connections;
 mod frame;
 pub(crate) mod labels;
@@ -13,18 +14,14 @@ mod nesting;
 pub(crate) mod notation;
 
 pub use arrange::Hints;
+pub use build::build;
 pub use frame::Frame;
 
-use std::collections::HashMap;
-
-use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, GraphKind, NodeShape};
+use gudsl_model::graph::{EdgeKind, NodeShape};
 
 pub use crate::geometry::{Point, Rect};
-use crate::{
-    layout::{layered, layered_left_to_right, LayoutInput, LayoutNode, Spacing},
-    text::{self, Style},
-};
-use measure::{content, label_size, port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH};
+use crate::text::{self, Style};
+use measure::{port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH};
 use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
 
 /// A line of text at its baseline's start (or centre).
@@ -118,253 +115,6 @@ pub struct SceneEdge {
 pub struct EdgeLabel {
     pub rect: Rect,
     pub lines: Vec<(f64, String)>,
-}
-
-/// A graph's edge with both ends found: node indices, and port indices on them.
-struct ResolvedEdge<'g> {
-    edge: &'g gudsl_model::graph::GraphEdge,
-    from: (usize, Option<usize>),
-    to: (usize, Option<usize>),
-}
-
-/// Measures and lays out a graph, around the nodes `hints` pins or keeps where they were.
-pub fn build(graph: &Graph, hints: Hints) -> Scene {
-    let graph = &*notation::with_control_nodes(graph);
-    let mut contents: Vec<Content> = graph.nodes.iter().map(content).collect();
-    // A node the user resized is drawn at that size, never smaller than its text.
-    for (node, content) in graph.nodes.iter().zip(&mut contents) {
-        if let Some((width, height)) = hints.pins.and_then(|p| p.get(&node.id)).and_then(|pin| pin.size()) {
-            content.width = content.width.max(width);
-            content.height = content.height.max(height);
-        }
-    }
-    let by_id: HashMap<&str, usize> = graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), i)).collect();
-    let resolve = |end: &EdgeEnd| {
-        let node = *by_id.get(end.node.as_str())?;
-        let port = end.port.as_ref().and_then(|id| graph.nodes[node].ports.iter().position(|p| &p.id == id));
-        Some((node, port))
-    };
-    // Edges whose ends are both in the graph (dangling ones are not drawn).
-    let edges: Vec<ResolvedEdge> = graph
-        .edges
-        .iter()
-        .filter_map(|edge| Some(ResolvedEdge { edge, from: resolve(&edge.source)?, to: resolve(&edge.target)? }))
-        .collect();
-    let reaches: Vec<(f64, f64)> = graph.nodes.iter().map(port_reach).collect();
-    let mut input = LayoutInput {
-        // Each node with the room its port symbols take beside it.
-        nodes: contents
-            .iter()
-            .zip(&reaches)
-            .map(|(c, reach)| LayoutNode { width: reach.0 + c.width + reach.1, height: c.height })
-            .collect(),
-        edges: Vec::new(),
-        groups: graph
-            .nodes
-            .iter()
-            .map(|n| n.group.as_ref().and_then(|g| graph.groups.iter().position(|group| &group.id == g)))
-            .collect(),
-        labels: Vec::new(),
-        flow: graph.kind != GraphKind::Class,
-        firm: Vec::new(),
-        end_labels: Vec::new(),
-    };
-    let texts: Vec<labels::EdgeTexts> = edges.iter().map(|e| labels::texts(e.edge)).collect();
-    for (e, texts) in edges.iter().zip(&texts) {
-        // Generalization and realization point upwards in UML: lay them out parent first.
-        let upwards = matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization);
-        input.edges.push(if upwards { (e.to.0, e.from.0) } else { (e.from.0, e.to.0) });
-        input.firm.push(upwards);
-        // The layout makes room for the labels of the edges it routes (not port to port).
-        let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
-        let middle = Some(&texts.middle).filter(|m| routed_by_layout && !m.is_empty());
-        input.labels.push(middle.map(|m| label_size(m)));
-        let end =
-            |lines: &Vec<String>| Some(lines).filter(|l| routed_by_layout && !l.is_empty()).map(|l| label_size(l));
-        let (tail, head) = (end(&texts.tail), end(&texts.head));
-        input.end_labels.push(if upwards { [head, tail] } else { [tail, head] });
-    }
-    // The frame's heading comes first; the diagram is laid out below it.
-    let heading = frame::Heading::measure(graph);
-    // Dataflow runs left to right: sources, filters, sinks; class and activity diagrams top
-    // down. Between the columns of a dataflow run the ports' symbols and tracks.
-    let mut nesting = nesting::Nesting::of(graph);
-    let mut layout = match graph.kind {
-        GraphKind::Component | GraphKind::ComponentInstance => {
-            let spacing = Spacing { rank_gap: 20.0, ..Spacing::default() };
-            if nesting.is_flat() {
-                layered_left_to_right(&input, spacing)
-            } else {
-                nesting.layout(&input, &mut contents, &reaches, spacing)
-            }
-        }
-        GraphKind::Class | GraphKind::Activity => layered(&input, Spacing::default()),
-    };
-    for (at, reach) in layout.positions.iter_mut().zip(&reaches) {
-        at.x += reach.0;
-    }
-    // The layout starts at its margin; the frame's body starts below the heading.
-    let (body_x, body_y) = heading.body_offset();
-    let margin = Spacing::default().margin;
-    layout.translate(body_x - margin, body_y - margin);
-    for ((route, ends), e) in layout.edges.iter_mut().zip(&mut layout.end_labels).zip(&edges) {
-        if matches!(e.edge.kind, EdgeKind::Generalization | EdgeKind::Realization) {
-            route.reverse(); // drawn from the child to the parent
-            ends.swap(0, 1);
-        }
-    }
-    let to_place: Vec<arrange::Node> = graph
-        .nodes
-        .iter()
-        .zip(&contents)
-        .zip(&reaches)
-        .enumerate()
-        .map(|(i, ((n, c), reach))| arrange::Node {
-            id: &n.id,
-            width: c.width,
-            height: c.height,
-            reach: *reach,
-            held: nesting.is_nested(i),
-        })
-        .collect();
-    let to_route: Vec<arrange::Edge> = edges
-        .iter()
-        .zip(&input.end_labels)
-        .map(|(e, ends)| arrange::Edge {
-            id: &e.edge.id,
-            source: e.edge.source.id(),
-            target: e.edge.target.id(),
-            from: e.from.0,
-            to: e.to.0,
-            end_label_width: ends.iter().flatten().map(|size| size.0).fold(0.0, f64::max),
-        })
-        .collect();
-    arrange::arrange(&mut layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
-    // Nested components stay where their parents hold them, wherever those went.
-    nesting.follow(&mut layout.positions);
-    let anchors: Vec<Vec<Point>> = graph
-        .nodes
-        .iter()
-        .zip(&contents)
-        .zip(&layout.positions)
-        .map(|((node, content), at)| port_anchors(node, content, *at))
-        .collect();
-    let boxes: Vec<Rect> = layout
-        .positions
-        .iter()
-        .zip(&contents)
-        .map(|(p, c)| Rect { x: p.x, y: p.y, width: c.width, height: c.height })
-        .collect();
-    // A nested component's parent is in the way of what runs outside it, its text (header and
-    // port rows) in the way of everything.
-    let text_areas = (0..boxes.len())
-        .filter(|&i| contents[i].nested > 0.0)
-        .map(|i| Rect { height: boxes[i].height - contents[i].nested, ..boxes[i] });
-    let obstacles: Vec<Rect> = boxes.iter().copied().chain(text_areas).collect();
-    // Connections and bindings run between ports, orthogonally (`connections`).
-    let (wired, wires): (Vec<usize>, Vec<connections::Connection>) = edges
-        .iter()
-        .enumerate()
-        .filter_map(|(k, e)| {
-            let (from_port, to_port) = (e.from.1?, e.to.1?);
-            let (from, to) = (anchors[e.from.0][from_port], anchors[e.to.0][to_port]);
-            let faces = |node: usize, at: Point| if at.x < boxes[node].x { -1.0 } else { 1.0 };
-            Some((
-                k,
-                connections::Connection {
-                    from,
-                    from_faces: faces(e.from.0, from),
-                    to,
-                    to_faces: faces(e.to.0, to),
-                    from_port: e.edge.source.id(),
-                    to_port: e.edge.target.id(),
-                    // Its ends' ancestors hold it: it runs inside them.
-                    inside: nesting.lineage(e.from.0).skip(1).chain(nesting.lineage(e.to.0).skip(1)).collect(),
-                },
-            ))
-        })
-        .unzip();
-    for (k, route) in wired.into_iter().zip(connections::route(&wires, &obstacles)) {
-        layout.edges[k] = route;
-    }
-    // The drawing holds every route.
-    for point in layout.edges.iter().flatten() {
-        layout.width = layout.width.max(point.x + 20.0);
-        layout.height = layout.height.max(point.y + 20.0);
-    }
-    // Edges end on a diamond's outline.
-    for (route, e) in layout.edges.iter_mut().zip(&edges) {
-        for (node, at_end) in [(e.from.0, false), (e.to.0, true)] {
-            if graph.nodes[node].shape == NodeShape::Decision && e.from.0 != e.to.0 {
-                notation::clip_to_diamond(route, at_end, boxes[node]);
-            }
-        }
-    }
-    let corner = Point { x: BODY_INSET, y: heading.body_top() };
-    let shared: Vec<Vec<usize>> = edges.iter().map(|e| nesting.holding_both(e.from.0, e.to.0)).collect();
-    let labels =
-        labels::place_all(&texts, &layout.edges, &layout.labels, &layout.end_labels, &obstacles, &shared, corner);
-
-    // The drawing grows to hold edge labels that reach past the boxes, and lane titles.
-    let width = labels.iter().flat_map(labels::Placed::all).map(|l| l.x + l.width + 8.0).fold(layout.width, f64::max);
-    let height =
-        labels.iter().flat_map(labels::Placed::all).map(|l| l.y + l.height + 8.0).fold(layout.height, f64::max);
-    // Each swimlane's span: its nodes, the routes and labels of the edges between them, and
-    // its title; the frame's body holds them all.
-    let lane_spans: Vec<Option<(f64, f64)>> = graph
-        .groups
-        .iter()
-        .map(|group| {
-            let inside = |node: usize| graph.nodes[node].group.as_ref() == Some(&group.id);
-            let mut members: Vec<Rect> = (0..boxes.len()).filter(|&i| inside(i)).map(|i| boxes[i]).collect();
-            for ((e, route), label) in edges.iter().zip(&layout.edges).zip(&labels) {
-                if inside(e.from.0) && inside(e.to.0) && !members.is_empty() {
-                    members.extend(route.iter().map(|p| Rect { x: p.x, y: p.y, width: 0.0, height: 0.0 }));
-                    members.extend(label.all());
-                }
-            }
-            lane_span(group, &members, BODY_INSET)
-        })
-        .collect();
-    let width = lane_spans.iter().flatten().fold(width, |w, &(_, right)| w.max(right + BODY_INSET));
-    let (min_width, min_height) = heading.min_size();
-    let (width, height) = (width.max(min_width), height.max(min_height));
-    let frame = heading.place(width, height);
-    // Lanes fill the frame's body, from under the heading to the frame's bottom.
-    let body_top = heading.body_top();
-    let body = Rect {
-        x: BODY_INSET,
-        y: body_top,
-        width: frame.rect.width - 8.0,
-        height: frame.rect.y + frame.rect.height - 4.0 - body_top,
-    };
-
-    let lanes =
-        graph.groups.iter().zip(lane_spans).filter_map(|(group, span)| Some(lane_of(group, span?, body))).collect();
-    let scene_edges = edges
-        .iter()
-        .zip(layout.edges)
-        .zip(texts)
-        .zip(labels)
-        .map(|(((e, points), texts), at)| SceneEdge {
-            id: e.edge.id.clone(),
-            kind: e.edge.kind,
-            source: e.edge.source.id().to_string(),
-            target: e.edge.target.id().to_string(),
-            label: at.middle.map(|rect| edge_label(texts.middle, rect)),
-            tail_label: at.tail.map(|rect| edge_label(texts.tail, rect)),
-            head_label: at.head.map(|rect| edge_label(texts.head, rect)),
-            points,
-        })
-        .collect();
-    let nodes = graph
-        .nodes
-        .iter()
-        .zip(&contents)
-        .zip(&boxes)
-        .map(|((node, content), rect)| scene_node(node, content, *rect))
-        .collect();
-    Scene { id: graph.id.clone(), width, height, frame, lanes, edges: scene_edges, nodes }
 }
 
 /// The room a node's port symbols and their tracks take left and right of its box.

@@ -1,6 +1,6 @@
 //! Tests of completion: what is proposed where the cursor is.
 
-use super::*;
+use super::{names::FAR_TYPES, *};
 
 fn labels(files: &[(&str, &str)]) -> Vec<String> {
     let (db, ws, inputs, cursor) = super::super::test_fixture::with_cursor(files);
