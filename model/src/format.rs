@@ -87,141 +87,166 @@ fn space_between(prev: &SyntaxToken, next: &SyntaxToken) -> bool {
     }
 }
 
-/// Formats a parsed document; `None` if it has syntax errors.
+/// Formats a parsed document; `None` if it has syntax errors. The output keeps the
+/// document's line terminator (that of its first line) and its byte-order mark.
 pub fn format(parse: &Parse) -> Option<String> {
     if !parse.errors().is_empty() {
         return None;
     }
     let root = parse.syntax_node();
-    let mut out = String::new();
-    let mut depth: usize = 0;
-    let mut paren_depth: usize = 0;
-    let mut prev: Option<SyntaxToken> = None;
-    // Newlines in the whitespace just before the current token.
-    let mut newlines_before = 0usize;
-    let mut at_line_start = true;
-    let mut force_newline = false;
-    // Per open `{`: whether a line break happened inside it (else its `}` stays on the line).
-    let mut broken: Vec<bool> = Vec::new();
-
-    let newline = |out: &mut String, count: usize| {
-        while out.ends_with(' ') {
-            out.pop();
-        }
-        for _ in 0..count {
-            out.push('\n');
-        }
-    };
-
-    // The output keeps the document's line terminator (that of its first line) and its
-    // byte-order mark.
+    let mut printer = Printer::default();
     let mut eol = None;
     let bom = root.text().char_at(0.into()) == Some('\u{feff}');
-
     for token in root.descendants_with_tokens().filter_map(|e| e.into_token()) {
-        let kind = token.kind();
         if eol.is_none() && token.text().contains(['\n', '\r']) {
             eol = Some(line_ending(token.text()));
         }
-        if kind == WHITESPACE {
-            newlines_before = line_breaks(token.text());
-            continue;
-        }
-        let is_comment = matches!(kind, LINE_COMMENT | BLOCK_COMMENT);
-        if kind == R_CURLY || kind == R_PAREN || kind == R_BRACK {
-            if kind == R_CURLY {
-                depth = depth.saturating_sub(1);
-            } else {
-                paren_depth = paren_depth.saturating_sub(1);
-            }
-        }
-        // Decide what separates this token from the previous one.
-        let empty_block = kind == R_CURLY && prev.as_ref().is_some_and(|p| p.kind() == L_CURLY);
-        let inline_block = kind == R_CURLY && broken.last().is_some_and(|b| !b);
-        let line_level = !is_comment && started_node(&token).is_some();
-        // Braces of a body that spans lines go on their own line, as in the dissertation.
-        let own_line_brace = kind == L_CURLY && body_breaks(&token);
-        let mut wants_newline = force_newline
-            || (line_level && !at_line_start && prev.is_some())
-            || (kind == R_CURLY && !inline_block)
-            || own_line_brace
-            || (is_comment && newlines_before > 0 && prev.is_some())
-            || (paren_depth > 0 && newlines_before > 0 && !is_comment && prev.is_some());
-        if kind == R_CURLY && inline_block && !force_newline {
-            wants_newline = false;
-        }
-        if wants_newline && prev.is_some() {
-            // Keep one blank line where the author left at least one (not right after `{`).
-            let after_open = prev.as_ref().is_some_and(|p| p.kind() == L_CURLY);
-            let blank = newlines_before >= 2 && !after_open && kind != R_CURLY;
-            newline(&mut out, if blank { 2 } else { 1 });
-            at_line_start = true;
-            if let Some(last) = broken.last_mut() {
-                *last = true;
-            }
-        }
-        if at_line_start {
-            if prev.is_some() || !out.is_empty() {
-                let continuation = if paren_depth > 0 { 1 } else { 0 };
-                let level = depth + continuation;
-                for _ in 0..level {
-                    out.push_str(INDENT);
-                }
-            }
-        } else if let Some(p) = &prev {
-            if is_comment || empty_block || space_between(p, &token) {
-                out.push(' ');
-            }
-        }
-        out.push_str(token.text().trim_end());
-        at_line_start = false;
-        force_newline = false;
-        newlines_before = 0;
-        match kind {
-            L_CURLY => {
-                depth += 1;
-                broken.push(false);
-            }
-            L_PAREN | L_BRACK => paren_depth += 1,
-            LINE_COMMENT => force_newline = true,
-            // A `}` ends its line, except before `;`, `else` and `loop` (of `do … loop`).
-            R_CURLY => {
-                let inner_broken = broken.pop().unwrap_or(false);
-                if let Some(last) = broken.last_mut() {
-                    *last |= inner_broken;
-                }
-                if let Some(next) = token.next_token().and_then(|t| next_significant(&t)) {
-                    if !matches!(next.kind(), SEMICOLON | LOOP_KW | COMMA | R_PAREN) {
-                        force_newline = true;
-                    }
-                }
-            }
-            // The `;` of a statement or declaration ends its line (not inside headers).
-            SEMICOLON if paren_depth == 0 => force_newline = true,
-            // Attribute lists stand on their own line above the declaration.
-            R_BRACK
-                if parent_kind(&token) == ATTRIBUTE_LIST
-                    && token.parent().and_then(|p| p.parent()).is_some_and(|g| g.kind() != ENUM_VALUE) =>
-            {
-                force_newline = true
-            }
-            _ => {}
-        }
-        prev = Some(token);
+        printer.token(token);
     }
-    newline(&mut out, 1);
-    // No trailing blank lines; exactly one final newline.
-    while out.ends_with("\n\n") {
-        out.pop();
-    }
-    if out == "\n" {
-        out.clear();
-    }
-    let mut out = with_line_ending(&out, eol.unwrap_or("\n"));
+    let mut out = with_line_ending(&printer.finish(), eol.unwrap_or("\n"));
     if bom {
         out.insert(0, '\u{feff}');
     }
     Some(out)
+}
+
+/// The formatted text so far and where the next token goes.
+#[derive(Default)]
+struct Printer {
+    out: String,
+    /// Open `{`s.
+    depth: usize,
+    /// Open `(`s and `[`s: a line broken inside them is a continuation.
+    paren_depth: usize,
+    prev: Option<SyntaxToken>,
+    /// Newlines in the whitespace just before the current token.
+    newlines_before: usize,
+    at_line_start: bool,
+    force_newline: bool,
+    /// Per open `{`: whether a line break happened inside it (else its `}` stays on the line).
+    broken: Vec<bool>,
+}
+
+impl Printer {
+    /// Writes `token` after what separates it from the previous one.
+    fn token(&mut self, token: SyntaxToken) {
+        let kind = token.kind();
+        if kind == WHITESPACE {
+            self.newlines_before = line_breaks(token.text());
+            return;
+        }
+        match kind {
+            R_CURLY => self.depth = self.depth.saturating_sub(1),
+            R_PAREN | R_BRACK => self.paren_depth = self.paren_depth.saturating_sub(1),
+            _ => {}
+        }
+        self.separate(&token);
+        self.out.push_str(token.text().trim_end());
+        self.at_line_start = false;
+        self.force_newline = false;
+        self.newlines_before = 0;
+        self.after(&token);
+        self.prev = Some(token);
+    }
+
+    /// A line break (with the indentation of the new line), a space or nothing before `token`.
+    fn separate(&mut self, token: &SyntaxToken) {
+        let kind = token.kind();
+        let is_comment = matches!(kind, LINE_COMMENT | BLOCK_COMMENT);
+        let prev_kind = self.prev.as_ref().map(|p| p.kind());
+        let empty_block = kind == R_CURLY && prev_kind == Some(L_CURLY);
+        let inline_block = kind == R_CURLY && self.broken.last().is_some_and(|b| !b);
+        let line_level = !is_comment && started_node(token).is_some();
+        // Braces of a body that spans lines go on their own line, as in the dissertation.
+        let own_line_brace = kind == L_CURLY && body_breaks(token);
+        let started = self.prev.is_some();
+        let mut wants_newline = self.force_newline
+            || (line_level && !self.at_line_start && started)
+            || (kind == R_CURLY && !inline_block)
+            || own_line_brace
+            || (is_comment && self.newlines_before > 0 && started)
+            || (self.paren_depth > 0 && self.newlines_before > 0 && !is_comment && started);
+        if kind == R_CURLY && inline_block && !self.force_newline {
+            wants_newline = false;
+        }
+        if wants_newline && started {
+            // Keep one blank line where the author left at least one (not right after `{`).
+            let blank = self.newlines_before >= 2 && prev_kind != Some(L_CURLY) && kind != R_CURLY;
+            self.newline(if blank { 2 } else { 1 });
+            self.at_line_start = true;
+            if let Some(last) = self.broken.last_mut() {
+                *last = true;
+            }
+        }
+        if self.at_line_start {
+            if started || !self.out.is_empty() {
+                let level = self.depth + usize::from(self.paren_depth > 0);
+                for _ in 0..level {
+                    self.out.push_str(INDENT);
+                }
+            }
+        } else if let Some(p) = &self.prev {
+            if is_comment || empty_block || space_between(p, token) {
+                self.out.push(' ');
+            }
+        }
+    }
+
+    /// What `token` opens, closes or ends.
+    fn after(&mut self, token: &SyntaxToken) {
+        match token.kind() {
+            L_CURLY => {
+                self.depth += 1;
+                self.broken.push(false);
+            }
+            L_PAREN | L_BRACK => self.paren_depth += 1,
+            LINE_COMMENT => self.force_newline = true,
+            // A `}` ends its line, except before `;`, `else` and `loop` (of `do … loop`).
+            R_CURLY => {
+                let inner_broken = self.broken.pop().unwrap_or(false);
+                if let Some(last) = self.broken.last_mut() {
+                    *last |= inner_broken;
+                }
+                if let Some(next) = token.next_token().and_then(|t| next_significant(&t)) {
+                    if !matches!(next.kind(), SEMICOLON | LOOP_KW | COMMA | R_PAREN) {
+                        self.force_newline = true;
+                    }
+                }
+            }
+            // The `;` of a statement or declaration ends its line (not inside headers).
+            SEMICOLON if self.paren_depth == 0 => self.force_newline = true,
+            // Attribute lists stand on their own line above the declaration.
+            R_BRACK
+                if parent_kind(token) == ATTRIBUTE_LIST
+                    && token.parent().and_then(|p| p.parent()).is_some_and(|g| g.kind() != ENUM_VALUE) =>
+            {
+                self.force_newline = true
+            }
+            _ => {}
+        }
+    }
+
+    /// Ends the line (trailing spaces dropped) `count` times.
+    fn newline(&mut self, count: usize) {
+        while self.out.ends_with(' ') {
+            self.out.pop();
+        }
+        for _ in 0..count {
+            self.out.push('\n');
+        }
+    }
+
+    /// The text with exactly one final newline and no trailing blank lines (empty for none).
+    fn finish(mut self) -> String {
+        self.newline(1);
+        while self.out.ends_with("\n\n") {
+            self.out.pop();
+        }
+        if self.out == "\n" {
+            self.out.clear();
+        }
+        self.out
+    }
 }
 
 /// Whether the braced body `open` starts holds something that goes on a line of its own.

@@ -13,8 +13,34 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
     let mut graph = Graph::new(id.clone(), GraphKind::Activity, diagram.syntax());
     graph.parameters = diagram.params().map(|p| text(&p)).collect();
     graph.owner = diagram.owner().map(|o| text(&o));
-    // Variables (`public int i = 0;`) and `var`/`const` declarations, in the order written.
-    graph.variables = diagram
+    graph.variables = variables(diagram);
+    let mut lanes: Vec<(Option<String>, Vec<ast::ActivityNode>)> = Vec::new();
+    for lane in diagram.swimlanes() {
+        let name = lane.name().map(|n| n.text()).unwrap_or_default();
+        let lane_id = format!("{id}/{name}");
+        graph.groups.push(GraphGroup { id: lane_id.clone(), label: name, owner: lane.owner().map(|p| p.text()) });
+        lanes.push((Some(lane_id), lane.nodes().collect()));
+    }
+    lanes.push((None, diagram.nodes().collect()));
+    let mut node_ids: HashMap<String, String> = HashMap::new();
+    for (lane_id, nodes) in &lanes {
+        for node in nodes {
+            let Some(name) = node.name().map(|n| n.text()) else { continue };
+            let node_id = format!("{}/{name}", lane_id.as_deref().unwrap_or(&id));
+            node_ids.entry(name.clone()).or_insert_with(|| node_id.clone());
+            graph.nodes.push(activity_node(node, node_id, name, lane_id.clone()));
+        }
+    }
+    for node in lanes.iter().flat_map(|(_, nodes)| nodes) {
+        transitions(&mut graph, node, &node_ids, &id);
+    }
+    graph
+}
+
+/// The diagram's variables (`public int i = 0;`) and `var`/`const` declarations, in the order
+/// written, as UML writes attributes.
+fn variables(diagram: &ast::ActivityDiagram) -> Vec<String> {
+    diagram
         .syntax()
         .children()
         .filter_map(|node| {
@@ -35,100 +61,84 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
             let (is_ref, read_only) = (v.has_modifier(crate::syntax::SyntaxKind::REF_KW), v.is_const());
             Some(attribute_line("", &name(v.name()), v.type_ref(), is_ref, v.initializer(), read_only))
         })
-        .collect();
-    let mut lanes: Vec<(Option<String>, Vec<ast::ActivityNode>)> = Vec::new();
-    for lane in diagram.swimlanes() {
-        let name = lane.name().map(|n| n.text()).unwrap_or_default();
-        let lane_id = format!("{id}/{name}");
-        graph.groups.push(GraphGroup { id: lane_id.clone(), label: name, owner: lane.owner().map(|p| p.text()) });
-        lanes.push((Some(lane_id), lane.nodes().collect()));
+        .collect()
+}
+
+/// A node of the diagram: its shape and stereotype by kind, its parameters in the label, its
+/// loop header and statements as compartments, in its swimlane (`group`).
+fn activity_node(node: &ast::ActivityNode, id: String, name: String, group: Option<String>) -> GraphNode {
+    let shape = match node.kind() {
+        ast::NodeKind::Start => NodeShape::Start,
+        ast::NodeKind::Final => NodeShape::Final,
+        ast::NodeKind::Action => NodeShape::Action,
+        ast::NodeKind::Decision => NodeShape::Decision,
+        ast::NodeKind::Fork => NodeShape::Fork,
+        ast::NodeKind::Join => NodeShape::Join,
+        ast::NodeKind::Loop => NodeShape::Loop,
+        ast::NodeKind::LoopWindow => NodeShape::LoopWindow,
+        ast::NodeKind::Calc => NodeShape::Calc,
+        ast::NodeKind::CalcRange => NodeShape::CalcRange,
+    };
+    let stereotype = match node.kind() {
+        ast::NodeKind::Loop => Some("loop".to_string()),
+        ast::NodeKind::LoopWindow => Some("loopWindow".to_string()),
+        ast::NodeKind::Calc => Some("calc".to_string()),
+        ast::NodeKind::CalcRange => Some("calcRange".to_string()),
+        _ => None,
+    };
+    let params: Vec<String> = node.params().map(|p| text(&p)).collect();
+    let label = if params.is_empty() { name } else { format!("{name}({})", params.join(", ")) };
+    let mut compartments = Vec::new();
+    if let Some(header) = node.loop_header() {
+        compartments.push(Compartment::plain(Some("header".into()), loop_section_lines(&header)));
     }
-    lanes.push((None, diagram.nodes().collect()));
-    let mut node_ids: HashMap<String, String> = HashMap::new();
-    for (lane_id, nodes) in &lanes {
-        for node in nodes {
-            let Some(name) = node.name().map(|n| n.text()) else { continue };
-            let node_id = match lane_id {
-                Some(lane) => format!("{lane}/{name}"),
-                None => format!("{id}/{name}"),
-            };
-            node_ids.entry(name.clone()).or_insert_with(|| node_id.clone());
-            let shape = match node.kind() {
-                ast::NodeKind::Start => NodeShape::Start,
-                ast::NodeKind::Final => NodeShape::Final,
-                ast::NodeKind::Action => NodeShape::Action,
-                ast::NodeKind::Decision => NodeShape::Decision,
-                ast::NodeKind::Fork => NodeShape::Fork,
-                ast::NodeKind::Join => NodeShape::Join,
-                ast::NodeKind::Loop => NodeShape::Loop,
-                ast::NodeKind::LoopWindow => NodeShape::LoopWindow,
-                ast::NodeKind::Calc => NodeShape::Calc,
-                ast::NodeKind::CalcRange => NodeShape::CalcRange,
-            };
-            let stereotype = match node.kind() {
-                ast::NodeKind::Loop => Some("loop".to_string()),
-                ast::NodeKind::LoopWindow => Some("loopWindow".to_string()),
-                ast::NodeKind::Calc => Some("calc".to_string()),
-                ast::NodeKind::CalcRange => Some("calcRange".to_string()),
-                _ => None,
-            };
-            let params: Vec<String> = node.params().map(|p| text(&p)).collect();
-            let label = if params.is_empty() { name.clone() } else { format!("{name}({})", params.join(", ")) };
-            let mut compartments = Vec::new();
-            if let Some(header) = node.loop_header() {
-                compartments.push(Compartment::plain(Some("header".into()), loop_section_lines(&header)));
-            }
-            let statements: Vec<String> = node.statements().map(|s| text(&s)).collect();
-            if !statements.is_empty() {
-                compartments.push(Compartment::plain(None, statements));
-            }
-            graph.nodes.push(GraphNode {
-                id: node_id,
-                shape,
-                label,
-                stereotype,
-                is_abstract: false,
-                compartments,
-                ports: Vec::new(),
-                group: lane_id.clone(),
-                parent: None,
-                range: node.syntax().text_range(),
-            });
-        }
+    let statements: Vec<String> = node.statements().map(|s| text(&s)).collect();
+    if !statements.is_empty() {
+        compartments.push(Compartment::plain(None, statements));
     }
-    for (_, nodes) in &lanes {
-        for node in nodes {
-            let Some(source) = node.name().and_then(|n| node_ids.get(&n.text()).cloned()) else { continue };
-            for transition in node.transitions() {
-                let Some(target_name) = transition.target().map(|t| t.text()) else { continue };
-                // Unknown targets still show, as dangling edges to their name.
-                let target =
-                    EdgeEnd::node(node_ids.get(&target_name).cloned().unwrap_or_else(|| format!("{id}/{target_name}")));
-                let source = EdgeEnd::node(source.clone());
-                let guard = transition.guard().map(|g| match g.condition() {
-                    Some(c) => format!("[{}]", text(&c)),
-                    // An empty guard is taken when no other is: UML's `[else]`.
-                    None => "[else]".to_string(),
-                });
-                let args = transition.arg_list().map(|a| text(&a));
-                let label = match (guard, args) {
-                    (Some(g), Some(a)) => Some(format!("{g} {a}")),
-                    (g, a) => g.or(a),
-                };
-                graph.edges.push(GraphEdge {
-                    id: edge_id(&graph, &source, &target),
-                    kind: EdgeKind::Transition,
-                    source,
-                    target,
-                    label,
-                    source_label: None,
-                    target_label: None,
-                    range: transition.syntax().text_range(),
-                });
-            }
-        }
+    GraphNode {
+        id,
+        shape,
+        label,
+        stereotype,
+        is_abstract: false,
+        compartments,
+        ports: Vec::new(),
+        group,
+        parent: None,
+        range: node.syntax().text_range(),
     }
-    graph
+}
+
+/// A node's transitions as edges, labelled with their guard and arguments; an unknown target
+/// still shows, as a dangling edge to its name (in the diagram `id`).
+fn transitions(graph: &mut Graph, node: &ast::ActivityNode, node_ids: &HashMap<String, String>, id: &str) {
+    let Some(source) = node.name().and_then(|n| node_ids.get(&n.text()).cloned()) else { return };
+    for transition in node.transitions() {
+        let Some(target_name) = transition.target().map(|t| t.text()) else { continue };
+        let target = EdgeEnd::node(node_ids.get(&target_name).cloned().unwrap_or_else(|| format!("{id}/{target_name}")));
+        let source = EdgeEnd::node(source.clone());
+        let guard = transition.guard().map(|g| match g.condition() {
+            Some(c) => format!("[{}]", text(&c)),
+            // An empty guard is taken when no other is: UML's `[else]`.
+            None => "[else]".to_string(),
+        });
+        let args = transition.arg_list().map(|a| text(&a));
+        let label = match (guard, args) {
+            (Some(g), Some(a)) => Some(format!("{g} {a}")),
+            (g, a) => g.or(a),
+        };
+        graph.edges.push(GraphEdge {
+            id: edge_id(graph, &source, &target),
+            kind: EdgeKind::Transition,
+            source,
+            target,
+            label,
+            source_label: None,
+            target_label: None,
+            range: transition.syntax().text_range(),
+        });
+    }
 }
 
 /// A loop header's sections as the dissertation names its areas (§10.2.1.4): `setup`, `test`
