@@ -191,16 +191,28 @@ impl<'g> Framework<'g> {
         }
     }
 
+    /// `method` of `receiver`, by the receiver's class.
     fn method(&mut self, method: Method, receiver: &mut Object, args: &[Value]) -> Result<Value, String> {
-        use Method::*;
+        match receiver {
+            Object::Image(image) => self.image_method(method, image, args),
+            Object::Viewer(viewer) => viewer_method(method, viewer, args),
+            Object::Images(_) | Object::Buffer(_) => self.container_method(method, receiver, args),
+            Object::Device { max_work_group_size } => match method {
+                Method::MaxWorkGroupSize => Ok(Value::Int(*max_work_group_size as i32)),
+                _ => Err(not_a_method(method, "HCDevicePtr")),
+            },
+        }
+    }
+
+    /// A method of a `QImage`.
+    fn image_method(&mut self, method: Method, image: &mut QImage, args: &[Value]) -> Result<Value, String> {
         let int = |i: usize| int_arg(args, i);
-        let gpu = self.gpu;
-        match (method, receiver) {
-            (Load, Object::Image(image)) => {
+        match method {
+            Method::Load => {
                 *image = load_image(&self.base_dir, &string_arg(args, 0)?)?;
                 Ok(Value::Bool(true))
             }
-            (ConvertToFormat, Object::Image(image)) => {
+            Method::ConvertToFormat => {
                 let bytes = image.pixels.borrow().clone();
                 let converted =
                     QImage { width: image.width, height: image.height, pixels: Rc::new(RefCell::new(bytes)) };
@@ -209,113 +221,83 @@ impl<'g> Framework<'g> {
                 }
                 Ok(object(Object::Image(converted)))
             }
-            (Width, Object::Image(image)) => Ok(Value::Int(image.width as i32)),
-            (Height, Object::Image(image)) => Ok(Value::Int(image.height as i32)),
-            (Width, Object::Images(container)) => Ok(Value::Int(container.width as i32)),
-            (Height, Object::Images(container)) => Ok(Value::Int(container.height as i32)),
-            (ScanLine, Object::Image(image)) => {
+            Method::Width => Ok(Value::Int(image.width as i32)),
+            Method::Height => Ok(Value::Int(image.height as i32)),
+            Method::ScanLine => {
                 let line = int(0)?;
                 if line < 0 || line >= image.height as i64 {
                     return Err(format!("scan line {line} of an image {} lines high", image.height));
                 }
                 Ok(Value::Ptr(Pointer::to(image.pixels.clone(), Scalar::U8).add(line * 4 * image.width as i64)))
             }
-            (AddImageObject, Object::Viewer(viewer)) => {
-                viewer.images.push(None);
-                Ok(Value::Int(viewer.images.len() as i32 - 1))
-            }
-            (SetImage, Object::Viewer(viewer)) => {
-                let Some(Value::Object(image)) = args.first() else {
-                    return Err("setImage(image, index, copy) is given no image".into());
-                };
-                let Object::Image(image) = &*image.borrow() else { return Err("setImage is given no QImage".into()) };
-                let shown = Shown {
-                    width: image.width,
-                    height: image.height,
-                    channels: 4,
-                    bytes: image.pixels.borrow().clone(),
-                };
-                viewer.set(int(1)?, shown)
-            }
-            (SetImageData, Object::Viewer(viewer)) => {
-                let (data, size, width, height, format) = (pointer_arg(args, 0)?, int(1)?, int(3)?, int(4)?, int(5)?);
-                if format != GL_UNSIGNED_BYTE as i64 {
-                    return Err(format!(
-                        "pixel type {format}: the viewer shows GL_UNSIGNED_BYTE ({GL_UNSIGNED_BYTE}) data"
-                    ));
-                }
-                let pixels = width.max(0) * height.max(0);
-                if pixels == 0 || size <= 0 || size % pixels != 0 || !matches!(size / pixels, 1 | 3 | 4) {
-                    return Err(format!(
-                        "{size} bytes for a {width}×{height} image: 1, 3 or 4 bytes a pixel are shown"
-                    ));
-                }
-                let bytes = data.bytes(size as usize)?;
-                let shown =
-                    Shown { width: width as u32, height: height as u32, channels: (size / pixels) as u8, bytes };
-                viewer.set(int(6)?, shown)
-            }
-            (Show | Resize, Object::Viewer(_)) => Ok(Value::Void),
-            (Create, Object::Images(container)) => {
+            _ => Err(not_a_method(method, "QImage")),
+        }
+    }
+
+    /// A method of an `ImageContainer` or a `BufferContainer` (`container`).
+    fn container_method(&mut self, method: Method, container: &mut Object, args: &[Value]) -> Result<Value, String> {
+        let int = |i: usize| int_arg(args, i);
+        let gpu = self.gpu;
+        match (method, container) {
+            (Method::Width, Object::Images(images)) => Ok(Value::Int(images.width as i32)),
+            (Method::Height, Object::Images(images)) => Ok(Value::Int(images.height as i32)),
+            (Method::Create, Object::Images(images)) => {
                 let (width, height) = (int(0)?, int(1)?);
                 if width <= 0 || height <= 0 || width > u32::MAX as i64 || height > u32::MAX as i64 {
                     return Err(format!("an image of {width}×{height} pixels"));
                 }
-                container.width = width as u32;
-                container.height = height as u32;
-                container.host = memory(container.bytes());
-                container.device = None;
+                images.width = width as u32;
+                images.height = height as u32;
+                images.host = memory(images.bytes());
+                images.device = None;
                 Ok(Value::Void)
             }
-            (Create, Object::Buffer(container)) => {
+            (Method::Create, Object::Buffer(buffer)) => {
                 let (width, height) = (int(0)?, int(1)?);
                 if width <= 0 || height <= 0 {
                     return Err(format!("a buffer of {width}×{height} elements"));
                 }
-                container.len = (width * height) as u64;
-                container.host = memory(container.len as usize * container.element.size());
-                container.device = None;
+                buffer.len = (width * height) as u64;
+                buffer.host = memory(buffer.len as usize * buffer.element.size());
+                buffer.device = None;
                 Ok(Value::Void)
             }
-            (Fill, container @ (Object::Images(_) | Object::Buffer(_))) => {
+            (Method::Fill, container) => {
                 let host = container.host().expect("a container");
                 let len = host.memory.borrow().len();
                 host.put(&pointer_arg(args, 0)?.bytes(len)?)?;
                 Ok(Value::Void)
             }
-            (SyncToGpu, Object::Images(container)) => {
-                let host = container.host.clone();
-                container.device(gpu)?.write(gpu, &host.borrow()).map_err(|e| e.to_string())?;
+            (Method::SyncToGpu, Object::Images(images)) => {
+                let host = images.host.clone();
+                images.device(gpu)?.write(gpu, &host.borrow()).map_err(|e| e.to_string())?;
                 Ok(Value::Void)
             }
-            (SyncToGpu, Object::Buffer(container)) => {
-                let host = container.host.clone();
-                container.device(gpu)?.write(gpu, &host.borrow()).map_err(|e| e.to_string())?;
+            (Method::SyncToGpu, Object::Buffer(buffer)) => {
+                let host = buffer.host.clone();
+                buffer.device(gpu)?.write(gpu, &host.borrow()).map_err(|e| e.to_string())?;
                 Ok(Value::Void)
             }
-            (SyncToCpu, Object::Images(container)) => {
-                let bytes = container.device(gpu)?.read(gpu).map_err(|e| e.to_string())?;
-                container.host.borrow_mut().copy_from_slice(&bytes);
+            (Method::SyncToCpu, Object::Images(images)) => {
+                let bytes = images.device(gpu)?.read(gpu).map_err(|e| e.to_string())?;
+                images.host.borrow_mut().copy_from_slice(&bytes);
                 Ok(Value::Void)
             }
-            (SyncToCpu, Object::Buffer(container)) => {
-                let bytes = container.device(gpu)?.read(gpu).map_err(|e| e.to_string())?;
-                container.host.borrow_mut().copy_from_slice(&bytes);
+            (Method::SyncToCpu, Object::Buffer(buffer)) => {
+                let bytes = buffer.device(gpu)?.read(gpu).map_err(|e| e.to_string())?;
+                buffer.host.borrow_mut().copy_from_slice(&bytes);
                 Ok(Value::Void)
             }
-            (HostPointer, container @ (Object::Images(_) | Object::Buffer(_))) => {
-                Ok(Value::Ptr(container.host().expect("a container")))
+            (Method::HostPointer, container) => Ok(Value::Ptr(container.host().expect("a container"))),
+            (Method::NumberOfElements, Object::Images(images)) => {
+                Ok(Value::Int((images.width * images.height) as i32))
             }
-            (NumberOfElements, Object::Images(container)) => {
-                Ok(Value::Int((container.width * container.height) as i32))
-            }
-            (Device, Object::Images(_) | Object::Buffer(_)) => {
+            (Method::Device, _) => {
                 let limits = gpu.device.limits();
                 let size = limits.max_compute_invocations_per_workgroup.min(limits.max_compute_workgroup_size_x);
                 Ok(object(Object::Device { max_work_group_size: size }))
             }
-            (MaxWorkGroupSize, Object::Device { max_work_group_size }) => Ok(Value::Int(*max_work_group_size as i32)),
-            (method, object) => Err(format!("{method:?} is not a method of {}", object.class())),
+            (method, container) => Err(not_a_method(method, container.class())),
         }
     }
 
@@ -397,4 +379,44 @@ fn pointer_arg(args: &[Value], i: usize) -> Result<Pointer, String> {
         Some(Value::Null) => Err(format!("argument {} is null", i + 1)),
         other => Err(format!("argument {} is a {}, not a pointer", i + 1, other.map_or("nothing", Value::kind))),
     }
+}
+
+/// A method of a `Viewer2D`.
+fn viewer_method(method: Method, viewer: &mut Viewer, args: &[Value]) -> Result<Value, String> {
+    let int = |i: usize| int_arg(args, i);
+    match method {
+        Method::AddImageObject => {
+            viewer.images.push(None);
+            Ok(Value::Int(viewer.images.len() as i32 - 1))
+        }
+        Method::SetImage => {
+            let Some(Value::Object(image)) = args.first() else {
+                return Err("setImage(image, index, copy) is given no image".into());
+            };
+            let Object::Image(image) = &*image.borrow() else { return Err("setImage is given no QImage".into()) };
+            let shown =
+                Shown { width: image.width, height: image.height, channels: 4, bytes: image.pixels.borrow().clone() };
+            viewer.set(int(1)?, shown)
+        }
+        Method::SetImageData => {
+            let (data, size, width, height, format) = (pointer_arg(args, 0)?, int(1)?, int(3)?, int(4)?, int(5)?);
+            if format != GL_UNSIGNED_BYTE as i64 {
+                return Err(format!("pixel type {format}: the viewer shows GL_UNSIGNED_BYTE ({GL_UNSIGNED_BYTE}) data"));
+            }
+            let pixels = width.max(0) * height.max(0);
+            if pixels == 0 || size <= 0 || size % pixels != 0 || !matches!(size / pixels, 1 | 3 | 4) {
+                return Err(format!("{size} bytes for a {width}×{height} image: 1, 3 or 4 bytes a pixel are shown"));
+            }
+            let bytes = data.bytes(size as usize)?;
+            let shown = Shown { width: width as u32, height: height as u32, channels: (size / pixels) as u8, bytes };
+            viewer.set(int(6)?, shown)
+        }
+        Method::Show | Method::Resize => Ok(Value::Void),
+        _ => Err(not_a_method(method, "Viewer2D")),
+    }
+}
+
+/// Why `method` cannot be called on an object of `class`.
+fn not_a_method(method: Method, class: &str) -> String {
+    format!("{method:?} is not a method of {class}")
 }

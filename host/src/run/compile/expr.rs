@@ -236,20 +236,7 @@ impl Compiler<'_> {
                 let (l, r) = (self.value(l), self.value(r));
                 code(move |m| Ok(Value::Bool(same(&l(m)?, &r(m)?) == equal)))
             }
-            &Expr::Negate(arith, ref inner) => match arith {
-                Arith::Int => {
-                    let inner = self.int(inner);
-                    code(move |m| Ok(Value::Int(inner(m)?.wrapping_neg())))
-                }
-                Arith::UInt => {
-                    let inner = self.int(inner);
-                    code(move |m| Ok(Value::UInt((inner(m)? as u32).wrapping_neg())))
-                }
-                Arith::Float => {
-                    let inner = self.float(inner);
-                    code(move |m| Ok(Value::Float(-inner(m)?)))
-                }
-            },
+            &Expr::Negate(arith, ref inner) => self.negated(arith, inner),
             &Expr::BitNot(arith, ref inner) => {
                 let inner = self.int(inner);
                 match arith {
@@ -257,20 +244,7 @@ impl Compiler<'_> {
                     _ => code(move |m| Ok(Value::Int(!inner(m)?))),
                 }
             }
-            &Expr::Convert(conv, ref inner) => match conv {
-                Conv::Int if self.numeric(inner) => {
-                    let inner = self.int(inner);
-                    code(move |m| Ok(Value::Int(inner(m)?)))
-                }
-                Conv::Float if self.numeric(inner) => {
-                    let inner = self.float(inner);
-                    code(move |m| Ok(Value::Float(inner(m)?)))
-                }
-                _ => {
-                    let inner = self.value(inner);
-                    code(move |m| convert(conv, inner(m)?).map_err(|message| Box::new(RunError::failed(None, message))))
-                }
-            },
+            &Expr::Convert(conv, ref inner) => self.converted(conv, inner),
             &Expr::Offset(ref base, ref n, minus) => {
                 let (base, n) = (self.value(base), self.int(n));
                 code(move |m| {
@@ -286,22 +260,7 @@ impl Compiler<'_> {
             Expr::Index(base, at, span) => {
                 self.element(base, at, *span, |_| Ok(()), |pointer, at, ()| pointer.read(at))
             }
-            Expr::Assign(place, value) => {
-                // The expression's value is the one assigned (before the place's conversion).
-                let value = self.value(value);
-                match place.as_ref() {
-                    &Place::Var(slot, conv) => code(move |m| {
-                        let value = value(m)?;
-                        m.frame[slot] = convert(conv, value.clone())
-                            .map_err(|message| Box::new(RunError::failed(None, message)))?;
-                        Ok(value)
-                    }),
-                    Place::Index(base, at, span) => self.element(base, at, *span, value, |pointer, at, value| {
-                        pointer.write(at, &value)?;
-                        Ok(value)
-                    }),
-                }
-            }
+            Expr::Assign(place, value) => self.assigned(place, value),
             &Expr::Update(ref place, op, arith, ref operand, postfix, span) => {
                 self.update(place, op, arith, operand, postfix, span)
             }
@@ -310,13 +269,10 @@ impl Compiler<'_> {
                 code(move |m| if c(m)? { a(m) } else { b(m) })
             }
             &Expr::Call(method, ref args, span) => {
-                let args: Vec<Code<Value>> = args.iter().map(|arg| self.value(arg)).collect();
+                let args = self.arguments(args);
                 code(move |m| {
-                    let mut values = Vec::with_capacity(args.len());
-                    for arg in &args {
-                        values.push(arg(m)?);
-                    }
-                    m.call(method, &values, span)
+                    let args = args(m)?;
+                    m.call(method, &args, span)
                 })
             }
             &Expr::NewArray(element, ref count, span) => {
@@ -327,11 +283,11 @@ impl Compiler<'_> {
                 })
             }
             &Expr::CallDiagram { diagram, ref args, ref outs, span } => {
-                let args: Vec<Code<Value>> = args.iter().map(|arg| self.value(arg)).collect();
+                let args = self.arguments(args);
                 let outs: Vec<(Slot, Code<Flow>)> =
                     outs.iter().map(|out| (out.slot, self.assign(&out.place, &Expr::Var(out.slot)))).collect();
                 code(move |m| {
-                    let args = args.iter().map(|arg| arg(m)).collect::<Result<Vec<_>, _>>()?;
+                    let args = args(m)?;
                     let (result, values) = m.call_diagram(diagram, args, span)?;
                     for ((slot, store), value) in outs.iter().zip(values) {
                         m.frame[*slot] = value;
@@ -341,12 +297,71 @@ impl Compiler<'_> {
                 })
             }
             &Expr::Launch(kernel, ref args, span) => {
-                let args: Vec<Code<Value>> = args.iter().map(|arg| self.value(arg)).collect();
+                let args = self.arguments(args);
                 code(move |m| {
-                    let args = args.iter().map(|arg| arg(m)).collect::<Result<Vec<_>, _>>()?;
+                    let args = args(m)?;
                     m.launch_kernel(kernel, &args, span)
                 })
             }
         }
+    }
+
+    /// `-inner` in its arithmetic (integers wrap, as C's do in practice).
+    fn negated(&self, arith: Arith, inner: &Expr) -> Code<Value> {
+        match arith {
+            Arith::Int => {
+                let inner = self.int(inner);
+                code(move |m| Ok(Value::Int(inner(m)?.wrapping_neg())))
+            }
+            Arith::UInt => {
+                let inner = self.int(inner);
+                code(move |m| Ok(Value::UInt((inner(m)? as u32).wrapping_neg())))
+            }
+            Arith::Float => {
+                let inner = self.float(inner);
+                code(move |m| Ok(Value::Float(-inner(m)?)))
+            }
+        }
+    }
+
+    /// `inner` converted by `conv`: on machine numbers where it is a number.
+    fn converted(&self, conv: Conv, inner: &Expr) -> Code<Value> {
+        match conv {
+            Conv::Int if self.numeric(inner) => {
+                let inner = self.int(inner);
+                code(move |m| Ok(Value::Int(inner(m)?)))
+            }
+            Conv::Float if self.numeric(inner) => {
+                let inner = self.float(inner);
+                code(move |m| Ok(Value::Float(inner(m)?)))
+            }
+            _ => {
+                let inner = self.value(inner);
+                code(move |m| convert(conv, inner(m)?).map_err(|message| Box::new(RunError::failed(None, message))))
+            }
+        }
+    }
+
+    /// `place = value`, whose value is the one assigned (before the place's conversion).
+    fn assigned(&self, place: &Place, value: &Expr) -> Code<Value> {
+        let value = self.value(value);
+        match place {
+            &Place::Var(slot, conv) => code(move |m| {
+                let value = value(m)?;
+                m.frame[slot] =
+                    convert(conv, value.clone()).map_err(|message| Box::new(RunError::failed(None, message)))?;
+                Ok(value)
+            }),
+            Place::Index(base, at, span) => self.element(base, at, *span, value, |pointer, at, value| {
+                pointer.write(at, &value)?;
+                Ok(value)
+            }),
+        }
+    }
+
+    /// The arguments of a call, evaluated in order.
+    fn arguments(&self, args: &[Expr]) -> Code<Vec<Value>> {
+        let args: Vec<Code<Value>> = args.iter().map(|arg| self.value(arg)).collect();
+        code(move |m| args.iter().map(|arg| arg(m)).collect())
     }
 }

@@ -16,6 +16,8 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Variable};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{Linkage, Module};
 
+mod assign;
+mod branches;
 mod ops;
 
 use super::{
@@ -410,23 +412,8 @@ impl Emitter<'_> {
                 let (l, r) = (self.expr(l, operands), self.expr(r, operands));
                 self.compare(op, arith, l, r)
             }
-            Expr::And(l, r) | Expr::Or(l, r) => {
-                let and = matches!(expr, Expr::And(..));
-                let l = self.truth(l);
-                let (right, merge) = (self.b.create_block(), self.b.create_block());
-                self.b.append_block_param(merge, types::I8);
-                let short = self.b.ins().iconst(types::I8, (!and) as i64);
-                if and {
-                    self.b.ins().brif(l, right, &[], merge, &[short.into()]);
-                } else {
-                    self.b.ins().brif(l, merge, &[short.into()], right, &[]);
-                }
-                self.b.switch_to_block(right);
-                let r = self.truth(r);
-                self.b.ins().jump(merge, &[r.into()]);
-                self.b.switch_to_block(merge);
-                self.b.block_params(merge)[0]
-            }
+            Expr::And(l, r) => self.short_circuit(true, l, r),
+            Expr::Or(l, r) => self.short_circuit(false, l, r),
             Expr::Not(inner) => {
                 let inner = self.truth(inner);
                 self.b.ins().icmp_imm_s(IntCC::Equal, inner, 0)
@@ -448,73 +435,13 @@ impl Emitter<'_> {
                 let address = self.element(base, at, span);
                 self.load(base, address)
             }
-            Expr::Assign(place, value) => {
-                let (value, kind) = self.natural(value);
-                match place.as_ref() {
-                    &Place::Var(slot, conv) => {
-                        let (var, to) = self.vars[&slot];
-                        debug_assert_eq!(Kind::of_conv(conv), Some(to));
-                        let converted = self.convert(value, kind, to);
-                        self.b.def_var(var, converted);
-                    }
-                    Place::Index(base, at, span) => {
-                        let at = self.expr(at, Kind::Int);
-                        let address = self.element(base, at, *span);
-                        self.store(base, address, value, kind);
-                    }
-                }
-                value
-            }
+            Expr::Assign(place, value) => self.assigned(place, value),
             &Expr::Update(ref place, op, arith, ref operand, postfix, span) => {
-                let computed = arith_kind(arith);
-                match *place.as_ref() {
-                    Place::Var(slot, _) => {
-                        let operand = self.expr(operand, computed);
-                        let (var, var_kind) = self.vars[&slot];
-                        let old = self.b.use_var(var);
-                        let left = self.convert(old, var_kind, computed);
-                        let new = self.binary(op, arith, left, operand, span);
-                        let stored = self.convert(new, computed, var_kind);
-                        self.b.def_var(var, stored);
-                        if postfix {
-                            old
-                        } else {
-                            new
-                        }
-                    }
-                    Place::Index(ref base, ref at, at_span) => {
-                        let operand = self.expr(operand, computed);
-                        let at = self.expr(at, Kind::Int);
-                        let address = self.element(base, at, at_span);
-                        let old = self.load(base, address);
-                        let old_kind = self.element_kind(base);
-                        let left = self.convert(old, old_kind, computed);
-                        let new = self.binary(op, arith, left, operand, at_span);
-                        self.store(base, address, new, computed);
-                        if postfix {
-                            old
-                        } else {
-                            new
-                        }
-                    }
-                }
+                self.updated(place, (op, arith), operand, postfix, span)
             }
             // The closures give the branch taken in its own kind: both must have one kind.
             Expr::Ternary(_, a, b) if self.kind(a) != self.kind(b) => return self.unsupported(kind),
-            Expr::Ternary(condition, a, b) => {
-                let condition = self.truth(condition);
-                let (then_block, else_block, merge) =
-                    (self.b.create_block(), self.b.create_block(), self.b.create_block());
-                self.b.append_block_param(merge, ir_type(kind));
-                self.b.ins().brif(condition, then_block, &[], else_block, &[]);
-                for (block, branch) in [(then_block, a), (else_block, b)] {
-                    self.b.switch_to_block(block);
-                    let value = self.expr(branch, kind);
-                    self.b.ins().jump(merge, &[value.into()]);
-                }
-                self.b.switch_to_block(merge);
-                self.b.block_params(merge)[0]
-            }
+            Expr::Ternary(condition, a, b) => self.ternary(condition, a, b, kind),
             // The framework's xorshift32 (`Framework::rand`), stepped inline.
             Expr::Call(Method::Rand, ..) => {
                 let mut x = self.b.use_var(self.rand_state);

@@ -281,40 +281,10 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             }
             ast::Expr::ThisExpr(_) => self.owner.map_or(Ty::Unknown, |o| Ty::Named(o.fqn.clone())),
             ast::Expr::ParenExpr(p) => p.expr().map_or(Ty::Unknown, |e| self.infer(&e)),
-            ast::Expr::PrefixExpr(p) => {
-                let op = p.op().map(|t| t.kind());
-                if let (Some(SyntaxKind::PLUS2 | SyntaxKind::MINUS2), Some(target)) = (op, p.operand()) {
-                    self.expect_mutable(&target);
-                }
-                let operand = p.operand().map_or(Ty::Unknown, |e| self.infer(&e));
-                match op {
-                    Some(SyntaxKind::BANG) => Ty::Bool,
-                    // `ref g`: a reference to what `g` holds.
-                    Some(SyntaxKind::REF_KW) => match operand {
-                        Ty::Ref { .. } | Ty::Unknown => operand,
-                        value => Ty::Ref { global: false, inner: Box::new(value) },
-                    },
-                    _ => operand.dereferenced().clone(),
-                }
-            }
-            ast::Expr::PostfixExpr(p) => {
-                let operand = p.operand();
-                if let Some(target) = &operand {
-                    self.expect_mutable(target);
-                }
-                operand.map_or(Ty::Unknown, |e| self.infer(&e))
-            }
+            ast::Expr::PrefixExpr(p) => self.prefix(p),
+            ast::Expr::PostfixExpr(p) => self.postfix(p),
             ast::Expr::BinExpr(bin) => self.binary(bin),
-            ast::Expr::TernaryExpr(t) => {
-                if let Some(cond) = t.condition() {
-                    self.expect_bool(&cond, "the condition of `?:`");
-                }
-                let then = t.then_expr().map_or(Ty::Unknown, |e| self.infer(&e));
-                if let Some(e) = t.else_expr() {
-                    self.infer(&e);
-                }
-                then
-            }
+            ast::Expr::TernaryExpr(t) => self.ternary(t),
             ast::Expr::CastExpr(c) => {
                 if let Some(e) = c.operand() {
                     self.infer(&e);
@@ -327,43 +297,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 }
                 self.ty_of(a.type_ref())
             }
-            ast::Expr::IndexExpr(i) => {
-                if let Some(index) = i.index() {
-                    self.infer(&index);
-                }
-                let base = i.base().map_or(Ty::Unknown, |b| self.infer(&b));
-                match base {
-                    // `elements[i]` of a `global ref unsigned int` buffer: its elements.
-                    Ty::Ref { inner, .. } => match *inner {
-                        Ty::Array(element) => *element,
-                        Ty::Vector(element, _) => *element,
-                        element => element,
-                    },
-                    Ty::Array(inner) => *inner,
-                    Ty::Vector(base, _) => *base,
-                    _ => Ty::Unknown,
-                }
-            }
-            ast::Expr::MemberExpr(m) => {
-                let receiver = m.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
-                let Some(member) = m.member() else { return Ty::Unknown };
-                match receiver.dereferenced().clone() {
-                    // Swizzles: `v._x`, `v.x`, `v.xy`, `v.s01`, `v.lo`.
-                    Ty::Vector(base, width) => match swizzle_width(&member.text(), width) {
-                        Some(1) | None => *base,
-                        Some(n) => Ty::Vector(base, n),
-                    },
-                    Ty::Named(fqn) => self.field_ty(&fqn, &member.text(), member.syntax()),
-                    _ => Ty::Unknown,
-                }
-            }
-            ast::Expr::ScopeExpr(s) => {
-                let scope = s.scope().map_or(Ty::Unknown, |r| self.infer(&r));
-                match (scope, s.member()) {
-                    (Ty::Named(fqn), Some(member)) => self.field_ty(&fqn, &member.text(), member.syntax()),
-                    _ => Ty::Unknown,
-                }
-            }
+            ast::Expr::IndexExpr(i) => self.index(i),
+            ast::Expr::MemberExpr(m) => self.member(m),
+            ast::Expr::ScopeExpr(s) => self.scope_member(s),
             ast::Expr::NewExpr(n) => {
                 let args: Vec<ast::Expr> =
                     n.arg_list().into_iter().flat_map(|l| l.args().collect::<Vec<_>>()).collect();

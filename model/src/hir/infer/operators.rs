@@ -1,9 +1,14 @@
 //! The types of operations: comparisons and logic are `bool`; arithmetic follows C's usual
 //! arithmetic conversions (floating point wins, then unsigned), a shift has the type of what it
-//! shifts; assignments are checked against their target.
+//! shifts; assignments are checked against their target; increments need something mutable;
+//! `?:` has its branches' type; indexing gives an element, member access a field or swizzle.
 
-use super::InferenceCtx;
-use crate::{ast, hir::Ty, syntax::SyntaxKind};
+use super::{swizzle_width, InferenceCtx};
+use crate::{
+    ast::{self, AstNode},
+    hir::Ty,
+    syntax::SyntaxKind,
+};
 
 impl InferenceCtx<'_, '_> {
     pub(super) fn binary(&mut self, bin: &ast::BinExpr) -> Ty {
@@ -31,6 +36,89 @@ impl InferenceCtx<'_, '_> {
                 (Ty::Array(_), _) => lhs,
                 _ => Ty::Unknown,
             },
+        }
+    }
+
+    /// `!e` is `bool`; `ref g` a reference to what `g` holds; `++`/`--` need something
+    /// mutable; the others have their operand's type.
+    pub(super) fn prefix(&mut self, p: &ast::PrefixExpr) -> Ty {
+        let op = p.op().map(|t| t.kind());
+        if let (Some(SyntaxKind::PLUS2 | SyntaxKind::MINUS2), Some(target)) = (op, p.operand()) {
+            self.expect_mutable(&target);
+        }
+        let operand = p.operand().map_or(Ty::Unknown, |e| self.infer(&e));
+        match op {
+            Some(SyntaxKind::BANG) => Ty::Bool,
+            // `ref g`: a reference to what `g` holds.
+            Some(SyntaxKind::REF_KW) => match operand {
+                Ty::Ref { .. } | Ty::Unknown => operand,
+                value => Ty::Ref { global: false, inner: Box::new(value) },
+            },
+            _ => operand.dereferenced().clone(),
+        }
+    }
+
+    /// `e++`, `e--`: `e` must be mutable; the type is `e`'s.
+    pub(super) fn postfix(&mut self, p: &ast::PostfixExpr) -> Ty {
+        let operand = p.operand();
+        if let Some(target) = &operand {
+            self.expect_mutable(target);
+        }
+        operand.map_or(Ty::Unknown, |e| self.infer(&e))
+    }
+
+    /// `c ? a : b`: a `bool` condition; the type is the first branch's.
+    pub(super) fn ternary(&mut self, t: &ast::TernaryExpr) -> Ty {
+        if let Some(cond) = t.condition() {
+            self.expect_bool(&cond, "the condition of `?:`");
+        }
+        let then = t.then_expr().map_or(Ty::Unknown, |e| self.infer(&e));
+        if let Some(e) = t.else_expr() {
+            self.infer(&e);
+        }
+        then
+    }
+
+    /// `base[i]`: an element of an array, a vector or a referenced buffer.
+    pub(super) fn index(&mut self, i: &ast::IndexExpr) -> Ty {
+        if let Some(index) = i.index() {
+            self.infer(&index);
+        }
+        let base = i.base().map_or(Ty::Unknown, |b| self.infer(&b));
+        match base {
+            // `elements[i]` of a `global ref unsigned int` buffer: its elements.
+            Ty::Ref { inner, .. } => match *inner {
+                Ty::Array(element) => *element,
+                Ty::Vector(element, _) => *element,
+                element => element,
+            },
+            Ty::Array(inner) => *inner,
+            Ty::Vector(base, _) => *base,
+            _ => Ty::Unknown,
+        }
+    }
+
+    /// `receiver.member`: a field of a class, or a vector's swizzle.
+    pub(super) fn member(&mut self, m: &ast::MemberExpr) -> Ty {
+        let receiver = m.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
+        let Some(member) = m.member() else { return Ty::Unknown };
+        match receiver.dereferenced().clone() {
+            // Swizzles: `v._x`, `v.x`, `v.xy`, `v.s01`, `v.lo`.
+            Ty::Vector(base, width) => match swizzle_width(&member.text(), width) {
+                Some(1) | None => *base,
+                Some(n) => Ty::Vector(base, n),
+            },
+            Ty::Named(fqn) => self.field_ty(&fqn, &member.text(), member.syntax()),
+            _ => Ty::Unknown,
+        }
+    }
+
+    /// `Scope::member`: a field of the class the scope names.
+    pub(super) fn scope_member(&mut self, s: &ast::ScopeExpr) -> Ty {
+        let scope = s.scope().map_or(Ty::Unknown, |r| self.infer(&r));
+        match (scope, s.member()) {
+            (Ty::Named(fqn), Some(member)) => self.field_ty(&fqn, &member.text(), member.syntax()),
+            _ => Ty::Unknown,
         }
     }
 }
