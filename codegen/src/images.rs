@@ -29,7 +29,6 @@ const ADDRESS_MIRRORED_REPEAT: u32 = 8;
 const NORMALIZED_COORDS: u32 = 1;
 const FILTER_LINEAR: u32 = 32;
 
-
 impl Emitter<'_> {
     /// `read_image{f,i,ui}(image, [sampler,] coordinate)` as the call's type.
     pub fn read_image(&mut self, call: &ast::CallExpr, args: &[ast::Expr], result: &Ty) -> String {

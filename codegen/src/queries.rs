@@ -3,7 +3,7 @@
 //! file's E0301 diagnostics are remembered; `gudsl check`, `gudsl wgsl`, the editor and a run
 //! all ask these, so none generates a kernel the others already have.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 use gudsl_model::{
     db::{Db, SourceFile, Workspace},
@@ -12,12 +12,15 @@ use gudsl_model::{
 
 use crate::{is_device_diagram, kernel, CodegenError, Kernel};
 
-/// How many kernels this process has generated (tests count that a run generates each once).
-static GENERATED: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// How many kernels this thread has generated (tests count that a run generates each once;
+    /// a query runs on the thread that asks it).
+    static GENERATED: Cell<usize> = const { Cell::new(0) };
+}
 
-/// How many kernels this process has generated so far.
+/// How many kernels this thread has generated so far.
 pub fn generated_kernels() -> usize {
-    GENERATED.load(Ordering::Relaxed)
+    GENERATED.get()
 }
 
 /// The kernel of the device diagram named `diagram`, or what cannot be generated; `None` when
@@ -44,7 +47,7 @@ pub(crate) fn device_diagram_named<'db>(sema: &Semantics<'db>, fqn: &str) -> Opt
 
 /// The kernel of `def`, the one the query for its name finds or not: generated now, and counted.
 pub(crate) fn generate_uncached(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel, Vec<CodegenError>> {
-    GENERATED.fetch_add(1, Ordering::Relaxed);
+    GENERATED.set(GENERATED.get() + 1);
     kernel::generate(sema, def)
 }
 

@@ -9,6 +9,9 @@ pub mod render;
 pub mod run;
 pub mod wgsl;
 
+#[cfg(test)]
+mod tests;
+
 use std::{path::PathBuf, process::ExitCode};
 
 use gudsl_host::pipeline::Preparations;

@@ -34,22 +34,22 @@ use crate::report::{self, Finding};
 pub struct RunArgs {
     /// Files or folders (searched recursively for `.gudsl` files).
     #[arg(required = true)]
-    paths: Vec<PathBuf>,
+    pub(super) paths: Vec<PathBuf>,
     /// The diagram to run (simple or fully qualified name): a component-instance diagram (a
     /// ToF pipeline) or a host activity diagram such as `Main`; optional when the files have
     /// one diagram that can run.
     #[arg(long)]
-    diagram: Option<String>,
+    pub(super) diagram: Option<String>,
     /// Write the outputs and `report.json` into this folder (created if missing; default: for
     /// a pipeline `gudsl-out/<diagram>/`, for an activity diagram the current folder).
     #[arg(short = 'o', long = "output")]
-    output: Option<PathBuf>,
+    pub(super) output: Option<PathBuf>,
     /// Run at most this many frames of a pipeline.
     #[arg(long)]
-    frames: Option<usize>,
+    pub(super) frames: Option<usize>,
     /// Run a pipeline on the CPU reference instead of the GPU.
     #[arg(long)]
-    cpu: bool,
+    pub(super) cpu: bool,
 }
 
 pub fn run(args: &RunArgs) -> ExitCode {

@@ -21,8 +21,8 @@ use tower_lsp_server::ls_types as lsp;
 
 use super::{
     ext::{
-        CompartmentView, ControlView, DiagramInfo, Diagrams, DiagramsParams, EdgeView, EndView, GraphParams,
-        GraphView, GroupView, NodeView, Point, PortView,
+        CompartmentView, ControlView, DiagramInfo, Diagrams, DiagramsParams, EdgeView, EndView, GraphParams, GraphView,
+        GroupView, NodeView, Point, PortView,
     },
     host::Snapshot,
     scenes::{layout_of, SceneCache},

@@ -3,11 +3,7 @@
 //! (`to_proto`). A handler returns `Err(Cancelled)` when a newer edit made its answer moot.
 
 use gudsl_host::{diagnostics::file_diagnostics, named::is_runnable};
-use gudsl_model::{
-    hir::DefKind,
-    syntax::TextRange,
-    Cancellable, FileId,
-};
+use gudsl_model::{hir::DefKind, syntax::TextRange, Cancellable, FileId};
 use tower_lsp_server::ls_types as lsp;
 
 use super::{

@@ -106,11 +106,7 @@ impl Snapshot {
     }
 
     /// The file and byte offset a request points at; `None` for a document the server does not know.
-    pub fn file_position(
-        &self,
-        uri: &lsp::Uri,
-        position: lsp::Position,
-    ) -> Cancellable<Option<(FileId, TextSize)>> {
+    pub fn file_position(&self, uri: &lsp::Uri, position: lsp::Position) -> Cancellable<Option<(FileId, TextSize)>> {
         let Some(file) = self.file(uri) else { return Ok(None) };
         let index = self.analysis.line_index(file)?;
         Ok(Some((file, from_proto::offset(index, position, self.encoding))))

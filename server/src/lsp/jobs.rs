@@ -249,4 +249,3 @@ impl WorkDone {
         self.send(lsp::WorkDoneProgress::End(lsp::WorkDoneProgressEnd { message: Some(message) })).await;
     }
 }
-

@@ -23,6 +23,9 @@ mod to_proto;
 mod transport;
 mod wgsl;
 
+#[cfg(test)]
+mod tests;
+
 use std::{process::ExitCode, sync::Mutex, time::Duration};
 
 use tower_lsp_server::jsonrpc::{Error, ErrorCode};

@@ -230,4 +230,3 @@ impl Observer for Reporter {
         self.stop.load(Ordering::Relaxed)
     }
 }
-

@@ -21,11 +21,12 @@ use crate::workspace;
 
 use super::{
     capabilities::{server_capabilities, Encoding},
+    ext::GraphChangedNotification,
     from_proto, handlers,
     host::{ChangeRefused, Document, Host, Snapshot},
-    ext::GraphChangedNotification,
+    invalid_params,
     jobs::Runs,
-    invalid_params, lock, request_failed, scenes, to_proto, CLIENT_ANSWER,
+    lock, request_failed, scenes, to_proto, CLIENT_ANSWER,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -517,4 +518,3 @@ impl LanguageServer for Backend {
         self.execute(params).await
     }
 }
-

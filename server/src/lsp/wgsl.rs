@@ -89,10 +89,8 @@ fn argument_error() -> String {
 /// why there is none.
 pub fn generated(snap: &Snapshot, name: &str) -> Cancellable<Result<String, String>> {
     snap.analysis.with_semantics(|sema| {
-        let named: Vec<&Definition> = gudsl_codegen::device_diagrams(sema)
-            .into_iter()
-            .filter(|def| names_diagram(name, &def.fqn))
-            .collect();
+        let named: Vec<&Definition> =
+            gudsl_codegen::device_diagrams(sema).into_iter().filter(|def| names_diagram(name, &def.fqn)).collect();
         match named[..] {
             [def] => wgsl_of(snap, sema, def),
             [] => Err(format!("no device diagram named `{name}` (an activity diagram owned by an OpenCL class)")),
