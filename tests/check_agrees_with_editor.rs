@@ -16,9 +16,9 @@ use std::{
     time::{Duration, Instant},
 };
 
-use serde_json::{json, Value};
 use cli::{gudsl, repo, temp_dir};
 use raw_lsp::Lsp;
+use serde_json::{json, Value};
 
 /// One diagnostic as both sides can say it: path, line and column (from 0), severity, code,
 /// message.
@@ -91,7 +91,13 @@ fn in_the_editor(lsp: &mut Lsp, files: &[PathBuf]) -> BTreeSet<Seen> {
         let all_in = last.len() == texts.len();
         // One open file is published once for its version; several may be again as the
         // others arrive.
-        let quiet = if !all_in { 20_000 } else if texts.len() == 1 { 0 } else { 1_000 };
+        let quiet = if !all_in {
+            20_000
+        } else if texts.len() == 1 {
+            0
+        } else {
+            1_000
+        };
         let next = lsp.notification_within("textDocument/publishDiagnostics", Duration::from_millis(quiet), |p| {
             p["uri"].as_str().is_some_and(|uri| texts.contains_key(uri))
         });

@@ -18,9 +18,8 @@ pub fn file_diagnostics(analysis: &Analysis, file: FileId, pipelines: &Preparati
     if out.iter().any(|d| d.severity == Severity::Error) {
         return Ok(out);
     }
-    let device = analysis.with_semantics(|sema| {
-        gudsl_codegen::queries::device_diagnostics(sema.db(), sema.workspace(), file).clone()
-    })?;
+    let device = analysis
+        .with_semantics(|sema| gudsl_codegen::queries::device_diagnostics(sema.db(), sema.workspace(), file).clone())?;
     out.extend(device);
     out.extend(pipelines.file_diagnostics(analysis, file)?);
     Ok(out)

@@ -193,7 +193,8 @@ fn circles(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<BTreeSet<String>> 
     let reached: BTreeMap<&String, BTreeSet<String>> = graph.keys().map(|m| (m, reach(m))).collect();
     let mut circles: Vec<BTreeSet<String>> = Vec::new();
     for (module, from_it) in &reached {
-        let circle: BTreeSet<String> = from_it.iter().filter(|other| reached[other].contains(*module)).cloned().collect();
+        let circle: BTreeSet<String> =
+            from_it.iter().filter(|other| reached[other].contains(*module)).cloned().collect();
         if circle.len() > 1 && !circles.contains(&circle) {
             circles.push(circle);
         }
@@ -207,7 +208,8 @@ fn shipped_code_of(path: &Path) -> String {
     let code = code_of(path);
     let tests = code.match_indices("#[cfg(test)]\n").map(|(at, _)| at).find(|&at| {
         let next = code[at..].lines().nth(1).unwrap_or_default().trim();
-        next.trim_start_matches("pub(super) ").trim_start_matches("pub(crate) ").starts_with("mod ") && next.ends_with('{')
+        next.trim_start_matches("pub(super) ").trim_start_matches("pub(crate) ").starts_with("mod ")
+            && next.ends_with('{')
     });
     match tests {
         Some(tests) => code[..tests].to_string(),
@@ -300,9 +302,19 @@ fn long_functions(code: &str, limit: usize) -> Vec<(String, usize, usize)> {
     let mut long = Vec::new();
     for (start, line) in lines.iter().enumerate() {
         let trimmed = line.trim_start();
-        let signature = ["pub fn ", "fn ", "pub(crate) fn ", "pub(super) fn ", "async fn ", "pub async fn ", "pub(super) async fn ", "const fn ", "pub const fn "]
-            .iter()
-            .find_map(|prefix| trimmed.strip_prefix(prefix));
+        let signature = [
+            "pub fn ",
+            "fn ",
+            "pub(crate) fn ",
+            "pub(super) fn ",
+            "async fn ",
+            "pub async fn ",
+            "pub(super) async fn ",
+            "const fn ",
+            "pub const fn ",
+        ]
+        .iter()
+        .find_map(|prefix| trimmed.strip_prefix(prefix));
         let Some(rest) = signature else { continue };
         let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
         let mut depth = 0i32;

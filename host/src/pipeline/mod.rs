@@ -116,7 +116,11 @@ pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
 /// Makes the plan's components: each a component of the ToF library or of the workspace (with
 /// the kernels of `behaviors`), with its parameters and the files it reads (relative to
 /// `model_dir`) checked; every problem found, not just the first.
-pub fn prepare(plan: &PipelinePlan, behaviors: &Behaviors, model_dir: &Path) -> Result<PreparedPipeline, Vec<PipelineError>> {
+pub fn prepare(
+    plan: &PipelinePlan,
+    behaviors: &Behaviors,
+    model_dir: &Path,
+) -> Result<PreparedPipeline, Vec<PipelineError>> {
     let mut errors = Vec::new();
     let mut made = Vec::new();
     for (index, stage) in plan.stages.iter().enumerate() {

@@ -10,8 +10,8 @@ use gudsl_codegen::Binding;
 use gudsl_runtime::TexelFormat;
 
 use super::{
-    machine::Machine,
     ir::NodeKind,
+    machine::Machine,
     value::{Object, Value},
     CalcReport,
 };

@@ -13,9 +13,7 @@ use std::{
 
 use gudsl_runtime::Gpu;
 
-use super::value::{
-    memory, BufferContainer, ImageContainer, Object, Pointer, QImage, Scalar, Shown, Value, Viewer,
-};
+use super::value::{memory, BufferContainer, ImageContainer, Object, Pointer, QImage, Scalar, Shown, Value, Viewer};
 
 /// `HCImageChannelOrder`'s constants, in the library's order.
 const CHANNEL_ORDERS: [&str; 4] = ["R", "RGB", "RGBA", "BGRA"];
@@ -289,9 +287,7 @@ impl<'g> Framework<'g> {
                 Ok(Value::Void)
             }
             (Method::HostPointer, container) => Ok(Value::Ptr(container.host().expect("a container"))),
-            (Method::NumberOfElements, Object::Images(images)) => {
-                Ok(Value::Int((images.width * images.height) as i32))
-            }
+            (Method::NumberOfElements, Object::Images(images)) => Ok(Value::Int((images.width * images.height) as i32)),
             (Method::Device, _) => {
                 let limits = gpu.device.limits();
                 let size = limits.max_compute_invocations_per_workgroup.min(limits.max_compute_workgroup_size_x);
@@ -401,7 +397,9 @@ fn viewer_method(method: Method, viewer: &mut Viewer, args: &[Value]) -> Result<
         Method::SetImageData => {
             let (data, size, width, height, format) = (pointer_arg(args, 0)?, int(1)?, int(3)?, int(4)?, int(5)?);
             if format != GL_UNSIGNED_BYTE as i64 {
-                return Err(format!("pixel type {format}: the viewer shows GL_UNSIGNED_BYTE ({GL_UNSIGNED_BYTE}) data"));
+                return Err(format!(
+                    "pixel type {format}: the viewer shows GL_UNSIGNED_BYTE ({GL_UNSIGNED_BYTE}) data"
+                ));
             }
             let pixels = width.max(0) * height.max(0);
             if pixels == 0 || size <= 0 || size % pixels != 0 || !matches!(size / pixels, 1 | 3 | 4) {

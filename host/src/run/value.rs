@@ -9,7 +9,6 @@ use gudsl_runtime::{DeviceBuffer, DeviceImage, Gpu, TexelFormat};
 
 use gudsl_model::ast::{self, AstNode};
 
-
 /// A scalar as it is stored in host memory: what a pointer's element is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scalar {

@@ -116,7 +116,8 @@ fn transitions(graph: &mut Graph, node: &ast::ActivityNode, node_ids: &HashMap<S
     let Some(source) = node.name().and_then(|n| node_ids.get(&n.text()).cloned()) else { return };
     for transition in node.transitions() {
         let Some(target_name) = transition.target().map(|t| t.text()) else { continue };
-        let target = EdgeEnd::node(node_ids.get(&target_name).cloned().unwrap_or_else(|| format!("{id}/{target_name}")));
+        let target =
+            EdgeEnd::node(node_ids.get(&target_name).cloned().unwrap_or_else(|| format!("{id}/{target_name}")));
         let source = EdgeEnd::node(source.clone());
         let guard = transition.guard().map(|g| match g.condition() {
             Some(c) => format!("[{}]", text(&c)),

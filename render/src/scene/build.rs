@@ -57,15 +57,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     route_connections(&parts, &nesting, &mut layout, &boxes, &obstacles);
     let corner = Point { x: BODY_INSET, y: heading.body_top() };
     let shared: Vec<Vec<usize>> = parts.edges.iter().map(|e| nesting.holding_both(e.from.0, e.to.0)).collect();
-    let labels = labels::place_all(
-        &parts.texts,
-        &layout.edges,
-        &layout.labels,
-        &layout.end_labels,
-        &obstacles,
-        &shared,
-        corner,
-    );
+    let labels =
+        labels::place_all(&parts.texts, &layout.edges, &layout.labels, &layout.end_labels, &obstacles, &shared, corner);
     let (width, height, lanes) = fit_lanes(&parts, &layout, &boxes, &labels);
     let (min_width, min_height) = heading.min_size();
     let (width, height) = (width.max(min_width), height.max(min_height));

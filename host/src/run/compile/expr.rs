@@ -6,9 +6,9 @@
 use super::{
     super::{
         arith::{convert, float, float_binary, int, int_binary, ordered, same, truthy, uint_binary, undefined},
-        machine::{failed, Flow, Machine, Outcome},
         framework::Method,
         ir::{Arith, CmpOp, Conv, Expr, Place, Slot},
+        machine::{failed, Flow, Machine, Outcome},
         value::{Number, Value},
         RunError,
     },

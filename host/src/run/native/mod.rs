@@ -14,9 +14,9 @@ use std::{collections::BTreeMap, ffi::c_void, rc::Rc};
 use cranelift_jit::JITModule;
 
 use super::{
-    machine::{failed, Flow, Machine, Outcome},
     framework::Method,
     ir::{Conv, Expr, Place, Slot, Span, Stmt},
+    machine::{failed, Flow, Machine, Outcome},
     value::{Constant, Scalar, Value},
 };
 

@@ -74,4 +74,3 @@ fn path_before_dot(dot: &SyntaxToken) -> Option<String> {
     segments.reverse();
     (!segments.is_empty()).then(|| segments.join("."))
 }
-

@@ -42,7 +42,12 @@ const BUILTIN_TYPES: &[&str] = &[
 
 /// `items` and every type that fits where a type is written at `at`: the built-in ones, then
 /// those of [`types_in_scope`].
-pub(super) fn with_types(sema: &Semantics, at: &SyntaxNode, typed: &str, mut items: Vec<CompletionItem>) -> Completions {
+pub(super) fn with_types(
+    sema: &Semantics,
+    at: &SyntaxNode,
+    typed: &str,
+    mut items: Vec<CompletionItem>,
+) -> Completions {
     for ty in BUILTIN_TYPES {
         items.push(item(*ty, CompletionKind::Keyword, Some("built-in type".into())));
     }
@@ -147,4 +152,3 @@ pub(super) fn type_members(sema: &Semantics, def: &crate::hir::Definition, items
         }
     }
 }
-

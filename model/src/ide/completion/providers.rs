@@ -246,4 +246,3 @@ fn connector_candidates(link: &SyntaxNode, prefix: Option<&str>, items: &mut Vec
         _ => {}
     }
 }
-
