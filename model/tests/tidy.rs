@@ -390,3 +390,28 @@ fn long_functions_are_measured_from_fn_to_its_closing_brace() {
     assert_eq!(long_functions(&code, 5), vec![("measured".to_string(), 2, 8)]);
     assert!(long_functions(&code, 8).is_empty());
 }
+
+/// A hash of `text` that stays the same across machines and line endings (FNV-1a, 64 bits).
+fn stable_hash(text: &str) -> String {
+    let hash = text.bytes().filter(|&b| b != b'\r').fold(0xcbf2_9ce4_8422_2325u64, |hash, byte| {
+        (hash ^ byte as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{hash:016x}")
+}
+
+/// The server's extension protocol (`server/src/lsp/ext.rs`) changes only together with its
+/// documentation and its client's types (rust-analyzer's `lsp/ext.rs` hash check): both record
+/// the hash of the file they were last checked against.
+#[test]
+fn the_extension_protocol_and_its_documents_change_together() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let ext = std::fs::read_to_string(root.join("server/src/lsp/ext.rs")).unwrap();
+    let line = format!("lsp/ext.rs hash: {}", stable_hash(&ext));
+    for document in ["docs/protocol.md", "vscode-extension/src/protocol.ts"] {
+        let text = std::fs::read_to_string(root.join(document)).unwrap();
+        assert!(
+            text.contains(&line),
+            "server/src/lsp/ext.rs changed: bring {document} up to date with it, then write `{line}` in it"
+        );
+    }
+}

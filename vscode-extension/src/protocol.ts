@@ -1,4 +1,6 @@
-//! gudsl's requests beyond LSP (`docs/protocol.md`), typed for the client.
+//! gudsl's requests beyond LSP (`docs/protocol.md`), typed for the client; the server's side is
+//! `server/src/lsp/ext.rs` (its commands: `gudsl.run`, `gudsl.runPipeline`, `gudsl.showWgsl`).
+//! lsp/ext.rs hash: 142d2c545b87bff5 (a test checks this file is reviewed whenever ext.rs changes)
 import { NotificationType, Range, RequestType, TextDocumentIdentifier, VersionedTextDocumentIdentifier, WorkspaceEdit } from 'vscode-languageclient';
 
 export type DiagramKind = 'class' | 'activity' | 'component' | 'componentInstance';
