@@ -18,7 +18,7 @@ use gudsl_runtime::{
     camera::Intrinsics,
     listings,
     sim::{simulate, Camera, Motion, Scene},
-    DeviceImage, Gpu, GpuPipeline, Kernel, Pipeline, Program, Resource, Shape, TexelFormat,
+    ChainRun, DeviceImage, Gpu, Kernel, Pipeline, Program, Resource, Shape, TexelFormat,
 };
 
 const SAMPLE: &str = "samples/pipelines/ch11_component_example.gudsl";
@@ -45,7 +45,7 @@ fn rust_api(gpu: &Gpu, width: usize, height: usize) -> Vec<u8> {
     let amplitude = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[1];
     let grey = p.step(Kernel::GreyImage { gain: 0.05 }, &[amplitude]).unwrap()[0];
     p.sink(grey).unwrap();
-    let planes = GpuPipeline::new(gpu, &p).run(&[frame.raw]).unwrap().remove(0);
+    let planes = ChainRun::new(Some(gpu), &p).run(&[frame.raw]).unwrap().remove(0);
     let n = width * height;
     let texels: Vec<u8> =
         (0..n).flat_map(|i| (0..4).map(move |c| (c, i))).map(|(c, i)| planes.data[c * n + i] as u8).collect();
@@ -269,7 +269,7 @@ fn a_filter_of_your_own_runs_its_diagram_on_depth_images() {
     let raw = p.source("raw", Shape { width: 200, height: 200, planes: 8 });
     let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[3];
     p.sink(distance).unwrap();
-    let distance = GpuPipeline::new(&gpu, &p).run(&[frame.raw]).unwrap().remove(0);
+    let distance = ChainRun::new(Some(&gpu), &p).run(&[frame.raw]).unwrap().remove(0);
     let written = arrays::read(&out.join("Depth/distance_0000.npy")).unwrap();
     assert_eq!(written.shape, [200, 200]);
     let differ = written.values.iter().zip(&distance.data).filter(|(w, d)| w.to_bits() != (*d * 0.5).to_bits()).count();

@@ -17,7 +17,7 @@ use gudsl_runtime::{
     arrays,
     kernels::motion::mean_direction,
     sim::{simulate, Camera, Motion, Scene},
-    Gpu, GpuPipeline, Kernel, Pipeline, Shape,
+    ChainRun, Gpu, Kernel, Pipeline, Shape,
 };
 
 const SAMPLE: &str = "samples/pipelines/ch4_motion_compensation.gudsl";
@@ -60,7 +60,7 @@ fn rust_api(gpu: &Gpu) -> Vec<Vec<f32>> {
         let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap()[3];
         p.sink(distance).unwrap();
         p.sink(flow).unwrap();
-        let out = GpuPipeline::new(gpu, &p).run(&[simulated.raw, simulated.black]).unwrap();
+        let out = ChainRun::new(Some(gpu), &p).run(&[simulated.raw, simulated.black]).unwrap();
         direction = mean_direction(&out[1]);
         distances.push(out[0].data.clone());
     }
@@ -240,7 +240,7 @@ fn demodulated(gpu: &Gpu, frames: &[gudsl_runtime::Image]) -> Vec<Vec<f32>> {
     let raw = p.source("raw", Shape { width: frames[0].width, height: frames[0].height, planes: 8 });
     let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[3];
     p.sink(distance).unwrap();
-    let pipeline = GpuPipeline::new(gpu, &p);
+    let mut pipeline = ChainRun::new(Some(gpu), &p);
     frames.iter().map(|frame| pipeline.run(std::slice::from_ref(frame)).unwrap().remove(0).data).collect()
 }
 
@@ -349,7 +349,7 @@ fn per_pixel_loop(gpu: &Gpu, frames: usize) -> Vec<f32> {
         let intensity = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[2];
         let next = p.step(Kernel::IntegrationTime { t_curr: t, model }, &[intensity]).unwrap()[0];
         p.sink(next).unwrap();
-        let out = GpuPipeline::new(gpu, &p).run(&[simulated.raw, simulated.black]).unwrap();
+        let out = ChainRun::new(Some(gpu), &p).run(&[simulated.raw, simulated.black]).unwrap();
         times.push(out[0].data[0]);
     }
     times

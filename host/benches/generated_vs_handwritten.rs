@@ -16,7 +16,7 @@ mod support;
 use std::time::Duration;
 
 use gudsl_host::{Launcher, Number};
-use gudsl_runtime::{listings, GpuPipeline, Image, Kernel, Pipeline, Shape};
+use gudsl_runtime::{listings, ChainRun, Image, Kernel, Pipeline, Shape};
 use support::{
     bench_gpu, dispatch_listing, generated, launch_filter, listing, median_ms, random_bytes, FindIndex, Rgba,
 };
@@ -94,7 +94,7 @@ fn main() {
     let source = pipeline.source("values", Shape { width: 1024, height: 1024, planes: 1 });
     let found = pipeline.step(Kernel::FindIndex { threshold: value as f32 }, &[source]).unwrap()[0];
     pipeline.sink(found).unwrap();
-    let runtime = GpuPipeline::new(&gpu, &pipeline);
+    let mut runtime = ChainRun::new(Some(&gpu), &pipeline);
     let floats = [Image { width: 1024, height: 1024, planes: 1, data: elements.iter().map(|&v| v as f32).collect() }];
     let expected = elements.iter().position(|&v| v >= value).unwrap();
     assert_eq!(find_index.run(&gpu, &input, value).0 as usize, expected);

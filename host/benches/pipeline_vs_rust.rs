@@ -44,7 +44,7 @@ use gudsl_runtime::{
     arrays,
     camera::Intrinsics,
     sim::{simulate, Camera, Motion, Scene},
-    Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape,
+    ChainRun, Gpu, Image, Kernel, Pipeline, Shape,
 };
 use support::{bench_gpu, median_ms};
 
@@ -209,7 +209,7 @@ fn rust_run(gpu: &Gpu, width: usize, height: usize, recorded: Option<&Path>, out
     let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
     let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap()[3];
     p.sink(distance).unwrap();
-    let chain = GpuPipeline::new(gpu, &p);
+    let mut chain = ChainRun::new(Some(gpu), &p);
     std::fs::create_dir_all(out).unwrap();
     let frames = recorded.map(|dir| read_recorded(dir, width, height));
     let started = Instant::now();

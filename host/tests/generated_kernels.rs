@@ -10,9 +10,7 @@
 mod support;
 
 use gudsl_host::{Arg, Launcher, Number, WorkRange};
-use gudsl_runtime::{
-    listings, DeviceBuffer, DeviceImage, Gpu, GpuPipeline, Image, Pipeline, Program, Shape, TexelFormat,
-};
+use gudsl_runtime::{listings, ChainRun, DeviceBuffer, DeviceImage, Gpu, Image, Pipeline, Program, Shape, TexelFormat};
 use support::{check_mean, generated, random_bytes, run_generated, run_handwritten, FindIndex, Rgba};
 
 /// Runs one of the runtime's own kernels on an f32 plane.
@@ -21,7 +19,7 @@ fn run_runtime(gpu: &Gpu, kernel: gudsl_runtime::Kernel, plane: &Image) -> Image
     let source = pipeline.source("in", Shape { width: plane.width, height: plane.height, planes: 1 });
     let out = pipeline.step(kernel, &[source]).unwrap()[0];
     pipeline.sink(out).unwrap();
-    GpuPipeline::new(gpu, &pipeline).run(std::slice::from_ref(plane)).unwrap().remove(0)
+    ChainRun::new(Some(gpu), &pipeline).run(std::slice::from_ref(plane)).unwrap().remove(0)
 }
 
 /// How many channel values differ, and by how much at most.

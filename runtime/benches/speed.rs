@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use gudsl_runtime::camera::{Intrinsics, IDENTITY};
 use gudsl_runtime::kernels::integration::IntegrationModel;
-use gudsl_runtime::{run_cpu, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
+use gudsl_runtime::{run_cpu, ChainRun, Gpu, Image, Kernel, Pipeline, Shape};
 
 /// Deterministic test data (xorshift): raw frames in 0..65535, images in 0..8.
 fn random(width: usize, height: usize, planes: usize, scale: f32, seed: u64) -> Image {
@@ -179,7 +179,7 @@ fn main() {
             let pipeline = single(kernel, &inputs);
             let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs).unwrap()))).collect());
             let gpu_ms = gpu.as_ref().map(|gpu| {
-                let prepared = GpuPipeline::new(gpu, &pipeline);
+                let mut prepared = ChainRun::new(Some(gpu), &pipeline);
                 prepared.run(&inputs).unwrap(); // warm up: pipelines compiled, buffers touched
                 median_ms((0..n).map(|_| prepared.time_steps(&inputs).unwrap()[0]).collect())
             });
@@ -203,7 +203,7 @@ fn main() {
         ] {
             let cpu = median_ms((0..n.min(5)).map(|_| time(|| drop(run_cpu(&pipeline, &inputs).unwrap()))).collect());
             let (gpu_ms, trip) = gpu.as_ref().map_or((None, None), |gpu| {
-                let prepared = GpuPipeline::new(gpu, &pipeline);
+                let mut prepared = ChainRun::new(Some(gpu), &pipeline);
                 prepared.run(&inputs).unwrap();
                 let steps =
                     median_ms((0..n).map(|_| prepared.time_steps(&inputs).unwrap().into_iter().sum()).collect());

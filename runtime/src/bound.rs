@@ -1,8 +1,7 @@
 //! One kernel bound to its buffers on a GPU: the uniform parameters, the compiled passes, the
 //! bind group over its input and output buffers and a reduction's scratch, made once and
-//! encoded into any command encoder as often as wanted. A [`crate::GpuPipeline`] is a chain of
-//! them over its slot buffers; a caller that keeps data on the GPU between computations of its
-//! own (the pipelines `gudsl run` assembles) binds them to buffers it owns.
+//! encoded into any command encoder as often as wanted. The executor keeps one in each of its
+//! kernel slots, bound again only when its inputs change.
 
 use crate::error::PipelineError;
 use crate::gpu::Gpu;

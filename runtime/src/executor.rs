@@ -1,113 +1,334 @@
-//! Runs a pipeline: on the GPU with every slot a buffer made once and reused across frames, all
-//! steps in one submission and one readback of the sinks; or on the CPU with the reference of
-//! each kernel.
+//! The GPU executor: work recorded into one command encoder a frame over buffers made once (a
+//! kernel bound to its inputs in a [`KernelSlot`] is re-encoded frame after frame), submitted at
+//! the end of the frame, when every read asked for comes back through one staging buffer in
+//! one mapping, with the GPU's clock around every pass by the stage it belongs to (on a
+//! [`Gpu::with_timestamps`]). Without an adapter the same calls run each kernel's CPU reference
+//! and callers cannot tell the two apart. ToF pipelines (`gudsl run`) run on it, and so do the
+//! kernel chains of [`crate::pipeline`] ([`ChainRun`]).
 
-use std::borrow::Cow;
-use std::time::{Duration, Instant};
+use std::{sync::Arc, time::Duration};
 
-use crate::bound::BoundKernel;
-use crate::error::PipelineError;
-use crate::gpu::Gpu;
-use crate::pipeline::{Pipeline, Slot};
-use crate::{Image, Kernel};
+use crate::{bound::BoundKernel, error::PipelineError, pipeline::Pipeline, timing::Timing, Gpu, Image, Kernel, Shape};
 
-/// The CPU reference executor.
-pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
-    pipeline.check_sources(sources)?;
-    let mut values: Vec<Option<Cow<Image>>> = vec![None; pipeline.slots.len()];
-    for (slot, image) in pipeline.sources.iter().zip(sources) {
-        values[slot.0] = Some(Cow::Borrowed(image));
-    }
-    for step in &pipeline.steps {
-        let inputs: Vec<&Image> =
-            step.inputs.iter().map(|s| values[s.0].as_deref().expect("a computed slot")).collect();
-        let outputs = step.kernel.cpu(&inputs);
-        for (slot, image) in step.outputs.iter().zip(outputs) {
-            values[slot.0] = Some(Cow::Owned(image));
+/// An image where it lives: in host memory, or in a GPU buffer of f32 samples.
+#[derive(Debug, Clone)]
+pub enum Tensor {
+    Cpu(Arc<Image>),
+    Gpu { buffer: wgpu::Buffer, shape: Shape },
+}
+
+impl Tensor {
+    pub fn shape(&self) -> Shape {
+        match self {
+            Tensor::Cpu(image) => Shape { width: image.width, height: image.height, planes: image.planes },
+            Tensor::Gpu { shape, .. } => *shape,
         }
     }
-    // Every step's inputs and every sink were checked to be slots made before them.
-    Ok(pipeline.sinks.iter().map(|s| values[s.0].as_deref().expect("a computed sink").clone()).collect())
+
+    pub fn cpu(image: Image) -> Tensor {
+        Tensor::Cpu(Arc::new(image))
+    }
 }
 
-/// A pipeline prepared on a GPU: buffers, parameters and bind groups made once.
-pub struct GpuPipeline<'g> {
-    gpu: &'g Gpu,
-    pipeline: Pipeline,
-    buffers: Vec<wgpu::Buffer>,
-    steps: Vec<BoundKernel>,
-    staging: wgpu::Buffer,
+/// The GPU (or the CPU) and the frame's recording.
+pub struct Executor<'g> {
+    gpu: Option<&'g Gpu>,
+    encoder: Option<wgpu::CommandEncoder>,
+    /// Reads asked for the end of the frame.
+    later: Vec<Tensor>,
+    staging: Option<wgpu::Buffer>,
+    timing: Option<Timing>,
 }
 
-impl<'g> GpuPipeline<'g> {
-    pub fn new(gpu: &'g Gpu, pipeline: &Pipeline) -> GpuPipeline<'g> {
-        let buffers: Vec<wgpu::Buffer> =
-            pipeline.slots.iter().map(|(name, shape)| gpu.storage(name, shape.len())).collect();
-        let steps = pipeline
-            .steps
-            .iter()
-            .map(|step| {
-                let inputs: Vec<(&wgpu::Buffer, _)> =
-                    step.inputs.iter().map(|&s| (&buffers[s.0], pipeline.shape(s))).collect();
-                let outputs = step.outputs.iter().map(|s| buffers[s.0].clone()).collect();
-                BoundKernel::into(gpu, step.kernel, &inputs, outputs)
-            })
-            .collect();
-        let sink_len: usize = pipeline.sinks.iter().map(|&s| pipeline.shape(s).len()).sum();
-        let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sinks"),
-            size: (sink_len.max(1) * 4) as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        GpuPipeline { gpu, pipeline: pipeline.clone(), buffers, steps, staging }
+/// A kernel slot a stage keeps across frames: the kernel bound to the buffers it last ran on.
+#[derive(Default)]
+pub struct KernelSlot(Option<BoundKernel>);
+
+/// A buffer a stage keeps across frames for data it uploads or keeps.
+#[derive(Default)]
+pub struct BufferSlot(Option<(wgpu::Buffer, Shape)>);
+
+/// A read asked for at the end of the frame: its index among the frame's reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Later(usize);
+
+impl<'g> Executor<'g> {
+    /// A device on `gpu`, or the CPU reference without one; with `gpu`'s timestamp queries
+    /// (a [`Gpu::with_timestamps`]) every kernel is timed on the GPU.
+    pub fn new(gpu: Option<&'g Gpu>) -> Executor<'g> {
+        let timing = gpu.and_then(|gpu| Timing::new(gpu, 64));
+        Executor { gpu, encoder: None, later: Vec::new(), staging: None, timing }
     }
 
-    /// Uploads the sources, runs every step and reads the sinks back.
-    pub fn run(&self, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
+    /// The GPU, `None` on the CPU reference.
+    pub fn gpu(&self) -> Option<&'g Gpu> {
+        self.gpu
+    }
+
+    /// Records `stage`'s work outside the runtime's kernels (a generated kernel, a conversion)
+    /// into the frame's encoder, with the stage's timestamps for its pass; `None` on the CPU.
+    pub fn record<R>(
+        &mut self,
+        stage: usize,
+        work: impl FnOnce(&Gpu, &mut wgpu::CommandEncoder, Option<wgpu::ComputePassTimestampWrites<'_>>) -> R,
+    ) -> Option<R> {
+        let gpu = self.gpu?;
+        let writes = self.timing.as_mut().and_then(|t| t.next(stage));
+        let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
+        Some(work(gpu, encoder, writes))
+    }
+
+    /// `kernel` on `inputs` for `stage`, its results where the inputs are.
+    pub fn kernel(
+        &mut self,
+        stage: usize,
+        slot: &mut KernelSlot,
+        kernel: Kernel,
+        inputs: &[&Tensor],
+    ) -> Result<Vec<Tensor>, PipelineError> {
+        let Some(gpu) = self.gpu else {
+            let images: Vec<Arc<Image>> = inputs.iter().map(|t| host(t)).collect();
+            kernel.check(&inputs.iter().map(|t| t.shape()).collect::<Vec<_>>())?;
+            let refs: Vec<&Image> = images.iter().map(|i| &**i).collect();
+            return Ok(kernel.cpu(&refs).into_iter().map(Tensor::cpu).collect());
+        };
+        let uploaded: Vec<(wgpu::Buffer, Shape)> = inputs.iter().map(|t| self.on_device(gpu, t)).collect();
+        let bound: Vec<(&wgpu::Buffer, Shape)> = uploaded.iter().map(|(b, s)| (b, *s)).collect();
+        let fits = slot.0.as_ref().is_some_and(|k| k.kernel().name() == kernel.name() && k.binds(&bound));
+        if !fits {
+            slot.0 = Some(BoundKernel::new(gpu, kernel, &bound)?);
+        }
+        let bound = slot.0.as_mut().expect("bound above");
+        bound.set_kernel(gpu, kernel)?;
+        bound.reset_scratch(gpu);
+        self.record(stage, |_, encoder, timestamps| bound.encode(encoder, timestamps));
+        Ok(bound
+            .outputs()
+            .iter()
+            .map(|(buffer, shape)| Tensor::Gpu { buffer: buffer.clone(), shape: *shape })
+            .collect())
+    }
+
+    /// `image` where kernels read it: uploaded into the stage's buffer on a GPU (a copy on the
+    /// CPU).
+    pub fn upload(&mut self, slot: &mut BufferSlot, image: &Image) -> Tensor {
+        let Some(gpu) = self.gpu else { return Tensor::cpu(image.clone()) };
+        let shape = Shape { width: image.width, height: image.height, planes: image.planes };
+        let fits = slot.0.as_ref().is_some_and(|(_, s)| *s == shape);
+        if !fits {
+            slot.0 = Some((gpu.storage("upload", shape.len()), shape));
+        }
+        let (buffer, _) = slot.0.as_ref().expect("made above");
+        gpu.queue.write_buffer(buffer, 0, bytemuck::cast_slice(&image.data));
+        Tensor::Gpu { buffer: buffer.clone(), shape }
+    }
+
+    /// A copy of `tensor` in the stage's buffer, so it outlives this frame (a kernel's output
+    /// buffer is written again next frame).
+    pub fn keep(&mut self, slot: &mut BufferSlot, tensor: &Tensor) -> Tensor {
+        let (Some(gpu), Tensor::Gpu { buffer, shape }) = (self.gpu, tensor) else { return tensor.clone() };
+        if slot.0.as_ref().is_none_or(|(_, s)| s != shape) {
+            slot.0 = Some((gpu.storage("kept", shape.len()), *shape));
+        }
+        let (kept, _) = slot.0.as_ref().expect("made above");
+        let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
+        encoder.copy_buffer_to_buffer(buffer, 0, kept, 0, (shape.len() * 4) as u64);
+        Tensor::Gpu { buffer: kept.clone(), shape: *shape }
+    }
+
+    /// Submits the work recorded so far: a stage on another thread that reads its results then
+    /// submits after it.
+    pub fn flush(&mut self) -> Result<(), PipelineError> {
+        match (self.gpu, self.encoder.take()) {
+            (Some(gpu), Some(encoder)) => submit(gpu, encoder),
+            _ => Ok(()),
+        }
+    }
+
+    /// Submits the work recorded so far and the uploads, and waits until the device has done
+    /// them (a benchmark's clock starts after).
+    pub fn wait(&mut self) -> Result<(), PipelineError> {
+        let Some(gpu) = self.gpu else { return Ok(()) };
+        let encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
+        submit(gpu, encoder)?;
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(drop)
+            .map_err(|e| PipelineError::Readback(e.to_string()))
+    }
+
+    /// Asks for `tensor`'s samples at the end of the frame ([`Executor::end_frame`]).
+    pub fn read_later(&mut self, tensor: &Tensor) -> Later {
+        self.later.push(tensor.clone());
+        Later(self.later.len() - 1)
+    }
+
+    /// Submits the work recorded so far and reads `tensors` back at once: for a stage that
+    /// needs a result before it can go on (ICP's sums each iteration, a cloud to accumulate).
+    pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, PipelineError> {
+        let tensors: Vec<Tensor> = tensors.iter().map(|t| (*t).clone()).collect();
+        self.read(&tensors)
+    }
+
+    /// Submits the frame's work and reads back what was asked for, in one mapping; with the
+    /// GPU time each stage's kernels took.
+    pub fn end_frame(&mut self) -> Result<(Reads, Vec<(usize, Duration)>), PipelineError> {
+        let later = std::mem::take(&mut self.later);
+        let images = self.read(&later)?;
+        let times = match (&mut self.timing, self.gpu) {
+            (Some(timing), Some(gpu)) => timing.take(gpu).map_err(PipelineError::Readback)?,
+            _ => Vec::new(),
+        };
+        Ok((Reads(images), times))
+    }
+
+    /// Submits the recorded work and reads `tensors` back through one staging buffer.
+    fn read(&mut self, tensors: &[Tensor]) -> Result<Vec<Arc<Image>>, PipelineError> {
+        let Some(gpu) = self.gpu else { return Ok(tensors.iter().map(host).collect()) };
+        let bytes: u64 = tensors.iter().map(|t| (t.shape().len().max(1) * 4) as u64).sum();
+        let mut encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
+        if let Some(timing) = &self.timing {
+            timing.resolve(&mut encoder);
+        }
+        if bytes == 0 || tensors.iter().all(|t| matches!(t, Tensor::Cpu(_))) {
+            submit(gpu, encoder)?;
+            return Ok(tensors.iter().map(host).collect());
+        }
+        if self.staging.as_ref().is_none_or(|s| s.size() < bytes) {
+            self.staging = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pipeline reads"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        let staging = self.staging.as_ref().expect("made above");
+        let mut offset = 0;
+        for tensor in tensors {
+            if let Tensor::Gpu { buffer, shape } = tensor {
+                encoder.copy_buffer_to_buffer(buffer, 0, staging, offset, (shape.len() * 4) as u64);
+            }
+            offset += (tensor.shape().len().max(1) * 4) as u64;
+        }
+        submit(gpu, encoder)?;
+        let images = gpu.with_mapped(staging, |bytes| {
+            let samples: &[f32] = bytemuck::cast_slice(bytes);
+            let mut at = 0;
+            let mut images = Vec::with_capacity(tensors.len());
+            for tensor in tensors {
+                let shape = tensor.shape();
+                images.push(match tensor {
+                    Tensor::Cpu(image) => image.clone(),
+                    Tensor::Gpu { .. } => Arc::new(Image {
+                        width: shape.width,
+                        height: shape.height,
+                        planes: shape.planes,
+                        data: samples[at..at + shape.len()].to_vec(),
+                    }),
+                });
+                at += shape.len().max(1);
+            }
+            images
+        });
+        images.map_err(PipelineError::Readback)
+    }
+
+    /// A tensor's buffer on the GPU (a host image uploaded into a buffer of its own).
+    fn on_device(&self, gpu: &Gpu, tensor: &Tensor) -> (wgpu::Buffer, Shape) {
+        match tensor {
+            Tensor::Gpu { buffer, shape } => (buffer.clone(), *shape),
+            Tensor::Cpu(image) => {
+                let shape = tensor.shape();
+                let buffer = gpu.storage("host image", shape.len());
+                gpu.queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&image.data));
+                (buffer, shape)
+            }
+        }
+    }
+}
+
+/// Finishes and submits the frame's recording: what the device refuses in it (a generated
+/// kernel's binding, say) is an error, not wgpu's panic.
+fn submit(gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), PipelineError> {
+    gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(PipelineError::Readback)
+}
+
+/// A tensor known to be in host memory (on the CPU device every tensor is).
+fn host(tensor: &Tensor) -> Arc<Image> {
+    match tensor {
+        Tensor::Cpu(image) => image.clone(),
+        Tensor::Gpu { .. } => unreachable!("GPU tensors exist only on a GPU device"),
+    }
+}
+
+/// The images read at the end of a frame, by the [`Later`] each was asked for with.
+#[derive(Clone)]
+pub struct Reads(Vec<Arc<Image>>);
+
+impl Reads {
+    pub fn get(&self, later: Later) -> &Arc<Image> {
+        &self.0[later.0]
+    }
+}
+
+/// A chain of kernels ([`Pipeline`]) prepared on the executor: each step's kernel bound once in
+/// a slot, the sources uploaded into buffers of their own, the sinks read at the end of a run.
+pub struct ChainRun<'g> {
+    executor: Executor<'g>,
+    pipeline: Pipeline,
+    kernels: Vec<KernelSlot>,
+    buffers: Vec<BufferSlot>,
+    /// The sources as last uploaded.
+    sources: Option<Vec<Tensor>>,
+}
+
+impl<'g> ChainRun<'g> {
+    /// `pipeline` on `gpu`, or on the CPU reference without one.
+    pub fn new(gpu: Option<&'g Gpu>, pipeline: &Pipeline) -> ChainRun<'g> {
+        ChainRun {
+            executor: Executor::new(gpu),
+            pipeline: pipeline.clone(),
+            kernels: pipeline.steps.iter().map(|_| KernelSlot::default()).collect(),
+            buffers: pipeline.sources.iter().map(|_| BufferSlot::default()).collect(),
+            sources: None,
+        }
+    }
+
+    /// Whether it runs on a GPU.
+    pub fn on_gpu(&self) -> bool {
+        self.executor.gpu.is_some()
+    }
+
+    /// Uploads the sources, runs every step in one submission and reads the sinks back.
+    pub fn run(&mut self, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
         self.upload(sources)?;
         self.rerun()
     }
 
-    /// Runs every step again on the sources already on the GPU and reads the sinks back (for
-    /// iterations that only change parameters, see [`GpuPipeline::set_kernel`]).
-    pub fn rerun(&self) -> Result<Vec<Image>, PipelineError> {
-        self.reset_scratch();
-        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        for step in &self.steps {
-            step.encode(&mut encoder, None);
+    /// Runs every step again on the sources already uploaded (for iterations that only change
+    /// parameters, see [`ChainRun::set_kernel`]) and reads the sinks back.
+    pub fn rerun(&mut self) -> Result<Vec<Image>, PipelineError> {
+        Ok(self.frame()?.0)
+    }
+
+    /// Uploads the sources and runs once; each step's time: by the GPU's clock on a
+    /// [`Gpu::with_timestamps`] (the steps' passes alone), else the wall time of the run after
+    /// the uploads (with its one readback of the sinks) split evenly, as no clock tells the
+    /// steps apart.
+    pub fn time_steps(&mut self, sources: &[Image]) -> Result<Vec<Duration>, PipelineError> {
+        self.upload(sources)?;
+        self.executor.wait()?;
+        let started = std::time::Instant::now();
+        let (_, times) = self.frame()?;
+        let steps = self.pipeline.steps.len();
+        if times.is_empty() {
+            return Ok(vec![started.elapsed() / steps.max(1) as u32; steps]);
         }
-        let mut offset = 0u64;
-        for &sink in &self.pipeline.sinks {
-            let bytes = (self.pipeline.shape(sink).len() * 4) as u64;
-            encoder.copy_buffer_to_buffer(&self.buffers[sink.0], 0, &self.staging, offset, bytes);
-            offset += bytes;
+        let mut by_step = vec![Duration::ZERO; steps];
+        for (step, time) in times {
+            by_step[step] += time;
         }
-        self.gpu.queue.submit([encoder.finish()]);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        self.staging.map_async(wgpu::MapMode::Read, .., move |mapped| {
-            let _ = sender.send(mapped);
-        });
-        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-        match receiver.try_recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(error)) => return Err(PipelineError::Readback(error.to_string())),
-            Err(_) => return Err(PipelineError::Readback("the device finished without mapping the results".into())),
-        }
-        let mut images = Vec::with_capacity(self.pipeline.sinks.len());
-        {
-            let view = self.staging.get_mapped_range(..).map_err(|e| PipelineError::Readback(e.to_string()))?;
-            let all: &[f32] = bytemuck::cast_slice(&view);
-            let mut start = 0;
-            for &sink in &self.pipeline.sinks {
-                let shape = self.pipeline.shape(sink);
-                let data = all[start..start + shape.len()].to_vec();
-                start += shape.len();
-                images.push(Image { width: shape.width, height: shape.height, planes: shape.planes, data });
-            }
-        }
-        self.staging.unmap();
-        Ok(images)
+        Ok(by_step)
     }
 
     /// Changes the parameters of step `index` (same kernel, same shapes), e.g. the pose of an
@@ -118,75 +339,42 @@ impl<'g> GpuPipeline<'g> {
             return Err(PipelineError::KernelChanged { step: index, was: step.kernel.name(), given: kernel.name() });
         }
         step.kernel = kernel;
-        self.steps[index].set_kernel(self.gpu, kernel)
-    }
-
-    /// Uploads the sources, then times each step on its own (submit and wait, or the compute
-    /// pass by the GPU's clock on a [`Gpu::with_timestamps`]), without readback.
-    pub fn time_steps(&self, sources: &[Image]) -> Result<Vec<Duration>, PipelineError> {
-        self.upload(sources)?;
-        self.reset_scratch();
-        let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-        Ok(self
-            .steps
-            .iter()
-            .map(|step| {
-                let start = Instant::now();
-                let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-                step.encode(&mut encoder, self.gpu.pass_timestamps());
-                self.gpu.resolve_timestamps(&mut encoder);
-                self.gpu.queue.submit([encoder.finish()]);
-                let _ = self.gpu.device.poll(wgpu::PollType::wait_indefinitely());
-                let elapsed = start.elapsed();
-                // A timestamp that cannot be read back leaves the wall time.
-                self.gpu.device_time().ok().flatten().unwrap_or(elapsed)
-            })
-            .collect())
-    }
-
-    fn upload(&self, sources: &[Image]) -> Result<(), PipelineError> {
-        self.pipeline.check_sources(sources)?;
-        for (&slot, image) in self.pipeline.sources.iter().zip(sources) {
-            self.gpu.queue.write_buffer(&self.buffers[slot.0], 0, bytemuck::cast_slice(&image.data));
-        }
         Ok(())
     }
 
-    fn reset_scratch(&self) {
-        for step in &self.steps {
-            step.reset_scratch(self.gpu);
-        }
+    fn upload(&mut self, sources: &[Image]) -> Result<(), PipelineError> {
+        self.pipeline.check_sources(sources)?;
+        let uploaded = sources.iter().zip(&mut self.buffers).map(|(image, buffer)| self.executor.upload(buffer, image));
+        self.sources = Some(uploaded.collect());
+        Ok(())
     }
 
-    /// The slot buffers (for tests that look inside).
-    pub fn buffer(&self, slot: Slot) -> &wgpu::Buffer {
-        &self.buffers[slot.0]
+    /// One frame on the uploaded sources: the sinks' images and the steps' GPU times.
+    fn frame(&mut self) -> Result<(Vec<Image>, Vec<(usize, Duration)>), PipelineError> {
+        let expected = self.pipeline.sources.len();
+        let sources = self.sources.as_ref().ok_or(PipelineError::Sources { expected, given: 0 })?;
+        let mut values: Vec<Option<Tensor>> = vec![None; self.pipeline.slots.len()];
+        for (slot, tensor) in self.pipeline.sources.iter().zip(sources) {
+            values[slot.0] = Some(tensor.clone());
+        }
+        for (index, step) in self.pipeline.steps.iter().enumerate() {
+            // Every step's inputs were checked to be slots made before it.
+            let inputs: Vec<&Tensor> =
+                step.inputs.iter().map(|s| values[s.0].as_ref().expect("a computed slot")).collect();
+            let outputs = self.executor.kernel(index, &mut self.kernels[index], step.kernel, &inputs)?;
+            for (slot, tensor) in step.outputs.iter().zip(outputs) {
+                values[slot.0] = Some(tensor);
+            }
+        }
+        let sinks: Vec<Later> = (self.pipeline.sinks.iter())
+            .map(|s| self.executor.read_later(values[s.0].as_ref().expect("a computed sink")))
+            .collect();
+        let (reads, times) = self.executor.end_frame()?;
+        Ok((sinks.into_iter().map(|later| (**reads.get(later)).clone()).collect(), times))
     }
 }
 
-/// A pipeline ready to run on the GPU when there is one, else on the CPU reference: what a
-/// caller without a guaranteed adapter uses (`Gpu::new()`'s error says why there is none).
-pub enum Prepared<'g> {
-    Gpu(GpuPipeline<'g>),
-    Cpu(Pipeline),
-}
-
-impl<'g> Prepared<'g> {
-    pub fn new(gpu: Option<&'g Gpu>, pipeline: &Pipeline) -> Prepared<'g> {
-        match gpu {
-            Some(gpu) => Prepared::Gpu(GpuPipeline::new(gpu, pipeline)),
-            None => Prepared::Cpu(pipeline.clone()),
-        }
-    }
-
-    pub fn run(&self, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
-        match self {
-            Prepared::Gpu(prepared) => prepared.run(sources),
-            Prepared::Cpu(pipeline) => run_cpu(pipeline, sources),
-        }
-    }
-
-    pub fn on_gpu(&self) -> bool {
-        matches!(self, Prepared::Gpu(_))
-    }
+/// `pipeline` on `sources` by the CPU reference of each kernel.
+pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
+    ChainRun::new(None, pipeline).run(sources)
 }

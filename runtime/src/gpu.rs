@@ -29,17 +29,8 @@ pub struct Gpu {
     pub queue: wgpu::Queue,
     pub adapter: wgpu::AdapterInfo,
     pipelines: Mutex<HashMap<(&'static str, &'static str), wgpu::ComputePipeline>>,
-    /// Where a [`crate::Program`]'s dispatch writes the GPU's clock before and after it.
-    timestamps: Option<Timestamps>,
-}
-
-/// Two GPU timestamps a compute pass writes, resolved and read back after the dispatch.
-struct Timestamps {
-    queries: wgpu::QuerySet,
-    resolved: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    /// Nanoseconds per timestamp tick.
-    period: f32,
+    /// Whether the device has timestamp queries enabled (see [`Gpu::with_timestamps`]).
+    timestamps: bool,
 }
 
 impl Gpu {
@@ -49,17 +40,17 @@ impl Gpu {
         Gpu::open(false)
     }
 
-    /// As [`Gpu::new`], and where the adapter has timestamp queries, a [`crate::Program`]'s
-    /// dispatch is timed by the GPU's own clock (the compute pass alone, without submission and
-    /// synchronisation), at the cost of reading the clock back after each dispatch: for
-    /// benchmarks. [`Gpu::times_on_device`] says whether it is.
+    /// As [`Gpu::new`], with the adapter's timestamp queries where it has them: then the
+    /// executor times every kernel, and [`crate::Program::dispatch`] its pass, by the GPU's own
+    /// clock (the compute pass alone, without submission and synchronisation), at the cost of
+    /// reading the clock back: for benchmarks. [`Gpu::times_on_device`] says whether it does.
     pub fn with_timestamps() -> Result<Gpu, GpuUnavailable> {
         Gpu::open(true)
     }
 
-    /// Whether dispatches are timed by the GPU's clock (see [`Gpu::with_timestamps`]).
+    /// Whether passes are timed by the GPU's clock (see [`Gpu::with_timestamps`]).
     pub fn times_on_device(&self) -> bool {
-        self.timestamps.is_some()
+        self.timestamps
     }
 
     fn open(timestamps: bool) -> Result<Gpu, GpuUnavailable> {
@@ -82,63 +73,7 @@ impl Gpu {
         };
         let (device, queue) =
             pollster::block_on(adapter.request_device(&descriptor)).map_err(|e| GpuUnavailable(e.to_string()))?;
-        let timestamps = timestamps.then(|| {
-            let buffer = |label, usage| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: 16,
-                    usage,
-                    mapped_at_creation: false,
-                })
-            };
-            Timestamps {
-                queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("dispatch timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count: 2,
-                }),
-                resolved: buffer(
-                    "resolved timestamps",
-                    wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                ),
-                readback: buffer("read timestamps", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
-                period: queue.get_timestamp_period(),
-            }
-        });
         Ok(Gpu { device, queue, adapter: adapter.get_info(), pipelines: Mutex::default(), timestamps })
-    }
-
-    /// The timestamp writes of a compute pass, when dispatches are timed on the device.
-    pub(crate) fn pass_timestamps(&self) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        self.timestamps.as_ref().map(|t| wgpu::ComputePassTimestampWrites {
-            query_set: &t.queries,
-            beginning_of_pass_write_index: Some(0),
-            end_of_pass_write_index: Some(1),
-        })
-    }
-
-    /// Copies the pass's timestamps where [`Gpu::device_time`] reads them (after the pass, in
-    /// the same encoder).
-    pub(crate) fn resolve_timestamps(&self, encoder: &mut wgpu::CommandEncoder) {
-        if let Some(t) = &self.timestamps {
-            encoder.resolve_query_set(&t.queries, 0..2, &t.resolved, 0);
-            encoder.copy_buffer_to_buffer(&t.resolved, 0, &t.readback, 0, 16);
-        }
-    }
-
-    /// The time between the pass's two timestamps, once the submission is done; `None` when
-    /// dispatches are not timed on the device.
-    pub(crate) fn device_time(&self) -> Result<Option<std::time::Duration>, String> {
-        let Some(t) = &self.timestamps else { return Ok(None) };
-        t.readback.slice(..).map_async(wgpu::MapMode::Read, |_| {});
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
-        let ticks = {
-            let bytes = t.readback.get_mapped_range(..).map_err(|e| e.to_string())?;
-            let at = |i: usize| u64::from_le_bytes(bytes[i * 8..i * 8 + 8].try_into().expect("8 bytes"));
-            at(1).saturating_sub(at(0))
-        };
-        t.readback.unmap();
-        Ok(Some(std::time::Duration::from_nanos((ticks as f64 * t.period as f64) as u64)))
     }
 
     /// The device tests run on: `None` only where `GUDSL_NO_GPU=1` says the machine has no

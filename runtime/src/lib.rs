@@ -1,6 +1,7 @@
 //! gudsl-runtime: the ToF algorithms of the dissertation as WGSL compute kernels on wgpu, each
-//! with a CPU reference; pipelines of kernels run on the GPU (data kept there, one readback at
-//! the sinks) or, without an adapter, on the CPU reference. Programs written elsewhere (the code
+//! with a CPU reference; one executor runs them, and the pipelines built of them, on the GPU
+//! (data kept there, one readback a frame, each stage timed by the GPU's clock) or, without an
+//! adapter, on the CPU reference. Programs written elsewhere (the code
 //! generator's kernels) run through [`program`].
 
 pub mod arrays;
@@ -20,10 +21,11 @@ pub mod ply;
 pub mod program;
 pub mod registration;
 pub mod sim;
+mod timing;
 
 pub use bound::BoundKernel;
 pub use error::PipelineError;
-pub use executor::{run_cpu, GpuPipeline, Prepared};
+pub use executor::{run_cpu, ChainRun, Executor, Tensor};
 pub use gpu::{Gpu, GpuUnavailable};
 pub use image::{Image, Shape};
 pub use kernels::Kernel;

@@ -12,7 +12,7 @@ use std::{
 
 use wgpu::util::DeviceExt;
 
-use crate::Gpu;
+use crate::{timing::Timing, Gpu};
 
 /// The texel formats of the GPGPU extension's image types (`image2D_uc` → `Rgba8Uint`, …).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -221,15 +221,23 @@ impl Program {
         workgroups: [u32; 3],
     ) -> Result<Duration, ProgramError> {
         let dispatch_error = |message| ProgramError::Dispatch { program: self.label.clone(), message };
+        let mut timing = Timing::new(gpu, 2);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        self.record(gpu, &mut encoder, constants, resources, workgroups, gpu.pass_timestamps())?;
-        gpu.resolve_timestamps(&mut encoder);
+        let writes = timing.as_mut().and_then(|t| t.next(0));
+        self.record(gpu, &mut encoder, constants, resources, workgroups, writes)?;
+        if let Some(timing) = &timing {
+            timing.resolve(&mut encoder);
+        }
         let commands = gpu.scoped(|| encoder.finish()).map_err(dispatch_error)?;
         let start = Instant::now();
         gpu.scoped(|| gpu.queue.submit([commands])).map_err(dispatch_error)?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| dispatch_error(e.to_string()))?;
         let elapsed = start.elapsed();
-        Ok(gpu.device_time().map_err(dispatch_error)?.unwrap_or(elapsed))
+        let timed = match &mut timing {
+            Some(timing) => timing.take(gpu).map_err(dispatch_error)?.first().map(|(_, time)| *time),
+            None => None,
+        };
+        Ok(timed.unwrap_or(elapsed))
     }
 
     /// Records the dispatch [`Program::dispatch`] runs into `encoder`, with `timestamps` around

@@ -8,7 +8,7 @@ use std::io::{self, Write};
 use crate::camera::{apply, compose, Intrinsics, Pose};
 use crate::kernels::car::{normals, point_cloud};
 use crate::kernels::icp::{self, SUMS};
-use crate::{Gpu, GpuPipeline, Image, Kernel, Pipeline, PipelineError, Shape};
+use crate::{ChainRun, Gpu, Image, Kernel, Pipeline, PipelineError, Shape};
 
 /// A point cloud with its normals, both 3-plane images (x, y, z); a point with z = 0 is invalid.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,7 +142,7 @@ pub fn register_cpu(
 /// ICP with the reduction on the GPU: the four clouds uploaded once per registration, each
 /// iteration a new pose (uniform write), the reduction and a readback of the 29 sums.
 pub struct GpuRegistration<'g> {
-    pipeline: GpuPipeline<'g>,
+    pipeline: ChainRun<'g>,
     intrinsics: Intrinsics,
     settings: IcpSettings,
 }
@@ -162,7 +162,11 @@ impl<'g> GpuRegistration<'g> {
             .collect();
         let sums = pipeline.step(reduce_kernel(settings, intrinsics, crate::camera::IDENTITY), &inputs)?[0];
         pipeline.sink(sums)?;
-        Ok(GpuRegistration { pipeline: GpuPipeline::new(gpu, &pipeline), intrinsics: *intrinsics, settings: *settings })
+        Ok(GpuRegistration {
+            pipeline: ChainRun::new(Some(gpu), &pipeline),
+            intrinsics: *intrinsics,
+            settings: *settings,
+        })
     }
 
     pub fn register(

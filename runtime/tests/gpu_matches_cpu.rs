@@ -3,7 +3,7 @@
 //! GUDSL_NO_GPU=1 says the machine has none on purpose.
 
 use gudsl_runtime::sim::{simulate, Camera, Motion, Scene};
-use gudsl_runtime::{run_cpu, Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape};
+use gudsl_runtime::{run_cpu, ChainRun, Gpu, Image, Kernel, Pipeline, Shape};
 
 /// A deterministic xorshift generator: the same data on every machine.
 struct Random(u64);
@@ -41,7 +41,7 @@ fn check(gpu: &Gpu, kernel: Kernel, inputs: &[Image], tolerance: f32) {
         pipeline.sink(slot).unwrap();
     }
     let expected = run_cpu(&pipeline, inputs).unwrap();
-    let actual = GpuPipeline::new(gpu, &pipeline).run(inputs).unwrap();
+    let actual = ChainRun::new(Some(gpu), &pipeline).run(inputs).unwrap();
     for (e, a) in expected.iter().zip(&actual) {
         assert_eq!((e.width, e.height, e.planes), (a.width, a.height, a.planes));
         let worst = e
@@ -227,7 +227,7 @@ fn both(gpu: &Gpu, kernel: Kernel, inputs: &[Image]) -> (Image, Image) {
     let out = pipeline.step(kernel, &sources).unwrap()[0];
     pipeline.sink(out).unwrap();
     let cpu = run_cpu(&pipeline, inputs).unwrap().remove(0);
-    let gpu = GpuPipeline::new(gpu, &pipeline).run(inputs).unwrap().remove(0);
+    let gpu = ChainRun::new(Some(gpu), &pipeline).run(inputs).unwrap().remove(0);
     (cpu, gpu)
 }
 
@@ -238,12 +238,12 @@ fn without_an_adapter_the_same_pipeline_runs_on_the_cpu_reference() {
     let input = pipeline.source("in", Shape { width: 64, height: 48, planes: 1 });
     let out = pipeline.step(Kernel::Gaussian { sigma: 1.5 }, &[input]).unwrap()[0];
     pipeline.sink(out).unwrap();
-    let on_cpu = gudsl_runtime::Prepared::new(None, &pipeline);
+    let mut on_cpu = gudsl_runtime::ChainRun::new(None, &pipeline);
     assert!(!on_cpu.on_gpu());
     let expected = on_cpu.run(std::slice::from_ref(&image)).unwrap().remove(0);
     assert_eq!(expected, gudsl_runtime::kernels::gaussian(&image, 1.5));
     let Some(gpu) = gpu() else { return };
-    let on_gpu = gudsl_runtime::Prepared::new(Some(&gpu), &pipeline);
+    let mut on_gpu = gudsl_runtime::ChainRun::new(Some(&gpu), &pipeline);
     assert!(on_gpu.on_gpu());
     let actual = on_gpu.run(&[image]).unwrap().remove(0);
     let worst = expected.data.iter().zip(&actual.data).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);

@@ -12,7 +12,7 @@ use gudsl_runtime::{
     ply::Points,
     registration::{iterate, valid_points, IcpSettings, RegistrationError},
     sim::{simulate, Camera, Motion, Scene},
-    Gpu, GpuPipeline, Image, Kernel, Pipeline, Shape, Slot,
+    ChainRun, Gpu, Image, Kernel, Pipeline, Shape, Slot,
 };
 
 /// The frames of the empty scene learnt as background.
@@ -26,13 +26,10 @@ pub struct ScanCamera<'g> {
     gpu: &'g Gpu,
     camera: Camera,
     extrinsic: Pose,
-    learn: GpuPipeline<'g>,
-    scan: GpuPipeline<'g>,
-    /// The scan chain's raw-frame sources, written each frame once it has run.
-    scan_sources: [Slot; 2],
-    scanned: bool,
-    icp: GpuPipeline<'g>,
-    transform: GpuPipeline<'g>,
+    learn: ChainRun<'g>,
+    scan: ChainRun<'g>,
+    icp: ChainRun<'g>,
+    transform: ChainRun<'g>,
     settings: IcpSettings,
     learnt: Vec<(Image, Image)>,
     background: Option<(Image, Image)>,
@@ -62,10 +59,10 @@ impl<'g> ScanCamera<'g> {
         let (_, intensity, distance) = filtered(&mut p);
         p.sink(intensity).unwrap();
         p.sink(distance).unwrap();
-        let learn = GpuPipeline::new(gpu, &p);
+        let learn = ChainRun::new(Some(gpu), &p);
 
         let mut p = Pipeline::new();
-        let (scan_sources, intensity, distance) = filtered(&mut p);
+        let (_, intensity, distance) = filtered(&mut p);
         let (bi, bd, rays) = (p.source("bi", plane), p.source("bd", plane), p.source("rays", three));
         let segment = Kernel::Segment { theta_intensity: 100.0, theta_distance: 0.3 };
         let mut mask = p.step(segment, &[intensity, distance, bi, bd]).unwrap()[0];
@@ -77,7 +74,7 @@ impl<'g> ScanCamera<'g> {
         let normals = p.step(Kernel::Normals, &[points]).unwrap()[0];
         p.sink(points).unwrap();
         p.sink(normals).unwrap();
-        let scan = GpuPipeline::new(gpu, &p);
+        let scan = ChainRun::new(Some(gpu), &p);
 
         let settings =
             IcpSettings { max_distance: 0.2, max_angle_degrees: 20.0, max_iterations: 20, ..IcpSettings::default() };
@@ -86,7 +83,7 @@ impl<'g> ScanCamera<'g> {
             ["points", "normals", "model points", "model normals"].map(|n| p.source(n, three)).into();
         let sums = p.step(reduce(&settings, intrinsics, &IDENTITY), &clouds).unwrap()[0];
         p.sink(sums).unwrap();
-        let icp = GpuPipeline::new(gpu, &p);
+        let icp = ChainRun::new(Some(gpu), &p);
 
         let mut p = Pipeline::new();
         let (at, facing) = (p.source("points", three), p.source("normals", three));
@@ -94,7 +91,7 @@ impl<'g> ScanCamera<'g> {
         let turned = p.step(Kernel::TransformPoints { pose: IDENTITY }, &[facing]).unwrap()[0];
         p.sink(moved).unwrap();
         p.sink(turned).unwrap();
-        let transform = GpuPipeline::new(gpu, &p);
+        let transform = ChainRun::new(Some(gpu), &p);
 
         ScanCamera {
             gpu,
@@ -102,8 +99,6 @@ impl<'g> ScanCamera<'g> {
             extrinsic: pose,
             learn,
             scan,
-            scan_sources,
-            scanned: false,
             icp,
             transform,
             settings,
@@ -132,18 +127,9 @@ impl<'g> ScanCamera<'g> {
             }
             return None;
         };
-        let mut cloud = if self.scanned {
-            for (slot, image) in self.scan_sources.iter().zip([&simulated.raw, &simulated.black]) {
-                self.gpu.queue.write_buffer(self.scan.buffer(*slot), 0, bytemuck::cast_slice(&image.data));
-            }
-            self.scan.rerun().unwrap()
-        } else {
-            self.scanned = true;
-            let rays = self.camera.intrinsics.rays();
-            let sources =
-                [simulated.raw, simulated.black, background_intensity.clone(), background_distance.clone(), rays];
-            self.scan.run(&sources).unwrap()
-        };
+        let rays = self.camera.intrinsics.rays();
+        let sources = [simulated.raw, simulated.black, background_intensity.clone(), background_distance.clone(), rays];
+        let mut cloud = self.scan.run(&sources).unwrap();
         let (points, normals) = (cloud.remove(0), cloud.remove(0));
 
         if let Some((model_points, model_normals)) = &self.model {

@@ -11,7 +11,7 @@ use std::{
 
 use super::{
     components::{Component, Ctx, Inputs, Outputs},
-    device::{Device, Reads},
+    executor::{Executor, Reads},
     OutputDir,
 };
 
@@ -45,7 +45,7 @@ pub fn write(
 ) -> JoinHandle<Written> {
     std::thread::spawn(move || {
         let started = Instant::now();
-        let mut device = Device::new(None);
+        let mut device = Executor::new(None);
         let mut ctx = Ctx { device: &mut device, stage, frame, output: &mut output };
         let result = component.finish_frame(&mut ctx, &reads).map(|_| ());
         Written { component, output, took: started.elapsed(), result }
@@ -55,7 +55,7 @@ pub fn write(
 /// What an `async` filter's thread hands back.
 pub struct Processed<'g> {
     pub component: Box<dyn Component>,
-    pub device: Device<'g>,
+    pub device: Executor<'g>,
     pub output: OutputDir,
     pub took: Duration,
     /// Its kernels' GPU times, by stage (its own).
@@ -70,7 +70,7 @@ pub struct Processed<'g> {
 pub fn process<'scope, 'g: 'scope>(
     scope: &'scope Scope<'scope, '_>,
     mut component: Box<dyn Component>,
-    mut device: Device<'g>,
+    mut device: Executor<'g>,
     (stage, frame): (usize, usize),
     inputs: Inputs,
     mut output: OutputDir,

@@ -4,27 +4,13 @@
 
 use std::sync::Arc;
 
-use gudsl_runtime::{camera::Pose, Image, Shape};
+use gudsl_runtime::{
+    camera::Pose,
+    executor::{BufferSlot, Executor},
+    Image,
+};
 
-/// An image where it lives: in host memory, or in a GPU buffer of f32 samples.
-#[derive(Debug, Clone)]
-pub enum Tensor {
-    Cpu(Arc<Image>),
-    Gpu { buffer: wgpu::Buffer, shape: Shape },
-}
-
-impl Tensor {
-    pub fn shape(&self) -> Shape {
-        match self {
-            Tensor::Cpu(image) => Shape { width: image.width, height: image.height, planes: image.planes },
-            Tensor::Gpu { shape, .. } => *shape,
-        }
-    }
-
-    pub fn cpu(image: Image) -> Tensor {
-        Tensor::Cpu(Arc::new(image))
-    }
-}
+pub use gudsl_runtime::Tensor;
 
 /// A raw PMD frame: channels A and B of the four phase images (8 planes, `A0 B0 … A3 B3`).
 #[derive(Debug, Clone)]
@@ -85,4 +71,27 @@ pub struct Item {
     pub producer: String,
     /// The frame it belongs to.
     pub frame: usize,
+}
+
+/// `data` with its GPU images copied into buffers of their own, so it outlives the frame (a
+/// queued item: its producer writes its buffers again next frame).
+pub fn detached(executor: &mut Executor, data: &Data) -> Data {
+    let mut copy = |t: &Tensor| executor.keep(&mut BufferSlot::default(), t);
+    match data {
+        Data::Raw(frame) => {
+            Data::Raw(RawFrame { raw: copy(&frame.raw), black: frame.black.as_ref().map(&mut copy), ..frame.clone() })
+        }
+        Data::Depth(depth) => Data::Depth(DepthImage {
+            distance: copy(&depth.distance),
+            amplitude: copy(&depth.amplitude),
+            intensity: copy(&depth.intensity),
+            ..depth.clone()
+        }),
+        Data::Mask(mask) => Data::Mask(copy(mask)),
+        Data::Image(picture) => Data::Image(Picture { texels: copy(&picture.texels), source: picture.source.clone() }),
+        Data::Cloud(PointCloud::Organized { points, normals }) => {
+            Data::Cloud(PointCloud::Organized { points: copy(points), normals: copy(normals) })
+        }
+        other => other.clone(),
+    }
 }

@@ -1,8 +1,8 @@
 //! ToF pipelines modelled as component-instance diagrams, run on the runtime: each stage of the
 //! model's [`PipelinePlan`] becomes a component of the bundled `ToF` library
 //! (`components/`), frames flow through them in the plan's order, their images stay on the
-//! GPU between stages ([`device`]: one encoder a frame, kernels bound once, one readback at
-//! the end of a frame for everything the sinks and stages asked for), and what the sinks write
+//! GPU between stages (the runtime's [`Executor`]: one encoder a frame, kernels bound once, one
+//! readback at the end of a frame for everything the sinks and stages asked for), and what the sinks write
 //! goes under one output folder only.
 //!
 //! Frames are ticks: every source gives one item a frame (until its frames are done), a filter
@@ -16,7 +16,6 @@
 mod apart;
 mod components;
 pub mod data;
-pub mod device;
 mod error;
 mod files;
 mod output;
@@ -36,13 +35,13 @@ use gudsl_model::{
     ast::ClassKind,
     hir::{pipeline::PipelinePlan, Semantics},
 };
-use gudsl_runtime::Gpu;
+pub(crate) use gudsl_runtime::executor;
+use gudsl_runtime::{Executor, Gpu};
 
 use apart::{Mode, Processed, Written};
 pub use components::Behaviors;
 use components::{Component, Inputs, Outputs};
 use data::Item;
-use device::Device;
 pub use error::{ErrorKind, PipelineError};
 pub use output::OutputDir;
 pub use preparations::{model_dir, Preparations};
@@ -67,8 +66,8 @@ pub trait PipelineObserver {
 /// Where a frame is: the run's device, the devices of stages that process apart, the
 /// bindings' queues, the output folder, the stages' times, the frame's index.
 struct At<'a, 'g> {
-    device: &'a mut Device<'g>,
-    devices: &'a mut [Option<Device<'g>>],
+    device: &'a mut Executor<'g>,
+    devices: &'a mut [Option<Executor<'g>>],
     queues: &'a mut [VecDeque<Item>],
     output: &'a mut OutputDir,
     times: &'a mut [StageTime],
@@ -213,7 +212,7 @@ impl PreparedPipeline {
                 apart: *mode != Mode::InOrder,
             })
             .collect();
-        let mut device = Device::new(gpu);
+        let mut device = Executor::new(gpu);
         let loading = Instant::now();
         let outcome = self.load(&mut stages);
         let loading = loading.elapsed();
@@ -243,7 +242,7 @@ impl PreparedPipeline {
 
     fn frames_loop<'g>(
         &mut self,
-        device: &mut Device<'g>,
+        device: &mut Executor<'g>,
         output: &mut OutputDir,
         frames: usize,
         times: &mut [StageTime],
@@ -253,7 +252,7 @@ impl PreparedPipeline {
         // Items waiting on each binding: a frame's own, or a buffered port's queue.
         let mut queues: Vec<VecDeque<Item>> = vec![VecDeque::new(); self.plan.bindings.len()];
         // The devices of the stages that process apart, kept from frame to frame.
-        let mut devices: Vec<Option<Device<'g>>> = self.modes.iter().map(|_| None).collect();
+        let mut devices: Vec<Option<Executor<'g>>> = self.modes.iter().map(|_| None).collect();
         for frame in 0..frames {
             if cancel.load(Ordering::Relaxed) {
                 return Err(self.error(
@@ -346,7 +345,7 @@ impl PreparedPipeline {
                 // What it reads is submitted before its own work.
                 at.device.flush().map_err(|e| self.error(Some(index), ErrorKind::Failed, e.to_string()))?;
                 let component = self.components[index].take().expect("joined");
-                let own = at.devices[index].take().unwrap_or_else(|| Device::new(at.device.gpu()));
+                let own = at.devices[index].take().unwrap_or_else(|| Executor::new(at.device.gpu()));
                 let fork = at.output.fork();
                 running.push((index, apart::process(scope, component, own, (index, frame), inputs, fork)));
                 continue;
@@ -462,7 +461,7 @@ impl PreparedPipeline {
     /// frame), a full queue dropping its oldest item.
     fn deliver(
         &self,
-        device: &mut Device,
+        device: &mut Executor,
         index: usize,
         produced: Outputs,
         queues: &mut [VecDeque<Item>],
@@ -475,7 +474,7 @@ impl PreparedPipeline {
                 if binding.provider.stage != index || binding.provider.port != port {
                     continue;
                 }
-                let data = if binding.is_buffered { device.detached(&data) } else { data.clone() };
+                let data = if binding.is_buffered { data::detached(device, &data) } else { data.clone() };
                 let at = frame + usize::from(binding.is_buffered || after_reads);
                 if binding.is_buffered && queue.len() >= binding.buffer_size {
                     queue.pop_front();

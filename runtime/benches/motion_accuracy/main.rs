@@ -27,7 +27,7 @@ use gudsl_runtime::kernels::motion::{angle_of, correct_raw, mean_direction};
 use gudsl_runtime::kernels::tof::{demodulate, subtract_black};
 use gudsl_runtime::phase_normalization::PhaseCalibration;
 use gudsl_runtime::sim::{simulate, standing_at, Camera, Frame, Motion, Object, Scene};
-use gudsl_runtime::{Gpu, Image, Kernel, Pipeline, Prepared, Shape};
+use gudsl_runtime::{ChainRun, Gpu, Image, Kernel, Pipeline, Shape};
 use scoring::{Score, Truth};
 
 const MODULATION_HZ: f32 = 20.0e6;
@@ -187,7 +187,7 @@ fn compensate(
     for (k, frame) in sequence.frames.iter().enumerate() {
         let restriction = method.row.rho.zip(previous).map(|(rho, mean)| (mean, (rho / 2.0).to_radians()));
         let shape = Shape { width: frame.raw.width, height: frame.raw.height, planes: 8 };
-        let prepared = Prepared::new(gpu, &pipeline(method, restriction, shape));
+        let mut prepared = ChainRun::new(gpu, &pipeline(method, restriction, shape));
         let mut sources = vec![frame.raw.clone(), frame.black.clone()];
         if method.normalization != Normalization::Off {
             sources.push(calibration.clone());

@@ -17,7 +17,7 @@ use gudsl_runtime::{
 use super::{depth_images, size_text, slots, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, PointCloud, Tensor},
-    device::{BufferSlot, KernelSlot, Later, Reads},
+    executor::{BufferSlot, KernelSlot, Later, Reads},
 };
 
 /// The organized clouds that arrived on `CloudIn`, with their producers.

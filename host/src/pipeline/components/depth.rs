@@ -8,7 +8,7 @@ use gudsl_runtime::Kernel;
 use super::{slots, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::{Data, DepthImage, Tensor},
-    device::KernelSlot,
+    executor::KernelSlot,
 };
 
 /// Which image of the depth image the kernel reads besides the distance.

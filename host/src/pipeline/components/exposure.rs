@@ -9,7 +9,7 @@ use gudsl_runtime::{exposure::ProportionalController, kernels::integration::Inte
 use super::{depth_images, slots, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::Data,
-    device::{KernelSlot, Later, Reads},
+    executor::{KernelSlot, Later, Reads},
     ErrorKind, PipelineError,
 };
 

@@ -7,7 +7,7 @@ use gudsl_runtime::Kernel;
 use super::{raw::Demodulation, sinks::png, slots, sources::Simulated, Component, Ctx, Inputs, Outputs, Params, Size};
 use crate::pipeline::{
     data::{Data, Item, Picture},
-    device::{KernelSlot, Later, Reads},
+    executor::{KernelSlot, Later, Reads},
 };
 
 /// `ToF.AmplitudeImage`.

@@ -24,13 +24,13 @@ use gudsl_model::hir::pipeline::{Stage, Value};
 
 use super::{
     data::{Data, DepthImage, Item},
-    device::{Device, Reads},
+    executor::{Executor, Reads},
     ErrorKind, OutputDir, PipelineError,
 };
 
 /// What a component sees while it runs.
 pub struct Ctx<'a, 'g> {
-    pub device: &'a mut Device<'g>,
+    pub device: &'a mut Executor<'g>,
     /// The stage's index in the plan (its kernels are timed under it).
     pub stage: usize,
     pub frame: usize,
@@ -129,7 +129,7 @@ pub trait Component: Send {
     /// out. `Err` is a message for the user.
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String>;
 
-    /// After the frame's reads came back (what [`Device::read_later`] asked for): what
+    /// After the frame's reads came back (what [`Executor::read_later`] asked for): what
     /// needs the data on the host (sinks write files); anything it gives arrives next frame.
     fn finish_frame(&mut self, _ctx: &mut Ctx, _reads: &Reads) -> Result<Outputs, String> {
         Ok(Vec::new())

@@ -7,7 +7,7 @@
 use gudsl_model::hir::{items::ConnectorRole, pipeline::Stage};
 
 use super::{Component, Ctx, Inputs, Outputs, Size, SizesByPort};
-use crate::pipeline::{data::Data, device::Reads, OutputDir};
+use crate::pipeline::{data::Data, executor::Reads, OutputDir};
 
 /// The library's data types and the port names its components use for them (`DepthIn`, …).
 const KINDS: [(&str, &str); 7] = [

@@ -8,7 +8,7 @@ use gudsl_runtime::{kernels::motion::mean_direction, phase_normalization::PhaseC
 use super::{size_text, slots, Component, Ctx, Inputs, Outputs, Params, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
-    device::{BufferSlot, KernelSlot, Later, Reads},
+    executor::{BufferSlot, KernelSlot, Later, Reads},
     files::{self, RawFiles},
     ErrorKind, PipelineError,
 };
@@ -233,10 +233,9 @@ impl Component for MotionCompensation {
         for (k, frame) in raw_frames(inputs) {
             let item = slots(&mut self.items, k);
             let device = &mut *ctx.device;
-            let run =
-                |device: &mut crate::pipeline::device::Device, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {
-                    device.kernel(ctx.stage, slot, kernel, inputs).map_err(|e| e.to_string())
-                };
+            let run = |device: &mut gudsl_runtime::Executor, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {
+                device.kernel(ctx.stage, slot, kernel, inputs).map_err(|e| e.to_string())
+            };
             let normalized = match &self.calibration {
                 Some(calibration) => {
                     let calibration = device.upload(&mut self.uploaded, calibration);

@@ -11,7 +11,7 @@ use gudsl_runtime::{arrays, ply::Points, Image};
 use super::{depth_images, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::Data,
-    device::{Later, Reads},
+    executor::{Later, Reads},
     OutputDir,
 };
 

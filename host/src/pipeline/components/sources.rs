@@ -15,7 +15,7 @@ use gudsl_runtime::Image;
 use super::{raw::open_raw_files, Component, Ctx, Inputs, Outputs, Params, Size};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame},
-    device::BufferSlot,
+    executor::BufferSlot,
     files::{self, Extent, RawFiles},
     ErrorKind, PipelineError,
 };

@@ -33,7 +33,7 @@ use crate::{
     launch::{Arg, Launcher, Number, WorkRange},
     pipeline::{
         data::{Data, DepthImage, Item, Picture, Tensor},
-        device::Reads,
+        executor::Reads,
         ErrorKind, OutputDir, PipelineError,
     },
 };
