@@ -3,7 +3,7 @@
 //! encoded into any command encoder as often as wanted. The executor keeps one in each of its
 //! kernel slots, bound again only when its inputs change.
 
-use crate::error::PipelineError;
+use crate::error::ChainError;
 use crate::gpu::Gpu;
 use crate::{Kernel, Shape};
 
@@ -22,7 +22,7 @@ pub struct BoundKernel {
 impl BoundKernel {
     /// `kernel` over `inputs` (buffers of f32 samples and their shapes), writing into output
     /// buffers of its own.
-    pub fn new(gpu: &Gpu, kernel: Kernel, inputs: &[(&wgpu::Buffer, Shape)]) -> Result<BoundKernel, PipelineError> {
+    pub fn new(gpu: &Gpu, kernel: Kernel, inputs: &[(&wgpu::Buffer, Shape)]) -> Result<BoundKernel, ChainError> {
         let shapes: Vec<Shape> = inputs.iter().map(|(_, shape)| *shape).collect();
         kernel.check(&shapes)?;
         let outputs: Vec<wgpu::Buffer> =
@@ -94,9 +94,9 @@ impl BoundKernel {
     }
 
     /// New parameters of the same kernel (only they change; shapes and buffers stay).
-    pub fn set_kernel(&mut self, gpu: &Gpu, kernel: Kernel) -> Result<(), PipelineError> {
+    pub fn set_kernel(&mut self, gpu: &Gpu, kernel: Kernel) -> Result<(), ChainError> {
         if kernel.name() != self.kernel.name() {
-            return Err(PipelineError::KernelChanged { step: 0, was: self.kernel.name(), given: kernel.name() });
+            return Err(ChainError::KernelChanged { step: 0, was: self.kernel.name(), given: kernel.name() });
         }
         if kernel != self.kernel {
             self.kernel = kernel;

@@ -1,12 +1,13 @@
-//! What can go wrong building or running a pipeline: every case is a value with a message a user
-//! can act on, never a panic.
+//! What can go wrong building or running a chain of kernels on the executor ([`ChainError`]; a
+//! ToF pipeline of `gudsl run` has `gudsl_host`'s `PipelineError`): every case is a value with a
+//! message a user can act on, never a panic.
 
 use std::fmt;
 
 use crate::image::Shape;
 
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum PipelineError {
+pub enum ChainError {
     /// A kernel given another number of inputs than it reads.
     Inputs { kernel: &'static str, expected: usize, given: usize },
     /// An input with another number of planes than the kernel reads.
@@ -31,34 +32,34 @@ fn shape(s: &Shape) -> String {
     format!("{}×{}×{}", s.width, s.height, s.planes)
 }
 
-impl fmt::Display for PipelineError {
+impl fmt::Display for ChainError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            PipelineError::Inputs { kernel, expected, given } => {
+            ChainError::Inputs { kernel, expected, given } => {
                 write!(f, "kernel `{kernel}` reads {expected} input image(s), {given} given")
             }
-            PipelineError::Planes { kernel, input, expected, given } => {
+            ChainError::Planes { kernel, input, expected, given } => {
                 write!(f, "input {input} of kernel `{kernel}` needs {expected} plane(s), it has {given}")
             }
-            PipelineError::Size { kernel, input, expected, given } => write!(
+            ChainError::Size { kernel, input, expected, given } => write!(
                 f,
                 "input {input} of kernel `{kernel}` is {}×{}, but its images must all be {}×{} (and not empty)",
                 given.0, given.1, expected.0, expected.1
             ),
-            PipelineError::UnknownSlot(slot) => write!(f, "slot {slot} is not an image of this pipeline"),
-            PipelineError::Sources { expected, given } => {
+            ChainError::UnknownSlot(slot) => write!(f, "slot {slot} is not an image of this pipeline"),
+            ChainError::Sources { expected, given } => {
                 write!(f, "the pipeline takes {expected} source image(s), {given} given")
             }
-            PipelineError::SourceShape { source, expected, given } => {
+            ChainError::SourceShape { source, expected, given } => {
                 write!(f, "source `{source}` must be {} (width×height×planes), it is {}", shape(expected), shape(given))
             }
-            PipelineError::UnknownStep(step) => write!(f, "the pipeline has no step {step}"),
-            PipelineError::KernelChanged { step, was, given } => {
+            ChainError::UnknownStep(step) => write!(f, "the pipeline has no step {step}"),
+            ChainError::KernelChanged { step, was, given } => {
                 write!(f, "step {step} runs `{was}`; only its parameters can change, not the kernel (`{given}` given)")
             }
-            PipelineError::Readback(message) => write!(f, "the GPU did not return the results: {message}"),
+            ChainError::Readback(message) => write!(f, "the GPU did not return the results: {message}"),
         }
     }
 }
 
-impl std::error::Error for PipelineError {}
+impl std::error::Error for ChainError {}

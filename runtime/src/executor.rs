@@ -8,7 +8,7 @@
 
 use std::{sync::Arc, time::Duration};
 
-use crate::{bound::BoundKernel, error::PipelineError, pipeline::Pipeline, timing::Timing, Gpu, Image, Kernel, Shape};
+use crate::{bound::BoundKernel, error::ChainError, pipeline::Pipeline, timing::Timing, Gpu, Image, Kernel, Shape};
 
 /// An image where it lives: in host memory, or in a GPU buffer of f32 samples.
 #[derive(Debug, Clone)]
@@ -85,7 +85,7 @@ impl<'g> Executor<'g> {
         slot: &mut KernelSlot,
         kernel: Kernel,
         inputs: &[&Tensor],
-    ) -> Result<Vec<Tensor>, PipelineError> {
+    ) -> Result<Vec<Tensor>, ChainError> {
         let Some(gpu) = self.gpu else {
             let images: Vec<Arc<Image>> = inputs.iter().map(|t| host(t)).collect();
             kernel.check(&inputs.iter().map(|t| t.shape()).collect::<Vec<_>>())?;
@@ -138,7 +138,7 @@ impl<'g> Executor<'g> {
 
     /// Submits the work recorded so far: a stage on another thread that reads its results then
     /// submits after it.
-    pub fn flush(&mut self) -> Result<(), PipelineError> {
+    pub fn flush(&mut self) -> Result<(), ChainError> {
         match (self.gpu, self.encoder.take()) {
             (Some(gpu), Some(encoder)) => submit(gpu, encoder),
             _ => Ok(()),
@@ -147,14 +147,11 @@ impl<'g> Executor<'g> {
 
     /// Submits the work recorded so far and the uploads, and waits until the device has done
     /// them (a benchmark's clock starts after).
-    pub fn wait(&mut self) -> Result<(), PipelineError> {
+    pub fn wait(&mut self) -> Result<(), ChainError> {
         let Some(gpu) = self.gpu else { return Ok(()) };
         let encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
         submit(gpu, encoder)?;
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map(drop)
-            .map_err(|e| PipelineError::Readback(e.to_string()))
+        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map(drop).map_err(|e| ChainError::Readback(e.to_string()))
     }
 
     /// Asks for `tensor`'s samples at the end of the frame ([`Executor::end_frame`]).
@@ -165,25 +162,25 @@ impl<'g> Executor<'g> {
 
     /// Submits the work recorded so far and reads `tensors` back at once: for a stage that
     /// needs a result before it can go on (ICP's sums each iteration, a cloud to accumulate).
-    pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, PipelineError> {
+    pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, ChainError> {
         let tensors: Vec<Tensor> = tensors.iter().map(|t| (*t).clone()).collect();
         self.read(&tensors)
     }
 
     /// Submits the frame's work and reads back what was asked for, in one mapping; with the
     /// GPU time each stage's kernels took.
-    pub fn end_frame(&mut self) -> Result<(Reads, Vec<(usize, Duration)>), PipelineError> {
+    pub fn end_frame(&mut self) -> Result<(Reads, Vec<(usize, Duration)>), ChainError> {
         let later = std::mem::take(&mut self.later);
         let images = self.read(&later)?;
         let times = match (&mut self.timing, self.gpu) {
-            (Some(timing), Some(gpu)) => timing.take(gpu).map_err(PipelineError::Readback)?,
+            (Some(timing), Some(gpu)) => timing.take(gpu).map_err(ChainError::Readback)?,
             _ => Vec::new(),
         };
         Ok((Reads(images), times))
     }
 
     /// Submits the recorded work and reads `tensors` back through one staging buffer.
-    fn read(&mut self, tensors: &[Tensor]) -> Result<Vec<Arc<Image>>, PipelineError> {
+    fn read(&mut self, tensors: &[Tensor]) -> Result<Vec<Arc<Image>>, ChainError> {
         let Some(gpu) = self.gpu else { return Ok(tensors.iter().map(host).collect()) };
         let bytes: u64 = tensors.iter().map(|t| (t.shape().len().max(1) * 4) as u64).sum();
         let mut encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
@@ -230,7 +227,7 @@ impl<'g> Executor<'g> {
             }
             images
         });
-        images.map_err(PipelineError::Readback)
+        images.map_err(ChainError::Readback)
     }
 
     /// A tensor's buffer on the GPU (a host image uploaded into a buffer of its own).
@@ -249,8 +246,8 @@ impl<'g> Executor<'g> {
 
 /// Finishes and submits the frame's recording: what the device refuses in it (a generated
 /// kernel's binding, say) is an error, not wgpu's panic.
-fn submit(gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), PipelineError> {
-    gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(PipelineError::Readback)
+fn submit(gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), ChainError> {
+    gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(ChainError::Readback)
 }
 
 /// A tensor known to be in host memory (on the CPU device every tensor is).
@@ -300,14 +297,14 @@ impl<'g> ChainRun<'g> {
     }
 
     /// Uploads the sources, runs every step in one submission and reads the sinks back.
-    pub fn run(&mut self, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
+    pub fn run(&mut self, sources: &[Image]) -> Result<Vec<Image>, ChainError> {
         self.upload(sources)?;
         self.rerun()
     }
 
     /// Runs every step again on the sources already uploaded (for iterations that only change
     /// parameters, see [`ChainRun::set_kernel`]) and reads the sinks back.
-    pub fn rerun(&mut self) -> Result<Vec<Image>, PipelineError> {
+    pub fn rerun(&mut self) -> Result<Vec<Image>, ChainError> {
         Ok(self.frame()?.0)
     }
 
@@ -315,7 +312,7 @@ impl<'g> ChainRun<'g> {
     /// [`Gpu::with_timestamps`] (the steps' passes alone), else the wall time of the run after
     /// the uploads (with its one readback of the sinks) split evenly, as no clock tells the
     /// steps apart.
-    pub fn time_steps(&mut self, sources: &[Image]) -> Result<Vec<Duration>, PipelineError> {
+    pub fn time_steps(&mut self, sources: &[Image]) -> Result<Vec<Duration>, ChainError> {
         self.upload(sources)?;
         self.executor.wait()?;
         let started = std::time::Instant::now();
@@ -333,16 +330,16 @@ impl<'g> ChainRun<'g> {
 
     /// Changes the parameters of step `index` (same kernel, same shapes), e.g. the pose of an
     /// ICP iteration.
-    pub fn set_kernel(&mut self, index: usize, kernel: Kernel) -> Result<(), PipelineError> {
-        let step = self.pipeline.steps.get_mut(index).ok_or(PipelineError::UnknownStep(index))?;
+    pub fn set_kernel(&mut self, index: usize, kernel: Kernel) -> Result<(), ChainError> {
+        let step = self.pipeline.steps.get_mut(index).ok_or(ChainError::UnknownStep(index))?;
         if step.kernel.name() != kernel.name() {
-            return Err(PipelineError::KernelChanged { step: index, was: step.kernel.name(), given: kernel.name() });
+            return Err(ChainError::KernelChanged { step: index, was: step.kernel.name(), given: kernel.name() });
         }
         step.kernel = kernel;
         Ok(())
     }
 
-    fn upload(&mut self, sources: &[Image]) -> Result<(), PipelineError> {
+    fn upload(&mut self, sources: &[Image]) -> Result<(), ChainError> {
         self.pipeline.check_sources(sources)?;
         let uploaded = sources.iter().zip(&mut self.buffers).map(|(image, buffer)| self.executor.upload(buffer, image));
         self.sources = Some(uploaded.collect());
@@ -350,9 +347,9 @@ impl<'g> ChainRun<'g> {
     }
 
     /// One frame on the uploaded sources: the sinks' images and the steps' GPU times.
-    fn frame(&mut self) -> Result<(Vec<Image>, Vec<(usize, Duration)>), PipelineError> {
+    fn frame(&mut self) -> Result<(Vec<Image>, Vec<(usize, Duration)>), ChainError> {
         let expected = self.pipeline.sources.len();
-        let sources = self.sources.as_ref().ok_or(PipelineError::Sources { expected, given: 0 })?;
+        let sources = self.sources.as_ref().ok_or(ChainError::Sources { expected, given: 0 })?;
         let mut values: Vec<Option<Tensor>> = vec![None; self.pipeline.slots.len()];
         for (slot, tensor) in self.pipeline.sources.iter().zip(sources) {
             values[slot.0] = Some(tensor.clone());
@@ -375,6 +372,6 @@ impl<'g> ChainRun<'g> {
 }
 
 /// `pipeline` on `sources` by the CPU reference of each kernel.
-pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Result<Vec<Image>, PipelineError> {
+pub fn run_cpu(pipeline: &Pipeline, sources: &[Image]) -> Result<Vec<Image>, ChainError> {
     ChainRun::new(None, pipeline).run(sources)
 }

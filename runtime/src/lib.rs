@@ -24,7 +24,7 @@ pub mod sim;
 mod timing;
 
 pub use bound::BoundKernel;
-pub use error::PipelineError;
+pub use error::ChainError;
 pub use executor::{run_cpu, ChainRun, Executor, Tensor};
 pub use gpu::{Gpu, GpuUnavailable};
 pub use image::{Image, Shape};

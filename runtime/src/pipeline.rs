@@ -3,7 +3,7 @@
 //! a step given the wrong images is an error, not a panic later.
 
 use crate::{
-    error::PipelineError,
+    error::ChainError,
     kernels::{Kernel, Shape},
 };
 
@@ -52,10 +52,10 @@ impl Pipeline {
     }
 
     /// Runs `kernel` on `inputs`; returns its output slots, or why the inputs do not fit it.
-    pub fn step(&mut self, kernel: Kernel, inputs: &[Slot]) -> Result<Vec<Slot>, PipelineError> {
+    pub fn step(&mut self, kernel: Kernel, inputs: &[Slot]) -> Result<Vec<Slot>, ChainError> {
         let shapes = inputs
             .iter()
-            .map(|s| self.slots.get(s.0).map(|(_, shape)| *shape).ok_or(PipelineError::UnknownSlot(s.0)))
+            .map(|s| self.slots.get(s.0).map(|(_, shape)| *shape).ok_or(ChainError::UnknownSlot(s.0)))
             .collect::<Result<Vec<Shape>, _>>()?;
         kernel.check(&shapes)?;
         let outputs: Vec<Slot> = kernel
@@ -69,9 +69,9 @@ impl Pipeline {
     }
 
     /// Reads `slot` back after each run.
-    pub fn sink(&mut self, slot: Slot) -> Result<(), PipelineError> {
+    pub fn sink(&mut self, slot: Slot) -> Result<(), ChainError> {
         if slot.0 >= self.slots.len() {
-            return Err(PipelineError::UnknownSlot(slot.0));
+            return Err(ChainError::UnknownSlot(slot.0));
         }
         self.sinks.push(slot);
         Ok(())
@@ -79,15 +79,15 @@ impl Pipeline {
 
     /// Checks that `sources` fit the pipeline's sources, one image each of the shape it was
     /// built for.
-    pub fn check_sources(&self, sources: &[crate::Image]) -> Result<(), PipelineError> {
+    pub fn check_sources(&self, sources: &[crate::Image]) -> Result<(), ChainError> {
         if sources.len() != self.sources.len() {
-            return Err(PipelineError::Sources { expected: self.sources.len(), given: sources.len() });
+            return Err(ChainError::Sources { expected: self.sources.len(), given: sources.len() });
         }
         for (&slot, image) in self.sources.iter().zip(sources) {
             let (name, expected) = &self.slots[slot.0];
             let given = Shape { width: image.width, height: image.height, planes: image.planes };
             if given != *expected || image.data.len() != expected.len() {
-                return Err(PipelineError::SourceShape { source: name.clone(), expected: *expected, given });
+                return Err(ChainError::SourceShape { source: name.clone(), expected: *expected, given });
             }
         }
         Ok(())

@@ -8,7 +8,7 @@ use std::io::{self, Write};
 use crate::camera::{apply, compose, Intrinsics, Pose};
 use crate::kernels::car::{normals, point_cloud};
 use crate::kernels::icp::{self, SUMS};
-use crate::{ChainRun, Gpu, Image, Kernel, Pipeline, PipelineError, Shape};
+use crate::{ChainError, ChainRun, Gpu, Image, Kernel, Pipeline, Shape};
 
 /// A point cloud with its normals, both 3-plane images (x, y, z); a point with z = 0 is invalid.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,7 +64,7 @@ pub enum RegistrationError {
     /// The pairs do not fix all six degrees of freedom (e.g. one plane).
     Degenerate,
     /// The GPU reduction could not run (clouds of another size than the camera's, a lost device).
-    Pipeline(PipelineError),
+    Pipeline(ChainError),
 }
 
 impl fmt::Display for RegistrationError {
@@ -153,7 +153,7 @@ impl<'g> GpuRegistration<'g> {
         gpu: &'g Gpu,
         intrinsics: &Intrinsics,
         settings: &IcpSettings,
-    ) -> Result<GpuRegistration<'g>, PipelineError> {
+    ) -> Result<GpuRegistration<'g>, ChainError> {
         let shape = Shape { width: intrinsics.width, height: intrinsics.height, planes: 3 };
         let mut pipeline = Pipeline::new();
         let inputs: Vec<_> = ["source", "source normals", "model", "model normals"]

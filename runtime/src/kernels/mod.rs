@@ -21,7 +21,7 @@ pub use filters::{bilateral, gaussian, mean, median};
 pub use find_index::find_index;
 
 pub use crate::image::Shape;
-use crate::{error::PipelineError, Image};
+use crate::{error::ChainError, Image};
 
 /// A kernel pass: its entry point and workgroup counts.
 pub struct Pass {
@@ -291,20 +291,20 @@ impl Kernel {
 
     /// Whether inputs of these shapes fit: as many as the kernel reads, each with the planes it
     /// takes, all of one size.
-    pub fn check(&self, inputs: &[Shape]) -> Result<(), PipelineError> {
+    pub fn check(&self, inputs: &[Shape]) -> Result<(), ChainError> {
         let (kernel, planes) = self.unit(|u| (u.name(), u.input_planes()));
         if inputs.len() != planes.len() {
-            return Err(PipelineError::Inputs { kernel, expected: planes.len(), given: inputs.len() });
+            return Err(ChainError::Inputs { kernel, expected: planes.len(), given: inputs.len() });
         }
         for (input, (shape, expected)) in inputs.iter().zip(planes).enumerate() {
             if let Some(expected) = *expected {
                 if shape.planes != expected {
-                    return Err(PipelineError::Planes { kernel, input, expected, given: shape.planes });
+                    return Err(ChainError::Planes { kernel, input, expected, given: shape.planes });
                 }
             }
             let first = inputs[0];
             if (shape.width, shape.height) != (first.width, first.height) || shape.is_empty() {
-                return Err(PipelineError::Size {
+                return Err(ChainError::Size {
                     kernel,
                     input,
                     expected: (first.width, first.height),
