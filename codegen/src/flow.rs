@@ -83,7 +83,7 @@ impl Emitter<'_> {
             e.block(format!("switch {GENERATED}state {{"), |e| {
                 for (i, node) in nodes.iter().enumerate() {
                     let name = node.name().map(|n| n.text()).unwrap_or_default();
-                    e.line(format!("// {} `{name}`", keyword(node.kind())));
+                    e.line(format!("// {} `{name}`", node.kind().keyword()));
                     e.types = graph.types[i].clone();
                     e.block(format!("case {i}u: {{"), |e| e.node(i, graph));
                 }
@@ -295,20 +295,4 @@ impl Graph {
 fn carrier(node: &ast::ActivityNode, param: &str) -> String {
     let node = node.name().map(|n| n.text()).unwrap_or_default();
     format!("{GENERATED}{node}_{param}")
-}
-
-pub(crate) fn keyword(kind: ast::NodeKind) -> &'static str {
-    use ast::NodeKind::*;
-    match kind {
-        Start => "start",
-        Final => "final",
-        Action => "action",
-        Decision => "decision",
-        Fork => "fork",
-        Join => "join",
-        Loop => "loop",
-        LoopWindow => "loopWindow",
-        Calc => "calc",
-        CalcRange => "calcRange",
-    }
 }

@@ -10,10 +10,7 @@ use std::collections::{BTreeSet, HashSet};
 
 use gudsl_model::ast::{self, HasName};
 
-use crate::{
-    emitter::Emitter,
-    flow::{keyword, Graph},
-};
+use crate::{emitter::Emitter, flow::Graph};
 
 /// Where control goes: a node, or the end of the work-item.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -227,7 +224,7 @@ impl Emitter<'_> {
         let graph = walk.graph;
         let node = &graph.nodes[n];
         let name = node.name().map(|n| n.text()).unwrap_or_default();
-        self.line(format!("// {} `{name}`", keyword(node.kind())));
+        self.line(format!("// {} `{name}`", node.kind().keyword()));
         self.types = graph.types[n].clone();
         // A node's own variables live in its own block (another node may use the same names);
         // a loop node's statements are in its loops already.

@@ -393,9 +393,10 @@ fn long_functions_are_measured_from_fn_to_its_closing_brace() {
 
 /// A hash of `text` that stays the same across machines and line endings (FNV-1a, 64 bits).
 fn stable_hash(text: &str) -> String {
-    let hash = text.bytes().filter(|&b| b != b'\r').fold(0xcbf2_9ce4_8422_2325u64, |hash, byte| {
-        (hash ^ byte as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    });
+    let hash = text
+        .bytes()
+        .filter(|&b| b != b'\r')
+        .fold(0xcbf2_9ce4_8422_2325u64, |hash, byte| (hash ^ byte as u64).wrapping_mul(0x0000_0100_0000_01b3));
     format!("{hash:016x}")
 }
 

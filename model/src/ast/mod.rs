@@ -9,11 +9,13 @@
 mod generated;
 mod literal;
 mod node_ext;
+mod node_kind;
 #[cfg(test)]
 mod tests;
 
 use std::marker::PhantomData;
 
+pub use crate::syntax::NodeKind;
 pub use generated::*;
 pub use literal::LiteralValue;
 pub use node_ext::*;

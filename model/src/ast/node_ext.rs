@@ -258,36 +258,7 @@ impl super::Swimlane {
     }
 }
 
-/// The kind of an activity node.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum NodeKind {
-    Start,
-    Final,
-    Action,
-    Decision,
-    Fork,
-    Join,
-    Loop,
-    LoopWindow,
-    Calc,
-    CalcRange,
-}
-
 impl ActivityNode {
-    pub fn kind(&self) -> NodeKind {
-        match self {
-            ActivityNode::StartNode(_) => NodeKind::Start,
-            ActivityNode::FinalNode(_) => NodeKind::Final,
-            ActivityNode::ActionNode(_) => NodeKind::Action,
-            ActivityNode::DecisionNode(_) => NodeKind::Decision,
-            ActivityNode::ForkNode(_) => NodeKind::Fork,
-            ActivityNode::JoinNode(_) => NodeKind::Join,
-            ActivityNode::LoopNode(_) => NodeKind::Loop,
-            ActivityNode::LoopWindowNode(_) => NodeKind::LoopWindow,
-            ActivityNode::CalcNode(_) => NodeKind::Calc,
-            ActivityNode::CalcRangeNode(_) => NodeKind::CalcRange,
-        }
-    }
     pub fn param_list(&self) -> Option<ParamList> {
         support::child(self.syntax())
     }

@@ -79,13 +79,9 @@ fn activity_node(node: &ast::ActivityNode, id: String, name: String, group: Opti
         ast::NodeKind::Calc => NodeShape::Calc,
         ast::NodeKind::CalcRange => NodeShape::CalcRange,
     };
-    let stereotype = match node.kind() {
-        ast::NodeKind::Loop => Some("loop".to_string()),
-        ast::NodeKind::LoopWindow => Some("loopWindow".to_string()),
-        ast::NodeKind::Calc => Some("calc".to_string()),
-        ast::NodeKind::CalcRange => Some("calcRange".to_string()),
-        _ => None,
-    };
+    // The kinds drawn as an action box say which they are.
+    let stereotype = matches!(shape, NodeShape::Loop | NodeShape::LoopWindow | NodeShape::Calc | NodeShape::CalcRange)
+        .then(|| node.kind().keyword().to_string());
     let params: Vec<String> = node.params().map(|p| text(&p)).collect();
     let label = if params.is_empty() { name } else { format!("{name}({})", params.join(", ")) };
     let mut compartments = Vec::new();

@@ -8,6 +8,7 @@ mod error;
 mod grammar;
 mod kind;
 pub mod lexer;
+mod node_kind;
 mod parser;
 #[cfg(test)]
 mod tests;
@@ -15,6 +16,7 @@ mod token_set;
 
 pub use error::{SyntaxError, SyntaxErrorCode};
 pub use kind::SyntaxKind;
+pub use node_kind::NodeKind;
 pub use rowan::{TextRange, TextSize};
 
 /// The rowan language tag of GU-DSL trees.

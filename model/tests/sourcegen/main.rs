@@ -1,10 +1,12 @@
-//! Source generation: writes the syntax kinds and the typed AST from `model/gudsl.ungram`, and
+//! Source generation: writes the syntax kinds, the typed AST and the activity-node vocabulary
+//! (`syntax/node_kind.rs`, `ast/node_kind.rs`) from `model/gudsl.ungram`, and
 //! fails when the checked-in files were stale (as rust-analyzer's `sourcegen` tests do). Run
 //! `cargo test -p gudsl-model --test sourcegen` after editing the grammar or the token table;
 //! the first run rewrites the files and fails, the next one passes.
 
 mod grammar;
 mod kinds;
+mod node_kinds;
 mod nodes;
 
 use std::path::{Path, PathBuf};
@@ -35,6 +37,8 @@ fn generated_syntax_is_fresh() {
     let outputs = [
         (model_dir().join("src/syntax/kind/generated.rs"), kinds::generate(&tokens, &ast)),
         (model_dir().join("src/ast/generated.rs"), nodes::generate(&tokens, &ast)),
+        (model_dir().join("src/syntax/node_kind.rs"), node_kinds::generate(&ungrammar, &tokens)),
+        (model_dir().join("src/ast/node_kind.rs"), node_kinds::generate_ast(&ungrammar)),
     ];
     let stale: Vec<String> = outputs
         .iter()

@@ -40,7 +40,7 @@ impl Operation {
         Ok(Planned::Text(match self {
             Operation::Create { kind, name, parent, properties } => GraphOp::Create {
                 kind: NewKind::from_name(kind).ok_or_else(|| {
-                    let kinds: Vec<&str> = NewKind::ALL.iter().map(|(_, n)| *n).collect();
+                    let kinds: Vec<&str> = NewKind::all().map(|(_, n)| n).collect();
                     format!("operation {k}: `{kind}` is no kind of element (kinds: {})", kinds.join(", "))
                 })?,
                 name: name.clone(),

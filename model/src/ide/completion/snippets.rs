@@ -2,7 +2,7 @@
 //! interfaces in a class diagram, nodes in an activity diagram or swimlane, components and
 //! instances, and qualifiers and types in a member list.
 
-use crate::syntax::SyntaxKind::*;
+use crate::syntax::{NodeKind, SyntaxKind::*};
 
 use super::{context::Ctx, finish, item, names::with_types, snippet, CompletionKind, Completions};
 
@@ -34,19 +34,8 @@ pub(super) fn at_level(ctx: &Ctx) -> Completions {
             if level.as_ref().is_some_and(|l| l.kind() == ACTIVITY_DIAGRAM) {
                 items.push(snippet("swimlane", "swimlane ${1:Lane}, owner ${2:Class}\n{\n\tstart S\n\t{\n\t\t=> ${3:first};\n\t}\n\t$0\n\tfinal done;\n}", "swimlane with start and final nodes"));
             }
-            for (kind, body) in [
-                ("start", "start ${1:S}\n{\n\t=> ${2:first};\n}"),
-                ("action", "action ${1:name}(${2})\n{\n\t$0\n\t=> ${3:next};\n}"),
-                ("decision", "decision ${1:name}\n{\n\t[${2:condition}] => ${3:yes};\n\t[] => ${4:no};\n}"),
-                ("calc", "calc ${1:name}(${2})\n{\n\tcall ${3:Class}::${4:kernel}($5);\n\t=> ${6:next};\n}"),
-                ("calcRange", "calcRange ${1:name}(${2})\n{\n\tcall ${3:Class}::${4:kernel}($5);\n\t=> ${6:next};\n}"),
-                ("loop", "loop ${1:name}(var int ${2:i} = 0; $2 < ${3:n}; $2 = $2 + 1)\n{\n\t$0\n\t=> ${4:next};\n}"),
-                ("loopWindow", "loopWindow ${1:name}(var int u = -${2:r}, var int v = -$2; u <= $2, v <= $2; u = u + 1, v = v + 1)\n{\n\t$0\n\t=> ${3:next};\n}"),
-                ("fork", "fork ${1:name}\n{\n\t=> ${2:a};\n\t=> ${3:b};\n}"),
-                ("join", "join ${1:name}\n{\n\t=> ${2:next};\n}"),
-                ("final", "final ${1:done};"),
-            ] {
-                items.push(snippet(kind, body, &format!("{kind} node")));
+            for kind in NodeKind::ALL {
+                items.push(snippet(kind.keyword(), node_snippet(kind), &format!("{} node", kind.keyword())));
             }
         }
         Some(MEMBER_LIST) => {
@@ -75,4 +64,20 @@ pub(super) fn at_level(ctx: &Ctx) -> Completions {
         }
     }
     finish(items)
+}
+
+/// The snippet of a node of `kind`, in LSP snippet syntax.
+fn node_snippet(kind: NodeKind) -> &'static str {
+    match kind {
+        NodeKind::Start => "start ${1:S}\n{\n\t=> ${2:first};\n}",
+        NodeKind::Action => "action ${1:name}(${2})\n{\n\t$0\n\t=> ${3:next};\n}",
+        NodeKind::Decision => "decision ${1:name}\n{\n\t[${2:condition}] => ${3:yes};\n\t[] => ${4:no};\n}",
+        NodeKind::Calc => "calc ${1:name}(${2})\n{\n\tcall ${3:Class}::${4:kernel}($5);\n\t=> ${6:next};\n}",
+        NodeKind::CalcRange => "calcRange ${1:name}(${2})\n{\n\tcall ${3:Class}::${4:kernel}($5);\n\t=> ${6:next};\n}",
+        NodeKind::Loop => "loop ${1:name}(var int ${2:i} = 0; $2 < ${3:n}; $2 = $2 + 1)\n{\n\t$0\n\t=> ${4:next};\n}",
+        NodeKind::LoopWindow => "loopWindow ${1:name}(var int u = -${2:r}, var int v = -$2; u <= $2, v <= $2; u = u + 1, v = v + 1)\n{\n\t$0\n\t=> ${3:next};\n}",
+        NodeKind::Fork => "fork ${1:name}\n{\n\t=> ${2:a};\n\t=> ${3:b};\n}",
+        NodeKind::Join => "join ${1:name}\n{\n\t=> ${2:next};\n}",
+        NodeKind::Final => "final ${1:done};",
+    }
 }

@@ -9,7 +9,7 @@ use super::{
 use crate::{
     graph::{GraphKind, NodeShape},
     hir::{items::TypeKind, DefKind, Scope},
-    syntax::{SyntaxKind::*, SyntaxNode, TextRange},
+    syntax::{NodeKind, SyntaxKind::*, SyntaxNode, TextRange},
 };
 
 pub(super) fn create(
@@ -22,8 +22,8 @@ pub(super) fn create(
     let known = match kind {
         NewKind::Field => &["type", "value", "visibility"][..],
         NewKind::Method => &["type", "parameters", "visibility"],
-        NewKind::Action | NewKind::Decision | NewKind::Calc | NewKind::CalcRange => &["parameters"],
-        NewKind::Loop | NewKind::LoopWindow => &["header"],
+        NewKind::Node(NodeKind::Action | NodeKind::Decision | NodeKind::Calc | NodeKind::CalcRange) => &["parameters"],
+        NewKind::Node(NodeKind::Loop | NodeKind::LoopWindow) => &["header"],
         NewKind::Component => &["stereotype"],
         NewKind::Port | NewKind::Connector => &["role", "connector", "interface"],
         NewKind::Instance => &["component"],
@@ -117,8 +117,7 @@ pub(super) fn create(
             let text = format!("{name} : {port}({});", instance_connectors(ctx, &instance, port)?);
             return Ok(vec![insert_into_instance(&instance, &text, false)?]);
         }
-        // The activity nodes.
-        _ => (activity_owner(ctx, parent)?, At::End, activity_node(kind, name, properties)),
+        NewKind::Node(node) => (activity_owner(ctx, parent)?, At::End, activity_node(node, name, properties)),
     };
     Ok(vec![insert(&owner, at, &text)?])
 }
@@ -162,17 +161,18 @@ fn activity_owner(ctx: &Ctx, parent: Option<&str>) -> Result<SyntaxNode, String>
 }
 
 /// A new activity node as the formatter writes it, with a body to write transitions in.
-fn activity_node(kind: NewKind, name: &str, properties: &Properties) -> String {
+fn activity_node(kind: NodeKind, name: &str, properties: &Properties) -> String {
     let parameters = properties.get("parameters").map(|p| format!("({p})"));
     let header = |default: &str| format!("({})", properties.get("header").map_or(default, String::as_str));
+    let keyword = kind.keyword();
     match kind {
-        NewKind::Final => format!("final {name};"),
-        NewKind::Loop => format!("loop {name}{} {{ }}", header("var int i = 0; i < 1; i = i + 1")),
-        NewKind::LoopWindow => format!("loopWindow {name}{} {{ }}", header("var int u = -1; u <= 1; u = u + 1")),
-        NewKind::Calc | NewKind::CalcRange => {
-            format!("{} {name}{} {{ }}", kind.name(), parameters.unwrap_or_else(|| "()".into()))
+        NodeKind::Final => format!("{keyword} {name};"),
+        NodeKind::Loop => format!("{keyword} {name}{} {{ }}", header("var int i = 0; i < 1; i = i + 1")),
+        NodeKind::LoopWindow => format!("{keyword} {name}{} {{ }}", header("var int u = -1; u <= 1; u = u + 1")),
+        NodeKind::Calc | NodeKind::CalcRange => {
+            format!("{keyword} {name}{} {{ }}", parameters.unwrap_or_else(|| "()".into()))
         }
-        _ => format!("{} {name}{} {{ }}", kind.name(), parameters.unwrap_or_default()),
+        _ => format!("{keyword} {name}{} {{ }}", parameters.unwrap_or_default()),
     }
 }
 

@@ -27,7 +27,7 @@ use crate::{
     db::{parse, Db, SourceFile, Workspace},
     graph::{file_graphs, EdgeKind, Graph, GraphEdge, GraphGroup, GraphNode, GraphPort},
     hir::{Scope, Semantics},
-    syntax::{SyntaxKind::*, SyntaxNode, TextRange},
+    syntax::{NodeKind, SyntaxKind::*, SyntaxNode, TextRange},
 };
 
 use super::{references::is_valid_name, rename, FileRange};
@@ -63,16 +63,8 @@ pub enum NewKind {
     Value,
     Field,
     Method,
-    Start,
-    Action,
-    Decision,
-    Fork,
-    Join,
-    Loop,
-    LoopWindow,
-    Calc,
-    CalcRange,
-    Final,
+    /// An activity node of a kind of the grammar's (`action`, `loopWindow`, …).
+    Node(NodeKind),
     Component,
     Port,
     Connector,
@@ -81,24 +73,14 @@ pub enum NewKind {
 }
 
 impl NewKind {
-    /// Every kind with its name in the protocol.
-    pub const ALL: [(NewKind, &'static str); 21] = [
+    /// The kinds that are no activity node, with their names in the protocol.
+    const OTHERS: [(NewKind, &'static str); 11] = [
         (NewKind::Class, "class"),
         (NewKind::Interface, "interface"),
         (NewKind::Enum, "enum"),
         (NewKind::Value, "value"),
         (NewKind::Field, "field"),
         (NewKind::Method, "method"),
-        (NewKind::Start, "start"),
-        (NewKind::Action, "action"),
-        (NewKind::Decision, "decision"),
-        (NewKind::Fork, "fork"),
-        (NewKind::Join, "join"),
-        (NewKind::Loop, "loop"),
-        (NewKind::LoopWindow, "loopWindow"),
-        (NewKind::Calc, "calc"),
-        (NewKind::CalcRange, "calcRange"),
-        (NewKind::Final, "final"),
         (NewKind::Component, "component"),
         (NewKind::Port, "port"),
         (NewKind::Connector, "connector"),
@@ -106,18 +88,26 @@ impl NewKind {
         (NewKind::PortInstance, "portInstance"),
     ];
 
+    /// Every kind with its name in the protocol (an activity node's is its keyword).
+    pub fn all() -> impl Iterator<Item = (NewKind, &'static str)> {
+        let nodes = NodeKind::ALL.into_iter().map(|kind| (NewKind::Node(kind), kind.keyword()));
+        NewKind::OTHERS[..6].iter().copied().chain(nodes).chain(NewKind::OTHERS[6..].iter().copied())
+    }
+
     /// Whether it is a node of an activity diagram.
     pub fn is_activity_node(self) -> bool {
-        use NewKind::*;
-        matches!(self, Start | Action | Decision | Fork | Join | Loop | LoopWindow | Calc | CalcRange | Final)
+        matches!(self, NewKind::Node(_))
     }
 
     pub fn name(self) -> &'static str {
-        NewKind::ALL.iter().find(|(k, _)| *k == self).map(|(_, n)| *n).expect("every kind is listed")
+        match self {
+            NewKind::Node(kind) => kind.keyword(),
+            other => NewKind::OTHERS.iter().find(|(k, _)| *k == other).map_or("", |(_, n)| *n),
+        }
     }
 
     pub fn from_name(name: &str) -> Option<NewKind> {
-        NewKind::ALL.iter().find(|(_, n)| *n == name).map(|(k, _)| *k)
+        NewKind::all().find(|(_, n)| *n == name).map(|(k, _)| k)
     }
 }
 

@@ -191,9 +191,9 @@ fn creations(run: &Run, file: SourceFile, graph: &Graph) -> Vec<(&'static str, G
         GraphKind::Activity => {
             let lanes = std::iter::once(None).chain(graph.groups.iter().take(1).map(|g| Some(g.id.clone())));
             for lane in lanes {
-                for (kind, name) in NewKind::ALL.iter().filter(|(k, _)| k.is_activity_node()) {
+                for (kind, name) in NewKind::all().filter(|(k, _)| k.is_activity_node()) {
                     let id = format!("{}/created", lane.as_deref().unwrap_or(&graph.id));
-                    out.push((*name, create(*kind, "created", lane.as_deref(), Properties::new()), id));
+                    out.push((name, create(kind, "created", lane.as_deref(), Properties::new()), id));
                 }
             }
         }
@@ -263,7 +263,7 @@ fn every_creation_on_every_listing_makes_exactly_it_and_undoes() {
                 }
             }
         }
-        for (kind, name) in NewKind::ALL {
+        for (kind, name) in NewKind::all() {
             assert!(run.made.get(name).is_some_and(|&n| n > 0), "no {kind:?} was created (formatted: {formatted})");
         }
     }

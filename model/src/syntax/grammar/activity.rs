@@ -1,6 +1,7 @@
 //! Activity diagrams: parameters, the variable section, swimlanes, nodes and transitions.
 
 use super::*;
+use crate::syntax::NodeKind;
 
 /// `ActivityDiagram Name(params), owner A.B { variables, swimlanes, nodes }`
 pub(super) fn activity_diagram(p: &mut Parser) {
@@ -33,18 +34,10 @@ fn owner_clause(p: &mut Parser) {
     m.complete(p, OWNER_CLAUSE);
 }
 
-/// The node keyword starting here, if a node declaration (`action name`) starts here.
-fn at_node(p: &Parser) -> Option<SyntaxKind> {
-    let keyword = if p.at(LOOP_KW) {
-        LOOP_KW
-    } else {
-        match p.current_contextual()? {
-            kw @ (START_KW | FINAL_KW | ACTION_KW | DECISION_KW | FORK_KW | JOIN_KW | LOOP_WINDOW_KW | CALC_KW
-            | CALC_RANGE_KW) => kw,
-            _ => return None,
-        }
-    };
-    p.nth_is_name(1).then_some(keyword)
+/// The kind of node whose declaration (`action name`) starts here, if one does.
+fn at_node(p: &Parser) -> Option<NodeKind> {
+    let keyword = if p.at(LOOP_KW) { LOOP_KW } else { p.current_contextual()? };
+    NodeKind::of_keyword(keyword).filter(|_| p.nth_is_name(1))
 }
 
 /// Whether something that belongs to an activity diagram, not inside a node, starts here.
@@ -118,23 +111,12 @@ fn swimlane(p: &mut Parser) {
 
 /// Any activity node.
 fn node(p: &mut Parser) {
-    let Some(keyword) = at_node(p) else { return };
+    let Some(node_kind) = at_node(p) else { return };
     let m = p.start();
-    p.bump(keyword);
+    p.bump(node_kind.keyword_kind());
     let what = format!("node `{}`", p.current_text());
     name(p, "a node name");
-    let kind = match keyword {
-        START_KW => START_NODE,
-        FINAL_KW => FINAL_NODE,
-        ACTION_KW => ACTION_NODE,
-        DECISION_KW => DECISION_NODE,
-        FORK_KW => FORK_NODE,
-        JOIN_KW => JOIN_NODE,
-        LOOP_KW => LOOP_NODE,
-        LOOP_WINDOW_KW => LOOP_WINDOW_NODE,
-        CALC_KW => CALC_NODE,
-        _ => CALC_RANGE_NODE,
-    };
+    let kind = node_kind.syntax_kind();
     match kind {
         LOOP_NODE | LOOP_WINDOW_NODE => {
             if p.at(L_PAREN) {
