@@ -8,7 +8,7 @@ use std::{fmt, time::Duration};
 use gudsl_codegen::{Binding, Kernel, KernelParam, LOCAL_SIZE_CONSTANTS};
 use gudsl_model::hir::Ty;
 use gudsl_runtime::{
-    BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Gpu, Program, ProgramError, Resource, TexelFormat,
+    BindingKind, BindingSpec, DeviceBuffer, DeviceImage, Executor, Gpu, Program, ProgramError, Resource, TexelFormat,
 };
 
 /// A scalar host value.
@@ -157,18 +157,21 @@ impl Launcher {
         })
     }
 
-    /// Records the launch into `encoder` (with `timestamps` around its pass), for the caller to
-    /// submit with other work.
+    /// Records the launch into `executor`'s frame as `stage`'s work (timed with the stage), for
+    /// the executor to submit with the frame; a launch needs the executor's GPU.
     pub fn record(
         &self,
-        gpu: &Gpu,
-        encoder: &mut wgpu::CommandEncoder,
+        executor: &mut Executor,
+        stage: usize,
         args: &[Arg<'_>],
         range: &WorkRange,
-        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), LaunchError> {
+        let Some(gpu) = executor.gpu() else {
+            let message = "a generated kernel runs on a GPU, and this run has none".to_string();
+            return Err(LaunchError::Program(ProgramError::Device(message)));
+        };
         self.bound(gpu, args, range, |constants, resources, workgroups| {
-            self.program.record(gpu, encoder, constants, resources, workgroups, timestamps)
+            executor.dispatch(stage, &self.program, constants, resources, workgroups)
         })
     }
 

@@ -8,7 +8,10 @@
 
 use std::{sync::Arc, time::Duration};
 
-use crate::{bound::BoundKernel, error::ChainError, pipeline::Pipeline, timing::Timing, Gpu, Image, Kernel, Shape};
+use crate::{
+    bound::BoundKernel, error::ChainError, pipeline::Pipeline, timing::Timing, DeviceBuffer, Gpu, Image, Kernel,
+    Program, ProgramError, Resource, Shape,
+};
 
 /// An image where it lives: in host memory, or in a GPU buffer of f32 samples.
 #[derive(Debug, Clone)]
@@ -27,6 +30,14 @@ impl Tensor {
 
     pub fn cpu(image: Image) -> Tensor {
         Tensor::Cpu(Arc::new(image))
+    }
+
+    /// Its GPU buffer as a [`Program`]'s resource; `None` for an image in host memory.
+    pub fn device_buffer(&self) -> Option<DeviceBuffer> {
+        match self {
+            Tensor::Gpu { buffer, .. } => Some(DeviceBuffer::wrap(buffer)),
+            Tensor::Cpu(_) => None,
+        }
     }
 }
 
@@ -65,9 +76,36 @@ impl<'g> Executor<'g> {
         self.gpu
     }
 
-    /// Records `stage`'s work outside the runtime's kernels (a generated kernel, a conversion)
-    /// into the frame's encoder, with the stage's timestamps for its pass; `None` on the CPU.
-    pub fn record<R>(
+    /// Records a dispatch of `program` (a generated kernel, a conversion) for `stage` into the
+    /// frame, with the stage's timestamps around its pass; programs need a GPU.
+    pub fn dispatch(
+        &mut self,
+        stage: usize,
+        program: &Program,
+        constants: &[(&str, f64)],
+        resources: &[(u32, Resource<'_>)],
+        workgroups: [u32; 3],
+    ) -> Result<(), ProgramError> {
+        let recorded = self.record(stage, |gpu, encoder, timestamps| {
+            program.record(gpu, encoder, constants, resources, workgroups, timestamps)
+        });
+        recorded.unwrap_or_else(|| Err(ProgramError::Device("a program runs on a GPU, and this run has none".into())))
+    }
+
+    /// A GPU buffer of `shape` kept in `slot` across frames (made when it has none of that
+    /// shape), for a stage's own results; `None` on the CPU.
+    pub fn buffer(&mut self, slot: &mut BufferSlot, shape: Shape) -> Option<Tensor> {
+        let gpu = self.gpu?;
+        if slot.0.as_ref().is_none_or(|(_, s)| *s != shape) {
+            slot.0 = Some((gpu.storage("stage buffer", shape.len()), shape));
+        }
+        let (buffer, _) = slot.0.as_ref().expect("made above");
+        Some(Tensor::Gpu { buffer: buffer.clone(), shape })
+    }
+
+    /// Records `stage`'s work into the frame's encoder, with the stage's timestamps for its
+    /// pass; `None` on the CPU.
+    fn record<R>(
         &mut self,
         stage: usize,
         work: impl FnOnce(&Gpu, &mut wgpu::CommandEncoder, Option<wgpu::ComputePassTimestampWrites<'_>>) -> R,

@@ -77,19 +77,16 @@ impl Conversions {
         Ok(Conversions { pack, unpack })
     }
 
-    pub fn pack(&self, ctx: &mut Ctx, gpu: &Gpu, planes: &wgpu::Buffer, image: &DeviceImage) -> Result<(), String> {
-        let planes = DeviceBuffer::wrap(planes);
-        Self::record(ctx, gpu, &self.pack, image.size(), Resource::Buffer(&planes), Resource::Image(image))
+    pub fn pack(&self, ctx: &mut Ctx, planes: &DeviceBuffer, image: &DeviceImage) -> Result<(), String> {
+        Self::record(ctx, &self.pack, image.size(), Resource::Buffer(planes), Resource::Image(image))
     }
 
-    pub fn unpack(&self, ctx: &mut Ctx, gpu: &Gpu, image: &DeviceImage, planes: &wgpu::Buffer) -> Result<(), String> {
-        let planes = DeviceBuffer::wrap(planes);
-        Self::record(ctx, gpu, &self.unpack, image.size(), Resource::Image(image), Resource::Buffer(&planes))
+    pub fn unpack(&self, ctx: &mut Ctx, image: &DeviceImage, planes: &DeviceBuffer) -> Result<(), String> {
+        Self::record(ctx, &self.unpack, image.size(), Resource::Image(image), Resource::Buffer(planes))
     }
 
     fn record(
         ctx: &mut Ctx,
-        gpu: &Gpu,
         program: &Program,
         [width, height, _]: [u32; 3],
         from: Resource,
@@ -98,11 +95,6 @@ impl Conversions {
         let size: Vec<u8> = [width, height, 0, 0].iter().flat_map(|n| n.to_le_bytes()).collect();
         let resources = [(0, Resource::Uniform(&size)), (1, from), (2, to)];
         let workgroups = [width.div_ceil(8), height.div_ceil(8), 1];
-        ctx.device
-            .record(ctx.stage, |_, encoder, timestamps| {
-                program.record(gpu, encoder, &[], &resources, workgroups, timestamps)
-            })
-            .expect("a GPU run")
-            .map_err(|e| e.to_string())
+        ctx.device.dispatch(ctx.stage, program, &[], &resources, workgroups).map_err(|e| e.to_string())
     }
 }

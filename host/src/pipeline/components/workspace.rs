@@ -21,7 +21,7 @@ use gudsl_model::{
     ast::ClassKind,
     hir::{items::ConnectorRole, pipeline::Value, Ty},
 };
-use gudsl_runtime::{DeviceBuffer, DeviceImage, Gpu, Shape, TexelFormat};
+use gudsl_runtime::{executor::BufferSlot, DeviceImage, Gpu, TexelFormat};
 
 use super::{
     ports::{input_port, kind_of, port_kinds},
@@ -82,9 +82,9 @@ const PLANES: [&str; 3] = ["distance", "amplitude", "intensity"];
 struct ItemSlot {
     input: Option<DeviceImage>,
     outputs: Vec<DeviceImage>,
-    planes: Option<(wgpu::Buffer, Shape)>,
+    planes: BufferSlot,
     /// The distance each diagram writes, for depth images.
-    distances: Vec<(wgpu::Buffer, Shape)>,
+    distances: Vec<BufferSlot>,
 }
 
 /// A workspace component of `base` (the library component it extends, made from the same
@@ -338,7 +338,7 @@ impl WorkspaceComponent {
             }
         }
         match data {
-            Data::Depth(depth) => self.through_depth_diagrams(ctx, gpu, k, depth),
+            Data::Depth(depth) => self.through_depth_diagrams(ctx, k, depth),
             Data::Image(picture) => self.through_image_diagrams(ctx, gpu, k, picture),
             _ => unreachable!("checked above"),
         }
@@ -346,28 +346,17 @@ impl WorkspaceComponent {
 
     /// A depth image through the diagrams: each reads the planes it names, the distance the one
     /// before wrote, and writes the next distance.
-    fn through_depth_diagrams(
-        &mut self,
-        ctx: &mut Ctx,
-        gpu: &Gpu,
-        k: usize,
-        depth: &DepthImage,
-    ) -> Result<Data, String> {
+    fn through_depth_diagrams(&mut self, ctx: &mut Ctx, k: usize, depth: &DepthImage) -> Result<Data, String> {
         let shape = depth.distance.shape();
         let slot = slots(&mut self.slots, k);
-        if slot.distances.first().is_some_and(|(_, s)| *s != shape) {
-            slot.distances.clear();
-        }
-        while slot.distances.len() < self.steps.len() {
-            slot.distances.push((gpu.storage("component distance", shape.len()), shape));
-        }
-        let buffer = |tensor: &Tensor| match tensor {
-            Tensor::Gpu { buffer, .. } => Ok(DeviceBuffer::wrap(buffer)),
-            Tensor::Cpu(_) => Err("a depth image in host memory on a GPU run".to_string()),
-        };
+        slot.distances.resize_with(self.steps.len(), BufferSlot::default);
+        let on_gpu = "a depth image in host memory on a GPU run";
+        let buffer = |tensor: &Tensor| tensor.device_buffer().ok_or_else(|| on_gpu.to_string());
         let mut planes = [buffer(&depth.distance)?, buffer(&depth.amplitude)?, buffer(&depth.intensity)?];
-        for (step, (written, _)) in self.steps.iter().zip(&slot.distances) {
-            let written = DeviceBuffer::wrap(written);
+        let mut distance = depth.distance.clone();
+        for (step, written) in self.steps.iter().zip(&mut slot.distances) {
+            distance = ctx.device.buffer(written, shape).ok_or_else(|| on_gpu.to_string())?;
+            let written = buffer(&distance)?;
             let args: Vec<Arg> = step
                 .args
                 .iter()
@@ -379,14 +368,10 @@ impl WorkspaceComponent {
                 .collect();
             let launcher = step.launcher.as_ref().expect("compiled before");
             let range = WorkRange::planar(shape.width as u32, shape.height as u32, None);
-            ctx.device
-                .record(ctx.stage, |gpu, encoder, timestamps| launcher.record(gpu, encoder, &args, &range, timestamps))
-                .expect("a GPU run")
-                .map_err(|e| e.to_string())?;
+            launcher.record(ctx.device, ctx.stage, &args, &range).map_err(|e| e.to_string())?;
             planes[0] = written;
         }
-        let (distance, _) = slot.distances.last().expect("one a diagram");
-        Ok(Data::Depth(DepthImage { distance: Tensor::Gpu { buffer: distance.clone(), shape }, ..depth.clone() }))
+        Ok(Data::Depth(DepthImage { distance, ..depth.clone() }))
     }
 
     /// An RGBA image through the diagrams, as a texture between its planes.
@@ -398,7 +383,7 @@ impl WorkspaceComponent {
         picture: &Picture,
     ) -> Result<Data, String> {
         let shape = picture.texels.shape();
-        let Tensor::Gpu { buffer, .. } = &picture.texels else {
+        let Some(texels) = picture.texels.device_buffer() else {
             return Err("an image in host memory on a GPU run".into());
         };
         let size = [shape.width as u32, shape.height as u32, 1];
@@ -415,11 +400,9 @@ impl WorkspaceComponent {
         while slot.outputs.len() < self.steps.len() {
             slot.outputs.push(image(gpu).map_err(|e| e.to_string())?);
         }
-        if slot.planes.as_ref().is_none_or(|(_, s)| *s != shape) {
-            slot.planes = Some((gpu.storage("component planes", shape.len()), shape));
-        }
+        let planes = ctx.device.buffer(&mut slot.planes, shape).ok_or("an image in host memory on a GPU run")?;
         let input = slot.input.as_ref().expect("made above");
-        conversions.pack(ctx, gpu, buffer, input)?;
+        conversions.pack(ctx, &texels, input)?;
         let mut current = input;
         for (step, output) in self.steps.iter().zip(&slot.outputs) {
             let args: Vec<Arg> = step
@@ -433,17 +416,11 @@ impl WorkspaceComponent {
                 .collect();
             let launcher = step.launcher.as_ref().expect("compiled before");
             let range = WorkRange::planar(size[0], size[1], None);
-            ctx.device
-                .record(ctx.stage, |gpu, encoder, timestamps| launcher.record(gpu, encoder, &args, &range, timestamps))
-                .expect("a GPU run")
-                .map_err(|e| e.to_string())?;
+            launcher.record(ctx.device, ctx.stage, &args, &range).map_err(|e| e.to_string())?;
             current = output;
         }
-        let (planes, _) = slot.planes.as_ref().expect("made above");
-        conversions.unpack(ctx, gpu, current, planes)?;
-        Ok(Data::Image(Picture {
-            texels: Tensor::Gpu { buffer: planes.clone(), shape },
-            source: picture.source.clone(),
-        }))
+        let device_planes = planes.device_buffer().ok_or("an image in host memory on a GPU run")?;
+        conversions.unpack(ctx, current, &device_planes)?;
+        Ok(Data::Image(Picture { texels: planes, source: picture.source.clone() }))
     }
 }
