@@ -186,6 +186,12 @@ impl PreparedPipeline {
         self.frames
     }
 
+    /// The same pipeline placed where `plan` (its plan but for the ranges) sits: its errors
+    /// point there.
+    pub(crate) fn move_to(&mut self, plan: &PipelinePlan) {
+        self.plan = plan.clone();
+    }
+
     /// Runs at most `frames` frames (all without) on `gpu` (the CPU reference without one),
     /// writing under `output`; stops between frames when `cancel` is set.
     pub fn run(

@@ -2,12 +2,17 @@
 //! checked, kernels generated, components made, files' headers read) is kept, keyed by diagram,
 //! while neither the plan, the kernels it runs nor a file it names changed (a file by its
 //! length and modification time); a run takes the prepared pipeline from here instead of
-//! preparing it again, and a check of an unchanged model reads no file.
+//! preparing it again, and a check of an unchanged model reads no file. Where the model changed
+//! only where the diagram sits (an edit above it), the kept problems move with it: typing
+//! reads no file until the pipeline itself changes.
 
 use std::{
     collections::HashMap,
     path::{Path, PathBuf},
-    sync::Mutex,
+    sync::{
+        atomic::{AtomicUsize, Ordering},
+        Mutex,
+    },
     time::SystemTime,
 };
 
@@ -16,6 +21,7 @@ use gudsl_model::{
         pipeline::{PipelinePlan, Value},
         DefKind, Diagnostic, Severity,
     },
+    syntax::TextRange,
     Analysis, Cancellable, FileId,
 };
 
@@ -25,16 +31,20 @@ use super::{behaviors, prepare, Behaviors, ErrorKind, PipelineError, PreparedPip
 #[derive(Default)]
 pub struct Preparations {
     entries: Mutex<HashMap<String, Entry>>,
+    /// How many pipelines were prepared (tests count that typing prepares none again).
+    made: AtomicUsize,
 }
 
 /// One diagram's preparation and what it was prepared from.
 struct Entry {
     key: Key,
+    /// The plan as it was, with the ranges its problems and its pipeline point at.
+    placed: PipelinePlan,
     /// The prepared pipeline until a run takes it, or every problem found.
     prepared: Result<Option<PreparedPipeline>, Vec<PipelineError>>,
 }
 
-/// What a preparation depends on besides the model's folder.
+/// What a preparation depends on besides the model's folder: the plan without its ranges.
 #[derive(PartialEq)]
 struct Key {
     plan: PipelinePlan,
@@ -62,7 +72,7 @@ impl Key {
                 (path, stamp)
             })
             .collect();
-        Key { plan: plan.clone(), behaviors, files }
+        Key { plan: placeless(plan), behaviors, files }
     }
 }
 
@@ -74,11 +84,16 @@ impl Preparations {
     pub fn check(&self, plan: &PipelinePlan, behaviors: Behaviors, model_dir: &Path) -> Vec<Diagnostic> {
         let key = Key::of(plan, behaviors, model_dir);
         let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
-        let entry = match entries.get(&plan.diagram) {
-            Some(entry) if entry.key == key => entry,
+        let entry = match entries.get_mut(&plan.diagram) {
+            Some(entry) if entry.key == key => {
+                entry.move_to(plan);
+                entry
+            }
             _ => {
+                self.made.fetch_add(1, Ordering::Relaxed);
                 let prepared = prepare(plan, &key.behaviors, model_dir).map(Some);
-                entries.entry(plan.diagram.clone()).insert_entry(Entry { key, prepared }).into_mut()
+                let entry = Entry { key, placed: plan.clone(), prepared };
+                entries.entry(plan.diagram.clone()).insert_entry(entry).into_mut()
             }
         };
         let Err(errors) = &entry.prepared else { return Vec::new() };
@@ -107,10 +122,21 @@ impl Preparations {
         let key = Key::of(plan, behaviors, model_dir);
         let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
         match entries.remove(&plan.diagram) {
-            Some(Entry { key: kept, prepared: Ok(Some(prepared)) }) if kept == key => Ok(prepared),
-            Some(Entry { key: kept, prepared: Err(errors) }) if kept == key => Err(errors),
+            Some(mut entry) if entry.key == key => {
+                entry.move_to(plan);
+                match entry.prepared {
+                    Ok(Some(prepared)) => Ok(prepared),
+                    Ok(None) => prepare(plan, &key.behaviors, model_dir),
+                    Err(errors) => Err(errors),
+                }
+            }
             _ => prepare(plan, &key.behaviors, model_dir),
         }
+    }
+
+    /// How many pipelines it has prepared for checks.
+    pub fn made(&self) -> usize {
+        self.made.load(Ordering::Relaxed)
     }
 
     /// What keeps the pipelines declared in `file` from running (E0404, E0405), for those whose
@@ -146,7 +172,89 @@ impl Preparations {
     }
 }
 
+impl Entry {
+    /// The preparation placed where `plan` (the same plan but for its ranges) sits.
+    fn move_to(&mut self, plan: &PipelinePlan) {
+        if self.placed == *plan {
+            return;
+        }
+        match &mut self.prepared {
+            Ok(Some(prepared)) => prepared.move_to(plan),
+            Ok(None) => {}
+            Err(errors) => {
+                for error in errors {
+                    error.range = error.range.map(|range| moved(range, &self.placed, plan));
+                }
+            }
+        }
+        self.placed = plan.clone();
+    }
+}
+
+/// `plan` with every range cleared: what a preparation depends on (ranges only place its
+/// problems).
+fn placeless(plan: &PipelinePlan) -> PipelinePlan {
+    let mut plan = plan.clone();
+    plan.name_range = TextRange::default();
+    for stage in &mut plan.stages {
+        stage.range = TextRange::default();
+        for param in &mut stage.params {
+            param.written = param.written.map(|_| TextRange::default());
+        }
+    }
+    for binding in &mut plan.bindings {
+        binding.range = TextRange::default();
+    }
+    plan
+}
+
+/// Where `range` of the plan `from` is in `to`, the same plan placed elsewhere: the diagram's
+/// name, an instance's name, a parameter's value or a binding moved with it.
+fn moved(range: TextRange, from: &PipelinePlan, to: &PipelinePlan) -> TextRange {
+    let mut pairs = std::iter::once((from.name_range, to.name_range));
+    let stages = from.stages.iter().zip(&to.stages).flat_map(|(a, b)| {
+        let params = a.params.iter().zip(&b.params).filter_map(|(p, q)| Some((p.written?, q.written?)));
+        std::iter::once((a.range, b.range)).chain(params)
+    });
+    let bindings = from.bindings.iter().zip(&to.bindings).map(|(a, b)| (a.range, b.range));
+    pairs.by_ref().chain(stages).chain(bindings).find(|(was, _)| *was == range).map_or(range, |(_, is)| is)
+}
+
 /// The folder a model file's relative paths resolve against.
 pub fn model_dir(analysis: &Analysis, file: FileId) -> PathBuf {
     Path::new(analysis.file_path(file)).parent().unwrap_or(Path::new(".")).to_path_buf()
+}
+
+#[cfg(test)]
+mod tests {
+    use gudsl_model::{syntax::TextSize, AnalysisHost};
+
+    use super::*;
+
+    /// A pipeline whose black image does not exist (E0404 at `channelA`'s value), in `dir`.
+    fn model(above: &str) -> String {
+        format!(
+            "{above}ComponentInstanceDiagram P\n{{\n    import ToF.*;\n    Camera instantiates SimulatedCamera (frames = 1)\n    {{\n        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Black.In.frame ]\n    }}\n    Black instantiates BlackImageCorrection (channelA = \"missing.npy\", channelB = \"missing.npy\")\n    {{\n        In : RawIn ( processor frame = IRawFrameProcessor() );\n    }}\n}}\n"
+        )
+    }
+
+    #[test]
+    fn typing_above_a_pipeline_moves_its_problems_without_preparing_it_again() {
+        let dir = std::env::temp_dir().join(format!("gudsl-preparations-{}", std::process::id()));
+        let path = dir.join("p.gudsl").display().to_string();
+        let (mut host, files) = AnalysisHost::with_files([(path, model(""))]);
+        let preparations = Preparations::default();
+        let before = preparations.file_diagnostics(&host.analysis(), files[0]).unwrap();
+        assert!(!before.is_empty() && before.iter().all(|d| d.code.as_str() == "E0404"), "{before:?}");
+        let comment = "// a line typed above\n";
+        host.set_file_text(files[0], model(comment));
+        let after = preparations.file_diagnostics(&host.analysis(), files[0]).unwrap();
+        let shifted: Vec<TextRange> = before.iter().map(|d| d.range + TextSize::of(comment)).collect();
+        assert_eq!(after.iter().map(|d| d.range).collect::<Vec<_>>(), shifted);
+        assert_eq!(preparations.made(), 1, "prepared once");
+        // A change of the pipeline itself prepares it again.
+        host.set_file_text(files[0], model(comment).replace("frames = 1", "frames = 2"));
+        preparations.file_diagnostics(&host.analysis(), files[0]).unwrap();
+        assert_eq!(preparations.made(), 2);
+    }
 }
