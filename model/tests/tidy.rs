@@ -416,3 +416,59 @@ fn the_extension_protocol_and_its_documents_change_together() {
         );
     }
 }
+
+/// The `[dependencies]` of a crate's manifest: their names.
+fn dependencies(krate: &str) -> BTreeSet<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let manifest = std::fs::read_to_string(root.join(krate).join("Cargo.toml")).unwrap();
+    let section = manifest.split("\n[dependencies]\n").nth(1).unwrap_or_default();
+    let section = section.split("\n[").next().unwrap_or_default();
+    section
+        .lines()
+        .filter(|line| !line.trim_start().starts_with('#'))
+        .filter_map(|line| line.split(['=', '.', ' ']).next())
+        .filter(|name| !name.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// The crate graph ARCHITECTURE.md draws: each crate's dependencies among the project's own,
+/// one way; `model` and `runtime` at the ground; the host drives the GPU only through the
+/// runtime (no wgpu of its own).
+#[test]
+fn crates_depend_on_each_other_as_architecture_draws() {
+    let own = |krate: &str| -> BTreeSet<String> {
+        dependencies(krate).into_iter().filter(|d| d.starts_with("gudsl-")).collect()
+    };
+    let expected = [
+        ("model", vec![]),
+        ("runtime", vec![]),
+        ("codegen", vec!["gudsl-model"]),
+        ("render", vec!["gudsl-model"]),
+        ("host", vec!["gudsl-codegen", "gudsl-model", "gudsl-render", "gudsl-runtime"]),
+        ("server", vec!["gudsl-codegen", "gudsl-host", "gudsl-model", "gudsl-render", "gudsl-runtime"]),
+    ];
+    for (krate, deps) in expected {
+        let deps: BTreeSet<String> = deps.into_iter().map(str::to_string).collect();
+        assert_eq!(own(krate), deps, "{krate}'s dependencies among the project's crates");
+    }
+    assert!(dependencies("runtime").contains("wgpu"), "{:?}", dependencies("runtime"));
+    assert!(!dependencies("host").contains("wgpu"), "the host reaches the GPU through the runtime");
+}
+
+/// The model does no I/O: texts come in through its inputs (its golden tests read their cases).
+#[test]
+fn the_model_reads_and_writes_no_file() {
+    let mut files = Vec::new();
+    rust_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
+    let doing_io: Vec<String> = files
+        .iter()
+        .filter(|f| !f.ends_with("golden.rs") && !f.ends_with("tests.rs"))
+        .filter(|f| {
+            let code = shipped_code_of(f);
+            ["std::fs", "fs::File", "std::net", "std::process"].iter().any(|io| code.contains(io))
+        })
+        .map(|f| f.display().to_string())
+        .collect();
+    assert!(doing_io.is_empty(), "the model does no I/O:\n{}", doing_io.join("\n"));
+}
