@@ -175,7 +175,7 @@ fn on_every_golden_case() {
 
 /// An OpenCL class, a device diagram with a fork (no WGSL form: E0301 twice), and a pipeline
 /// whose recording is no array (E0404).
-const GPU_CLASS: &str = "ClassDiagram K\n{\n    public class Gpu implements OpenCL { }\n}\n";
+const GPU_CLASS: &str = "ClassDiagram K\n{\n    import OpenCL.GPU.*;\n    public class Gpu implements OpenCL { }\n}\n";
 const FORKED: &str = "ActivityDiagram Ad()\n{\n    swimlane L, owner K.Gpu\n    {\n        start S { => split; }\n        fork split { => a; => b; }\n        action a { => j; }\n        action b { => j; }\n        join j { => f; }\n        final f;\n    }\n}\n";
 const PIPELINE: &str = "ComponentInstanceDiagram P\n{\n    import ToF.*;\n    Camera instantiates SimulatedCamera (frames = 1)\n    {\n        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Black.In.frame ]\n    }\n    Black instantiates BlackImageCorrection (channelA = \"a.npy\", channelB = \"a.npy\")\n    {\n        In : RawIn ( processor frame = IRawFrameProcessor() );\n    }\n}\n";
 
@@ -188,7 +188,7 @@ fn on_device_code_and_pipeline_file_errors() {
     std::fs::write(dir.join("a.npy"), b"not an array").unwrap();
     let check = checked(&[&dir]);
     let codes: BTreeSet<&str> = check.iter().map(|seen| seen.4.as_str()).collect();
-    assert!(codes.contains("E0301") && codes.contains("E0404"), "{check:#?}");
+    assert_eq!(codes, BTreeSet::from(["E0301", "E0404"]), "{check:#?}");
     let editor = in_the_editor(&mut server_in(Some(&dir)), &gudsl_files(&dir));
     assert_agree("device code and pipeline files", &check, &editor);
 }
