@@ -143,8 +143,12 @@ fn with_array<T>(
     let source = Source::parse(path);
     let mut file = fs::File::open(&source.file).map_err(|e| ArrayError::io(&source.file, e))?;
     if !source.is_archive() {
+        let length = file.metadata().map_err(|e| ArrayError::io(&source.file, e))?.len();
         let mut reader = io::BufReader::new(&mut file);
+        let header = header_checked(&mut reader, &source.file)?;
+        let mut reader = io::Cursor::new(header).chain(reader);
         let npy = NpyFile::new(&mut reader as &mut dyn Read).map_err(|e| not_npy(&source.file, e))?;
+        claims_what_it_holds(&npy, &source.file, length)?;
         return f(npy, &source.file);
     }
     let mut archive = zip::ZipArchive::new(io::BufReader::new(file))
@@ -176,8 +180,73 @@ fn with_array<T>(
         }
     };
     let shown = PathBuf::from(format!("{}:{member}", source.file.display()));
+    let length = entry.size();
+    let header = header_checked(&mut entry, &shown)?;
+    let mut entry = io::Cursor::new(header).chain(entry);
     let npy = NpyFile::new(&mut entry as &mut dyn Read).map_err(|e| not_npy(&shown, e))?;
+    claims_what_it_holds(&npy, &shown, length)?;
     f(npy, &shown)
+}
+
+/// The header of a `.npy` stream, read before any parser sees it: its bytes (handed on to the
+/// parser), refused where its shape's dimensions (at up to 16 bytes a value) make more bytes
+/// than exist, which a parser would overflow computing.
+fn header_checked(reader: &mut impl Read, path: &Path) -> Result<Vec<u8>, ArrayError> {
+    let malformed = |why: &str| not_npy(path, io::Error::new(io::ErrorKind::InvalidData, why.to_string()));
+    let mut bytes = vec![0u8; 8];
+    reader.read_exact(&mut bytes).map_err(|e| not_npy(path, e))?;
+    if &bytes[..6] != b"\x93NUMPY" {
+        return Err(malformed("no NumPy header"));
+    }
+    let width = if bytes[6] == 1 { 2 } else { 4 };
+    let mut length = vec![0u8; width];
+    reader.read_exact(&mut length).map_err(|e| not_npy(path, e))?;
+    let length = length.iter().rev().fold(0usize, |n, &b| n << 8 | b as usize);
+    if length > 1 << 20 {
+        return Err(malformed("a header of more than 1 MiB"));
+    }
+    let mut text = vec![0u8; length];
+    reader.read_exact(&mut text).map_err(|e| not_npy(path, e))?;
+    let dims = String::from_utf8_lossy(&text)
+        .split("'shape':")
+        .nth(1)
+        .and_then(|rest| rest.split(')').next())
+        .map(|tuple| tuple.trim_start().trim_start_matches('(').split(',').map(|d| d.trim().to_string()).collect())
+        .unwrap_or_else(Vec::<String>::new);
+    let fits = dims.iter().filter(|d| !d.is_empty()).try_fold(16u64, |n, d| n.checked_mul(d.parse::<u64>().ok()?));
+    if fits.is_none() {
+        let shape = dims.iter().filter(|d| !d.is_empty()).cloned().collect::<Vec<_>>().join(", ");
+        return Err(ArrayError::invalid(path, format!("has shape ({shape}): more values than can exist")));
+    }
+    bytes.extend((length as u64).to_le_bytes().iter().take(width));
+    bytes.extend(text);
+    Ok(bytes)
+}
+
+/// The most bytes of values an array may hold (4 GiB): a header claiming more is refused before
+/// anything is allocated.
+pub const MAX_ARRAY_BYTES: u64 = 1 << 32;
+
+/// An error unless the header's shape and element size make a number of bytes that exists and
+/// that the file (`length` bytes, its header included) can hold, up to [`MAX_ARRAY_BYTES`]: a
+/// header is never trusted to size an allocation.
+fn claims_what_it_holds<R: Read>(file: &NpyFile<R>, path: &Path, length: u64) -> Result<(), ArrayError> {
+    let shape = file.shape();
+    let element = file.dtype().num_bytes().map_or(1, |b| b as u64);
+    let needed = shape.iter().try_fold(element, |bytes, &dim| bytes.checked_mul(dim));
+    let shape_text = || format!("({})", shape.iter().map(u64::to_string).collect::<Vec<_>>().join(", "));
+    match needed {
+        None => Err(ArrayError::invalid(path, format!("has shape {}: more values than can exist", shape_text()))),
+        Some(needed) if needed > length => Err(ArrayError::invalid(
+            path,
+            format!("has shape {} ({needed} bytes of values), but holds only {length} bytes", shape_text()),
+        )),
+        Some(needed) if needed > MAX_ARRAY_BYTES => Err(ArrayError::invalid(
+            path,
+            format!("has shape {} ({needed} bytes), more than the {MAX_ARRAY_BYTES} bytes read", shape_text()),
+        )),
+        Some(_) => Ok(()),
+    }
 }
 
 fn not_npy(path: &Path, error: io::Error) -> ArrayError {
@@ -378,6 +447,29 @@ mod tests {
         assert!(error.message.contains("has no array `c` (it holds a, b)"), "{error}");
         let error = read(&path).unwrap_err();
         assert!(error.message.contains("holds 2 arrays (a, b): name one"), "{error}");
+    }
+
+    /// Issue 48, item 4: a header that claims more than its file holds is an error before
+    /// anything is allocated, never a panic or an abort.
+    #[test]
+    fn a_header_is_never_trusted_to_size_an_allocation() {
+        let path = scratch("lying.npy");
+        // The shape's product overflows u64 (it panicked in the run before).
+        fs::write(&path, raw_npy("<f4", false, "(4294967296, 4294967296, 16)", &[])).unwrap();
+        for error in [header(&path).unwrap_err(), read(&path).unwrap_err()] {
+            assert!(error.message.contains("more values than can exist"), "{error}");
+        }
+        // 2^64 values claimed by a 128-byte file (the allocation aborted the process before).
+        fs::write(&path, raw_npy("<f4", false, "(4294967296, 4294967296, 1)", &[])).unwrap();
+        assert!(header(&path).unwrap_err().message.contains("more values than can exist"));
+        // 16 GiB of values claimed by a 128-byte file.
+        fs::write(&path, raw_npy("<f4", false, "(65536, 65536, 1)", &[])).unwrap();
+        for error in [header(&path).unwrap_err(), read(&path).unwrap_err()] {
+            assert!(error.message.contains("(17179869184 bytes of values), but holds only 128 bytes"), "{error}");
+        }
+        // A file truly as large as its shape says is read.
+        fs::write(&path, raw_npy("<f4", false, "(2, 2)", &[0; 16])).unwrap();
+        assert_eq!(header(&path).unwrap().0, vec![2, 2]);
     }
 
     #[test]
