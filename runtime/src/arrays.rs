@@ -207,12 +207,12 @@ fn header_checked(reader: &mut impl Read, path: &Path) -> Result<Vec<u8>, ArrayE
     }
     let mut text = vec![0u8; length];
     reader.read_exact(&mut text).map_err(|e| not_npy(path, e))?;
-    let dims = String::from_utf8_lossy(&text)
+    let dims: Vec<String> = String::from_utf8_lossy(&text)
         .split("'shape':")
         .nth(1)
         .and_then(|rest| rest.split(')').next())
         .map(|tuple| tuple.trim_start().trim_start_matches('(').split(',').map(|d| d.trim().to_string()).collect())
-        .unwrap_or_else(Vec::<String>::new);
+        .unwrap_or_default();
     let fits = dims.iter().filter(|d| !d.is_empty()).try_fold(16u64, |n, d| n.checked_mul(d.parse::<u64>().ok()?));
     if fits.is_none() {
         let shape = dims.iter().filter(|d| !d.is_empty()).cloned().collect::<Vec<_>>().join(", ");

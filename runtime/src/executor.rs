@@ -41,6 +41,9 @@ impl Tensor {
     }
 }
 
+/// The GPU time each stage's passes took in a frame, by stage.
+pub type StageTimes = Vec<(usize, Duration)>;
+
 /// The GPU (or the CPU) and the frame's recording.
 pub struct Executor<'g> {
     gpu: Option<&'g Gpu>,
@@ -385,7 +388,7 @@ impl<'g> ChainRun<'g> {
     }
 
     /// One frame on the uploaded sources: the sinks' images and the steps' GPU times.
-    fn frame(&mut self) -> Result<(Vec<Image>, Vec<(usize, Duration)>), ChainError> {
+    fn frame(&mut self) -> Result<(Vec<Image>, StageTimes), ChainError> {
         let expected = self.pipeline.sources.len();
         let sources = self.sources.as_ref().ok_or(ChainError::Sources { expected, given: 0 })?;
         let mut values: Vec<Option<Tensor>> = vec![None; self.pipeline.slots.len()];
