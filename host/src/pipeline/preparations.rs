@@ -40,8 +40,8 @@ struct Entry {
     key: Key,
     /// The plan as it was, with the ranges its problems and its pipeline point at.
     placed: PipelinePlan,
-    /// The prepared pipeline until a run takes it, or every problem found.
-    prepared: Result<Option<PreparedPipeline>, Vec<PipelineError>>,
+    /// The prepared pipeline (a run takes it, and the entry with it), or every problem found.
+    prepared: Result<PreparedPipeline, Vec<PipelineError>>,
 }
 
 /// What a preparation depends on besides the model's folder: the plan without its ranges.
@@ -91,7 +91,7 @@ impl Preparations {
             }
             _ => {
                 self.made.fetch_add(1, Ordering::Relaxed);
-                let prepared = prepare(plan, &key.behaviors, model_dir).map(Some);
+                let prepared = prepare(plan, &key.behaviors, model_dir);
                 let entry = Entry { key, placed: plan.clone(), prepared };
                 entries.entry(plan.diagram.clone()).insert_entry(entry).into_mut()
             }
@@ -124,11 +124,7 @@ impl Preparations {
         match entries.remove(&plan.diagram) {
             Some(mut entry) if entry.key == key => {
                 entry.move_to(plan);
-                match entry.prepared {
-                    Ok(Some(prepared)) => Ok(prepared),
-                    Ok(None) => prepare(plan, &key.behaviors, model_dir),
-                    Err(errors) => Err(errors),
-                }
+                entry.prepared
             }
             _ => prepare(plan, &key.behaviors, model_dir),
         }
@@ -179,8 +175,7 @@ impl Entry {
             return;
         }
         match &mut self.prepared {
-            Ok(Some(prepared)) => prepared.move_to(plan),
-            Ok(None) => {}
+            Ok(prepared) => prepared.move_to(plan),
             Err(errors) => {
                 for error in errors {
                     error.range = error.range.map(|range| moved(range, &self.placed, plan));
@@ -211,13 +206,13 @@ fn placeless(plan: &PipelinePlan) -> PipelinePlan {
 /// Where `range` of the plan `from` is in `to`, the same plan placed elsewhere: the diagram's
 /// name, an instance's name, a parameter's value or a binding moved with it.
 fn moved(range: TextRange, from: &PipelinePlan, to: &PipelinePlan) -> TextRange {
-    let mut pairs = std::iter::once((from.name_range, to.name_range));
+    let names = std::iter::once((from.name_range, to.name_range));
     let stages = from.stages.iter().zip(&to.stages).flat_map(|(a, b)| {
         let params = a.params.iter().zip(&b.params).filter_map(|(p, q)| Some((p.written?, q.written?)));
         std::iter::once((a.range, b.range)).chain(params)
     });
     let bindings = from.bindings.iter().zip(&to.bindings).map(|(a, b)| (a.range, b.range));
-    pairs.by_ref().chain(stages).chain(bindings).find(|(was, _)| *was == range).map_or(range, |(_, is)| is)
+    names.chain(stages).chain(bindings).find(|(was, _)| *was == range).map_or(range, |(_, is)| is)
 }
 
 /// The folder a model file's relative paths resolve against.
