@@ -270,7 +270,8 @@ fn a_filter_of_your_own_runs_its_diagram_on_depth_images() {
     let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[raw]).unwrap()[3];
     p.sink(distance).unwrap();
     let distance = ChainRun::new(Some(&gpu), &p).run(&[frame.raw]).unwrap().remove(0);
-    let written = arrays::read(&out.join("Depth/distance_0000.npy")).unwrap();
+    let written =
+        arrays::read(&gudsl_files::Folder::open(&out).unwrap(), &out.join("Depth/distance_0000.npy")).unwrap();
     assert_eq!(written.shape, [200, 200]);
     let differ = written.values.iter().zip(&distance.data).filter(|(w, d)| w.to_bits() != (*d * 0.5).to_bits()).count();
     assert_eq!(differ, 0, "{differ} distances differ from the Rust API's halved ones");

@@ -94,7 +94,7 @@ fn the_chapter_4_sample_runs_and_equals_the_rust_api() {
     let gpu = Gpu::for_tests().expect("an adapter");
     let expected = rust_api(&gpu);
     for (frame, expected) in expected.iter().enumerate() {
-        let array = arrays::read(&out.join(format!("Depth/distance_{frame:04}.npy"))).unwrap();
+        let array = read_array(&out.join(format!("Depth/distance_{frame:04}.npy"))).unwrap();
         let (shape, values) = (array.shape, array.values);
         assert_eq!(shape, [200, 200]);
         let same = values.iter().zip(expected).all(|(a, b)| a.to_bits() == b.to_bits());
@@ -117,7 +117,7 @@ fn a_phase_calibration_is_written_used_and_refused_when_it_does_not_fit() {
     let out =
         gudsl().args(["calibrate-phases", calibration.to_str().unwrap(), "--gain-spread", "0.02"]).output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    assert_eq!(arrays::header(&dir.join("calibration.npy")).unwrap().0, [8, 200, 200]);
+    assert_eq!(array_header(&dir.join("calibration.npy")).unwrap().0, [8, 200, 200]);
     let out = gudsl().args(["calibrate-phases", dir.join("no/such/folder/c.npy").to_str().unwrap()]).output().unwrap();
     assert_eq!(out.status.code(), Some(2), "an unwritable file");
     assert!(String::from_utf8_lossy(&out.stderr).contains("c.npy"));
@@ -231,7 +231,7 @@ fn bad_pipelines_are_refused_with_their_diagnostics() {
     std::fs::write(&blocked, "a file").unwrap();
     let (code, stderr) = refused(&[&file, "-o", blocked.join("out").to_str().unwrap()]);
     assert_eq!(code, Some(2), "{stderr}");
-    assert!(stderr.contains("cannot create the output folder"), "{stderr}");
+    assert!(stderr.contains("not writing into the output folder") && stderr.contains("blocked"), "{stderr}");
 }
 
 /// The runtime's demodulation of `frames` through its API: each frame's distances.
@@ -308,7 +308,7 @@ fn recorded_raw_frames_and_depth_images_run_from_files() {
     let (code, stdout, stderr) = run(&args);
     assert_eq!(code, Some(0), "{stdout}\n{stderr}");
     assert!(stdout.contains("ran Recorded (3 frames)"), "{stdout}");
-    let read = |name: &str| arrays::read(&out.join("Writer").join(name)).unwrap().values;
+    let read = |name: &str| read_array(&out.join("Writer").join(name)).unwrap().values;
     let png = read("Png_distance_0000.npy");
     assert!(png.iter().zip(&millimetres).all(|(m, &mm)| *m == mm as f32 * 0.001), "the PNG's millimetres in metres");
     assert!(!out.join("Writer/Png_distance_0001.npy").exists(), "a PNG is one frame");
@@ -548,4 +548,13 @@ ComponentDiagram AsyncCorrection
         "{stderr}"
     );
     assert!(!out.join("Writer").exists(), "nothing after the failed stage ran");
+}
+
+/// The array at `path`, read as a run reads it (through its folder).
+fn read_array(path: &std::path::Path) -> Result<arrays::Array, arrays::ArrayError> {
+    arrays::read(&gudsl_files::Folder::open(path.parent().unwrap()).unwrap(), path)
+}
+
+fn array_header(path: &std::path::Path) -> Result<(Vec<usize>, arrays::Dtype), arrays::ArrayError> {
+    arrays::header(&gudsl_files::Folder::open(path.parent().unwrap()).unwrap(), path)
 }

@@ -16,13 +16,24 @@ pub struct FileError {
 pub enum Problem {
     NotFound,
     /// It lies outside the folder it must be in (through `..`, an absolute path or a link).
-    Outside { folder: PathBuf },
+    Outside {
+        folder: PathBuf,
+    },
     /// A FIFO, a device, a socket or a folder where a file's contents were expected.
-    NotRegular { kind: &'static str },
+    NotRegular {
+        kind: &'static str,
+    },
     /// Longer than the most this kind of file is read.
-    TooLarge { len: u64, limit: u64 },
+    TooLarge {
+        len: u64,
+        limit: u64,
+    },
     /// Links inside an output folder: a write could land where they point.
-    Links { links: Vec<PathBuf> },
+    Links {
+        links: Vec<PathBuf>,
+    },
+    /// The workspace is not trusted (VS Code's Restricted Mode): no file a model names is read.
+    Untrusted,
     Io(String),
 }
 
@@ -81,6 +92,9 @@ impl fmt::Display for Problem {
                 "is an output folder that holds links, which a write could follow out of it: {}; remove them (or name another folder)",
                 links.iter().map(|l| l.display().to_string()).collect::<Vec<_>>().join(", ")
             ),
+            Problem::Untrusted => {
+                write!(f, "is not read: the workspace is not trusted (Restricted Mode), so gudsl reads no file a model names")
+            }
             Problem::Io(message) => f.write_str(message),
         }
     }

@@ -56,8 +56,9 @@ impl Folder {
         &self.path
     }
 
-    /// Opens `path` (relative to this folder, or absolute and beneath it) for reading: refused
-    /// outside the folder, when not a regular file (a FIFO or a device is never read, and
+    /// Opens `path` (a path as std takes it: absolute, or relative to the current folder) for
+    /// reading, when it lies beneath this folder — `..` is taken lexically, a link is followed
+    /// only while it stays inside: refused outside the folder, when not a regular file (a FIFO or a device is never read, and
     /// opening one does not block), or when longer than `limit` bytes.
     pub fn open_file(&self, path: &Path, limit: u64) -> Result<Opened, FileError> {
         let (inside, shown) = self.inside(path)?;
@@ -114,18 +115,16 @@ impl Folder {
     /// Removes the file (or link) `name` in this folder; a missing one is no error.
     pub fn remove(&self, name: &str) -> Result<(), FileError> {
         match self.dir.remove_file_or_symlink(name) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(FileError::io(self.path.join(name), &self.path, &e)),
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                Err(FileError::io(self.path.join(name), &self.path, &e))
+            }
             _ => Ok(()),
         }
     }
 
-    /// `path` as a path relative to this folder, and as the user is shown it.
+    /// `path` as a path relative to this folder, and as the user is shown it (as given).
     fn inside(&self, path: &Path) -> Result<(PathBuf, PathBuf), FileError> {
-        if !path.is_absolute() {
-            return Ok((path.to_path_buf(), self.path.join(path)));
-        }
-        let normal = normalize(path);
-        match normal.strip_prefix(normalize(&self.path)) {
+        match lexical(path).strip_prefix(lexical(&self.path)) {
             Ok(inside) if inside.as_os_str().is_empty() => Ok((PathBuf::from("."), path.to_path_buf())),
             Ok(inside) => Ok((inside.to_path_buf(), path.to_path_buf())),
             Err(_) => Err(FileError::new(path, Problem::Outside { folder: self.path.clone() })),
@@ -155,9 +154,17 @@ fn kind_of(kind: FileType) -> &'static str {
     }
 }
 
-/// `path` made absolute against the current folder, without resolving links.
+/// `path` made absolute against the current folder (the empty path is the current folder),
+/// without resolving links.
 pub(crate) fn absolute(path: &Path) -> PathBuf {
+    let path = if path.as_os_str().is_empty() { Path::new(".") } else { path };
     std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
+/// `path` made absolute and normalized lexically: where a user reading the path would say it
+/// is (links are not resolved).
+pub fn lexical(path: &Path) -> PathBuf {
+    normalize(&absolute(path))
 }
 
 /// `path` with `.` dropped and each `..` taking away the component before it (lexically).

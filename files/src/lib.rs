@@ -12,4 +12,4 @@ mod output;
 mod tests;
 
 pub use error::{FileError, Problem};
-pub use folder::{Folder, Opened, Stamp};
+pub use folder::{lexical, Folder, Opened, Stamp};

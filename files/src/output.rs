@@ -25,7 +25,8 @@ impl Folder {
         let anchor = absolute(anchor);
         let failed = |e: std::io::Error| FileError::io(&anchor, &anchor, &e);
         std::fs::create_dir_all(&anchor).map_err(failed)?;
-        let mut folder = Folder { dir: Dir::open_ambient_dir(&anchor, ambient_authority()).map_err(failed)?, path: anchor.clone() };
+        let mut folder =
+            Folder { dir: Dir::open_ambient_dir(&anchor, ambient_authority()).map_err(failed)?, path: anchor.clone() };
         for component in relative.components() {
             let name = component.as_os_str().to_string_lossy();
             if !is_plain(Path::new(component.as_os_str())) {
@@ -47,7 +48,9 @@ impl Folder {
             return Err(FileError::new(path, Problem::Outside { folder: self.path.clone() }));
         }
         match self.dir.create_dir(name) {
-            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(FileError::io(&path, &self.path, &e)),
+            Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => {
+                return Err(FileError::io(&path, &self.path, &e))
+            }
             _ => {}
         }
         let meta = self.dir.symlink_metadata(name).map_err(|e| FileError::io(&path, &self.path, &e))?;

@@ -34,7 +34,10 @@ use std::{
     time::{Duration, Instant},
 };
 
-use gudsl_host::pipeline::{self, OutputDir, PipelineObserver};
+use gudsl_host::{
+    access::Access,
+    pipeline::{self, OutputDir, PipelineObserver},
+};
 use gudsl_model::{
     db::{RootDatabase, SourceFile, Workspace},
     hir::{pipeline::pipeline_plan, Fqn, Semantics},
@@ -161,8 +164,10 @@ fn run_model(gpu: &Gpu, text: &str, frames: Option<usize>, out: &Path) -> Durati
     let plan = pipeline_plan(&db, workspace, Fqn::new(&db, "Bench".to_string())).clone().expect("the plan");
     assert!(plan.diagnostics.is_empty(), "{:?}", plan.diagnostics);
     let behaviors = pipeline::behaviors(&Semantics::new(&db, workspace), &plan);
-    let mut prepared = pipeline::prepare(&plan, &behaviors, Path::new(".")).unwrap_or_else(|e| panic!("{e:?}"));
-    let mut output = OutputDir::create(out).unwrap();
+    // The recordings it reads lie in the temporary folder.
+    let files = Access::new(vec![std::env::temp_dir()], true).files(&std::env::temp_dir());
+    let mut prepared = pipeline::prepare(&plan, &behaviors, &files).unwrap_or_else(|e| panic!("{e:?}"));
+    let mut output = OutputDir::for_run(Some(out), Path::new("."), "Bench").unwrap();
     let report = prepared.run(Some(gpu), &mut output, frames, &mut Quiet, &AtomicBool::new(false));
     report.outcome.unwrap();
     started.elapsed() - report.loading
@@ -233,7 +238,9 @@ fn rust_run(gpu: &Gpu, width: usize, height: usize, recorded: Option<&Path>, out
 
 /// The frames of the channel files in `dir`, planes `A0 B0 … A3 B3`.
 fn read_recorded(dir: &Path, width: usize, height: usize) -> Vec<Image> {
-    let (a, b) = (arrays::read(&dir.join("a.npy")).unwrap(), arrays::read(&dir.join("b.npy")).unwrap());
+    let folder = gudsl_files::Folder::open(dir).unwrap();
+    let (a, b) =
+        (arrays::read(&folder, &dir.join("a.npy")).unwrap(), arrays::read(&folder, &dir.join("b.npy")).unwrap());
     let plane = width * height;
     (0..RECORDED_FRAMES)
         .map(|f| {

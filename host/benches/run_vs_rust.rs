@@ -134,7 +134,7 @@ fn main() {
     let (mut run_total, mut run_shuffle, mut rust_total, mut rust_shuffle) = (vec![], vec![], vec![], vec![]);
     let mut rust_divided = vec![];
     for i in 0..=runs {
-        let report = main.run(&gpu, &out, &mut ());
+        let report = main.run(&gpu, &mut support::output(&out), &mut ());
         assert!(report.outcome.is_ok(), "{:?}", report.outcome);
         let (total, shuffle) = main_in_rust(&gpu, &kernels, &out);
         let divided = Instant::now();

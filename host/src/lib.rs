@@ -6,9 +6,12 @@
 //! the editor share about a model: its files' diagnostics (`diagnostics`) and the diagram a
 //! name means (`named`).
 
+pub mod access;
 pub mod diagnostics;
 pub mod launch;
 pub mod named;
+pub mod output;
+pub mod picture;
 pub mod pipeline;
 pub mod run;
 

@@ -57,7 +57,7 @@ fn run(gpu: &Gpu, body: &str) -> (Report, String) {
     sources.push((samples().join("host_calls_test.gudsl").display().to_string(), text.clone()));
     let main = prepared(&sources, "Main").unwrap_or_else(|e| panic!("{e:?}\n{text}"));
     let dir = std::env::temp_dir().join(format!("gudsl-host-calls-{}", std::process::id()));
-    (main.run(gpu, &dir, &mut ()), text)
+    (main.run(gpu, &mut support::output(&dir), &mut ()), text)
 }
 
 /// `Main` with `statements` in its one action node.

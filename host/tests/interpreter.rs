@@ -17,7 +17,7 @@ fn run(gpu: &Gpu, body: &str) -> (Report, String) {
     sources.push((samples().join("interpreter_test.gudsl").display().to_string(), text.clone()));
     let main = prepared(&sources, "Test").unwrap_or_else(|e| panic!("{e:?}\n{text}"));
     let dir = std::env::temp_dir().join(format!("gudsl-interpreter-{}", std::process::id()));
-    (main.run(gpu, &dir, &mut ()), text)
+    (main.run(gpu, &mut support::output(&dir), &mut ()), text)
 }
 
 /// xorshift64: the programs are the same on every run.
@@ -417,7 +417,7 @@ fn a_native_loop_stops_when_cancelled() {
     let main = prepared(&sources, "Test").unwrap();
     let dir = std::env::temp_dir().join(format!("gudsl-interpreter-{}", std::process::id()));
     // Asked before S, before work, then in the loop.
-    let report = main.run(&gpu, &dir, &mut StopAfter(4));
+    let report = main.run(&gpu, &mut support::output(&dir), &mut StopAfter(4));
     assert_eq!(report.native_loops, 1);
     let error = report.outcome.expect_err("cancelled");
     assert_eq!(error.kind, RunErrorKind::Cancelled, "{error}");
@@ -460,7 +460,7 @@ fn floating_point_native_loops_compute_what_the_closures_compute() {
     for native in [true, false] {
         let mut main = prepared(&sources, "Test").unwrap_or_else(|e| panic!("{e:?}"));
         main.set_native_loops(native);
-        let report = main.run(&gpu, &dir, &mut ());
+        let report = main.run(&gpu, &mut support::output(&dir), &mut ());
         assert_eq!(report.outcome, Ok(Ending::Final("f".into())), "native {native}");
         reports.push(report);
     }

@@ -44,7 +44,7 @@ fn main_runs_end_to_end_and_its_viewer_shows_what_the_listings_compute() {
     let main = prepared(&sources(|t| t, &[]), "Main").unwrap_or_else(|e| panic!("{e:?}"));
     assert_eq!(main.kernels().len(), 4, "bilateral, mean and the two findIndex stages");
     let dir = out_dir("main");
-    let report = main.run(&gpu, &dir, &mut ());
+    let report = main.run(&gpu, &mut support::output(&dir), &mut ());
     assert_eq!(report.outcome, Ok(Ending::Final("f".into())), "{report:?}");
 
     let names: Vec<String> =
@@ -91,7 +91,7 @@ fn run_host(body: &str) -> gudsl_host::run::Report {
     let gpu = Gpu::for_tests().expect("a device");
     let text = format!("ActivityDiagram Test()\n{{\n{body}\n}}\n");
     let main = prepared(&sources(|t| t, &[("host_test.gudsl", &text)]), "Test").unwrap_or_else(|e| panic!("{e:?}"));
-    main.run(&gpu, &out_dir("host"), &mut ())
+    main.run(&gpu, &mut support::output(&out_dir("host")), &mut ())
 }
 
 #[test]
@@ -180,7 +180,7 @@ fn a_missing_image_stops_the_run_at_the_load_with_the_path() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let edit = |t: String| t.replace("\"tof_amplitude.png\"", "\"no_such_image.png\"");
     let main = prepared(&sources(edit, &[]), "Main").unwrap();
-    let report = main.run(&gpu, &out_dir("missing"), &mut ());
+    let report = main.run(&gpu, &mut support::output(&out_dir("missing")), &mut ());
     let error = report.outcome.unwrap_err();
     assert_eq!(error.kind, RunErrorKind::Failed);
     assert!(error.message.contains("no_such_image.png") && error.message.contains("cannot read"), "{error}");
@@ -242,7 +242,7 @@ fn a_cancelled_run_stops_between_nodes_and_says_where() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let main = prepared(&sources(|t| t, &[]), "Main").unwrap();
     let mut observer = StopAt("syncToGPU", Vec::new());
-    let report = main.run(&gpu, &out_dir("cancel"), &mut observer);
+    let report = main.run(&gpu, &mut support::output(&out_dir("cancel")), &mut observer);
     let error = report.outcome.unwrap_err();
     assert_eq!(error.kind, RunErrorKind::Cancelled);
     assert!(error.message.contains("processImages") || error.message.contains("addViewerImages"), "{error}");

@@ -10,6 +10,7 @@ use std::{
     path::{Path, PathBuf},
 };
 
+use gudsl_files::Folder;
 use npyz::{DType, NpyFile, Order, TypeChar, WriterBuilder};
 
 /// An array: its shape, its values in C order, and the element type of the file.
@@ -88,6 +89,15 @@ impl ArrayError {
         ArrayError::new(path, error.kind(), message)
     }
 
+    /// A file its folder refused to open (missing, outside, not a regular file, too long).
+    fn file(error: gudsl_files::FileError) -> ArrayError {
+        let kind = match error.problem {
+            gudsl_files::Problem::NotFound => io::ErrorKind::NotFound,
+            _ => io::ErrorKind::InvalidInput,
+        };
+        ArrayError::new(&error.path, kind, error.problem.to_string())
+    }
+
     fn invalid(path: &Path, message: impl Into<String>) -> ArrayError {
         ArrayError::new(path, io::ErrorKind::InvalidData, message)
     }
@@ -117,15 +127,15 @@ impl Source {
     }
 }
 
-/// The shape and element type of the array at `path` (a `.npy` file or `archive.npz[:name]`),
-/// read from its header only.
-pub fn header(path: &Path) -> Result<(Vec<usize>, Dtype), ArrayError> {
-    with_array(path, |file, path| Ok((shape_of(&file), dtype_of(&file, path)?)))
+/// The shape and element type of the array at `path` (a `.npy` file or `archive.npz[:name]`
+/// beneath `folder`), read from its header only.
+pub fn header(folder: &Folder, path: &Path) -> Result<(Vec<usize>, Dtype), ArrayError> {
+    with_array(folder, path, |file, path| Ok((shape_of(&file), dtype_of(&file, path)?)))
 }
 
-/// The array at `path` (a `.npy` file or `archive.npz[:name]`).
-pub fn read(path: &Path) -> Result<Array, ArrayError> {
-    with_array(path, |file, path| {
+/// The array at `path` (a `.npy` file or `archive.npz[:name]` beneath `folder`).
+pub fn read(folder: &Folder, path: &Path) -> Result<Array, ArrayError> {
+    with_array(folder, path, |file, path| {
         let shape = shape_of(&file);
         let dtype = dtype_of(&file, path)?;
         let fortran = file.order() == Order::Fortran;
@@ -135,15 +145,17 @@ pub fn read(path: &Path) -> Result<Array, ArrayError> {
     })
 }
 
-/// Opens the array at `path` and hands its reader (positioned after the header) to `f`.
+/// Opens the array at `path` beneath `folder` (a regular file of at most [`MAX_ARRAY_BYTES`])
+/// and hands its reader (positioned after the header) to `f`.
 fn with_array<T>(
+    folder: &Folder,
     path: &Path,
     f: impl FnOnce(NpyFile<&mut dyn Read>, &Path) -> Result<T, ArrayError>,
 ) -> Result<T, ArrayError> {
     let source = Source::parse(path);
-    let mut file = fs::File::open(&source.file).map_err(|e| ArrayError::io(&source.file, e))?;
+    let opened = folder.open_file(&source.file, MAX_ARRAY_BYTES).map_err(ArrayError::file)?;
+    let (mut file, length) = (opened.file, opened.len);
     if !source.is_archive() {
-        let length = file.metadata().map_err(|e| ArrayError::io(&source.file, e))?.len();
         let mut reader = io::BufReader::new(&mut file);
         let header = header_checked(&mut reader, &source.file)?;
         let mut reader = io::Cursor::new(header).chain(reader);
@@ -355,6 +367,19 @@ mod tests {
     use std::io::Write;
 
     use super::*;
+
+    /// The folder of a scratch file, as a run would read it.
+    fn folder_of(path: &Path) -> Folder {
+        Folder::open(path.parent().unwrap()).unwrap()
+    }
+
+    fn read(path: &Path) -> Result<Array, ArrayError> {
+        super::read(&folder_of(&Source::parse(path).file), path)
+    }
+
+    fn header(path: &Path) -> Result<(Vec<usize>, Dtype), ArrayError> {
+        super::header(&folder_of(&Source::parse(path).file), path)
+    }
 
     fn scratch(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("gudsl-arrays-{}", std::process::id()));

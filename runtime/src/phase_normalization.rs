@@ -144,9 +144,10 @@ impl PhaseCalibration {
         arrays::write(path, &[8, c.height, c.width], &c.data, Dtype::F32)
     }
 
-    /// Reads a calibration [`PhaseCalibration::save`] wrote (any float or integer dtype).
-    pub fn load(path: &Path) -> Result<PhaseCalibration, NormalizationError> {
-        let array = arrays::read(path).map_err(NormalizationError::File)?;
+    /// Reads a calibration [`PhaseCalibration::save`] wrote (any float or integer dtype), at
+    /// `path` beneath `folder`.
+    pub fn load(folder: &gudsl_files::Folder, path: &Path) -> Result<PhaseCalibration, NormalizationError> {
+        let array = arrays::read(folder, path).map_err(NormalizationError::File)?;
         match array.shape[..] {
             [8, height, width] if width > 0 && height > 0 => {
                 Ok(PhaseCalibration { coefficients: Image { width, height, planes: 8, data: array.values } })
@@ -233,9 +234,9 @@ mod tests {
         let mut calibration = PhaseCalibration::identity(5, 3);
         calibration.coefficients.data[7] = 2.5;
         calibration.save(&path).unwrap();
-        assert_eq!(PhaseCalibration::load(&path).unwrap(), calibration);
+        assert_eq!(PhaseCalibration::load(&gudsl_files::Folder::open(&dir).unwrap(), &path).unwrap(), calibration);
         arrays::write(&path, &[4, 3, 5], &[0.0; 60], Dtype::F32).unwrap();
-        let error = PhaseCalibration::load(&path).unwrap_err().to_string();
+        let error = PhaseCalibration::load(&gudsl_files::Folder::open(&dir).unwrap(), &path).unwrap_err().to_string();
         assert!(error.contains("shape (8, H, W)") && error.contains("[4, 3, 5]"), "{error}");
         assert!(PhaseCalibration::fit(&[]).unwrap_err().to_string().contains("at least 4"));
     }

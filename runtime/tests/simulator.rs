@@ -90,7 +90,7 @@ fn long_integration_saturates_and_frames_round_trip_through_npy() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("raw.npy");
     arrays::write(&path, &[8, 200, 200], &frame.raw.data, arrays::Dtype::U16).unwrap();
-    let array = arrays::read(&path).unwrap();
+    let array = arrays::read(&gudsl_files::Folder::open(&dir).unwrap(), &path).unwrap();
     assert_eq!((array.shape, array.dtype), (vec![8, 200, 200], arrays::Dtype::U16));
     assert_eq!(array.values, frame.raw.data);
     std::fs::remove_dir_all(&dir).unwrap();

@@ -6,9 +6,15 @@
 //! as the model is typed —, loading reads the values when a run starts. Every problem is a
 //! message naming the file and what was expected.
 
-use std::path::{Path, PathBuf};
+use std::{
+    path::{Path, PathBuf},
+    sync::Arc,
+};
 
+use gudsl_files::Folder;
 use gudsl_runtime::{arrays, Image};
+
+use crate::{access::ModelFiles, picture};
 
 /// What raw frames' channel files must hold.
 const RAW: &str = "a .npy array of uint16 of shape (4, H, W) or (N, 4, H, W)";
@@ -47,6 +53,7 @@ fn unreadable(error: arrays::ArrayError, expected: &str) -> String {
 /// The channel files of a recording of raw frames.
 #[derive(Debug, Clone)]
 pub struct RawFiles {
+    folder: Arc<Folder>,
     a: PathBuf,
     b: PathBuf,
     pub extent: Extent,
@@ -54,10 +61,11 @@ pub struct RawFiles {
 
 impl RawFiles {
     /// Checks both files' headers: every problem found, each naming its file.
-    pub fn open(a: &Path, b: &Path) -> Result<RawFiles, Vec<FileError>> {
-        let (extent_a, extent_b) = (channel(a), channel(b));
+    pub fn open(files: &ModelFiles, a: &Path, b: &Path) -> Result<RawFiles, Vec<FileError>> {
+        let folder = files.shared(a).map_err(|e| vec![FileError { message: e.to_string(), in_b: false }])?;
+        let (extent_a, extent_b) = (channel(&folder, a), channel(&folder, b));
         match (extent_a, extent_b) {
-            (Ok(ea), Ok(eb)) if ea == eb => Ok(RawFiles { a: a.to_path_buf(), b: b.to_path_buf(), extent: ea }),
+            (Ok(ea), Ok(eb)) if ea == eb => Ok(RawFiles { folder, a: a.to_path_buf(), b: b.to_path_buf(), extent: ea }),
             (Ok(ea), Ok(eb)) => Err(vec![FileError {
                 message: format!(
                     "{} holds {} frame(s) of {}×{}, but {} holds {} of {}×{}: the channels of a recording have one shape",
@@ -81,8 +89,8 @@ impl RawFiles {
 
     /// The first `frames` frames (all of them when there are fewer).
     pub fn load(&self, frames: usize) -> Result<Vec<Image>, String> {
-        let a = channel_values(&self.a)?;
-        let b = channel_values(&self.b)?;
+        let a = channel_values(&self.folder, &self.a)?;
+        let b = channel_values(&self.folder, &self.b)?;
         let Extent { height, width, .. } = self.extent;
         let n = width * height;
         changed_since_opened(&self.a, a.len(), self.extent.frames * 4 * n)?;
@@ -102,8 +110,8 @@ impl RawFiles {
 }
 
 /// A channel file's extent, from its header.
-fn channel(path: &Path) -> Result<Extent, String> {
-    let (shape, dtype) = arrays::header(path).map_err(|e| unreadable(e, RAW))?;
+fn channel(folder: &Folder, path: &Path) -> Result<Extent, String> {
+    let (shape, dtype) = arrays::header(folder, path).map_err(|e| unreadable(e, RAW))?;
     if !dtype.is_integer() || dtype.kind == arrays::Kind::Bool {
         return Err(format!("{} has dtype {dtype}; expected {RAW}", path.display()));
     }
@@ -115,8 +123,8 @@ fn channel(path: &Path) -> Result<Extent, String> {
 }
 
 /// A channel file's values, each a 16-bit value.
-fn channel_values(path: &Path) -> Result<Vec<f32>, String> {
-    let array = arrays::read(path).map_err(|e| unreadable(e, RAW))?;
+fn channel_values(folder: &Folder, path: &Path) -> Result<Vec<f32>, String> {
+    let array = arrays::read(folder, path).map_err(|e| unreadable(e, RAW))?;
     match array.values.iter().position(|v| !(0.0..=65535.0).contains(v)) {
         Some(at) => Err(format!(
             "{} holds {} at index {at}, outside 0..=65535; expected {RAW}",
@@ -130,6 +138,7 @@ fn channel_values(path: &Path) -> Result<Vec<f32>, String> {
 /// A file of depth images: an array or a 16-bit PNG.
 #[derive(Debug, Clone)]
 pub struct DepthFile {
+    folder: Arc<Folder>,
     path: PathBuf,
     png: bool,
     pub extent: Extent,
@@ -137,25 +146,21 @@ pub struct DepthFile {
 
 impl DepthFile {
     /// Checks the file's header.
-    pub fn open(path: &Path) -> Result<DepthFile, String> {
+    pub fn open(files: &ModelFiles, path: &Path) -> Result<DepthFile, String> {
+        let folder = files.shared(path).map_err(|e| e.to_string())?;
         let png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
         let extent = if png {
-            let reader = image::ImageReader::open(path)
-                .map_err(|e| format!("{}: {}; expected {DEPTH}", path.display(), io_message(&e)))?;
-            let reader =
-                reader.with_guessed_format().map_err(|e| format!("{}: {e}; expected {DEPTH}", path.display()))?;
-            let (width, height) =
-                reader.into_dimensions().map_err(|e| format!("{}: {e}; expected {DEPTH}", path.display()))?;
+            let (width, height) = picture::dimensions(&folder, path).map_err(|e| format!("{e}; expected {DEPTH}"))?;
             Extent { frames: 1, height: height as usize, width: width as usize }
         } else {
-            let (shape, _) = arrays::header(path).map_err(|e| unreadable(e, DEPTH))?;
+            let (shape, _) = arrays::header(&folder, path).map_err(|e| unreadable(e, DEPTH))?;
             match shape[..] {
                 [height, width] if height > 0 && width > 0 => Extent { frames: 1, height, width },
                 [frames, height, width] if frames > 0 && height > 0 && width > 0 => Extent { frames, height, width },
                 _ => return Err(format!("{} has shape {}; expected {DEPTH}", path.display(), shape_text(&shape))),
             }
         };
-        Ok(DepthFile { path: path.to_path_buf(), png, extent })
+        Ok(DepthFile { folder, path: path.to_path_buf(), png, extent })
     }
 
     /// The first `frames` images (all when there are fewer) in metres: an array's values as
@@ -163,8 +168,7 @@ impl DepthFile {
     pub fn load(&self, frames: usize, scale: f32) -> Result<Vec<Image>, String> {
         let Extent { height, width, .. } = self.extent;
         let values = if self.png {
-            let image =
-                image::open(&self.path).map_err(|e| format!("{}: {e}; expected {DEPTH}", self.path.display()))?;
+            let image = picture::decode(&self.folder, &self.path).map_err(|e| format!("{e}; expected {DEPTH}"))?;
             match image {
                 image::DynamicImage::ImageLuma16(grey) => grey.into_raw().into_iter().map(f32::from).collect(),
                 image::DynamicImage::ImageLuma8(grey) => grey.into_raw().into_iter().map(f32::from).collect(),
@@ -177,7 +181,7 @@ impl DepthFile {
                 }
             }
         } else {
-            arrays::read(&self.path).map_err(|e| unreadable(e, DEPTH))?.values
+            arrays::read(&self.folder, &self.path).map_err(|e| unreadable(e, DEPTH))?.values
         };
         let scale = if self.png { scale } else { 1.0 };
         let n = width * height;
@@ -203,13 +207,5 @@ fn changed_since_opened(path: &Path, values: usize, expected: usize) -> Result<(
             "{} holds {values} values, not the {expected} it held when the run was prepared: it changed meanwhile",
             path.display()
         )),
-    }
-}
-
-/// An I/O error as a user reads it ("does not exist").
-fn io_message(error: &std::io::Error) -> String {
-    match error.kind() {
-        std::io::ErrorKind::NotFound => "does not exist".to_string(),
-        _ => error.to_string(),
     }
 }

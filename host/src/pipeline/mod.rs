@@ -18,14 +18,12 @@ mod components;
 pub mod data;
 mod error;
 mod files;
-mod output;
 mod preparations;
 mod report;
 mod sizes;
 
 use std::{
     collections::VecDeque,
-    path::Path,
     sync::atomic::{AtomicBool, Ordering},
     thread::{JoinHandle, Scope, ScopedJoinHandle},
     time::{Duration, Instant},
@@ -38,12 +36,12 @@ use gudsl_model::{
 pub(crate) use gudsl_runtime::executor;
 use gudsl_runtime::{Executor, Gpu};
 
+pub use crate::output::OutputDir;
 use apart::{Mode, Processed, Written};
 pub use components::Behaviors;
 use components::{Component, Inputs, Outputs};
 use data::Item;
 pub use error::{ErrorKind, PipelineError};
-pub use output::OutputDir;
 pub use preparations::{model_dir, Preparations};
 pub use report::{summary, table, write_report, PipelineReport, StageTime};
 
@@ -113,18 +111,18 @@ pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
 }
 
 /// Makes the plan's components: each a component of the ToF library or of the workspace (with
-/// the kernels of `behaviors`), with its parameters and the files it reads (relative to
-/// `model_dir`) checked; every problem found, not just the first.
+/// the kernels of `behaviors`), with its parameters and the files it reads (as `files`
+/// allows) checked; every problem found, not just the first.
 pub fn prepare(
     plan: &PipelinePlan,
     behaviors: &Behaviors,
-    model_dir: &Path,
+    files: &ModelFiles,
 ) -> Result<PreparedPipeline, Vec<PipelineError>> {
     let mut errors = Vec::new();
     let mut made = Vec::new();
     for (index, stage) in plan.stages.iter().enumerate() {
         let providers = plan.bindings.iter().filter(|b| b.processor.stage == index).count();
-        match components::make(stage, providers, model_dir, behaviors) {
+        match components::make(stage, providers, files, behaviors) {
             Ok(component) => made.push(Some(component)),
             Err(mut problems) => {
                 errors.append(&mut problems);
@@ -149,7 +147,7 @@ pub fn prepare(
     }
     // Checked even where another stage cannot run (it passes its sizes on), so the editor
     // shows a mismatch beside a component only `run` refuses.
-    errors.extend(sizes::that_cannot_meet(plan, &made, model_dir));
+    errors.extend(sizes::that_cannot_meet(plan, &made, files));
     let frames = made.iter().flatten().filter_map(|c| c.frames()).max().unwrap_or(0);
     if errors.is_empty() && frames == 0 {
         errors.push(PipelineError {
@@ -495,3 +493,4 @@ impl PreparedPipeline {
         PipelineError { kind, stage: stage.map(|s| s.instance.clone()), range: stage.map(|s| s.range), message }
     }
 }
+use crate::access::ModelFiles;

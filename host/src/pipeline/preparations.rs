@@ -11,10 +11,11 @@ use std::{
     path::{Path, PathBuf},
     sync::{
         atomic::{AtomicUsize, Ordering},
-        Mutex,
+        Mutex, RwLock,
     },
-    time::SystemTime,
 };
+
+use gudsl_files::Stamp;
 
 use gudsl_model::{
     hir::{
@@ -25,11 +26,15 @@ use gudsl_model::{
     Analysis, Cancellable, FileId,
 };
 
+use crate::access::{Access, ModelFiles};
+
 use super::{behaviors, prepare, Behaviors, ErrorKind, PipelineError, PreparedPipeline};
 
 /// The pipelines prepared for a model, by diagram (fully qualified).
 #[derive(Default)]
 pub struct Preparations {
+    /// What the pipelines may read.
+    access: RwLock<Access>,
     entries: Mutex<HashMap<String, Entry>>,
     /// How many pipelines were prepared (tests count that typing prepares none again).
     made: AtomicUsize,
@@ -49,40 +54,55 @@ struct Entry {
 struct Key {
     plan: PipelinePlan,
     behaviors: Behaviors,
+    /// Each file it reads with its length and modification time (`None`: missing, unreadable).
     files: Vec<(PathBuf, Option<Stamp>)>,
-}
-
-/// A file as it was: its length and modification time (`None`: missing or unreadable).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Stamp {
-    len: u64,
-    modified: Option<SystemTime>,
 }
 
 impl Key {
     /// The key of `plan` now: its kernels and the state of every file it reads.
-    fn of(plan: &PipelinePlan, behaviors: Behaviors, model_dir: &Path) -> Key {
+    fn of(plan: &PipelinePlan, behaviors: Behaviors, model_files: &ModelFiles) -> Key {
         let texts = plan.stages.iter().flat_map(|stage| &stage.params).filter_map(|param| match &param.value {
-            Value::Text(text) if param.input_file && !text.is_empty() => Some(model_dir.join(text)),
+            Value::Text(text) if param.input_file && !text.is_empty() => Some(model_files.path(text)),
             _ => None,
         });
-        let files = texts
-            .map(|path| {
-                let stamp = std::fs::metadata(&path).ok().map(|m| Stamp { len: m.len(), modified: m.modified().ok() });
-                (path, stamp)
-            })
-            .collect();
+        let files = texts.map(|path| (path.clone(), model_files.stamp(&path))).collect();
         Key { plan: placeless(plan), behaviors, files }
     }
 }
 
 impl Preparations {
+    /// Preparations that read what `access` allows.
+    pub fn new(access: Access) -> Preparations {
+        Preparations { access: RwLock::new(access), ..Preparations::default() }
+    }
+
+    /// From now on read what `access` allows (the editor learns its workspace folders and trust
+    /// after starting); what was prepared under other access is forgotten.
+    pub fn set_access(&self, access: Access) {
+        let mut current = self.access.write().unwrap_or_else(|e| e.into_inner());
+        if *current != access {
+            *current = access;
+            self.entries.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        }
+    }
+
+    /// What access it reads with.
+    pub fn access(&self) -> Access {
+        self.access.read().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
     /// What keeps the pipeline `plan` (one the plan found no problem in) from running, as
     /// diagnostics of its file: E0404 and E0405 at the instance or parameter concerned, else at
     /// the diagram's name. A component the runtime cannot run is not one: the model is right,
-    /// only a run refuses it. Prepared again only when the plan, its kernels or a file changed.
+    /// only a run refuses it. Nothing while the workspace is not trusted (no file is read).
+    /// Prepared again only when the plan, its kernels or a file changed.
     pub fn check(&self, plan: &PipelinePlan, behaviors: Behaviors, model_dir: &Path) -> Vec<Diagnostic> {
-        let key = Key::of(plan, behaviors, model_dir);
+        let access = self.access();
+        if !access.trusted() {
+            return Vec::new();
+        }
+        let files = access.files(model_dir);
+        let key = Key::of(plan, behaviors, &files);
         let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
         let entry = match entries.get_mut(&plan.diagram) {
             Some(entry) if entry.key == key => {
@@ -91,7 +111,7 @@ impl Preparations {
             }
             _ => {
                 self.made.fetch_add(1, Ordering::Relaxed);
-                let prepared = prepare(plan, &key.behaviors, model_dir);
+                let prepared = prepare(plan, &key.behaviors, &files);
                 let entry = Entry { key, placed: plan.clone(), prepared };
                 entries.entry(plan.diagram.clone()).insert_entry(entry).into_mut()
             }
@@ -119,14 +139,15 @@ impl Preparations {
         behaviors: Behaviors,
         model_dir: &Path,
     ) -> Result<PreparedPipeline, Vec<PipelineError>> {
-        let key = Key::of(plan, behaviors, model_dir);
+        let files = self.access().files(model_dir);
+        let key = Key::of(plan, behaviors, &files);
         let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
         match entries.remove(&plan.diagram) {
             Some(mut entry) if entry.key == key => {
                 entry.move_to(plan);
                 entry.prepared
             }
-            _ => prepare(plan, &key.behaviors, model_dir),
+            _ => prepare(plan, &key.behaviors, &files),
         }
     }
 
@@ -217,7 +238,8 @@ fn moved(range: TextRange, from: &PipelinePlan, to: &PipelinePlan) -> TextRange 
 
 /// The folder a model file's relative paths resolve against.
 pub fn model_dir(analysis: &Analysis, file: FileId) -> PathBuf {
-    Path::new(analysis.file_path(file)).parent().unwrap_or(Path::new(".")).to_path_buf()
+    let parent = Path::new(analysis.file_path(file)).parent().filter(|p| !p.as_os_str().is_empty());
+    parent.unwrap_or(Path::new(".")).to_path_buf()
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! source's image size followed down the bindings, each component asked whether the sizes it is
 //! given can meet in it.
 
-use std::{collections::BTreeSet, path::Path};
+use std::collections::BTreeSet;
 
 use gudsl_model::hir::pipeline::PipelinePlan;
 
@@ -10,6 +10,7 @@ use super::{
     components::{self, Component, Size, SizesByPort},
     ErrorKind, PipelineError,
 };
+use crate::access::ModelFiles;
 
 /// Images of sizes that cannot meet (E0405), found by following each source's image size down
 /// the bindings until nothing changes (a filter gives images of the sizes it is given; a stage
@@ -17,7 +18,7 @@ use super::{
 pub fn that_cannot_meet(
     plan: &PipelinePlan,
     made: &[Option<Box<dyn Component>>],
-    model_dir: &Path,
+    files: &ModelFiles,
 ) -> Vec<PipelineError> {
     let arriving = |gives: &[BTreeSet<Size>], index: usize| {
         let mut sizes = SizesByPort::new();
@@ -46,7 +47,7 @@ pub fn that_cannot_meet(
     for (index, (stage, component)) in plan.stages.iter().zip(made).enumerate() {
         let Some(component) = component else { continue };
         if let Err((param, message)) = component.sizes_meet(&arriving(&gives, index)) {
-            let params = components::Params { stage, providers: 0, model_dir };
+            let params = components::Params { stage, providers: 0, files };
             errors.push(params.error(param.unwrap_or(""), ErrorKind::Mismatch, message));
         }
     }

@@ -5,13 +5,11 @@
 //! memory on the runtime's wgpu device, synchronised when the diagram says so), `HCDevicePtr`,
 //! and the C functions of `CPPMethods` (`memcpy`, `rand`, `srand`, `time`, `printf`).
 
-use std::{
-    cell::RefCell,
-    path::{Path, PathBuf},
-    rc::Rc,
-};
+use std::{cell::RefCell, path::PathBuf, rc::Rc};
 
 use gudsl_runtime::Gpu;
+
+use crate::{access::ModelFiles, output::OutputDir, picture};
 
 use super::value::{memory, BufferContainer, ImageContainer, Object, Pointer, QImage, Scalar, Shown, Value, Viewer};
 
@@ -102,7 +100,7 @@ impl Method {
 /// are read from, `rand`'s state, the viewers made so far and what was printed.
 pub struct Framework<'g> {
     pub gpu: &'g Gpu,
-    pub base_dir: PathBuf,
+    pub files: ModelFiles,
     /// `rand`'s state (native loops step it in place: `native/emit.rs`'s `rand`).
     pub rand_state: u32,
     pub viewers: Vec<Rc<RefCell<Object>>>,
@@ -110,8 +108,8 @@ pub struct Framework<'g> {
 }
 
 impl<'g> Framework<'g> {
-    pub fn new(gpu: &'g Gpu, base_dir: PathBuf) -> Framework<'g> {
-        Framework { gpu, base_dir, rand_state: 1, viewers: Vec::new(), printed: Vec::new() }
+    pub fn new(gpu: &'g Gpu, files: ModelFiles) -> Framework<'g> {
+        Framework { gpu, files, rand_state: 1, viewers: Vec::new(), printed: Vec::new() }
     }
 
     /// `rand()`: xorshift32, so that `RAND_MAX` is 2^31 − 1 as glibc's (native loops compute
@@ -207,7 +205,7 @@ impl<'g> Framework<'g> {
         let int = |i: usize| int_arg(args, i);
         match method {
             Method::Load => {
-                *image = load_image(&self.base_dir, &string_arg(args, 0)?)?;
+                *image = load_image(&self.files, &string_arg(args, 0)?)?;
                 Ok(Value::Bool(true))
             }
             Method::ConvertToFormat => {
@@ -298,15 +296,15 @@ impl<'g> Framework<'g> {
     }
 
     /// Writes every viewer's images into `folder` as `viewer<n>-image<i>.png`; the paths.
-    pub fn write_viewers(&self, folder: &Path) -> Result<Vec<PathBuf>, String> {
+    pub fn write_viewers(&self, output: &mut OutputDir) -> Result<Vec<PathBuf>, String> {
         let mut written = Vec::new();
         for viewer in &self.viewers {
             let Object::Viewer(viewer) = &*viewer.borrow() else { continue };
             for (index, shown) in viewer.images.iter().enumerate() {
                 let Some(shown) = shown else { continue };
-                let path = folder.join(format!("viewer{}-image{index}.png", viewer.number));
-                shown.save(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-                written.push(path);
+                let name = format!("viewer{}-image{index}.png", viewer.number);
+                let png = shown.png().map_err(|e| format!("{name}: {e}"))?;
+                written.push(output.write_top(&name, &png)?);
             }
         }
         Ok(written)
@@ -327,7 +325,7 @@ impl Viewer {
 
 impl Shown {
     /// As an opaque PNG (a viewer draws no transparency): RGB, or grey for one channel.
-    fn save(&self, path: &Path) -> Result<(), image::ImageError> {
+    fn png(&self) -> Result<Vec<u8>, image::ImageError> {
         let (bytes, color): (Vec<u8>, image::ExtendedColorType) = match self.channels {
             1 => (self.bytes.clone(), image::ExtendedColorType::L8),
             3 => (self.bytes.clone(), image::ExtendedColorType::Rgb8),
@@ -335,17 +333,24 @@ impl Shown {
                 (self.bytes.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect(), image::ExtendedColorType::Rgb8)
             }
         };
-        image::save_buffer_with_format(path, &bytes, self.width, self.height, color, image::ImageFormat::Png)
+        let mut png = Vec::new();
+        image::write_buffer_with_format(
+            &mut std::io::Cursor::new(&mut png),
+            &bytes,
+            self.width,
+            self.height,
+            color,
+            image::ImageFormat::Png,
+        )?;
+        Ok(png)
     }
 }
 
 /// `QImage::load`: a PNG or JPEG file, relative to the folder of the diagram's file.
-fn load_image(base: &Path, name: &str) -> Result<QImage, String> {
-    let path = base.join(name);
-    let decoded = image::open(&path).map_err(|error| match error {
-        image::ImageError::IoError(io) => format!("cannot read the image {}: {io}", path.display()),
-        other => format!("cannot decode the image {}: {other}", path.display()),
-    })?;
+fn load_image(files: &ModelFiles, name: &str) -> Result<QImage, String> {
+    let path = files.path(name);
+    let folder = files.folder(&path).map_err(|e| format!("cannot read the image {e}"))?;
+    let decoded = picture::decode(folder, &path).map_err(|e| format!("cannot read the image {e}"))?;
     let rgba = decoded.to_rgba8();
     let (width, height) = rgba.dimensions();
     Ok(QImage { width, height, pixels: Rc::new(RefCell::new(rgba.into_raw())) })

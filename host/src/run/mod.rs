@@ -34,7 +34,11 @@ pub use ir::Span;
 pub use report::{summary, write_report};
 pub use value::Value;
 
-use crate::launch::Launcher;
+use crate::{
+    access::{Access, ModelFiles},
+    launch::Launcher,
+    output::OutputDir,
+};
 
 /// A diagram ready to run: lowered, its kernels generated.
 pub struct PreparedRun {
@@ -42,19 +46,20 @@ pub struct PreparedRun {
     kernels: Vec<Kernel>,
     /// The file the diagram is declared in.
     file: SourceFile,
-    /// Where relative file names (`image.load("x.png")`) are found: the diagram file's folder.
-    base_dir: PathBuf,
+    /// What the diagram may read: relative file names (`image.load("x.png")`) from the diagram
+    /// file's folder.
+    files: ModelFiles,
     /// Whether loops of numbers run as machine code (`native/`); else every loop is closures.
     native_loops: bool,
 }
 
-/// Lowers the activity diagram `def` and generates its kernels; or every construct that
-/// cannot run.
-pub fn prepare(sema: &Semantics<'_>, def: &Definition) -> Result<PreparedRun, Vec<RunError>> {
+/// Lowers the activity diagram `def` and generates its kernels, to read files as `access`
+/// allows; or every construct that cannot run.
+pub fn prepare(sema: &Semantics<'_>, def: &Definition, access: &Access) -> Result<PreparedRun, Vec<RunError>> {
     let lowered = lower::lower(sema, def)?;
     let path = def.file.path(sema.db());
-    let base_dir = Path::new(path).parent().map(Path::to_path_buf).unwrap_or_default();
-    Ok(PreparedRun { program: lowered.program, kernels: lowered.kernels, file: def.file, base_dir, native_loops: true })
+    let files = access.files(Path::new(path).parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new(".")));
+    Ok(PreparedRun { program: lowered.program, kernels: lowered.kernels, file: def.file, files, native_loops: true })
 }
 
 /// The GPU a host run launches its kernels on: the first wgpu adapter; else what to install.
@@ -207,7 +212,7 @@ impl PreparedRun {
 
     /// Runs the diagram on `gpu`; the viewer's images are written into `out_dir` (made if
     /// missing) when the run ends, however it ends.
-    pub fn run(&self, gpu: &Gpu, out_dir: &Path, observer: &mut dyn Observer) -> Report {
+    pub fn run(&self, gpu: &Gpu, output: &mut OutputDir, observer: &mut dyn Observer) -> Report {
         let started = Instant::now();
         let mut report = Report {
             diagram: self.program.diagram.clone(),
@@ -244,7 +249,7 @@ impl PreparedRun {
                 return report;
             }
         };
-        let framework = framework::Framework::new(gpu, self.base_dir.clone());
+        let framework = framework::Framework::new(gpu, self.files.clone());
         let mut machine = machine::Machine::new(&self.program, framework, &launchers, observer, self.native_loops);
         report.outcome = machine.run().map_err(|error| {
             let mut error = *error;
@@ -266,9 +271,7 @@ impl PreparedRun {
         report.printed = std::mem::take(&mut machine.framework.printed);
         report.variables =
             self.program.variables.iter().map(|(name, slot)| (name.clone(), machine.frame[*slot].clone())).collect();
-        let written = std::fs::create_dir_all(out_dir)
-            .map_err(|e| format!("{}: {e}", out_dir.display()))
-            .and_then(|()| machine.framework.write_viewers(out_dir));
+        let written = machine.framework.write_viewers(output);
         match written {
             Ok(images) => report.images = images,
             Err(message) if report.outcome.is_ok() => {

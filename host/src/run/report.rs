@@ -1,9 +1,10 @@
 //! What a host run did, for people and scripts: its one-line summary and `report.json`, which
 //! `gudsl run` and the editor's ▶ Run write alike.
 
-use std::{path::Path, time::Duration};
+use std::time::Duration;
 
 use super::{Ending, Report, RunErrorKind};
+use crate::output::OutputDir;
 
 /// One line: how the run ended, in how long, on which device.
 pub fn summary(report: &Report) -> String {
@@ -28,15 +29,12 @@ fn ms(duration: Duration) -> String {
     format!("{:.1} ms", duration.as_secs_f64() * 1000.0)
 }
 
-/// Writes `report.json` into `output` (created if missing); the report as written.
-pub fn write_report(report: &Report, output: &Path) -> Result<serde_json::Value, String> {
+/// Writes `report.json` into `output`; the report as written.
+pub fn write_report(report: &Report, output: &mut OutputDir) -> Result<serde_json::Value, String> {
     let json = report_json(report);
     let text = serde_json::to_string_pretty(&json).expect("a report serialises");
-    let path = output.join("report.json");
-    match std::fs::create_dir_all(output).and_then(|()| std::fs::write(&path, text + "\n")) {
-        Ok(()) => Ok(json),
-        Err(error) => Err(format!("{}: {error}", path.display())),
-    }
+    output.write_top("report.json", (text + "\n").as_bytes())?;
+    Ok(json)
 }
 
 /// `report.json`: what the run did, for scripts.

@@ -124,7 +124,12 @@ pub fn generation(sources: &[(String, String)], name: &str) -> Result<Kernel, Ve
 
 /// The host diagram `name` of these `(path, text)` files, prepared to run.
 pub fn prepared(sources: &[(String, String)], name: &str) -> Result<PreparedRun, Vec<RunError>> {
-    with_diagram(sources, name, prepare)
+    with_diagram(sources, name, |sema, def| prepare(sema, def, &gudsl_host::access::Access::default()))
+}
+
+/// The folder `dir` as a run's output folder (made if missing).
+pub fn output(dir: &std::path::Path) -> gudsl_host::output::OutputDir {
+    gudsl_host::output::OutputDir::for_run(Some(dir), std::path::Path::new("."), "Test").unwrap()
 }
 
 /// The device a benchmark runs on (dispatches timed by the GPU's clock where it has one, when

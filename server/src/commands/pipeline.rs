@@ -7,12 +7,7 @@
 //! diagnostics. Exit code: 0 done, 1 a problem of the model or a failed stage, 2 an input or
 //! output that cannot be read or written, or no device.
 
-use std::{
-    io::IsTerminal,
-    path::{Path, PathBuf},
-    process::ExitCode,
-    sync::atomic::AtomicBool,
-};
+use std::{io::IsTerminal, path::Path, process::ExitCode, sync::atomic::AtomicBool};
 
 use gudsl_host::pipeline::{
     self, summary, table, write_report, ErrorKind, OutputDir, PipelineError, PipelineObserver, PipelineReport,
@@ -78,12 +73,10 @@ pub fn run(
             return super::refuse(&checked, code);
         }
     };
-    let simple = plan.diagram.rsplit('.').next().unwrap_or(&plan.diagram).to_string();
-    let root = args.output.map_or_else(|| PathBuf::from("gudsl-out").join(&simple), Path::to_path_buf);
-    let mut output = match OutputDir::create(&root) {
+    let mut output = match OutputDir::for_run(args.output, Path::new("."), &plan.diagram) {
         Ok(output) => output,
         Err(error) => {
-            eprintln!("gudsl run: cannot create the output folder {}: {error}", root.display());
+            eprintln!("gudsl run: not writing into the output folder: {error}");
             return ExitCode::from(2);
         }
     };

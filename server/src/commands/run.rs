@@ -12,7 +12,7 @@
 use std::{
     collections::HashSet,
     io::{IsTerminal, Write},
-    path::PathBuf,
+    path::{Path, PathBuf},
     process::ExitCode,
     time::{Duration, Instant},
 };
@@ -20,6 +20,7 @@ use std::{
 use clap::Args;
 use gudsl_host::{
     named::{self, Runnable},
+    output::OutputDir,
     run::{summary, write_report, Observer, Report, RunError, RunErrorKind},
 };
 use gudsl_model::{
@@ -40,8 +41,8 @@ pub struct RunArgs {
     /// one diagram that can run.
     #[arg(long)]
     pub(super) diagram: Option<String>,
-    /// Write the outputs and `report.json` into this folder (created if missing; default: for
-    /// a pipeline `gudsl-out/<diagram>/`, for an activity diagram the current folder).
+    /// Write the outputs and `report.json` into this folder (created if missing; refused while
+    /// it holds a link; default: `gudsl-out/<diagram>/`).
     #[arg(short = 'o', long = "output")]
     pub(super) output: Option<PathBuf>,
     /// Run at most this many frames of a pipeline.
@@ -72,9 +73,9 @@ pub fn run(args: &RunArgs) -> ExitCode {
         }
         Ok(Runnable::Activity(fqn)) => fqn,
     };
-    let output = args.output.clone().unwrap_or_else(|| PathBuf::from("."));
     let prepared = analysis.with_semantics(|sema| {
-        named::activity_named(sema, &files, &diagram).map(|def| gudsl_host::run::prepare(sema, def))
+        named::activity_named(sema, &files, &diagram)
+            .map(|def| gudsl_host::run::prepare(sema, def, &preparations.access()))
     });
     let prepared = match answered(prepared) {
         Err(code) => return code,
@@ -92,12 +93,19 @@ pub fn run(args: &RunArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let mut output = match OutputDir::for_run(args.output.as_deref(), Path::new("."), &diagram) {
+        Ok(output) => output,
+        Err(error) => {
+            eprintln!("gudsl run: not writing into the output folder: {error}");
+            return ExitCode::from(2);
+        }
+    };
     eprintln!("running {} on {}", prepared.diagram(), gpu.describe());
     let mut progress = Progress { terminal: std::io::stderr().is_terminal(), rewritten: None, written: HashSet::new() };
-    let report = prepared.run(&gpu, &output, &mut progress);
+    let report = prepared.run(&gpu, &mut output, &mut progress);
     progress.done();
     print_report(&report);
-    if let Err(error) = write_report(&report, &output) {
+    if let Err(error) = write_report(&report, &mut output) {
         eprintln!("gudsl run: {error}");
         return ExitCode::from(2);
     }

@@ -20,6 +20,10 @@ use super::{
     wgsl, CLIENT_ANSWER,
 };
 
+/// Why nothing runs in a workspace the client does not trust.
+const UNTRUSTED: &str =
+    "the workspace is not trusted (Restricted Mode): gudsl runs nothing and reads no file a model names until you trust it";
+
 impl Backend {
     /// A command of `ext::COMMANDS`, done; an unknown command is invalid.
     pub(super) async fn execute(&self, params: lsp::ExecuteCommandParams) -> jsonrpc::Result<Option<lsp::LSPAny>> {
@@ -42,7 +46,7 @@ impl Backend {
         }
     }
 
-    /// Prepares a run on a snapshot, runs it off the message loop with progress, and answers
+    /// Prepares a run on a snapshot (none while the workspace is not trusted), runs it off the message loop with progress, and answers
     /// with the report once it ended (refused, with the problems as `data`, when it cannot
     /// start). `gudsl.run` and `gudsl.runPipeline`.
     pub(super) async fn run(
@@ -51,8 +55,13 @@ impl Backend {
         prepare: fn(&Snapshot, &RunRequest) -> Cancellable<Result<Job, Refusal>>,
         token: Option<lsp::ProgressToken>,
     ) -> jsonrpc::Result<lsp::LSPAny> {
-        let output = request.output.clone();
-        let job = match self.on_snapshot(move |s| prepare(s, &request)).await? {
+        let job = match self
+            .on_snapshot(move |s| match s.preparations.access().trusted() {
+                true => prepare(s, &request),
+                false => Ok(Err(Refusal { message: UNTRUSTED.to_string(), problems: Vec::new() })),
+            })
+            .await?
+        {
             Ok(job) => job,
             Err(refusal) => {
                 let message = format!("gudsl: {}", refusal.message);
@@ -118,10 +127,11 @@ impl Backend {
             Ok(report) => report,
             Err(why) => serde_json::json!({ "diagram": diagram, "error": why }),
         };
-        answer["output"] = serde_json::json!(output.display().to_string());
+        let output = finished.output.display();
+        answer["output"] = serde_json::json!(output.to_string());
         answer["errorLocation"] = serde_json::to_value(&location).unwrap_or_default();
         let (kind, message) = match &finished.failure {
-            None => (lsp::MessageType::INFO, format!("gudsl: {}; output in {}", finished.summary, output.display())),
+            None => (lsp::MessageType::INFO, format!("gudsl: {}; output in {output}", finished.summary)),
             Some(failure) if failure.cancelled => (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary)),
             Some(failure) => {
                 let at =

@@ -3,7 +3,7 @@
 
 use std::{collections::HashMap, sync::Arc};
 
-use gudsl_host::pipeline::Preparations;
+use gudsl_host::{access::Access, pipeline::Preparations};
 use gudsl_model::{
     syntax::{TextRange, TextSize},
     Analysis, AnalysisHost, Cancellable, FileId, InvalidEdit, LineColEdit,
@@ -77,6 +77,13 @@ impl Default for Host {
         }
         drop(snapshot);
         Host { analysis, preparations: Arc::default(), documents: Arc::new(documents) }
+    }
+}
+
+impl Host {
+    /// What the pipelines of the workspace may read (`initialize` sets it).
+    pub fn set_access(&self, access: Access) {
+        self.preparations.set_access(access);
     }
 }
 

@@ -8,16 +8,18 @@ use std::{
     path::PathBuf,
     sync::{
         atomic::{AtomicBool, AtomicU64, Ordering},
-        Arc, Mutex,
+        Arc, Mutex, OnceLock,
     },
     time::Duration,
 };
 
+use gudsl_host::output::OutputDir;
+use gudsl_model::FileId;
 use serde_json::Value;
 use tokio::sync::{mpsc, oneshot};
 use tower_lsp_server::{ls_types as lsp, Client};
 
-use super::lock;
+use super::{host::Snapshot, lock};
 
 /// How often a run's progress is reported at most (nodes and printed text in between are
 /// gathered).
@@ -26,7 +28,8 @@ pub const REPORT_EVERY: Duration = Duration::from_millis(100);
 /// What the command asks for (`frames` and `cpu` apply to pipelines).
 pub struct RunRequest {
     pub diagram: String,
-    pub output: PathBuf,
+    /// The folder the client named for the outputs (default: see [`Destination`]).
+    pub output: Option<PathBuf>,
     /// Run at most this many frames.
     pub frames: Option<usize>,
     /// On the CPU reference instead of the GPU.
@@ -42,15 +45,14 @@ impl RunRequest {
                 "{command} takes a diagram's name or {{\"diagram\": name, \"output\": folder, \"frames\": n, \"cpu\": bool}}"
             )
         };
-        let mut request = RunRequest { diagram: String::new(), output: PathBuf::new(), frames: None, cpu: false };
-        let mut output = None;
+        let mut request = RunRequest { diagram: String::new(), output: None, frames: None, cpu: false };
         match argument {
             Some(Value::String(name)) => request.diagram = name.clone(),
             Some(Value::Object(fields)) => {
                 for (key, value) in fields {
                     match (key.as_str(), value) {
                         ("diagram", Value::String(name)) => request.diagram = name.clone(),
-                        ("output", Value::String(folder)) => output = Some(folder_path(folder)),
+                        ("output", Value::String(folder)) => request.output = Some(folder_path(folder)),
                         ("frames", Value::Number(n)) if n.as_u64().is_some() => {
                             request.frames = n.as_u64().map(|n| n as usize)
                         }
@@ -65,9 +67,50 @@ impl RunRequest {
             }
             _ => return Err(error()),
         }
-        request.output = output.unwrap_or_else(|| std::env::temp_dir().join("gudsl-run").join(&request.diagram));
         Ok(request)
     }
+}
+
+/// Where a run from the editor writes: the folder the client named; else
+/// `gudsl-out/<diagram>` in the workspace folder that holds the model, as `gudsl run` does; else
+/// (a model outside every workspace folder) in a folder of this server's own, made private
+/// (`mkdtemp`, 0700) — never a predictable shared path another user could plant links in.
+#[derive(Debug, Clone)]
+pub struct Destination {
+    named: Option<PathBuf>,
+    anchor: Result<PathBuf, String>,
+    diagram: String,
+}
+
+impl Destination {
+    /// Where the run `request` of a diagram declared in `file` writes.
+    pub fn of(snap: &Snapshot, file: FileId, request: &RunRequest) -> Destination {
+        let model_dir = gudsl_host::pipeline::model_dir(&snap.analysis, file);
+        let anchor = match snap.preparations.access().workspace_of(&model_dir) {
+            Some(workspace) => Ok(workspace),
+            None => private_folder(),
+        };
+        Destination { named: request.output.clone(), anchor, diagram: request.diagram.clone() }
+    }
+
+    /// The output folder, made (on the run's thread: it touches the file system).
+    pub fn create(&self) -> Result<OutputDir, String> {
+        let anchor = self.anchor.as_ref().map_err(|why| format!("no output folder: {why}"))?;
+        OutputDir::for_run(self.named.as_deref(), anchor, &self.diagram)
+            .map_err(|error| format!("not writing into the output folder: {error}"))
+    }
+}
+
+/// This server's private folder for the outputs of models outside the workspace: made once,
+/// readable by its user only, kept when the server stops (the outputs are the user's).
+fn private_folder() -> Result<PathBuf, String> {
+    static FOLDER: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+    FOLDER
+        .get_or_init(|| {
+            let made = tempfile::Builder::new().prefix("gudsl-run-").tempdir();
+            made.map(tempfile::TempDir::keep).map_err(|e| format!("cannot make a private temporary folder: {e}"))
+        })
+        .clone()
 }
 
 /// A folder given as a path or a `file:` URI.
@@ -175,6 +218,8 @@ pub struct Failure {
 pub struct Finished {
     /// One line: how it ended, in how long.
     pub summary: String,
+    /// The folder its outputs were written into.
+    pub output: PathBuf,
     /// `report.json` as written, or why it was not.
     pub report: Result<Value, String>,
     pub failure: Option<Failure>,

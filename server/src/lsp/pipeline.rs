@@ -13,14 +13,14 @@ use std::{
 
 use gudsl_host::{
     named::pipeline_named,
-    pipeline::{self, summary, table, write_report, ErrorKind, OutputDir, PipelineObserver, PreparedPipeline},
+    pipeline::{self, summary, table, write_report, ErrorKind, PipelineObserver, PreparedPipeline},
 };
 use gudsl_model::{Cancellable, FileId};
 use tokio::sync::mpsc;
 
 use super::{
     host::Snapshot,
-    jobs::{Event, Failure, Finished, Job, Refusal, RunRequest, REPORT_EVERY},
+    jobs::{Destination, Event, Failure, Finished, Job, Refusal, RunRequest, REPORT_EVERY},
     run::{self, Places},
 };
 
@@ -52,20 +52,27 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
         }
     };
     let places = Places::of(snap, [plan.file])?;
-    Ok(Ok(job(prepared, fqn, plan.file, places, request)))
+    let destination = Destination::of(snap, plan.file, request);
+    Ok(Ok(job(prepared, fqn, plan.file, places, destination, request)))
 }
 
 /// The run of a prepared pipeline: on the first wgpu adapter with timestamp queries (the CPU
 /// reference with `cpu`, or when there is none), its outputs under the request's folder.
-fn job(mut prepared: PreparedPipeline, diagram: String, file: FileId, places: Places, request: &RunRequest) -> Job {
-    let (output, frames, cpu) = (request.output.clone(), request.frames, request.cpu);
+fn job(
+    mut prepared: PreparedPipeline,
+    diagram: String,
+    file: FileId,
+    places: Places,
+    destination: Destination,
+    request: &RunRequest,
+) -> Job {
+    let (frames, cpu) = (request.frames, request.cpu);
     let work = move |stop: Arc<AtomicBool>, events: mpsc::UnboundedSender<Event>| {
         let gpu = pipeline::gpu(cpu, |error| {
             let _ =
                 events.send(Event::Printed(format!("gudsl: no GPU adapter ({error}); running on the CPU reference")));
         });
-        let mut output_dir = OutputDir::create(&output)
-            .map_err(|error| format!("cannot create the output folder {}: {error}", output.display()))?;
+        let mut output_dir = destination.create()?;
         let mut observer = Frames { events, last: None };
         let report = prepared.run(gpu.as_ref(), &mut output_dir, frames, &mut observer, &stop);
         let report_json = write_report(&report, &mut output_dir).map(|mut json| {
@@ -74,6 +81,7 @@ fn job(mut prepared: PreparedPipeline, diagram: String, file: FileId, places: Pl
         });
         Ok(Finished {
             summary: summary(&report),
+            output: output_dir.path().to_path_buf(),
             report: report_json,
             failure: report.outcome.err().map(|error| Failure {
                 message: error.to_string(),

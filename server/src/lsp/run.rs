@@ -7,7 +7,6 @@
 //! default `<temp>/gudsl-run/<diagram>`.
 
 use std::{
-    path::PathBuf,
     sync::{
         atomic::{AtomicBool, Ordering},
         Arc,
@@ -33,7 +32,7 @@ use tower_lsp_server::ls_types as lsp;
 use super::{
     capabilities::Encoding,
     host::Snapshot,
-    jobs::{Event, Failure, Finished, Job, Refusal, RunRequest, REPORT_EVERY},
+    jobs::{Destination, Event, Failure, Finished, Job, Refusal, RunRequest, REPORT_EVERY},
     to_proto,
 };
 
@@ -123,13 +122,15 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
     }
     let files = workspace_files(snap);
     let prepared = snap.analysis.with_semantics(|sema| {
-        named::activity_named(sema, &files, name).map(|def| gudsl_host::run::prepare(sema, def))
+        named::activity_named(sema, &files, name)
+            .map(|def| gudsl_host::run::prepare(sema, def, &snap.preparations.access()))
     })?;
     let errors = match prepared {
         Err(message) => return Ok(Err(Refusal { message, problems: Vec::new() })),
         Ok(Ok(prepared)) => {
             let places = Places::of(snap, prepared.files())?;
-            return Ok(Ok(activity_job(prepared, places, request.output.clone())));
+            let destination = Destination::of(snap, prepared.files()[0], request);
+            return Ok(Ok(activity_job(prepared, places, destination)));
         }
         Ok(Err(errors)) => errors,
     };
@@ -146,16 +147,18 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
 
 /// The run of a prepared activity diagram: on the first wgpu adapter, `printf` output as log
 /// messages, the node running as progress.
-fn activity_job(prepared: PreparedRun, places: Places, output: PathBuf) -> Job {
+fn activity_job(prepared: PreparedRun, places: Places, destination: Destination) -> Job {
     let diagram = prepared.diagram().to_string();
     let work = move |stop: Arc<AtomicBool>, events: mpsc::UnboundedSender<Event>| {
         let gpu = gudsl_host::run::gpu()?;
+        let mut output = destination.create()?;
         let mut observer = Reporter { events, stop, last: None, printed: String::new() };
-        let report = prepared.run(&gpu, &output, &mut observer);
+        let report = prepared.run(&gpu, &mut output, &mut observer);
         observer.flush();
         Ok(Finished {
             summary: summary(&report),
-            report: write_report(&report, &output),
+            report: write_report(&report, &mut output),
+            output: output.path().to_path_buf(),
             failure: report.outcome.err().map(|error| Failure {
                 message: error.to_string(),
                 cancelled: error.kind == RunErrorKind::Cancelled,

@@ -11,6 +11,7 @@ use std::{
     },
 };
 
+use gudsl_host::access::Access;
 use gudsl_model::{text::ColumnUnit, Cancellable, FileId};
 use tower_lsp_server::{
     jsonrpc::{Error, ErrorCode, Result},
@@ -298,6 +299,8 @@ impl LanguageServer for Backend {
         if roots.is_empty() {
             roots.extend(params.root_uri.as_ref().and_then(from_proto::file_path));
         }
+        let trusted = params.initialization_options.as_ref().and_then(|o| o.get("trusted")).and_then(|t| t.as_bool());
+        lock(&self.host).set_access(Access::new(roots.clone(), trusted.unwrap_or(true)));
         *lock(&self.roots) = roots;
         Ok(lsp::InitializeResult {
             server_info: Some(lsp::ServerInfo {

@@ -18,7 +18,7 @@ mod workspace;
 
 pub use workspace::Behaviors;
 
-use std::{collections::BTreeMap, path::Path};
+use std::collections::BTreeMap;
 
 use gudsl_model::hir::pipeline::{Stage, Value};
 
@@ -27,6 +27,7 @@ use super::{
     executor::{Executor, Reads},
     ErrorKind, OutputDir, PipelineError,
 };
+use crate::access::ModelFiles;
 
 /// What a component sees while it runs.
 pub struct Ctx<'a, 'g> {
@@ -147,10 +148,10 @@ pub trait Component: Send {
 pub fn make(
     stage: &Stage,
     providers: usize,
-    model_dir: &Path,
+    files: &ModelFiles,
     behaviors: &Behaviors,
 ) -> Result<Box<dyn Component>, Vec<PipelineError>> {
-    let params = Params { stage, providers, model_dir };
+    let params = Params { stage, providers, files };
     if let Some(made) = library(&stage.class, &params) {
         return made.map(|component| ports::on_stage_ports(component, stage));
     }
@@ -205,7 +206,7 @@ pub struct Params<'a> {
     pub stage: &'a Stage,
     /// How many bindings feed the stage.
     pub providers: usize,
-    pub model_dir: &'a Path,
+    pub files: &'a ModelFiles,
 }
 
 impl Params<'_> {
@@ -237,7 +238,7 @@ impl Params<'_> {
     /// array of an archive), `None` when empty.
     pub fn file(&self, name: &str) -> Option<std::path::PathBuf> {
         match self.stage.param(name) {
-            Some(Value::Text(text)) if !text.is_empty() => Some(self.model_dir.join(text)),
+            Some(Value::Text(text)) if !text.is_empty() => Some(self.files.path(text)),
             _ => None,
         }
     }

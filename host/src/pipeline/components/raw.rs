@@ -78,7 +78,7 @@ fn frames_of_size(
 
 /// A recording's channel files (`channelA`, `channelB`), each problem at its parameter.
 pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, Vec<PipelineError>> {
-    RawFiles::open(a, b).map_err(|errors| {
+    RawFiles::open(params.files, a, b).map_err(|errors| {
         let at = |e: &files::FileError| if e.in_b { "channelB" } else { "channelA" };
         errors.into_iter().map(|e| params.error(at(&e), ErrorKind::Input, e.message)).collect()
     })
@@ -202,8 +202,12 @@ impl MotionCompensation {
         let rho = params.f32("directionRestriction");
         let calibration = match params.file("phaseCalibration") {
             Some(path) => Some(
-                PhaseCalibration::load(&path)
-                    .map_err(|e| vec![params.error("phaseCalibration", ErrorKind::Input, e.to_string())])?
+                params
+                    .files
+                    .folder(&path)
+                    .map_err(|e| e.to_string())
+                    .and_then(|folder| PhaseCalibration::load(folder, &path).map_err(|e| e.to_string()))
+                    .map_err(|e| vec![params.error("phaseCalibration", ErrorKind::Input, e)])?
                     .coefficients,
             ),
             None => None,

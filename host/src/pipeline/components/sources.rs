@@ -202,7 +202,8 @@ pub struct DepthFile {
 impl DepthFile {
     pub fn new(params: &Params) -> Result<DepthFile, Vec<PipelineError>> {
         let path = params.required_file("path")?;
-        let file = files::DepthFile::open(&path).map_err(|e| vec![params.error("path", ErrorKind::Input, e)])?;
+        let file =
+            files::DepthFile::open(params.files, &path).map_err(|e| vec![params.error("path", ErrorKind::Input, e)])?;
         Ok(DepthFile {
             frames: frames_to_read(params, file.extent)?,
             file,

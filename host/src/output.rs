@@ -1,0 +1,141 @@
+//! The one folder a run writes into, and the one place that decides where it is: the folder
+//! the user named, else `gudsl-out/<diagram>` beneath the folder the run was started from (the
+//! current folder, the editor's workspace folder). It is made without following a link and
+//! refused while it holds one (`gudsl_files::Folder::output`); sinks ask for a file by a name
+//! of their own, reduced to a plain file name, and each file is written as a temporary file
+//! renamed over the name — a link a repository committed there is replaced, never written
+//! through. Every file written is listed for the report.
+
+use std::{
+    path::{Path, PathBuf},
+    sync::Arc,
+};
+
+use gudsl_files::{FileError, Folder};
+
+/// The folder outputs go to when the user names none: `gudsl-out/<diagram's simple name>`.
+pub const DEFAULT_FOLDER: &str = "gudsl-out";
+
+/// The output folder of a run and the files written into it.
+pub struct OutputDir {
+    root: Arc<Folder>,
+    written: Vec<PathBuf>,
+}
+
+impl OutputDir {
+    /// The output folder of a run of `diagram`: `named` when the user named one (made beneath
+    /// its parent), else `gudsl-out/<diagram's simple name>` beneath `anchor`.
+    pub fn for_run(named: Option<&Path>, anchor: &Path, diagram: &str) -> Result<OutputDir, FileError> {
+        let root = match named {
+            Some(path) => named_folder(path)?,
+            None => {
+                let simple = diagram.rsplit('.').next().unwrap_or(diagram);
+                Folder::output(anchor, &Path::new(DEFAULT_FOLDER).join(plain(simple)))?
+            }
+        };
+        Ok(OutputDir { root: Arc::new(root), written: Vec::new() })
+    }
+
+    /// The folder's path.
+    pub fn path(&self) -> &Path {
+        self.root.path()
+    }
+
+    /// Writes `bytes` to the file `name` in the folder `sink` (an instance's name) of the
+    /// output folder; both reduced to plain names (no separators, no `..`).
+    pub fn write(&mut self, sink: &str, name: &str, bytes: &[u8]) -> Result<PathBuf, String> {
+        let folder = self.root.subfolder(&plain(sink)).map_err(|e| format!("cannot write into {e}"))?;
+        let path = folder.write(&plain(name), bytes).map_err(|e| format!("cannot write {e}"))?;
+        Ok(self.listed(path))
+    }
+
+    /// Writes `bytes` to the file `name` (reduced to a plain name) at the top of the folder.
+    pub fn write_top(&mut self, name: &str, bytes: &[u8]) -> Result<PathBuf, String> {
+        let path = self.root.write(&plain(name), bytes).map_err(|e| format!("cannot write {e}"))?;
+        Ok(self.listed(path))
+    }
+
+    fn listed(&mut self, path: PathBuf) -> PathBuf {
+        if !self.written.contains(&path) {
+            self.written.push(path.clone());
+        }
+        path
+    }
+
+    /// The same folder for a writer on another thread: its files listed apart until
+    /// [`OutputDir::absorb`] takes them.
+    pub fn fork(&self) -> OutputDir {
+        OutputDir { root: self.root.clone(), written: Vec::new() }
+    }
+
+    /// The files a fork wrote, listed here.
+    pub fn absorb(&mut self, fork: OutputDir) {
+        for path in fork.written {
+            self.listed(path);
+        }
+    }
+
+    /// The files written so far, in the order first written.
+    pub fn written(&self) -> &[PathBuf] {
+        &self.written
+    }
+}
+
+/// A folder the user named: made beneath its parent (which is the user's and made if missing).
+fn named_folder(path: &Path) -> Result<Folder, FileError> {
+    match (path.parent(), path.file_name()) {
+        (Some(parent), Some(name)) => {
+            let parent = if parent.as_os_str().is_empty() { Path::new(".") } else { parent };
+            Folder::output(parent, Path::new(name))
+        }
+        _ => Folder::output(path, Path::new("")),
+    }
+}
+
+/// `name` as one plain path component: separators and leading dots replaced.
+fn plain(name: &str) -> String {
+    let cleaned: String =
+        name.chars().map(|c| if c == '/' || c == '\\' || c == ':' || c.is_control() { '_' } else { c }).collect();
+    let cleaned = cleaned.trim_start_matches('.');
+    if cleaned.is_empty() {
+        "_".to_string()
+    } else {
+        cleaned.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::{fs, os::unix::fs::symlink};
+
+    use super::*;
+
+    #[test]
+    fn names_stay_inside_the_folder() {
+        assert_eq!(plain("distance_0001.npy"), "distance_0001.npy");
+        assert_eq!(plain("../../etc/passwd"), "_.._etc_passwd");
+        assert_eq!(plain(".."), "_");
+        assert_eq!(plain("C:\\x"), "C__x");
+    }
+
+    #[test]
+    fn a_run_writes_into_gudsl_out_or_the_named_folder_and_never_through_a_link() {
+        let anchor = tempfile::tempdir().unwrap();
+        let mut output = OutputDir::for_run(None, anchor.path(), "Samples.Depth").unwrap();
+        assert_eq!(output.path(), anchor.path().join("gudsl-out/Depth"));
+        let written = output.write("Sink", "d.npy", b"x").unwrap();
+        assert_eq!(written, anchor.path().join("gudsl-out/Depth/Sink/d.npy"));
+        assert_eq!(output.written(), [written]);
+
+        let named = anchor.path().join("elsewhere/out");
+        assert_eq!(OutputDir::for_run(Some(&named), anchor.path(), "P").unwrap().path(), named);
+
+        let victim = anchor.path().join("victim");
+        fs::write(&victim, b"mine").unwrap();
+        fs::create_dir_all(anchor.path().join("gudsl-out/Depth/Sink")).unwrap();
+        symlink(&victim, anchor.path().join("gudsl-out/Depth/Sink/e.npy")).unwrap();
+        let refused = OutputDir::for_run(None, anchor.path(), "Depth").err().unwrap();
+        assert!(refused.to_string().contains("holds links"), "{refused}");
+        assert_eq!(fs::read(&victim).unwrap(), b"mine");
+    }
+}
