@@ -59,6 +59,11 @@ fn a_malformed_message_costs_one_answer_not_the_session() {
         ("batch", frame(br#"[{"jsonrpc":"2.0","id":90,"method":"shutdown"}]"#), -32600),
         ("JSON-RPC 1.0", frame(br#"{"jsonrpc":"1.0","id":91,"method":"shutdown"}"#), -32600),
         ("garbage between frames", b"GET / HTTP/1.1\r\n\r\n".to_vec(), -32700),
+        (
+            "a length of a terabyte",
+            b"Content-Length: 1000000000000\r\n\r\n{\"jsonrpc\":\"2.0\",\"id\":92,\"method\":\"shutdown\"}".to_vec(),
+            -32700,
+        ),
     ];
     for (what, bytes, code) in cases {
         lsp.raw(&bytes);

@@ -48,6 +48,12 @@ impl Access {
         self.roots.iter().find(|root| model_dir.starts_with(root)).cloned()
     }
 
+    /// Whether a file may be written beside the file at `path` (a layout sidecar): beneath a
+    /// workspace folder, or anywhere when no folder was opened (the user opened the file).
+    pub fn may_write_beside(&self, path: &Path) -> bool {
+        self.roots.is_empty() || path.parent().is_some_and(|dir| self.workspace_of(dir).is_some())
+    }
+
     /// The folder a model in `model_dir` reads beneath: its workspace folder, else its own.
     pub fn root_of(&self, model_dir: &Path) -> PathBuf {
         self.workspace_of(model_dir).unwrap_or_else(|| gudsl_files::lexical(model_dir))

@@ -1,5 +1,6 @@
-//! The GU-DSL extension's entry: starts `gudsl lsp`, restarts it when its settings change, and
-//! registers the commands, the status bar item, the diagram panel and the runs.
+//! The GU-DSL extension's entry: starts `gudsl lsp`, restarts it when its settings change or the
+//! workspace is trusted, and registers the commands, the status bar item, the diagram panel and
+//! the runs.
 import * as vscode from 'vscode';
 import { DiagramPanel } from './diagramPanel';
 import { renderDiagram } from './render';
@@ -32,6 +33,8 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
     vscode.workspace.onDidChangeConfiguration((e) => {
       if (e.affectsConfiguration('gudsl.server')) void server!.restart();
     }),
+    // The server learns trust at start (`initializationOptions.trusted`).
+    vscode.workspace.onDidGrantWorkspaceTrust(() => void server!.restart()),
   );
   await server.start();
   output.info(`extension activated in ${Date.now() - started} ms, language server started and initialized (server: ${server.binary?.command}, from ${server.binary?.origin})`);

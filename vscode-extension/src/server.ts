@@ -53,6 +53,9 @@ function createClient(binary: ServerBinary, output: vscode.LogOutputChannel): La
   const clientOptions: LanguageClientOptions = {
     documentSelector: [{ scheme: 'file', language: 'gudsl' }, { scheme: 'untitled', language: 'gudsl' }],
     outputChannel: output,
+    // In Restricted Mode the server reads no file a model names and runs nothing; granting
+    // trust restarts it (extension.ts).
+    initializationOptions: { trusted: vscode.workspace.isTrusted },
     // Errors of the server's start are shown by the extension, with what to do about them.
     initializationFailedHandler: () => false,
     middleware: {

@@ -104,31 +104,18 @@ impl Preparations {
         let files = access.files(model_dir);
         let key = Key::of(plan, behaviors, &files);
         let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
-        let entry = match entries.get_mut(&plan.diagram) {
-            Some(entry) if entry.key == key => {
-                entry.move_to(plan);
-                entry
-            }
-            _ => {
-                self.made.fetch_add(1, Ordering::Relaxed);
-                let prepared = prepare(plan, &key.behaviors, &files);
-                let entry = Entry { key, placed: plan.clone(), prepared };
-                entries.entry(plan.diagram.clone()).insert_entry(entry).into_mut()
-            }
-        };
-        let Err(errors) = &entry.prepared else { return Vec::new() };
-        errors
-            .iter()
-            .filter(|error| error.kind != ErrorKind::NotRunnable)
-            .map(|error| Diagnostic {
-                code: error.code(),
-                severity: Severity::Error,
-                range: error.range.unwrap_or(plan.name_range),
-                message: error.message.clone(),
-                suggestion: None,
-                related: Vec::new(),
-            })
-            .collect()
+        if let Some(entry) = entries.get_mut(&plan.diagram).filter(|entry| entry.key == key) {
+            entry.move_to(plan);
+            return problems(entry, plan);
+        }
+        // Prepared without the lock: a slow file delays this check only, not the others.
+        drop(entries);
+        self.made.fetch_add(1, Ordering::Relaxed);
+        let prepared = prepare(plan, &key.behaviors, &files);
+        let entry = Entry { key, placed: plan.clone(), prepared };
+        let diagnostics = problems(&entry, plan);
+        self.entries.lock().unwrap_or_else(|e| e.into_inner()).insert(plan.diagram.clone(), entry);
+        diagnostics
     }
 
     /// The pipeline `plan` ready to run: the one a check prepared when nothing it depends on
@@ -141,8 +128,8 @@ impl Preparations {
     ) -> Result<PreparedPipeline, Vec<PipelineError>> {
         let files = self.access().files(model_dir);
         let key = Key::of(plan, behaviors, &files);
-        let mut entries = self.entries.lock().unwrap_or_else(|e| e.into_inner());
-        match entries.remove(&plan.diagram) {
+        let taken = self.entries.lock().unwrap_or_else(|e| e.into_inner()).remove(&plan.diagram);
+        match taken {
             Some(mut entry) if entry.key == key => {
                 entry.move_to(plan);
                 entry.prepared
@@ -187,6 +174,24 @@ impl Preparations {
         let behaviors = analysis.with_semantics(|sema| behaviors(sema, plan))?;
         Ok(self.take(plan, behaviors, &model_dir(analysis, plan.file)))
     }
+}
+
+/// What keeps a prepared pipeline from running, as diagnostics placed in `plan`: not that the
+/// runtime cannot run a component (the model is right, only a run refuses it).
+fn problems(entry: &Entry, plan: &PipelinePlan) -> Vec<Diagnostic> {
+    let Err(errors) = &entry.prepared else { return Vec::new() };
+    errors
+        .iter()
+        .filter(|error| error.kind != ErrorKind::NotRunnable)
+        .map(|error| Diagnostic {
+            code: error.code(),
+            severity: Severity::Error,
+            range: error.range.unwrap_or(plan.name_range),
+            message: error.message.clone(),
+            suggestion: None,
+            related: Vec::new(),
+        })
+        .collect()
 }
 
 impl Entry {

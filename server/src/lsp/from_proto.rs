@@ -11,11 +11,12 @@ use tower_lsp_server::ls_types as lsp;
 
 use super::capabilities::Encoding;
 
-/// The path of a `file:` URI; `None` for any other scheme (`untitled:`, a library document),
-/// whose path is no place on disk.
+/// The path of a `file:` URI, normalized (`..` and `.` taken lexically, so `a/..%2F..%2Fb`
+/// is `b`, where a user reading it would look); `None` for any other scheme (`untitled:`, a
+/// library document), whose path is no place on disk. The one place a URI becomes a path.
 pub fn file_path(uri: &lsp::Uri) -> Option<std::path::PathBuf> {
     let path = uri.scheme().as_str().eq_ignore_ascii_case("file").then(|| uri.to_file_path())??;
-    Some(path.into_owned()).filter(|p| p.is_absolute())
+    Some(path.into_owned()).filter(|p| p.is_absolute()).map(|p| gudsl_files::lexical(&p))
 }
 
 fn line_col(position: lsp::Position) -> LineCol {

@@ -88,6 +88,9 @@ pub fn apply_graph_edit(
     let Some(file) = snap.file(uri) else {
         return Ok(Err(format!("{} is not a document of the workspace", uri.as_str())));
     };
+    if snap.is_library(uri) {
+        return Ok(Err(format!("{} is part of gudsl's bundled library, which is read-only", uri.as_str())));
+    }
     let current = version(snap, uri);
     if params.text_document.version != current {
         let what = |v: Option<i32>| v.map_or_else(|| "no version (not open)".to_string(), |v| format!("version {v}"));
@@ -148,6 +151,12 @@ fn save_positions(
             uri.as_str()
         )));
     };
+    if !snap.preparations.access().may_write_beside(&model) {
+        return Ok(Err(format!(
+            "{} lies outside the workspace folders: positions are saved only beside models inside them",
+            model.display()
+        )));
+    }
     let sidecar = layout_file::path_for(&model);
     let _one_at_a_time = SIDECAR.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let mut layout = match layout_file::read(&sidecar) {

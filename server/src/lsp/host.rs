@@ -108,6 +108,11 @@ impl Snapshot {
         self.document(uri).map(|d| d.file).or_else(|| self.documents.library.get(uri.as_str()).copied())
     }
 
+    /// Whether `uri` is a file of the bundled library (read-only).
+    pub fn is_library(&self, uri: &lsp::Uri) -> bool {
+        self.documents.library.contains_key(uri.as_str())
+    }
+
     pub fn uri_of(&self, file: FileId) -> Option<lsp::Uri> {
         self.documents.uris.get(&file).cloned()
     }

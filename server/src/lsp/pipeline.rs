@@ -3,7 +3,8 @@
 //! errors, when its plan has problems (E0401–E0403) or when its files and components do not fit
 //! (E0404, E0405) — on a thread of its own, reporting "frame k of N" as `$/progress`, stopping
 //! between frames when cancelled, and answering with `report.json` and the stages' table. The
-//! outputs go to the folder the command names, by default `<temp>/gudsl-run/<diagram>`. What
+//! outputs go to the folder the command names, by default `gudsl-out/<diagram>` in the model's
+//! workspace folder (`jobs::Destination`). What
 //! runs is the pipeline the diagnostics prepared (`Preparations`), when nothing changed since.
 
 use std::{

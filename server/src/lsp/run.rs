@@ -4,7 +4,7 @@
 //! reported as `$/progress`, `printf` output as log messages; the run stops between nodes when
 //! the client cancels the progress (`window/workDoneProgress/cancel`) or the request
 //! (`$/cancelRequest`). Viewer images and `report.json` go to the folder the command names, by
-//! default `<temp>/gudsl-run/<diagram>`.
+//! default `gudsl-out/<diagram>` in the model's workspace folder (`jobs::Destination`).
 
 use std::{
     sync::{

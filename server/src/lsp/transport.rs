@@ -26,7 +26,13 @@ pub(super) enum Frame {
     Body(Vec<u8>),
     /// Bytes that are no frame (skipped up to the next header).
     Garbage,
+    /// A header declaring more than [`MAX_MESSAGE_BYTES`]: its body is skipped as garbage.
+    TooLong(usize),
 }
+
+/// The longest message read (a document of the 16 MiB a model file may hold, JSON-escaped,
+/// fits many times): a header declaring more is answered as malformed, not waited for.
+pub(super) const MAX_MESSAGE_BYTES: usize = 256 << 20;
 
 /// Splits a byte stream into frames: `Content-Length: N` (any case, among other headers), an
 /// empty line, N bytes. It never gives up: whatever is not a frame is reported and skipped.
@@ -44,6 +50,7 @@ enum Scanned {
     Junk,
     /// A header whose length is not a number: one bad frame.
     BadHeader,
+    TooLong(usize),
     Body(Vec<u8>),
 }
 
@@ -68,6 +75,11 @@ impl Frames {
                     return Some(Frame::Garbage);
                 }
                 Scanned::BadHeader => return Some(Frame::Garbage),
+                Scanned::TooLong(length) => {
+                    // What follows is its body: skipped as garbage, reported with this answer.
+                    self.skipping = true;
+                    return Some(Frame::TooLong(length));
+                }
                 Scanned::Body(body) => {
                     self.skipping = false;
                     return Some(Frame::Body(body));
@@ -104,6 +116,10 @@ impl Frames {
             self.buffer.drain(..body_start);
             return Some(Scanned::BadHeader);
         };
+        if length > MAX_MESSAGE_BYTES {
+            self.buffer.drain(..body_start);
+            return Some(Scanned::TooLong(length));
+        }
         if self.buffer.len() < body_start + length {
             return None;
         }
@@ -294,6 +310,11 @@ pub(super) async fn serve(
                 Frame::Garbage => {
                     Verdict::Answer(error(Value::Null, PARSE_ERROR, "bytes that are no LSP frame were skipped"))
                 }
+                Frame::TooLong(length) => Verdict::Answer(error(
+                    Value::Null,
+                    PARSE_ERROR,
+                    &format!("a message of {length} bytes, more than the {MAX_MESSAGE_BYTES} read: skipped"),
+                )),
             };
             match verdict {
                 Verdict::Answer(body) => {
