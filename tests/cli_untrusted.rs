@@ -128,3 +128,58 @@ fn inputs_outside_the_workspace_the_servers_streams_fifos_and_devices_are_refuse
         }
     }
 }
+
+/// A `.npz` member `(frames, 4, height, width)` of uint16 zeros, deflated: a few hundred
+/// kilobytes on disk that claim `frames × 4 × height × width × 2` bytes.
+fn zeros_npz(path: &Path, frames: usize, height: usize, width: usize) {
+    use std::io::Write;
+    let mut header = format!("{{'descr': '<u2', 'fortran_order': False, 'shape': ({frames}, 4, {height}, {width}), }}");
+    header.push_str(&" ".repeat(63 - (10 + header.len()) % 64));
+    header.push('\n');
+    let mut zip = zip::ZipWriter::new(std::fs::File::create(path).unwrap());
+    let options =
+        zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated).large_file(true);
+    zip.start_file("a.npy", options).unwrap();
+    zip.write_all(b"\x93NUMPY\x01\x00").unwrap();
+    zip.write_all(&(header.len() as u16).to_le_bytes()).unwrap();
+    zip.write_all(header.as_bytes()).unwrap();
+    let frame = vec![0u8; 4 * height * width * 2];
+    for _ in 0..frames {
+        zip.write_all(&frame).unwrap();
+    }
+    zip.finish().unwrap();
+}
+
+/// The most memory any child of this test process has held, in bytes.
+fn children_peak_memory() -> u64 {
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    assert_eq!(unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) }, 0);
+    usage.ru_maxrss as u64 * 1024
+}
+
+#[test]
+fn a_run_of_one_frame_reads_one_frame_of_a_recording_however_large_it_claims_to_be() {
+    let repo = temp_dir("untrusted-zeros");
+    // 2 048 frames of 4 × 128 × 128: 256 MiB of uint16 a channel (1 GiB as the f32 it became).
+    zeros_npz(&repo.join("zeros.npz"), 2048, 128, 128);
+    let on_disk = std::fs::metadata(repo.join("zeros.npz")).unwrap().len();
+    assert!(on_disk < 2 << 20, "{on_disk} bytes on disk");
+    let model = model("").replace(
+        "Source instantiates DepthFile (path = \"\")\n    {\n        Out : DepthOut ( provider depth = IDepthImageProvider() );",
+        "Source instantiates RawFrameFile (channelA = \"zeros.npz\", channelB = \"zeros.npz\")\n    {\n        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Demod.In.frame ]\n    }\n    Demod instantiates Demodulation ( )\n    {\n        In : RawIn ( processor frame = IRawFrameProcessor() );\n        Out : DepthOut ( provider depth = IDepthImageProvider() );",
+    );
+    assert!(model.contains("RawFrameFile"), "{model}");
+    std::fs::write(repo.join("model.gudsl"), model).unwrap();
+
+    let started = Instant::now();
+    let out = run_within(gudsl().args(["run", "model.gudsl", "--cpu", "--frames", "1"]), &repo, 60);
+    assert_eq!(out.status.code(), Some(0), "{}{}", text(&out.stdout), text(&out.stderr));
+    assert!(
+        text(&out.stdout).contains("(1 frames)") || text(&out.stdout).contains("(1 frame)"),
+        "{}",
+        text(&out.stdout)
+    );
+    let peak = children_peak_memory();
+    assert!(peak < 300 << 20, "a run of one frame held {} MiB", peak >> 20);
+    assert!(started.elapsed() < Duration::from_secs(20), "took {:?}", started.elapsed());
+}

@@ -194,3 +194,41 @@ fn the_vs_code_extension_lets_no_workspace_name_a_program_or_a_folder() {
     let extension = std::fs::read_to_string(root.join("src/extension.ts")).unwrap();
     assert!(extension.contains("onDidGrantWorkspaceTrust"), "granting trust restarts the server");
 }
+
+/// The CPU time the process `pid` has used, in seconds.
+fn cpu_seconds(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap().split_whitespace().collect();
+    // utime and stime: the 14th and 15th fields, the 12th and 13th after the command's name.
+    let ticks: f64 = fields[11].parse::<f64>().unwrap() + fields[12].parse::<f64>().unwrap();
+    ticks / 100.0
+}
+
+#[test]
+fn a_cancelled_run_stops_inside_its_frame_instead_of_computing_on() {
+    let ws = cli::temp_dir("lsp-cancel-inside");
+    // One frame of 1024 × 1024 pixels of 8 × 8 rays: about a billion ray casts, many seconds.
+    let model = "ComponentInstanceDiagram Big\n{\n    import ToF.*;\n    Camera instantiates SimulatedCamera (frames = 1, width = 1024, height = 1024, supersampling = 8)\n    {\n        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Demod.In.frame ]\n    }\n    Demod instantiates Demodulation ( )\n    {\n        In : RawIn ( processor frame = IRawFrameProcessor() );\n    }\n}\n";
+    let file = ws.join("big.gudsl");
+    std::fs::write(&file, model).unwrap();
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&ws));
+    lsp.open(&uri(&file), model);
+    let run = json!({"command": "gudsl.runPipeline", "arguments": [{"diagram": "Big", "cpu": true}]});
+    lsp.send(&json!({"jsonrpc": "2.0", "id": 500, "method": "workspace/executeCommand", "params": run}));
+    std::thread::sleep(Duration::from_secs(3));
+    let pid = lsp.child.id();
+    let (before, still) = (cpu_seconds(pid), Instant::now());
+    std::thread::sleep(Duration::from_millis(500));
+    let busy = (cpu_seconds(pid) - before) / still.elapsed().as_secs_f64();
+    assert!(busy > 0.5, "the frame is being simulated ({busy:.2} of a core)");
+
+    lsp.notify("$/cancelRequest", json!({"id": 500}));
+    let answer = lsp.response_to(&json!(500));
+    assert!(answer["error"].is_object(), "{answer}");
+    std::thread::sleep(Duration::from_millis(500));
+    let (after, since) = (cpu_seconds(pid), Instant::now());
+    std::thread::sleep(Duration::from_secs(1));
+    let busy = (cpu_seconds(pid) - after) / since.elapsed().as_secs_f64();
+    assert!(busy < 0.2, "half a second after the cancel the server still computes {busy:.2} of a core");
+}

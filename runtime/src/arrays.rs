@@ -80,7 +80,7 @@ impl ArrayError {
         ArrayError { path: path.to_path_buf(), kind, message: message.into() }
     }
 
-    fn io(path: &Path, error: io::Error) -> ArrayError {
+    pub(crate) fn io(path: &Path, error: io::Error) -> ArrayError {
         let message = match error.kind() {
             io::ErrorKind::NotFound => "does not exist".to_string(),
             io::ErrorKind::UnexpectedEof => "is truncated: it holds fewer values than its shape says".to_string(),
@@ -135,35 +135,54 @@ pub fn header(folder: &Folder, path: &Path) -> Result<(Vec<usize>, Dtype), Array
 
 /// The array at `path` (a `.npy` file or `archive.npz[:name]` beneath `folder`).
 pub fn read(folder: &Folder, path: &Path) -> Result<Array, ArrayError> {
-    with_array(folder, path, |file, path| {
-        let shape = shape_of(&file);
-        let dtype = dtype_of(&file, path)?;
-        let fortran = file.order() == Order::Fortran;
-        let values = values(file, dtype).map_err(|e| ArrayError::io(path, e))?;
-        let values = if fortran { to_c_order(&values, &shape) } else { values };
-        Ok(Array { shape, values, dtype })
-    })
+    with_array(folder, path, array_of)
+}
+
+/// The array in `bytes`, read as the file `path` would be (`.npy`, or `archive.npz[:name]`):
+/// what the fuzz target feeds, with no file in between.
+pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<Array, ArrayError> {
+    with_stream(io::Cursor::new(bytes), bytes.len() as u64, &Source::parse(path), array_of)
+}
+
+/// The values of an array whose header `file` has read, in C order.
+fn array_of(file: NpyFile<&mut dyn Read>, path: &Path) -> Result<Array, ArrayError> {
+    let shape = shape_of(&file);
+    let dtype = dtype_of(&file, path)?;
+    let fortran = file.order() == Order::Fortran;
+    let values = values(file, dtype).map_err(|e| ArrayError::io(path, e))?;
+    let values = if fortran { to_c_order(&values, &shape) } else { values };
+    Ok(Array { shape, values, dtype })
 }
 
 /// Opens the array at `path` beneath `folder` (a regular file of at most [`MAX_ARRAY_BYTES`])
 /// and hands its reader (positioned after the header) to `f`.
-fn with_array<T>(
+pub(crate) fn with_array<T>(
     folder: &Folder,
     path: &Path,
     f: impl FnOnce(NpyFile<&mut dyn Read>, &Path) -> Result<T, ArrayError>,
 ) -> Result<T, ArrayError> {
     let source = Source::parse(path);
     let opened = folder.open_file(&source.file, MAX_ARRAY_BYTES).map_err(ArrayError::file)?;
-    let (mut file, length) = (opened.file, opened.len);
+    with_stream(opened.file, opened.len, &source, f)
+}
+
+/// The array `source` names in `stream` (`length` bytes: a `.npy` file or a `.npz` archive),
+/// its reader (positioned after the header) handed to `f`.
+fn with_stream<T>(
+    mut stream: impl Read + io::Seek,
+    length: u64,
+    source: &Source,
+    f: impl FnOnce(NpyFile<&mut dyn Read>, &Path) -> Result<T, ArrayError>,
+) -> Result<T, ArrayError> {
     if !source.is_archive() {
-        let mut reader = io::BufReader::new(&mut file);
+        let mut reader = io::BufReader::new(&mut stream);
         let header = header_checked(&mut reader, &source.file)?;
         let mut reader = io::Cursor::new(header).chain(reader);
         let npy = NpyFile::new(&mut reader as &mut dyn Read).map_err(|e| not_npy(&source.file, e))?;
         claims_what_it_holds(&npy, &source.file, length)?;
         return f(npy, &source.file);
     }
-    let mut archive = zip::ZipArchive::new(io::BufReader::new(file))
+    let mut archive = zip::ZipArchive::new(io::BufReader::new(stream))
         .map_err(|e| ArrayError::invalid(&source.file, format!("is not a .npz archive ({e})")))?;
     let names: Vec<String> = archive.file_names().filter_map(|n| n.strip_suffix(".npy")).map(str::to_string).collect();
     let member = match (&source.member, &names[..]) {
@@ -265,11 +284,11 @@ fn not_npy(path: &Path, error: io::Error) -> ArrayError {
     ArrayError::invalid(path, format!("is not a NumPy array file ({error})"))
 }
 
-fn shape_of<R: Read>(file: &NpyFile<R>) -> Vec<usize> {
+pub(crate) fn shape_of<R: Read>(file: &NpyFile<R>) -> Vec<usize> {
     file.shape().iter().map(|&d| d as usize).collect()
 }
 
-fn dtype_of<R: Read>(file: &NpyFile<R>, path: &Path) -> Result<Dtype, ArrayError> {
+pub(crate) fn dtype_of<R: Read>(file: &NpyFile<R>, path: &Path) -> Result<Dtype, ArrayError> {
     let unsupported =
         || ArrayError::invalid(path, format!("has dtype {}: not a number", file.dtype().descr().trim_matches('\'')));
     let DType::Plain(ty) = file.dtype() else { return Err(unsupported()) };
@@ -290,28 +309,63 @@ fn dtype_of<R: Read>(file: &NpyFile<R>, path: &Path) -> Result<Dtype, ArrayError
 }
 
 /// The values as f32 (integers beyond 2^24 round).
-fn values<R: Read>(file: NpyFile<R>, dtype: Dtype) -> io::Result<Vec<f32>> {
-    fn all<T: npyz::Deserialize, R: Read>(file: NpyFile<R>, to: impl Fn(T) -> f32) -> io::Result<Vec<f32>> {
-        Ok(file.into_vec::<T>()?.into_iter().map(to).collect())
+pub(crate) fn values<R: Read>(file: NpyFile<R>, dtype: Dtype) -> io::Result<Vec<f32>> {
+    let mut all = Vec::new();
+    chunks_of(file, dtype, usize::MAX, &mut |chunk| {
+        all = chunk;
+        false
+    })?;
+    Ok(all)
+}
+
+/// The values of `file` in chunks of `chunk` (the last may be shorter), each handed to `sink`
+/// as it is read; stops when `sink` says so (returns `false`). Memory: one chunk.
+pub(crate) fn chunks_of<R: Read>(
+    file: NpyFile<R>,
+    dtype: Dtype,
+    chunk: usize,
+    sink: &mut dyn FnMut(Vec<f32>) -> bool,
+) -> io::Result<()> {
+    fn typed<T: npyz::Deserialize, R: Read>(
+        file: NpyFile<R>,
+        to: impl Fn(T) -> f32,
+        chunk: usize,
+        sink: &mut dyn FnMut(Vec<f32>) -> bool,
+    ) -> io::Result<()> {
+        let total = file.shape().iter().product::<u64>() as usize;
+        let mut values = file.data::<T>().map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e.to_string()))?;
+        let mut left = total;
+        while left > 0 {
+            let size = chunk.min(left);
+            let mut out = Vec::with_capacity(size);
+            for value in values.by_ref().take(size) {
+                out.push(to(value?));
+            }
+            left -= size;
+            if !sink(out) {
+                break;
+            }
+        }
+        Ok(())
     }
     match (dtype.kind, dtype.bytes) {
-        (Kind::Bool, _) => all(file, |v: bool| f32::from(u8::from(v))),
-        (Kind::Int, 1) => all(file, |v: i8| v as f32),
-        (Kind::Int, 2) => all(file, |v: i16| v as f32),
-        (Kind::Int, 4) => all(file, |v: i32| v as f32),
-        (Kind::Int, _) => all(file, |v: i64| v as f32),
-        (Kind::Uint, 1) => all(file, |v: u8| v as f32),
-        (Kind::Uint, 2) => all(file, |v: u16| v as f32),
-        (Kind::Uint, 4) => all(file, |v: u32| v as f32),
-        (Kind::Uint, _) => all(file, |v: u64| v as f32),
-        (Kind::Float, 2) => all(file, |v: npyz::half::f16| v.to_f32()),
-        (Kind::Float, 4) => all(file, |v: f32| v),
-        (Kind::Float, _) => all(file, |v: f64| v as f32),
+        (Kind::Bool, _) => typed(file, |v: bool| f32::from(u8::from(v)), chunk, sink),
+        (Kind::Int, 1) => typed(file, |v: i8| v as f32, chunk, sink),
+        (Kind::Int, 2) => typed(file, |v: i16| v as f32, chunk, sink),
+        (Kind::Int, 4) => typed(file, |v: i32| v as f32, chunk, sink),
+        (Kind::Int, _) => typed(file, |v: i64| v as f32, chunk, sink),
+        (Kind::Uint, 1) => typed(file, |v: u8| v as f32, chunk, sink),
+        (Kind::Uint, 2) => typed(file, |v: u16| v as f32, chunk, sink),
+        (Kind::Uint, 4) => typed(file, |v: u32| v as f32, chunk, sink),
+        (Kind::Uint, _) => typed(file, |v: u64| v as f32, chunk, sink),
+        (Kind::Float, 2) => typed(file, |v: npyz::half::f16| v.to_f32(), chunk, sink),
+        (Kind::Float, 4) => typed(file, |v: f32| v, chunk, sink),
+        (Kind::Float, _) => typed(file, |v: f64| v as f32, chunk, sink),
     }
 }
 
 /// Values stored in Fortran order (first index fastest) in C order (last index fastest).
-fn to_c_order(values: &[f32], shape: &[usize]) -> Vec<f32> {
+pub(crate) fn to_c_order(values: &[f32], shape: &[usize]) -> Vec<f32> {
     let mut out = vec![0.0; values.len()];
     let mut index = vec![0usize; shape.len()];
     for value in out.iter_mut() {

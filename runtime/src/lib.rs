@@ -10,6 +10,7 @@ pub mod camera;
 pub mod error;
 pub mod executor;
 pub mod exposure;
+pub mod frame_stream;
 pub mod gpu;
 pub mod image;
 pub mod kernels;

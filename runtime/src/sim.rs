@@ -423,6 +423,19 @@ pub fn surface_points(
 
 /// Simulates frame number `index` of a sequence (its phase images are steps `4·index … 4·index+3`).
 pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) -> Frame {
+    simulate_unless(scene, motion, camera, index, &|| false).expect("never stopped")
+}
+
+/// [`simulate`], giving up (`None`) as soon as `stopped` says so — asked once a row, so a run
+/// cancelled in a large frame stops within a row's work. Memory: 84 bytes a pixel, whatever
+/// the supersampling (sub-pixel rays are made as they are cast).
+pub fn simulate_unless(
+    scene: &Scene,
+    motion: Motion,
+    camera: &Camera,
+    index: usize,
+    stopped: &dyn Fn() -> bool,
+) -> Option<Frame> {
     let k = camera.intrinsics;
     let (w, h) = (k.width, k.height);
     let n = w * h;
@@ -441,14 +454,11 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
     let tap_gain: Vec<f32> = (0..2 * n).map(|_| 1.0 + camera.gain_spread * gains.gaussian()).collect();
     let wavelength_phase = 4.0 * PI * camera.modulation_hz / SPEED_OF_LIGHT;
     let ss = camera.supersampling.max(1);
-    let rays: Vec<[f32; 3]> = (0..n * ss * ss)
-        .map(|j| {
-            let (pixel, sub) = (j / (ss * ss), j % (ss * ss));
-            let u = (pixel % w) as f32 + ((sub % ss) as f32 + 0.5) / ss as f32 - 0.5;
-            let v = (pixel / w) as f32 + ((sub / ss) as f32 + 0.5) / ss as f32 - 0.5;
-            k.ray(u, v)
-        })
-        .collect();
+    let sub_ray = |pixel: usize, sub: usize| {
+        let u = (pixel % w) as f32 + ((sub % ss) as f32 + 0.5) / ss as f32 - 0.5;
+        let v = (pixel / w) as f32 + ((sub / ss) as f32 + 0.5) / ss as f32 - 0.5;
+        k.ray(u, v)
+    };
     let first = pose(motion, 4 * index);
     for pixel in 0..n {
         let (origin, dir) = world_ray(camera, first, k.ray((pixel % w) as f32, (pixel / w) as f32));
@@ -458,9 +468,12 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
         let step = pose(motion, 4 * index + phase);
         let offset = phase as f32 * PI / 2.0;
         for pixel in 0..n {
+            if pixel % w == 0 && stopped() {
+                return None;
+            }
             let (mut sum, mut modulated) = (0.0f32, 0.0f32);
             for sub in 0..ss * ss {
-                let (origin, dir) = world_ray(camera, step, rays[pixel * ss * ss + sub]);
+                let (origin, dir) = world_ray(camera, step, sub_ray(pixel, sub));
                 if let Some((t, reflectivity, cos)) = scene.hit(origin, dir) {
                     let signal = camera.gain * camera.integration_us * reflectivity * cos / (t * t);
                     sum += signal;
@@ -479,5 +492,5 @@ pub fn simulate(scene: &Scene, motion: Motion, camera: &Camera, index: usize) ->
             }
         }
     }
-    Frame { raw, black, truth }
+    Some(Frame { raw, black, truth })
 }

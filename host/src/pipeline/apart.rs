@@ -5,6 +5,7 @@
 //! on, joined when a stage needs what it gives.
 
 use std::{
+    sync::atomic::AtomicBool,
     thread::{JoinHandle, Scope, ScopedJoinHandle},
     time::{Duration, Instant},
 };
@@ -26,6 +27,10 @@ pub enum Mode {
     ProcessesApart,
 }
 
+/// The cancellation a stage apart sees: none. Its frame finishes (it is joined before the run
+/// ends); a cancelled run stops before the next stage and the next frame.
+static NOT_CANCELLED: AtomicBool = AtomicBool::new(false);
+
 /// What an `async` sink's writer thread hands back.
 pub struct Written {
     pub component: Box<dyn Component>,
@@ -46,7 +51,7 @@ pub fn write(
     std::thread::spawn(move || {
         let started = Instant::now();
         let mut device = Executor::new(None);
-        let mut ctx = Ctx { device: &mut device, stage, frame, output: &mut output };
+        let mut ctx = Ctx { device: &mut device, stage, frame, output: &mut output, cancel: &NOT_CANCELLED };
         let result = component.finish_frame(&mut ctx, &reads).map(|_| ());
         Written { component, output, took: started.elapsed(), result }
     })
@@ -77,7 +82,7 @@ pub fn process<'scope, 'g: 'scope>(
 ) -> ScopedJoinHandle<'scope, Processed<'g>> {
     scope.spawn(move || {
         let started = Instant::now();
-        let mut ctx = Ctx { device: &mut device, stage, frame, output: &mut output };
+        let mut ctx = Ctx { device: &mut device, stage, frame, output: &mut output, cancel: &NOT_CANCELLED };
         let mut kernel_times = Vec::new();
         let result = component.process(&mut ctx, &inputs).and_then(|given| {
             let (reads, times) = ctx.device.end_frame().map_err(|e| format!("frame {frame}: {e}"))?;

@@ -3,7 +3,7 @@
 //! into the runtime's 8-plane frames (`A0 B0 A1 B1 A2 B2 A3 B3`). Depth images: an array of
 //! (H, W) or (N, H, W) values, or one 16-bit PNG. Arrays are `.npy` files or members of `.npz`
 //! archives (`gudsl_runtime::arrays`). Opening reads the headers only — what the editor checks
-//! as the model is typed —, loading reads the values when a run starts. Every problem is a
+//! as the model is typed —; a run reads the values a frame at a time as it asks for them. Every problem is a
 //! message naming the file and what was expected.
 
 use std::{
@@ -12,7 +12,11 @@ use std::{
 };
 
 use gudsl_files::Folder;
-use gudsl_runtime::{arrays, Image};
+use gudsl_runtime::{
+    arrays,
+    frame_stream::{FrameStream, FramesWanted},
+    Image,
+};
 
 use crate::{access::ModelFiles, picture};
 
@@ -87,25 +91,51 @@ impl RawFiles {
         }
     }
 
-    /// The first `frames` frames (all of them when there are fewer).
-    pub fn load(&self, frames: usize) -> Result<Vec<Image>, String> {
-        let a = channel_values(&self.folder, &self.a)?;
-        let b = channel_values(&self.folder, &self.b)?;
+    /// The first `frames` frames (all of them when there are fewer), read one at a time as
+    /// the run asks for them (`FrameStream`).
+    pub fn frames(&self, frames: usize) -> RawFrames {
+        let Extent { height, width, .. } = self.extent;
+        let wanted = || FramesWanted {
+            frame_values: 4 * width * height,
+            frames: frames.min(self.extent.frames),
+            expected: self.extent.frames * 4 * width * height,
+        };
+        RawFrames {
+            a: FrameStream::open(self.folder.clone(), &self.a, wanted()),
+            b: FrameStream::open(self.folder.clone(), &self.b, wanted()),
+            paths: [self.a.clone(), self.b.clone()],
+            extent: self.extent,
+            next: 0,
+        }
+    }
+}
+
+/// A recording's frames as they are read.
+pub struct RawFrames {
+    a: FrameStream,
+    b: FrameStream,
+    paths: [PathBuf; 2],
+    extent: Extent,
+    /// The index of the next frame.
+    next: usize,
+}
+
+impl RawFrames {
+    /// The next frame: planes `A0 B0 A1 B1 A2 B2 A3 B3`.
+    pub fn next_frame(&mut self) -> Result<Image, String> {
+        let frame = self.next;
+        self.next += 1;
+        let [a, b] = [&self.a, &self.b].map(|stream| stream.next_frame());
+        let a = sixteen_bits(a.map_err(|e| unreadable(e, RAW))?, &self.paths[0], frame)?;
+        let b = sixteen_bits(b.map_err(|e| unreadable(e, RAW))?, &self.paths[1], frame)?;
         let Extent { height, width, .. } = self.extent;
         let n = width * height;
-        changed_since_opened(&self.a, a.len(), self.extent.frames * 4 * n)?;
-        changed_since_opened(&self.b, b.len(), self.extent.frames * 4 * n)?;
-        Ok((0..frames.min(self.extent.frames))
-            .map(|f| {
-                let mut raw = Image::zeros(width, height, 8);
-                for phase in 0..4 {
-                    let from = (f * 4 + phase) * n;
-                    raw.plane_mut(2 * phase).copy_from_slice(&a[from..from + n]);
-                    raw.plane_mut(2 * phase + 1).copy_from_slice(&b[from..from + n]);
-                }
-                raw
-            })
-            .collect())
+        let mut raw = Image::zeros(width, height, 8);
+        for phase in 0..4 {
+            raw.plane_mut(2 * phase).copy_from_slice(&a[phase * n..(phase + 1) * n]);
+            raw.plane_mut(2 * phase + 1).copy_from_slice(&b[phase * n..(phase + 1) * n]);
+        }
+        Ok(raw)
     }
 }
 
@@ -122,16 +152,15 @@ fn channel(folder: &Folder, path: &Path) -> Result<Extent, String> {
     }
 }
 
-/// A channel file's values, each a 16-bit value.
-fn channel_values(folder: &Folder, path: &Path) -> Result<Vec<f32>, String> {
-    let array = arrays::read(folder, path).map_err(|e| unreadable(e, RAW))?;
-    match array.values.iter().position(|v| !(0.0..=65535.0).contains(v)) {
+/// A frame of a channel file whose values are 16-bit values.
+fn sixteen_bits(values: Vec<f32>, path: &Path, frame: usize) -> Result<Vec<f32>, String> {
+    match values.iter().position(|v| !(0.0..=65535.0).contains(v)) {
         Some(at) => Err(format!(
-            "{} holds {} at index {at}, outside 0..=65535; expected {RAW}",
+            "{} holds {} at index {at} of frame {frame}, outside 0..=65535; expected {RAW}",
             path.display(),
-            array.values[at]
+            values[at]
         )),
-        None => Ok(array.values),
+        None => Ok(values),
     }
 }
 
@@ -163,38 +192,65 @@ impl DepthFile {
         Ok(DepthFile { folder, path: path.to_path_buf(), png, extent })
     }
 
-    /// The first `frames` images (all when there are fewer) in metres: an array's values as
-    /// they are, a PNG's times `scale`.
-    pub fn load(&self, frames: usize, scale: f32) -> Result<Vec<Image>, String> {
+    /// The first `frames` images (all when there are fewer) in metres, read one at a time:
+    /// an array's values as they are, a PNG's times `scale`.
+    pub fn frames(&self, frames: usize, scale: f32) -> DepthFrames {
         let Extent { height, width, .. } = self.extent;
-        let values = if self.png {
-            let image = picture::decode(&self.folder, &self.path).map_err(|e| format!("{e}; expected {DEPTH}"))?;
-            match image {
-                image::DynamicImage::ImageLuma16(grey) => grey.into_raw().into_iter().map(f32::from).collect(),
-                image::DynamicImage::ImageLuma8(grey) => grey.into_raw().into_iter().map(f32::from).collect(),
-                other => {
-                    return Err(format!(
-                        "{} is a {:?} PNG; expected a greyscale PNG of 16 (or 8) bits",
-                        self.path.display(),
-                        other.color()
-                    ))
-                }
-            }
-        } else {
-            arrays::read(&self.folder, &self.path).map_err(|e| unreadable(e, DEPTH))?.values
+        let source = match self.png {
+            true => Depths::Picture(Some(self.folder.clone())),
+            false => Depths::Array(FrameStream::open(
+                self.folder.clone(),
+                &self.path,
+                FramesWanted {
+                    frame_values: width * height,
+                    frames: frames.min(self.extent.frames),
+                    expected: self.extent.frames * width * height,
+                },
+            )),
         };
-        let scale = if self.png { scale } else { 1.0 };
-        let n = width * height;
-        changed_since_opened(&self.path, values.len(), self.extent.frames * n)?;
-        Ok((0..frames.min(self.extent.frames))
-            .map(|f| {
-                let mut depth = Image::zeros(width, height, 1);
-                for (to, from) in depth.data.iter_mut().zip(&values[f * n..(f + 1) * n]) {
-                    *to = from * scale;
-                }
-                depth
-            })
-            .collect())
+        DepthFrames { source, path: self.path.clone(), extent: self.extent, scale }
+    }
+}
+
+/// A file's depth images as they are read.
+pub struct DepthFrames {
+    source: Depths,
+    path: PathBuf,
+    extent: Extent,
+    scale: f32,
+}
+
+enum Depths {
+    /// A PNG's one image, decoded when it is asked for (`None` once it was).
+    Picture(Option<Arc<Folder>>),
+    Array(FrameStream),
+}
+
+impl DepthFrames {
+    /// The next depth image, in metres.
+    pub fn next_frame(&mut self) -> Result<Image, String> {
+        let values = match &mut self.source {
+            Depths::Array(stream) => stream.next_frame().map_err(|e| unreadable(e, DEPTH))?,
+            Depths::Picture(folder) => {
+                let folder = folder.take().ok_or_else(|| format!("{} holds one image", self.path.display()))?;
+                let values = picture_values(&folder, &self.path)?;
+                values.into_iter().map(|v| v * self.scale).collect()
+            }
+        };
+        let Extent { height, width, .. } = self.extent;
+        changed_since_opened(&self.path, values.len(), width * height)?;
+        Ok(Image { width, height, planes: 1, data: values })
+    }
+}
+
+/// A greyscale PNG's values (16 or 8 bits).
+fn picture_values(folder: &Folder, path: &Path) -> Result<Vec<f32>, String> {
+    match picture::decode(folder, path).map_err(|e| format!("{e}; expected {DEPTH}"))? {
+        image::DynamicImage::ImageLuma16(grey) => Ok(grey.into_raw().into_iter().map(f32::from).collect()),
+        image::DynamicImage::ImageLuma8(grey) => Ok(grey.into_raw().into_iter().map(f32::from).collect()),
+        other => {
+            Err(format!("{} is a {:?} PNG; expected a greyscale PNG of 16 (or 8) bits", path.display(), other.color()))
+        }
     }
 }
 

@@ -70,6 +70,7 @@ struct At<'a, 'g> {
     output: &'a mut OutputDir,
     times: &'a mut [StageTime],
     frame: usize,
+    cancel: &'a AtomicBool,
 }
 
 /// A plan with a component for each stage, ready to run.
@@ -265,7 +266,7 @@ impl PreparedPipeline {
                     format!("cancelled after {frame} of {frames} frames"),
                 ));
             }
-            let mut at = At { device, devices: &mut devices, queues: &mut queues, output, times, frame };
+            let mut at = At { device, devices: &mut devices, queues: &mut queues, output, times, frame, cancel };
             let reads = std::thread::scope(|scope| {
                 let mut running = Vec::new();
                 let mut outcome = self.stages(scope, &mut at, &mut running).and_then(|()| {
@@ -298,7 +299,7 @@ impl PreparedPipeline {
                     Mode::InOrder => {}
                 }
                 let started = Instant::now();
-                let mut ctx = components::Ctx { device, stage: index, frame, output };
+                let mut ctx = components::Ctx { device, stage: index, frame, output, cancel };
                 let produced = self.components[index]
                     .as_mut()
                     .expect("joined")
@@ -337,6 +338,14 @@ impl PreparedPipeline {
                 None => waiting.remove(0), // a cycle the plan reported: it cannot run anyway
             };
             let frame = at.frame;
+            if at.cancel.load(Ordering::Relaxed) {
+                let stage = &self.plan.stages[index].instance;
+                return Err(self.error(
+                    None,
+                    ErrorKind::Cancelled,
+                    format!("cancelled in frame {frame}, before {stage}"),
+                ));
+            }
             let inputs = self.take_inputs(index, at.queues, frame);
             self.join(index, at.output, &mut at.times[index])?;
             let component = self.components[index].as_mut().expect("joined");
@@ -355,10 +364,17 @@ impl PreparedPipeline {
                 continue;
             }
             let started = Instant::now();
-            let mut ctx = components::Ctx { device: at.device, stage: index, frame, output: at.output };
-            let produced = component
-                .process(&mut ctx, &inputs)
-                .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
+            let mut ctx =
+                components::Ctx { device: at.device, stage: index, frame, output: at.output, cancel: at.cancel };
+            let produced =
+                component.process(&mut ctx, &inputs).map_err(|message| match at.cancel.load(Ordering::Relaxed) {
+                    // Work that gave up because the run was cancelled (the simulator, inside a frame).
+                    true => {
+                        let stage = &self.plan.stages[index].instance;
+                        self.error(None, ErrorKind::Cancelled, format!("cancelled in frame {frame}, in {stage}"))
+                    }
+                    false => self.error(Some(index), ErrorKind::Failed, message),
+                })?;
             at.times[index].host += started.elapsed();
             self.deliver(at.device, index, produced, at.queues, frame, false);
             done[index] = true;

@@ -18,7 +18,7 @@ mod workspace;
 
 pub use workspace::Behaviors;
 
-use std::collections::BTreeMap;
+use std::{collections::BTreeMap, sync::atomic::AtomicBool};
 
 use gudsl_model::hir::pipeline::{Stage, Value};
 
@@ -36,6 +36,9 @@ pub struct Ctx<'a, 'g> {
     pub stage: usize,
     pub frame: usize,
     pub output: &'a mut OutputDir,
+    /// Set when the run is cancelled: long work inside a frame asks it (the simulator, a row at
+    /// a time).
+    pub cancel: &'a AtomicBool,
 }
 
 /// The items that arrived on a stage's processor ports this frame, by port.

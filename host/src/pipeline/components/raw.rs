@@ -98,7 +98,7 @@ impl Component for BlackImageCorrection {
 
     fn load(&mut self) -> Result<(), String> {
         if let Some(files) = &self.files {
-            self.black = files.load(1)?.pop();
+            self.black = Some(files.frames(1).next_frame()?);
         }
         Ok(())
     }

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use gudsl_runtime::{
     camera::{pose_from, Intrinsics},
-    sim::{simulate, Camera, Motion, Scene},
+    sim::{simulate_unless, Camera, Motion, Scene},
 };
 
 use gudsl_runtime::Image;
@@ -109,7 +109,9 @@ impl Component for Simulated {
             }
         }
         let scene = if ctx.frame < self.empty_frames { &self.empty } else { &self.scene };
-        let frame = simulate(scene, self.motion, &self.camera, ctx.frame);
+        let cancelled = || ctx.cancel.load(std::sync::atomic::Ordering::Relaxed);
+        let frame = simulate_unless(scene, self.motion, &self.camera, ctx.frame, &cancelled)
+            .ok_or_else(|| format!("cancelled while simulating frame {}", ctx.frame))?;
         let raw = ctx.device.upload(&mut self.raw, &frame.raw);
         let black = self.gives_black.then(|| ctx.device.upload(&mut self.black, &frame.black));
         Ok(vec![(
@@ -146,7 +148,8 @@ pub struct RawFrameFile {
     files: RawFiles,
     frames: usize,
     integration_us: f32,
-    loaded: Vec<Image>,
+    /// The frames as they are read, once the run started.
+    reading: Option<files::RawFrames>,
     raw: BufferSlot,
 }
 
@@ -162,7 +165,7 @@ impl RawFrameFile {
             frames: frames_to_read(params, files.extent)?,
             files,
             integration_us: params.f32("integrationTime"),
-            loaded: Vec::new(),
+            reading: None,
             raw: BufferSlot::default(),
         })
     }
@@ -178,13 +181,14 @@ impl Component for RawFrameFile {
     }
 
     fn load(&mut self) -> Result<(), String> {
-        self.loaded = self.files.load(self.frames)?;
+        self.reading = Some(self.files.frames(self.frames));
         Ok(())
     }
 
     fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
-        let Some(frame) = self.loaded.get(ctx.frame) else { return Ok(Vec::new()) };
-        let raw = ctx.device.upload(&mut self.raw, frame);
+        let Some(reading) = self.reading.as_mut().filter(|_| ctx.frame < self.frames) else { return Ok(Vec::new()) };
+        let frame = reading.next_frame()?;
+        let raw = ctx.device.upload(&mut self.raw, &frame);
         let frame = RawFrame { raw, black: None, truth: None, integration_us: self.integration_us };
         Ok(vec![("RawOut".to_string(), Data::Raw(frame))])
     }
@@ -195,7 +199,8 @@ pub struct DepthFile {
     file: files::DepthFile,
     frames: usize,
     scale: f32,
-    loaded: Vec<Image>,
+    /// The images as they are read, once the run started.
+    reading: Option<files::DepthFrames>,
     slots: [BufferSlot; 3],
 }
 
@@ -208,7 +213,7 @@ impl DepthFile {
             frames: frames_to_read(params, file.extent)?,
             file,
             scale: params.f32("scale"),
-            loaded: Vec::new(),
+            reading: None,
             slots: Default::default(),
         })
     }
@@ -224,12 +229,13 @@ impl Component for DepthFile {
     }
 
     fn load(&mut self) -> Result<(), String> {
-        self.loaded = self.file.load(self.frames, self.scale)?;
+        self.reading = Some(self.file.frames(self.frames, self.scale));
         Ok(())
     }
 
     fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
-        let Some(distance) = self.loaded.get(ctx.frame) else { return Ok(Vec::new()) };
+        let Some(reading) = self.reading.as_mut().filter(|_| ctx.frame < self.frames) else { return Ok(Vec::new()) };
+        let distance = &reading.next_frame()?;
         let zeros = Image::zeros(distance.width, distance.height, 1);
         let [d, a, i] = &mut self.slots;
         let depth = DepthImage {
