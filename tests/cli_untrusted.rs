@@ -183,3 +183,21 @@ fn a_run_of_one_frame_reads_one_frame_of_a_recording_however_large_it_claims_to_
     assert!(peak < 300 << 20, "a run of one frame held {} MiB", peak >> 20);
     assert!(started.elapsed() < Duration::from_secs(20), "took {:?}", started.elapsed());
 }
+
+#[test]
+fn root_names_the_folder_a_models_files_are_read_beneath() {
+    let outside = temp_dir("untrusted-data");
+    arrays::write(&outside.join("depth.npy"), &[2, 2], &[7.0; 4], arrays::Dtype::F32).unwrap();
+    let named = outside.join("depth.npy").display().to_string();
+    let repo = repository("untrusted-root", &named);
+    let refused = run_within(gudsl().args(["check", "model.gudsl"]), &repo, 20);
+    assert_eq!(refused.status.code(), Some(1), "{}", text(&refused.stdout));
+    assert!(text(&refused.stdout).contains("lies outside"), "{}", text(&refused.stdout));
+    let data = std::env::temp_dir();
+    let root = data.to_str().unwrap();
+    let checked = run_within(gudsl().args(["check", "model.gudsl", "--root", root]), &repo, 20);
+    assert_eq!(checked.status.code(), Some(0), "{}", text(&checked.stdout));
+    let ran = run_within(gudsl().args(["run", "model.gudsl", "--cpu", "--root", root]), &repo, 60);
+    assert_eq!(ran.status.code(), Some(0), "{}", text(&ran.stderr));
+    assert!(repo.join("gudsl-out/P/Writer/distance_0000.npy").is_file(), "outputs stay in the current folder");
+}

@@ -29,6 +29,10 @@ pub struct CheckArgs {
     /// Exit with 1 when there are warnings, not only when there are errors.
     #[arg(long)]
     deny_warnings: bool,
+    /// Read the files models name only beneath this folder (default: the current folder; a
+    /// model outside it reads beneath its own folder).
+    #[arg(long, value_name = "DIR")]
+    root: Option<PathBuf>,
 }
 
 pub fn run(args: &CheckArgs) -> ExitCode {
@@ -36,7 +40,9 @@ pub fn run(args: &CheckArgs) -> ExitCode {
     let loaded = workspace::load(&paths);
     // The documents form one workspace.
     let (host, files) = workspace::analysis_host(&loaded.documents);
-    let Some(report) = diagnose(loaded, &host.analysis(), &files, &Preparations::default()) else {
+    let Some(report) =
+        diagnose(loaded, &host.analysis(), &files, &Preparations::new(super::access(args.root.as_deref())))
+    else {
         eprintln!("gudsl check: the analysis was cancelled");
         return ExitCode::from(2);
     };

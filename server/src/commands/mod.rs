@@ -12,9 +12,12 @@ pub mod wgsl;
 #[cfg(test)]
 mod tests;
 
-use std::{path::PathBuf, process::ExitCode};
+use std::{
+    path::{Path, PathBuf},
+    process::ExitCode,
+};
 
-use gudsl_host::pipeline::Preparations;
+use gudsl_host::{access::Access, pipeline::Preparations};
 use gudsl_model::{
     analysis::FileId,
     hir::{DiagnosticCode, Severity},
@@ -25,6 +28,12 @@ use crate::{
     report::{self, Color, Format},
     workspace,
 };
+
+/// What a command's models may read: the files beneath `root` (`--root`), else beneath the
+/// current folder (a model outside it: beneath its own folder; `docs/security.md`).
+pub fn access(root: Option<&Path>) -> Access {
+    Access::new(vec![root.unwrap_or(Path::new(".")).to_path_buf()], true)
+}
 
 /// A model loaded and checked without errors: its files, the report of its warnings, and the
 /// pipelines the check prepared.
@@ -38,11 +47,11 @@ pub struct Checked {
 /// The files under `paths`, loaded into one workspace and checked; or, when a path could not be
 /// read (exit code 2), the model has errors (1) or a file a pipeline reads is missing or
 /// malformed (E0404, 2), the exit code after printing why `command` does nothing.
-pub fn checked_model(paths: &[PathBuf], command: &str) -> Result<Checked, ExitCode> {
+pub fn checked_model(paths: &[PathBuf], root: Option<&Path>, command: &str) -> Result<Checked, ExitCode> {
     let loaded = workspace::load(paths);
     let unreadable = !loaded.errors.is_empty();
     let (host, files) = workspace::analysis_host(&loaded.documents);
-    let preparations = Preparations::default();
+    let preparations = Preparations::new(access(root));
     let Some(report) = check::diagnose(loaded, &host.analysis(), &files, &preparations) else {
         eprintln!("gudsl {command}: the analysis was cancelled");
         return Err(ExitCode::from(2));

@@ -45,6 +45,10 @@ pub struct RunArgs {
     /// it holds a link; default: `gudsl-out/<diagram>/`).
     #[arg(short = 'o', long = "output")]
     pub(super) output: Option<PathBuf>,
+    /// Read the files models name only beneath this folder (default: the current folder; a
+    /// model outside it reads beneath its own folder).
+    #[arg(long, value_name = "DIR")]
+    pub(super) root: Option<PathBuf>,
     /// Run at most this many frames of a pipeline.
     #[arg(long)]
     pub(super) frames: Option<usize>,
@@ -54,10 +58,11 @@ pub struct RunArgs {
 }
 
 pub fn run(args: &RunArgs) -> ExitCode {
-    let Checked { host, files, report: mut checked, preparations } = match super::checked_model(&args.paths, "run") {
-        Ok(checked) => checked,
-        Err(code) => return code,
-    };
+    let Checked { host, files, report: mut checked, preparations } =
+        match super::checked_model(&args.paths, args.root.as_deref(), "run") {
+            Ok(checked) => checked,
+            Err(code) => return code,
+        };
     let analysis = host.analysis();
     let chosen = analysis.with_semantics(|sema| named::runnable(sema, &files, args.diagram.as_deref()));
     let diagram = match answered(chosen) {

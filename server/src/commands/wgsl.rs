@@ -25,7 +25,7 @@ pub struct WgslArgs {
 
 pub fn run(args: &WgslArgs) -> ExitCode {
     // The check reports what cannot be generated (E0301) with the model's other problems.
-    let checked = match super::checked_model(&args.paths, "wgsl") {
+    let checked = match super::checked_model(&args.paths, None, "wgsl") {
         Ok(checked) => checked,
         Err(code) => return code,
     };
