@@ -10,12 +10,17 @@ requests of every kind the server offers at random positions (many in flight), a
 closed and reopened now and then, and every few seconds a malformed message (not JSON, not
 UTF-8, a batch, JSON-RPC 1.0, a fractional id, bytes outside any frame, a `$/` request). Every
 two seconds the server's copy of every open document (`gudsl/viewFileText`) is compared with
-the client's. At the end: shutdown, exit, and the exit code.
+the client's. A hostile model (issue 48) is edited among the rest: its files are set, one edit
+at a time, to the server's own streams, a FIFO, links to `/dev/zero` and out of the workspace,
+headers that claim exabytes, a real array; its graph is asked for over a FIFO sidecar and it is
+run, with a link planted in its output folder. At the end: shutdown, exit, the exit code, and
+the file that link points at, unchanged.
 
 Prints the counts; exits 1 on a lost answer, a divergence, a panic (the server logs one when a
-request panics), a malformed message left unanswered, or a crash."""
+request panics), a malformed message left unanswered, a crash, or a write through a link."""
 
 import asyncio
+import os
 import random
 import shutil
 import sys
@@ -49,6 +54,49 @@ MALFORMED = [
     b"garbage that is no frame at all\r\n",
     frame(b'{"jsonrpc":"2.0","id":"m2","method":"$/unknown"}'),
 ]
+
+
+HOSTILE_PATHS = [
+    "/dev/stdin", "/dev/stdout", "/dev/stderr", "/dev/zero", "fifo.npy", "zero.npy", "passwd.npy", "huge.npy",
+    "overflow.npy", "../../../../../etc/passwd", "missing.npy", "depth.npy", "depth.npy",
+]
+
+HOSTILE_MODEL = """ComponentInstanceDiagram Hostile
+{
+    import ToF.*;
+    Source instantiates DepthFile (path = "depth.npy")
+    {
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Writer.In.depth ]
+    }
+    Writer instantiates NpyWriter ( )
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+}
+"""
+
+
+def npy(descr, shape, body=b""):
+    header = "{'descr': '%s', 'fortran_order': False, 'shape': %s, }" % (descr, shape)
+    header += " " * (63 - (10 + len(header)) % 64) + "\n"
+    return b"\x93NUMPY\x01\x00" + len(header).to_bytes(2, "little") + header.encode() + body
+
+
+def plant_hostile_files(folder, victim):
+    """The files a hostile repository holds beside its model; `victim` stands for a file of the
+    user's that a link in the output folder points at."""
+    os.mkfifo(folder / "fifo.npy")
+    os.symlink("/dev/zero", folder / "zero.npy")
+    os.symlink("/etc/passwd", folder / "passwd.npy")
+    (folder / "huge.npy").write_bytes(npy("<f4", "(4294967296, 4294967296, 1)"))
+    (folder / "overflow.npy").write_bytes(npy("<f4", "(4294967296, 4294967296, 16)"))
+    (folder / "depth.npy").write_bytes(npy("<f4", "(2, 3)", bytes(24)))
+    os.mkfifo(folder / "hostile.gudsl.layout")
+    (folder / "hostile.gudsl").write_text(HOSTILE_MODEL)
+    planted = folder / "gudsl-out" / "Hostile" / "Writer"
+    planted.mkdir(parents=True)
+    os.symlink(victim, planted / "distance_0000.npy")
 
 
 def line_endings(text, style, rng):
@@ -89,7 +137,11 @@ async def main(gudsl, minutes, seed):
     rng = random.Random(seed)
     root = Path(tempfile.mkdtemp(prefix="gudsl-soak-"))
     shutil.copytree(ROOT / "samples", root / "samples", ignore=shutil.ignore_patterns("rendered"))
+    victim = root / "victim"
+    victim.write_text("the user's own file\n")
+    plant_hostile_files(root / "samples", victim)
     paths = sorted((root / "samples").rglob("*.gudsl"))
+    hostile = (root / "samples" / "hostile.gudsl").as_uri()
     client = await start_server(gudsl, root)
     proc = client.proc
 
@@ -150,7 +202,27 @@ async def main(gudsl, minutes, seed):
         method = kind if kind.startswith("workspace/") else f"textDocument/{kind}"
         track(client.request(method, params), kind)
 
+    def hostile_edit(uri):
+        """The hostile model's file set to another hostile path."""
+        text, version = docs[uri]
+        start = text.index('path = "') + len('path = "')
+        end = text.index('"', start)
+        new = rng.choice(HOSTILE_PATHS)
+        change = {"range": {"start": position(text, start), "end": position(text, end)}, "text": new}
+        docs[uri] = [text[:start] + new + text[end:], version + 1]
+        client.notify("textDocument/didChange", {"textDocument": {"uri": uri, "version": version + 1}, "contentChanges": [change]})
+        counts["hostile edits"] += 1
+
+    def hostile_request(uri):
+        if rng.random() < 0.5:
+            track(client.request("gudsl/graph", {"textDocument": {"uri": uri}, "diagram": "Hostile"}), "gudsl/graph")
+        else:
+            run = {"command": "gudsl.runPipeline", "arguments": [{"diagram": "Hostile", "cpu": True}]}
+            track(client.request("workspace/executeCommand", run), "runPipeline")
+
     def random_edit(uri):
+        if uri == hostile:
+            return hostile_edit(uri)
         text, version = docs[uri]
         changes = []
         for _ in range(rng.choice([1, 1, 1, 2, 3])):
@@ -182,6 +254,8 @@ async def main(gudsl, minutes, seed):
         roll = rng.random()
         if roll < 0.55:
             random_edit(uri)
+        elif uri == hostile and roll < 0.65:
+            hostile_request(uri)
         elif roll < 0.995:
             random_request(uri)
         else:
@@ -216,7 +290,8 @@ async def main(gudsl, minutes, seed):
     unanswered_malformed = counts["malformed messages"] - len(client.unsolicited_errors)
     elapsed = (time.monotonic() - start) / 60
     print(f"soak of {elapsed:.1f} minutes, seed {seed}, {len(paths)} documents (line endings {dict(styles)})")
-    for name in ["edits", "requests sent", "requests answered", "text checks", "divergences", "malformed messages",
+    overwritten = victim.read_text() != "the user's own file\n"
+    for name in ["edits", "hostile edits", "requests sent", "requests answered", "text checks", "divergences", "malformed messages",
                  "closed and reopened"]:
         print(f"  {name:<24} {counts[name]}")
     by_code = Counter((e or {}).get("code") for e in client.unsolicited_errors)
@@ -224,9 +299,10 @@ async def main(gudsl, minutes, seed):
     print(f"  {'lost answers':<24} {lost}")
     print(f"  {'panics logged':<24} {panics}")
     print(f"  {'crashed':<24} {crashed}")
+    print(f"  {'written through a link':<24} {overwritten}")
     print(f"  {'exit code':<24} {code}")
     print("  request errors by kind and code: " + ", ".join(f"{k}/{c}: {n}" for (k, c), n in sorted(errors.items(), key=str)))
-    failed = crashed or lost or panics or counts["divergences"] or code != 0 or unanswered_malformed != 0
+    failed = crashed or lost or panics or counts["divergences"] or code != 0 or unanswered_malformed != 0 or overwritten
     return 1 if failed else 0
 
 
