@@ -13,8 +13,8 @@
 mod cli;
 
 use cli::{gudsl, repo, temp_dir};
+use gudsl_formats::arrays;
 use gudsl_runtime::{
-    arrays,
     camera::Intrinsics,
     listings,
     sim::{simulate, Camera, Motion, Scene},

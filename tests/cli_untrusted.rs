@@ -14,7 +14,7 @@ use std::{
 };
 
 use cli::{gudsl, temp_dir};
-use gudsl_runtime::arrays;
+use gudsl_formats::arrays;
 
 /// Runs `command` in `dir`, failing the test if it takes longer than `seconds` (a hang).
 fn run_within(command: &mut Command, dir: &Path, seconds: u64) -> Output {

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use gudsl_runtime::arrays;
+use gudsl_formats::arrays;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -1,6 +1,7 @@
 //! Fuzz target: any input parses without panicking into a lossless tree with in-range errors.
 #![no_main]
 
+use gudsl_model::ast::HasName;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

@@ -2,7 +2,7 @@
 //! never a panic or an abort.
 #![no_main]
 
-use gudsl_runtime::ply;
+use gudsl_formats::ply;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {

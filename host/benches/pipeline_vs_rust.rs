@@ -34,6 +34,7 @@ use std::{
     time::{Duration, Instant},
 };
 
+use gudsl_formats::arrays;
 use gudsl_host::{
     access::Access,
     pipeline::{self, OutputDir, PipelineObserver},
@@ -44,7 +45,6 @@ use gudsl_model::{
     library,
 };
 use gudsl_runtime::{
-    arrays,
     camera::Intrinsics,
     sim::{simulate, Camera, Motion, Scene},
     ChainRun, Gpu, Image, Kernel, Pipeline, Shape,
@@ -189,7 +189,7 @@ fn rust_scan(gpu: &Gpu, width: usize, height: usize, out: &Path) -> Duration {
     let (points, normals) = scan::accumulate(&mut cameras, 1..6);
     std::fs::create_dir_all(out).unwrap();
     let mut file = std::io::BufWriter::new(std::fs::File::create(out.join("cloud.ply")).unwrap());
-    gudsl_runtime::ply::write(&mut file, &points, &normals, "gudsl").unwrap();
+    gudsl_formats::ply::write(&mut file, &points, &normals, "gudsl").unwrap();
     drop(file);
     started.elapsed()
 }

@@ -62,7 +62,7 @@ fn architecture_names_every_top_level_module() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let architecture = std::fs::read_to_string(root.join("ARCHITECTURE.md")).unwrap();
     let mut missing = Vec::new();
-    for krate in ["codegen", "files", "host", "model", "server", "render", "runtime"] {
+    for krate in ["codegen", "files", "formats", "host", "model", "server", "render", "runtime"] {
         for entry in std::fs::read_dir(root.join(krate).join("src")).unwrap().flatten() {
             let name = entry.file_name().to_string_lossy().into_owned();
             if ["lib.rs", "main.rs"].contains(&name.as_str()) {
@@ -443,11 +443,23 @@ fn crates_depend_on_each_other_as_architecture_draws() {
     let expected = [
         ("model", vec![]),
         ("files", vec![]),
-        ("runtime", vec!["gudsl-files"]),
+        ("formats", vec!["gudsl-files"]),
+        ("runtime", vec!["gudsl-files", "gudsl-formats"]),
         ("codegen", vec!["gudsl-model"]),
         ("render", vec!["gudsl-model"]),
-        ("host", vec!["gudsl-codegen", "gudsl-files", "gudsl-model", "gudsl-render", "gudsl-runtime"]),
-        ("server", vec!["gudsl-codegen", "gudsl-files", "gudsl-host", "gudsl-model", "gudsl-render", "gudsl-runtime"]),
+        ("host", vec!["gudsl-codegen", "gudsl-files", "gudsl-formats", "gudsl-model", "gudsl-render", "gudsl-runtime"]),
+        (
+            "server",
+            vec![
+                "gudsl-codegen",
+                "gudsl-files",
+                "gudsl-formats",
+                "gudsl-host",
+                "gudsl-model",
+                "gudsl-render",
+                "gudsl-runtime",
+            ],
+        ),
     ];
     for (krate, deps) in expected {
         let deps: BTreeSet<String> = deps.into_iter().map(str::to_string).collect();

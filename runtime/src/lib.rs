@@ -4,13 +4,11 @@
 //! adapter, on the CPU reference. Programs written elsewhere (the code
 //! generator's kernels) run through [`program`].
 
-pub mod arrays;
 pub mod bound;
 pub mod camera;
 pub mod error;
 pub mod executor;
 pub mod exposure;
-pub mod frame_stream;
 pub mod gpu;
 pub mod image;
 pub mod kernels;
@@ -18,7 +16,6 @@ pub mod linalg;
 pub mod listings;
 pub mod phase_normalization;
 pub mod pipeline;
-pub mod ply;
 pub mod program;
 pub mod registration;
 pub mod sim;

@@ -9,8 +9,9 @@
 
 use std::{fmt, path::Path};
 
+use gudsl_formats::arrays::{self, ArrayError, Dtype};
+
 use crate::{
-    arrays::{self, ArrayError, Dtype},
     kernels::{filters::mean, tof::subtract_black},
     linalg::{least_squares, polyfit},
     sim::{simulate, Camera, Motion, Scene},

@@ -212,12 +212,12 @@ impl Accumulation {
 
     /// Writes the points and normals as binary little-endian PLY.
     pub fn write_ply(&self, out: &mut impl Write) -> io::Result<()> {
-        crate::ply::write(out, &self.points, &self.normals, "gudsl-runtime accumulated ToF point cloud")
+        gudsl_formats::ply::write(out, &self.points, &self.normals, "gudsl-runtime accumulated ToF point cloud")
     }
 }
 
 /// The valid points of a cloud's 3-plane images (z ≠ 0) and their normals.
-pub fn valid_points(points: &Image, normals: &Image) -> crate::ply::Points {
+pub fn valid_points(points: &Image, normals: &Image) -> gudsl_formats::ply::Points {
     (0..points.pixels()).filter(|&i| points.vector(i)[2] != 0.0).map(|i| (points.vector(i), normals.vector(i))).unzip()
 }
 

@@ -3,9 +3,10 @@
 //! saturation and frames survive a trip through `.npy`; a camera standing where a motion took it
 //! sees what the moving one saw in that phase image.
 
+use gudsl_formats::arrays;
 use gudsl_runtime::kernels::tof::{demodulate, subtract_black, unambiguous_range};
 use gudsl_runtime::sim::{simulate, standing_at, Camera, Motion, Scene};
-use gudsl_runtime::{arrays, Image};
+use gudsl_runtime::Image;
 
 /// |measured − truth| over pixels whose 3×3 neighbourhood is one surface (no depth edge).
 fn interior_errors(distance: &Image, truth: &Image) -> Vec<f32> {

@@ -6,10 +6,10 @@
 
 #![allow(dead_code)] // the test and the benchmark each take what they need
 
+use gudsl_formats::ply::Points;
 use gudsl_runtime::{
     camera::{compose, pose_from, Intrinsics, Pose, IDENTITY},
     kernels::car::background,
-    ply::Points,
     registration::{iterate, valid_points, IcpSettings, RegistrationError},
     sim::{simulate, Camera, Motion, Scene},
     ChainRun, Gpu, Image, Kernel, Pipeline, Shape, Slot,

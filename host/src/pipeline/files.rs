@@ -2,7 +2,7 @@
 //! shape (4, H, W) for one frame or (N, 4, H, W) for N (phase image, row, column), interleaved
 //! into the runtime's 8-plane frames (`A0 B0 A1 B1 A2 B2 A3 B3`). Depth images: an array of
 //! (H, W) or (N, H, W) values, or one 16-bit PNG. Arrays are `.npy` files or members of `.npz`
-//! archives (`gudsl_runtime::arrays`). Opening reads the headers only — what the editor checks
+//! archives (`gudsl_formats::arrays`). Opening reads the headers only — what the editor checks
 //! as the model is typed —; a run reads the values a frame at a time as it asks for them. Every problem is a
 //! message naming the file and what was expected.
 
@@ -12,11 +12,11 @@ use std::{
 };
 
 use gudsl_files::Folder;
-use gudsl_runtime::{
+use gudsl_formats::{
     arrays,
     frame_stream::{FrameStream, FramesWanted},
-    Image,
 };
+use gudsl_runtime::Image;
 
 use crate::{access::ModelFiles, picture};
 

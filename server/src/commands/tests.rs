@@ -33,6 +33,7 @@ fn kernels_generated_by_run(path: &str, diagram: &str) -> usize {
         output: Some(output.clone()),
         frames: Some(1),
         cpu: false,
+        root: None,
     };
     let before = generated_kernels();
     let code = run(&args);

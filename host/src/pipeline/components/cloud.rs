@@ -6,10 +6,10 @@
 
 use std::{collections::HashMap, sync::Arc};
 
+use gudsl_formats::ply::Points;
 use gudsl_runtime::{
     camera::{apply, compose, pose_from, Intrinsics, Pose, IDENTITY},
     kernels::car::background,
-    ply::Points,
     registration::{iterate, valid_points, IcpSettings, RegistrationError},
     Image, Kernel, Shape,
 };

@@ -6,7 +6,8 @@
 
 use std::{fmt::Write as _, io::Cursor, sync::Arc};
 
-use gudsl_runtime::{arrays, ply::Points, Image};
+use gudsl_formats::{arrays, ply::Points};
+use gudsl_runtime::Image;
 
 use super::{depth_images, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
@@ -366,7 +367,7 @@ impl Component for PlyWriter {
             let (points, normals) = super::cloud::host_points(ctx, cloud)?;
             if self.every_frame {
                 let mut bytes = Vec::new();
-                gudsl_runtime::ply::write(&mut bytes, &points, &normals, "gudsl ToF point cloud")
+                gudsl_formats::ply::write(&mut bytes, &points, &normals, "gudsl ToF point cloud")
                     .map_err(|e| e.to_string())?;
                 ctx.output.write(&self.instance, &self.name(&item.producer, Some(ctx.frame)), &bytes)?;
             }
@@ -379,7 +380,7 @@ impl Component for PlyWriter {
     fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
         for (producer, (points, normals)) in &self.last {
             let mut bytes = Vec::new();
-            gudsl_runtime::ply::write(&mut bytes, points, normals, "gudsl ToF point cloud")
+            gudsl_formats::ply::write(&mut bytes, points, normals, "gudsl ToF point cloud")
                 .map_err(|e| e.to_string())?;
             output.write(&self.instance, &self.name(producer, None), &bytes)?;
         }

@@ -1,0 +1,8 @@
+//! The file formats a model names, read without trusting a header: NumPy arrays (`.npy`,
+//! `.npz` members; whole, or a frame at a time for recordings) and PLY point clouds. A reader
+//! checks every size a file claims against what the file holds before it allocates, and each
+//! has a fuzz target (`fuzz/`). No GPU here: the runtime, the host and the tools share it.
+
+pub mod arrays;
+pub mod frame_stream;
+pub mod ply;
