@@ -11,7 +11,6 @@ pub mod diagnostics;
 pub mod launch;
 pub mod named;
 pub mod output;
-pub mod picture;
 pub mod pipeline;
 pub mod run;
 

@@ -15,10 +15,11 @@ use gudsl_files::Folder;
 use gudsl_formats::{
     arrays,
     frame_stream::{FrameStream, FramesWanted},
+    picture,
 };
 use gudsl_runtime::Image;
 
-use crate::{access::ModelFiles, picture};
+use crate::access::ModelFiles;
 
 /// What raw frames' channel files must hold.
 const RAW: &str = "a .npy array of uint16 of shape (4, H, W) or (N, 4, H, W)";

@@ -9,7 +9,9 @@ use std::{cell::RefCell, path::PathBuf, rc::Rc};
 
 use gudsl_runtime::Gpu;
 
-use crate::{access::ModelFiles, output::OutputDir, picture};
+use gudsl_formats::picture;
+
+use crate::{access::ModelFiles, output::OutputDir};
 
 use super::value::{memory, BufferContainer, ImageContainer, Object, Pointer, QImage, Scalar, Shown, Value, Viewer};
 
