@@ -232,3 +232,41 @@ fn a_cancelled_run_stops_inside_its_frame_instead_of_computing_on() {
     let busy = (cpu_seconds(pid) - after) / since.elapsed().as_secs_f64();
     assert!(busy < 0.2, "half a second after the cancel the server still computes {busy:.2} of a core");
 }
+
+#[test]
+fn a_run_from_the_editor_writes_into_the_workspace_or_a_private_folder_never_a_shared_one() {
+    use std::os::unix::fs::PermissionsExt;
+    let base = cli::temp_dir("lsp-destination");
+    let ws = base.join("ws");
+    std::fs::create_dir_all(&ws).unwrap();
+    let depth = b"\x93NUMPY\x01\x00v\x00{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }";
+    let mut npy = depth.to_vec();
+    npy.extend(std::iter::repeat_n(b' ', 128 - npy.len() - 1));
+    npy.push(b'\n');
+    npy.extend([0u8; 24]);
+    for folder in [&ws, &base] {
+        std::fs::write(folder.join("depth.npy"), &npy).unwrap();
+    }
+    let mut lsp = Lsp::start();
+    lsp.initialize_in(Some(&ws));
+    let inside = ws.join("inside.gudsl");
+    let outside = base.join("outside.gudsl");
+    let mut outputs = Vec::new();
+    for (file, name) in [(&inside, "Inside"), (&outside, "Outside")] {
+        let text = model(name, "depth.npy");
+        std::fs::write(file, &text).unwrap();
+        lsp.open(&uri(file), &text);
+        let run = json!({"command": "gudsl.runPipeline", "arguments": [{"diagram": name, "cpu": true}]});
+        let answer = lsp.request("workspace/executeCommand", run);
+        let output = answer["result"]["output"].as_str().unwrap_or_else(|| panic!("{answer}")).to_string();
+        outputs.push(std::path::PathBuf::from(output));
+        lsp.notify("textDocument/didClose", json!({"textDocument": {"uri": uri(file)}}));
+    }
+    assert_eq!(outputs[0], ws.join("gudsl-out/Inside"), "as `gudsl run` writes, in the workspace folder");
+    let private = outputs[1].parent().unwrap().parent().unwrap();
+    assert!(outputs[1].ends_with("gudsl-out/Outside") && !private.starts_with(&base), "{:?}", outputs[1]);
+    assert!(!outputs[1].starts_with(std::env::temp_dir().join("gudsl-run")), "not the old shared path");
+    let mode = std::fs::metadata(private).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o700, "{} is private", private.display());
+    assert!(outputs[1].join("Writer/distance_0000.npy").is_file());
+}

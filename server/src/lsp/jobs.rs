@@ -107,7 +107,11 @@ fn private_folder() -> Result<PathBuf, String> {
     static FOLDER: OnceLock<Result<PathBuf, String>> = OnceLock::new();
     FOLDER
         .get_or_init(|| {
-            let made = tempfile::Builder::new().prefix("gudsl-run-").tempdir();
+            let mut builder = tempfile::Builder::new();
+            builder.prefix("gudsl-run-");
+            #[cfg(unix)]
+            builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o700));
+            let made = builder.tempdir();
             made.map(tempfile::TempDir::keep).map_err(|e| format!("cannot make a private temporary folder: {e}"))
         })
         .clone()
