@@ -6,33 +6,18 @@
 #[path = "support/cli.rs"]
 mod cli;
 
-use cli::{gudsl, temp_dir};
+use cli::{gudsl, run_within, temp_dir};
 
 use std::{
     os::unix::fs::symlink,
     path::Path,
-    process::{Command, Output, Stdio},
-    time::{Duration, Instant},
+    process::{Command, Output},
 };
-
-/// Runs `command`, failing the test if it takes longer than `seconds` (a hang).
-fn run_within(mut command: Command, seconds: u64) -> Output {
-    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(seconds) {
-            let _ = child.kill();
-            panic!("still running after {seconds} s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
-}
 
 fn check(dir: &Path) -> Output {
     let mut command = gudsl();
     command.args(["check", "--format", "concise", dir.to_str().unwrap()]);
-    run_within(command, 30)
+    run_within(&mut command, 30)
 }
 
 const CLASSES: &str = "ClassDiagram D { public class C { public int x; } }\n";
@@ -98,7 +83,7 @@ fn fmt_refuses_text_that_is_not_utf8() {
     let bytes = b"// caf\xe9\nClassDiagram A{public class C{}}\n".to_vec();
     std::fs::write(&file, &bytes).unwrap();
     let out = run_within(
-        {
+        &mut {
             let mut c = gudsl();
             c.args(["fmt", file.to_str().unwrap()]);
             c
@@ -131,7 +116,7 @@ fn fmt_with_file_size_limit(file: &Path, blocks: u32, ignore_signal: bool) -> Ou
         .arg(format!("{trap}ulimit -f {blocks}; exec \"$0\" fmt \"$1\""))
         .arg(env!("CARGO_BIN_EXE_gudsl"))
         .arg(file);
-    run_within(command, 30)
+    run_within(&mut command, 30)
 }
 
 #[test]
@@ -162,7 +147,7 @@ fn fmt_that_fails_mid_write_leaves_the_original_intact() {
     let link = dir.join("link.gudsl");
     symlink("big.gudsl", &link).unwrap();
     let out = run_within(
-        {
+        &mut {
             let mut c = gudsl();
             c.args(["fmt", link.to_str().unwrap()]);
             c
@@ -182,7 +167,7 @@ fn fmt_keeps_crlf_lone_cr_and_the_byte_order_mark() {
         let input = format!("{bom}ClassDiagram A{{{eol}// c{eol}public class C{{}}}}{eol}");
         std::fs::write(&file, &input).unwrap();
         let out = run_within(
-            {
+            &mut {
                 let mut c = gudsl();
                 c.args(["fmt", file.to_str().unwrap()]);
                 c

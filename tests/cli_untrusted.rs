@@ -9,26 +9,16 @@ mod cli;
 use std::{
     os::unix::fs::symlink,
     path::Path,
-    process::{Command, Output, Stdio},
+    process::{Command, Output},
     time::{Duration, Instant},
 };
 
 use cli::{gudsl, temp_dir};
 use gudsl_formats::arrays;
 
-/// Runs `command` in `dir`, failing the test if it takes longer than `seconds` (a hang).
+/// Runs `command` in `dir` (see `cli::run_within`).
 fn run_within(command: &mut Command, dir: &Path, seconds: u64) -> Output {
-    command.current_dir(dir).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
-    let mut child = command.spawn().unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(seconds) {
-            let _ = child.kill();
-            panic!("still running after {seconds} s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
+    cli::run_within(command.current_dir(dir), seconds)
 }
 
 /// A pipeline that reads the depth images `path` names and writes them as `.npy` files.
