@@ -167,7 +167,7 @@ fn run_model(gpu: &Gpu, text: &str, frames: Option<usize>, out: &Path) -> Durati
     // The recordings it reads lie in the temporary folder.
     let files = Access::new(vec![std::env::temp_dir()], true).files(&std::env::temp_dir());
     let mut prepared = pipeline::prepare(&plan, &behaviors, &files).unwrap_or_else(|e| panic!("{e:?}"));
-    let mut output = OutputDir::for_run(Some(out), Path::new("."), "Bench").unwrap();
+    let mut output = OutputDir::named(out).unwrap();
     let report = prepared.run(Some(gpu), &mut output, frames, &mut Quiet, &AtomicBool::new(false));
     report.outcome.unwrap();
     started.elapsed() - report.loading

@@ -26,14 +26,18 @@ impl OutputDir {
     /// The output folder of a run of `diagram`: `named` when the user named one (made beneath
     /// its parent), else `gudsl-out/<diagram's simple name>` beneath `anchor`.
     pub fn for_run(named: Option<&Path>, anchor: &Path, diagram: &str) -> Result<OutputDir, FileError> {
-        let root = match named {
-            Some(path) => named_folder(path)?,
-            None => {
-                let simple = diagram.rsplit('.').next().unwrap_or(diagram);
-                Folder::output(anchor, &Path::new(DEFAULT_FOLDER).join(plain(simple)))?
-            }
-        };
+        if let Some(path) = named {
+            return OutputDir::named(path);
+        }
+        let simple = diagram.rsplit('.').next().unwrap_or(diagram);
+        let root = Folder::output(anchor, &Path::new(DEFAULT_FOLDER).join(plain(simple)))?;
         Ok(OutputDir { root: Arc::new(root), written: Vec::new() })
+    }
+
+    /// The folder at `path`, one the user named (`-o`): made beneath its parent, which is the
+    /// user's and made if missing.
+    pub fn named(path: &Path) -> Result<OutputDir, FileError> {
+        Ok(OutputDir { root: Arc::new(named_folder(path)?), written: Vec::new() })
     }
 
     /// The folder's path.

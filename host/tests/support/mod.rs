@@ -129,7 +129,7 @@ pub fn prepared(sources: &[(String, String)], name: &str) -> Result<PreparedRun,
 
 /// The folder `dir` as a run's output folder (made if missing).
 pub fn output(dir: &std::path::Path) -> gudsl_host::output::OutputDir {
-    gudsl_host::output::OutputDir::for_run(Some(dir), std::path::Path::new("."), "Test").unwrap()
+    gudsl_host::output::OutputDir::named(dir).unwrap()
 }
 
 /// The device a benchmark runs on (dispatches timed by the GPU's clock where it has one, when

@@ -6,6 +6,7 @@
 //! Exit code: 0 drawn, 1 nothing to draw or a file has syntax errors (what parsed is still
 //! drawn), 2 a path could not be read or an output not written.
 
+use gudsl_host::output::OutputDir;
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
@@ -43,10 +44,14 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     for error in &loaded.errors {
         eprintln!("gudsl render: {error}");
     }
-    if let Err(error) = std::fs::create_dir_all(&args.output) {
-        eprintln!("gudsl render: {}: {error}", args.output.display());
-        return ExitCode::from(2);
-    }
+    // Written as `gudsl run` writes: never through a link in the folder (`docs/security.md`).
+    let mut output = match OutputDir::named(&args.output) {
+        Ok(output) => output,
+        Err(error) => {
+            eprintln!("gudsl render: not writing into the output folder: {error}");
+            return ExitCode::from(2);
+        }
+    };
     let (host, files) = workspace::analysis_host(&loaded.documents);
     let analysis = host.analysis();
     // Diagrams of a file with syntax errors are drawn from what parsed, and said so.
@@ -90,9 +95,8 @@ pub fn run(args: &RenderArgs) -> ExitCode {
                     }
                 }
             };
-            let path = args.output.join(format!("{}.{extension}", graph.id));
-            if let Err(error) = std::fs::write(&path, bytes) {
-                eprintln!("gudsl render: {}: {error}", path.display());
+            if let Err(error) = output.write_top(&format!("{}.{extension}", graph.id), &bytes) {
+                eprintln!("gudsl render: {error}");
                 return ExitCode::from(2);
             }
             written += 1;

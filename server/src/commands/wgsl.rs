@@ -5,6 +5,7 @@
 //! 0 generated, 1 errors in the model or nothing to generate, 2 a path could not be read or an
 //! output not written.
 
+use gudsl_host::output::OutputDir;
 use std::{io::Write, path::PathBuf, process::ExitCode};
 
 use clap::Args;
@@ -65,14 +66,16 @@ pub fn run(args: &WgslArgs) -> ExitCode {
             }
         }
         Some(folder) => {
-            if let Err(error) = std::fs::create_dir_all(folder) {
-                eprintln!("gudsl wgsl: {}: {error}", folder.display());
-                return ExitCode::from(2);
-            }
+            let mut output = match OutputDir::named(folder) {
+                Ok(output) => output,
+                Err(error) => {
+                    eprintln!("gudsl wgsl: not writing into the output folder: {error}");
+                    return ExitCode::from(2);
+                }
+            };
             for kernel in &kernels {
-                let path = folder.join(format!("{}.wgsl", kernel.diagram));
-                if let Err(error) = std::fs::write(&path, &kernel.wgsl) {
-                    eprintln!("gudsl wgsl: {}: {error}", path.display());
+                if let Err(error) = output.write_top(&format!("{}.wgsl", kernel.diagram), kernel.wgsl.as_bytes()) {
+                    eprintln!("gudsl wgsl: {error}");
                     return ExitCode::from(2);
                 }
             }
