@@ -485,3 +485,46 @@ fn the_model_reads_and_writes_no_file() {
         .collect();
     assert!(doing_io.is_empty(), "the model does no I/O:\n{}", doing_io.join("\n"));
 }
+
+/// One way to touch a model's files (issue 48): the host and the runtime open, read and write
+/// no file themselves — they go through `gudsl-files` (folders as capabilities) and
+/// `gudsl-formats`, whose only path-based write is `arrays::write` for a file the user named.
+#[test]
+fn only_gudsl_files_touches_the_files_a_model_names() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut files = Vec::new();
+    for krate in ["host", "runtime", "formats"] {
+        rust_files(&root.join(krate).join("src"), &mut files);
+    }
+    let touching: Vec<String> = files
+        .iter()
+        .filter(|f| !f.ends_with("tests.rs"))
+        .filter_map(|f| {
+            let code = shipped_code_of(f);
+            let calls = [
+                "fs::read",
+                "fs::write(",
+                "fs::create_dir",
+                "fs::remove",
+                "fs::rename",
+                "fs::metadata",
+                "fs::canonicalize",
+                "OpenOptions",
+                "File::open(",
+                "File::create(",
+                "image::open(",
+            ];
+            // A call, not part of a longer name (`DepthFile::open(` is ours).
+            let called = |io: &str| {
+                code.match_indices(io).any(|(at, _)| !code[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_'))
+            };
+            let mut found: Vec<&str> = calls.iter().copied().filter(|io| called(io)).collect();
+            if f.ends_with("formats/src/arrays.rs") && code.matches("fs::write(").count() == 1 {
+                // `arrays::write(path, …)`: `gudsl calibrate-phases`' output, named by the user.
+                found.retain(|io| *io != "fs::write(");
+            }
+            (!found.is_empty()).then(|| format!("{} ({})", f.display(), found.join(", ")))
+        })
+        .collect();
+    assert!(touching.is_empty(), "files touched outside gudsl-files:\n{}", touching.join("\n"));
+}
