@@ -400,8 +400,7 @@ fn the_chapter_6_scan_accumulates_the_object_from_three_cameras() {
     let (code, stdout, stderr) = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(code, Some(0), "{stdout}\n{stderr}");
     assert!(stdout.contains("LeftIcp") && stdout.contains("ToF.IcpRegistration"), "{stdout}");
-    let file = std::fs::File::open(out.join("Ply/cloud.ply")).unwrap();
-    let (points, normals) = gudsl_formats::ply::read(&mut std::io::BufReader::new(file)).unwrap();
+    let (points, normals) = gudsl_formats::ply::read(&std::fs::read(out.join("Ply/cloud.ply")).unwrap()).unwrap();
     // Three cameras × three frames after the three of the empty scene learnt as background.
     assert!(points.len() > 9000, "{} points", points.len());
     // Segmented: no wall (at 4 m) and nothing far from the box at (0.1, 0.05, 3.0), whichever

@@ -6,7 +6,7 @@ use gudsl_formats::ply;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok((points, normals)) = ply::read(&mut std::io::Cursor::new(data)) {
+    if let Ok((points, normals)) = ply::read(data) {
         assert_eq!(points.len(), normals.len());
     }
 });
