@@ -10,7 +10,7 @@ use std::{
 };
 
 use gudsl_files::Folder;
-use image::{DynamicImage, ImageReader, Limits};
+use image::{DynamicImage, ImageDecoder, ImageReader, Limits};
 
 /// The most pixels a picture may have (8192 × 8192).
 pub const MAX_PICTURE_PIXELS: u64 = 1 << 26;
@@ -26,19 +26,18 @@ pub type PictureError = String;
 
 /// A picture's width and height, from its header.
 pub fn dimensions(folder: &Folder, path: &Path) -> Result<(u32, u32), PictureError> {
-    dimensions_of(reader(opened(folder, path)?, path)?, path)
+    let decoder = decoder(reader(opened(folder, path)?, path)?, path)?;
+    Ok(decoder.dimensions())
 }
 
 /// The picture at `path` beneath `folder`, decoded.
 pub fn decode(folder: &Folder, path: &Path) -> Result<DynamicImage, PictureError> {
-    let (width, height) = dimensions(folder, path)?;
-    decoded(reader(opened(folder, path)?, path)?, path, (width, height))
+    decoded(reader(opened(folder, path)?, path)?, path)
 }
 
 /// The picture in `bytes`, decoded as the file `path` would be: what the fuzz target feeds.
 pub fn decode_bytes(bytes: &[u8], path: &Path) -> Result<DynamicImage, PictureError> {
-    let size = dimensions_of(reader(Cursor::new(bytes), path)?, path)?;
-    decoded(reader(Cursor::new(bytes), path)?, path, size)
+    decoded(reader(Cursor::new(bytes), path)?, path)
 }
 
 fn opened(folder: &Folder, path: &Path) -> Result<BufReader<std::fs::File>, PictureError> {
@@ -52,23 +51,24 @@ fn reader<R: BufRead + Seek>(source: R, path: &Path) -> Result<ImageReader<R>, P
     Ok(reader)
 }
 
-fn dimensions_of<R: BufRead + Seek>(reader: ImageReader<R>, path: &Path) -> Result<(u32, u32), PictureError> {
-    let (width, height) = reader.into_dimensions().map_err(|e| format!("{}: {e}", path.display()))?;
-    within_limit(path, width, height)?;
-    Ok((width, height))
-}
-
-/// The picture `reader` reads, refused unless it has the `size` its header said.
-fn decoded<R: BufRead + Seek>(
+/// The decoder of what `reader` reads, its header read: refused above the pixel cap.
+fn decoder<'a, R: BufRead + Seek + 'a>(
     reader: ImageReader<R>,
     path: &Path,
-    size: (u32, u32),
-) -> Result<DynamicImage, PictureError> {
-    let decoded = reader.decode().map_err(|e| format!("{}: {e}", path.display()))?;
-    if (decoded.width(), decoded.height()) != size {
-        return Err(format!("{}: changed while it was read", path.display()));
-    }
-    Ok(decoded)
+) -> Result<impl ImageDecoder + 'a, PictureError> {
+    let decoder = reader.into_decoder().map_err(|e| format!("{}: {e}", path.display()))?;
+    let (width, height) = decoder.dimensions();
+    within_limit(path, width, height)?;
+    Ok(decoder)
+}
+
+/// The picture `reader` reads, decoded once its header passed and within the memory cap (the
+/// reservation `ImageReader::decode` makes).
+fn decoded<R: BufRead + Seek>(reader: ImageReader<R>, path: &Path) -> Result<DynamicImage, PictureError> {
+    let failed = |e: image::ImageError| format!("{}: {e}", path.display());
+    let decoder = decoder(reader, path)?;
+    limits().reserve(decoder.total_bytes()).map_err(failed)?;
+    DynamicImage::from_decoder(decoder).map_err(failed)
 }
 
 fn limits() -> Limits {
