@@ -56,15 +56,22 @@ fn message(diagnostic: &Value) -> String {
     diagnostic["message"].as_str().unwrap_or_default().to_string()
 }
 
-#[test]
-fn files_naming_the_servers_streams_a_fifo_or_a_device_are_diagnostics_not_freezes() {
-    let ws = cli::temp_dir("lsp-streams");
-    assert!(Command::new("mkfifo").arg(ws.join("fifo.npy")).status().unwrap().success());
-    symlink("/dev/zero", ws.join("zero.npy")).unwrap();
+/// A workspace folder holding a FIFO named `fifo` and a link to `/dev/zero` named `zero`, a
+/// server started in it, and the URI of a harmless document it has open.
+fn hostile_workspace(name: &str, fifo: &str, zero: &str) -> (std::path::PathBuf, Lsp, String) {
+    let ws = cli::temp_dir(name);
+    assert!(Command::new("mkfifo").arg(ws.join(fifo)).status().unwrap().success());
+    symlink("/dev/zero", ws.join(zero)).unwrap();
     let mut lsp = Lsp::start();
     lsp.initialize_in(Some(&ws));
     let defs = uri(&ws.join("defs.gudsl"));
     lsp.open(&defs, DEFS);
+    (ws, lsp, defs)
+}
+
+#[test]
+fn files_naming_the_servers_streams_a_fifo_or_a_device_are_diagnostics_not_freezes() {
+    let (ws, mut lsp, defs) = hostile_workspace("lsp-streams", "fifo.npy", "zero.npy");
     for (k, (path, why)) in [
         ("/dev/stdin", "lies outside"),
         ("/dev/stdout", "lies outside"),
@@ -100,13 +107,7 @@ fn move_source(lsp: &mut Lsp, file: &str, name: &str) -> Value {
 
 #[test]
 fn a_fifo_or_dev_zero_sidecar_is_refused_at_once_and_other_documents_still_move() {
-    let ws = cli::temp_dir("lsp-sidecars");
-    assert!(Command::new("mkfifo").arg(ws.join("fifo.gudsl.layout")).status().unwrap().success());
-    symlink("/dev/zero", ws.join("zero.gudsl.layout")).unwrap();
-    let mut lsp = Lsp::start();
-    lsp.initialize_in(Some(&ws));
-    let defs = uri(&ws.join("defs.gudsl"));
-    lsp.open(&defs, DEFS);
+    let (ws, mut lsp, defs) = hostile_workspace("lsp-sidecars", "fifo.gudsl.layout", "zero.gudsl.layout");
     for (name, why) in [("fifo", "is a FIFO"), ("zero", "lies outside")] {
         let file = uri(&ws.join(format!("{name}.gudsl")));
         lsp.open(&file, &model(name, "depth.npy"));

@@ -58,8 +58,8 @@ impl Folder {
 
     /// Opens `path` (a path as std takes it: absolute, or relative to the current folder) for
     /// reading, when it lies beneath this folder — `..` is taken lexically, a link is followed
-    /// only while it stays inside: refused outside the folder, when not a regular file (a FIFO or a device is never read, and
-    /// opening one does not block), or when longer than `limit` bytes.
+    /// only while it stays inside: refused outside the folder, when not a regular file (a FIFO
+    /// or a device is never read, and opening one does not block), or when longer than `limit`.
     pub fn open_file(&self, path: &Path, limit: u64) -> Result<Opened, FileError> {
         let (inside, shown) = self.inside(path)?;
         let mut options = OpenOptions::new();
@@ -168,7 +168,7 @@ pub fn lexical(path: &Path) -> PathBuf {
 }
 
 /// `path` with `.` dropped and each `..` taking away the component before it (lexically).
-pub(crate) fn normalize(path: &Path) -> PathBuf {
+fn normalize(path: &Path) -> PathBuf {
     let mut out = PathBuf::new();
     for component in path.components() {
         match component {

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use cap_fs_ext::DirExt;
-use cap_std::{ambient_authority, fs::Dir};
+use cap_std::fs::Dir;
 
 use crate::{
     folder::{absolute, is_plain},
@@ -23,10 +23,8 @@ impl Folder {
     /// refused if it is a link; and the folder is refused while anything inside it is a link.
     pub fn output(anchor: &Path, relative: &Path) -> Result<Folder, FileError> {
         let anchor = absolute(anchor);
-        let failed = |e: std::io::Error| FileError::io(&anchor, &anchor, &e);
-        std::fs::create_dir_all(&anchor).map_err(failed)?;
-        let mut folder =
-            Folder { dir: Dir::open_ambient_dir(&anchor, ambient_authority()).map_err(failed)?, path: anchor.clone() };
+        std::fs::create_dir_all(&anchor).map_err(|e| FileError::io(&anchor, &anchor, &e))?;
+        let mut folder = Folder::open(&anchor)?;
         for component in relative.components() {
             let name = component.as_os_str().to_string_lossy();
             if !is_plain(Path::new(component.as_os_str())) {

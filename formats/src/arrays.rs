@@ -76,7 +76,7 @@ impl fmt::Display for ArrayError {
 impl std::error::Error for ArrayError {}
 
 impl ArrayError {
-    fn new(path: &Path, kind: io::ErrorKind, message: impl Into<String>) -> ArrayError {
+    pub(crate) fn new(path: &Path, kind: io::ErrorKind, message: impl Into<String>) -> ArrayError {
         ArrayError { path: path.to_path_buf(), kind, message: message.into() }
     }
 
@@ -98,7 +98,7 @@ impl ArrayError {
         ArrayError::new(&error.path, kind, error.problem.to_string())
     }
 
-    fn invalid(path: &Path, message: impl Into<String>) -> ArrayError {
+    pub(crate) fn invalid(path: &Path, message: impl Into<String>) -> ArrayError {
         ArrayError::new(path, io::ErrorKind::InvalidData, message)
     }
 }

@@ -47,11 +47,7 @@ impl FrameStream {
     /// The next frame's values.
     pub fn next_frame(&self) -> Result<Vec<f32>, ArrayError> {
         self.frames.recv().unwrap_or_else(|_| {
-            Err(ArrayError {
-                path: self.path.clone(),
-                kind: std::io::ErrorKind::UnexpectedEof,
-                message: "holds no more frames".to_string(),
-            })
+            Err(ArrayError::new(&self.path, std::io::ErrorKind::UnexpectedEof, "holds no more frames"))
         })
     }
 }
@@ -67,14 +63,11 @@ fn send_frames(
         let shape = arrays::shape_of(&file);
         let held: usize = shape.iter().product();
         if held != wanted.expected {
-            return Err(ArrayError {
-                path: shown.to_path_buf(),
-                kind: std::io::ErrorKind::InvalidData,
-                message: format!(
-                    "holds {held} values, not the {} it held when the run was prepared: it changed meanwhile",
-                    wanted.expected
-                ),
-            });
+            let message = format!(
+                "holds {held} values, not the {} it held when the run was prepared: it changed meanwhile",
+                wanted.expected
+            );
+            return Err(ArrayError::invalid(shown, message));
         }
         let dtype = arrays::dtype_of(&file, shown)?;
         let chunk = wanted.frame_values.max(1);

@@ -21,7 +21,7 @@ pub struct Access {
 #[derive(Debug, Clone)]
 pub struct ModelFiles {
     /// Why nothing is read: the workspace is not trusted, or its folder cannot be opened.
-    folder: Result<Arc<Folder>, FileError>,
+    folder: Result<Arc<Folder>, Problem>,
     model_dir: PathBuf,
 }
 
@@ -62,8 +62,8 @@ impl Access {
     /// What a model in `model_dir` may read.
     pub fn files(&self, model_dir: &Path) -> ModelFiles {
         let folder = match self.trusted {
-            true => Folder::open(&self.root_of(model_dir)).map(Arc::new),
-            false => Err(FileError::new(model_dir, Problem::Untrusted)),
+            true => Folder::open(&self.root_of(model_dir)).map(Arc::new).map_err(|e| e.problem),
+            false => Err(Problem::Untrusted),
         };
         ModelFiles { folder, model_dir: model_dir.to_path_buf() }
     }
@@ -75,18 +75,10 @@ impl ModelFiles {
         self.model_dir.join(text)
     }
 
-    /// The folder `path` is read beneath; an error naming `path` while nothing may be read.
-    pub fn folder(&self, path: &Path) -> Result<&Folder, FileError> {
-        match &self.folder {
-            Ok(folder) => Ok(folder),
-            Err(error) => Err(FileError::new(path, error.problem.clone())),
-        }
-    }
-
-    /// The folder as shared with what reads later (a run loading frames).
-    pub fn shared(&self, path: &Path) -> Result<Arc<Folder>, FileError> {
-        self.folder(path)?;
-        Ok(self.folder.clone().expect("checked above"))
+    /// The folder `path` is read beneath (an `Arc`: what reads later, a run's frames, keeps
+    /// it); an error naming `path` while nothing may be read.
+    pub fn folder(&self, path: &Path) -> Result<&Arc<Folder>, FileError> {
+        self.folder.as_ref().map_err(|problem| FileError::new(path, problem.clone()))
     }
 
     /// `path`'s length and modification time (`None`: missing, outside or not to be read).

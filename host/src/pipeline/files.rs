@@ -67,7 +67,7 @@ pub struct RawFiles {
 impl RawFiles {
     /// Checks both files' headers: every problem found, each naming its file.
     pub fn open(files: &ModelFiles, a: &Path, b: &Path) -> Result<RawFiles, Vec<FileError>> {
-        let folder = files.shared(a).map_err(|e| vec![FileError { message: e.to_string(), in_b: false }])?;
+        let folder = files.folder(a).cloned().map_err(|e| vec![FileError { message: e.to_string(), in_b: false }])?;
         let (extent_a, extent_b) = (channel(&folder, a), channel(&folder, b));
         match (extent_a, extent_b) {
             (Ok(ea), Ok(eb)) if ea == eb => Ok(RawFiles { folder, a: a.to_path_buf(), b: b.to_path_buf(), extent: ea }),
@@ -177,7 +177,7 @@ pub struct DepthFile {
 impl DepthFile {
     /// Checks the file's header.
     pub fn open(files: &ModelFiles, path: &Path) -> Result<DepthFile, String> {
-        let folder = files.shared(path).map_err(|e| e.to_string())?;
+        let folder = files.folder(path).cloned().map_err(|e| e.to_string())?;
         let png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
         let extent = if png {
             let (width, height) = picture::dimensions(&folder, path).map_err(|e| format!("{e}; expected {DEPTH}"))?;
@@ -230,16 +230,17 @@ enum Depths {
 impl DepthFrames {
     /// The next depth image, in metres.
     pub fn next_frame(&mut self) -> Result<Image, String> {
+        let Extent { height, width, .. } = self.extent;
         let values = match &mut self.source {
+            // The stream refuses an array whose shape changed since it was opened.
             Depths::Array(stream) => stream.next_frame().map_err(|e| unreadable(e, DEPTH))?,
             Depths::Picture(folder) => {
                 let folder = folder.take().ok_or_else(|| format!("{} holds one image", self.path.display()))?;
                 let values = picture_values(&folder, &self.path)?;
+                changed_since_opened(&self.path, values.len(), width * height)?;
                 values.into_iter().map(|v| v * self.scale).collect()
             }
         };
-        let Extent { height, width, .. } = self.extent;
-        changed_since_opened(&self.path, values.len(), width * height)?;
         Ok(Image { width, height, planes: 1, data: values })
     }
 }
