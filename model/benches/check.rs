@@ -1,8 +1,10 @@
 //! Semantic check benchmark on a generated 50 000-line, 200-file workspace: a cold full check,
 //! a re-check after typing one character inside a method body, and after renaming a class that
-//! one other file uses. Median and p95 of the runs, printed as a table.
+//! one other file uses. Median and p95 of the runs, printed as a table. Then the check's growth
+//! in the size of one diagram (10 000 to 100 000 nodes) and of one file (1 to 10 MB of small
+//! diagrams): each must stay linear, the largest under 2 s.
 //!
-//! `cargo bench -p gudsl-model --bench check`
+//! `cargo bench -p gudsl-model --bench check` (`-- scaling [long|many]` runs only the growth cases)
 
 use std::time::{Duration, Instant};
 
@@ -24,6 +26,49 @@ fn check_all(host: &AnalysisHost, inputs: &[FileId]) -> usize {
 }
 
 fn main() {
+    if std::env::args().all(|a| a != "scaling") {
+        workspace_cases();
+    }
+    scaling();
+}
+
+/// A cold check of one generated file, in seconds: the median of three.
+fn cold_check(file: &gudsl_model::synth::SynthFile) -> f64 {
+    let runs = (0..3).map(|_| {
+        let start = Instant::now();
+        let (host, inputs) = load(std::slice::from_ref(file));
+        let n = check_all(&host, &inputs);
+        assert_eq!(n, 0, "{} must check clean", file.path);
+        start.elapsed()
+    });
+    stats(runs.collect()).0 / 1e3
+}
+
+/// The check's time against the size of one diagram and of one file.
+fn scaling() {
+    println!("{:<52} {:>10} {:>12}", "growth", "seconds", "µs per unit");
+    let only = |case: &str| std::env::args().all(|a| a != "long" && a != "many") || std::env::args().any(|a| a == case);
+    for nodes in [10_000, 20_000, 40_000, 100_000].into_iter().filter(|_| only("long")) {
+        let seconds = cold_check(&gudsl_model::synth::long_activity(nodes));
+        println!(
+            "{:<52} {seconds:>9.2}s {:>11.1}",
+            format!("one activity diagram of {nodes} nodes"),
+            seconds * 1e6 / nodes as f64
+        );
+    }
+    for megabytes in [1, 2, 5, 10].into_iter().filter(|_| only("many")) {
+        let file = gudsl_model::synth::many_diagrams(megabytes << 20);
+        let diagrams = file.text.matches("ActivityDiagram").count();
+        let seconds = cold_check(&file);
+        println!(
+            "{:<52} {seconds:>9.2}s {:>11.1}",
+            format!("one {megabytes} MB file of {diagrams} small diagrams"),
+            seconds * 1e6 / diagrams as f64
+        );
+    }
+}
+
+fn workspace_cases() {
     let files = gudsl_model::synth::workspace(200, 50_000);
     let lines: usize = files.iter().map(|f| f.text.lines().count()).sum();
     println!("workspace: {} files, {lines} lines", files.len());

@@ -165,6 +165,29 @@ fn components(out: &mut String, index: usize, pkg: &str) {
     let _ = writeln!(out, "    Sink{index} instantiates {pkg}.C{index}_1 ( )\n    {{\n        InPort : In{index} ( processor In = I{pkg}Processor() );\n    }}\n}}");
 }
 
+/// One file of one activity diagram of `nodes` nodes in a chain, without an owner or swimlanes
+/// (a diagram's own variable is the state): the size of a diagram a checker must stay linear in.
+pub fn long_activity(nodes: usize) -> SynthFile {
+    let mut text = String::from("ActivityDiagram Chain\n{\n    public int total = 0;\n    start s { => n0; }\n");
+    for i in 0..nodes {
+        let _ = writeln!(text, "    action n{i} {{ total = total + {}; => n{}; }}", i % 7, i + 1);
+    }
+    let _ = writeln!(text, "    final n{nodes};\n}}");
+    SynthFile { path: "long.gudsl".into(), text }
+}
+
+/// One file of small activity diagrams, about `bytes` long: the size of a file a checker must
+/// stay linear in (each diagram declares a variable, starts, acts and ends).
+pub fn many_diagrams(bytes: usize) -> SynthFile {
+    let mut text = String::with_capacity(bytes + 128);
+    let mut i = 0;
+    while text.len() < bytes {
+        let _ = writeln!(text, "ActivityDiagram D{i}\n{{\n    start s {{ => a; }}\n    action a {{ var int x = {}; => f; }}\n    final f;\n}}", i % 10);
+        i += 1;
+    }
+    SynthFile { path: "many.gudsl".into(), text }
+}
+
 /// The data types every linked file imports (the anchor's `base` package).
 pub const LINKED_BASE_TYPES: &[&str] = &["String", "Int", "Bool", "Date", "Decimal"];
 
@@ -255,6 +278,15 @@ mod tests {
         let lines: usize = files.iter().map(|f| f.text.lines().count()).sum();
         assert!((4_500..=6_000).contains(&lines), "{lines} lines");
         assert_clean(&files);
+    }
+
+    #[test]
+    fn long_activity_and_many_diagrams_check_clean() {
+        let long = super::long_activity(50);
+        assert_eq!(long.text.matches("action n").count(), 50);
+        let many = super::many_diagrams(10_000);
+        assert!(many.text.len() >= 10_000);
+        assert_clean(&[long, many]);
     }
 
     #[test]

@@ -68,6 +68,13 @@ impl<'db> Semantics<'db> {
         definitions_named(self.db, self.workspace, fqn)
     }
 
+    /// Whether `fqn` is declared in more than one file (without a `lookup` memo of its own).
+    pub fn declared_in_several_files(&self, fqn: &str) -> bool {
+        let (namespace, last) = fqn.rsplit_once('.').unwrap_or(("", fqn));
+        let namespace = Fqn::new(self.db, namespace.to_string());
+        super::definitions::names_declared_in_several_files(self.db, self.workspace, namespace).contains(last)
+    }
+
     /// What a namespace declares directly, by last name segment (for listings of a namespace).
     pub fn namespace_members(&self, namespace: &str) -> &'db BTreeMap<String, Vec<Definition>> {
         namespace_definitions(self.db, self.workspace, Fqn::new(self.db, namespace.to_string()))
@@ -336,14 +343,27 @@ impl<'db> Semantics<'db> {
     /// diagram's owner, else the class the body belongs to.
     pub fn owner_at(&self, node: &SyntaxNode) -> Option<&'db Definition> {
         let scope = Scope::at(node);
-        let resolve_owner = |path: Option<ast::Path>| path.and_then(|p| self.resolve(&scope, &p.text()));
-        let lane = node.ancestors().find_map(ast::Swimlane::cast).and_then(|lane| resolve_owner(lane.owner()));
-        let diagram = || node.ancestors().find_map(ast::ActivityDiagram::cast).and_then(|d| resolve_owner(d.owner()));
-        let class = || {
-            let class = node.ancestors().find_map(ast::TypeDecl::cast)?;
-            self.definition(&scope.qualify(&class.name()?.text()))
-        };
-        lane.or_else(diagram).or_else(class).filter(|d| matches!(d.kind, DefKind::Type(_)))
+        if let Some(diagram) = node.ancestors().find_map(ast::ActivityDiagram::cast) {
+            let lane = node.ancestors().find_map(ast::Swimlane::cast);
+            return self.activity_owner(&scope, &diagram, lane.as_ref());
+        }
+        let class = node.ancestors().find_map(ast::TypeDecl::cast)?;
+        self.definition(&scope.qualify(&class.name()?.text())).filter(|d| matches!(d.kind, DefKind::Type(_)))
+    }
+
+    /// The class whose members the nodes of `lane` (or, without one, the diagram's own nodes)
+    /// see: the swimlane's owner, else the diagram's. A checker asks once per swimlane, not per
+    /// node: finding an absent owner reads every child of the diagram.
+    pub fn activity_owner(
+        &self,
+        scope: &Scope,
+        diagram: &ast::ActivityDiagram,
+        lane: Option<&ast::Swimlane>,
+    ) -> Option<&'db Definition> {
+        let resolve_owner = |path: Option<ast::Path>| path.and_then(|p| self.resolve(scope, &p.text()));
+        lane.and_then(|lane| resolve_owner(lane.owner()))
+            .or_else(|| resolve_owner(diagram.owner()))
+            .filter(|d| matches!(d.kind, DefKind::Type(_)))
     }
 
     // ---- components

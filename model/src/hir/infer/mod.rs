@@ -140,19 +140,27 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     /// Declares the locals a body introduces: its `var` declarations (all of them, so that uses
     /// anywhere in the body see them) and the window variables of `loopwindow2D(u = -r : r, …)`.
     fn declare_body(&mut self, node: &SyntaxNode) {
-        for decl in node.descendants().filter_map(ast::VarDecl::cast) {
-            if let Some(name) = decl.name() {
-                self.declare(name.text(), decl.type_ref());
-            }
-        }
-        // `loopwindow2D(u = -r : r, …)` introduces its window variables (integers).
-        for dim in node.descendants().filter_map(ast::LoopWindowDim::cast) {
-            if let Some(ast::LoopPart::Expr(ast::Expr::BinExpr(assign))) = dim.start() {
-                if let Some(ast::Expr::NameExpr(name)) = assign.lhs() {
-                    if let Some(name) = name.name_ref() {
-                        self.locals.entry(name.text()).or_insert(Ty::Int);
+        for element in node.descendants() {
+            match element.kind() {
+                SyntaxKind::VAR_DECL => {
+                    let decl = ast::VarDecl::cast(element).expect("kind checked");
+                    if let Some(name) = decl.name() {
+                        self.declare(name.text(), decl.type_ref());
                     }
                 }
+                // `loopwindow2D(u = -r : r, …)` introduces its window variables (integers).
+                SyntaxKind::LOOP_WINDOW_DIM => {
+                    let dim = ast::LoopWindowDim::cast(element).expect("kind checked");
+                    if let Some(ast::LoopPart::Expr(ast::Expr::BinExpr(assign))) = dim.start() {
+                        if let Some(name) = assign.lhs().and_then(|lhs| match lhs {
+                            ast::Expr::NameExpr(name) => name.name_ref(),
+                            _ => None,
+                        }) {
+                            self.locals.entry(name.text()).or_insert(Ty::Int);
+                        }
+                    }
+                }
+                _ => {}
             }
         }
     }

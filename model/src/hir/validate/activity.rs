@@ -28,20 +28,25 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
     variables(ctx, scope, diagram);
     shared_params(ctx, scope, diagram);
     let mut nodes: Vec<ast::ActivityNode> = Vec::new();
+    let mut owners = Vec::new();
     names::duplicates(ctx, diagram.swimlanes().filter_map(|s| s.name()), "swimlane");
     for lane in diagram.swimlanes() {
         if let Some(owner) = lane.owner() {
             owner_is_a_class(ctx, scope, &owner);
         }
+        let owner = ctx.sema.activity_owner(scope, diagram, Some(&lane));
         nodes.extend(lane.nodes());
+        owners.resize(nodes.len(), owner);
     }
+    let owner = ctx.sema.activity_owner(scope, diagram, None);
     nodes.extend(diagram.nodes());
+    owners.resize(nodes.len(), owner);
     names::duplicates(ctx, nodes.iter().filter_map(|n| n.name()), "node");
     let locals = diagram_locals(diagram);
     let by_name: HashMap<String, ast::ActivityNode> =
         nodes.iter().filter_map(|n| Some((n.name()?.text(), n.clone()))).collect();
     let mut results: Vec<(ast::ActivityNode, Option<Ty>)> = Vec::new();
-    for node in &nodes {
+    for (node, &owner) in nodes.iter().zip(&owners) {
         if node.kind() == ast::NodeKind::LoopWindow {
             loop_window_sections(ctx, node);
         }
@@ -58,7 +63,6 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
                 ctx.sink.error(DiagnosticCode::MisplacedJump, range, message);
             }
         }
-        let owner = ctx.sema.owner_at(node.syntax());
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
         for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
             typing.declare(name, ty);
@@ -92,7 +96,7 @@ fn variables(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram) {
     for decl in diagram.var_decls() {
         calls::expressions(ctx, scope, decl.syntax());
     }
-    let owner = ctx.sema.owner_at(diagram.syntax());
+    let owner = ctx.sema.activity_owner(scope, diagram, None);
     let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
     for (name, ty) in diagram_locals(diagram) {
         typing.declare(name, ty);

@@ -3,7 +3,7 @@
 //! transitions out of decisions, joins of several flows, every node reachable from the start,
 //! and a final node reachable from every node.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::HashMap;
 
 use super::{Ctx, DiagnosticCode};
 use crate::{
@@ -13,44 +13,35 @@ use crate::{
 
 /// Start nodes, transition targets and arities, reachability and paths to a final node.
 pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast::ActivityNode]) {
-    let by_name: HashMap<String, &ast::ActivityNode> =
-        nodes.iter().filter_map(|n| Some((n.name()?.text(), n))).rev().collect();
-    let starts: Vec<&ast::ActivityNode> = nodes.iter().filter(|n| n.kind() == ast::NodeKind::Start).collect();
+    let names: Vec<Option<String>> = nodes.iter().map(|n| n.name().map(|n| n.text())).collect();
+    let mut by_name: HashMap<&str, usize> = HashMap::new();
+    for (i, name) in names.iter().enumerate().rev() {
+        if let Some(name) = name {
+            by_name.insert(name, i);
+        }
+    }
+    let starts: Vec<usize> = (0..nodes.len()).filter(|&i| nodes[i].kind() == ast::NodeKind::Start).collect();
     let diagram_name = diagram.name().map(|n| n.text()).unwrap_or_default();
-    let header_range = diagram.name().map_or_else(|| diagram.syntax().text_range(), |n| n.syntax().text_range());
-    if starts.is_empty() && !nodes.is_empty() {
-        ctx.sink.error(
-            DiagnosticCode::MissingStartNode,
-            header_range,
-            format!("activity diagram `{diagram_name}` has no start node: add `start S {{ => first; }}`"),
-        );
-    }
-    for extra in starts.iter().skip(1) {
-        let range = extra.name().map_or_else(|| extra.syntax().text_range(), |n| n.syntax().text_range());
-        ctx.sink.error(
-            DiagnosticCode::DuplicateStartNode,
-            range,
-            format!("activity diagram `{diagram_name}` has more than one start node"),
-        );
-    }
-    let mut edges: HashMap<String, Vec<String>> = HashMap::new();
-    for node in nodes {
-        let Some(source) = node.name().map(|n| n.text()) else { continue };
+    start_nodes(ctx, diagram, &diagram_name, nodes, &starts);
+    let mut edges: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+    for (source, node) in nodes.iter().enumerate() {
+        let Some(source_name) = &names[source] else { continue };
         for transition in node.transitions() {
             let Some(target) = transition.target() else { continue };
             let target_name = target.text();
-            let Some(target_node) = by_name.get(&target_name) else {
-                let mut names: Vec<&str> = by_name.keys().map(String::as_str).collect();
-                names.sort_unstable();
+            let Some(&target_index) = by_name.get(target_name.as_str()) else {
+                let mut candidates: Vec<&str> = by_name.keys().copied().collect();
+                candidates.sort_unstable();
                 ctx.sink.error_with_suggestion(
                     DiagnosticCode::UnresolvedTransitionTarget,
                     target.syntax().text_range(),
                     format!("no node `{target_name}` in activity diagram `{diagram_name}`"),
-                    closest(&target_name, names),
+                    closest(&target_name, candidates),
                 );
                 continue;
             };
-            edges.entry(source.clone()).or_default().push(target_name.clone());
+            edges[source].push(target_index);
+            let target_node = &nodes[target_index];
             transition_arity(ctx, &transition, &target, target_node);
             if target_node.kind() == ast::NodeKind::Start {
                 ctx.sink.error(
@@ -60,36 +51,65 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
                 );
             }
         }
-        node_transitions(ctx, node, &source);
+        node_transitions(ctx, node, source_name);
     }
     joins_of_one_flow(ctx, nodes, &edges);
-    // Reachability from the start node(s).
-    let reachable = reach(starts.iter().filter_map(|s| s.name().map(|n| n.text())), &edges);
-    if !starts.is_empty() {
-        for node in nodes {
-            let Some(name) = node.name() else { continue };
-            if !reachable.contains(&name.text()) {
-                ctx.sink.warn(
-                    DiagnosticCode::UnreachableNode,
-                    name.syntax().text_range(),
-                    format!("node `{}` is never reached from the start node", name.text()),
-                );
-            }
+    // A second node of a name is reported as a duplicate (E0205), not again as unreachable.
+    let first_of_its_name: Vec<bool> =
+        names.iter().enumerate().map(|(i, name)| name.as_ref().is_some_and(|n| by_name[n.as_str()] == i)).collect();
+    reachability(ctx, nodes, &first_of_its_name, &starts, &edges);
+}
+
+/// One start node, named in the diagram's header range when it is missing.
+fn start_nodes(
+    ctx: &mut Ctx,
+    diagram: &ast::ActivityDiagram,
+    diagram_name: &str,
+    nodes: &[ast::ActivityNode],
+    starts: &[usize],
+) {
+    if starts.is_empty() && !nodes.is_empty() {
+        let header_range = diagram.name().map_or_else(|| diagram.syntax().text_range(), |n| n.syntax().text_range());
+        ctx.sink.error(
+            DiagnosticCode::MissingStartNode,
+            header_range,
+            format!("activity diagram `{diagram_name}` has no start node: add `start S {{ => first; }}`"),
+        );
+    }
+    for &extra in starts.iter().skip(1) {
+        let extra = &nodes[extra];
+        let range = extra.name().map_or_else(|| extra.syntax().text_range(), |n| n.syntax().text_range());
+        ctx.sink.error(
+            DiagnosticCode::DuplicateStartNode,
+            range,
+            format!("activity diagram `{diagram_name}` has more than one start node"),
+        );
+    }
+}
+
+/// Every `checked` node is reached from a start node, and reaches a final node.
+fn reachability(ctx: &mut Ctx, nodes: &[ast::ActivityNode], checked: &[bool], starts: &[usize], edges: &[Vec<usize>]) {
+    if starts.is_empty() {
+        return;
+    }
+    let reachable = reach(starts.iter().copied(), edges);
+    let mut reverse: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+    for (source, targets) in edges.iter().enumerate() {
+        for &target in targets {
+            reverse[target].push(source);
         }
     }
-    // A final node must be reachable from every reachable node.
-    let finals: Vec<String> =
-        nodes.iter().filter(|n| n.kind() == ast::NodeKind::Final).filter_map(|n| n.name().map(|n| n.text())).collect();
-    let mut reverse: HashMap<String, Vec<String>> = HashMap::new();
-    for (source, targets) in &edges {
-        for target in targets {
-            reverse.entry(target.clone()).or_default().push(source.clone());
-        }
-    }
-    let reaches_final = reach(finals.iter().cloned(), &reverse);
-    for node in nodes {
+    let finals = (0..nodes.len()).filter(|&i| nodes[i].kind() == ast::NodeKind::Final);
+    let reaches_final = reach(finals, &reverse);
+    for (i, node) in nodes.iter().enumerate().filter(|&(i, _)| checked[i]) {
         let Some(name) = node.name() else { continue };
-        if reachable.contains(&name.text()) && !reaches_final.contains(&name.text()) {
+        if !reachable[i] {
+            ctx.sink.warn(
+                DiagnosticCode::UnreachableNode,
+                name.syntax().text_range(),
+                format!("node `{}` is never reached from the start node", name.text()),
+            );
+        } else if !reaches_final[i] {
             ctx.sink.warn(
                 DiagnosticCode::NoPathToFinal,
                 name.syntax().text_range(),
@@ -127,20 +147,19 @@ fn node_transitions(ctx: &mut Ctx, node: &ast::ActivityNode, name: &str) {
 }
 
 /// A join waits for the flows a fork started: one incoming transition is a mistake.
-fn joins_of_one_flow(ctx: &mut Ctx, nodes: &[ast::ActivityNode], edges: &HashMap<String, Vec<String>>) {
-    for join in nodes.iter().filter(|n| n.kind() == ast::NodeKind::Join) {
+fn joins_of_one_flow(ctx: &mut Ctx, nodes: &[ast::ActivityNode], edges: &[Vec<usize>]) {
+    let mut incoming = vec![0usize; nodes.len()];
+    edges.iter().flatten().for_each(|&target| incoming[target] += 1);
+    for (join, _) in nodes.iter().zip(&incoming).filter(|(n, &count)| n.kind() == ast::NodeKind::Join && count == 1) {
         let Some(name) = join.name() else { continue };
-        let incoming = edges.values().flatten().filter(|target| **target == name.text()).count();
-        if incoming == 1 {
-            ctx.sink.warn(
-                DiagnosticCode::JoinOfOneFlow,
-                name.syntax().text_range(),
-                format!(
-                    "join `{}` has one incoming transition: a join waits for several flows (those a fork starts)",
-                    name.text()
-                ),
-            );
-        }
+        ctx.sink.warn(
+            DiagnosticCode::JoinOfOneFlow,
+            name.syntax().text_range(),
+            format!(
+                "join `{}` has one incoming transition: a join waits for several flows (those a fork starts)",
+                name.text()
+            ),
+        );
     }
 }
 
@@ -172,14 +191,13 @@ fn transition_arity(ctx: &mut Ctx, transition: &ast::Transition, target: &ast::N
     }
 }
 
-fn reach(from: impl Iterator<Item = String>, edges: &HashMap<String, Vec<String>>) -> HashSet<String> {
-    let mut seen: HashSet<String> = HashSet::new();
-    let mut queue: VecDeque<String> = from.collect();
-    while let Some(node) = queue.pop_front() {
-        if seen.insert(node.clone()) {
-            if let Some(next) = edges.get(&node) {
-                queue.extend(next.iter().cloned());
-            }
+/// The nodes reached from `from` along `edges`, by index.
+fn reach(from: impl Iterator<Item = usize>, edges: &[Vec<usize>]) -> Vec<bool> {
+    let mut seen = vec![false; edges.len()];
+    let mut stack: Vec<usize> = from.collect();
+    while let Some(node) = stack.pop() {
+        if !std::mem::replace(&mut seen[node], true) {
+            stack.extend(&edges[node]);
         }
     }
     seen

@@ -30,6 +30,9 @@ pub(super) fn duplicates(ctx: &mut Ctx, names: impl Iterator<Item = ast::Name>, 
 
 /// Reports `name` (declared with fully qualified name `fqn`) if another file declares it too.
 pub(super) fn unique_across_files(ctx: &mut Ctx, fqn: &str, name: &ast::Name, what: &str) {
+    if !ctx.sema.declared_in_several_files(fqn) {
+        return;
+    }
     let here = ctx.file;
     let db = ctx.sema.db();
     if let Some(other) = ctx.sema.lookup(fqn).iter().find(|d| d.file != here) {
