@@ -8,7 +8,7 @@
 
 use gudsl_model::{
     ast::{self, AstNode, HasModifiers, HasName},
-    hir::{BodyTypes, DefKind, Definition, Scope, Ty},
+    hir::{infer::implementing_behavior, BodyTypes, DefKind, Definition, Scope, Ty},
     syntax::{SyntaxKind, SyntaxNode},
 };
 
@@ -222,11 +222,25 @@ impl<'db> Emitter<'db> {
             match &function.body {
                 Body::Method(class, method) => {
                     self.line(format!("// {}::{}", class.fqn, method.name().map(|n| n.text()).unwrap_or_default()));
-                    let statements: Vec<ast::Stmt> =
+                    let mut statements: Vec<ast::Stmt> =
                         method.body().map(|b| b.statements().collect()).unwrap_or_default();
+                    // A body that ends with `call behavior X(…)` is implemented by `X`: its value
+                    // is the method's (the model checked that it fits, E0234/E0235).
+                    let implementing = method
+                        .body()
+                        .and_then(|b| implementing_behavior(&b))
+                        .filter(|_| value_type(&function.returns).is_some());
+                    if implementing.is_some() {
+                        statements.pop();
+                    }
                     self.block(header, |e| {
                         for stmt in &statements {
                             e.statement(stmt);
+                        }
+                        if let Some(call) = &implementing {
+                            let value = bare(e.expr_as(&ast::Expr::CallBehaviorExpr(call.clone()), &function.returns));
+                            e.line(format!("return {value};"));
+                            return;
                         }
                         // The model checked that every path returns (E0235); WGSL also asks for
                         // a value after a last statement that returns on each of its branches.

@@ -1,6 +1,7 @@
 //! Methods of a kernel's OpenCL class as WGSL functions: a device diagram calls methods of its
 //! owner (one calling another, one reading `get_global_id`, a float one), they run on the GPU
-//! and compute what the same code computes in Rust; what WGSL cannot take — recursion, a
+//! and compute what the same code computes in Rust (one implemented by a diagram it ends with
+//! calling); what WGSL cannot take — recursion, a
 //! pointer parameter, a field, a method without a body — is an error at its place.
 
 mod support;
@@ -27,12 +28,27 @@ const CLASS: &str = "ClassDiagram Maths
         public int scale;
         public int scaled(int v) { return v * scale; }
         public int declared(int v);
+        public int smaller(int a, int b) { call behavior Smaller(a, b); }
     }
 }
 ";
 
+/// The diagram that implements `smaller` (a body that ends with `call behavior`, Listing 36).
+const SMALLER: &str = "ActivityDiagram Smaller(int a, int b)
+{
+    start s { => pick; }
+    decision pick { [a < b] => first; [] => second; }
+    final first return a;
+    final second return b;
+}
+";
+
 fn sources(body: &str) -> Vec<(String, String)> {
-    vec![("maths.gudsl".into(), CLASS.into()), ("compute.gudsl".into(), compute_kernel("Maths.Kernels", body))]
+    vec![
+        ("maths.gudsl".into(), CLASS.into()),
+        ("smaller.gudsl".into(), SMALLER.into()),
+        ("compute.gudsl".into(), compute_kernel("Maths.Kernels", body)),
+    ]
 }
 
 #[test]
@@ -52,6 +68,16 @@ fn owner_methods_run_as_functions_and_compute_what_rust_does() {
     let expected: Vec<i32> = (0..count as i32)
         .map(|id| (id * 2 + 1).min(1500) + (id + 3) - id + (id as f32 / 2.0) as i32 + if id < 500 { -1 } else { 1 })
         .collect();
+    assert_eq!(got, expected);
+}
+
+#[test]
+fn a_method_implemented_by_a_behavior_returns_the_behaviors_value() {
+    let kernel = generated_from(&sources("            out[id] = smaller(id, 600);"), "compute");
+    assert!(kernel.wgsl.contains("return Smaller(a, b);"), "{}", kernel.wgsl);
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    let expected: Vec<i32> = (0..count as i32).map(|id| id.min(600)).collect();
     assert_eq!(got, expected);
 }
 

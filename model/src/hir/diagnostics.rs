@@ -99,7 +99,7 @@ pub enum DiagnosticCode {
     /// A decision node none of whose transitions has a guard.
     UnguardedDecision,
     /// A join node with a single incoming transition.
-    JoinOfOneFlow,
+    ForkOrJoinOfOneFlow,
     /// A `read` image written, or a `write` image read.
     ImageAccess,
     /// A port's connector interface the component's class does not implement (an anonymous
@@ -166,7 +166,7 @@ impl DiagnosticCode {
             DiagnosticCode::MissingReturn => "E0235",
             DiagnosticCode::InvalidTransition => "E0236",
             DiagnosticCode::UnguardedDecision => "E0237",
-            DiagnosticCode::JoinOfOneFlow => "E0238",
+            DiagnosticCode::ForkOrJoinOfOneFlow => "E0238",
             DiagnosticCode::ImageAccess => "E0239",
             DiagnosticCode::InterfaceNotImplemented => "E0240",
             DiagnosticCode::MisplacedJump => "E0241",
@@ -222,8 +222,10 @@ impl DiagnosticCode {
             DiagnosticCode::ReturnType => "a `return` that does not fit the return type",
             DiagnosticCode::MissingReturn => "a method body that can end without `return`",
             DiagnosticCode::InvalidTransition => "a transition into a start node or out of a final node",
-            DiagnosticCode::UnguardedDecision => "a decision without a guarded transition",
-            DiagnosticCode::JoinOfOneFlow => "a join with a single incoming transition",
+            DiagnosticCode::UnguardedDecision => "a decision without a guarded transition, or with two `[]`",
+            DiagnosticCode::ForkOrJoinOfOneFlow => {
+                "a fork with a single outgoing or a join with a single incoming transition"
+            }
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
             DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
             DiagnosticCode::MisplacedJump => "a `break` or `continue` with nothing to leave",

@@ -200,6 +200,18 @@ impl<'db> InferenceCtx<'_, 'db> {
         behavior_result(sema.db(), sema.workspace(), Fqn::new(sema.db(), def.fqn.clone())).clone()
     }
 
+    /// What `call behavior X(…)` yields, without checking its arguments again.
+    pub(super) fn behavior_result(&self, call: &ast::CallBehaviorExpr) -> Ty {
+        let sema = self.sema;
+        let def = call.behavior().and_then(|path| sema.resolve(&self.scope, &path.text()));
+        match def {
+            Some(def) if matches!(def.kind, DefKind::Activity(_)) => {
+                behavior_result(sema.db(), sema.workspace(), Fqn::new(sema.db(), def.fqn.clone())).clone()
+            }
+            _ => Ty::Unknown,
+        }
+    }
+
     /// `=> node(args)`: the work sizes of a calc node (3) or the ranges of a calcRange node
     /// (2, 4 or 6) are integers, the other arguments fit the node's parameters (the number of
     /// arguments is validation's, E0210).

@@ -10,7 +10,7 @@ mod operators;
 mod statements;
 
 use statements::{declared_access, declared_const};
-pub use statements::{misplaced_jumps, returns_on_every_path};
+pub use statements::{implementing_behavior, misplaced_jumps, returns_on_every_path};
 
 use std::collections::{HashMap, HashSet};
 

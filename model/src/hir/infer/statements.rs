@@ -100,6 +100,29 @@ impl InferenceCtx<'_, '_> {
         }
     }
 
+    /// A method body that ends with `call behavior X(…)` instead of `return`: `X`'s result must
+    /// be one the method returns (E0234), and a diagram that returns nothing leaves the method
+    /// without a value (E0235).
+    pub fn check_implementing_behavior(&mut self, call: &ast::CallBehaviorExpr) {
+        let Some((method, expected)) = self.returns.clone() else { return };
+        let sema = self.sema;
+        let result = self.behavior_result(call);
+        let behavior = call.behavior().map(|p| p.text()).unwrap_or_default();
+        let (code, message) = match result {
+            Ty::Unknown => return,
+            Ty::Void => (
+                DiagnosticCode::MissingReturn,
+                format!("`{method}` returns `{expected}`, but `{behavior}`, which its body ends with, returns no value: give its final node one (`final f return value;`) or end the body with `return`"),
+            ),
+            ty if !ty.assignable_to(&expected, &mut |a, b| sema.is_subtype(a, b)) => (
+                DiagnosticCode::ReturnType,
+                format!("`{method}` returns `{expected}`, but `{behavior}`, which implements it, returns `{ty}`"),
+            ),
+            _ => return,
+        };
+        self.sink.error(code, call.syntax().text_range(), message);
+    }
+
     /// `target = value` (and `+=`, …): the value must fit the target; a reference target
     /// takes a value of what it refers to.
     pub(super) fn assignment(&mut self, bin: &ast::BinExpr, target: Ty, value: Ty) -> Ty {
@@ -154,6 +177,20 @@ pub fn returns_on_every_path(block: &SyntaxNode) -> bool {
         }
         _ => false,
     })
+}
+
+/// The `call behavior X(…)` a method's body ends with: the dissertation's way of saying that
+/// the diagram `X` implements the method (Listing 36's `bindBetterValueAndReturnNumber`), whose
+/// result — the value of `X`'s final node — is then the method's result.
+pub fn implementing_behavior(body: &ast::Block) -> Option<ast::CallBehaviorExpr> {
+    let last = body.syntax().children().filter(|n| ast::Stmt::can_cast(n.kind())).last()?;
+    match last.kind() {
+        SyntaxKind::EXPR_STMT => match last.children().find_map(ast::Expr::cast)? {
+            ast::Expr::CallBehaviorExpr(call) => Some(call),
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 /// The `break`s in `body` outside any loop or `switch` of it and the `continue`s outside any

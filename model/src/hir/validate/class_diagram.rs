@@ -7,7 +7,7 @@ use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         components::signature_key,
-        infer::{misplaced_jumps, returns_on_every_path, InferenceCtx},
+        infer::{implementing_behavior, misplaced_jumps, returns_on_every_path, InferenceCtx},
         items::{type_signature, InterfaceRole, TypeSignature},
         ty::Ty,
     },
@@ -132,6 +132,10 @@ fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
         typing.check(body.syntax());
         let returns_a_value = method.return_type().is_some_and(|t| t.builtin().is_none_or(|b| b.text() != "void"));
         if returns_a_value && !returns_on_every_path(body.syntax()) {
+            if let Some(call) = implementing_behavior(&body) {
+                typing.check_implementing_behavior(&call);
+                return;
+            }
             let end = body.syntax().last_token().map_or_else(|| body.syntax().text_range(), |t| t.text_range());
             ctx.sink.error(
                 DiagnosticCode::MissingReturn,

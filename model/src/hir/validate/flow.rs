@@ -53,7 +53,7 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
         }
         node_transitions(ctx, node, source_name);
     }
-    joins_of_one_flow(ctx, nodes, &edges);
+    forks_and_joins_of_one_flow(ctx, nodes, &edges);
     // A second node of a name is reported as a duplicate (E0205), not again as unreachable.
     let first_of_its_name: Vec<bool> =
         names.iter().enumerate().map(|(i, name)| name.as_ref().is_some_and(|n| by_name[n.as_str()] == i)).collect();
@@ -131,34 +131,55 @@ fn node_transitions(ctx: &mut Ctx, node: &ast::ActivityNode, name: &str) {
                 );
             }
         }
-        ast::NodeKind::Decision => {
-            let guarded = node.transitions().any(|t| t.guard().is_some_and(|g| g.condition().is_some()));
-            if !guarded {
-                let range = node.name().map_or_else(|| node.syntax().text_range(), |n| n.syntax().text_range());
-                ctx.sink.error(
-                    DiagnosticCode::UnguardedDecision,
-                    range,
-                    format!("decision `{name}` has no guarded transition: guard them (`[condition] => node;`, `[] => otherwise;`)"),
-                );
-            }
-        }
+        ast::NodeKind::Decision => decision_guards(ctx, node, name),
         _ => {}
     }
 }
 
-/// A join waits for the flows a fork started: one incoming transition is a mistake.
-fn joins_of_one_flow(ctx: &mut Ctx, nodes: &[ast::ActivityNode], edges: &[Vec<usize>]) {
+/// A decision chooses by guards: at least one, and one `[]` (otherwise) at most.
+fn decision_guards(ctx: &mut Ctx, node: &ast::ActivityNode, name: &str) {
+    let guarded = node.transitions().any(|t| t.guard().is_some_and(|g| g.condition().is_some()));
+    if !guarded {
+        let range = node.name().map_or_else(|| node.syntax().text_range(), |n| n.syntax().text_range());
+        ctx.sink.error(
+            DiagnosticCode::UnguardedDecision,
+            range,
+            format!(
+                "decision `{name}` has no guarded transition: guard them (`[condition] => node;`, `[] => otherwise;`)"
+            ),
+        );
+    }
+    let otherwise = node.transitions().filter_map(|t| t.guard()).filter(|g| g.condition().is_none());
+    for extra in otherwise.skip(1) {
+        ctx.sink.error(
+            DiagnosticCode::UnguardedDecision,
+            extra.syntax().text_range(),
+            format!("decision `{name}` has a second `[]` transition: only one is taken otherwise — guard this one or remove it"),
+        );
+    }
+}
+
+/// A fork starts several flows and a join waits for several: one outgoing transition out of a
+/// fork, or one incoming into a join, is a mistake.
+fn forks_and_joins_of_one_flow(ctx: &mut Ctx, nodes: &[ast::ActivityNode], edges: &[Vec<usize>]) {
     let mut incoming = vec![0usize; nodes.len()];
     edges.iter().flatten().for_each(|&target| incoming[target] += 1);
-    for (join, _) in nodes.iter().zip(&incoming).filter(|(n, &count)| n.kind() == ast::NodeKind::Join && count == 1) {
-        let Some(name) = join.name() else { continue };
+    for (i, node) in nodes.iter().enumerate() {
+        let message = match node.kind() {
+            ast::NodeKind::Join if incoming[i] == 1 => {
+                "has one incoming transition: a join waits for several flows (those a fork starts)"
+            }
+            ast::NodeKind::Fork if edges[i].len() == 1 => {
+                "has one outgoing transition: a fork starts several flows (an action passes one on)"
+            }
+            _ => continue,
+        };
+        let Some(name) = node.name() else { continue };
+        let what = if node.kind() == ast::NodeKind::Join { "join" } else { "fork" };
         ctx.sink.warn(
-            DiagnosticCode::JoinOfOneFlow,
+            DiagnosticCode::ForkOrJoinOfOneFlow,
             name.syntax().text_range(),
-            format!(
-                "join `{}` has one incoming transition: a join waits for several flows (those a fork starts)",
-                name.text()
-            ),
+            format!("{what} `{}` {message}", name.text()),
         );
     }
 }
