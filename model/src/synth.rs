@@ -247,7 +247,7 @@ pub fn linked_workspace(files: usize) -> Vec<SynthFile> {
             }
             let _ = writeln!(text, "        public Base.Date created;");
             let _ = writeln!(text, "        public Bool compute(Int x, E{j1}_{k1} y);");
-            let _ = writeln!(text, "        public M{j2}.E{j2}_{k2} find(String key);\n    }}");
+            let _ = writeln!(text, "        public M{j2}.E{j2}_{k2} find{k}(String key);\n    }}");
         }
         text.push_str("}\n");
         out.push(SynthFile { path: format!("f{i:03}.gudsl"), text });

@@ -107,6 +107,13 @@ pub enum DiagnosticCode {
     InterfaceNotImplemented,
     /// A `break` outside a loop or `switch`, a `continue` outside a loop.
     MisplacedJump,
+    /// An override whose return type is not the overridden method's (nor a subtype of it).
+    OverrideReturnType,
+    /// `new` of an abstract class or an interface, or an instance of one.
+    AbstractInstance,
+    /// An operator applied to operands it does not take (objects in arithmetic, vectors of
+    /// different widths, a number indexed).
+    OperandType,
     /// A processor connector of a filter or sink instance that no binding feeds.
     UnboundProcessor,
     /// Bindings in a cycle without a buffered port.
@@ -170,6 +177,9 @@ impl DiagnosticCode {
             DiagnosticCode::ImageAccess => "E0239",
             DiagnosticCode::InterfaceNotImplemented => "E0240",
             DiagnosticCode::MisplacedJump => "E0241",
+            DiagnosticCode::OverrideReturnType => "E0242",
+            DiagnosticCode::AbstractInstance => "E0243",
+            DiagnosticCode::OperandType => "E0244",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -229,6 +239,9 @@ impl DiagnosticCode {
             DiagnosticCode::ImageAccess => "a `read` image written or a `write` image read",
             DiagnosticCode::InterfaceNotImplemented => "a port interface the component's class does not implement",
             DiagnosticCode::MisplacedJump => "a `break` or `continue` with nothing to leave",
+            DiagnosticCode::OverrideReturnType => "an override that returns another type",
+            DiagnosticCode::AbstractInstance => "an instance of an abstract class or an interface",
+            DiagnosticCode::OperandType => "an operator applied to operands it does not take",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",

@@ -107,6 +107,18 @@ pub struct TypeItem {
     pub enum_values: Vec<String>,
 }
 
+impl TypeItem {
+    /// Why no object of this type can be made (`new`, a component instance): it is an
+    /// interface or an abstract class (Sec. 9.1.1). The one rule for both.
+    pub fn why_not_instantiable(&self) -> Option<&'static str> {
+        match self.kind {
+            TypeKind::Interface(_) => Some("an interface: instantiate a class that implements it"),
+            TypeKind::Class(_) if self.is_abstract => Some("abstract: instantiate a class that extends it"),
+            _ => None,
+        }
+    }
+}
+
 /// A type as written: built-in or a path, with its qualifiers and arguments.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Hash)]
 pub struct TypeSignature {

@@ -212,6 +212,61 @@ impl<'db> InferenceCtx<'_, 'db> {
         }
     }
 
+    /// `new T(args)` and `new T[size]`: no object of an interface or an abstract class (E0243),
+    /// and a vector built from as many components as it has (OpenCL C 6.1.6: scalars and
+    /// vectors whose widths add up, or one scalar for every component; 10.2.1.5).
+    pub(super) fn new_expr(&mut self, new: &ast::NewExpr) -> Ty {
+        let args: Vec<ast::Expr> = new.arg_list().into_iter().flat_map(|l| l.args().collect::<Vec<_>>()).collect();
+        let arg_tys: Vec<Ty> = args.iter().map(|arg| self.infer(arg)).collect();
+        let ty = self.ty_of(new.type_ref());
+        if let Some(size) = new.array_size() {
+            self.infer(&size);
+            return Ty::Array(Box::new(ty));
+        }
+        let at = new.type_ref().map_or_else(|| new.syntax().clone(), |t| t.syntax().clone());
+        match &ty {
+            Ty::Named(fqn) => {
+                let item = self.sema.definition(fqn).and_then(|d| match &d.kind {
+                    DefKind::Type(item) => Some(item),
+                    _ => None,
+                });
+                if let Some(why) = item.and_then(|item| item.why_not_instantiable()) {
+                    self.sink.error(DiagnosticCode::AbstractInstance, at.text_range(), format!("`{fqn}` is {why}"));
+                }
+            }
+            Ty::Vector(_, width) => self.vector_components(&ty, *width, &args, &arg_tys, &at),
+            _ => {}
+        }
+        ty
+    }
+
+    fn vector_components(&mut self, ty: &Ty, width: u8, args: &[ast::Expr], arg_tys: &[Ty], at: &SyntaxNode) {
+        let mut given = 0usize;
+        for (arg, arg_ty) in args.iter().zip(arg_tys) {
+            given += match arg_ty {
+                Ty::Vector(_, w) => usize::from(*w),
+                Ty::Unknown => return,
+                t if t.is_numeric() => 1,
+                other => {
+                    self.sink.error(
+                        DiagnosticCode::ArgumentType,
+                        arg.syntax().text_range(),
+                        format!("a component of `{ty}` is a number or a vector, not `{other}`"),
+                    );
+                    return;
+                }
+            };
+        }
+        let scalar_for_all = args.len() == 1 && given == 1;
+        if given != usize::from(width) && !scalar_for_all && !args.is_empty() {
+            self.sink.error(
+                DiagnosticCode::CallArity,
+                at.text_range(),
+                format!("`{ty}` is built from {width} components (or one number for all of them), {given} given"),
+            );
+        }
+    }
+
     /// `=> node(args)`: the work sizes of a calc node (3) or the ranges of a calcRange node
     /// (2, 4 or 6) are integers, the other arguments fit the node's parameters (the number of
     /// arguments is validation's, E0210).

@@ -9,7 +9,7 @@ mod calls;
 mod operators;
 mod statements;
 
-use statements::{declared_access, declared_const};
+use statements::{declared_access, declared_const, declared_shared};
 pub use statements::{implementing_behavior, misplaced_jumps, returns_on_every_path};
 
 use std::collections::{HashMap, HashSet};
@@ -38,6 +38,8 @@ pub struct InferenceCtx<'a, 'db> {
     constants: HashSet<String>,
     /// The image parameters declared `read` or `write` (the keyword's kind).
     access: HashMap<String, SyntaxKind>,
+    /// The parameters declared `shared`: work-group memory, indexed like an array.
+    shared_memory: HashSet<String>,
     /// The method whose body this is and its return type, for `return` statements.
     returns: Option<(String, Ty)>,
     /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
@@ -82,6 +84,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             locals: HashMap::new(),
             constants: HashSet::new(),
             access: HashMap::new(),
+            shared_memory: HashSet::new(),
             returns: None,
             nodes: None,
             owner,
@@ -96,6 +99,11 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             self.constants.insert(name.clone());
         } else {
             self.constants.remove(&name);
+        }
+        if ty.as_ref().is_some_and(declared_shared) {
+            self.shared_memory.insert(name.clone());
+        } else {
+            self.shared_memory.remove(&name);
         }
         match ty.as_ref().and_then(declared_access) {
             Some(access) => self.access.insert(name.clone(), access),
@@ -308,21 +316,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             ast::Expr::IndexExpr(i) => self.index(i),
             ast::Expr::MemberExpr(m) => self.member(m),
             ast::Expr::ScopeExpr(s) => self.scope_member(s),
-            ast::Expr::NewExpr(n) => {
-                let args: Vec<ast::Expr> =
-                    n.arg_list().into_iter().flat_map(|l| l.args().collect::<Vec<_>>()).collect();
-                for arg in &args {
-                    self.infer(arg);
-                }
-                let ty = self.ty_of(n.type_ref());
-                match n.array_size() {
-                    Some(size) => {
-                        self.infer(&size);
-                        Ty::Array(Box::new(ty))
-                    }
-                    None => ty,
-                }
-            }
+            ast::Expr::NewExpr(n) => self.new_expr(n),
             ast::Expr::CallExpr(call) => self.call(call),
             ast::Expr::CallMethodExpr(call) => {
                 let args: Vec<ast::Expr> = call.args().collect();
@@ -420,20 +414,23 @@ pub fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast:
 
 /// How many components the swizzle `name` of a `width`-wide vector selects (OpenCL C 6.1.7:
 /// `xyzw`/`rgba` letters, `s` and hex digits, `lo`/`hi`/`even`/`odd`; the dissertation writes
-/// `_x`); `None` if it is none.
+/// `_x`); `None` if it is none, or names a component the vector does not have (`int2._w`).
 pub fn swizzle_width(name: &str, width: u8) -> Option<u8> {
     let name = name.strip_prefix('_').unwrap_or(name);
     let count = |n: usize| u8::try_from(n).ok().filter(|n| (1..=16).contains(n));
+    let within = |index: Option<usize>| index.is_some_and(|i| i < usize::from(width));
     if matches!(name, "lo" | "hi" | "even" | "odd") {
-        return Some((width / 2).max(1));
+        return (width >= 2).then_some(width / 2);
     }
     if let Some(digits) = name.strip_prefix(['s', 'S']).filter(|d| !d.is_empty()) {
-        if digits.chars().all(|c| c.is_ascii_hexdigit()) {
+        if digits.chars().all(|c| within(c.to_digit(16).map(|d| d as usize))) {
             return count(digits.len());
         }
     }
-    if name.chars().all(|c| "xyzw".contains(c)) || name.chars().all(|c| "rgba".contains(c)) {
-        return count(name.len());
+    for letters in ["xyzw", "rgba"] {
+        if name.chars().all(|c| within(letters.find(c))) {
+            return count(name.len());
+        }
     }
     None
 }

@@ -6,7 +6,7 @@
 use super::{swizzle_width, InferenceCtx};
 use crate::{
     ast::{self, AstNode},
-    hir::Ty,
+    hir::{definitions::DefKind, diagnostics::DiagnosticCode, items::TypeKind, Ty},
     syntax::SyntaxKind,
 };
 
@@ -19,7 +19,9 @@ impl InferenceCtx<'_, '_> {
         }
         // Arithmetic reads through references.
         let (lhs, rhs) = (lhs.dereferenced().clone(), rhs.dereferenced().clone());
-        let Some(op) = bin.op().map(|t| t.kind()) else { return Ty::Unknown };
+        let Some(op_token) = bin.op() else { return Ty::Unknown };
+        let op = op_token.kind();
+        self.operands(bin, op_token.text(), op, &lhs, &rhs);
         use SyntaxKind::*;
         match op {
             EQ2 | NEQ | L_ANGLE | LTEQ | R_ANGLE | GTEQ | AMP2 | PIPE2 => Ty::Bool,
@@ -36,6 +38,58 @@ impl InferenceCtx<'_, '_> {
                 (Ty::Array(_), _) => lhs,
                 _ => Ty::Unknown,
             },
+        }
+    }
+
+    /// Operands an operator takes, as in C and OpenCL C: numbers (enums too) in arithmetic and
+    /// comparisons, strings joined by `+`, objects compared for identity only (`==`, `!=`,
+    /// with each other or `null`), vectors with vectors of their width or with numbers.
+    fn operands(&mut self, bin: &ast::BinExpr, text: &str, op: SyntaxKind, lhs: &Ty, rhs: &Ty) {
+        use SyntaxKind::*;
+        if matches!(op, AMP2 | PIPE2) {
+            return;
+        }
+        let identity = matches!(op, EQ2 | NEQ);
+        let problem = match (lhs, rhs) {
+            (Ty::Vector(_, a), Ty::Vector(_, b)) if a != b => {
+                Some(format!("`{text}` takes vectors of one width, not `{lhs}` and `{rhs}`"))
+            }
+            (Ty::String, _) | (_, Ty::String) if op == PLUS || identity => None,
+            (a, b) if identity && self.is_object(a) && (self.is_object(b) || *b == Ty::Null) => None,
+            (a, b) if identity && self.is_object(b) && *a == Ty::Null => None,
+            (a, _) if self.is_object(a) => Some(format!("`{text}` does not apply to `{lhs}`")),
+            (_, b) if self.is_object(b) => Some(format!("`{text}` does not apply to `{rhs}`")),
+            _ => None,
+        };
+        if let Some(message) = problem {
+            let hint = if identity { " (objects compare with objects or `null`)" } else { "" };
+            self.sink.error(DiagnosticCode::OperandType, bin.syntax().text_range(), format!("{message}{hint}"));
+        }
+    }
+
+    /// `scratch` of `shared int scratch`, a parameter, local or field of the owner: work-group
+    /// memory.
+    fn is_shared_memory(&self, expr: &ast::Expr) -> bool {
+        let ast::Expr::NameExpr(name) = expr else { return false };
+        let Some(name) = name.name_ref().map(|n| n.text()) else { return false };
+        if self.locals.contains_key(&name) {
+            return self.shared_memory.contains(&name);
+        }
+        let shared_field = |ty: &crate::hir::items::TypeItem| {
+            ty.fields.iter().find(|f| f.name == name).map(|f| f.qualifiers.iter().any(|q| q == "shared"))
+        };
+        self.owner.and_then(|owner| self.sema.find_member(&owner.fqn, &shared_field)).is_some_and(|(_, shared)| shared)
+    }
+
+    /// A class or interface object, or an opaque GPU type (an image, a sampler): no number.
+    fn is_object(&self, ty: &Ty) -> bool {
+        match ty {
+            Ty::Gpu(_) => true,
+            Ty::Named(fqn) => self.sema.definition(fqn).is_some_and(|def| match &def.kind {
+                DefKind::Type(item) => !matches!(item.kind, TypeKind::Enum),
+                _ => false,
+            }),
+            _ => false,
         }
     }
 
@@ -94,6 +148,21 @@ impl InferenceCtx<'_, '_> {
             },
             Ty::Array(inner) => *inner,
             Ty::Vector(base, _) => *base,
+            Ty::Int | Ty::UInt | Ty::Float | Ty::Bool => {
+                let Some(indexed) = i.base() else { return Ty::Unknown };
+                if self.is_shared_memory(&indexed) {
+                    return base;
+                }
+                self.sink.error(
+                    DiagnosticCode::OperandType,
+                    indexed.syntax().text_range(),
+                    format!(
+                        "`{}` is `{base}`: only arrays, vectors, buffers (`ref`) and containers are indexed",
+                        indexed.syntax().text()
+                    ),
+                );
+                Ty::Unknown
+            }
             _ => Ty::Unknown,
         }
     }
@@ -105,8 +174,23 @@ impl InferenceCtx<'_, '_> {
         match receiver.dereferenced().clone() {
             // Swizzles: `v._x`, `v.x`, `v.xy`, `v.s01`, `v.lo`.
             Ty::Vector(base, width) => match swizzle_width(&member.text(), width) {
-                Some(1) | None => *base,
+                Some(1) => *base,
                 Some(n) => Ty::Vector(base, n),
+                None => {
+                    let vector = Ty::Vector(base, width);
+                    let names =
+                        ["x", "y", "z", "w"].iter().take(usize::from(width).min(4)).copied().collect::<Vec<_>>();
+                    self.sink.error(
+                        DiagnosticCode::UnknownMember,
+                        member.syntax().text_range(),
+                        format!(
+                            "`{vector}` has no component `{}`: its components are {} (or `s0`…, `lo`, `hi`, `even`, `odd`)",
+                            member.text(),
+                            names.join(", ")
+                        ),
+                    );
+                    Ty::Unknown
+                }
             },
             Ty::Named(fqn) => self.field_ty(&fqn, &member.text(), member.syntax()),
             _ => Ty::Unknown,

@@ -2,7 +2,7 @@
 //! field initialisers and method bodies (typed), `shared` parameters only in OpenCL classes, and
 //! a processor counterpart for every provider method (chapter 11.3.1).
 
-use super::{calls, inheritance, names, types, Ctx, DiagnosticCode, Scope};
+use super::{calls, inheritance, names, objects, types, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
@@ -22,6 +22,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ClassDiagram, n
             let fqn = scope.qualify(&name.text());
             names::unique_across_files(ctx, &fqn, &name, "type");
             inheritance::bases(ctx, scope, &fqn, &decl);
+            objects::methods(ctx, scope, &fqn, &decl);
         }
         type_decl(ctx, scope, &decl);
         if let ast::TypeDecl::Enum(e) = &decl {

@@ -21,10 +21,19 @@ pub(super) fn bases(ctx: &mut Ctx, scope: &Scope, fqn: &str, decl: &ast::TypeDec
     };
     let is_class = matches!(decl, ast::TypeDecl::Class(_));
     let what = if is_class { "class" } else { "interface" };
+    let mut named = std::collections::HashSet::new();
     for (base, implementing) in extends.iter().map(|b| (b, false)).chain(implements.iter().map(|b| (b, true))) {
         let Some(path) = base.path() else { continue };
         let Some(def) = ctx.sema.resolve(scope, &path.text()) else { continue };
         let DefKind::Type(ty) = &def.kind else { continue };
+        if !named.insert(&def.fqn) {
+            ctx.sink.error(
+                DiagnosticCode::InvalidInheritance,
+                base.syntax().text_range(),
+                format!("{what} `{fqn}` names `{}` twice among its bases: remove this one", def.fqn),
+            );
+            continue;
+        }
         let fix = match (is_class, implementing, &ty.kind) {
             (true, false, TypeKind::Class(_)) | (true, true, TypeKind::Interface(_)) => None,
             (false, _, TypeKind::Interface(_)) => None,
@@ -77,7 +86,7 @@ pub(super) fn template_arguments(ctx: &mut Ctx, ty: &ast::TypeRef, def: &Definit
     let DefKind::Type(item) = &def.kind else { return };
     let given = ty.type_args().count();
     let expected = item.template_params.len();
-    if given == 0 || given == expected {
+    if given == expected {
         return;
     }
     let wanted = match expected {

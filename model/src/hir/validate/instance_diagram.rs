@@ -189,16 +189,16 @@ fn instance_component(ctx: &mut Ctx, scope: &Scope, instance: &ast::ComponentIns
         );
         return;
     }
-    if !matches!(def.kind, DefKind::Type(_)) {
-        return;
+    let DefKind::Type(item) = &def.kind else { return };
+    if let Some(why) = item.why_not_instantiable() {
+        ctx.sink.error(DiagnosticCode::AbstractInstance, range, format!("`{}` is {why}", def.fqn));
     }
     for value in instance.field_values() {
         let Some(field) = value.name() else { continue };
         let name = field.text();
         // The field may be inherited; its type is resolved where it is declared.
-        let found =
-            ctx.sema.find_member(&def.fqn, &|ty| ty.fields.iter().find(|f| f.name == name).map(|f| f.ty.clone()));
-        let Some((declaring, field_sig)) = found else {
+        let found = ctx.sema.find_member(&def.fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
+        let Some((declaring, field)) = found else {
             ctx.sink.error(
                 DiagnosticCode::UnknownInstanceField,
                 field.syntax().text_range(),
@@ -206,8 +206,16 @@ fn instance_component(ctx: &mut Ctx, scope: &Scope, instance: &ast::ComponentIns
             );
             continue;
         };
+        if field.qualifiers.iter().any(|q| q == "const") {
+            ctx.sink.error(
+                DiagnosticCode::AssignToConst,
+                value.name().map_or_else(|| value.syntax().text_range(), |n| n.syntax().text_range()),
+                format!("field `{name}` of `{}` is `const`: an instance cannot give it a value", def.fqn),
+            );
+            continue;
+        }
         let Some(expr) = value.value() else { continue };
-        let field_ty = ctx.sema.ty(&field_sig, &Scope::of(declaring));
+        let field_ty = ctx.sema.ty(&field.ty, &Scope::of(declaring));
         let sema = ctx.sema;
         let value_ty = InferenceCtx::new(sema, &mut ctx.sink, scope.clone(), None).infer(&expr);
         if !value_ty.assignable_to(&field_ty, &mut |a, b| sema.is_subtype(a, b)) {

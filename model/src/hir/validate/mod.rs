@@ -14,6 +14,7 @@ mod flow;
 mod inheritance;
 mod instance_diagram;
 mod names;
+mod objects;
 mod types;
 
 use super::{
