@@ -8,6 +8,8 @@
 //! gives (E0405, in `gudsl check` too), a host diagram where a device diagram belongs, a call
 //! inside a branch, a sink that extends no library sink, a run without a GPU. A depth filter of
 //! the workspace runs its diagram on the depth image's buffers, equal to the Rust API's.
+//! Listing 28's flat form (an instance's port instances and bindings without braces) checks
+//! clean and runs to the same pictures.
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -105,6 +107,40 @@ fn edited(dir: &std::path::Path, name: &str, edits: &[(&str, &str)]) -> String {
     let path = dir.join(format!("{name}.gudsl"));
     std::fs::write(&path, text).unwrap();
     path.to_str().unwrap().to_string()
+}
+
+/// The sample with Listing 28's flat form: its instances' port instances and bindings follow
+/// them without braces.
+fn flat_form(dir: &std::path::Path) -> String {
+    let text = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    let start = text.find("ComponentInstanceDiagram").unwrap();
+    let end = start + text[start..].find("\n}\n").unwrap();
+    let diagram: Vec<&str> = text[start..end].lines().filter(|l| !matches!(*l, "    {" | "    }")).collect();
+    let flat = format!("{}{}{}", &text[..start], diagram.join("\n"), &text[end..]);
+    assert_ne!(flat, text);
+    let path = dir.join("flat.gudsl");
+    std::fs::write(&path, flat).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn the_flat_form_of_listing_28_checks_and_runs_as_the_braced_one() {
+    let dir = temp_dir("flat");
+    let file = flat_form(&dir);
+    let (code, text) = run(&["check", &file]);
+    assert_eq!(code, Some(0), "{text}");
+    if !gpu() {
+        return;
+    }
+    let (braced_out, flat_out) = (dir.join("braced"), dir.join("flat"));
+    for (model, out) in [(repo(SAMPLE), &braced_out), (file, &flat_out)] {
+        let (code, text) = run(&["run", &model, "--frames", "1", "-o", out.to_str().unwrap()]);
+        assert_eq!(code, Some(0), "{text}");
+    }
+    for camera in ["Camera1", "Camera2"] {
+        let picture = |out: &std::path::Path| std::fs::read(out.join(format!("Viewer1/{camera}_0000.png"))).unwrap();
+        assert!(picture(&flat_out) == picture(&braced_out), "{camera}: the flat form's picture differs");
+    }
 }
 
 #[test]

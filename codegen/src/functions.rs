@@ -2,9 +2,10 @@
 //! method of its OpenCL class (or a base) that has a body, and its `call behavior` of another
 //! activity diagram, become calls of a function generated once per module, with the method's or
 //! diagram's value parameters and return type (a diagram's: what its `final … return` gives);
-//! what those call follows. What WGSL cannot take is an error at its place: recursion, pointer
-//! or image parameters, fields of the class, overloads of the same arity, a method without a
-//! body, `out` parameters of a diagram.
+//! what those call follows. A method whose body ends with `call behavior X(…)` is implemented
+//! by `X` (Listing 36) and returns its value. What WGSL cannot take is an error at its place:
+//! recursion, pointer or image parameters, fields of the class, overloads of the same arity, a
+//! method without a body, `out` parameters of a diagram.
 
 use gudsl_model::{
     ast::{self, AstNode, HasModifiers, HasName},

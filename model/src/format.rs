@@ -180,7 +180,7 @@ impl Printer {
         }
         if self.at_line_start {
             if started || !self.out.is_empty() {
-                let level = self.depth + usize::from(self.paren_depth > 0);
+                let level = self.depth + usize::from(self.paren_depth > 0) + usize::from(in_flat_member(token));
                 for _ in 0..level {
                     self.out.push_str(INDENT);
                 }
@@ -273,6 +273,14 @@ fn next_significant(token: &SyntaxToken) -> Option<SyntaxToken> {
     None
 }
 
+/// Whether `token` is in a port instance or binding written after its instance without braces
+/// (Listing 28's flat form): indented one level more than the instance, as if in its body.
+fn in_flat_member(token: &SyntaxToken) -> bool {
+    let member = token.parent_ancestors().find(|n| matches!(n.kind(), PORT_INSTANCE | BINDING));
+    let instance = member.and_then(|m| m.parent()).filter(|p| p.kind() == COMPONENT_INSTANCE);
+    instance.is_some_and(|i| !i.children_with_tokens().any(|c| c.kind() == L_CURLY))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -320,6 +328,13 @@ mod tests {
         assert_eq!(fmt(&lf.replacen('\n', "\r\n", 1)), lf.replace('\n', "\r\n"));
         let bom = format!("\u{feff}{lf}");
         assert_eq!(fmt(&bom), bom);
+    }
+
+    #[test]
+    fn flat_instance_members_are_indented_as_in_a_body() {
+        let input = "ComponentInstanceDiagram D\n{\nA instantiates X.C(w=1)\nP : Q(provider c=I());\n[source P.c==>target B.R.d]\nB instantiates X.D()\n}\n";
+        let expected = "ComponentInstanceDiagram D\n{\n    A instantiates X.C(w = 1)\n        P : Q(provider c = I());\n        [source P.c ==> target B.R.d]\n    B instantiates X.D()\n}\n";
+        assert_eq!(fmt(input), expected);
     }
 
     #[test]

@@ -269,3 +269,21 @@ fn loop_headers_show_the_dissertations_setup_test_and_increment_areas() {
     // A header the validator rejects is shown as written.
     assert_eq!(header("d"), ["i < n", "i"]);
 }
+
+#[test]
+fn listing28_without_instance_braces_draws_as_with_them() {
+    let braced = seed("listing28_component_instance_example.gudsl");
+    // The flat form the listing is printed in: the instances' braces removed.
+    let flat: String = braced.lines().filter(|l| !matches!(*l, "    {" | "    }")).map(|l| format!("{l}\n")).collect();
+    assert_ne!(flat, braced);
+    let shape = |g: &Graph| {
+        let nodes: Vec<(String, Vec<String>)> =
+            g.nodes.iter().map(|n| (n.id.clone(), n.ports.iter().map(|p| p.id.clone()).collect())).collect();
+        let edges: Vec<(String, String)> =
+            g.edges.iter().map(|e| (e.source.id().to_string(), e.target.id().to_string())).collect();
+        (nodes, edges)
+    };
+    let (braced, flat) = (&graphs_of(&[("i", braced)])[0], &graphs_of(&[("i", flat)])[0]);
+    assert_eq!(shape(flat), shape(braced));
+    assert_eq!(braced.edges.len(), 3);
+}

@@ -111,6 +111,8 @@ pub enum DiagnosticCode {
     OverrideReturnType,
     /// `new` of an abstract class or an interface, or an instance of one.
     AbstractInstance,
+    /// An assignment to, an increment of or `ref` of a value that is no variable, element or field.
+    NotAssignable,
     /// An operator applied to operands it does not take (objects in arithmetic, vectors of
     /// different widths, a number indexed).
     OperandType,
@@ -180,6 +182,7 @@ impl DiagnosticCode {
             DiagnosticCode::OverrideReturnType => "E0242",
             DiagnosticCode::AbstractInstance => "E0243",
             DiagnosticCode::OperandType => "E0244",
+            DiagnosticCode::NotAssignable => "E0245",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -242,6 +245,7 @@ impl DiagnosticCode {
             DiagnosticCode::OverrideReturnType => "an override that returns another type",
             DiagnosticCode::AbstractInstance => "an instance of an abstract class or an interface",
             DiagnosticCode::OperandType => "an operator applied to operands it does not take",
+            DiagnosticCode::NotAssignable => "an assignment to (or `ref` of) a value that is no variable",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",
@@ -274,6 +278,17 @@ pub struct Related {
     pub file: SourceFile,
     pub range: TextRange,
     pub message: String,
+}
+
+/// The text of `node` as a message quotes it: on one line, and cut to 40 characters (an
+/// expression can be 100 000 characters long).
+pub fn excerpt(node: &crate::syntax::SyntaxNode) -> String {
+    const LIMIT: usize = 40;
+    let text: String = node.text().to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+    match text.char_indices().nth(LIMIT) {
+        Some((cut, _)) => format!("{}…", &text[..cut]),
+        None => text,
+    }
 }
 
 /// Where validation rules and expression typing report problems, in the order found.

@@ -25,7 +25,7 @@ use super::{
 };
 use crate::{
     ast::{self, AstNode, HasName, LiteralValue},
-    syntax::{SyntaxKind, SyntaxNode, TextRange},
+    syntax::{SyntaxKind, SyntaxNode, TextRange, TextSize},
 };
 
 /// Typing context of one body: local names, and the class whose members are in scope.
@@ -40,6 +40,9 @@ pub struct InferenceCtx<'a, 'db> {
     access: HashMap<String, SyntaxKind>,
     /// The parameters declared `shared`: work-group memory, indexed like an array.
     shared_memory: HashSet<String>,
+    /// Where the body's own `var`s are declared (the name's start) and the statement they are
+    /// in scope in (a block, a `for`, the body), by name: a use must come after and within.
+    declared_in: HashMap<String, Vec<(TextSize, TextRange)>>,
     /// The method whose body this is and its return type, for `return` statements.
     returns: Option<(String, Ty)>,
     /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
@@ -85,6 +88,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             constants: HashSet::new(),
             access: HashMap::new(),
             shared_memory: HashSet::new(),
+            declared_in: HashMap::new(),
             returns: None,
             nodes: None,
             owner,
@@ -153,6 +157,20 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 SyntaxKind::VAR_DECL => {
                     let decl = ast::VarDecl::cast(element).expect("kind checked");
                     if let Some(name) = decl.name() {
+                        let outer =
+                            self.locals.contains_key(&name.text()) && !self.declared_in.contains_key(&name.text());
+                        if !outer {
+                            let scope = decl.syntax().ancestors().skip(1).find(|n| {
+                                n == node
+                                    || matches!(
+                                        n.kind(),
+                                        SyntaxKind::BLOCK | SyntaxKind::FOR_STMT | SyntaxKind::NODE_BODY
+                                    )
+                            });
+                            let scope = scope.map_or_else(|| node.text_range(), |s| s.text_range());
+                            let at = name.syntax().text_range().start();
+                            self.declared_in.entry(name.text()).or_default().push((at, scope));
+                        }
                         self.declare(name.text(), decl.type_ref());
                     }
                 }
@@ -225,13 +243,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                         }
                     }
                 }
-                SyntaxKind::SWITCH_STMT => {
-                    let switch = ast::SwitchStmt::cast(element).expect("kind checked");
-                    let labels = switch.cases().filter_map(|case| case.label());
-                    for expr in switch.scrutinee().into_iter().chain(labels) {
-                        self.infer(&expr);
-                    }
-                }
+                SyntaxKind::SWITCH_STMT => self.switch(&ast::SwitchStmt::cast(element).expect("kind checked")),
                 SyntaxKind::LOOP_WINDOW_DIM => {
                     let dim = ast::LoopWindowDim::cast(element).expect("kind checked");
                     if let Some(ast::LoopPart::Expr(start)) = dim.start() {
@@ -339,8 +351,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     /// A local, a field of the owner (or its bases), or a type used as a scope; anything else
     /// is reported as unknown.
     fn name_ty(&mut self, name: &str, at: &SyntaxNode) -> Ty {
-        if let Some(ty) = self.locals.get(name) {
-            return ty.clone();
+        if let Some(ty) = self.locals.get(name).cloned() {
+            self.expect_declared_before(name, at);
+            return ty;
         }
         if let Some(owner) = self.owner {
             if let Some(ty) = self.sema.field_ty(&owner.fqn, name) {
@@ -369,6 +382,22 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 Ty::Unknown
             }
         }
+    }
+
+    /// A body's own `var` is used after its declaration and inside the block it is declared in
+    /// (C's scopes: a use before the declaration, or after the block ended, names nothing).
+    fn expect_declared_before(&mut self, name: &str, at: &SyntaxNode) {
+        let Some(declarations) = self.declared_in.get(name) else { return };
+        let used = at.text_range();
+        if declarations.iter().any(|(declared, scope)| *declared <= used.start() && scope.contains_range(used)) {
+            return;
+        }
+        let later = declarations.iter().any(|(declared, scope)| *declared > used.start() && scope.contains_range(used));
+        let message = match later {
+            true => format!("`{name}` is used before its declaration: declare it (`var … {name}`) before this use"),
+            false => format!("`{name}` is declared in another block: it is not in scope here (declare it in a block that holds this use)"),
+        };
+        self.sink.error(DiagnosticCode::UnknownName, used, message);
     }
 
     /// `receiver.member` on a user type: reports a member the type does not have.

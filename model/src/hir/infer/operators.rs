@@ -6,7 +6,12 @@
 use super::{swizzle_width, InferenceCtx};
 use crate::{
     ast::{self, AstNode},
-    hir::{definitions::DefKind, diagnostics::DiagnosticCode, items::TypeKind, Ty},
+    hir::{
+        definitions::DefKind,
+        diagnostics::{excerpt, DiagnosticCode},
+        items::TypeKind,
+        Ty,
+    },
     syntax::SyntaxKind,
 };
 
@@ -97,8 +102,10 @@ impl InferenceCtx<'_, '_> {
     /// mutable; the others have their operand's type.
     pub(super) fn prefix(&mut self, p: &ast::PrefixExpr) -> Ty {
         let op = p.op().map(|t| t.kind());
-        if let (Some(SyntaxKind::PLUS2 | SyntaxKind::MINUS2), Some(target)) = (op, p.operand()) {
-            self.expect_mutable(&target);
+        match (op, p.operand()) {
+            (Some(SyntaxKind::PLUS2 | SyntaxKind::MINUS2), Some(target)) => self.expect_mutable(&target),
+            (Some(SyntaxKind::REF_KW), Some(target)) => self.expect_lvalue(&target, "referenced (`ref`)"),
+            _ => {}
         }
         let operand = p.operand().map_or(Ty::Unknown, |e| self.infer(&e));
         match op {
@@ -158,7 +165,7 @@ impl InferenceCtx<'_, '_> {
                     indexed.syntax().text_range(),
                     format!(
                         "`{}` is `{base}`: only arrays, vectors, buffers (`ref`) and containers are indexed",
-                        indexed.syntax().text()
+                        excerpt(indexed.syntax())
                     ),
                 );
                 Ty::Unknown

@@ -5,7 +5,10 @@
 use super::InferenceCtx;
 use crate::{
     ast::{self, AstNode, HasName},
-    hir::{diagnostics::DiagnosticCode, ty::Ty},
+    hir::{
+        diagnostics::{excerpt, DiagnosticCode},
+        ty::Ty,
+    },
     syntax::{SyntaxKind, SyntaxNode},
 };
 
@@ -16,6 +19,32 @@ impl InferenceCtx<'_, '_> {
             let target = self.locals.get(&name.text()).cloned().unwrap_or(Ty::Unknown);
             let value = self.infer(&init);
             self.expect_assignable(&value, &target, init.syntax(), &format!("`{}`", name.text()));
+        }
+    }
+
+    /// `switch (x) { case a: … }`: each label fits what is switched on, and none is written
+    /// twice (as in C: the labels of one switch are distinct constants).
+    pub(super) fn switch(&mut self, switch: &ast::SwitchStmt) {
+        let on = switch.scrutinee().map_or(Ty::Unknown, |e| self.infer(&e));
+        let mut seen: std::collections::HashSet<String> = std::collections::HashSet::new();
+        for label in switch.cases().filter_map(|case| case.label()) {
+            let ty = self.infer(&label);
+            let sema = self.sema;
+            if !ty.assignable_to(&on, &mut |a, b| sema.is_subtype(a, b)) {
+                self.sink.error(
+                    DiagnosticCode::TypeMismatch,
+                    label.syntax().text_range(),
+                    format!("this `case` is `{ty}`, but the `switch` is on `{on}`"),
+                );
+            }
+            let text = excerpt(label.syntax());
+            if !seen.insert(text.clone()) {
+                self.sink.error(
+                    DiagnosticCode::DuplicateName,
+                    label.syntax().text_range(),
+                    format!("`case {text}` appears twice in this `switch`: the second is never taken"),
+                );
+            }
         }
     }
 
@@ -59,7 +88,10 @@ impl InferenceCtx<'_, '_> {
                     _ => return,
                 }
             }
-            _ => return,
+            other => {
+                self.expect_lvalue(other, "assigned");
+                return;
+            }
         };
         let Some(fqn) = field_of else { return };
         if let Some(declaring) = self.sema.const_field(&fqn, &name.text()) {
@@ -67,6 +99,36 @@ impl InferenceCtx<'_, '_> {
                 DiagnosticCode::AssignToConst,
                 target.syntax().text_range(),
                 format!("the field `{declaring}.{}` is `const`: it cannot be assigned", name.text()),
+            );
+        }
+    }
+
+    /// What is assigned or taken `ref` of is memory, as in C (an lvalue): a variable, a
+    /// parameter, an element, a field, `++x`, or a call that returns a reference.
+    pub(super) fn expect_lvalue(&mut self, target: &ast::Expr, done: &str) {
+        let lvalue = match target {
+            ast::Expr::NameExpr(_) | ast::Expr::IndexExpr(_) | ast::Expr::MemberExpr(_) | ast::Expr::ScopeExpr(_) => {
+                true
+            }
+            ast::Expr::ParenExpr(p) => match p.expr() {
+                Some(inner) => return self.expect_lvalue(&inner, done),
+                None => true,
+            },
+            ast::Expr::CallExpr(_) => matches!(self.type_of_silently(target), Ty::Ref { .. } | Ty::Unknown),
+            // `++x` and `--x` are the variable itself (C++; `--(--y)` is one).
+            ast::Expr::PrefixExpr(p) => {
+                p.op().is_some_and(|t| matches!(t.kind(), SyntaxKind::PLUS2 | SyntaxKind::MINUS2))
+            }
+            _ => false,
+        };
+        if !lvalue {
+            self.sink.error(
+                DiagnosticCode::NotAssignable,
+                target.syntax().text_range(),
+                format!(
+                    "`{}` is a value, not a variable, element or field: it cannot be {done}",
+                    excerpt(target.syntax())
+                ),
             );
         }
     }
@@ -131,7 +193,7 @@ impl InferenceCtx<'_, '_> {
         }
         if bin.op().is_some_and(|t| t.kind() == SyntaxKind::EQ) {
             if let Some(rhs) = bin.rhs() {
-                let what = bin.lhs().map_or("the target".to_string(), |l| format!("`{}`", l.syntax().text()));
+                let what = bin.lhs().map_or("the target".to_string(), |l| format!("`{}`", excerpt(l.syntax())));
                 self.expect_assignable(&value, &target, rhs.syntax(), &what);
             }
         }

@@ -7,7 +7,8 @@ use super::{Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasName},
     hir::{
-        definitions::Definition,
+        components::signature_key,
+        definitions::{DefKind, Definition},
         diagnostics::Related,
         items::{type_signature, TypeSignature},
         ty::Ty,
@@ -19,12 +20,41 @@ use crate::{
 /// no override of another return type.
 pub(super) fn methods(ctx: &mut Ctx, scope: &Scope, fqn: &str, decl: &ast::TypeDecl) {
     let Some(def) = ctx.sema.definition(fqn) else { return };
+    // Types are compared as spelled first (`signature_key`: simple names), which costs no
+    // resolution: two spellings of one type have one simple name, so methods whose spelled
+    // signatures differ differ. Only equal spellings are resolved and compared.
+    let spelled = |name: &str, params: Vec<TypeSignature>| signature_key(name, &params);
+    let methods: Vec<(ast::Method, ast::Name, String)> = decl
+        .members()
+        .filter_map(|m| match m {
+            ast::Member::Method(method) => {
+                let name = method.name()?;
+                let key = spelled(&name.text(), method.params().map(|p| type_signature(p.type_ref())).collect());
+                Some((method, name, key))
+            }
+            _ => None,
+        })
+        .collect();
+    let mut spellings: HashMap<&str, usize> = HashMap::new();
+    for (_, _, key) in &methods {
+        *spellings.entry(key).or_default() += 1;
+    }
+    let ancestors = ctx.sema.type_and_bases(def).into_iter().filter(|d| d.fqn != def.fqn);
+    let inherited: std::collections::HashSet<String> = ancestors
+        .filter_map(|d| match &d.kind {
+            DefKind::Type(item) => {
+                Some(item.methods.iter().map(|m| spelled(&m.name, m.params.iter().map(|p| p.ty.clone()).collect())))
+            }
+            _ => None,
+        })
+        .flatten()
+        .collect();
     let mut declared: HashMap<(String, Vec<TypeSignature>), TextRange> = HashMap::new();
-    for method in decl.members().filter_map(|m| match m {
-        ast::Member::Method(method) => Some(method),
-        _ => None,
-    }) {
-        let Some(name) = method.name() else { continue };
+    for (method, name, key) in &methods {
+        let (twice, overrides) = (spellings[key.as_str()] > 1, inherited.contains(key));
+        if !twice && !overrides {
+            continue;
+        }
         let params: Vec<TypeSignature> =
             method.params().map(|p| resolved(ctx, scope, &type_signature(p.type_ref()))).collect();
         let range = name.syntax().text_range();
@@ -37,7 +67,9 @@ pub(super) fn methods(ctx: &mut Ctx, scope: &Scope, fqn: &str, decl: &ast::TypeD
             ),
             None => drop(declared.insert((name.text(), params.clone()), range)),
         }
-        override_return(ctx, scope, def, &method, &params);
+        if overrides {
+            override_return(ctx, scope, def, method, &params);
+        }
     }
 }
 

@@ -262,7 +262,7 @@ fn instance_connectors(ctx: &Ctx, instance: &SyntaxNode, port: &str) -> Result<S
 }
 
 /// A port instance (after the others) or a binding (`at_end`) into an instance, whose body may
-/// be missing (`X instantiates C();`).
+/// be missing (`X instantiates C();`) or whose members follow it without braces (Listing 28).
 pub(super) fn insert_into_instance(instance: &SyntaxNode, text: &str, at_end: bool) -> Result<Edit, String> {
     if let Some(body) = Body::of(instance) {
         if at_end {
@@ -270,6 +270,23 @@ pub(super) fn insert_into_instance(instance: &SyntaxNode, text: &str, at_end: bo
         }
         let last_port = body.items().into_iter().filter(|c| c.kind() == PORT_INSTANCE).last();
         return Ok(place::insert(&body, last_port.as_ref().map_or(At::Start, At::After), text));
+    }
+    let members: Vec<SyntaxNode> =
+        instance.children().filter(|c| matches!(c.kind(), PORT_INSTANCE | BINDING)).collect();
+    if let Some(first) = members.first() {
+        // Listing 28's flat form: the new member joins the others, on a line of its own.
+        let indent = place::indent_of(&place::first_token(first).expect("a member has tokens"));
+        let after = if at_end { members.last() } else { members.iter().rev().find(|c| c.kind() == PORT_INSTANCE) };
+        return Ok(match after {
+            Some(member) => {
+                let end = member.last_token().expect("a member has tokens").text_range().end();
+                (TextRange::empty(end), format!("\n{indent}{text}"))
+            }
+            None => (
+                TextRange::empty(place::first_token(first).expect("a member has tokens").text_range().start()),
+                format!("{text}\n{indent}"),
+            ),
+        });
     }
     let indent = place::indent_of(&place::first_token(instance).expect("an instance has tokens"));
     let last = instance.last_token().expect("an instance has tokens");

@@ -134,7 +134,7 @@ fn open(body: &Body, item: &str) -> Edit {
 /// The edit that deletes `item` from its body, with its comments and the whitespace before it;
 /// a body left empty becomes [`Body::emptied`].
 pub(super) fn delete(item: &SyntaxNode) -> Option<Edit> {
-    let body = Body::around(item)?;
+    let Some(body) = Body::around(item) else { return delete_flat_member(item) };
     let lead = lead_of(&first_token(item)?);
     let tail = tail_of(&item.last_token().expect("an item has tokens"));
     let prev = lead.prev_token().and_then(|t| significant_from(t, false));
@@ -149,6 +149,19 @@ pub(super) fn delete(item: &SyntaxNode) -> Option<Edit> {
         let from = prev.map_or(lead.text_range().start(), |p| p.text_range().end());
         Some((TextRange::new(from, tail.text_range().end()), String::new()))
     }
+}
+
+/// The edit that deletes a port instance or binding written after its instance without braces
+/// (Listing 28's flat form), with its comments and the whitespace before it.
+fn delete_flat_member(item: &SyntaxNode) -> Option<Edit> {
+    let instance = item.parent().filter(|p| p.kind() == COMPONENT_INSTANCE)?;
+    if !matches!(item.kind(), PORT_INSTANCE | BINDING) || token(&instance, L_CURLY).is_some() {
+        return None;
+    }
+    let lead = lead_of(&first_token(item)?);
+    let tail = tail_of(&item.last_token()?);
+    let prev = lead.prev_token().and_then(|t| significant_from(t, false))?;
+    Some((TextRange::new(prev.text_range().end(), tail.text_range().end()), String::new()))
 }
 
 /// The edit that closes a body whose items all go: from the end of what precedes `{` through

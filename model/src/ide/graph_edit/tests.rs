@@ -15,12 +15,22 @@ pub(super) fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
         .filter(|p| p.extension().is_some_and(|e| e == "gudsl"))
         .collect();
     paths.sort();
-    let files: Vec<SourceFile> = paths
+    let mut files: Vec<SourceFile> = paths
         .iter()
         .map(|p| {
             SourceFile::new(db, p.file_name().unwrap().to_string_lossy().into(), std::fs::read_to_string(p).unwrap())
         })
         .collect();
+    // Listing 28 as printed too: its instances' port instances and bindings without braces.
+    let braced = paths.iter().find(|p| p.ends_with("listing28_component_instance_example.gudsl")).unwrap();
+    let flat: String = std::fs::read_to_string(braced)
+        .unwrap()
+        .replace("ComponentInstanceExampleDiagram", "ComponentInstanceExampleDiagramFlat")
+        .lines()
+        .filter(|l| !matches!(*l, "    {" | "    }"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    files.push(SourceFile::new(db, "listing28_flat.gudsl".into(), flat));
     (Workspace::new(db, files.clone()), files)
 }
 

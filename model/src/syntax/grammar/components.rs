@@ -159,7 +159,13 @@ pub(super) fn component_instance_diagram(p: &mut Parser) {
                 import(p);
             } else if at_instance(p) {
                 nested(p, instance);
-            } else if !instance_member(p) {
+            } else if at_port_instance(p) || p.at(L_BRACK) {
+                // Before any instance, a port instance or binding belongs to none.
+                p.error_here(
+                    "a port instance or binding belongs to an instance: write it after `Name instantiates Type (…)`",
+                );
+                instance_member(p);
+            } else {
                 if at_diagram_start(p) {
                     break;
                 }
@@ -194,7 +200,8 @@ fn instance_member(p: &mut Parser) -> bool {
     true
 }
 
-/// `Camera1 instantiates A.Camera (width = 640) { port instances, bindings }`
+/// `Camera1 instantiates A.Camera (width = 640) { port instances, bindings }`, or the same
+/// without the braces (Listing 28).
 fn instance(p: &mut Parser) {
     let m = p.start();
     let what = describe_named(p, "instance");
@@ -219,6 +226,9 @@ fn instance(p: &mut Parser) {
         close_curly(p, &what);
     } else {
         p.eat(SEMICOLON);
+        // Listing 28's flat form: the instance's port instances and bindings follow it without
+        // braces, up to the next instance; the tree is the braced form's, less the braces.
+        while instance_member(p) {}
     }
     m.complete(p, COMPONENT_INSTANCE);
 }
