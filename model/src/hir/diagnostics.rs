@@ -113,6 +113,8 @@ pub enum DiagnosticCode {
     AbstractInstance,
     /// An assignment to, an increment of or `ref` of a value that is no variable, element or field.
     NotAssignable,
+    /// A multiplicity whose lower bound exceeds its upper one (`[5 .. 1]`).
+    InvertedMultiplicity,
     /// An operator applied to operands it does not take (objects in arithmetic, vectors of
     /// different widths, a number indexed).
     OperandType,
@@ -183,6 +185,7 @@ impl DiagnosticCode {
             DiagnosticCode::AbstractInstance => "E0243",
             DiagnosticCode::OperandType => "E0244",
             DiagnosticCode::NotAssignable => "E0245",
+            DiagnosticCode::InvertedMultiplicity => "E0246",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -246,6 +249,7 @@ impl DiagnosticCode {
             DiagnosticCode::AbstractInstance => "an instance of an abstract class or an interface",
             DiagnosticCode::OperandType => "an operator applied to operands it does not take",
             DiagnosticCode::NotAssignable => "an assignment to (or `ref` of) a value that is no variable",
+            DiagnosticCode::InvertedMultiplicity => "a multiplicity whose lower bound exceeds its upper one",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",

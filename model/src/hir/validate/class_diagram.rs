@@ -92,8 +92,27 @@ fn type_decl(ctx: &mut Ctx, outer: &Scope, decl: &ast::TypeDecl) {
                 if let Some(ty) = a.target() {
                     types::type_ref(ctx, &scope, &ty);
                 }
+                multiplicities(ctx, a);
             }
             ast::Member::Method(m) => method(ctx, &scope, m, gpu_class),
+        }
+    }
+}
+
+/// An association end's multiplicity `[lower .. upper]` has `lower <= upper` (UML: `*` is
+/// unbounded; `[5 .. 1]` admits no number of objects).
+fn multiplicities(ctx: &mut Ctx, association: &ast::Association) {
+    for multiplicity in association.own_multiplicity().into_iter().chain(association.target_multiplicity()) {
+        let (Some(lower), Some(upper)) = multiplicity.bounds() else { continue };
+        let (Ok(low), Ok(high)) = (lower.parse::<u64>(), upper.parse::<u64>()) else { continue };
+        if low > high {
+            ctx.sink.error(
+                DiagnosticCode::InvertedMultiplicity,
+                multiplicity.syntax().text_range(),
+                format!(
+                    "multiplicity `[{lower} .. {upper}]` admits no number of objects: write `[{upper} .. {lower}]`"
+                ),
+            );
         }
     }
 }

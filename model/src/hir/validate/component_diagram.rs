@@ -23,21 +23,34 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentDiagra
         stack.extend(component.components());
         components.push(component);
     }
+    components.sort_by_key(|c| c.syntax().text_range().start());
     // Every port.connector of the diagram, for connection ends: its role and interface.
     let mut connectors: HashMap<String, (ConnectorRole, String)> = HashMap::new();
+    let mut declared = std::collections::HashSet::new();
     for component in &components {
         let class = component_class(ctx, scope, component);
+        if let (Some(class), Some(path)) = (class, component.class()) {
+            if !declared.insert(class.fqn.clone()) {
+                ctx.sink.error(
+                    DiagnosticCode::DuplicateName,
+                    path.syntax().text_range(),
+                    format!("component `{}` is declared twice in this diagram: give its ports and connections in one declaration", class.fqn),
+                );
+            }
+        }
         names::duplicates(ctx, component.ports().filter_map(|p| p.name()), "port");
         names::duplicates(ctx, component.connections().filter_map(|c| c.connection_name()), "connection");
         for port in component.ports() {
             let Some(port_name) = port.name().map(|n| n.text()) else { continue };
+            names::duplicates(ctx, port.connectors().filter_map(|c| c.name()), "connector");
             for connector in port.connectors() {
                 let (Some(role), Some(name), Some(interface)) =
                     (connector.role(), connector.name(), connector.interface())
                 else {
                     continue;
                 };
-                connectors.insert(format!("{port_name}.{}", name.text()), (role, interface.text()));
+                // A second connector of one name is reported (E0205): the first one stays.
+                connectors.entry(format!("{port_name}.{}", name.text())).or_insert((role, interface.text()));
                 let fits = connector_interface(ctx, scope, role, &interface);
                 role_of_kind(ctx, component.kind(), role, &name);
                 if let (Some(class), Some(interface_def)) = (class, fits) {

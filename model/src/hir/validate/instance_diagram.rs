@@ -6,7 +6,7 @@ use super::{names, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasEnds, HasName},
     hir::{
-        definitions::DefKind,
+        definitions::{DefKind, Definition},
         infer::InferenceCtx,
         instances::{BindingEnd, UnresolvedEnd},
         items::PortItem,
@@ -37,7 +37,6 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ComponentInstan
                 ),
             }
         }
-        field_values_once(ctx, &instance);
     }
     // Bindings: `[source portInstance.connector ==> target instance.portInstance.connector]`,
     // allowed only where the component diagram connects the two ports' connectors.
@@ -143,32 +142,7 @@ fn connector_instances(ctx: &mut Ctx, scope: &Scope, port_instance: &ast::PortIn
             );
         }
         let Some(def) = ctx.sema.resolve(scope, &interface.text()) else { continue };
-        let fields = ctx.sema.member_names(&def.fqn, true);
-        for value in connector.field_values() {
-            let Some(field) = value.name() else { continue };
-            if !fields.contains(&field.text()) {
-                ctx.sink.error_with_suggestion(
-                    DiagnosticCode::UnknownInstanceField,
-                    field.syntax().text_range(),
-                    format!("interface `{}` has no field `{}`", def.fqn, field.text()),
-                    closest(&field.text(), fields.iter().map(String::as_str)),
-                );
-            }
-        }
-    }
-}
-
-/// `Camera1 instantiates Camera(exposure = 1, exposure = 2)`: a field is given one value.
-fn field_values_once(ctx: &mut Ctx, instance: &ast::ComponentInstance) {
-    let mut seen = std::collections::HashSet::new();
-    for field in instance.field_values().filter_map(|v| v.name()) {
-        if !seen.insert(field.text()) {
-            ctx.sink.error(
-                DiagnosticCode::DuplicateName,
-                field.syntax().text_range(),
-                format!("field `{}` is given a value more than once", field.text()),
-            );
-        }
+        field_values(ctx, scope, def, connector.field_values(), "interface");
     }
 }
 
@@ -193,29 +167,53 @@ fn instance_component(ctx: &mut Ctx, scope: &Scope, instance: &ast::ComponentIns
     if let Some(why) = item.why_not_instantiable() {
         ctx.sink.error(DiagnosticCode::AbstractInstance, range, format!("`{}` is {why}", def.fqn));
     }
-    for value in instance.field_values() {
+    field_values(ctx, scope, def, instance.field_values(), "component class");
+}
+
+/// Values given to the fields of `def` — a component's class (`Camera1 instantiates
+/// Camera(width = 640)`) or a connector's interface (`provider P = I(bufferSize = 4)`) — each
+/// once (E0205), to a field it has, inherited ones too (E0220), not `const` (E0233), of a value
+/// that fits the field (E0225). `what` names `def`'s kind.
+fn field_values(
+    ctx: &mut Ctx,
+    scope: &Scope,
+    def: &Definition,
+    values: impl Iterator<Item = ast::NamedArg>,
+    what: &str,
+) {
+    let values: Vec<ast::NamedArg> = values.collect();
+    let given: Vec<String> = values.iter().filter_map(|v| v.name()).map(|n| n.text()).collect();
+    let mut seen = std::collections::HashSet::new();
+    for value in values {
         let Some(field) = value.name() else { continue };
         let name = field.text();
+        let range = field.syntax().text_range();
+        if !seen.insert(name.clone()) {
+            let message = format!("field `{name}` is given a value more than once");
+            ctx.sink.error(DiagnosticCode::DuplicateName, range, message);
+            continue;
+        }
         // The field may be inherited; its type is resolved where it is declared.
         let found = ctx.sema.find_member(&def.fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
-        let Some((declaring, field)) = found else {
-            ctx.sink.error(
+        let Some((declaring, declared)) = found else {
+            // "Did you mean" names a field not given a value already.
+            let fields = ctx.sema.member_names(&def.fqn, true);
+            let free = fields.iter().filter(|f| !given.contains(f)).map(String::as_str);
+            ctx.sink.error_with_suggestion(
                 DiagnosticCode::UnknownInstanceField,
-                field.syntax().text_range(),
-                format!("component class `{}` has no field `{name}`", def.fqn),
+                range,
+                format!("{what} `{}` has no field `{name}`", def.fqn),
+                closest(&name, free),
             );
             continue;
         };
-        if field.qualifiers.iter().any(|q| q == "const") {
-            ctx.sink.error(
-                DiagnosticCode::AssignToConst,
-                value.name().map_or_else(|| value.syntax().text_range(), |n| n.syntax().text_range()),
-                format!("field `{name}` of `{}` is `const`: an instance cannot give it a value", def.fqn),
-            );
+        if declared.qualifiers.iter().any(|q| q == "const") {
+            let message = format!("field `{name}` of `{}` is `const`: an instance cannot give it a value", def.fqn);
+            ctx.sink.error(DiagnosticCode::AssignToConst, range, message);
             continue;
         }
         let Some(expr) = value.value() else { continue };
-        let field_ty = ctx.sema.ty(&field.ty, &Scope::of(declaring));
+        let field_ty = ctx.sema.ty(&declared.ty, &Scope::of(declaring));
         let sema = ctx.sema;
         let value_ty = InferenceCtx::new(sema, &mut ctx.sink, scope.clone(), None).infer(&expr);
         if !value_ty.assignable_to(&field_ty, &mut |a, b| sema.is_subtype(a, b)) {

@@ -73,8 +73,14 @@ pub(super) fn attribute_uses(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
                     continue;
                 }
             };
+            let mut given = std::collections::HashSet::new();
             for arg in use_.args() {
                 let Some(field) = arg.name() else { continue };
+                if !given.insert(field.text()) {
+                    let message = format!("attribute field `{}` is given a value more than once", field.text());
+                    ctx.sink.error(DiagnosticCode::DuplicateName, field.syntax().text_range(), message);
+                    continue;
+                }
                 let Some(declared) = attribute.fields.iter().find(|f| f.name == field.text()) else {
                     ctx.sink.error_with_suggestion(
                         DiagnosticCode::InvalidAttributeUse,
