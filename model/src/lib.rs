@@ -10,6 +10,7 @@ pub mod graph;
 pub mod hir;
 pub mod ide;
 pub mod library;
+pub mod spelling;
 pub mod syntax;
 pub mod synth;
 pub mod text;

@@ -20,7 +20,7 @@ pub mod items;
 pub mod pipeline;
 pub mod scope;
 pub mod semantics;
-pub mod spelling;
+pub use crate::spelling;
 #[cfg(test)]
 mod tests;
 pub mod ty;

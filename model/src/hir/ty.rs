@@ -173,6 +173,18 @@ pub fn from_signature(sig: &TypeSignature, resolve: &mut dyn FnMut(&str) -> Opti
 /// `image2D_t`, `image3D_t` (the text's typed images: `t` a texel type such as `uc`; the
 /// literal `image2D_t`/`image3D_t` are OpenCL's untyped ones, any image of that dimension),
 /// `buffer2D_tn`, `buffer3D_tn`, `sampler_t`.
+/// The built-in type names a typo is most likely of: the keyword types and the common
+/// vectors, images and samplers ("did you mean `int`?" for `intt`).
+pub fn common_builtin_type_names() -> Vec<String> {
+    let keywords = ["bool", "byte", "char", "double", "float", "int", "long", "real", "short", "string", "void"];
+    let mut names: Vec<String> = keywords.iter().map(|k| k.to_string()).collect();
+    for scalar in ["char", "uchar", "int", "uint", "float"] {
+        names.extend(["2", "3", "4"].iter().map(|width| format!("{scalar}{width}")));
+    }
+    names.extend(["image2D_t", "image3D_t", "sampler_t"].iter().map(|n| n.to_string()));
+    names
+}
+
 pub fn is_builtin_type_name(name: &str) -> bool {
     const SCALARS: [&str; 6] = ["char", "short", "int", "long", "float", "double"];
     const SUFFIXES: [&str; 10] = ["c", "uc", "s", "us", "i", "ui", "l", "ul", "f", "d"];

@@ -301,20 +301,32 @@ impl<'i> Parser<'i> {
 
     /// Like [`Parser::err_recover`], stopping where `stop` holds (for contextual keywords).
     pub(crate) fn err_recover_until(&mut self, message: &str, stop: &dyn Fn(&Parser) -> bool) {
-        let describe = self.current_description();
+        self.err_expected_keyword(message, &[], stop);
+    }
+
+    /// Like [`Parser::err_recover_until`] where one of `keywords` was expected: a word that is
+    /// a typo of one of them is told so (`clas`: "did you mean `class`?").
+    pub(crate) fn err_expected_keyword(&mut self, message: &str, keywords: &[&str], stop: &dyn Fn(&Parser) -> bool) {
+        let word = self.current_text();
+        let typo =
+            (self.current() == IDENT).then(|| crate::spelling::closest(word, keywords.iter().copied())).flatten();
+        let describe = match typo {
+            Some(keyword) => format!("{}; did you mean `{keyword}`?", self.current_description()),
+            None => self.current_description(),
+        };
         if self.at(EOF) {
             self.error_missing(message.to_string());
             return;
         }
-        let start = self.current_range().start();
+        // The error is the token that was not expected; what is skipped after it is one ERROR
+        // node with it, not part of the diagnostic's range (which stays on one line).
+        let at = self.current_range();
         let m = self.start();
-        let mut end = start;
         let mut first = true;
         while !self.at(EOF) {
             if !first && (stop(self) || self.at(R_CURLY)) {
                 break;
             }
-            end = self.current_range().end();
             if self.at_ts(OPENERS) {
                 self.skip_balanced();
             } else {
@@ -326,11 +338,7 @@ impl<'i> Parser<'i> {
             }
         }
         m.complete(self, ERROR);
-        self.push_error(
-            SyntaxErrorCode::UnexpectedToken,
-            format!("{message}, found {describe}"),
-            TextRange::new(start, end),
-        );
+        self.push_error(SyntaxErrorCode::UnexpectedToken, format!("{message}, found {describe}"), at);
     }
 
     /// Reports and consumes the current token alone, in an `ERROR` node.

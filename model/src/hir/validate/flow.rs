@@ -22,7 +22,13 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
     }
     let starts: Vec<usize> = (0..nodes.len()).filter(|&i| nodes[i].kind() == ast::NodeKind::Start).collect();
     let diagram_name = diagram.name().map(|n| n.text()).unwrap_or_default();
-    start_nodes(ctx, diagram, &diagram_name, nodes, &starts);
+    // A diagram with a syntax error may have lost nodes to it (`strat S { … }`): what depends on
+    // every node — a start node, targets, reachability — is told once the syntax is fixed, so
+    // that one mistake is one diagnostic.
+    let complete = !diagram.syntax().descendants().any(|n| n.kind() == crate::syntax::SyntaxKind::ERROR);
+    if complete {
+        start_nodes(ctx, diagram, &diagram_name, nodes, &starts);
+    }
     let mut edges: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
     for (source, node) in nodes.iter().enumerate() {
         let Some(source_name) = &names[source] else { continue };
@@ -30,6 +36,9 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
             let Some(target) = transition.target() else { continue };
             let target_name = target.text();
             let Some(&target_index) = by_name.get(target_name.as_str()) else {
+                if !complete {
+                    continue;
+                }
                 let mut candidates: Vec<&str> = by_name.keys().copied().collect();
                 candidates.sort_unstable();
                 ctx.sink.error_with_suggestion(
@@ -57,7 +66,9 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
     // A second node of a name is reported as a duplicate (E0205), not again as unreachable.
     let first_of_its_name: Vec<bool> =
         names.iter().enumerate().map(|(i, name)| name.as_ref().is_some_and(|n| by_name[n.as_str()] == i)).collect();
-    reachability(ctx, nodes, &first_of_its_name, &starts, &edges);
+    if complete {
+        reachability(ctx, nodes, &first_of_its_name, &starts, &edges);
+    }
 }
 
 /// One start node, named in the diagram's header range when it is missing.

@@ -5,8 +5,13 @@ use super::{unresolved_message, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasName},
     hir::{
-        definitions::DefKind, infer::InferenceCtx, items::TypeKind, semantics::describe, spelling::closest,
-        ty::is_builtin_type_name,
+        definitions::DefKind,
+        infer::InferenceCtx,
+        items::ImportItem,
+        items::TypeKind,
+        semantics::describe,
+        spelling::closest,
+        ty::{common_builtin_type_names, is_builtin_type_name},
     },
     syntax::SyntaxNode,
 };
@@ -32,9 +37,37 @@ pub(super) fn type_ref(ctx: &mut Ctx, scope: &Scope, ty: &ast::TypeRef) {
             let unknown =
                 format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does");
             let message = unresolved_message(ctx, &text, "type", unknown);
-            ctx.sink.error(DiagnosticCode::UnresolvedType, path.syntax().text_range(), message);
+            let candidates = if text.contains('.') || ctx.sema.candidates(&text).len() > 1 {
+                Vec::new()
+            } else {
+                types_in_scope(ctx, scope)
+            };
+            let suggestion = closest(&text, candidates.iter().map(String::as_str));
+            ctx.sink.error_with_suggestion(
+                DiagnosticCode::UnresolvedType,
+                path.syntax().text_range(),
+                message,
+                suggestion,
+            );
         }
     }
+}
+
+/// What a misspelt type name is compared with: the built-in types, and the types of the
+/// enclosing namespaces and of the namespaces imported with `.*` (the names a simple name can
+/// mean here, read from the namespaces a lookup reads anyway — not the workspace's every type).
+fn types_in_scope(ctx: &Ctx, scope: &Scope) -> Vec<String> {
+    let mut names = common_builtin_type_names();
+    let wildcards = scope.imports.iter().filter_map(|i| match i {
+        ImportItem::Wildcard(namespace) => Some(namespace.as_str()),
+        _ => None,
+    });
+    for namespace in scope.namespaces.iter().map(String::as_str).chain(wildcards) {
+        let members = ctx.sema.namespace_members(namespace);
+        let types = members.iter().filter(|(_, defs)| matches!(defs[0].kind, DefKind::Type(_)));
+        names.extend(types.map(|(name, _)| name.clone()));
+    }
+    names
 }
 
 /// A parameter list: unique names, types that resolve.

@@ -40,6 +40,12 @@ fn at_node(p: &Parser) -> Option<NodeKind> {
     NodeKind::of_keyword(keyword).filter(|_| p.nth_is_name(1))
 }
 
+/// `strat S { … }`: a word, a name and a body or parameters — a node whose keyword is
+/// misspelt (no variable is followed by `{` or `(`).
+fn at_misspelt_node(p: &Parser) -> bool {
+    p.at(IDENT) && p.nth_is_name(1) && matches!(p.nth(2), L_CURLY | L_PAREN)
+}
+
 /// Whether something that belongs to an activity diagram, not inside a node, starts here.
 fn at_activity_level_start(p: &Parser) -> bool {
     at_node(p).is_some() || (p.at_contextual(SWIMLANE_KW) && p.nth_is_name(1)) || at_diagram_start(p)
@@ -57,6 +63,11 @@ fn activity_item(p: &mut Parser) {
         nested(p, node);
     } else if p.at(VAR_KW) || (p.at(CONST_KW) && !p.nth_at(1, CONST_KW)) {
         statements::var_decl(p);
+    } else if at_misspelt_node(p) {
+        let keywords = NodeKind::ALL.map(NodeKind::keyword);
+        p.err_expected_keyword("expected a node (`start`, `action`, `final`, …)", &keywords, &|p| {
+            at_activity_level_start(p) || p.at(R_CURLY) || p.at(IMPORT_KW)
+        });
     } else if p.at_ts(VARIABLE_START) || at_qualifier(p) {
         variable(p);
     } else {

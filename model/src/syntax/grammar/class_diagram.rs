@@ -105,8 +105,9 @@ fn class_diagram_item(p: &mut Parser) {
                 attribute_list(p);
             }
             modifiers(p);
-            p.err_recover_until(
+            p.err_expected_keyword(
                 "expected `class`, `interface`, `enum`, `attribute`, `source`, `filter` or `sink`",
+                &["class", "interface", "enum", "attribute", "source", "filter", "sink"],
                 &|p| p.at_ts(ITEM_RECOVERY) || at_diagram_start(p),
             );
             m.complete(p, ERROR);

@@ -24,9 +24,10 @@ pub(crate) fn source_file(input: &Input) -> (Vec<Event>, Vec<SyntaxError>) {
         if p.at(IMPORT_KW) {
             import(&mut p);
         } else if !diagram(&mut p) {
-            p.err_recover_until(
+            p.err_expected_keyword(
                 "expected a diagram (`ClassDiagram`, `ActivityDiagram`, `ComponentDiagram` or \
                  `ComponentInstanceDiagram`)",
+                &["ClassDiagram", "ActivityDiagram", "ComponentDiagram", "ComponentInstanceDiagram"],
                 &at_diagram_start,
             );
         }
