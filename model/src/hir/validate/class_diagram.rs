@@ -106,12 +106,13 @@ fn multiplicities(ctx: &mut Ctx, association: &ast::Association) {
         let (Some(lower), Some(upper)) = multiplicity.bounds() else { continue };
         let (Ok(low), Ok(high)) = (lower.parse::<u64>(), upper.parse::<u64>()) else { continue };
         if low > high {
-            ctx.sink.error(
+            ctx.sink.error_with_replacement(
                 DiagnosticCode::InvertedMultiplicity,
                 multiplicity.syntax().text_range(),
                 format!(
                     "multiplicity `[{lower} .. {upper}]` admits no number of objects: write `[{upper} .. {lower}]`"
                 ),
+                &format!("[{upper} .. {lower}]"),
             );
         }
     }
