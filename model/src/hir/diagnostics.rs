@@ -115,6 +115,8 @@ pub enum DiagnosticCode {
     NotAssignable,
     /// A multiplicity whose lower bound exceeds its upper one (`[5 .. 1]`).
     InvertedMultiplicity,
+    /// A `private` member used outside its class, a `protected` one outside its subclasses.
+    InaccessibleMember,
     /// An operator applied to operands it does not take (objects in arithmetic, vectors of
     /// different widths, a number indexed).
     OperandType,
@@ -186,6 +188,7 @@ impl DiagnosticCode {
             DiagnosticCode::OperandType => "E0244",
             DiagnosticCode::NotAssignable => "E0245",
             DiagnosticCode::InvertedMultiplicity => "E0246",
+            DiagnosticCode::InaccessibleMember => "E0247",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -250,6 +253,7 @@ impl DiagnosticCode {
             DiagnosticCode::OperandType => "an operator applied to operands it does not take",
             DiagnosticCode::NotAssignable => "an assignment to (or `ref` of) a value that is no variable",
             DiagnosticCode::InvertedMultiplicity => "a multiplicity whose lower bound exceeds its upper one",
+            DiagnosticCode::InaccessibleMember => "a private or protected member used where it is not visible",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",

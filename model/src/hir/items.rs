@@ -151,6 +151,8 @@ pub struct MethodSignature {
     pub name: String,
     pub ret: TypeSignature,
     pub params: Vec<ParamSignature>,
+    /// `public`, `private`, `global`, … as written.
+    pub qualifiers: Vec<String>,
 }
 
 /// A parameter of a method, activity diagram or node.
@@ -365,6 +367,7 @@ fn type_item(decl: &ast::TypeDecl) -> Option<TypeItem> {
                         name,
                         ret: type_signature(m.return_type()),
                         params: m.params().filter_map(|p| param_signature(&p)).collect(),
+                        qualifiers: qualifiers(&m),
                     });
                 }
             }

@@ -105,6 +105,9 @@ impl<'db> InferenceCtx<'_, 'db> {
             self.sink.error_with_suggestion(DiagnosticCode::UnknownMember, at.text_range(), message, suggestion);
             return Ty::Unknown;
         }
+        if let Some((declaring, hidden)) = overloads.first().filter(|_| overloads.iter().all(|(_, m)| !is_public(m))) {
+            self.expect_visible(declaring, &hidden.qualifiers, method, at);
+        }
         let same_arity: Vec<&(&'db Definition, MethodSignature)> =
             overloads.iter().filter(|(_, m)| m.params.len() == args.len()).collect();
         if same_arity.is_empty() {
@@ -371,4 +374,9 @@ pub(crate) fn behavior_result<'db>(db: &'db dyn Db, workspace: Workspace, diagra
         return Ty::Unknown;
     }
     sema.type_of_expr(&value)
+}
+
+/// Whether a method is visible everywhere: declared neither `private` nor `protected`.
+fn is_public(method: &MethodSignature) -> bool {
+    !method.qualifiers.iter().any(|q| q == "private" || q == "protected")
 }

@@ -356,8 +356,8 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             return ty;
         }
         if let Some(owner) = self.owner {
-            if let Some(ty) = self.sema.field_ty(&owner.fqn, name) {
-                return ty;
+            if self.sema.field_ty(&owner.fqn, name).is_some() {
+                return self.field_ty(&owner.fqn, name, at);
             }
         }
         match self.sema.resolve(&self.scope, name) {
@@ -400,8 +400,34 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         self.sink.error(DiagnosticCode::UnknownName, used, message);
     }
 
+    /// A member `name` of `declaring` with `qualifiers`, used here: a `private` one only in the
+    /// class that declares it, a `protected` one also in its subclasses (9.1.1, as in C# and
+    /// Java); the body's class is its owner (a method's class, a swimlane's or diagram's owner).
+    fn expect_visible(&mut self, declaring: &Definition, qualifiers: &[String], name: &str, at: &SyntaxNode) {
+        let here = self.owner.map(|o| o.fqn.as_str());
+        let (allowed, what) = if qualifiers.iter().any(|q| q == "private") {
+            (here == Some(declaring.fqn.as_str()), "private to")
+        } else if qualifiers.iter().any(|q| q == "protected") {
+            (here.is_some_and(|h| self.sema.is_subtype(h, &declaring.fqn)), "protected in")
+        } else {
+            return;
+        };
+        if !allowed {
+            let used_in = here.map_or("a body without an owner class".to_string(), |h| format!("`{h}`"));
+            self.sink.error(
+                DiagnosticCode::InaccessibleMember,
+                at.text_range(),
+                format!("`{name}` is {what} `{}`: it cannot be used in {used_in}", declaring.fqn),
+            );
+        }
+    }
+
     /// `receiver.member` on a user type: reports a member the type does not have.
     fn field_ty(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Ty {
+        let declared = self.sema.find_member(fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
+        if let Some((declaring, field)) = declared {
+            self.expect_visible(declaring, &field.qualifiers, name, at);
+        }
         if let Some(ty) = self.sema.field_ty(fqn, name) {
             return ty;
         }
