@@ -277,8 +277,7 @@ fn next_significant(token: &SyntaxToken) -> Option<SyntaxToken> {
 /// (Listing 28's flat form): indented one level more than the instance, as if in its body.
 fn in_flat_member(token: &SyntaxToken) -> bool {
     let member = token.parent_ancestors().find(|n| matches!(n.kind(), PORT_INSTANCE | BINDING));
-    let instance = member.and_then(|m| m.parent()).filter(|p| p.kind() == COMPONENT_INSTANCE);
-    instance.is_some_and(|i| !i.children_with_tokens().any(|c| c.kind() == L_CURLY))
+    member.is_some_and(|m| crate::ast::ComponentInstance::of_flat_member(&m).is_some())
 }
 
 #[cfg(test)]

@@ -528,4 +528,12 @@ impl ComponentInstance {
     pub fn field_values(&self) -> impl Iterator<Item = NamedArg> {
         self.named_arg_list().into_iter().flat_map(|l| l.args())
     }
+    /// The instance a port instance or binding `member` follows without braces (Listing 28's
+    /// flat form); `None` for any other node, or a member inside braces.
+    pub fn of_flat_member(member: &SyntaxNode) -> Option<ComponentInstance> {
+        if !matches!(member.kind(), PORT_INSTANCE | BINDING) {
+            return None;
+        }
+        member.parent().and_then(ComponentInstance::cast).filter(|i| i.l_curly_token().is_none())
+    }
 }

@@ -274,7 +274,7 @@ fn loop_headers_show_the_dissertations_setup_test_and_increment_areas() {
 fn listing28_without_instance_braces_draws_as_with_them() {
     let braced = seed("listing28_component_instance_example.gudsl");
     // The flat form the listing is printed in: the instances' braces removed.
-    let flat: String = braced.lines().filter(|l| !matches!(*l, "    {" | "    }")).map(|l| format!("{l}\n")).collect();
+    let flat = crate::ide::test_fixture::without_instance_braces(&braced);
     assert_ne!(flat, braced);
     let shape = |g: &Graph| {
         let nodes: Vec<(String, Vec<String>)> =

@@ -356,8 +356,8 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             return ty;
         }
         if let Some(owner) = self.owner {
-            if self.sema.field_ty(&owner.fqn, name).is_some() {
-                return self.field_ty(&owner.fqn, name, at);
+            if let Some(ty) = self.member_field(&owner.fqn, name, at) {
+                return ty;
             }
         }
         match self.sema.resolve(&self.scope, name) {
@@ -422,13 +422,18 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         }
     }
 
+    /// The field `name` of `fqn` (or of a base; an enum's value), its visibility checked where
+    /// it is used; `None` if the type has none of that name.
+    fn member_field(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Option<Ty> {
+        let declared = self.sema.find_member(fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
+        let Some((declaring, field)) = declared else { return self.sema.field_ty(fqn, name) };
+        self.expect_visible(declaring, &field.qualifiers, name, at);
+        Some(self.sema.ty(&field.ty, &Scope::of(declaring)))
+    }
+
     /// `receiver.member` on a user type: reports a member the type does not have.
     fn field_ty(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Ty {
-        let declared = self.sema.find_member(fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
-        if let Some((declaring, field)) = declared {
-            self.expect_visible(declaring, &field.qualifiers, name, at);
-        }
-        if let Some(ty) = self.sema.field_ty(fqn, name) {
+        if let Some(ty) = self.member_field(fqn, name, at) {
             return ty;
         }
         if !self.sema.has_method(fqn, name) && self.sema.definition(fqn).is_some() {

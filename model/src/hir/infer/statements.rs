@@ -211,16 +211,20 @@ pub(super) fn declared_const(ty: &ast::TypeRef) -> bool {
     declaration.children().find_map(ast::Modifiers::cast).is_some_and(|m| m.has(SyntaxKind::CONST_KW))
 }
 
+/// The qualifiers of the declaration a type is written in (`global ref`, `shared`, `read`).
+fn declaration_modifiers(ty: &ast::TypeRef) -> Option<ast::Modifiers> {
+    ty.syntax().parent()?.children().find_map(ast::Modifiers::cast)
+}
+
 /// `shared` among the qualifiers of the declaration a type is written in: work-group memory,
 /// indexed as an array of the type (`shared int scratch` … `scratch[localId]`, Listing 32).
 pub(super) fn declared_shared(ty: &ast::TypeRef) -> bool {
-    let modifiers = ty.syntax().parent().and_then(|p| p.children().find_map(ast::Modifiers::cast));
-    modifiers.is_some_and(|m| m.has(SyntaxKind::SHARED_KW))
+    declaration_modifiers(ty).is_some_and(|m| m.has(SyntaxKind::SHARED_KW))
 }
 
 /// `read` or `write` (not both) among the qualifiers of the declaration a type is written in.
 pub(super) fn declared_access(ty: &ast::TypeRef) -> Option<SyntaxKind> {
-    let modifiers = ty.syntax().parent()?.children().find_map(ast::Modifiers::cast)?;
+    let modifiers = declaration_modifiers(ty)?;
     match (modifiers.has(SyntaxKind::READ_KW), modifiers.has(SyntaxKind::WRITE_KW)) {
         (true, false) => Some(SyntaxKind::READ_KW),
         (false, true) => Some(SyntaxKind::WRITE_KW),

@@ -154,10 +154,7 @@ pub(super) fn delete(item: &SyntaxNode) -> Option<Edit> {
 /// The edit that deletes a port instance or binding written after its instance without braces
 /// (Listing 28's flat form), with its comments and the whitespace before it.
 fn delete_flat_member(item: &SyntaxNode) -> Option<Edit> {
-    let instance = item.parent().filter(|p| p.kind() == COMPONENT_INSTANCE)?;
-    if !matches!(item.kind(), PORT_INSTANCE | BINDING) || token(&instance, L_CURLY).is_some() {
-        return None;
-    }
+    crate::ast::ComponentInstance::of_flat_member(item)?;
     let lead = lead_of(&first_token(item)?);
     let tail = tail_of(&item.last_token()?);
     let prev = lead.prev_token().and_then(|t| significant_from(t, false))?;

@@ -23,13 +23,10 @@ pub(super) fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
         .collect();
     // Listing 28 as printed too: its instances' port instances and bindings without braces.
     let braced = paths.iter().find(|p| p.ends_with("listing28_component_instance_example.gudsl")).unwrap();
-    let flat: String = std::fs::read_to_string(braced)
+    let renamed = std::fs::read_to_string(braced)
         .unwrap()
-        .replace("ComponentInstanceExampleDiagram", "ComponentInstanceExampleDiagramFlat")
-        .lines()
-        .filter(|l| !matches!(*l, "    {" | "    }"))
-        .map(|l| format!("{l}\n"))
-        .collect();
+        .replace("ComponentInstanceExampleDiagram", "ComponentInstanceExampleDiagramFlat");
+    let flat = crate::ide::test_fixture::without_instance_braces(&renamed);
     files.push(SourceFile::new(db, "listing28_flat.gudsl".into(), flat));
     (Workspace::new(db, files.clone()), files)
 }
