@@ -11,7 +11,7 @@ mod activity;
 mod class;
 mod components;
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use crate::{
     ast::{self, AstNode, HasModifiers},

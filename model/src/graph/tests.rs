@@ -274,7 +274,7 @@ fn loop_headers_show_the_dissertations_setup_test_and_increment_areas() {
 fn listing28_without_instance_braces_draws_as_with_them() {
     let braced = seed("listing28_component_instance_example.gudsl");
     // The flat form the listing is printed in: the instances' braces removed.
-    let flat = crate::ide::test_fixture::without_instance_braces(&braced);
+    let flat = without_instance_braces(&braced);
     assert_ne!(flat, braced);
     let shape = |g: &Graph| {
         let nodes: Vec<(String, Vec<String>)> =
@@ -286,4 +286,10 @@ fn listing28_without_instance_braces_draws_as_with_them() {
     let (braced, flat) = (&graphs_of(&[("i", braced)])[0], &graphs_of(&[("i", flat)])[0]);
     assert_eq!(shape(flat), shape(braced));
     assert_eq!(braced.edges.len(), 3);
+}
+
+/// A file's instances written as Listing 28 prints them: their port instances and bindings
+/// without braces (the braces of a braced instance at four spaces, each on its own line).
+pub(crate) fn without_instance_braces(text: &str) -> String {
+    text.lines().filter(|l| !matches!(*l, "    {" | "    }")).map(|l| format!("{l}\n")).collect()
 }

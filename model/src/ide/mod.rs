@@ -12,7 +12,7 @@ mod references;
 mod structure;
 mod symbols;
 #[cfg(test)]
-pub(crate) mod test_fixture;
+mod test_fixture;
 
 pub use completion::{completions, CompletionItem, CompletionKind, Completions};
 pub use fixes::{quick_fixes, QuickFix};

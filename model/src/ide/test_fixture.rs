@@ -21,9 +21,3 @@ pub(crate) fn with_cursor(files: &[(&str, &str)]) -> (RootDatabase, Workspace, V
     let workspace = Workspace::new(&db, inputs.clone());
     (db, workspace, inputs, cursor.expect("a $0 cursor in one of the files"))
 }
-
-/// A file's instances written as Listing 28 prints them: their port instances and bindings
-/// without braces (the braces of a braced instance at four spaces, each on its own line).
-pub(crate) fn without_instance_braces(text: &str) -> String {
-    text.lines().filter(|l| !matches!(*l, "    {" | "    }")).map(|l| format!("{l}\n")).collect()
-}

@@ -26,7 +26,7 @@ pub(super) fn listings(db: &RootDatabase) -> (Workspace, Vec<SourceFile>) {
     let renamed = std::fs::read_to_string(braced)
         .unwrap()
         .replace("ComponentInstanceExampleDiagram", "ComponentInstanceExampleDiagramFlat");
-    let flat = crate::ide::test_fixture::without_instance_braces(&renamed);
+    let flat = crate::graph::tests::without_instance_braces(&renamed);
     files.push(SourceFile::new(db, "listing28_flat.gudsl".into(), flat));
     (Workspace::new(db, files.clone()), files)
 }
