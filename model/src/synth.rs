@@ -78,7 +78,7 @@ fn file(index: usize, files: usize, target_lines: usize) -> SynthFile {
         }
         let _ = writeln!(out, "        self aggregation [0 .. *] parts : {other}.Image{};", (index + 1) % files);
         for m in 0..2 {
-            let _ = writeln!(out, "        public int compute{m}(int a, ref float b, const int c)\n        {{");
+            let _ = writeln!(out, "        public global int compute{m}(int a, ref float b, const int c)\n        {{");
             let _ = writeln!(out, "            var int acc = a * {} + c;", rng.below(100));
             let _ = writeln!(out, "            for(var int i = 0 : 1 : i < a) {{ acc = acc + i * (b as int); }}");
             let _ = writeln!(

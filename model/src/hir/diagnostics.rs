@@ -117,6 +117,14 @@ pub enum DiagnosticCode {
     InvertedMultiplicity,
     /// A `private` member used outside its class, a `protected` one outside its subclasses.
     InaccessibleMember,
+    /// An instance member used without an object: in a `global` method, or as `Class::m()` of
+    /// a method that is not `global`.
+    NoObject,
+    /// Device code called from host code outside a calc node, or host code from device code.
+    DeviceHostCall,
+    /// An image read or written by the function of another texel kind (`read_imagef` of an
+    /// integer image, `read_imagei` of a float one).
+    TexelKind,
     /// An operator applied to operands it does not take (objects in arithmetic, vectors of
     /// different widths, a number indexed).
     OperandType,
@@ -189,6 +197,9 @@ impl DiagnosticCode {
             DiagnosticCode::NotAssignable => "E0245",
             DiagnosticCode::InvertedMultiplicity => "E0246",
             DiagnosticCode::InaccessibleMember => "E0247",
+            DiagnosticCode::NoObject => "E0248",
+            DiagnosticCode::DeviceHostCall => "E0249",
+            DiagnosticCode::TexelKind => "E0250",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -254,6 +265,9 @@ impl DiagnosticCode {
             DiagnosticCode::NotAssignable => "an assignment to (or `ref` of) a value that is no variable",
             DiagnosticCode::InvertedMultiplicity => "a multiplicity whose lower bound exceeds its upper one",
             DiagnosticCode::InaccessibleMember => "a private or protected member used where it is not visible",
+            DiagnosticCode::NoObject => "an instance member used without an object",
+            DiagnosticCode::DeviceHostCall => "device code called from host code, or host code from device code",
+            DiagnosticCode::TexelKind => "an image read or written as another texel kind",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",

@@ -2,14 +2,14 @@
 //! for arity and argument types against the overloads, choosing among overloads by argument
 //! type.
 
-use super::InferenceCtx;
+use super::{places::CallForm, InferenceCtx};
 use crate::{
     ast::{self, AstNode, HasName},
     db::{Db, Workspace},
     hir::{
         definitions::{DefKind, Definition, Fqn},
         diagnostics::{arguments, DiagnosticCode},
-        items::MethodSignature,
+        items::{MethodSignature, ParamSignature},
         scope::Scope,
         semantics::Semantics,
         spelling::closest,
@@ -26,7 +26,7 @@ impl<'db> InferenceCtx<'_, 'db> {
             Some(ast::Expr::NameExpr(name)) => {
                 let Some(method) = name.name_ref() else { return Ty::Unknown };
                 match self.owner {
-                    Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax(), true),
+                    Some(owner) => self.check_call(owner, &method.text(), &args, method.syntax(), CallForm::Owner),
                     None => {
                         self.sink.error(
                             DiagnosticCode::UnknownName,
@@ -48,21 +48,25 @@ impl<'db> InferenceCtx<'_, 'db> {
             }
             Some(ast::Expr::MemberExpr(member)) => {
                 let receiver = member.receiver().map_or(Ty::Unknown, |r| self.infer(&r));
-                self.call_on(receiver, member.member(), &args)
+                self.call_on(receiver, member.member(), &args, CallForm::Object)
             }
             Some(ast::Expr::ScopeExpr(scoped)) => {
+                let form = match scoped.scope() {
+                    Some(scope) if self.names_a_type(&scope) => CallForm::Class,
+                    _ => CallForm::Object,
+                };
                 let scope = scoped.scope().map_or(Ty::Unknown, |r| self.infer(&r));
-                self.call_on(scope, scoped.member(), &args)
+                self.call_on(scope, scoped.member(), &args, form)
             }
             _ => self.infer_all(&args),
         }
     }
 
     /// `receiver.method(args)` and `Type::method(args)`: a method of the receiver's type.
-    fn call_on(&mut self, receiver: Ty, method: Option<ast::NameRef>, args: &[ast::Expr]) -> Ty {
+    fn call_on(&mut self, receiver: Ty, method: Option<ast::NameRef>, args: &[ast::Expr], form: CallForm) -> Ty {
         match (receiver.dereferenced(), method) {
             (Ty::Named(fqn), Some(method)) => match self.sema.definition(fqn) {
-                Some(def) => self.check_call(def, &method.text(), args, method.syntax(), true),
+                Some(def) => self.check_call(def, &method.text(), args, method.syntax(), form),
                 None => self.infer_all(args),
             },
             _ => self.infer_all(args),
@@ -76,18 +80,30 @@ impl<'db> InferenceCtx<'_, 'db> {
         Ty::Unknown
     }
 
-    /// Checks a call of `method` on type `def` (with its bases): arity against the overloads,
-    /// then argument types against the overload of that arity. Returns the result type.
+    /// Whether `expr`, written before `::`, names a type (not a variable of one).
+    fn names_a_type(&self, expr: &ast::Expr) -> bool {
+        let text: String = expr.syntax().text().to_string().split_whitespace().collect();
+        !self.locals.contains_key(&text)
+            && self.owner.is_none_or(|o| self.sema.field_ty(&o.fqn, &text).is_none())
+            && self.sema.resolve(&self.scope, &text).is_some_and(|d| matches!(d.kind, DefKind::Type(_)))
+    }
+
+    /// Checks a call of `method` on type `def` (with its bases), written in `form`: arity
+    /// against the overloads, then argument types against the overload of that arity, then
+    /// whether it may be called here. Returns the result type.
     pub(super) fn check_call(
         &mut self,
         def: &'db Definition,
         method: &str,
         args: &[ast::Expr],
         at: &SyntaxNode,
-        report_missing: bool,
+        form: CallForm,
     ) -> Ty {
+        // `call Class::m(…)` of a method the class lacks is validation's (E0214).
+        let report_missing = at.parent().is_none_or(|p| p.kind() != SyntaxKind::CALL_METHOD_EXPR);
         let arg_tys: Vec<Ty> = args.iter().map(|a| self.infer(a)).collect();
         self.image_access(method, args);
+        self.texel_kind(method, args, &arg_tys);
         let overloads: Vec<(&'db Definition, MethodSignature)> = self.sema.methods(def, method);
         if overloads.is_empty() {
             if !report_missing {
@@ -136,7 +152,9 @@ impl<'db> InferenceCtx<'_, 'db> {
         if let [only] = same_arity.as_slice() {
             for (i, ((arg, arg_ty), param_ty)) in args.iter().zip(&arg_tys).zip(param_tys(only)).enumerate() {
                 self.expect_argument(method, i, &only.1.params[i].name, &param_ty, arg, arg_ty);
+                self.expect_passed_access(method, &only.1.params[i], arg);
             }
+            self.expect_callable_here(form, only.0, &only.1, at);
             return return_ty(only);
         }
         // Overloads (`exp(float)`, `exp(float4)`, …): the one that takes these arguments, the
@@ -154,6 +172,7 @@ impl<'db> InferenceCtx<'_, 'db> {
             }
         }
         if let Some((_, chosen)) = best {
+            self.expect_callable_here(form, chosen.0, &chosen.1, at);
             return return_ty(chosen);
         }
         let given: Vec<String> = arg_tys.iter().map(|t| format!("`{t}`")).collect();
@@ -198,6 +217,7 @@ impl<'db> InferenceCtx<'_, 'db> {
             for (i, ((arg, arg_ty), param)) in args.iter().zip(&arg_tys).zip(&signature.params).enumerate() {
                 let param_ty = sema.ty(&param.ty, &scope);
                 self.expect_argument(&def.fqn, i, &param.name, &param_ty, arg, arg_ty);
+                self.expect_passed_access(&def.fqn, param, arg);
             }
         }
         behavior_result(sema.db(), sema.workspace(), Fqn::new(sema.db(), def.fqn.clone())).clone()
@@ -332,6 +352,34 @@ impl<'db> InferenceCtx<'_, 'db> {
         }
     }
 
+    /// A `read` image passed to a parameter that writes it (`write` or `read write`), or a
+    /// `write` one to a parameter that reads it (Sec. 10.2.1.5): the callee would do what the
+    /// image may not.
+    fn expect_passed_access(&mut self, callee: &str, param: &ParamSignature, arg: &ast::Expr) {
+        let ast::Expr::NameExpr(image) = arg else { return };
+        let Some(name) = image.name_ref().map(|n| n.text()) else { return };
+        let (has, needs) = match self.access.get(&name) {
+            Some(SyntaxKind::READ_KW) => ("read", "write"),
+            Some(SyntaxKind::WRITE_KW) => ("write", "read"),
+            _ => return,
+        };
+        if param.qualifiers.iter().any(|q| q == needs) {
+            let declared = match param.qualifiers.iter().any(|q| q == has) {
+                true => "read write",
+                false => needs,
+            };
+            let does = if needs == "write" { "writes" } else { "reads" };
+            self.sink.error(
+                DiagnosticCode::ImageAccess,
+                image.syntax().text_range(),
+                format!(
+                    "`{name}` is a `{has}` image, and `{callee}` {does} it (its parameter `{}` is `{declared}`): declare `{name}` `read write` to pass it",
+                    param.name
+                ),
+            );
+        }
+    }
+
     /// `read_image…` of a `write` image or `write_image…` of a `read` one (Sec. 10.2.1.5).
     fn image_access(&mut self, method: &str, args: &[ast::Expr]) {
         let (forbidden, what) = if method.starts_with("read_image") {
@@ -351,6 +399,40 @@ impl<'db> InferenceCtx<'_, 'db> {
                 format!("`{name}` is a `{what}` image: it cannot be {verb} (declare it `read write` to do both)"),
             );
         }
+    }
+}
+
+impl InferenceCtx<'_, '_> {
+    /// `read_imagef`/`write_imagef` on a float image, `…i`/`…ui` on an integer one: the
+    /// function's texel kind is the image's (OpenCL 1.2, 6.12.14.2: other pairs are undefined).
+    /// An integer image's texels are read and written as `int` or `unsigned int` alike (Listing
+    /// 15 reads an `image2D_uc` with `read_imagei`), converted as the texel's bits allow.
+    fn texel_kind(&mut self, method: &str, args: &[ast::Expr], arg_tys: &[Ty]) {
+        let Some(suffix) = method.strip_prefix("read_image").or_else(|| method.strip_prefix("write_image")) else {
+            return;
+        };
+        let (Some(image), Some(Ty::Gpu(image_ty))) = (args.first(), arg_tys.first().map(Ty::dereferenced)) else {
+            return;
+        };
+        let Some(texel) = image_ty.strip_prefix("image2D_").or_else(|| image_ty.strip_prefix("image3D_")) else {
+            return;
+        };
+        let float_image = matches!(texel, "f" | "d");
+        let float_function = suffix == "f";
+        if texel == "t" || float_image == float_function || !self.opencl_builtin(method) {
+            return;
+        }
+        let verb = &method[..method.len() - suffix.len()];
+        let (holds, other, use_instead) = match float_image {
+            true => ("float", "integer", format!("`{verb}f`")),
+            false => ("integer", "float", format!("`{verb}i` or `{verb}ui`")),
+        };
+        let name = image.syntax().text();
+        self.sink.error(
+            DiagnosticCode::TexelKind,
+            image.syntax().text_range(),
+            format!("`{name}` is an `{image_ty}`, which holds {holds} texels, and `{method}` is for {other} ones: use {use_instead}"),
+        );
     }
 }
 

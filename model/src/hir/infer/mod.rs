@@ -7,8 +7,11 @@
 
 mod calls;
 mod operators;
+mod places;
 mod statements;
 
+pub use places::BodyRole;
+use places::CallForm;
 use statements::{declared_access, declared_const, declared_shared};
 pub use statements::{implementing_behavior, misplaced_jumps, returns_on_every_path};
 
@@ -48,6 +51,8 @@ pub struct InferenceCtx<'a, 'db> {
     /// The nodes of the activity diagram, by name: what a transition's arguments must fit.
     nodes: Option<&'a HashMap<String, ast::ActivityNode>>,
     owner: Option<&'db Definition>,
+    /// What the body is: a `global` method's, a calc node's, another.
+    role: BodyRole,
     /// The type of every expression inferred, when asked for ([`Semantics::body_types`]).
     record: Option<HashMap<ExprKey, Ty>>,
 }
@@ -92,6 +97,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             returns: None,
             nodes: None,
             owner,
+            role: BodyRole::Ordinary,
             record: None,
         }
     }
@@ -307,7 +313,10 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 let Some(name_ref) = name.name_ref() else { return Ty::Unknown };
                 self.name_ty(&name_ref.text(), name_ref.syntax())
             }
-            ast::Expr::ThisExpr(_) => self.owner.map_or(Ty::Unknown, |o| Ty::Named(o.fqn.clone())),
+            ast::Expr::ThisExpr(this) => {
+                self.expect_object("this", &[], this.syntax());
+                self.owner.map_or(Ty::Unknown, |o| Ty::Named(o.fqn.clone()))
+            }
             ast::Expr::ParenExpr(p) => p.expr().map_or(Ty::Unknown, |e| self.infer(&e)),
             ast::Expr::PrefixExpr(p) => self.prefix(p),
             ast::Expr::PostfixExpr(p) => self.postfix(p),
@@ -334,7 +343,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 let args: Vec<ast::Expr> = call.args().collect();
                 let (Some(class), Some(method)) = (call.class(), call.method()) else { return Ty::Unknown };
                 match self.sema.resolve(&self.scope, &class.text()) {
-                    Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), false),
+                    Some(def) => self.check_call(def, &method.text(), &args, method.syntax(), CallForm::Class),
                     None => Ty::Unknown,
                 }
             }
@@ -357,6 +366,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         }
         if let Some(owner) = self.owner {
             if let Some(ty) = self.member_field(&owner.fqn, name, at) {
+                if self.role == BodyRole::GlobalMethod {
+                    self.expect_static_field(owner, name, at);
+                }
                 return ty;
             }
         }
@@ -429,6 +441,14 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         let Some((declaring, field)) = declared else { return self.sema.field_ty(fqn, name) };
         self.expect_visible(declaring, &field.qualifiers, name, at);
         Some(self.sema.ty(&field.ty, &Scope::of(declaring)))
+    }
+
+    /// The owner's field `name`, used by a bare name in a `global` method: a `global` one.
+    fn expect_static_field(&mut self, owner: &Definition, name: &str, at: &SyntaxNode) {
+        let field = self.sema.find_member(&owner.fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
+        if let Some((_, field)) = field {
+            self.expect_object(name, &field.qualifiers, at);
+        }
     }
 
     /// `receiver.member` on a user type: reports a member the type does not have.

@@ -4,7 +4,7 @@
 
 use super::InferenceCtx;
 use crate::{
-    ast::{self, AstNode, HasName},
+    ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         diagnostics::{excerpt, DiagnosticCode},
         ty::Ty,
@@ -15,11 +15,30 @@ use crate::{
 impl InferenceCtx<'_, '_> {
     /// `var int x = value;`: the value fits the variable.
     pub(super) fn var_decl(&mut self, decl: &ast::VarDecl) {
+        self.shared_local(decl);
         if let (Some(init), Some(name)) = (decl.initializer(), decl.name()) {
             let target = self.locals.get(&name.text()).cloned().unwrap_or(Ty::Unknown);
             let value = self.infer(&init);
             self.expect_assignable(&value, &target, init.syntax(), &format!("`{}`", name.text()));
         }
+    }
+
+    /// `var shared int x`: work-group memory exists only in device code, a body whose owner
+    /// implements `OpenCL` (Sec. 10.3.2.3); host code has no work-group to share it with.
+    fn shared_local(&mut self, decl: &ast::VarDecl) {
+        if !decl.has_modifier(SyntaxKind::SHARED_KW) || self.owner.is_some_and(|o| self.sema.is_gpu_class(o)) {
+            return;
+        }
+        let range = decl.name().map_or_else(|| decl.syntax().text_range(), |n| n.syntax().text_range());
+        let place = match self.owner {
+            Some(owner) => format!("`{}` does not implement `OpenCL`", owner.fqn),
+            None => "this body has no owner class".to_string(),
+        };
+        self.sink.error(
+            DiagnosticCode::SharedOutsideGpuClass,
+            range,
+            format!("`shared` (work-group) memory exists only in device code, and {place}: drop `shared`"),
+        );
     }
 
     /// `switch (x) { case a: … }`: each label fits what is switched on, and none is written

@@ -9,7 +9,7 @@ use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         definitions::DefKind,
-        infer::{diagram_locals, header_declarations, misplaced_jumps, InferenceCtx},
+        infer::{diagram_locals, header_declarations, misplaced_jumps, BodyRole, InferenceCtx},
         items::TypeKind,
         semantics::describe,
         ty::Ty,
@@ -64,6 +64,9 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
             }
         }
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+        if matches!(node.kind(), ast::NodeKind::Calc | ast::NodeKind::CalcRange) {
+            typing.set_role(BodyRole::KernelLaunch);
+        }
         for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
             typing.declare(name, ty);
         }

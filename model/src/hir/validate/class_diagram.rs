@@ -7,7 +7,7 @@ use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
         components::signature_key,
-        infer::{implementing_behavior, misplaced_jumps, returns_on_every_path, InferenceCtx},
+        infer::{implementing_behavior, misplaced_jumps, returns_on_every_path, BodyRole, InferenceCtx},
         items::{type_signature, InterfaceRole, TypeSignature},
         ty::Ty,
     },
@@ -144,6 +144,9 @@ fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
         let owner = ctx.sema.owner_at(body.syntax());
         let name = method.name().map(|n| n.text()).unwrap_or_default();
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+        if method.has_modifier(SyntaxKind::GLOBAL_KW) {
+            typing.set_role(BodyRole::GlobalMethod);
+        }
         for param in method.params() {
             if let Some(name) = param.name() {
                 typing.declare(name.text(), param.type_ref());
