@@ -125,6 +125,8 @@ pub enum DiagnosticCode {
     /// An image read or written by the function of another texel kind (`read_imagef` of an
     /// integer image, `read_imagei` of a float one).
     TexelKind,
+    /// A method of an `OpenCL` class that calls itself, directly or through others.
+    DeviceRecursion,
     /// An operator applied to operands it does not take (objects in arithmetic, vectors of
     /// different widths, a number indexed).
     OperandType,
@@ -200,6 +202,7 @@ impl DiagnosticCode {
             DiagnosticCode::NoObject => "E0248",
             DiagnosticCode::DeviceHostCall => "E0249",
             DiagnosticCode::TexelKind => "E0250",
+            DiagnosticCode::DeviceRecursion => "E0251",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -268,6 +271,7 @@ impl DiagnosticCode {
             DiagnosticCode::NoObject => "an instance member used without an object",
             DiagnosticCode::DeviceHostCall => "device code called from host code, or host code from device code",
             DiagnosticCode::TexelKind => "an image read or written as another texel kind",
+            DiagnosticCode::DeviceRecursion => "recursion in device code",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",

@@ -2,7 +2,7 @@
 //! field initialisers and method bodies (typed), `shared` parameters only in OpenCL classes, and
 //! a processor counterpart for every provider method (chapter 11.3.1).
 
-use super::{calls, inheritance, names, objects, types, Ctx, DiagnosticCode, Scope};
+use super::{calls, inheritance, names, objects, recursion, types, Ctx, DiagnosticCode, Scope};
 use crate::{
     ast::{self, AstNode, HasModifiers, HasName},
     hir::{
@@ -53,6 +53,9 @@ fn type_decl(ctx: &mut Ctx, outer: &Scope, decl: &ast::TypeDecl) {
         ast::TypeDecl::Class(class) => ctx.sema.implements_opencl(&scope, class.extends().chain(class.implements())),
         _ => false,
     };
+    if let (true, Some(name)) = (gpu_class, decl.name()) {
+        recursion::check(ctx, &scope, &outer.qualify(&name.text()), decl);
+    }
     let members: Vec<ast::Member> = decl.members().collect();
     let field_names = members.iter().filter_map(|m| match m {
         ast::Member::Field(f) => f.name(),

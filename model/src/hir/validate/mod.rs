@@ -15,6 +15,7 @@ mod inheritance;
 mod instance_diagram;
 mod names;
 mod objects;
+mod recursion;
 mod types;
 
 use super::{
