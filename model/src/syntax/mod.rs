@@ -13,6 +13,7 @@ mod parser;
 #[cfg(test)]
 mod tests;
 mod token_set;
+mod unclosed;
 
 pub use error::{SyntaxError, SyntaxErrorCode};
 pub use kind::SyntaxKind;
@@ -88,6 +89,7 @@ pub fn parse(text: &str) -> Parse {
         lex_errors.push(SyntaxError::new(lex_error.code, lex_error.message.clone(), range));
     }
     errors.extend(lex_errors);
+    unclosed::blame_unclosed_brace(text, &lexed, &mut errors);
     errors.sort_by_key(|e| (e.range.start(), e.range.end()));
     Parse { green, errors }
 }

@@ -146,6 +146,7 @@ fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
         }
         let owner = ctx.sema.owner_at(body.syntax());
         let name = method.name().map(|n| n.text()).unwrap_or_default();
+        let cut_short = ctx.syntax_error_in(body.syntax().text_range());
         let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
         if method.has_modifier(SyntaxKind::GLOBAL_KW) {
             typing.set_role(BodyRole::GlobalMethod);
@@ -158,7 +159,8 @@ fn method(ctx: &mut Ctx, scope: &Scope, method: &ast::Method, gpu_class: bool) {
         typing.expect_returns(name.clone(), method.return_type());
         typing.check(body.syntax());
         let returns_a_value = method.return_type().is_some_and(|t| t.builtin().is_none_or(|b| b.text() != "void"));
-        if returns_a_value && !returns_on_every_path(body.syntax()) {
+        // A syntax error in the body may have cut it short: its `return` is told once it is fixed.
+        if returns_a_value && !returns_on_every_path(body.syntax()) && !cut_short {
             if let Some(call) = implementing_behavior(&body) {
                 typing.check_implementing_behavior(&call);
                 return;

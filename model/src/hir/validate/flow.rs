@@ -25,9 +25,7 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
     // A diagram with a syntax error may have lost nodes to it (`strat S { … }`): what depends on
     // every node — a start node, targets, reachability — is told once the syntax is fixed, so
     // that one mistake is one diagnostic.
-    let range = diagram.syntax().text_range();
-    let parse = crate::db::parse(ctx.sema.db(), ctx.file);
-    let complete = !parse.errors().iter().any(|e| range.contains_range(e.range));
+    let complete = !ctx.syntax_error_in(diagram.syntax().text_range());
     if complete {
         start_nodes(ctx, diagram, &diagram_name, nodes, &starts);
     }

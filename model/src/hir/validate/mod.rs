@@ -35,6 +35,14 @@ pub(crate) struct Ctx<'db> {
     pub(crate) sink: Diagnostics,
 }
 
+impl Ctx<'_> {
+    /// Whether a syntax error of the file lies in `range`: what the error cut short is checked
+    /// once it is fixed (one mistake, one diagnostic).
+    pub(crate) fn syntax_error_in(&self, range: crate::syntax::TextRange) -> bool {
+        parse(self.sema.db(), self.file).errors().iter().any(|e| range.contains_range(e.range))
+    }
+}
+
 /// The semantic diagnostics of one file, in the order the rules found them.
 #[salsa::tracked(returns(ref))]
 pub fn check_file(db: &dyn Db, workspace: Workspace, file: SourceFile) -> Vec<Diagnostic> {

@@ -92,6 +92,15 @@ pub(super) fn name(p: &mut Parser, what: &str) -> bool {
         p.bump(IDENT);
         m.complete(p, NAME);
         true
+    } else if p.current().is_keyword() && matches!(p.nth(1), SEMICOLON | L_PAREN | EQ | COMMA | R_PAREN | L_CURLY) {
+        // `public int class;`: the word was meant as the name; it is reported and read as one
+        // would, so what follows parses as written.
+        let message = format!("`{}` is a keyword, so it cannot be {what}: rename it", p.current_text());
+        p.error_here(message);
+        let m = p.start();
+        p.bump_any();
+        m.complete(p, ERROR);
+        false
     } else {
         p.error_missing(format!("expected {what}"));
         false
