@@ -26,6 +26,44 @@ const DONE: &str = "0xffffffffu";
 impl Emitter<'_> {
     /// The body of the entry point for `nodes` (all nodes of the diagram, swimlanes flattened).
     pub fn control_flow(&mut self, diagram: &ast::ActivityDiagram, nodes: &[ast::ActivityNode]) {
+        let graph = self.graph(nodes, format!("{GENERATED}state"));
+        let Some(start) = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start) else {
+            self.unsupported(diagram.syntax(), "a diagram without a start node cannot run");
+            return;
+        };
+        self.node_parameters(&graph);
+        let checkpoint = self.checkpoint();
+        if self.structured(&graph, start).is_some() {
+            return;
+        }
+        self.restore(checkpoint);
+        self.state_loop(&graph, start);
+    }
+
+    /// The flow a container node holds (Sec. 9.2.2.3), after its statements: a state loop of
+    /// its own from its start node, ended by a nested final node (or where no transition is
+    /// taken); the container's code goes on after it.
+    fn nested_flow(&mut self, container: &ast::ActivityNode) {
+        let nodes: Vec<ast::ActivityNode> = container.nested_nodes().collect();
+        if nodes.is_empty() {
+            return;
+        }
+        let Some(start) = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start) else {
+            self.unsupported(container.syntax(), "a node holding nodes needs a start node among them");
+            return;
+        };
+        let name = container.name().map(|n| n.text()).unwrap_or_default();
+        let graph = self.graph(&nodes, format!("{GENERATED}state_{name}"));
+        let outer = std::mem::take(&mut self.types);
+        self.line(format!("// the flow node `{name}` holds"));
+        self.node_parameters(&graph);
+        self.state_loop(&graph, start);
+        self.types = outer;
+    }
+
+    /// The nodes of one flow with their transitions (each node's in the order its guards are
+    /// tried) and types; `state` names the variable of its state loop.
+    fn graph(&self, nodes: &[ast::ActivityNode], state: String) -> Graph {
         let index: HashMap<String, usize> =
             nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect();
         let edges = nodes
@@ -44,17 +82,17 @@ impl Emitter<'_> {
                 edges
             })
             .collect();
-        let graph = Graph {
+        Graph {
             nodes: nodes.to_vec(),
             edges,
             types: nodes.iter().map(|n| self.sema.body_types(n.syntax())).collect(),
-        };
-        let Some(start) = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start) else {
-            self.unsupported(diagram.syntax(), "a diagram without a start node cannot run");
-            return;
-        };
-        // The parameters of nodes that take arguments, declared once for all cases.
-        for (node, types) in nodes.iter().zip(&graph.types) {
+            state,
+        }
+    }
+
+    /// The parameters of the flow's nodes that take arguments, declared once for all its cases.
+    fn node_parameters(&mut self, graph: &Graph) {
+        for (node, types) in graph.nodes.iter().zip(&graph.types) {
             for param in node.params() {
                 let Some(name) = param.name().map(|n| n.text()) else { continue };
                 let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
@@ -66,28 +104,23 @@ impl Emitter<'_> {
                 }
             }
         }
-        let checkpoint = self.checkpoint();
-        if self.structured(&graph, start).is_some() {
-            return;
-        }
-        self.restore(checkpoint);
-        self.state_loop(&graph, start);
     }
 
     /// The general form: `loop { switch state { case node: … } }`.
     fn state_loop(&mut self, graph: &Graph, start: usize) {
         let nodes = &graph.nodes;
-        self.line(format!("var {GENERATED}state: u32 = {start}u;"));
+        let state = &graph.state;
+        self.line(format!("var {state}: u32 = {start}u;"));
         self.block("loop {", |e| {
-            e.line(format!("if {GENERATED}state == {DONE} {{ break; }}"));
-            e.block(format!("switch {GENERATED}state {{"), |e| {
+            e.line(format!("if {state} == {DONE} {{ break; }}"));
+            e.block(format!("switch {state} {{"), |e| {
                 for (i, node) in nodes.iter().enumerate() {
                     let name = node.name().map(|n| n.text()).unwrap_or_default();
                     e.line(format!("// {} `{name}`", node.kind().keyword()));
                     e.types = graph.types[i].clone();
                     e.block(format!("case {i}u: {{"), |e| e.node(i, graph));
                 }
-                e.line(format!("default: {{ {GENERATED}state = {DONE}; }}"));
+                e.line(format!("default: {{ {state} = {DONE}; }}"));
             });
         });
     }
@@ -97,7 +130,7 @@ impl Emitter<'_> {
         if self.node_body(&graph.nodes[n]) {
             self.transitions(n, graph);
         } else {
-            self.line(format!("{GENERATED}state = {DONE};"));
+            self.line(format!("{} = {DONE};", graph.state));
         }
     }
 
@@ -160,10 +193,12 @@ impl Emitter<'_> {
         self.node_exit = outer;
     }
 
+    /// A node's statements, then the flow of the nodes it holds.
     fn statements(&mut self, node: &ast::ActivityNode) {
         for stmt in node.statements() {
             self.statement(&stmt);
         }
+        self.nested_flow(node);
     }
 
     /// `loop n(init; test; step)` and `loopWindow n(u = …, v = …; …; …)`: the body runs in one
@@ -229,8 +264,8 @@ impl Emitter<'_> {
         }
         if !graph.has_else(n) {
             match first {
-                true => self.line(format!("{GENERATED}state = {DONE};")),
-                false => self.line(format!("else {{ {GENERATED}state = {DONE}; }}")),
+                true => self.line(format!("{} = {DONE};", graph.state)),
+                false => self.line(format!("else {{ {} = {DONE}; }}", graph.state)),
             }
         }
     }
@@ -238,7 +273,7 @@ impl Emitter<'_> {
     /// Moves to a transition's target.
     fn take(&mut self, edge: &Edge, graph: &Graph) {
         if let Some(state) = self.hand_over(edge, graph) {
-            self.line(format!("{GENERATED}state = {state}u;"));
+            self.line(format!("{} = {state}u;", graph.state));
         }
     }
 
@@ -269,6 +304,8 @@ pub(crate) struct Graph {
     pub nodes: Vec<ast::ActivityNode>,
     pub edges: Vec<Vec<Edge>>,
     pub types: Vec<BodyTypes>,
+    /// The variable of the flow's state loop.
+    pub state: String,
 }
 
 /// A transition: its guard's condition (`None`: unguarded, the else branch) and the index of

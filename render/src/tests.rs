@@ -484,3 +484,38 @@ fn nested_components_are_drawn_inside_their_parents_with_their_connections() {
     assert!(at(r#"data-id="P.Pipeline""#) < at(r#"class="edge" data-id="P.Camera.CameraPort"#));
     assert!(at(r#"class="edge" data-id="P.Camera.CameraPort"#) < at(r#"data-id="P.MeanFilter""#));
 }
+
+#[test]
+fn nested_activity_nodes_are_drawn_inside_their_containers() {
+    let text = "ActivityDiagram Ad(int n) {
+        public int total = 0;
+        swimlane L {
+            start S { => each; }
+            loop each(var int i = 0; i < n; i = i + 1) {
+                total = total + 1;
+                start inner { => pick; }
+                decision pick {
+                    start s2 { => test; }
+                    action test { total = total * 2; => t; }
+                    final t;
+                    [i % 2 == 0] => even;
+                    [] => done;
+                }
+                action even { total = total + i; => done; }
+                final done;
+                => f;
+            }
+            final f;
+        }
+    }";
+    let (host, files) = AnalysisHost::with_files(vec![("nested.gudsl".to_string(), text.to_string())]);
+    let graph = host.analysis().graphs(files[0]).unwrap()[0].clone();
+    let scene = scene::build(&graph, scene::Hints::default());
+    let parent = |id: &str| scene.nodes.iter().find(|n| n.id == id).unwrap().parent.clone();
+    assert_eq!(parent("Ad/L/pick").as_deref(), Some("Ad/L/each"));
+    assert_eq!(parent("Ad/L/test").as_deref(), Some("Ad/L/pick"));
+    assert_eq!(parent("Ad/L/f"), None);
+    // Inside their containers (two levels), clear of each other, guards off the boxes.
+    assert_clean(&graph, &scene, true);
+    assert!(scene.edges.iter().all(|e| e.points.len() >= 2));
+}

@@ -66,7 +66,7 @@ impl<'r, 'g> Machine<'r, 'g> {
 
     /// Runs nodes from `start` until a final node (with what it returns) or a node with no
     /// transition to take.
-    fn flow(&mut self, code: &Compiled, start: usize) -> Outcome<(Ending, Value)> {
+    pub(super) fn flow(&mut self, code: &Compiled, start: usize) -> Outcome<(Ending, Value)> {
         let program = self.program;
         let mut current = start;
         // The node and transition the current node was entered by.

@@ -135,6 +135,9 @@ pub enum Stmt {
     Break,
     Continue,
     Block(Vec<Stmt>),
+    /// The flow a node holds (Sec. 9.2.2.3), from its start node (an index into
+    /// [`Program::nodes`]) to a final node of it, or a node of it with no transition to take.
+    Flow(usize),
 }
 
 /// How a node is entered and left.

@@ -1949,6 +1949,7 @@ impl CalcRangeNode {
     }
 }
 
+/// Statements, transitions and nested nodes (a node container, Sec. 9.2.2.3).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct NodeBody {
     pub(crate) syntax: SyntaxNode,
@@ -1974,6 +1975,9 @@ impl NodeBody {
         support::children(&self.syntax)
     }
     pub fn transitions(&self) -> AstChildren<Transition> {
+        support::children(&self.syntax)
+    }
+    pub fn nodes(&self) -> AstChildren<ActivityNode> {
         support::children(&self.syntax)
     }
     pub fn r_curly_token(&self) -> Option<SyntaxToken> {

@@ -246,9 +246,14 @@ impl ActivityDiagram {
     pub fn owner(&self) -> Option<Path> {
         self.owner_clause().and_then(|o| o.path())
     }
-    /// Every node: the swimlanes' in order, then those outside any swimlane.
+    /// The nodes of the diagram's flow: the swimlanes' in order, then those outside any
+    /// swimlane; not the nodes nested in them ([`ActivityNode::nested_nodes`]).
     pub fn all_nodes(&self) -> impl Iterator<Item = ActivityNode> {
         self.swimlanes().flat_map(|lane| lane.nodes()).chain(self.nodes())
+    }
+    /// Every node, nested ones too, each before the nodes it holds.
+    pub fn every_node(&self) -> Vec<ActivityNode> {
+        self.all_nodes().flat_map(|node| node.and_nested()).collect()
     }
 }
 
@@ -281,6 +286,24 @@ impl ActivityNode {
     }
     pub fn transitions(&self) -> impl Iterator<Item = Transition> {
         self.body().into_iter().flat_map(|b| b.transitions())
+    }
+    /// The nodes of the flow the node holds (a node container, Sec. 9.2.2.3).
+    pub fn nested_nodes(&self) -> impl Iterator<Item = ActivityNode> {
+        self.body().into_iter().flat_map(|b| b.nodes())
+    }
+    /// Whether the node may hold nodes (a node container, Sec. 9.2.2.3): loop and conditional
+    /// nodes, and actions as UML's structured nodes.
+    pub fn may_hold_nodes(&self) -> bool {
+        use crate::syntax::NodeKind::*;
+        matches!(self.kind(), Action | Decision | Loop | LoopWindow)
+    }
+    /// The node that holds this one, if it is nested.
+    pub fn container(&self) -> Option<ActivityNode> {
+        self.syntax().parent()?.ancestors().find_map(ActivityNode::cast)
+    }
+    /// The node and every node nested in it, each before the nodes it holds.
+    pub fn and_nested(&self) -> Vec<ActivityNode> {
+        std::iter::once(self.clone()).chain(self.nested_nodes().flat_map(|n| n.and_nested())).collect()
     }
 }
 
@@ -536,4 +559,22 @@ impl ComponentInstance {
         }
         member.parent().and_then(ComponentInstance::cast).filter(|i| i.l_curly_token().is_none())
     }
+}
+
+/// The descendants of `root` (itself included) outside the nodes nested in it: a node body's
+/// own statements and transitions, not those of the nodes it holds (Sec. 9.2.2.3), which are
+/// bodies of their own.
+pub fn own_descendants(root: &SyntaxNode) -> Vec<SyntaxNode> {
+    let mut out = Vec::new();
+    let mut walk = root.preorder();
+    while let Some(event) = walk.next() {
+        if let rowan::WalkEvent::Enter(node) = event {
+            if &node != root && ActivityNode::can_cast(node.kind()) {
+                walk.skip_subtree();
+                continue;
+            }
+            out.push(node);
+        }
+    }
+    out
 }

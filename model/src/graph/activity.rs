@@ -22,13 +22,20 @@ pub(super) fn graph(id: String, diagram: &ast::ActivityDiagram) -> Graph {
         lanes.push((Some(lane_id), lane.nodes().collect()));
     }
     lanes.push((None, diagram.nodes().collect()));
+    // Nested nodes (Sec. 9.2.2.3) are in their container's lane, drawn inside it (`parent`).
+    for (_, nodes) in &mut lanes {
+        *nodes = nodes.iter().flat_map(|n| n.and_nested()).collect();
+    }
     let mut node_ids: HashMap<String, String> = HashMap::new();
     for (lane_id, nodes) in &lanes {
         for node in nodes {
             let Some(name) = node.name().map(|n| n.text()) else { continue };
             let node_id = format!("{}/{name}", lane_id.as_deref().unwrap_or(&id));
             node_ids.entry(name.clone()).or_insert_with(|| node_id.clone());
-            graph.nodes.push(activity_node(node, node_id, name, lane_id.clone()));
+            let mut drawn = activity_node(node, node_id, name, lane_id.clone());
+            let container = node.container().and_then(|c| c.name()).map(|n| n.text());
+            drawn.parent = container.and_then(|c| node_ids.get(&c).cloned());
+            graph.nodes.push(drawn);
         }
     }
     for node in lanes.iter().flat_map(|(_, nodes)| nodes) {
@@ -71,6 +78,8 @@ fn activity_node(node: &ast::ActivityNode, id: String, name: String, group: Opti
         ast::NodeKind::Start => NodeShape::Start,
         ast::NodeKind::Final => NodeShape::Final,
         ast::NodeKind::Action => NodeShape::Action,
+        // A decision holding nodes (UML's conditional node) is a box that can hold them.
+        ast::NodeKind::Decision if node.nested_nodes().next().is_some() => NodeShape::Action,
         ast::NodeKind::Decision => NodeShape::Decision,
         ast::NodeKind::Fork => NodeShape::Fork,
         ast::NodeKind::Join => NodeShape::Join,
@@ -80,8 +89,10 @@ fn activity_node(node: &ast::ActivityNode, id: String, name: String, group: Opti
         ast::NodeKind::CalcRange => NodeShape::CalcRange,
     };
     // The kinds drawn as an action box say which they are.
-    let stereotype = matches!(shape, NodeShape::Loop | NodeShape::LoopWindow | NodeShape::Calc | NodeShape::CalcRange)
-        .then(|| node.kind().keyword().to_string());
+    let boxed_decision = shape == NodeShape::Action && node.kind() == ast::NodeKind::Decision;
+    let stereotype = (boxed_decision
+        || matches!(shape, NodeShape::Loop | NodeShape::LoopWindow | NodeShape::Calc | NodeShape::CalcRange))
+    .then(|| node.kind().keyword().to_string());
     let params: Vec<String> = node.params().map(|p| text(&p)).collect();
     let label = if params.is_empty() { name } else { format!("{name}({})", params.join(", ")) };
     let mut compartments = Vec::new();

@@ -95,7 +95,8 @@ pub struct GraphNode {
     pub ports: Vec<GraphPort>,
     /// The swimlane it belongs to (activity diagrams).
     pub group: Option<String>,
-    /// The node it is nested in (component diagrams: a component inside another).
+    /// The node it is nested in (a component inside another; an activity node inside the
+    /// loop, decision or action that holds it).
     pub parent: Option<String>,
     /// Where it is declared, for round trips to the text.
     pub range: TextRange,

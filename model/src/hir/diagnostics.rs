@@ -127,6 +127,8 @@ pub enum DiagnosticCode {
     TexelKind,
     /// A method of an `OpenCL` class that calls itself, directly or through others.
     DeviceRecursion,
+    /// Nodes nested in a node that holds none, or a value returned by a nested final node.
+    NotAContainer,
     /// An operator applied to operands it does not take (objects in arithmetic, vectors of
     /// different widths, a number indexed).
     OperandType,
@@ -203,6 +205,7 @@ impl DiagnosticCode {
             DiagnosticCode::DeviceHostCall => "E0249",
             DiagnosticCode::TexelKind => "E0250",
             DiagnosticCode::DeviceRecursion => "E0251",
+            DiagnosticCode::NotAContainer => "E0252",
             DiagnosticCode::UnboundProcessor => "E0401",
             DiagnosticCode::PipelineCycle => "E0402",
             DiagnosticCode::ParameterValue => "E0403",
@@ -272,6 +275,7 @@ impl DiagnosticCode {
             DiagnosticCode::DeviceHostCall => "device code called from host code, or host code from device code",
             DiagnosticCode::TexelKind => "an image read or written as another texel kind",
             DiagnosticCode::DeviceRecursion => "recursion in device code",
+            DiagnosticCode::NotAContainer => "nodes nested where no node container is",
             DiagnosticCode::UnboundProcessor => "a filter or sink input no binding feeds",
             DiagnosticCode::PipelineCycle => "bindings in a cycle without a buffered port",
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",

@@ -377,6 +377,8 @@ fn type_item(decl: &ast::TypeDecl) -> Option<TypeItem> {
 }
 
 fn activity_signature(diagram: &ast::ActivityDiagram) -> ActivitySignature {
+    // A node's nested nodes (Sec. 9.2.2.3) are the swimlane's too: node names are one namespace.
+    let with_nested = |n: ast::ActivityNode| n.and_nested();
     let node_signature = |n: ast::ActivityNode| {
         Some(NodeSignature {
             kind: n.kind(),
@@ -389,10 +391,10 @@ fn activity_signature(diagram: &ast::ActivityDiagram) -> ActivitySignature {
         .map(|lane| SwimlaneSignature {
             name: name_of(&lane),
             owner: lane.owner().map(|p| p.text()),
-            nodes: lane.nodes().filter_map(node_signature).collect(),
+            nodes: lane.nodes().flat_map(with_nested).filter_map(node_signature).collect(),
         })
         .collect();
-    let loose: Vec<NodeSignature> = diagram.nodes().filter_map(node_signature).collect();
+    let loose: Vec<NodeSignature> = diagram.nodes().flat_map(with_nested).filter_map(node_signature).collect();
     if !loose.is_empty() {
         swimlanes.push(SwimlaneSignature { name: None, owner: None, nodes: loose });
     }

@@ -182,6 +182,11 @@ fn create_node(node: &SyntaxNode, text: &str) -> Option<(String, (TextRange, Str
     let transition = node.ancestors().find_map(ast::Transition::cast)?;
     let target = transition.target()?.text();
     let current = transition.syntax().ancestors().find_map(ast::ActivityNode::cast)?;
+    // A node of that name in another flow (a container's, Sec. 9.2.2.3) is not created twice.
+    let diagram = current.syntax().ancestors().find_map(ast::ActivityDiagram::cast)?;
+    if diagram.every_node().iter().any(|n| n.name().is_some_and(|n| n.text() == target)) {
+        return None;
+    }
     let container = current.syntax().parent()?;
     let close = container.children_with_tokens().filter(|e| e.kind() == SyntaxKind::R_CURLY).last()?;
     let indent = indentation_at(text, current.syntax().text_range().start());

@@ -145,9 +145,12 @@ fn type_decl(decl: &ast::TypeDecl) -> Option<Symbol> {
     Some(sym)
 }
 
+/// A node, with the nodes it holds (Sec. 9.2.2.3) as its children.
 fn node(node: &ast::ActivityNode) -> Option<Symbol> {
     let detail = format!("{:?}", node.kind()).to_lowercase();
-    symbol(node.syntax(), node.name(), SymbolKind::Node, Some(detail))
+    let mut sym = symbol(node.syntax(), node.name(), SymbolKind::Node, Some(detail))?;
+    sym.children.extend(node.nested_nodes().filter_map(|n| self::node(&n)));
+    Some(sym)
 }
 
 fn component(component: &ast::Component) -> Option<Symbol> {

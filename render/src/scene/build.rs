@@ -165,8 +165,11 @@ fn lay_out(parts: &mut Parts, input: &LayoutInput, nesting: &mut Nesting, (body_
             if nesting.is_flat() {
                 layered_left_to_right(input, spacing)
             } else {
-                nesting.layout(input, &mut parts.contents, &parts.reaches, spacing)
+                nesting.layout(input, &mut parts.contents, &parts.reaches, spacing, layered_left_to_right)
             }
+        }
+        GraphKind::Activity if !nesting.is_flat() => {
+            nesting.layout(input, &mut parts.contents, &parts.reaches, Spacing::default(), layered)
         }
         GraphKind::Class | GraphKind::Activity => layered(input, Spacing::default()),
     };

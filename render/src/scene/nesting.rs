@@ -1,12 +1,17 @@
-//! Nested components drawn inside their parents (components nest to any depth, §11.3.2): each
-//! parent's children are laid out left to right as a diagram of their own, the parent grows to
-//! hold them under its header and port rows, and they move with it; the top level is laid out
-//! with each tree as its root's box.
+//! Nested nodes drawn inside their parents (components nest to any depth, §11.3.2; activity
+//! nodes hold nodes, §9.2.2.3): each parent's children are laid out as a diagram of their own
+//! (left to right for components, top down for activities), the parent grows to hold them
+//! under its header, port rows and compartments, and they move with it; the top level is laid
+//! out with each tree as its root's box.
 
 use gudsl_model::graph::Graph;
 
 use super::{measure::Content, Point};
-use crate::layout::{layered_left_to_right, Layout, LayoutInput, LayoutNode, Spacing};
+use crate::layout::{Layout, LayoutInput, LayoutNode, Spacing};
+
+/// An edge laid out inside a parent: the parent, the route and the label's place from the
+/// parent's corner.
+type InnerRoute = (usize, Vec<Point>, Option<Point>);
 
 /// Which node holds which.
 pub(super) struct Nesting {
@@ -78,26 +83,27 @@ impl Nesting {
         contents: &mut [Content],
         reaches: &[(f64, f64)],
         spacing: Spacing,
+        lay: fn(&LayoutInput, Spacing) -> Layout,
     ) -> Layout {
         let n = self.parent.len();
         let mut parents: Vec<usize> = (0..n).filter(|&p| self.parent.contains(&Some(p))).collect();
         parents.sort_by_key(|&p| std::cmp::Reverse(self.depth(p)));
-        // Routes of edges laid out inside a parent, from the parent's corner.
-        let mut inner_routes: Vec<Option<(usize, Vec<Point>)>> = vec![None; input.edges.len()];
+        // Routes (and label places) of edges laid out inside a parent, from the parent's corner.
+        let mut inner_routes: Vec<Option<InnerRoute>> = vec![None; input.edges.len()];
         let layout_box = |contents: &[Content], v: usize| LayoutNode {
             width: reaches[v].0 + contents[v].width + reaches[v].1,
             height: contents[v].height,
         };
         for parent in parents {
             let (level, sub, edges) = self.level(input, Some(parent), |v| layout_box(contents, v));
-            let inner = layered_left_to_right(&sub, spacing);
+            let inner = lay(&sub, spacing);
             let top = contents[parent].height;
             for (&child, at) in level.iter().zip(&inner.positions) {
                 self.offset[child] = Point { x: at.x + reaches[child].0, y: top + at.y };
             }
-            for (&k, route) in edges.iter().zip(&inner.edges) {
-                let route = route.iter().map(|p| Point { x: p.x, y: top + p.y }).collect();
-                inner_routes[k] = Some((parent, route));
+            let down = |p: &Point| Point { x: p.x, y: top + p.y };
+            for ((&k, route), label) in edges.iter().zip(&inner.edges).zip(&inner.labels) {
+                inner_routes[k] = Some((parent, route.iter().map(down).collect(), label.as_ref().map(down)));
             }
             let content = &mut contents[parent];
             content.width = content.width.max(inner.width);
@@ -105,7 +111,7 @@ impl Nesting {
             content.nested = inner.height;
         }
         let (level, top_input, edges) = self.level(input, None, |v| layout_box(contents, v));
-        let top = layered_left_to_right(&top_input, spacing);
+        let top = lay(&top_input, spacing);
         // Every box's corner: the top level's from its layout, the nested ones' from their parents.
         let mut corners = vec![Point::default(); n];
         for (&v, at) in level.iter().zip(&top.positions) {
@@ -113,20 +119,24 @@ impl Nesting {
         }
         self.follow(&mut corners);
         let mut edge_routes = vec![Vec::new(); input.edges.len()];
-        for (&k, route) in edges.iter().zip(top.edges) {
+        let mut labels = vec![None; input.edges.len()];
+        for ((&k, route), label) in edges.iter().zip(top.edges).zip(top.labels) {
             edge_routes[k] = route;
+            labels[k] = label;
         }
         for (k, inner) in inner_routes.into_iter().enumerate() {
-            if let Some((parent, route)) = inner {
+            if let Some((parent, route, label)) = inner {
                 let at = corners[parent];
-                edge_routes[k] = route.into_iter().map(|p| Point { x: at.x + p.x, y: at.y + p.y }).collect();
+                let moved = |p: Point| Point { x: at.x + p.x, y: at.y + p.y };
+                edge_routes[k] = route.into_iter().map(moved).collect();
+                labels[k] = label.map(moved);
             }
         }
         Layout {
             positions: corners.iter().zip(reaches).map(|(c, r)| Point { x: c.x - r.0, y: c.y }).collect(),
             edges: edge_routes,
-            // Left-to-right layouts place no labels (they are placed afterwards).
-            labels: vec![None; input.edges.len()],
+            // Labels the layout placed (top-down layouts do); the others are placed afterwards.
+            labels,
             end_labels: vec![[None; 2]; input.edges.len()],
             width: top.width,
             height: top.height,
@@ -168,10 +178,13 @@ impl Nesting {
                 }
             }
         }
+        // Swimlanes group the top level; a node's nested nodes are in its lane already.
+        let groups =
+            members.iter().map(|&v| if level.is_none() { input.groups.get(v).copied().flatten() } else { None });
         let sub = LayoutInput {
             nodes: members.iter().map(|&v| size(v)).collect(),
-            labels: vec![None; edges.len()],
-            groups: vec![None; members.len()],
+            labels: which.iter().map(|&k| input.labels.get(k).copied().flatten()).collect(),
+            groups: groups.collect(),
             edges,
             flow: input.flow,
             firm: Vec::new(),

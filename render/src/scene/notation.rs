@@ -84,7 +84,7 @@ pub(super) fn with_control_nodes(graph: &Graph) -> Cow<'_, Graph> {
             compartments: Vec::new(),
             ports: Vec::new(),
             group: node.group.clone(),
-            parent: None,
+            parent: node.parent.clone(),
             range: node.range,
         });
         let (source, target) = if decision { (node.id.clone(), id.clone()) } else { (id.clone(), node.id.clone()) };

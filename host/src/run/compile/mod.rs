@@ -104,6 +104,13 @@ impl Compiler<'_> {
                 let block = self.block(stmts);
                 code(move |m| run_block(m, &block))
             }
+            &Stmt::Flow(start) => code(move |m| {
+                let container = m.node;
+                let code = std::rc::Rc::clone(&m.code);
+                m.flow(&code, start)?;
+                m.node = container;
+                Ok(Flow::Next)
+            }),
         }
     }
 

@@ -17,7 +17,7 @@ use gudsl_model::{
     db::SourceFile,
     hir::{BodyTypes, Definition, Semantics, Ty},
     library,
-    syntax::{SyntaxKind, SyntaxNode},
+    syntax::{SyntaxKind, SyntaxNode, TextSize},
 };
 
 use super::{
@@ -50,6 +50,9 @@ pub fn lower(sema: &Semantics<'_>, def: &Definition) -> Result<Lowered, Vec<RunE
         in_calc: false,
         nodes: Vec::new(),
         called: vec![(def.clone(), diagram.clone())],
+        nested_start: None,
+        lowering_node: 0,
+        headers: HashMap::new(),
     };
     if let Some(param) = diagram.params().next() {
         lowering.error(
@@ -104,6 +107,70 @@ struct Lowering<'s, 'db> {
     nodes: Vec<Node>,
     /// The diagram run, then each diagram called, in the order first called.
     called: Vec<(Definition, ast::ActivityDiagram)>,
+    /// The start node of the flow the node being lowered holds, if it holds one.
+    nested_start: Option<usize>,
+    /// The node being lowered (its position in its diagram's `every_node`).
+    lowering_node: usize,
+    /// The variables each loop node's header declares, by its position: its nested nodes see
+    /// them.
+    headers: HashMap<usize, HashMap<String, Local>>,
+}
+
+/// The flows of a diagram's nodes (`every_node`): its own, and the one each container holds.
+struct Flows {
+    /// Per flow (by its container's offset; `None`: the diagram's), its nodes' positions by name.
+    index: HashMap<Option<TextSize>, HashMap<String, usize>>,
+    /// Per flow, the position of its start node.
+    starts: HashMap<Option<TextSize>, usize>,
+    /// Each node's position, by its offset.
+    position: HashMap<TextSize, usize>,
+    empty: HashMap<String, usize>,
+}
+
+impl Flows {
+    fn of(nodes: &[ast::ActivityNode]) -> Flows {
+        let mut flows =
+            Flows { index: HashMap::new(), starts: HashMap::new(), position: HashMap::new(), empty: HashMap::new() };
+        for (i, node) in nodes.iter().enumerate() {
+            flows.position.insert(node.syntax().text_range().start(), i);
+            let flow = node.container().map(|c| c.syntax().text_range().start());
+            if let Some(name) = node.name() {
+                flows.index.entry(flow).or_default().entry(name.text()).or_insert(i);
+            }
+            if node.kind() == ast::NodeKind::Start {
+                flows.starts.entry(flow).or_insert(i);
+            }
+        }
+        flows
+    }
+
+    fn start_of(&self, flow: Option<TextSize>) -> Option<usize> {
+        self.starts.get(&flow).copied()
+    }
+
+    /// The start node of the flow `node` holds.
+    fn start_held_by(&self, node: &ast::ActivityNode) -> Option<usize> {
+        node.nested_nodes().next()?;
+        self.start_of(Some(node.syntax().text_range().start()))
+    }
+
+    /// The positions of the nodes that hold `node`, the outermost first.
+    fn containers_of(&self, node: &ast::ActivityNode) -> Vec<usize> {
+        let mut out = Vec::new();
+        let mut at = node.container();
+        while let Some(container) = at {
+            out.extend(self.position.get(&container.syntax().text_range().start()));
+            at = container.container();
+        }
+        out.reverse();
+        out
+    }
+
+    /// The names of the flow `node` is in.
+    fn index_of(&self, node: &ast::ActivityNode) -> &HashMap<String, usize> {
+        let flow = node.container().map(|c| c.syntax().text_range().start());
+        self.index.get(&flow).unwrap_or(&self.empty)
+    }
 }
 
 impl<'db> Lowering<'_, 'db> {
@@ -145,9 +212,10 @@ impl<'db> Lowering<'_, 'db> {
             variables.push((name, slot));
         }
 
-        let nodes: Vec<ast::ActivityNode> = diagram.all_nodes().collect();
-        let index: HashMap<String, usize> =
-            nodes.iter().enumerate().filter_map(|(i, n)| Some((n.name()?.text(), i))).collect();
+        // Every node, nested ones too (Sec. 9.2.2.3), each flow's names apart: a transition
+        // reaches the nodes of its own flow.
+        let nodes: Vec<ast::ActivityNode> = diagram.every_node();
+        let flows = Flows::of(&nodes);
         let types: Vec<BodyTypes> = nodes.iter().map(|n| self.sema.body_types(n.syntax())).collect();
         // Every node's parameters get their slots first: transitions into a node assign them.
         let node_params: Vec<Vec<(String, Local, bool)>> = nodes
@@ -168,16 +236,29 @@ impl<'db> Lowering<'_, 'db> {
         // A called diagram's nodes are named after it in reports (`Helper.compute`).
         let prefix = if first { String::new() } else { format!("{}.", def.fqn.rsplit('.').next().unwrap_or_default()) };
         let base = self.nodes.len();
+        let scope_of = |i: usize| -> HashMap<String, Local> {
+            node_params[i].iter().map(|(name, local, _)| (name.clone(), local.clone())).collect()
+        };
+        self.headers.clear();
         for (i, node) in nodes.iter().enumerate() {
             self.types = types[i].clone();
-            self.scopes.push(node_params[i].iter().map(|(name, local, _)| (name.clone(), local.clone())).collect());
-            let mut lowered = self.node(node, &index, &nodes, &node_params, first);
-            self.scopes.pop();
+            let depth = self.scopes.len();
+            // A nested node sees what its containers declare: their parameters and loop variables.
+            for container in flows.containers_of(node) {
+                self.scopes.push(scope_of(container));
+                let header = self.headers.get(&container).cloned().unwrap_or_default();
+                self.scopes.push(header);
+            }
+            self.scopes.push(scope_of(i));
+            self.nested_start = flows.start_held_by(node).map(|start| base + start);
+            self.lowering_node = i;
+            let mut lowered = self.node(node, flows.index_of(node), &nodes, &node_params, first);
+            self.scopes.truncate(depth);
             lowered.name.insert_str(0, &prefix);
             lowered.edges.iter_mut().for_each(|edge| edge.target += base);
             self.nodes.push(lowered);
         }
-        let start = nodes.iter().position(|n| n.kind() == ast::NodeKind::Start).unwrap_or_else(|| {
+        let start = flows.start_of(None).unwrap_or_else(|| {
             self.error(diagram.syntax(), "a diagram without a start node cannot run");
             0
         });
@@ -227,9 +308,15 @@ impl<'db> Lowering<'_, 'db> {
         };
         self.in_calc = matches!(kind, NodeKind::Calc | NodeKind::CalcRange);
         let statements: Vec<ast::Stmt> = node.statements().collect();
+        // The flow the node holds runs after its statements (in a loop node, each round).
+        let nested = self.nested_start.take().map(Stmt::Flow);
         let body = match kind {
-            NodeKind::Loop => self.loop_node(node, &statements),
-            _ => self.block(&statements),
+            NodeKind::Loop => self.loop_node(node, &statements, nested),
+            _ => {
+                let mut body = self.block(&statements);
+                body.extend(nested);
+                body
+            }
         };
         self.in_calc = false;
         let own = index.get(&name).copied().unwrap_or_default();
@@ -249,7 +336,7 @@ impl<'db> Lowering<'_, 'db> {
 
     /// A loop or loopWindow node: its body inside one loop per section part, the first
     /// outermost (`(init; test; step)`, or `(test)` for a while loop).
-    fn loop_node(&mut self, node: &ast::ActivityNode, statements: &[ast::Stmt]) -> Vec<Stmt> {
+    fn loop_node(&mut self, node: &ast::ActivityNode, statements: &[ast::Stmt], nested: Option<Stmt>) -> Vec<Stmt> {
         let Some(header) = node.loop_header() else {
             self.error(node.syntax(), "a loop node needs `(init; test; step)`");
             return Vec::new();
@@ -275,6 +362,9 @@ impl<'db> Lowering<'_, 'db> {
             _ => self.error(header.syntax(), "a loop header is `(init; test; step)` with as many parts in each"),
         }
         let mut body = self.block(statements);
+        body.extend(nested);
+        let header = self.scopes.last().cloned().unwrap_or_default();
+        self.headers.insert(self.lowering_node, header);
         for (init, test, step) in levels.into_iter().rev() {
             let mut level = init;
             level.push(Stmt::Loop { test, body, step, test_after: false });

@@ -314,7 +314,7 @@ impl Emitter<'_> {
                 }
                 None => self.supported = false,
             },
-            Stmt::Switch(..) => self.supported = false,
+            Stmt::Switch(..) | Stmt::Flow(_) => self.supported = false,
         }
     }
 

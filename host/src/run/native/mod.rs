@@ -249,7 +249,7 @@ impl Uses<'_> {
             }
             Stmt::Block(stmts) => self.block(stmts),
             Stmt::Return | Stmt::Break | Stmt::Continue => true,
-            Stmt::Switch(..) => false,
+            Stmt::Switch(..) | Stmt::Flow(_) => false,
         }
     }
 

@@ -6,10 +6,12 @@
 //! sink; [`Semantics::type_of_expr`] runs it with a sink nobody reads.
 
 mod calls;
+mod locals;
 mod operators;
 mod places;
 mod statements;
 
+pub use locals::{diagram_locals, header_declarations};
 pub use places::BodyRole;
 use places::CallForm;
 use statements::{declared_access, declared_const, declared_shared};
@@ -158,7 +160,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     /// Declares the locals a body introduces: its `var` declarations (all of them, so that uses
     /// anywhere in the body see them) and the window variables of `loopwindow2D(u = -r : r, …)`.
     fn declare_body(&mut self, node: &SyntaxNode) {
-        for element in node.descendants() {
+        for element in ast::own_descendants(node) {
             match element.kind() {
                 SyntaxKind::VAR_DECL => {
                     let decl = ast::VarDecl::cast(element).expect("kind checked");
@@ -200,7 +202,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     /// Checks every statement, guard and transition of `node` (a block or a node body).
     pub fn check(&mut self, node: &SyntaxNode) {
         self.declare_body(node);
-        for element in node.descendants() {
+        for element in ast::own_descendants(node) {
             match element.kind() {
                 SyntaxKind::VAR_DECL => self.var_decl(&ast::VarDecl::cast(element).expect("kind checked")),
                 SyntaxKind::EXPR_STMT => {
@@ -467,29 +469,6 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
         }
         Ty::Unknown
     }
-}
-
-/// The parameters and variables of an activity diagram: the locals every node body sees.
-pub fn diagram_locals(diagram: &ast::ActivityDiagram) -> Vec<(String, Option<ast::TypeRef>)> {
-    let mut locals: Vec<(String, Option<ast::TypeRef>)> =
-        diagram.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
-    locals.extend(diagram.variables().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
-    locals.extend(diagram.var_decls().filter_map(|v| Some((v.name()?.text(), v.type_ref()))));
-    locals
-}
-
-/// Names declared by a loop header or a parameter list, for node bodies.
-pub fn header_declarations(node: &ast::ActivityNode) -> Vec<(String, Option<ast::TypeRef>)> {
-    let mut out: Vec<(String, Option<ast::TypeRef>)> =
-        node.params().filter_map(|p| Some((p.name()?.text(), p.type_ref()))).collect();
-    if let Some(header) = node.loop_header() {
-        for decl in header.syntax().descendants().filter_map(ast::VarDecl::cast) {
-            if let Some(name) = decl.name() {
-                out.push((name.text(), decl.type_ref()));
-            }
-        }
-    }
-    out
 }
 
 /// How many components the swizzle `name` of a `width`-wide vector selects (OpenCL C 6.1.7:

@@ -35,11 +35,11 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
             owner_is_a_class(ctx, scope, &owner);
         }
         let owner = ctx.sema.activity_owner(scope, diagram, Some(&lane));
-        nodes.extend(lane.nodes());
+        nodes.extend(lane.nodes().flat_map(|n| n.and_nested()));
         owners.resize(nodes.len(), owner);
     }
     let owner = ctx.sema.activity_owner(scope, diagram, None);
-    nodes.extend(diagram.nodes());
+    nodes.extend(diagram.nodes().flat_map(|n| n.and_nested()));
     owners.resize(nodes.len(), owner);
     names::duplicates(ctx, nodes.iter().filter_map(|n| n.name()), "node");
     let locals = diagram_locals(diagram);
@@ -50,6 +50,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         if node.kind() == ast::NodeKind::LoopWindow {
             loop_window_sections(ctx, node);
         }
+        containers(ctx, node);
         types::params(ctx, scope, node.param_list());
         let body = node.body();
         let value = node.return_value();
@@ -77,12 +78,38 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         if let Some(body) = &body {
             typing.check(body.syntax());
         }
-        if node.kind() == ast::NodeKind::Final {
+        if node.kind() == ast::NodeKind::Final && node.container().is_none() {
             results.push((node.clone(), value.map(|v| typing.infer(&v))));
         }
     }
     final_results(ctx, &results);
     flow::check(ctx, diagram, &nodes);
+}
+
+/// Only a node that runs statements holds nodes (a node container, Sec. 9.2.2.3: loop and
+/// conditional nodes, and actions as UML's structured nodes); a nested flow's final node
+/// returns no value (it ends the flow, not the diagram).
+fn containers(ctx: &mut Ctx, node: &ast::ActivityNode) {
+    if let Some(nested) = node.nested_nodes().next() {
+        if !node.may_hold_nodes() {
+            let range = nested.name().map_or_else(|| nested.syntax().text_range(), |n| n.syntax().text_range());
+            ctx.sink.error(
+                DiagnosticCode::NotAContainer,
+                range,
+                format!(
+                    "a {} node holds no nodes: only action, decision, loop and loopWindow nodes do (Sec. 9.2.2.3); move this node out and connect it with transitions",
+                    node.kind().keyword()
+                ),
+            );
+        }
+    }
+    if let (Some(_), Some(value)) = (node.container(), node.return_value()) {
+        ctx.sink.error(
+            DiagnosticCode::NotAContainer,
+            value.syntax().text_range(),
+            "a nested final node ends its container's flow, not the diagram: it returns no value".to_string(),
+        );
+    }
 }
 
 /// The variable section: types that exist, initial values typed against the diagram's

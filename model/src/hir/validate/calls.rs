@@ -10,7 +10,7 @@ use crate::{
 
 /// The types and behaviors named anywhere inside `node`.
 pub(super) fn expressions(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
-    for descendant in node.descendants() {
+    for descendant in ast::own_descendants(node) {
         match descendant.kind() {
             SyntaxKind::TYPE_REF if descendant.parent().is_some_and(|p| p.kind() != SyntaxKind::TYPE_ARGS) => {
                 if let Some(ty) = ast::TypeRef::cast(descendant) {

@@ -11,90 +11,158 @@ use crate::{
     hir::{diagnostics::arguments, spelling::closest},
 };
 
-/// Start nodes, transition targets and arities, reachability and paths to a final node.
+/// The flows of a diagram — its own and the one each container node holds (Sec. 9.2.2.3) —
+/// each checked alone: `nodes` are every node, nested ones included.
 pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast::ActivityNode]) {
-    let names: Vec<Option<String>> = nodes.iter().map(|n| n.name().map(|n| n.text())).collect();
-    let mut by_name: HashMap<&str, usize> = HashMap::new();
-    for (i, name) in names.iter().enumerate().rev() {
-        if let Some(name) = name {
-            by_name.insert(name, i);
-        }
-    }
-    let starts: Vec<usize> = (0..nodes.len()).filter(|&i| nodes[i].kind() == ast::NodeKind::Start).collect();
-    let diagram_name = diagram.name().map(|n| n.text()).unwrap_or_default();
     // A diagram with a syntax error may have lost nodes to it (`strat S { … }`): what depends on
     // every node — a start node, targets, reachability — is told once the syntax is fixed, so
     // that one mistake is one diagnostic.
     let complete = !ctx.syntax_error_in(diagram.syntax().text_range());
-    if complete {
-        start_nodes(ctx, diagram, &diagram_name, nodes, &starts);
-    }
-    let mut edges: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
-    for (source, node) in nodes.iter().enumerate() {
-        let Some(source_name) = &names[source] else { continue };
-        for transition in node.transitions() {
-            let Some(target) = transition.target() else { continue };
-            let target_name = target.text();
-            let Some(&target_index) = by_name.get(target_name.as_str()) else {
-                if !complete {
-                    continue;
-                }
-                let mut candidates: Vec<&str> = by_name.keys().copied().collect();
-                candidates.sort_unstable();
-                ctx.sink.error_with_suggestion(
-                    DiagnosticCode::UnresolvedTransitionTarget,
-                    target.syntax().text_range(),
-                    format!("no node `{target_name}` in activity diagram `{diagram_name}`"),
-                    closest(&target_name, candidates),
-                );
-                continue;
-            };
-            edges[source].push(target_index);
-            let target_node = &nodes[target_index];
-            transition_arity(ctx, &transition, &target, target_node);
-            if target_node.kind() == ast::NodeKind::Start {
-                ctx.sink.error(
-                    DiagnosticCode::InvalidTransition,
-                    target.syntax().text_range(),
-                    format!("no transition enters the start node `{target_name}`: it only begins the activity"),
-                );
-            }
+    let mut levels: Vec<(Option<ast::ActivityNode>, Vec<ast::ActivityNode>)> = Vec::new();
+    let mut level_of: HashMap<Option<crate::syntax::TextSize>, usize> = HashMap::new();
+    let mut home: HashMap<String, Option<ast::ActivityNode>> = HashMap::new();
+    for node in nodes {
+        let container = node.container();
+        if let Some(name) = node.name() {
+            home.entry(name.text()).or_insert_with(|| container.clone());
         }
-        node_transitions(ctx, node, source_name);
+        let key = container.as_ref().map(|c| c.syntax().text_range().start());
+        let index = *level_of.entry(key).or_insert_with(|| {
+            levels.push((container, Vec::new()));
+            levels.len() - 1
+        });
+        levels[index].1.push(node.clone());
     }
-    forks_and_joins_of_one_flow(ctx, nodes, &edges);
-    // A second node of a name is reported as a duplicate (E0205), not again as unreachable.
-    let first_of_its_name: Vec<bool> =
-        names.iter().enumerate().map(|(i, name)| name.as_ref().is_some_and(|n| by_name[n.as_str()] == i)).collect();
-    if complete {
-        reachability(ctx, nodes, &first_of_its_name, &starts, &edges);
+    // The nodes of a node that holds none are reported as such (E0252), not also as a flow.
+    for (container, level) in levels.iter().filter(|(c, _)| c.as_ref().is_none_or(|c| c.may_hold_nodes())) {
+        let flow = Flow { diagram, container: container.as_ref(), home: &home, complete };
+        flow.check(ctx, level);
     }
 }
 
-/// One start node, named in the diagram's header range when it is missing.
-fn start_nodes(
-    ctx: &mut Ctx,
-    diagram: &ast::ActivityDiagram,
-    diagram_name: &str,
-    nodes: &[ast::ActivityNode],
-    starts: &[usize],
-) {
-    if starts.is_empty() && !nodes.is_empty() {
-        let header_range = diagram.name().map_or_else(|| diagram.syntax().text_range(), |n| n.syntax().text_range());
-        ctx.sink.error(
-            DiagnosticCode::MissingStartNode,
-            header_range,
-            format!("activity diagram `{diagram_name}` has no start node: add `start S {{ => first; }}`"),
-        );
+/// One flow: the diagram's own, or the one a container node holds.
+struct Flow<'a> {
+    diagram: &'a ast::ActivityDiagram,
+    container: Option<&'a ast::ActivityNode>,
+    /// The container of each node of the diagram, by name.
+    home: &'a HashMap<String, Option<ast::ActivityNode>>,
+    complete: bool,
+}
+
+impl Flow<'_> {
+    /// How the flow is named in messages: "activity diagram `Ad`", "node `outer`".
+    fn describe(&self) -> String {
+        match self.container {
+            Some(container) => format!("node `{}`", container.name().map(|n| n.text()).unwrap_or_default()),
+            None => format!("activity diagram `{}`", self.diagram.name().map(|n| n.text()).unwrap_or_default()),
+        }
     }
-    for &extra in starts.iter().skip(1) {
-        let extra = &nodes[extra];
-        let range = extra.name().map_or_else(|| extra.syntax().text_range(), |n| n.syntax().text_range());
-        ctx.sink.error(
-            DiagnosticCode::DuplicateStartNode,
-            range,
-            format!("activity diagram `{diagram_name}` has more than one start node"),
-        );
+
+    /// A transition to `target`, a node of the diagram that is not in this flow.
+    fn target_elsewhere(&self, ctx: &mut Ctx, target: &ast::NameRef) -> bool {
+        let Some(home) = self.home.get(&target.text()) else { return false };
+        let message = match home {
+            Some(container) => format!(
+                "`{}` is nested in node `{}`: its flow begins at that node's start node, and no transition from outside enters it",
+                target.text(),
+                container.name().map(|n| n.text()).unwrap_or_default()
+            ),
+            None => format!(
+                "`{}` is outside {}: a nested flow ends at its final node, and its container's transitions go on from there",
+                target.text(),
+                self.describe()
+            ),
+        };
+        ctx.sink.error(DiagnosticCode::UnresolvedTransitionTarget, target.syntax().text_range(), message);
+        true
+    }
+
+    /// Start nodes, transition targets and arities, reachability and paths to a final node.
+    fn check(&self, ctx: &mut Ctx, nodes: &[ast::ActivityNode]) {
+        let complete = self.complete;
+        let names: Vec<Option<String>> = nodes.iter().map(|n| n.name().map(|n| n.text())).collect();
+        let mut by_name: HashMap<&str, usize> = HashMap::new();
+        for (i, name) in names.iter().enumerate().rev() {
+            if let Some(name) = name {
+                by_name.insert(name, i);
+            }
+        }
+        let starts: Vec<usize> = (0..nodes.len()).filter(|&i| nodes[i].kind() == ast::NodeKind::Start).collect();
+        let flow_name = self.describe();
+        if complete {
+            self.start_nodes(ctx, &flow_name, nodes, &starts);
+        }
+        let mut edges: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+        let mut unresolved = false;
+        for (source, node) in nodes.iter().enumerate() {
+            let Some(source_name) = &names[source] else { continue };
+            for transition in node.transitions() {
+                let Some(target) = transition.target() else { continue };
+                let target_name = target.text();
+                let Some(&target_index) = by_name.get(target_name.as_str()) else {
+                    // Where a transition goes nowhere, what is reached is told once it is fixed.
+                    unresolved = true;
+                    if !complete || self.target_elsewhere(ctx, &target) {
+                        continue;
+                    }
+                    let mut candidates: Vec<&str> = by_name.keys().copied().collect();
+                    candidates.sort_unstable();
+                    ctx.sink.error_with_suggestion(
+                        DiagnosticCode::UnresolvedTransitionTarget,
+                        target.syntax().text_range(),
+                        format!("no node `{target_name}` in {flow_name}"),
+                        closest(&target_name, candidates),
+                    );
+                    continue;
+                };
+                edges[source].push(target_index);
+                let target_node = &nodes[target_index];
+                transition_arity(ctx, &transition, &target, target_node);
+                if target_node.kind() == ast::NodeKind::Start {
+                    ctx.sink.error(
+                        DiagnosticCode::InvalidTransition,
+                        target.syntax().text_range(),
+                        format!("no transition enters the start node `{target_name}`: it only begins the activity"),
+                    );
+                }
+            }
+            node_transitions(ctx, node, source_name, self.container.is_some());
+        }
+        forks_and_joins_of_one_flow(ctx, nodes, &edges);
+        // A second node of a name is reported as a duplicate (E0205), not again as unreachable.
+        let first_of_its_name: Vec<bool> =
+            names.iter().enumerate().map(|(i, name)| name.as_ref().is_some_and(|n| by_name[n.as_str()] == i)).collect();
+        if complete && !unresolved {
+            reachability(ctx, nodes, &first_of_its_name, &starts, &edges);
+        }
+    }
+
+    /// One start node, named in the diagram's header (or the container's name) when it is
+    /// missing.
+    fn start_nodes(&self, ctx: &mut Ctx, flow_name: &str, nodes: &[ast::ActivityNode], starts: &[usize]) {
+        if starts.is_empty() && !nodes.is_empty() {
+            let named = match self.container {
+                Some(container) => container.name().map(|n| n.syntax().clone()),
+                None => self.diagram.name().map(|n| n.syntax().clone()),
+            };
+            let range = named.map_or_else(|| self.diagram.syntax().text_range(), |n| n.text_range());
+            let message = match self.container {
+                Some(_) => {
+                    format!("{flow_name} holds nodes but no start node: add `start S {{ => first; }}` among them")
+                }
+                None => format!("{flow_name} has no start node: add `start S {{ => first; }}`"),
+            };
+            ctx.sink.error(DiagnosticCode::MissingStartNode, range, message);
+        }
+        for &extra in starts.iter().skip(1) {
+            let extra = &nodes[extra];
+            let range = extra.name().map_or_else(|| extra.syntax().text_range(), |n| n.syntax().text_range());
+            ctx.sink.error(
+                DiagnosticCode::DuplicateStartNode,
+                range,
+                format!("{flow_name} has more than one start node"),
+            );
+        }
     }
 }
 
@@ -131,14 +199,15 @@ fn reachability(ctx: &mut Ctx, nodes: &[ast::ActivityNode], checked: &[bool], st
 }
 
 /// A final node has no way out; a decision chooses by guards.
-fn node_transitions(ctx: &mut Ctx, node: &ast::ActivityNode, name: &str) {
+fn node_transitions(ctx: &mut Ctx, node: &ast::ActivityNode, name: &str, nested: bool) {
     match node.kind() {
         ast::NodeKind::Final => {
+            let ends = if nested { "its container's flow" } else { "the activity" };
             for transition in node.transitions() {
                 ctx.sink.error(
                     DiagnosticCode::InvalidTransition,
                     transition.syntax().text_range(),
-                    format!("the final node `{name}` ends the activity: no transition leaves it"),
+                    format!("the final node `{name}` ends {ends}: no transition leaves it"),
                 );
             }
         }

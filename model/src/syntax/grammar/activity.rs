@@ -195,7 +195,9 @@ fn node_body(p: &mut Parser, what: &str) {
             if at_transition(p) {
                 transition(p);
             } else if at_node(p).is_some() && p.braces_balanced() {
-                nested_node(p, what);
+                // A nested node: the node is a container (Sec. 9.2.2.3). With unbalanced
+                // braces the keyword more likely begins the next node after a missing `}`.
+                node(p);
             } else if at_activity_level_start(p) {
                 break;
             } else {
@@ -223,17 +225,6 @@ fn node_body(p: &mut Parser, what: &str) {
         }
     }
     m.complete(p, NODE_BODY);
-}
-
-/// A node inside a node's body (the node container of loop and conditional nodes, Sec.
-/// 9.2.2.3): parsed whole, as one error, so that nothing after it is misread.
-fn nested_node(p: &mut Parser, outer: &str) {
-    p.error_here(format!(
-        "nested nodes (a node container, Sec. 9.2.2.3) are not supported yet: move this node out of {outer} and connect them with transitions"
-    ));
-    let m = p.start();
-    node(p);
-    m.complete(p, ERROR);
 }
 
 fn at_transition(p: &Parser) -> bool {
