@@ -12,6 +12,7 @@ mod node_ext;
 mod node_kind;
 #[cfg(test)]
 mod tests;
+mod walk;
 
 use std::marker::PhantomData;
 
@@ -19,6 +20,7 @@ pub use crate::syntax::NodeKind;
 pub use generated::*;
 pub use literal::LiteralValue;
 pub use node_ext::*;
+pub use walk::{own_descendants, AndNested, OwnDescendants};
 
 use crate::syntax::{Parse, SyntaxKind, SyntaxNode, SyntaxNodeChildren};
 

@@ -299,11 +299,13 @@ impl ActivityNode {
     }
     /// The node that holds this one, if it is nested.
     pub fn container(&self) -> Option<ActivityNode> {
-        self.syntax().parent()?.ancestors().find_map(ActivityNode::cast)
+        let parent = self.syntax().parent().filter(|p| p.kind() == NODE_BODY)?;
+        parent.parent().and_then(ActivityNode::cast)
     }
-    /// The node and every node nested in it, each before the nodes it holds.
-    pub fn and_nested(&self) -> Vec<ActivityNode> {
-        std::iter::once(self.clone()).chain(self.nested_nodes().flat_map(|n| n.and_nested())).collect()
+    /// The node and every node nested in it, each before the nodes it holds. Walks only the
+    /// node's children and its body's: nothing is collected.
+    pub fn and_nested(&self) -> super::walk::AndNested {
+        super::walk::AndNested::new(self)
     }
 }
 
@@ -559,22 +561,4 @@ impl ComponentInstance {
         }
         member.parent().and_then(ComponentInstance::cast).filter(|i| i.l_curly_token().is_none())
     }
-}
-
-/// The descendants of `root` (itself included) outside the nodes nested in it: a node body's
-/// own statements and transitions, not those of the nodes it holds (Sec. 9.2.2.3), which are
-/// bodies of their own.
-pub fn own_descendants(root: &SyntaxNode) -> Vec<SyntaxNode> {
-    let mut out = Vec::new();
-    let mut walk = root.preorder();
-    while let Some(event) = walk.next() {
-        if let rowan::WalkEvent::Enter(node) = event {
-            if &node != root && ActivityNode::can_cast(node.kind()) {
-                walk.skip_subtree();
-                continue;
-            }
-            out.push(node);
-        }
-    }
-    out
 }

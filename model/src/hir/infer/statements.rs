@@ -291,7 +291,7 @@ pub fn implementing_behavior(body: &ast::Block) -> Option<ast::CallBehaviorExpr>
 pub fn misplaced_jumps(body: &SyntaxNode, in_loop: bool, body_is: &str) -> Vec<(crate::syntax::TextRange, String)> {
     use SyntaxKind::*;
     let mut out = Vec::new();
-    for jump in ast::own_descendants(body).into_iter().filter(|n| matches!(n.kind(), BREAK_STMT | CONTINUE_STMT)) {
+    for jump in ast::own_descendants(body).filter(|n| matches!(n.kind(), BREAK_STMT | CONTINUE_STMT)) {
         let enclosing: Vec<SyntaxKind> = jump.ancestors().skip(1).take_while(|n| n != body).map(|n| n.kind()).collect();
         let in_a_loop =
             in_loop || enclosing.iter().any(|k| matches!(k, LOOP_STMT | DO_LOOP_STMT | FOR_STMT | LOOP_WINDOW_STMT));

@@ -50,7 +50,10 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         if node.kind() == ast::NodeKind::LoopWindow {
             loop_window_sections(ctx, node);
         }
-        containers(ctx, node);
+        let container = node.container();
+        if let Some(container) = &container {
+            nested_in(ctx, node, container);
+        }
         types::params(ctx, scope, node.param_list());
         let body = node.body();
         let value = node.return_value();
@@ -78,7 +81,7 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
         if let Some(body) = &body {
             typing.check(body.syntax());
         }
-        if node.kind() == ast::NodeKind::Final && node.container().is_none() {
+        if node.kind() == ast::NodeKind::Final && container.is_none() {
             results.push((node.clone(), value.map(|v| typing.infer(&v))));
         }
     }
@@ -86,24 +89,24 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
     flow::check(ctx, diagram, &nodes);
 }
 
-/// Only a node that runs statements holds nodes (a node container, Sec. 9.2.2.3: loop and
-/// conditional nodes, and actions as UML's structured nodes); a nested flow's final node
-/// returns no value (it ends the flow, not the diagram).
-fn containers(ctx: &mut Ctx, node: &ast::ActivityNode) {
-    if let Some(nested) = node.nested_nodes().next() {
-        if !node.may_hold_nodes() {
-            let range = nested.name().map_or_else(|| nested.syntax().text_range(), |n| n.syntax().text_range());
-            ctx.sink.error(
-                DiagnosticCode::NotAContainer,
-                range,
-                format!(
-                    "a {} node holds no nodes: only action, decision, loop and loopWindow nodes do (Sec. 9.2.2.3); move this node out and connect it with transitions",
-                    node.kind().keyword()
-                ),
-            );
-        }
+/// A node nested in `container` (Sec. 9.2.2.3): only action, decision, loop and loopWindow
+/// nodes hold nodes (loop and conditional nodes, and actions as UML's structured nodes) —
+/// told once, at the first node a container holds; a nested final node returns no value (it
+/// ends its container's flow, not the diagram).
+fn nested_in(ctx: &mut Ctx, node: &ast::ActivityNode, container: &ast::ActivityNode) {
+    let first = container.nested_nodes().next().is_some_and(|n| n.syntax() == node.syntax());
+    if !container.may_hold_nodes() && first {
+        let range = node.name().map_or_else(|| node.syntax().text_range(), |n| n.syntax().text_range());
+        ctx.sink.error(
+            DiagnosticCode::NotAContainer,
+            range,
+            format!(
+                "a {} node holds no nodes: only action, decision, loop and loopWindow nodes do (Sec. 9.2.2.3); move this node out and connect it with transitions",
+                container.kind().keyword()
+            ),
+        );
     }
-    if let (Some(_), Some(value)) = (node.container(), node.return_value()) {
+    if let Some(value) = node.return_value() {
         ctx.sink.error(
             DiagnosticCode::NotAContainer,
             value.syntax().text_range(),

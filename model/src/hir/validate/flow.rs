@@ -20,12 +20,8 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
     let complete = !ctx.syntax_error_in(diagram.syntax().text_range());
     let mut levels: Vec<(Option<ast::ActivityNode>, Vec<ast::ActivityNode>)> = Vec::new();
     let mut level_of: HashMap<Option<crate::syntax::TextSize>, usize> = HashMap::new();
-    let mut home: HashMap<String, Option<ast::ActivityNode>> = HashMap::new();
     for node in nodes {
         let container = node.container();
-        if let Some(name) = node.name() {
-            home.entry(name.text()).or_insert_with(|| container.clone());
-        }
         let key = container.as_ref().map(|c| c.syntax().text_range().start());
         let index = *level_of.entry(key).or_insert_with(|| {
             levels.push((container, Vec::new()));
@@ -35,7 +31,7 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
     }
     // The nodes of a node that holds none are reported as such (E0252), not also as a flow.
     for (container, level) in levels.iter().filter(|(c, _)| c.as_ref().is_none_or(|c| c.may_hold_nodes())) {
-        let flow = Flow { diagram, container: container.as_ref(), home: &home, complete };
+        let flow = Flow { diagram, container: container.as_ref(), every_node: nodes, complete };
         flow.check(ctx, level);
     }
 }
@@ -44,8 +40,8 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
 struct Flow<'a> {
     diagram: &'a ast::ActivityDiagram,
     container: Option<&'a ast::ActivityNode>,
-    /// The container of each node of the diagram, by name.
-    home: &'a HashMap<String, Option<ast::ActivityNode>>,
+    /// Every node of the diagram, nested ones too.
+    every_node: &'a [ast::ActivityNode],
     complete: bool,
 }
 
@@ -60,8 +56,11 @@ impl Flow<'_> {
 
     /// A transition to `target`, a node of the diagram that is not in this flow.
     fn target_elsewhere(&self, ctx: &mut Ctx, target: &ast::NameRef) -> bool {
-        let Some(home) = self.home.get(&target.text()) else { return false };
-        let message = match home {
+        let name = target.text();
+        let Some(elsewhere) = self.every_node.iter().find(|n| n.name().is_some_and(|n| n.text() == name)) else {
+            return false;
+        };
+        let message = match elsewhere.container() {
             Some(container) => format!(
                 "`{}` is nested in node `{}`: its flow begins at that node's start node, and no transition from outside enters it",
                 target.text(),

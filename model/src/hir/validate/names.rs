@@ -68,7 +68,7 @@ pub(super) fn import(ctx: &mut Ctx, scope: &mut Scope, import: &ast::Import) {
 
 /// Two local variables of one name in one block of a body.
 pub(super) fn duplicate_locals(ctx: &mut Ctx, body: &crate::syntax::SyntaxNode) {
-    for block in ast::own_descendants(body).into_iter().filter(|n| n == body || ast::Block::can_cast(n.kind())) {
+    for block in ast::own_descendants(body).filter(|n| n == body || ast::Block::can_cast(n.kind())) {
         duplicates(ctx, block.children().filter_map(ast::VarDecl::cast).filter_map(|d| d.name()), "variable");
     }
 }
