@@ -1,7 +1,8 @@
 //! The expression checker as a property: random well-typed expressions, generated from the
 //! grammar's operators over typed locals, check clean; one mutation of such a body — a name
 //! that is not declared, a value given to a variable of a type it does not fit, a vector
-//! component of the wrong kind — is reported by its rule, at the mutated place.
+//! component of the wrong kind, two arguments of a call swapped — is reported by its rule, at
+//! the mutated place.
 
 use gudsl_model::AnalysisHost;
 use proptest::prelude::*;
@@ -86,6 +87,14 @@ fn model(ty: &str, value: &str) -> String {
     )
 }
 
+/// An action whose body calls the owner's `mix(float4 colour, bool on, int n)` with `args`.
+fn call_model(args: &[String]) -> String {
+    format!(
+        "ClassDiagram Owner\n{{\n    public class Mixer\n    {{\n        public float mix(float4 colour, bool on, int n) {{ return 0.0f; }}\n    }}\n}}\n\nActivityDiagram Typed(int i, float f, bool b, float4 v, int[] a), owner Owner.Mixer\n{{\n    start s {{ => work; }}\n    action work\n    {{\n        var float r = mix({});\n        => done;\n    }}\n    final done;\n}}\n",
+        args.join(", ")
+    )
+}
+
 /// The diagnostics of a model: (code, start offset, message).
 fn diagnostics(text: &str) -> Vec<(String, usize, String)> {
     let (host, files) = AnalysisHost::with_files([("typed.gudsl".to_string(), text.to_string())]);
@@ -152,5 +161,23 @@ proptest! {
         let found = diagnostics(&text);
         prop_assert_eq!(found.len(), 1, "{}: {:?}", value, found);
         prop_assert!(found[0].0 == "E0227" && found[0].1 == at, "{value}: {found:?}");
+    }
+
+    #[test]
+    fn swapped_call_arguments_are_reported_at_them(seed in any::<u64>(), depth in 1u32..4, other in 1usize..3) {
+        let mut g = Gen(seed);
+        let args: Vec<String> = [Kind::Vector, Kind::Bool, Kind::Int].iter().map(|&k| expr(&mut g, k, depth)).collect();
+        prop_assert!(diagnostics(&call_model(&args)).is_empty(), "{args:?}");
+        // The vector swapped with the `bool` or the `int`: no conversion takes a vector there.
+        let mut swapped = args.clone();
+        swapped.swap(0, other);
+        let text = call_model(&swapped);
+        let call = text.find("= mix(").unwrap() + "= mix(".len();
+        let places: Vec<usize> = [0, other]
+            .iter()
+            .map(|&k| call + swapped[..k].iter().map(|a| a.len() + ", ".len()).sum::<usize>())
+            .collect();
+        let found = diagnostics(&text);
+        prop_assert!(!found.is_empty() && found.iter().all(|(code, start, _)| code == "E0227" && places.contains(start)), "{swapped:?}: {found:?}");
     }
 }
