@@ -192,7 +192,13 @@ pub fn pipeline_plan<'db>(db: &'db dyn Db, workspace: Workspace, diagram: Fqn<'d
     let mut sink = Diagnostics::default();
     let (stages, nodes) = stages(&sema, &syntax, &mut sink);
     let bindings = bindings(&sema, &syntax, &stages, &nodes);
-    unbound_processors(&stages, &bindings, &mut sink);
+    // An instance of an unknown component, or a binding whose end is unknown, is reported
+    // where it is written (E0215, E0217, …); what it would have fed is told once it is fixed.
+    let names: std::collections::HashSet<String> = syntax.instances().filter_map(|i| Some(i.name()?.text())).collect();
+    let written: usize = nodes.iter().map(|n| n.bindings().count()).sum();
+    if stages.len() == names.len() && bindings.len() == written {
+        unbound_processors(&stages, &bindings, &mut sink);
+    }
     let order = data_order(&stages, &bindings, &mut sink);
     let (stages, bindings) = reorder(stages, bindings, &order);
     Some(PipelinePlan {

@@ -56,7 +56,7 @@ pub(super) fn type_ref(ctx: &mut Ctx, scope: &Scope, ty: &ast::TypeRef) {
 /// What a misspelt type name is compared with: the built-in types, and the types of the
 /// enclosing namespaces and of the namespaces imported with `.*` (the names a simple name can
 /// mean here, read from the namespaces a lookup reads anyway — not the workspace's every type).
-fn types_in_scope(ctx: &Ctx, scope: &Scope) -> Vec<String> {
+pub(super) fn types_in_scope(ctx: &Ctx, scope: &Scope) -> Vec<String> {
     let mut names = common_builtin_type_names();
     let wildcards = scope.imports.iter().filter_map(|i| match i {
         ImportItem::Wildcard(namespace) => Some(namespace.as_str()),
