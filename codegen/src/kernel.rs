@@ -31,7 +31,7 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
     let mut emitter = Emitter::new(*sema, def.file, by_name);
     emitter.errors = errors;
     emitter.atomics = atomics.clone();
-    emitter.owner = crate::owners(sema, def).into_iter().find(|owner| sema.is_gpu_class(owner));
+    emitter.owner = sema.activity_owners(def).into_iter().find(|owner| sema.is_gpu_class(owner));
 
     // The entry point's body first: it tells whether the kernel synchronises.
     let nodes: Vec<ast::ActivityNode> = diagram.all_nodes().collect();

@@ -110,15 +110,7 @@ pub fn device_diagrams<'db>(sema: &Semantics<'db>) -> Vec<&'db Definition> {
 
 /// Whether an activity diagram is device code (see [`device_diagrams`]).
 pub fn is_device_diagram(sema: &Semantics<'_>, def: &Definition) -> bool {
-    owners(sema, def).into_iter().any(|owner| sema.is_gpu_class(owner))
-}
-
-/// The classes that own an activity diagram or one of its swimlanes.
-fn owners<'db>(sema: &Semantics<'db>, def: &Definition) -> Vec<&'db Definition> {
-    let DefKind::Activity(signature) = &def.kind else { return Vec::new() };
-    let scope = gudsl_model::hir::Scope::of(def);
-    let owners = signature.owner.iter().chain(signature.swimlanes.iter().filter_map(|lane| lane.owner.as_ref()));
-    owners.filter_map(|owner| sema.resolve(&scope, owner)).collect()
+    sema.activity_owners(def).into_iter().any(|owner| sema.is_gpu_class(owner))
 }
 
 /// The device diagram that implements the method `method` of the OpenCL class `class` (what a
@@ -136,7 +128,7 @@ pub fn implementation<'db>(
     let names: Vec<&str> = signature.params.iter().map(|p| p.name.as_str()).collect();
     let owned: Vec<&'db Definition> = device_diagrams(sema)
         .into_iter()
-        .filter(|def| owners(sema, def).iter().any(|owner| owner.fqn == class.fqn))
+        .filter(|def| sema.activity_owners(def).iter().any(|owner| owner.fqn == class.fqn))
         .collect();
     let matching: Vec<&'db Definition> = owned
         .iter()

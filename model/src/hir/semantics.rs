@@ -366,6 +366,15 @@ impl<'db> Semantics<'db> {
             .filter(|d| matches!(d.kind, DefKind::Type(_)))
     }
 
+    /// The classes that own the activity diagram `def` or one of its swimlanes, as its
+    /// signature names them; empty for other definitions.
+    pub fn activity_owners(&self, def: &Definition) -> Vec<&'db Definition> {
+        let DefKind::Activity(signature) = &def.kind else { return Vec::new() };
+        let scope = Scope::of(def);
+        let owners = signature.owner.iter().chain(signature.swimlanes.iter().filter_map(|lane| lane.owner.as_ref()));
+        owners.filter_map(|owner| self.resolve(&scope, owner)).collect()
+    }
+
     // ---- components
 
     /// The components built on the class `class` (a fully qualified name); empty if none.

@@ -117,10 +117,7 @@ impl Graph<'_, '_> {
 
     /// Whether a diagram's unqualified calls are the class's: it or a swimlane is owned by it.
     fn owned_by_class(&self, def: &Definition) -> bool {
-        let DefKind::Activity(signature) = &def.kind else { return false };
-        let scope = Scope::of(def);
-        let mut owners = signature.owner.iter().chain(signature.swimlanes.iter().filter_map(|l| l.owner.as_ref()));
-        owners.any(|owner| self.ctx.sema.resolve(&scope, owner).is_some_and(|o| o.fqn == self.class))
+        self.ctx.sema.activity_owners(def).iter().any(|owner| owner.fqn == self.class)
     }
 
     /// The calls written in `node` (read in `scope`) of the class's methods and of diagrams.
