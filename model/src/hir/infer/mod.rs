@@ -367,9 +367,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             return ty;
         }
         if let Some(owner) = self.owner {
-            if let Some(ty) = self.member_field(&owner.fqn, name, at) {
-                if self.role == BodyRole::GlobalMethod {
-                    self.expect_static_field(owner, name, at);
+            if let Some((ty, qualifiers)) = self.member_field(&owner.fqn, name, at) {
+                if let Some(qualifiers) = qualifiers {
+                    self.expect_object(name, &qualifiers, at);
                 }
                 return ty;
             }
@@ -437,25 +437,18 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     }
 
     /// The field `name` of `fqn` (or of a base; an enum's value), its visibility checked where
-    /// it is used; `None` if the type has none of that name.
-    fn member_field(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Option<Ty> {
+    /// it is used: its type, and a declared field's qualifiers; `None` if the type has none of
+    /// that name.
+    fn member_field(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Option<(Ty, Option<Vec<String>>)> {
         let declared = self.sema.find_member(fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
-        let Some((declaring, field)) = declared else { return self.sema.field_ty(fqn, name) };
+        let Some((declaring, field)) = declared else { return self.sema.field_ty(fqn, name).map(|ty| (ty, None)) };
         self.expect_visible(declaring, &field.qualifiers, name, at);
-        Some(self.sema.ty(&field.ty, &Scope::of(declaring)))
-    }
-
-    /// The owner's field `name`, used by a bare name in a `global` method: a `global` one.
-    fn expect_static_field(&mut self, owner: &Definition, name: &str, at: &SyntaxNode) {
-        let field = self.sema.find_member(&owner.fqn, &|ty| ty.fields.iter().find(|f| f.name == name).cloned());
-        if let Some((_, field)) = field {
-            self.expect_object(name, &field.qualifiers, at);
-        }
+        Some((self.sema.ty(&field.ty, &Scope::of(declaring)), Some(field.qualifiers)))
     }
 
     /// `receiver.member` on a user type: reports a member the type does not have.
     fn field_ty(&mut self, fqn: &str, name: &str, at: &SyntaxNode) -> Ty {
-        if let Some(ty) = self.member_field(fqn, name, at) {
+        if let Some((ty, _)) = self.member_field(fqn, name, at) {
             return ty;
         }
         if !self.sema.has_method(fqn, name) && self.sema.definition(fqn).is_some() {

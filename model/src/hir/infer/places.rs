@@ -44,7 +44,8 @@ impl InferenceCtx<'_, '_> {
         self.role = role;
     }
 
-    /// `this`, or the owner's field `name` with `qualifiers`, used by a bare name.
+    /// `this`, or the owner's field `name` with `qualifiers`, used by a bare name: in a `global`
+    /// method, only a `global` field.
     pub(super) fn expect_object(&mut self, name: &str, qualifiers: &[String], at: &SyntaxNode) {
         if self.role != BodyRole::GlobalMethod || is_global(qualifiers) {
             return;

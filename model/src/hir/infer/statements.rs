@@ -227,7 +227,7 @@ pub(super) fn declared_const(ty: &ast::TypeRef) -> bool {
     if let Some(decl) = ast::VarDecl::cast(declaration.clone()) {
         return decl.is_const();
     }
-    declaration.children().find_map(ast::Modifiers::cast).is_some_and(|m| m.has(SyntaxKind::CONST_KW))
+    declaration_modifiers(ty).is_some_and(|m| m.has(SyntaxKind::CONST_KW))
 }
 
 /// The qualifiers of the declaration a type is written in (`global ref`, `shared`, `read`).
