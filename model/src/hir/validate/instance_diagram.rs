@@ -152,10 +152,9 @@ fn instance_component(ctx: &mut Ctx, scope: &Scope, instance: &ast::ComponentIns
     let text = path.text();
     let range = path.syntax().text_range();
     let Some(def) = ctx.sema.resolve(scope, &text) else {
-        let candidates = if text.contains('.') { Vec::new() } else { super::types::types_in_scope(ctx, scope) };
-        let suggestion = closest(&text, candidates.iter().map(String::as_str));
+        let suggestion = super::types::misspelt_type(ctx, scope, &text);
         let message = format!("unknown component `{text}`");
-        ctx.sink.error_with_suggestion(DiagnosticCode::InvalidComponent, range, message, suggestion);
+        ctx.sink.error_with_suggestion(DiagnosticCode::InvalidComponent, range, message, suggestion.as_deref());
         return;
     };
     if ctx.sema.components(&def.fqn).is_empty() {

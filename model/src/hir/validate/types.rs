@@ -37,26 +37,31 @@ pub(super) fn type_ref(ctx: &mut Ctx, scope: &Scope, ty: &ast::TypeRef) {
             let unknown =
                 format!("unknown type `{text}`: declare it in a class diagram or import the diagram that does");
             let message = unresolved_message(ctx, &text, "type", unknown);
-            let candidates = if text.contains('.') || ctx.sema.candidates(&text).len() > 1 {
-                Vec::new()
-            } else {
-                types_in_scope(ctx, scope)
-            };
-            let suggestion = closest(&text, candidates.iter().map(String::as_str));
+            let suggestion = misspelt_type(ctx, scope, &text);
             ctx.sink.error_with_suggestion(
                 DiagnosticCode::UnresolvedType,
                 path.syntax().text_range(),
                 message,
-                suggestion,
+                suggestion.as_deref(),
             );
         }
     }
 }
 
+/// The type in scope a simple name that resolves to nothing most likely meant (none for a
+/// qualified or an ambiguous name: those are not typos of a simple name).
+pub(super) fn misspelt_type(ctx: &Ctx, scope: &Scope, text: &str) -> Option<String> {
+    if text.contains('.') || ctx.sema.candidates(text).len() > 1 {
+        return None;
+    }
+    let candidates = types_in_scope(ctx, scope);
+    closest(text, candidates.iter().map(String::as_str)).map(str::to_string)
+}
+
 /// What a misspelt type name is compared with: the built-in types, and the types of the
 /// enclosing namespaces and of the namespaces imported with `.*` (the names a simple name can
 /// mean here, read from the namespaces a lookup reads anyway — not the workspace's every type).
-pub(super) fn types_in_scope(ctx: &Ctx, scope: &Scope) -> Vec<String> {
+fn types_in_scope(ctx: &Ctx, scope: &Scope) -> Vec<String> {
     let mut names = common_builtin_type_names();
     let wildcards = scope.imports.iter().filter_map(|i| match i {
         ImportItem::Wildcard(namespace) => Some(namespace.as_str()),
