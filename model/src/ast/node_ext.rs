@@ -297,6 +297,11 @@ impl ActivityNode {
         use crate::syntax::NodeKind::*;
         matches!(self.kind(), Action | Decision | Loop | LoopWindow)
     }
+    /// The flow the node is in, as a key: the offset of the node that holds it; `None` for the
+    /// diagram's own flow.
+    pub fn flow(&self) -> Option<rowan::TextSize> {
+        self.container().map(|c| c.syntax().text_range().start())
+    }
     /// The node that holds this one, if it is nested.
     pub fn container(&self) -> Option<ActivityNode> {
         let parent = self.syntax().parent().filter(|p| p.kind() == NODE_BODY)?;

@@ -133,7 +133,7 @@ impl Flows {
             Flows { index: HashMap::new(), starts: HashMap::new(), position: HashMap::new(), empty: HashMap::new() };
         for (i, node) in nodes.iter().enumerate() {
             flows.position.insert(node.syntax().text_range().start(), i);
-            let flow = node.container().map(|c| c.syntax().text_range().start());
+            let flow = node.flow();
             if let Some(name) = node.name() {
                 flows.index.entry(flow).or_default().entry(name.text()).or_insert(i);
             }
@@ -168,8 +168,7 @@ impl Flows {
 
     /// The names of the flow `node` is in.
     fn index_of(&self, node: &ast::ActivityNode) -> &HashMap<String, usize> {
-        let flow = node.container().map(|c| c.syntax().text_range().start());
-        self.index.get(&flow).unwrap_or(&self.empty)
+        self.index.get(&node.flow()).unwrap_or(&self.empty)
     }
 }
 

@@ -21,10 +21,8 @@ pub(super) fn check(ctx: &mut Ctx, diagram: &ast::ActivityDiagram, nodes: &[ast:
     let mut levels: Vec<(Option<ast::ActivityNode>, Vec<ast::ActivityNode>)> = Vec::new();
     let mut level_of: HashMap<Option<crate::syntax::TextSize>, usize> = HashMap::new();
     for node in nodes {
-        let container = node.container();
-        let key = container.as_ref().map(|c| c.syntax().text_range().start());
-        let index = *level_of.entry(key).or_insert_with(|| {
-            levels.push((container, Vec::new()));
+        let index = *level_of.entry(node.flow()).or_insert_with(|| {
+            levels.push((node.container(), Vec::new()));
             levels.len() - 1
         });
         levels[index].1.push(node.clone());
