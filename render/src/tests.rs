@@ -443,6 +443,14 @@ fn text_area(node: &scene::SceneNode) -> Rect {
     Rect { height: bottom - node.rect.y, ..node.rect }
 }
 
+/// The graph of the first diagram of `text` and its scene, laid out without hints.
+fn first_diagram_drawn(text: &str) -> (Graph, Scene) {
+    let (host, files) = AnalysisHost::with_files(vec![("nested.gudsl".to_string(), text.to_string())]);
+    let graph = host.analysis().graphs(files[0]).unwrap()[0].clone();
+    let scene = scene::build(&graph, scene::Hints::default());
+    (graph, scene)
+}
+
 #[test]
 fn nested_components_are_drawn_inside_their_parents_with_their_connections() {
     let text = "ComponentDiagram Nested {
@@ -467,9 +475,7 @@ fn nested_components_are_drawn_inside_their_parents_with_their_connections() {
         }
         sink P.Viewer { port ViewerPort ( processor ImageIn : P.IImageProcessor ) }
     }";
-    let (host, files) = AnalysisHost::with_files(vec![("nested.gudsl".to_string(), text.to_string())]);
-    let graph = host.analysis().graphs(files[0]).unwrap()[0].clone();
-    let scene = scene::build(&graph, scene::Hints::default());
+    let (graph, scene) = first_diagram_drawn(text);
     let parent = |id: &str| scene.nodes.iter().find(|n| n.id == id).unwrap().parent.clone();
     assert_eq!(parent("P.Camera").as_deref(), Some("P.Pipeline"));
     assert_eq!(parent("P.Inner").as_deref(), Some("P.Camera"));
@@ -508,9 +514,7 @@ fn nested_activity_nodes_are_drawn_inside_their_containers() {
             final f;
         }
     }";
-    let (host, files) = AnalysisHost::with_files(vec![("nested.gudsl".to_string(), text.to_string())]);
-    let graph = host.analysis().graphs(files[0]).unwrap()[0].clone();
-    let scene = scene::build(&graph, scene::Hints::default());
+    let (graph, scene) = first_diagram_drawn(text);
     let parent = |id: &str| scene.nodes.iter().find(|n| n.id == id).unwrap().parent.clone();
     assert_eq!(parent("Ad/L/pick").as_deref(), Some("Ad/L/each"));
     assert_eq!(parent("Ad/L/test").as_deref(), Some("Ad/L/pick"));
