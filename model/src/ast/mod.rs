@@ -22,7 +22,7 @@ pub use literal::LiteralValue;
 pub use node_ext::*;
 pub use walk::{own_descendants, AndNested, OwnDescendants};
 
-use crate::syntax::{Parse, SyntaxKind, SyntaxNode, SyntaxNodeChildren};
+use crate::syntax::{Parse, SyntaxKind, SyntaxNode};
 
 impl Parse {
     /// The typed root.
@@ -38,17 +38,20 @@ pub trait AstNode: Sized {
     fn syntax(&self) -> &SyntaxNode;
 }
 
-/// The child nodes of one AST type, in order.
+/// The child nodes of one AST type, in order. It steps over the other children in the green
+/// tree: only the children it yields get a syntax node of their own.
 #[derive(Debug, Clone)]
 pub struct AstChildren<N> {
-    inner: SyntaxNodeChildren,
+    next: Option<SyntaxNode>,
     node: PhantomData<N>,
 }
 
 impl<N: AstNode> Iterator for AstChildren<N> {
     type Item = N;
     fn next(&mut self) -> Option<N> {
-        self.inner.find_map(N::cast)
+        let current = self.next.take()?;
+        self.next = current.next_sibling_by_kind(&N::can_cast);
+        N::cast(current)
     }
 }
 
@@ -77,23 +80,34 @@ pub(crate) mod support {
     use super::{AstChildren, AstNode};
     use crate::syntax::{SyntaxKind, SyntaxNode, SyntaxToken};
 
+    // Each lookup scans the green children by kind and makes a syntax node (an allocation) only
+    // for the child it returns: the typed accessors run per node of every check.
+
     /// First child node of type `N`.
     pub(crate) fn child<N: AstNode>(parent: &SyntaxNode) -> Option<N> {
-        parent.children().find_map(N::cast)
+        parent.first_child_by_kind(&N::can_cast).and_then(N::cast)
     }
 
     /// All child nodes of type `N`.
     pub(crate) fn children<N: AstNode>(parent: &SyntaxNode) -> AstChildren<N> {
-        AstChildren { inner: parent.children(), node: std::marker::PhantomData }
+        AstChildren { next: parent.first_child_by_kind(&N::can_cast), node: std::marker::PhantomData }
     }
 
-    /// First child token of `kind`.
+    /// First child token of `kind` (a node of that kind does not count).
     pub(crate) fn token(parent: &SyntaxNode, kind: SyntaxKind) -> Option<SyntaxToken> {
-        parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| t.kind() == kind)
+        token_of(parent, &[kind])
     }
 
     /// First child token of any of `kinds`.
     pub(crate) fn token_of(parent: &SyntaxNode, kinds: &[SyntaxKind]) -> Option<SyntaxToken> {
-        parent.children_with_tokens().filter_map(|e| e.into_token()).find(|t| kinds.contains(&t.kind()))
+        let mut element = parent.first_child_or_token_by_kind(&|k| kinds.contains(&k))?;
+        loop {
+            match element {
+                rowan::NodeOrToken::Token(token) => return Some(token),
+                rowan::NodeOrToken::Node(node) => {
+                    element = node.next_sibling_or_token_by_kind(&|k| kinds.contains(&k))?
+                }
+            }
+        }
     }
 }

@@ -15,14 +15,23 @@ use crate::syntax::{SyntaxKind, SyntaxKind::*, SyntaxNode, SyntaxToken};
 
 impl Name {
     pub fn text(&self) -> String {
-        self.ident_token().map(|t| t.text().to_string()).unwrap_or_default()
+        ident_text(&self.syntax)
     }
 }
 
 impl NameRef {
     pub fn text(&self) -> String {
-        self.ident_token().map(|t| t.text().to_string()).unwrap_or_default()
+        ident_text(&self.syntax)
     }
+}
+
+/// The text of a name's identifier, read from the green tree (no syntax token is made: names
+/// are read at every declaration and use of every check).
+fn ident_text(name: &SyntaxNode) -> String {
+    let ident = rowan::SyntaxKind::from(IDENT);
+    let green = name.green();
+    let token = green.children().find_map(|child| child.into_token().filter(|t| t.kind() == ident));
+    token.map(|t| t.text().to_string()).unwrap_or_default()
 }
 
 impl Path {

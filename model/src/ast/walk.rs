@@ -1,8 +1,8 @@
 //! Walks of activity nodes that know node containers (Sec. 9.2.2.3): a body's own descendants
 //! without the nodes it holds, and a node with every node nested in it. Neither collects.
 
-use super::{ActivityNode, AstNode};
-use crate::syntax::{GuDsl, SyntaxKind::NODE_BODY, SyntaxNode};
+use super::{ActivityNode, AstChildren, AstNode};
+use crate::syntax::{GuDsl, SyntaxNode};
 
 /// The descendants of `root` (itself included) outside the nodes nested in it: a node body's
 /// own statements and transitions, not those of the nodes it holds (Sec. 9.2.2.3), which are
@@ -33,15 +33,16 @@ impl Iterator for OwnDescendants {
     }
 }
 
-/// The iterator of [`ActivityNode::and_nested`]: a preorder that enters only nodes and their
-/// bodies.
+/// The iterator of [`ActivityNode::and_nested`]: a depth-first walk that visits only nodes
+/// and, below each, the nodes of its body (a stack of the bodies' node lists).
 pub struct AndNested {
-    walk: rowan::api::Preorder<GuDsl>,
+    first: Option<ActivityNode>,
+    bodies: Vec<AstChildren<ActivityNode>>,
 }
 
 impl AndNested {
     pub(super) fn new(node: &ActivityNode) -> AndNested {
-        AndNested { walk: node.syntax().preorder() }
+        AndNested { first: Some(node.clone()), bodies: Vec::new() }
     }
 }
 
@@ -49,14 +50,19 @@ impl Iterator for AndNested {
     type Item = ActivityNode;
 
     fn next(&mut self) -> Option<ActivityNode> {
-        loop {
-            let rowan::WalkEvent::Enter(node) = self.walk.next()? else { continue };
-            if let Some(activity_node) = ActivityNode::cast(node.clone()) {
-                return Some(activity_node);
-            }
-            if node.kind() != NODE_BODY {
-                self.walk.skip_subtree();
-            }
+        let node = match self.first.take() {
+            Some(node) => node,
+            None => loop {
+                let nodes = self.bodies.last_mut()?;
+                match nodes.next() {
+                    Some(node) => break node,
+                    None => drop(self.bodies.pop()),
+                }
+            },
+        };
+        if let Some(body) = node.body() {
+            self.bodies.push(body.nodes());
         }
+        Some(node)
     }
 }

@@ -214,7 +214,7 @@ pub struct Graph {
 impl Graph {
     /// The empty graph of the diagram `syntax` declares.
     fn new(id: String, kind: GraphKind, syntax: &crate::syntax::SyntaxNode) -> Graph {
-        let name_range = syntax.children().find_map(ast::Name::cast).map(|name| name.syntax().text_range());
+        let name_range = ast::support::child::<ast::Name>(syntax).map(|name| name.syntax().text_range());
         Graph {
             id,
             kind,

@@ -210,10 +210,9 @@ fn diagram_item(diagram: &ast::Diagram) -> Option<DiagramItem> {
         activity: None,
         components: Vec::new(),
     };
-    let imports: Vec<ast::Import> = diagram.syntax().children().filter_map(ast::Import::cast).collect();
+    let imports: Vec<ast::Import> = ast::support::children::<ast::Import>(diagram.syntax()).collect();
     item.imports = imports.iter().filter_map(import_item).collect();
-    item.diagrams =
-        diagram.syntax().children().filter_map(ast::Diagram::cast).filter_map(|d| diagram_item(&d)).collect();
+    item.diagrams = ast::support::children::<ast::Diagram>(diagram.syntax()).filter_map(|d| diagram_item(&d)).collect();
     match diagram {
         ast::Diagram::ClassDiagram(d) => {
             item.types = d.type_decls().filter_map(|t| type_item(&t)).map(std::sync::Arc::new).collect()
@@ -285,7 +284,7 @@ pub fn type_signature(ty: Option<ast::TypeRef>) -> TypeSignature {
     let qualifier = |keyword: SyntaxKind| {
         ty.syntax()
             .parent()
-            .and_then(|parent| parent.children().find_map(ast::Modifiers::cast))
+            .and_then(|parent| ast::support::child::<ast::Modifiers>(&parent))
             .is_some_and(|m| m.has(keyword))
     };
     TypeSignature {

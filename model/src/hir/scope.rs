@@ -29,7 +29,7 @@ impl Scope {
         for diagram in diagrams {
             let Some(name) = diagram.name().map(|n| n.text()) else { break };
             scope.enter(&name);
-            for import in diagram.syntax().children().filter_map(ast::Import::cast) {
+            for import in ast::support::children::<ast::Import>(diagram.syntax()) {
                 scope.imports.extend(import_item(&import).filter(|i| *i != ImportItem::Header));
             }
         }

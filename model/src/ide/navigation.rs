@@ -58,7 +58,7 @@ pub(crate) fn type_of_name_at(
     if ast::TypeDecl::can_cast(resolved.declaration.kind()) {
         return Some(resolved);
     }
-    let type_ref = resolved.declaration.children().find_map(ast::TypeRef::cast)?;
+    let type_ref = ast::support::child::<ast::TypeRef>(&resolved.declaration)?;
     let path = type_ref.path()?;
     let sema = Semantics::new(db, workspace);
     let def = sema.resolve(&Scope::at(&resolved.declaration), &path.text())?;

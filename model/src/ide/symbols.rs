@@ -69,7 +69,7 @@ fn diagram(diagram: &ast::Diagram, checkpoint: &dyn Fn()) -> Option<Symbol> {
         ast::Diagram::ComponentInstanceDiagram(_) => "ComponentInstanceDiagram",
     };
     let mut sym = symbol(diagram.syntax(), diagram.name(), SymbolKind::Diagram, Some(kind_text.to_string()))?;
-    for nested in diagram.syntax().children().filter_map(ast::Diagram::cast) {
+    for nested in ast::support::children::<ast::Diagram>(diagram.syntax()) {
         sym.children.extend(self::diagram(&nested, checkpoint));
     }
     match diagram {

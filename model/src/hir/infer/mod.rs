@@ -206,7 +206,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
             match element.kind() {
                 SyntaxKind::VAR_DECL => self.var_decl(&ast::VarDecl::cast(element).expect("kind checked")),
                 SyntaxKind::EXPR_STMT => {
-                    if let Some(expr) = element.children().find_map(ast::Expr::cast) {
+                    if let Some(expr) = ast::support::child::<ast::Expr>(&element) {
                         self.infer(&expr);
                     }
                 }
@@ -235,7 +235,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                     }
                 }
                 SyntaxKind::IF_STMT | SyntaxKind::LOOP_STMT | SyntaxKind::DO_LOOP_STMT => {
-                    if let Some(cond) = element.children().find_map(ast::Expr::cast) {
+                    if let Some(cond) = ast::support::child::<ast::Expr>(&element) {
                         self.expect_bool(&cond, "a condition");
                     }
                 }

@@ -162,7 +162,7 @@ impl InferenceCtx<'_, '_> {
 
     /// `return` and `return value;` against the method's return type.
     pub(super) fn return_stmt(&mut self, stmt: &SyntaxNode) {
-        let value = stmt.children().find_map(ast::Expr::cast);
+        let value = ast::support::child::<ast::Expr>(stmt);
         let value_ty = value.as_ref().map(|v| self.infer(v));
         let Some((method, expected)) = self.returns.clone() else { return };
         let sema = self.sema;
@@ -232,7 +232,7 @@ pub(super) fn declared_const(ty: &ast::TypeRef) -> bool {
 
 /// The qualifiers of the declaration a type is written in (`global ref`, `shared`, `read`).
 fn declaration_modifiers(ty: &ast::TypeRef) -> Option<ast::Modifiers> {
-    ty.syntax().parent()?.children().find_map(ast::Modifiers::cast)
+    ast::support::child::<ast::Modifiers>(&ty.syntax().parent()?)
 }
 
 /// `shared` among the qualifiers of the declaration a type is written in: work-group memory,
@@ -277,7 +277,7 @@ pub fn returns_on_every_path(block: &SyntaxNode) -> bool {
 pub fn implementing_behavior(body: &ast::Block) -> Option<ast::CallBehaviorExpr> {
     let last = body.syntax().children().filter(|n| ast::Stmt::can_cast(n.kind())).last()?;
     match last.kind() {
-        SyntaxKind::EXPR_STMT => match last.children().find_map(ast::Expr::cast)? {
+        SyntaxKind::EXPR_STMT => match ast::support::child::<ast::Expr>(&last)? {
             ast::Expr::CallBehaviorExpr(call) => Some(call),
             _ => None,
         },

@@ -91,10 +91,10 @@ fn check_diagram(ctx: &mut Ctx, outer: &Scope, diagram: &ast::Diagram) {
     let Some(name) = diagram.name() else { return };
     let mut scope = outer.clone();
     scope.enter(&name.text());
-    for import in diagram.syntax().children().filter_map(ast::Import::cast) {
+    for import in ast::support::children::<ast::Import>(diagram.syntax()) {
         names::import(ctx, &mut scope, &import);
     }
-    let nested: Vec<ast::Diagram> = diagram.syntax().children().filter_map(ast::Diagram::cast).collect();
+    let nested: Vec<ast::Diagram> = ast::support::children::<ast::Diagram>(diagram.syntax()).collect();
     // Class diagrams are namespaces and merge across files; other diagrams must be unique.
     if !matches!(diagram, ast::Diagram::ClassDiagram(_)) {
         names::unique_across_files(ctx, scope.innermost(), &name, "diagram");

@@ -69,6 +69,6 @@ pub(super) fn import(ctx: &mut Ctx, scope: &mut Scope, import: &ast::Import) {
 /// Two local variables of one name in one block of a body.
 pub(super) fn duplicate_locals(ctx: &mut Ctx, body: &crate::syntax::SyntaxNode) {
     for block in ast::own_descendants(body).filter(|n| n == body || ast::Block::can_cast(n.kind())) {
-        duplicates(ctx, block.children().filter_map(ast::VarDecl::cast).filter_map(|d| d.name()), "variable");
+        duplicates(ctx, ast::support::children::<ast::VarDecl>(&block).filter_map(|d| d.name()), "variable");
     }
 }

@@ -88,7 +88,7 @@ pub(super) fn params(ctx: &mut Ctx, scope: &Scope, list: Option<ast::ParamList>)
 
 /// `[A.B(field = value)]` before a declaration: the attribute exists and declares each field.
 pub(super) fn attribute_uses(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
-    for list in node.children().filter_map(ast::AttributeList::cast) {
+    for list in ast::support::children::<ast::AttributeList>(node) {
         for use_ in list.uses() {
             let Some(path) = use_.path() else { continue };
             let text = path.text();

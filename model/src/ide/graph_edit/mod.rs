@@ -395,7 +395,7 @@ fn syntax_at(root: &SyntaxNode, range: TextRange) -> Option<SyntaxNode> {
 /// The name of the declaration at `range` (a node's range).
 fn declared_name(root: &SyntaxNode, range: TextRange) -> Option<TextRange> {
     let declaration = syntax_at(root, range)?;
-    declaration.children().find_map(ast::Name::cast).map(|name| name.syntax().text_range())
+    ast::support::child::<ast::Name>(&declaration).map(|name| name.syntax().text_range())
 }
 
 fn overlap(a: TextRange, b: TextRange) -> bool {
