@@ -20,7 +20,7 @@ pub use crate::syntax::NodeKind;
 pub use generated::*;
 pub use literal::LiteralValue;
 pub use node_ext::*;
-pub use walk::{own_descendants, AndNested, OwnDescendants};
+pub use walk::{own_descendants, owns_at_least, AndNested, OwnDescendants};
 
 use crate::syntax::{Parse, SyntaxKind, SyntaxNode};
 

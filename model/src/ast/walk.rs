@@ -2,13 +2,46 @@
 //! without the nodes it holds, and a node with every node nested in it. Neither collects.
 
 use super::{ActivityNode, AstChildren, AstNode};
-use crate::syntax::{GuDsl, SyntaxNode};
+use rowan::Language;
+
+use crate::syntax::{GuDsl, SyntaxKind, SyntaxNode};
 
 /// The descendants of `root` (itself included) outside the nodes nested in it: a node body's
 /// own statements and transitions, not those of the nodes it holds (Sec. 9.2.2.3), which are
 /// bodies of their own. As cheap as `descendants()`: nothing is collected.
 pub fn own_descendants(root: &SyntaxNode) -> OwnDescendants {
     OwnDescendants { root: root.clone(), walk: root.preorder() }
+}
+
+/// Whether the own descendants of `root` (as [`own_descendants`] walks them, `root` included)
+/// hold at least `at_least` nodes of a kind `wanted` accepts. It reads the green tree and makes
+/// no syntax node, so a rule skips at little cost a walk that could find nothing.
+pub fn owns_at_least(root: &SyntaxNode, at_least: usize, wanted: impl Fn(SyntaxKind) -> bool) -> bool {
+    let mut left = at_least;
+    if wanted(root.kind()) {
+        left = left.saturating_sub(1);
+    }
+    left == 0 || green_owns(&root.green(), &mut left, &wanted)
+}
+
+/// [`owns_at_least`] below one green node: counts `left` down, true once it reaches zero.
+fn green_owns(node: &rowan::GreenNodeData, left: &mut usize, wanted: &impl Fn(SyntaxKind) -> bool) -> bool {
+    for child in node.children().filter_map(|c| c.into_node()) {
+        let kind = GuDsl::kind_from_raw(child.kind());
+        if ActivityNode::can_cast(kind) {
+            continue;
+        }
+        if wanted(kind) {
+            *left -= 1;
+            if *left == 0 {
+                return true;
+            }
+        }
+        if green_owns(child, left, wanted) {
+            return true;
+        }
+    }
+    false
 }
 
 /// The iterator of [`own_descendants`].

@@ -14,7 +14,7 @@ mod statements;
 pub use locals::{diagram_locals, header_declarations};
 pub use places::BodyRole;
 use places::CallForm;
-use statements::{declared_access, declared_const, declared_shared};
+use statements::DeclQualifiers;
 pub use statements::{implementing_behavior, misplaced_jumps, returns_on_every_path};
 
 use std::collections::{HashMap, HashSet};
@@ -107,17 +107,18 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
     /// Declares a local (parameter, variable) from its written type (`const` if its
     /// declaration says so).
     pub fn declare(&mut self, name: String, ty: Option<ast::TypeRef>) {
-        if ty.as_ref().is_some_and(declared_const) {
+        let qualifiers = ty.as_ref().map(DeclQualifiers::of).unwrap_or_default();
+        if qualifiers.is_const {
             self.constants.insert(name.clone());
         } else {
             self.constants.remove(&name);
         }
-        if ty.as_ref().is_some_and(declared_shared) {
+        if qualifiers.is_shared {
             self.shared_memory.insert(name.clone());
         } else {
             self.shared_memory.remove(&name);
         }
-        match ty.as_ref().and_then(declared_access) {
+        match qualifiers.access {
             Some(access) => self.access.insert(name.clone(), access),
             None => self.access.remove(&name),
         };
@@ -159,11 +160,12 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
 
     /// Declares the locals a body introduces: its `var` declarations (all of them, so that uses
     /// anywhere in the body see them) and the window variables of `loopwindow2D(u = -r : r, …)`.
-    fn declare_body(&mut self, node: &SyntaxNode) {
-        for element in ast::own_descendants(node) {
+    /// `own` are the body's own descendants (`ast::own_descendants(node)`).
+    fn declare_body(&mut self, node: &SyntaxNode, own: &[SyntaxNode]) {
+        for element in own {
             match element.kind() {
                 SyntaxKind::VAR_DECL => {
-                    let decl = ast::VarDecl::cast(element).expect("kind checked");
+                    let decl = ast::VarDecl::cast(element.clone()).expect("kind checked");
                     if let Some(name) = decl.name() {
                         let outer =
                             self.locals.contains_key(&name.text()) && !self.declared_in.contains_key(&name.text());
@@ -184,7 +186,7 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 }
                 // `loopwindow2D(u = -r : r, …)` introduces its window variables (integers).
                 SyntaxKind::LOOP_WINDOW_DIM => {
-                    let dim = ast::LoopWindowDim::cast(element).expect("kind checked");
+                    let dim = ast::LoopWindowDim::cast(element.clone()).expect("kind checked");
                     if let Some(ast::LoopPart::Expr(ast::Expr::BinExpr(assign))) = dim.start() {
                         if let Some(name) = assign.lhs().and_then(|lhs| match lhs {
                             ast::Expr::NameExpr(name) => name.name_ref(),
@@ -201,8 +203,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
 
     /// Checks every statement, guard and transition of `node` (a block or a node body).
     pub fn check(&mut self, node: &SyntaxNode) {
-        self.declare_body(node);
-        for element in ast::own_descendants(node) {
+        let own: Vec<SyntaxNode> = ast::own_descendants(node).collect();
+        self.declare_body(node, &own);
+        for element in own {
             match element.kind() {
                 SyntaxKind::VAR_DECL => self.var_decl(&ast::VarDecl::cast(element).expect("kind checked")),
                 SyntaxKind::EXPR_STMT => {
@@ -495,7 +498,8 @@ impl<'db> Semantics<'db> {
         let mut sink = Diagnostics::default();
         let (mut ctx, body) = self.context_at(expr.syntax(), &mut sink);
         if let Some(body) = body {
-            ctx.declare_body(&body);
+            let own: Vec<SyntaxNode> = ast::own_descendants(&body).collect();
+            ctx.declare_body(&body, &own);
         }
         ctx.infer(expr)
     }

@@ -220,34 +220,34 @@ impl InferenceCtx<'_, '_> {
     }
 }
 
-/// Whether the declaration a type is written in is `const` (`const int x = 1;`, a `const`
-/// parameter).
-pub(super) fn declared_const(ty: &ast::TypeRef) -> bool {
-    let Some(declaration) = ty.syntax().parent() else { return false };
-    if let Some(decl) = ast::VarDecl::cast(declaration.clone()) {
-        return decl.is_const();
-    }
-    declaration_modifiers(ty).is_some_and(|m| m.has(SyntaxKind::CONST_KW))
+/// The qualifiers of the declaration a type is written in that decide how its name may be used.
+#[derive(Debug, Default)]
+pub(super) struct DeclQualifiers {
+    /// `const int x = 1;`, a `const` parameter: never assigned again.
+    pub(super) is_const: bool,
+    /// `shared int scratch`: work-group memory, indexed as an array of the type (Listing 32).
+    pub(super) is_shared: bool,
+    /// `read` or `write` (not both).
+    pub(super) access: Option<SyntaxKind>,
 }
 
-/// The qualifiers of the declaration a type is written in (`global ref`, `shared`, `read`).
-fn declaration_modifiers(ty: &ast::TypeRef) -> Option<ast::Modifiers> {
-    ast::support::child::<ast::Modifiers>(&ty.syntax().parent()?)
-}
-
-/// `shared` among the qualifiers of the declaration a type is written in: work-group memory,
-/// indexed as an array of the type (`shared int scratch` … `scratch[localId]`, Listing 32).
-pub(super) fn declared_shared(ty: &ast::TypeRef) -> bool {
-    declaration_modifiers(ty).is_some_and(|m| m.has(SyntaxKind::SHARED_KW))
-}
-
-/// `read` or `write` (not both) among the qualifiers of the declaration a type is written in.
-pub(super) fn declared_access(ty: &ast::TypeRef) -> Option<SyntaxKind> {
-    let modifiers = declaration_modifiers(ty)?;
-    match (modifiers.has(SyntaxKind::READ_KW), modifiers.has(SyntaxKind::WRITE_KW)) {
-        (true, false) => Some(SyntaxKind::READ_KW),
-        (false, true) => Some(SyntaxKind::WRITE_KW),
-        _ => None,
+impl DeclQualifiers {
+    /// Read from the declaration's modifiers (`global ref`, `shared`, `read`), looked up once.
+    pub(super) fn of(ty: &ast::TypeRef) -> DeclQualifiers {
+        let Some(declaration) = ty.syntax().parent() else { return DeclQualifiers::default() };
+        let modifiers = ast::support::child::<ast::Modifiers>(&declaration);
+        let has = |keyword| modifiers.as_ref().is_some_and(|m| m.has(keyword));
+        let const_keyword = ast::VarDecl::cast(declaration.clone()).is_some_and(|d| d.const_token().is_some());
+        let access = match (has(SyntaxKind::READ_KW), has(SyntaxKind::WRITE_KW)) {
+            (true, false) => Some(SyntaxKind::READ_KW),
+            (false, true) => Some(SyntaxKind::WRITE_KW),
+            _ => None,
+        };
+        DeclQualifiers {
+            is_const: const_keyword || has(SyntaxKind::CONST_KW),
+            is_shared: has(SyntaxKind::SHARED_KW),
+            access,
+        }
     }
 }
 
@@ -291,6 +291,9 @@ pub fn implementing_behavior(body: &ast::Block) -> Option<ast::CallBehaviorExpr>
 pub fn misplaced_jumps(body: &SyntaxNode, in_loop: bool, body_is: &str) -> Vec<(crate::syntax::TextRange, String)> {
     use SyntaxKind::*;
     let mut out = Vec::new();
+    if !ast::owns_at_least(body, 1, |k| matches!(k, BREAK_STMT | CONTINUE_STMT)) {
+        return out;
+    }
     for jump in ast::own_descendants(body).filter(|n| matches!(n.kind(), BREAK_STMT | CONTINUE_STMT)) {
         let enclosing: Vec<SyntaxKind> = jump.ancestors().skip(1).take_while(|n| n != body).map(|n| n.kind()).collect();
         let in_a_loop =

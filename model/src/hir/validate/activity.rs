@@ -67,22 +67,28 @@ pub(super) fn check(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram
                 ctx.sink.error(DiagnosticCode::MisplacedJump, range, message);
             }
         }
-        let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
-        if matches!(node.kind(), ast::NodeKind::Calc | ast::NodeKind::CalcRange) {
-            typing.set_role(BodyRole::KernelLaunch);
-        }
-        for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
-            typing.declare(name, ty);
-        }
-        typing.expect_transitions_to(&by_name);
-        if let Some(header) = node.loop_header() {
-            typing.check_loop_header(&header);
-        }
-        if let Some(body) = &body {
-            typing.check(body.syntax());
+        let header = node.loop_header();
+        let mut value_ty = None;
+        // A node with no body, header or value (`final f;`, `join j;`) has nothing to type.
+        if body.is_some() || header.is_some() || value.is_some() {
+            let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
+            if matches!(node.kind(), ast::NodeKind::Calc | ast::NodeKind::CalcRange) {
+                typing.set_role(BodyRole::KernelLaunch);
+            }
+            for (name, ty) in locals.iter().cloned().chain(header_declarations(node)) {
+                typing.declare(name, ty);
+            }
+            typing.expect_transitions_to(&by_name);
+            if let Some(header) = &header {
+                typing.check_loop_header(header);
+            }
+            if let Some(body) = &body {
+                typing.check(body.syntax());
+            }
+            value_ty = value.map(|v| typing.infer(&v));
         }
         if node.kind() == ast::NodeKind::Final && container.is_none() {
-            results.push((node.clone(), value.map(|v| typing.infer(&v))));
+            results.push((node.clone(), value_ty));
         }
     }
     final_results(ctx, &results);

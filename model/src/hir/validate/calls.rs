@@ -10,6 +10,10 @@ use crate::{
 
 /// The types and behaviors named anywhere inside `node`.
 pub(super) fn expressions(ctx: &mut Ctx, scope: &Scope, node: &SyntaxNode) {
+    use SyntaxKind::{CALL_BEHAVIOR_EXPR, CALL_METHOD_EXPR, TYPE_REF};
+    if !ast::owns_at_least(node, 1, |k| matches!(k, TYPE_REF | CALL_BEHAVIOR_EXPR | CALL_METHOD_EXPR)) {
+        return;
+    }
     for descendant in ast::own_descendants(node) {
         match descendant.kind() {
             SyntaxKind::TYPE_REF if descendant.parent().is_some_and(|p| p.kind() != SyntaxKind::TYPE_ARGS) => {

@@ -85,9 +85,8 @@ impl Flow<'_> {
             }
         }
         let starts: Vec<usize> = (0..nodes.len()).filter(|&i| nodes[i].kind() == ast::NodeKind::Start).collect();
-        let flow_name = self.describe();
         if complete {
-            self.start_nodes(ctx, &flow_name, nodes, &starts);
+            self.start_nodes(ctx, nodes, &starts);
         }
         let mut edges: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
         let mut unresolved = false;
@@ -107,7 +106,7 @@ impl Flow<'_> {
                     ctx.sink.error_with_suggestion(
                         DiagnosticCode::UnresolvedTransitionTarget,
                         target.syntax().text_range(),
-                        format!("no node `{target_name}` in {flow_name}"),
+                        format!("no node `{target_name}` in {}", self.describe()),
                         closest(&target_name, candidates),
                     );
                     continue;
@@ -136,8 +135,12 @@ impl Flow<'_> {
 
     /// One start node, named in the diagram's header (or the container's name) when it is
     /// missing.
-    fn start_nodes(&self, ctx: &mut Ctx, flow_name: &str, nodes: &[ast::ActivityNode], starts: &[usize]) {
-        if starts.is_empty() && !nodes.is_empty() {
+    fn start_nodes(&self, ctx: &mut Ctx, nodes: &[ast::ActivityNode], starts: &[usize]) {
+        if starts.len() == 1 || nodes.is_empty() {
+            return;
+        }
+        let flow_name = self.describe();
+        if starts.is_empty() {
             let named = match self.container {
                 Some(container) => container.name().map(|n| n.syntax().clone()),
                 None => self.diagram.name().map(|n| n.syntax().clone()),
@@ -265,12 +268,12 @@ fn forks_and_joins_of_one_flow(ctx: &mut Ctx, nodes: &[ast::ActivityNode], edges
 /// (3 dimensions) or the ranges of a calcRange node (global then local range: 2, 4 or 6
 /// values for 1, 2 or 3 dimensions; Listing 32 passes 4).
 fn transition_arity(ctx: &mut Ctx, transition: &ast::Transition, target: &ast::NameRef, node: &ast::ActivityNode) {
-    let params = node.params().count();
-    let given = transition.args().count();
     // A transition without arguments to a node with parameters takes them from the flow.
     if transition.arg_list().is_none() && !matches!(node.kind(), ast::NodeKind::Calc | ast::NodeKind::CalcRange) {
         return;
     }
+    let params = node.params().count();
+    let given = transition.args().count();
     let (allowed, what): (Vec<usize>, &str) = match node.kind() {
         ast::NodeKind::Calc => (vec![params + 3], " (3 work-size dimensions first)"),
         ast::NodeKind::CalcRange => {

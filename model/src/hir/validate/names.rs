@@ -68,6 +68,9 @@ pub(super) fn import(ctx: &mut Ctx, scope: &mut Scope, import: &ast::Import) {
 
 /// Two local variables of one name in one block of a body.
 pub(super) fn duplicate_locals(ctx: &mut Ctx, body: &crate::syntax::SyntaxNode) {
+    if !ast::owns_at_least(body, 2, |k| k == crate::syntax::SyntaxKind::VAR_DECL) {
+        return;
+    }
     for block in ast::own_descendants(body).filter(|n| n == body || ast::Block::can_cast(n.kind())) {
         duplicates(ctx, ast::support::children::<ast::VarDecl>(&block).filter_map(|d| d.name()), "variable");
     }

@@ -13,14 +13,14 @@ pub(super) fn activity_diagram(p: &mut Parser) {
     if p.at(COMMA) && p.nth_at_contextual(1, OWNER_KW) {
         owner_clause(p);
     }
-    if open_curly(p, &format!("the body of {what}")) {
+    if open_curly(p, format_args!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if at_diagram_start(p) {
                 break;
             }
             activity_item(p);
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, ACTIVITY_DIAGRAM);
 }
@@ -103,7 +103,7 @@ fn swimlane(p: &mut Parser) {
     if p.at(COMMA) && p.nth_at_contextual(1, OWNER_KW) {
         owner_clause(p);
     }
-    if open_curly(p, &format!("the nodes of {what}")) {
+    if open_curly(p, format_args!("the nodes of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if at_node(p).is_some() {
                 nested(p, node);
@@ -115,7 +115,7 @@ fn swimlane(p: &mut Parser) {
                 });
             }
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, SWIMLANE);
 }
@@ -125,7 +125,7 @@ fn node(p: &mut Parser) {
     let Some(node_kind) = at_node(p) else { return };
     let m = p.start();
     p.bump(node_kind.keyword_kind());
-    let what = format!("node `{}`", p.current_text());
+    let what = Described::current(p, "node");
     name(p, "a node name");
     let kind = node_kind.syntax_kind();
     match kind {
@@ -141,7 +141,7 @@ fn node(p: &mut Parser) {
                 expressions::expr_or_error(p);
             }
             if !p.eat(SEMICOLON) && p.at(L_CURLY) {
-                node_body(p, &what);
+                node_body(p, what);
             }
             m.complete(p, kind);
             return;
@@ -152,7 +152,7 @@ fn node(p: &mut Parser) {
             }
         }
     }
-    node_body(p, &what);
+    node_body(p, what);
     m.complete(p, kind);
 }
 
@@ -188,7 +188,7 @@ fn loop_header(p: &mut Parser) {
 }
 
 /// `{ statements and transitions }`. Without `{`, transitions that follow are still parsed.
-fn node_body(p: &mut Parser, what: &str) {
+fn node_body(p: &mut Parser, what: Described) {
     let m = p.start();
     if p.eat(L_CURLY) {
         while !p.at(EOF) && !p.at(R_CURLY) {
@@ -204,7 +204,7 @@ fn node_body(p: &mut Parser, what: &str) {
                 statements::statement(p);
             }
         }
-        close_curly(p, &format!("the body of {what}"));
+        close_curly(p, format_args!("the body of {what}"));
     } else {
         // Parse what follows as the body all the same; its `}` is taken only when statements
         // show that a body was meant (`start S => init;` has no braces at all).

@@ -6,11 +6,11 @@ use super::*;
 pub(super) fn class_diagram(p: &mut Parser) {
     let m = p.start();
     let what = diagram_header(p, CLASS_DIAGRAM_KW, "class diagram");
-    if open_curly(p, &format!("the body of {what}")) {
+    if open_curly(p, format_args!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             class_diagram_item(p);
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, CLASS_DIAGRAM);
 }
@@ -168,7 +168,7 @@ fn class(p: &mut Parser) {
         type_list(p, "an interface after `implements`");
         clause.complete(p, IMPLEMENTS_CLAUSE);
     }
-    member_list(p, &what);
+    member_list(p, what);
     m.complete(p, CLASS);
 }
 
@@ -195,7 +195,7 @@ fn interface(p: &mut Parser) {
         type_list(p, "an interface after `extends`");
         clause.complete(p, EXTENDS_CLAUSE);
     }
-    member_list(p, &what);
+    member_list(p, what);
     m.complete(p, INTERFACE);
 }
 
@@ -209,7 +209,7 @@ fn attribute_def(p: &mut Parser) {
     }
     let what = describe_named(p, "attribute");
     name(p, "an attribute name");
-    member_list(p, &what);
+    member_list(p, what);
     m.complete(p, ATTRIBUTE_DEF);
 }
 
@@ -234,7 +234,7 @@ fn enumeration(p: &mut Parser) {
     }
     let what = describe_named(p, "enum");
     name(p, "an enum name");
-    if open_curly(p, &format!("the values of {what}")) {
+    if open_curly(p, format_args!("the values of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if p.at_name() || p.at(L_BRACK) {
                 let value = p.start();
@@ -259,7 +259,7 @@ fn enumeration(p: &mut Parser) {
                 p.eat(COMMA);
             }
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, ENUM);
 }
@@ -271,9 +271,9 @@ fn at_decl_start(p: &Parser) -> bool {
 }
 
 /// `{ fields, methods, associations }` of a class, interface or attribute.
-fn member_list(p: &mut Parser, what: &str) {
+fn member_list(p: &mut Parser, what: Described) {
     let m = p.start();
-    if open_curly(p, &format!("the body of {what}")) {
+    if open_curly(p, format_args!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if at_decl_start(p) {
                 break;

@@ -7,7 +7,7 @@ use super::*;
 pub(super) fn component_diagram(p: &mut Parser) {
     let m = p.start();
     let what = diagram_header(p, COMPONENT_DIAGRAM_KW, "component diagram");
-    if open_curly(p, &format!("the body of {what}")) {
+    if open_curly(p, format_args!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if p.at(IMPORT_KW) {
                 import(p);
@@ -21,7 +21,7 @@ pub(super) fn component_diagram(p: &mut Parser) {
                 );
             }
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, COMPONENT_DIAGRAM);
 }
@@ -43,7 +43,7 @@ fn component(p: &mut Parser) {
     p.bump(keyword);
     let what = describe_named(p, "component");
     path(p);
-    if open_curly(p, &format!("the body of {what}")) {
+    if open_curly(p, format_args!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if at_component(p) {
                 nested(p, component);
@@ -59,7 +59,7 @@ fn component(p: &mut Parser) {
                 });
             }
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, COMPONENT);
 }
@@ -153,7 +153,7 @@ fn connection(p: &mut Parser, kind: SyntaxKind) {
 pub(super) fn component_instance_diagram(p: &mut Parser) {
     let m = p.start();
     let what = diagram_header(p, COMPONENT_INSTANCE_DIAGRAM_KW, "component-instance diagram");
-    if open_curly(p, &format!("the body of {what}")) {
+    if open_curly(p, format_args!("the body of {what}")) {
         while !p.at(EOF) && !p.at(R_CURLY) {
             if p.at(IMPORT_KW) {
                 import(p);
@@ -175,7 +175,7 @@ pub(super) fn component_instance_diagram(p: &mut Parser) {
                 );
             }
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     }
     m.complete(p, COMPONENT_INSTANCE_DIAGRAM);
 }
@@ -223,7 +223,7 @@ fn instance(p: &mut Parser) {
                 );
             }
         }
-        close_curly(p, &what);
+        close_curly(p, what);
     } else {
         p.eat(SEMICOLON);
         // Listing 28's flat form: the instance's port instances and bindings follow it without

@@ -9,6 +9,8 @@ mod expressions;
 mod statements;
 mod types;
 
+use std::fmt::Display;
+
 use super::{
     parser::{CompletedMarker, Event, Input, Parser},
     token_set::TokenSet,
@@ -86,7 +88,7 @@ pub(super) fn import(p: &mut Parser) {
 }
 
 /// A defining name.
-pub(super) fn name(p: &mut Parser, what: &str) -> bool {
+pub(super) fn name(p: &mut Parser, what: impl Display) -> bool {
     if p.at_name() {
         let m = p.start();
         p.bump(IDENT);
@@ -229,7 +231,7 @@ pub(super) fn modifiers(p: &mut Parser) {
 }
 
 /// Consumes `}` closing `what`, or reports that it is missing.
-pub(super) fn close_curly(p: &mut Parser, what: &str) {
+pub(super) fn close_curly(p: &mut Parser, what: impl Display) {
     if !p.eat(R_CURLY) {
         p.error_unclosed(format!("expected `}}` to close {what}"));
     }
@@ -238,7 +240,7 @@ pub(super) fn close_curly(p: &mut Parser, what: &str) {
 /// Consumes `{` opening `what`, or reports it missing. Returns whether to parse the body:
 /// after a missing `{` the body is parsed all the same (its `}` usually follows), so one
 /// forgotten brace gives one error, not one per line of the body.
-pub(super) fn open_curly(p: &mut Parser, what: &str) -> bool {
+pub(super) fn open_curly(p: &mut Parser, what: impl Display) -> bool {
     if p.eat(L_CURLY) {
         return true;
     }
@@ -247,18 +249,39 @@ pub(super) fn open_curly(p: &mut Parser, what: &str) -> bool {
 }
 
 /// `Keyword Name` opening a diagram; returns how the diagram reads in messages.
-pub(super) fn diagram_header(p: &mut Parser, keyword: SyntaxKind, what: &str) -> String {
+pub(super) fn diagram_header<'i>(p: &mut Parser<'i>, keyword: SyntaxKind, what: &'static str) -> Described<'i> {
     p.bump(keyword);
     let described = describe_named(p, what);
-    name(p, &format!("a name for the {what}"));
+    name(p, format_args!("a name for the {what}"));
     described
 }
 
-/// Text of the name token at the current position, for messages ("class `Image`").
-pub(super) fn describe_named(p: &Parser, what: &str) -> String {
-    if p.at_name() {
-        format!("{what} `{}`", p.current_text())
-    } else {
-        what.to_string()
+/// The construct at the current position as messages name it ("class `Image`"; "class" where
+/// no name follows).
+pub(super) fn describe_named<'i>(p: &Parser<'i>, what: &'static str) -> Described<'i> {
+    Described { what, name: p.at_name().then(|| p.current_text()) }
+}
+
+/// How messages name a construct ("node `init`"): kept as its parts and written out only when
+/// a message needs it, so parsing a valid file formats no message.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Described<'i> {
+    what: &'static str,
+    name: Option<&'i str>,
+}
+
+impl<'i> Described<'i> {
+    /// `what` named by the text at the current position, a name or not (`node `3``).
+    pub(super) fn current(p: &Parser<'i>, what: &'static str) -> Described<'i> {
+        Described { what, name: Some(p.current_text()) }
+    }
+}
+
+impl Display for Described<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.name {
+            Some(name) => write!(f, "{} `{name}`", self.what),
+            None => f.write_str(self.what),
+        }
     }
 }
