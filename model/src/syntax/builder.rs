@@ -20,7 +20,7 @@ pub(crate) fn build_tree(text: &str, lexed: &LexedText, mut events: Vec<Event>) 
                 let mut idx = i;
                 let mut fp = forward_parent;
                 while let Some(delta) = fp {
-                    idx += delta as usize;
+                    idx += delta.get() as usize;
                     fp = match std::mem::replace(&mut events[idx], Event::Tombstone) {
                         Event::Start { kind, forward_parent } => {
                             forward_parents.push(kind);

@@ -67,10 +67,20 @@ impl Parse {
 /// Parses a whole GU-DSL document.
 pub fn parse(text: &str) -> Parse {
     let lexed = lexer::lex(text);
-    let input = parser::Input::new(text, &lexed);
-    let (events, mut errors) = grammar::source_file(&input);
+    // The parser's input goes before the tree is built: its memory serves the tree's nodes.
+    let (events, mut errors) = grammar::source_file(&parser::Input::new(text, &lexed));
     let green = builder::build_tree(text, &lexed, events);
-    // A malformed token explains the parser errors right around it: report it alone.
+    if !lexed.errors.is_empty() {
+        report_lex_errors(&lexed, &mut errors);
+    }
+    unclosed::blame_unclosed_brace(text, &lexed, &mut errors);
+    errors.sort_by_key(|e| (e.range.start(), e.range.end()));
+    Parse { green, errors }
+}
+
+/// Adds the lexer's errors to the parser's: a malformed token explains the parser errors right
+/// around it, so it is reported alone.
+fn report_lex_errors(lexed: &lexer::LexedText, errors: &mut Vec<SyntaxError>) {
     let mut starts = Vec::with_capacity(lexed.tokens.len() + 1);
     let mut offset = 0u32;
     for token in &lexed.tokens {
@@ -89,9 +99,6 @@ pub fn parse(text: &str) -> Parse {
         lex_errors.push(SyntaxError::new(lex_error.code, lex_error.message.clone(), range));
     }
     errors.extend(lex_errors);
-    unclosed::blame_unclosed_brace(text, &lexed, &mut errors);
-    errors.sort_by_key(|e| (e.range.start(), e.range.end()));
-    Parse { green, errors }
 }
 
 /// Indented dump of a tree, one node or token a line, with the errors at the end: the format

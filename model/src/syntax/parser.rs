@@ -25,13 +25,15 @@ pub(crate) struct Input<'t> {
 
 impl<'t> Input<'t> {
     pub(crate) fn new(text: &'t str, lexed: &LexedText) -> Input<'t> {
+        // Room for every token at once: a buffer that grows is copied and touched twice, and
+        // the room trivia leaves unused is never touched.
         let n = lexed.tokens.len();
         let mut input = Input {
             text,
-            kinds: Vec::with_capacity(n / 2),
-            contextual: Vec::with_capacity(n / 2),
-            ranges: Vec::with_capacity(n / 2),
-            joint: Vec::with_capacity(n / 2),
+            kinds: Vec::with_capacity(n),
+            contextual: Vec::with_capacity(n),
+            ranges: Vec::with_capacity(n),
+            joint: Vec::with_capacity(n),
             text_len: text.len() as u32,
             braces_balanced: false,
         };
@@ -80,7 +82,7 @@ pub(crate) enum Event {
     /// before this one: the wrapper created by `precede`.
     Start {
         kind: SyntaxKind,
-        forward_parent: Option<u32>,
+        forward_parent: Option<std::num::NonZeroU32>,
     },
     Finish,
     /// Consume `n_raw` lexer tokens (more than one for `>>`, `>=`, `>>=`) as one token `kind`.
@@ -111,7 +113,9 @@ impl<'i> Parser<'i> {
         Parser {
             input,
             pos: 0,
-            events: Vec::with_capacity(input.kinds.len() * 2),
+            // A token and the starts and finishes of the nodes around it: about three events a
+            // token (room left unused is never touched).
+            events: Vec::with_capacity(input.kinds.len() * 4),
             errors: Vec::new(),
             depth: 0,
             stall: std::cell::Cell::new(0),
@@ -544,7 +548,8 @@ impl CompletedMarker {
     pub(crate) fn precede(self, p: &mut Parser) -> Marker {
         let new = p.start();
         if let Event::Start { forward_parent, .. } = &mut p.events[self.pos as usize] {
-            *forward_parent = Some(new.pos - self.pos);
+            // The wrapper starts later than the node it wraps: the distance is never zero.
+            *forward_parent = std::num::NonZeroU32::new(new.pos - self.pos);
         }
         new
     }

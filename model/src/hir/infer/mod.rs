@@ -167,8 +167,8 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                 SyntaxKind::VAR_DECL => {
                     let decl = ast::VarDecl::cast(element.clone()).expect("kind checked");
                     if let Some(name) = decl.name() {
-                        let outer =
-                            self.locals.contains_key(&name.text()) && !self.declared_in.contains_key(&name.text());
+                        let text = name.text();
+                        let outer = self.locals.contains_key(&text) && !self.declared_in.contains_key(&text);
                         if !outer {
                             let scope = decl.syntax().ancestors().skip(1).find(|n| {
                                 n == node
@@ -179,9 +179,9 @@ impl<'a, 'db> InferenceCtx<'a, 'db> {
                             });
                             let scope = scope.map_or_else(|| node.text_range(), |s| s.text_range());
                             let at = name.syntax().text_range().start();
-                            self.declared_in.entry(name.text()).or_default().push((at, scope));
+                            self.declared_in.entry(text.clone()).or_default().push((at, scope));
                         }
-                        self.declare(name.text(), decl.type_ref());
+                        self.declare(text, decl.type_ref());
                     }
                 }
                 // `loopwindow2D(u = -r : r, …)` introduces its window variables (integers).

@@ -135,6 +135,10 @@ fn variables(ctx: &mut Ctx, scope: &Scope, diagram: &ast::ActivityDiagram) {
     for decl in diagram.var_decls() {
         calls::expressions(ctx, scope, decl.syntax());
     }
+    let initialised = diagram.variables().any(|v| v.initializer().is_some());
+    if !initialised && diagram.var_decls().next().is_none() {
+        return;
+    }
     let owner = ctx.sema.activity_owner(scope, diagram, None);
     let mut typing = InferenceCtx::new(ctx.sema, &mut ctx.sink, scope.clone(), owner);
     for (name, ty) in diagram_locals(diagram) {
