@@ -2,17 +2,11 @@
 //! a re-check after typing one character inside a method body, and after renaming a class that
 //! one other file uses. Median and p95 of the runs, printed as a table. Then the check's growth
 //! in the size of one diagram (10 000 to 100 000 nodes) and of one file (1 to 10 MB of small
-//! diagrams): each must stay linear, the largest under 2 s. It allocates with mimalloc, as the
-//! gudsl binary does.
+//! diagrams): each must stay linear, the largest under 2 s.
 //!
 //! `cargo bench -p gudsl-model --bench check` (`-- scaling [long|many]` runs only the growth cases)
 
 use std::time::{Duration, Instant};
-
-/// The allocator of the gudsl binary, so that the times are those a user of `gudsl check` and of
-/// the language server gets.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use gudsl_model::{AnalysisHost, FileId};
 

@@ -10,11 +10,6 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-/// A check allocates and frees a syntax node per step of every walk: mimalloc halves what that
-/// costs (the `check` benchmark measures with it too).
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 #[derive(Parser)]
 #[command(name = "gudsl", version, about = "GU-DSL language tools")]
 struct Cli {
