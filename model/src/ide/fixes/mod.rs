@@ -1,7 +1,9 @@
 //! Quick fixes for diagnostics: create a missing node, remove an unreachable one, fix a
 //! transition's arguments, add the processor signature a provider method needs, implement a
-//! port's interface in the component's class, import an ambiguous type, and correct a
-//! misspelt name.
+//! port's interface in the component's class, import an ambiguous type, correct a misspelt
+//! name, and put a type's bases right (`bases`).
+
+mod bases;
 
 use crate::{
     ast::{self, AstNode, HasName},
@@ -95,6 +97,11 @@ pub fn quick_fixes(db: &dyn Db, workspace: Workspace, file: SourceFile, range: T
                         diagnostic_range: diagnostic.range,
                         edits: vec![edit],
                     });
+                }
+            }
+            DiagnosticCode::InvalidInheritance => {
+                if let Some((title, edit)) = bases::fix_base(db, workspace, &node) {
+                    push(title, vec![edit]);
                 }
             }
             DiagnosticCode::UnresolvedType | DiagnosticCode::UnresolvedOwner => {
@@ -475,6 +482,29 @@ mod tests {
         assert_eq!(out[1], "[\"E0240\"]", "the other class's warning stays");
         let out = apply(&[("a.gudsl", text)], "Implement `IP` in `F`");
         assert!(out[0].contains("public filter F implements IQ, IP { }"), "{}", out[0]);
+    }
+
+    #[test]
+    fn bases_move_to_the_clause_of_their_kind_and_a_second_one_goes() {
+        let text = "ClassDiagram S\n{\n    public interface I { }\n    public interface J { }\n    public class B { }\n    public class C extends B, I implements J { }\n    public class D implements B { }\n    public class E implements J, S.J { }\n}\n";
+        let out = apply(&[("a.gudsl", text)], "Move `I` to `implements`");
+        assert!(out[0].contains("public class C extends B implements J, I { }"), "{}", out[0]);
+        let out = apply(&[("a.gudsl", text)], "Move `B` to `extends`");
+        assert!(out[0].contains("public class D extends B { }"), "{}", out[0]);
+        let out = apply(&[("a.gudsl", text)], "Remove the second `S.J`");
+        assert!(out[0].contains("public class E implements J { }"), "{}", out[0]);
+        assert_eq!(out[1], "[\"E0230\", \"E0230\"]", "the other two stay");
+    }
+
+    #[test]
+    fn no_base_fix_where_no_single_edit_is_right() {
+        let text = "ClassDiagram S\n{\n    public class B { }\n    public enum Colour { Red }\n    public interface I extends B { }\n    public class P extends Colour { }\n}\n";
+        let db = RootDatabase::default();
+        let file = SourceFile::new(&db, "a.gudsl".into(), text.into());
+        let ws = Workspace::new(&db, vec![file]);
+        let codes: Vec<&str> = file_diagnostics(&db, ws, file).iter().map(|d| d.code.as_str()).collect();
+        assert_eq!(codes, ["E0230", "E0230"]);
+        assert!(quick_fixes(&db, ws, file, TextRange::up_to((text.len() as u32).into())).is_empty());
     }
 
     /// Every fix offered for every diagnostic of every `err_` golden case, applied: the
