@@ -32,7 +32,7 @@ pub(super) fn fix_base(db: &dyn Db, workspace: Workspace, node: &SyntaxNode) -> 
         if in_extends { (&mut new_extends, &mut new_implements) } else { (&mut new_implements, &mut new_extends) };
     let index = if in_extends { &extends } else { &implements }.iter().position(|t| t.syntax() == base.syntax())?;
     from.remove(index);
-    let title = if before.filter_map(|t| resolve(t)).any(|d| d.fqn == here.fqn) {
+    let title = if before.filter_map(resolve).any(|d| d.fqn == here.fqn) {
         format!("Remove the second `{written}`")
     } else {
         let DefKind::Type(ty) = &here.kind else { return None };
