@@ -17,6 +17,8 @@
     component: [['component', 'Component']],
     componentInstance: [['instance', 'Instance']],
   };
+  /** The shapes of the activity nodes that can hold nodes. */
+  const CONTAINERS = ['action', 'decision', 'loop', 'loopWindow'];
   /** Movement (screen pixels) below which a press is a click, not a drag. */
   const DRAG_THRESHOLD = 3;
 
@@ -285,6 +287,10 @@
     }
     if (id && graph.groups.includes(id)) {
       for (const [kind, label] of PALETTE.activity) items.push([`New ${label.toLowerCase()} in this lane…`, () => post({ type: 'create', kind, parent: id })]);
+    }
+    // Action, decision, loop and loopWindow nodes hold a flow of their own (Sec. 9.2.2.3).
+    if (id && CONTAINERS.includes(nodes.get(id)?.shape)) {
+      for (const [kind, label] of PALETTE.activity) items.push([`New ${label.toLowerCase()} inside this node…`, () => post({ type: 'create', kind, parent: id })]);
     }
     if (!id) {
       for (const [kind, label] of PALETTE[graph?.kind] || []) items.push([`New ${label.toLowerCase()}…`, () => create(kind)]);

@@ -159,7 +159,7 @@ export class DiagramPanel implements vscode.Disposable {
           name: graph.diagram.name,
           version: graph.version,
           svg: graph.svg,
-          nodes: graph.nodes.map((n) => ({ id: n.id, label: n.label, bounds: n.bounds, pinned: n.pinned, parent: n.parent, group: n.group })),
+          nodes: graph.nodes.map((n) => ({ id: n.id, label: n.label, shape: n.shape, bounds: n.bounds, pinned: n.pinned, parent: n.parent, group: n.group })),
           groups: graph.groups.map((g) => g.id),
           layoutError: graph.layoutError,
         });

@@ -1,5 +1,6 @@
 //! `create`: the declaration of a new node, member, port or connector, as the formatter writes
-//! it, after its siblings in the diagram, swimlane, class or component it goes into.
+//! it, after its siblings in the diagram, swimlane, node container, class or component it goes
+//! into.
 
 use super::{
     has_properties, name_of,
@@ -7,6 +8,7 @@ use super::{
     valid_name, Ctx, Element, NewKind, Properties,
 };
 use crate::{
+    ast::{self, AstNode},
     graph::{GraphKind, NodeShape},
     hir::{items::TypeKind, DefKind, Scope},
     syntax::{NodeKind, SyntaxKind::*, SyntaxNode, TextRange},
@@ -146,7 +148,8 @@ fn members(class: &SyntaxNode) -> Vec<SyntaxNode> {
     class.children().filter(|c| c.kind() == MEMBER_LIST).flat_map(|l| l.children()).collect()
 }
 
-/// The diagram or swimlane a new activity node goes into.
+/// The diagram, swimlane or node container (Sec. 9.2.2.3: an action, decision, loop or
+/// loopWindow node holds a flow of its own) a new activity node goes into.
 fn activity_owner(ctx: &Ctx, parent: Option<&str>) -> Result<SyntaxNode, String> {
     match parent {
         None => Ok(ctx.diagram()),
@@ -155,7 +158,20 @@ fn activity_owner(ctx: &Ctx, parent: Option<&str>) -> Result<SyntaxNode, String>
             Some(Element::Group(group)) => {
                 ctx.swimlane(group).ok_or_else(|| format!("the swimlane `{p}` is declared in another diagram"))
             }
-            _ => Err(format!("an activity node goes into the diagram or a swimlane, `{p}` is neither")),
+            Some(Element::Node(node)) => {
+                let declaration = ctx.declaration(node)?;
+                match ast::ActivityNode::cast(declaration.clone()) {
+                    Some(container) if container.may_hold_nodes() => Ok(declaration),
+                    Some(other) => Err(format!(
+                        "a {} node holds no nodes: only action, decision, loop and loopWindow nodes do (Sec. 9.2.2.3)",
+                        other.kind().keyword()
+                    )),
+                    None => Err(format!("`{p}` is no activity node")),
+                }
+            }
+            _ => Err(format!(
+                "an activity node goes into the diagram, a swimlane or an action, decision, loop or loopWindow node; `{p}` is none"
+            )),
         },
     }
 }

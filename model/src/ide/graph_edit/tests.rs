@@ -170,3 +170,29 @@ fn operations_the_language_cannot_state_are_refused_with_the_reason() {
         "operation 0: the edge already joins these ends: give a new `source` or `target`"
     );
 }
+
+#[test]
+fn a_node_created_in_a_container_is_drawn_inside_it() {
+    let mut db = RootDatabase::default();
+    let text = "ActivityDiagram A()\n{\n    start S { => work; }\n    action work\n    {\n        var int n = 1;\n        => f;\n    }\n    calc k() { => f; }\n    final f;\n}\n";
+    let file = SourceFile::new(&db, "a.gudsl".into(), text.into());
+    let ws = Workspace::new(&db, vec![file]);
+    let create = |kind, name: &str, parent: &str| GraphOp::Create {
+        kind,
+        name: name.into(),
+        parent: Some(parent.into()),
+        properties: Properties::new(),
+    };
+    let refused = |op: GraphOp| graph_edit(&db, ws, file, "A", &[op]).unwrap_err().0;
+    assert_eq!(
+        refused(create(NewKind::Node(NodeKind::Start), "s", "A/k")),
+        "operation 0: a calc node holds no nodes: only action, decision, loop and loopWindow nodes do (Sec. 9.2.2.3)"
+    );
+    let edits = graph_edit(&db, ws, file, "A", &[create(NewKind::Node(NodeKind::Start), "inner", "A/work")]).unwrap();
+    apply(&mut db, &[file], &edits);
+    let written = file.text(&db).clone();
+    assert!(written.contains("        var int n = 1;\n        => f;\n        start inner { }\n    }"), "{written}");
+    let graph = file_graphs(&db, ws, file).iter().find(|g| g.id == "A").cloned().unwrap();
+    let inner = graph.nodes.iter().find(|n| n.id == "A/inner").expect("the new node is drawn");
+    assert_eq!(inner.parent.as_deref(), Some("A/work"));
+}
