@@ -64,6 +64,17 @@ impl Emitter<'_> {
         let Some(pointer) = args.first() else {
             return self.unsupported(call.syntax(), "an atomic function takes a pointer");
         };
+        // A buffer a function is bound to is atomic only if the kernel works on it atomically
+        // itself: the kernel declares its buffers.
+        let bound = pointer_parts(pointer).map(|(name, _)| name).filter(|name| self.global_name(name) != *name);
+        if let Some(name) = bound.filter(|name| !self.atomics.contains(&self.global_name(name))) {
+            let message = format!(
+                "`{name}` is the kernel's `{}`, which the kernel itself uses with no atomic function: generated \
+                 helpers work atomically only on buffers the kernel does (use one there too)",
+                self.global_name(&name)
+            );
+            return self.unsupported(pointer.syntax(), message);
+        }
         let Some((element, ty)) = self.atomic_pointer(pointer) else {
             return self.unsupported(
                 pointer.syntax(),
@@ -142,7 +153,7 @@ impl Emitter<'_> {
                 }
             }
         };
-        Some((format!("{}[{at}]", ident(&name)), ty))
+        Some((format!("{}[{at}]", ident(&self.global_name(&name))), ty))
     }
 
     /// `base[at]` of a parameter an atomic function works on, as WGSL (`counts[bin]`): what
@@ -151,12 +162,12 @@ impl Emitter<'_> {
         let ast::Expr::IndexExpr(index) = place else { return None };
         let ast::Expr::NameExpr(base) = index.base()? else { return None };
         let name = base.name_ref()?.text();
-        if !self.atomics.contains(&name) {
+        if !self.atomics.contains(&self.global_name(&name)) {
             return None;
         }
         let ty = self.params.get(&name).map(|p| element_type(&p.ty))?;
         let at = bare(self.expr_as(&index.index()?, &Ty::Int));
-        Some((format!("{}[{at}]", ident(&name)), ty))
+        Some((format!("{}[{at}]", ident(&self.global_name(&name))), ty))
     }
 }
 

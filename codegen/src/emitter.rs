@@ -16,9 +16,18 @@ use crate::{Binding, CodegenError, KernelParam};
 #[derive(Clone)]
 pub(crate) struct Function<'db> {
     pub body: Body<'db>,
-    /// Its name in the module: `Class_method`, or the diagram's name.
+    /// Its name in the module: `Class_method`, or the diagram's name; a specialisation's ends in
+    /// the buffers it is bound to (`Class_method_data`).
     pub name: String,
+    /// The value parameters: the WGSL function's own.
     pub params: Vec<(String, Ty)>,
+    /// Whether each declared parameter is a value parameter (passed), in declaration order; the
+    /// others are `bound`.
+    pub passed: Vec<bool>,
+    /// The buffer, image and `shared` parameters, each bound to the kernel parameter the calls
+    /// of this specialisation pass (WGSL functions take no pointers to storage or work-group
+    /// memory): (the parameter's name, the kernel parameter's).
+    pub bound: Vec<(String, String)>,
     pub returns: Ty,
 }
 
@@ -43,6 +52,14 @@ impl Body<'_> {
         match self {
             Body::Method(_, method) => method.syntax(),
             Body::Diagram(_, diagram) => diagram.syntax(),
+        }
+    }
+
+    /// Its declared parameters.
+    pub fn params(&self) -> Box<dyn Iterator<Item = ast::Param>> {
+        match self {
+            Body::Method(_, method) => Box::new(method.params()),
+            Body::Diagram(_, diagram) => Box::new(diagram.params()),
         }
     }
 }
@@ -129,6 +146,9 @@ pub(crate) struct Emitter<'db> {
     /// gets a texel helper, and those read at float coordinates a sampling helper too
     /// (`images.rs`).
     pub sampled_images: std::collections::BTreeMap<String, bool>,
+    /// The kernel's buffers that a function bound to them writes (the kernel binds them
+    /// writable).
+    pub written_memory: HashSet<String>,
     /// The OpenCL class that owns the diagram: its methods are what a call that is no built-in
     /// reaches.
     pub owner: Option<&'db Definition>,
@@ -156,6 +176,7 @@ impl<'db> Emitter<'db> {
             atomics: HashSet::new(),
             compare_exchanged: Default::default(),
             sampled_images: Default::default(),
+            written_memory: HashSet::new(),
             owner: None,
             functions: Vec::new(),
             calls: Vec::new(),
@@ -265,8 +286,14 @@ impl<'db> Emitter<'db> {
                 Some(Ty::Bool) => format!("(params.{} != 0u)", ident(name)),
                 _ => format!("params.{}", ident(name)),
             },
-            _ => ident(name),
+            _ => ident(&self.global_name(name)),
         }
+    }
+
+    /// The kernel parameter a buffer, image or `shared` parameter stands for: itself in the
+    /// kernel, the one a function's specialisation is bound to in a function.
+    pub fn global_name(&self, name: &str) -> String {
+        self.params.get(name).map_or_else(|| name.to_string(), |p| p.name.clone())
     }
 
     /// Whether `expr` names an image parameter, and which.

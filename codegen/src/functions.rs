@@ -13,9 +13,12 @@ use gudsl_model::{
     syntax::{SyntaxKind, SyntaxNode},
 };
 
+use std::collections::HashMap;
+
 use crate::{
     emitter::{bare, ident, Body, Call, Emitter, Function},
     types::value_type,
+    Binding, KernelParam,
 };
 
 impl<'db> Emitter<'db> {
@@ -66,7 +69,7 @@ impl<'db> Emitter<'db> {
                 ),
             );
         }
-        let Some(callee) = self.function_index(class, &method) else {
+        let Some(callee) = self.function_index(class, &method, &args) else {
             return self.unsupported(call.syntax(), format!("`{name}` cannot be generated (see its declaration)"));
         };
         self.function_call(callee, &args, call.syntax())
@@ -91,14 +94,17 @@ impl<'db> Emitter<'db> {
         self.function_call(callee, &args, call.syntax())
     }
 
-    /// `name(args)` of function `callee`, its arguments converted to its parameters' types; the
-    /// call recorded (for recursion).
+    /// `name(args)` of function `callee`, its value arguments converted to its parameters'
+    /// types (the buffers are its specialisation's); the call recorded (for recursion).
     fn function_call(&mut self, callee: usize, args: &[ast::Expr], at: &SyntaxNode) -> String {
         let caller = self.current_function.as_ref().map(|(index, _)| *index);
         self.calls.push(Call { caller, callee, place: (self.file, at.text_range()) });
-        let params: Vec<Ty> = self.functions[callee].params.iter().map(|(_, ty)| ty.clone()).collect();
-        let args: Vec<String> = args.iter().zip(&params).map(|(arg, ty)| bare(self.expr_as(arg, ty))).collect();
-        format!("{}({})", self.functions[callee].name, args.join(", "))
+        let function = &self.functions[callee];
+        let params: Vec<Ty> = function.params.iter().map(|(_, ty)| ty.clone()).collect();
+        let passed: Vec<&ast::Expr> = args.iter().zip(&function.passed).filter(|(_, p)| **p).map(|(a, _)| a).collect();
+        let name = function.name.clone();
+        let args: Vec<String> = passed.into_iter().zip(&params).map(|(arg, ty)| bare(self.expr_as(arg, ty))).collect();
+        format!("{name}({})", args.join(", "))
     }
 
     /// The index of the diagram `def` among the functions, added (its parameters checked)
@@ -110,13 +116,13 @@ impl<'db> Emitter<'db> {
         call: &ast::CallBehaviorExpr,
     ) -> Option<usize> {
         let body = Body::Diagram(def, diagram.clone());
-        if let Some(index) = self.functions.iter().position(|f| f.body == body) {
+        let args: Vec<ast::Expr> = call.args().collect();
+        let types = self.sema.body_types(diagram.syntax());
+        let Parameters { values: params, passed, bound, mut fine } =
+            self.parameters(diagram.params(), &types, &args, def);
+        if let Some(index) = self.functions.iter().position(|f| f.body == body && f.bound == bound) {
             return Some(index);
         }
-        let types = self.sema.body_types(diagram.syntax());
-        let file = std::mem::replace(&mut self.file, def.file);
-        let (params, mut fine) = self.value_params(diagram.params(), &types);
-        self.file = file;
         let returns = self.ty(&ast::Expr::CallBehaviorExpr(call.clone()));
         let at = call.syntax();
         if returns == Ty::Unknown {
@@ -136,56 +142,95 @@ impl<'db> Emitter<'db> {
         if !fine {
             return None;
         }
-        let name = ident(def.fqn.rsplit('.').next().unwrap_or_default());
-        self.functions.push(Function { body, name, params, returns });
+        let name = specialised(def.fqn.rsplit('.').next().unwrap_or_default(), &bound);
+        self.functions.push(Function { body, name, params, passed, bound, returns });
         Some(self.functions.len() - 1)
     }
 
-    /// The names and types of a function's parameters, and whether WGSL can take them all
-    /// (numbers and vectors, no `out` or `shared`; each other one is an error at its place).
-    fn value_params(
+    /// A function's parameters at a call with `args`: its value parameters (numbers and
+    /// vectors), and its buffer, image and `shared` parameters bound to the kernel parameters
+    /// the call passes; whether WGSL can take them all (each other one is an error at its place,
+    /// in the file of `declared`).
+    fn parameters(
         &mut self,
         params: impl Iterator<Item = ast::Param>,
         types: &BodyTypes,
-    ) -> (Vec<(String, Ty)>, bool) {
-        let mut out = Vec::new();
-        let mut fine = true;
-        for param in params {
+        args: &[ast::Expr],
+        declared: &Definition,
+    ) -> Parameters {
+        let mut out = Parameters { values: Vec::new(), passed: Vec::new(), bound: Vec::new(), fine: true };
+        for (index, param) in params.enumerate() {
             let Some(name) = param.name().map(|n| n.text()) else { continue };
             let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
-            let problem = if param.has_modifier(SyntaxKind::OUT_KW) || param.has_modifier(SyntaxKind::SHARED_KW) {
-                Some(format!("`{name}`: a generated function's parameters are values (no `out`, no `shared`)"))
+            if is_memory(&param, &ty) {
+                match args.get(index).and_then(|arg| self.passed_memory(arg)) {
+                    Some(global) => out.bound.push((name, global)),
+                    None => {
+                        let at = args.get(index).map_or_else(|| param.syntax().clone(), |a| a.syntax().clone());
+                        self.unsupported(
+                            &at,
+                            format!(
+                                "`{name}` takes a buffer, image or `shared` memory: pass a parameter of the kernel (or of \
+                                 the function calling) that is one, by its name — a generated function is specialised \
+                                 for the memory each call passes"
+                            ),
+                        );
+                        out.fine = false;
+                    }
+                }
+                out.passed.push(false);
+                continue;
+            }
+            let problem = if param.has_modifier(SyntaxKind::OUT_KW) {
+                Some(format!("`{name}`: a generated function's parameters are values or memory (no `out` yet)"))
             } else if value_type(&ty).is_none() || matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
-                Some(format!("`{name}` is a `{ty}`: generated functions take numbers and vectors only"))
+                Some(format!("`{name}` is a `{ty}`: generated functions take numbers, vectors, buffers and images"))
             } else {
                 None
             };
             if let Some(problem) = problem {
+                let file = std::mem::replace(&mut self.file, declared.file);
                 self.unsupported(param.syntax(), problem);
-                fine = false;
+                self.file = file;
+                out.fine = false;
             }
-            out.push((name, ty));
+            out.values.push((name, ty));
+            out.passed.push(true);
         }
-        (out, fine)
+        out
+    }
+
+    /// The kernel parameter `arg` passes when it names a buffer, image or `shared` parameter of
+    /// the kernel, or one the function being written is bound to.
+    fn passed_memory(&self, arg: &ast::Expr) -> Option<String> {
+        let ast::Expr::NameExpr(name) = arg else { return None };
+        let name = name.name_ref()?.text();
+        match self.binding(&name)? {
+            Binding::Storage { .. } | Binding::Image { .. } | Binding::Workgroup { .. } => {
+                Some(self.global_name(&name))
+            }
+            Binding::Uniform { .. } => None,
+        }
     }
 
     /// The index of `method` among the functions, added (its signature checked) when first
     /// called; `None` when its signature has no WGSL form (reported at the declaration).
-    fn function_index(&mut self, class: &'db Definition, method: &ast::Method) -> Option<usize> {
+    fn function_index(&mut self, class: &'db Definition, method: &ast::Method, args: &[ast::Expr]) -> Option<usize> {
         let body = Body::Method(class, method.clone());
-        if let Some(index) = self.functions.iter().position(|f| f.body == body) {
+        let types = self.sema.body_types(method.syntax());
+        let Parameters { values: params, passed, bound, mut fine } =
+            self.parameters(method.params(), &types, args, class);
+        if let Some(index) = self.functions.iter().position(|f| f.body == body && f.bound == bound) {
             return Some(index);
         }
         let name = method.name().map(|n| n.text()).unwrap_or_default();
-        let types = self.sema.body_types(method.syntax());
         let file = self.file;
         self.file = class.file;
-        let (params, mut fine) = self.value_params(method.params(), &types);
         let returns = self
             .sema
             .methods(class, &name)
             .into_iter()
-            .find(|(declared, signature)| declared.fqn == class.fqn && signature.params.len() == params.len())
+            .find(|(declared, signature)| declared.fqn == class.fqn && signature.params.len() == passed.len())
             .map(|(_, signature)| self.sema.ty(&signature.ret, &Scope::of(class)))
             .unwrap_or(Ty::Unknown);
         if returns != Ty::Void && value_type(&returns).is_none() {
@@ -198,7 +243,8 @@ impl<'db> Emitter<'db> {
             return None;
         }
         let class_name = class.fqn.rsplit('.').next().unwrap_or_default();
-        self.functions.push(Function { body, name: ident(&format!("{class_name}_{name}")), params, returns });
+        let name = specialised(&format!("{class_name}_{name}"), &bound);
+        self.functions.push(Function { body, name, params, passed, bound, returns });
         Some(self.functions.len() - 1)
     }
 
@@ -207,12 +253,21 @@ impl<'db> Emitter<'db> {
     pub fn functions_wgsl(&mut self) -> String {
         let kernel_types = std::mem::take(&mut self.types);
         let kernel_file = self.file;
+        let kernel_params = std::mem::take(&mut self.params);
         let mut index = 0;
         while index < self.functions.len() {
             let function = self.functions[index].clone();
             self.types = self.sema.body_types(function.body.syntax());
             self.file = function.body.definition().file;
             self.current_function = Some((index, function.returns.clone()));
+            // Its names are its own: the kernel's parameters are in scope only as the memory
+            // its specialisation is bound to.
+            self.params = function
+                .bound
+                .iter()
+                .filter_map(|(name, global)| Some((name.clone(), kernel_params.get(global)?.clone())))
+                .collect();
+            self.check_bound_use(&function, &kernel_params);
             let params: Vec<String> = function
                 .params
                 .iter()
@@ -253,8 +308,6 @@ impl<'db> Emitter<'db> {
                 }
                 Body::Diagram(def, diagram) => {
                     self.line(format!("// activity diagram {}", def.fqn));
-                    // Its names are its own: the kernel's parameters are not in scope.
-                    let kernel_params = std::mem::take(&mut self.params);
                     self.block(header, |e| {
                         crate::kernel::variables(e, diagram);
                         e.control_flow(diagram, &diagram.all_nodes().collect::<Vec<_>>());
@@ -263,17 +316,52 @@ impl<'db> Emitter<'db> {
                             e.line(format!("return {ty}();"));
                         }
                     });
-                    self.params = kernel_params;
                 }
             }
             self.line("");
             index += 1;
         }
+        self.params = kernel_params;
         self.current_function = None;
         self.types = kernel_types;
         self.file = kernel_file;
         self.report_recursion();
         self.take_output()
+    }
+
+    /// What a function does with the memory it is bound to, against how the kernel binds it: a
+    /// buffer it writes is written by the kernel; an image it reads or writes the kernel must
+    /// read or write the same way (a read image is a texture, a written one a storage texture).
+    fn check_bound_use(&mut self, function: &Function<'db>, kernel_params: &HashMap<String, KernelParam>) {
+        let body = function.body.syntax().clone();
+        for (name, global) in &function.bound {
+            match kernel_params.get(global).map(|p| &p.binding) {
+                Some(Binding::Storage { .. }) if crate::kernel::written(&body, name) => {
+                    self.written_memory.insert(global.clone());
+                }
+                Some(Binding::Image { read, written, .. }) => {
+                    let (reads, writes) = crate::kernel::image_use(&body, name);
+                    if (reads && !read) || (writes && !written) {
+                        let how = if writes { "writes" } else { "reads" };
+                        let at = function
+                            .body
+                            .params()
+                            .find(|p| p.name().is_some_and(|n| n.text() == *name))
+                            .map_or_else(|| body.clone(), |p| p.syntax().clone());
+                        self.unsupported(
+                            &at,
+                            format!(
+                                "`{}` {how} the image `{name}`, which the kernel binds as `{global}` and does not \
+                                 itself {}: an image is a texture or a storage texture for the whole kernel",
+                                function.name,
+                                how.trim_end_matches('s')
+                            ),
+                        );
+                    }
+                }
+                _ => {}
+            }
+        }
     }
 
     /// Every call that closes a cycle of calls between the functions.
@@ -349,4 +437,31 @@ fn declared_methods<'db>(
         }
     }
     out
+}
+
+/// What a function's parameters are at one call (`Emitter::parameters`).
+struct Parameters {
+    values: Vec<(String, Ty)>,
+    passed: Vec<bool>,
+    bound: Vec<(String, String)>,
+    fine: bool,
+}
+
+/// Whether a parameter is memory a kernel binds (a buffer, an image, `shared` memory) rather
+/// than a value.
+fn is_memory(param: &ast::Param, ty: &Ty) -> bool {
+    let global_ref = matches!(ty, Ty::Ref { .. }) && param.has_modifier(SyntaxKind::GLOBAL_KW);
+    let gpu = matches!(ty, Ty::Gpu(name) if name.starts_with("image") || name.starts_with("buffer"));
+    param.has_modifier(SyntaxKind::SHARED_KW) || global_ref || gpu || matches!(ty, Ty::Array(_))
+}
+
+/// The name of a function's specialisation for the kernel memory it is bound to: `base`
+/// itself when it takes none, else `base_data_scratch`.
+fn specialised(base: &str, bound: &[(String, String)]) -> String {
+    let mut name = base.to_string();
+    for (_, global) in bound {
+        name.push('_');
+        name.push_str(global);
+    }
+    ident(&name)
 }

@@ -53,7 +53,7 @@ impl Emitter<'_> {
             }
         };
         let written = matches!(self.binding(&name), Some(Binding::Image { written: true, .. }));
-        let texture = ident(&name);
+        let texture = ident(&self.global_name(&name));
         let read = match (element.as_ref(), sampler) {
             (Ty::Int, None) => {
                 // No sampler: the texel, clamped to the image (OpenCL's sampler-less read).
@@ -64,7 +64,7 @@ impl Emitter<'_> {
             (Ty::Int | Ty::Float, Some(sampler)) => {
                 let sampler = bare(self.expr_as(sampler, &Ty::Int));
                 let float = *element == Ty::Float;
-                *self.sampled_images.entry(name.clone()).or_default() |= float;
+                *self.sampled_images.entry(self.global_name(&name)).or_default() |= float;
                 let helper = if float { "sample" } else { "texel" };
                 format!("{GENERATED}{helper}_{texture}({at}, {sampler})")
             }
@@ -91,7 +91,7 @@ impl Emitter<'_> {
             (_, dims) => self.expr_as(coordinate, &Ty::Vector(Box::new(Ty::Int), dims)),
         };
         let value = self.expr_as(value, &image.texel_ty());
-        format!("textureStore({}, {coordinate}, {value})", ident(&name))
+        format!("textureStore({}, {coordinate}, {value})", ident(&self.global_name(&name)))
     }
 
     /// `get_image_width|height|depth(image)`.
@@ -99,7 +99,7 @@ impl Emitter<'_> {
         let Some((image, _)) = args.first().and_then(|a| self.image_param(a)) else {
             return self.unsupported(call.syntax(), "the image must be a parameter of the diagram");
         };
-        format!("i32(textureDimensions({}).{axis})", ident(&image))
+        format!("i32(textureDimensions({}).{axis})", ident(&self.global_name(&image)))
     }
 
     /// The helpers of the reads through a sampler, per image.

@@ -40,6 +40,13 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
     emitter.control_flow(&diagram, &nodes);
     let body = emitter.take_output();
     let functions = emitter.functions_wgsl();
+    // A buffer a function writes is written by the kernel that binds it.
+    let mut params = params;
+    for param in &mut params {
+        if let Binding::Storage { writable, .. } = &mut param.binding {
+            *writable |= emitter.written_memory.contains(&param.name);
+        }
+    }
     let functions = emitter.compare_exchange_helpers() + &emitter.sampling_helpers() + &functions;
 
     let entry_point = ident(def.fqn.rsplit('.').next().unwrap_or("main"));
@@ -53,7 +60,6 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
         vec![CodegenError { file: def.file, range, message }]
     };
     let module = validate::validate(&wgsl).map_err(generator_bug)?;
-    let mut params = params;
     let uniform = layout(&module, &mut params).map_err(generator_bug)?;
     Ok(Kernel { diagram: def.fqn.clone(), entry_point, wgsl, params, uses_barriers: emitter.uses_barriers, uniform })
 }
@@ -136,7 +142,7 @@ fn storage_element(ty: &Ty) -> Option<String> {
 }
 
 /// Whether the diagram reads and writes the image `name` (`read_image…`, `write_image…`).
-fn image_use(root: &SyntaxNode, name: &str) -> (bool, bool) {
+pub(crate) fn image_use(root: &SyntaxNode, name: &str) -> (bool, bool) {
     let (mut read, mut written) = (false, false);
     for call in root.descendants().filter_map(ast::CallExpr::cast) {
         let Some(ast::Expr::NameExpr(callee)) = call.callee() else { continue };
@@ -152,7 +158,7 @@ fn image_use(root: &SyntaxNode, name: &str) -> (bool, bool) {
 }
 
 /// Whether the diagram writes into the buffer `name` (`name[i] = …`, `name[i]++`).
-fn written(root: &SyntaxNode, name: &str) -> bool {
+pub(crate) fn written(root: &SyntaxNode, name: &str) -> bool {
     let target_is_name = |target: Option<ast::Expr>| {
         let mut target = target;
         while let Some(ast::Expr::IndexExpr(index)) = &target {

@@ -114,11 +114,15 @@ fn what_a_called_diagram_cannot_be_is_an_error_at_its_place() {
         recursion.iter().any(|(path, line, m)| path == "called.gudsl" && *line == 17 && m.contains("recursively")),
         "{recursion:?}"
     );
-    let pointer = errors("            out[id] = call behavior FromPointer(out);");
+    // A diagram that takes a buffer is specialised for the kernel's buffer it is passed …
+    let kernel = generation(&sources("            out[id] = call behavior FromPointer(out);"), "compute").unwrap();
+    assert!(kernel.wgsl.contains("fn FromPointer_out() -> i32"), "{}", kernel.wgsl);
+    // … and is passed nothing else.
+    let pointer = errors("            out[id] = call behavior FromPointer(id);");
     assert!(
-        pointer
-            .iter()
-            .any(|(path, line, m)| path == "called.gudsl" && *line == 42 && m.contains("numbers and vectors")),
+        pointer.iter().any(|(path, line, m)| path == "compute.gudsl"
+            && *line == 11
+            && m.contains("pass a parameter of the kernel")),
         "{pointer:?}"
     );
     let untyped = errors("            out[id] = call behavior Untyped(id);");

@@ -1,8 +1,9 @@
 //! Methods of a kernel's OpenCL class as WGSL functions: a device diagram calls methods of its
 //! owner (one calling another, one reading `get_global_id`, a float one), they run on the GPU
 //! and compute what the same code computes in Rust (one implemented by a diagram it ends with
-//! calling); what WGSL cannot take — recursion, a
-//! pointer parameter, a field, a method without a body — is an error at its place.
+//! calling), and methods that take the kernel's buffer write into it; what WGSL cannot take —
+//! recursion, a value where a buffer belongs, a field, a method without a body — is an error at
+//! its place.
 
 mod support;
 
@@ -29,6 +30,8 @@ const CLASS: &str = "ClassDiagram Maths
         public int scaled(int v) { return v * scale; }
         public int declared(int v);
         public int smaller(int a, int b) { call behavior Smaller(a, b); }
+        public void store(global ref int p, int at, int v) { p[at] = v; }
+        public void storeTwice(global ref int p, int at, int v) { store(p, at, v * 2); }
     }
 }
 ";
@@ -82,6 +85,75 @@ fn a_method_implemented_by_a_behavior_returns_the_behaviors_value() {
 }
 
 #[test]
+fn a_buffer_passed_to_methods_is_the_kernels_own_buffer_in_them() {
+    let body = "            store(out, id, id * 3);
+            if (id % 2 == 0) { storeTwice(out, id, id); }";
+    let kernel = generated_from(&sources(body), "compute");
+    // One specialisation for `out`, whether the kernel or `storeTwice` passes it; the kernel
+    // binds `out` writable because `store` writes it.
+    assert_eq!(kernel.wgsl.matches("fn Kernels_store_out(at: i32, v: i32)").count(), 1, "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("Kernels_store_out(at, v * 2i);"), "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("out[at] = v;"), "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("var<storage, read_write> out"), "{}", kernel.wgsl);
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    let expected: Vec<i32> = (0..count as i32).map(|id| if id % 2 == 0 { id * 2 } else { id * 3 }).collect();
+    assert_eq!(got, expected);
+}
+
+/// A kernel of two buffers and work-group memory that hands each to methods of its class.
+const TWO_BUFFERS: &str = "ActivityDiagram twoBuffers(global ref int a, global ref int b, shared int scratch)
+{
+    import OpenCL.GPU.*;
+
+    swimlane Device, owner Maths.Kernels
+    {
+        start S { => work; }
+        action work
+        {
+            var int id = get_global_id(0);
+            store(a, id, id);
+            store(b, id, id * 5);
+            a[id] = a[id] + groupFirst(scratch, get_local_id(0), id);
+            => f;
+        }
+        final f;
+    }
+}
+";
+
+#[test]
+fn each_buffer_a_method_is_passed_gets_its_specialisation_and_shared_memory_its_barrier() {
+    let class = CLASS.replace(
+        "        public int declared(int v);",
+        "        public int declared(int v);
+        public int groupFirst(shared ref int s, int lid, int v)
+        {
+            if (lid == 0) { s[0] = v; }
+            barrier(barrier_flags.CLK_LOCAL_MEM_FENCE);
+            return s[0];
+        }",
+    );
+    let files = vec![
+        ("maths.gudsl".to_string(), class),
+        ("smaller.gudsl".to_string(), SMALLER.to_string()),
+        ("two.gudsl".to_string(), TWO_BUFFERS.to_string()),
+    ];
+    // naga validated the module (generation does).
+    let kernel = generated_from(&files, "twoBuffers");
+    for expected in [
+        "fn Kernels_store_a(at: i32, v: i32)",
+        "fn Kernels_store_b(at: i32, v: i32)",
+        "fn Kernels_groupFirst_scratch(lid: i32, v: i32) -> i32",
+        "scratch[0i] = v;",
+        "workgroupBarrier();",
+    ] {
+        assert!(kernel.wgsl.contains(expected), "{expected} in\n{}", kernel.wgsl);
+    }
+    assert!(kernel.uses_barriers, "a barrier in a method synchronises the kernel's work-group");
+}
+
+#[test]
 fn what_wgsl_cannot_take_is_an_error_at_its_place() {
     let errors = |body: &str| generation(&sources(body), "compute").expect_err("not generated");
     let recursion = errors("            out[id] = again(id);");
@@ -89,8 +161,13 @@ fn what_wgsl_cannot_take_is_an_error_at_its_place() {
         recursion.iter().any(|(path, line, m)| path == "maths.gudsl" && *line == 15 && m.contains("recursively")),
         "{recursion:?}"
     );
-    let pointer = errors("            out[id] = byPointer(out);");
-    assert!(pointer.iter().any(|(_, line, m)| *line == 17 && m.contains("numbers and vectors only")), "{pointer:?}");
+    let pointer = errors("            out[id] = byPointer(id);");
+    assert!(
+        pointer.iter().any(|(path, line, m)| path == "compute.gudsl"
+            && *line == 11
+            && m.contains("pass a parameter of the kernel")),
+        "{pointer:?}"
+    );
     let field = errors("            out[id] = scaled(id);");
     assert!(field.iter().any(|(_, line, m)| *line == 19 && m.contains("fields of the class")), "{field:?}");
     let no_body = errors("            out[id] = declared(id);");
