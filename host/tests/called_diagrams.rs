@@ -1,7 +1,8 @@
 //! `call behavior` between device diagrams: a kernel calls diagrams that become WGSL functions
 //! (decisions and a loop over nodes, `final … return` values, one that returns nothing, one
-//! calling another), runs on the GPU and computes what the same steps compute in Rust; what
-//! WGSL cannot take — recursion, a pointer or `out` parameter — is an error at its place.
+//! calling another, one specialised for the kernel's buffer it takes), runs on the GPU and
+//! computes what the same steps compute in Rust; what WGSL cannot take — recursion, a value
+//! where a buffer belongs, an `out` parameter — is an error at its place.
 
 mod support;
 
