@@ -20,6 +20,7 @@ mod types;
 mod validate;
 
 use gudsl_model::{
+    ast::{self, AstNode},
     db::SourceFile,
     hir::{DefKind, Definition, Semantics, Ty},
     syntax::TextRange,
@@ -92,8 +93,9 @@ pub struct CodegenError {
     pub message: String,
 }
 
-/// The activity diagrams that are device code: owned (the diagram or one of its swimlanes) by a
-/// class that implements `OpenCL`. Library diagrams are not among them.
+/// The kernels: the activity diagrams that are device code — owned (the diagram or one of its
+/// swimlanes) by a class that implements `OpenCL` — and return no value (those that do are
+/// device functions, [`is_kernel`]). Library diagrams are not among them.
 pub fn device_diagrams<'db>(sema: &Semantics<'db>) -> Vec<&'db Definition> {
     let mut out: Vec<&'db Definition> = sema
         .def_map()
@@ -102,15 +104,30 @@ pub fn device_diagrams<'db>(sema: &Semantics<'db>) -> Vec<&'db Definition> {
         .flatten()
         .filter(|def| matches!(def.kind, DefKind::Activity(_)))
         .filter(|def| !gudsl_model::library::is_library(sema.db(), def.file))
-        .filter(|def| is_device_diagram(sema, def))
+        .filter(|def| is_kernel(sema, def))
         .collect();
     out.sort_by(|a, b| a.fqn.cmp(&b.fqn));
     out
 }
 
-/// Whether an activity diagram is device code (see [`device_diagrams`]).
+/// Whether an activity diagram is device code: owned by a class that implements `OpenCL`.
 pub fn is_device_diagram(sema: &Semantics<'_>, def: &Definition) -> bool {
     sema.activity_owners(def).into_iter().any(|owner| sema.is_gpu_class(owner))
+}
+
+/// Whether a device diagram is a kernel (see [`device_diagrams`]): one that returns a value
+/// (`final f return v`, as a `call behavior` of it from device code reads) is a device function,
+/// generated into the kernels that call it — an OpenCL kernel returns `void`.
+pub fn is_kernel(sema: &Semantics<'_>, def: &Definition) -> bool {
+    is_device_diagram(sema, def) && !returns_a_value(sema, def)
+}
+
+/// Whether a final node of the diagram's own flow returns a value.
+fn returns_a_value(sema: &Semantics<'_>, def: &Definition) -> bool {
+    let diagram = sema.declaration(def).and_then(|(node, _)| ast::ActivityDiagram::cast(node));
+    diagram.is_some_and(|d| {
+        d.all_nodes().any(|n| n.kind() == ast::NodeKind::Final && n.container().is_none() && n.return_value().is_some())
+    })
 }
 
 /// The device diagram that implements the method `method` of the OpenCL class `class` (what a

@@ -10,7 +10,7 @@ use gudsl_model::{
     hir::{DefKind, Definition, Diagnostic, DiagnosticCode, Fqn, Semantics, Severity},
 };
 
-use crate::{is_device_diagram, kernel, CodegenError, Kernel};
+use crate::{is_kernel, kernel, CodegenError, Kernel};
 
 thread_local! {
     /// How many kernels this thread has generated (tests count that a run generates each once;
@@ -41,7 +41,7 @@ pub(crate) fn device_diagram_named<'db>(sema: &Semantics<'db>, fqn: &str) -> Opt
     sema.lookup(fqn).iter().find(|def| {
         matches!(def.kind, DefKind::Activity(_))
             && !gudsl_model::library::is_library(sema.db(), def.file)
-            && is_device_diagram(sema, def)
+            && is_kernel(sema, def)
     })
 }
 
@@ -58,7 +58,7 @@ pub fn device_diagnostics(db: &dyn Db, workspace: Workspace, file: SourceFile) -
     let sema = Semantics::new(db, workspace);
     let mut out = Vec::new();
     let diagrams = sema.file_diagrams(file).filter(|def| matches!(def.kind, DefKind::Activity(_)));
-    for def in diagrams.filter(|def| is_device_diagram(&sema, def)) {
+    for def in diagrams.filter(|def| is_kernel(&sema, def)) {
         let Some(Err(errors)) = device_kernel(db, workspace, Fqn::new(db, def.fqn.clone())) else { continue };
         for error in errors {
             let (range, message) = if error.file == file {

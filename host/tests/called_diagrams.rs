@@ -1,6 +1,7 @@
 //! `call behavior` between device diagrams: a kernel calls diagrams that become WGSL functions
 //! (decisions and a loop over nodes, `final … return` values, one that returns nothing, one
-//! calling another, one specialised for the kernel's buffer it takes), runs on the GPU and
+//! calling another, one specialised for the kernel's buffer it takes, a device diagram that
+//! returns a value), runs on the GPU and
 //! computes what the same steps compute in Rust; what WGSL cannot take — recursion, a value
 //! where a buffer belongs, an `out` parameter — is an error at its place.
 
@@ -88,6 +89,38 @@ fn sources(body: &str) -> Vec<(String, String)> {
         ("called.gudsl".into(), CALLED.into()),
         ("compute.gudsl".into(), compute_kernel("Steps.Kernels", body)),
     ]
+}
+
+/// A device diagram (its swimlane owned by the OpenCL class) that returns a value.
+const DEVICE_FUNCTION: &str = "ActivityDiagram Smallest(int a, int b)
+{
+    swimlane Device, owner Steps.Kernels
+    {
+        start S { => pick; }
+        decision pick { [a < b] => first; [] => second; }
+        final first return a;
+        final second return b;
+    }
+}
+";
+
+#[test]
+fn a_device_diagram_that_returns_a_value_is_a_device_function_not_a_kernel() {
+    let mut files = sources("            out[id] = call behavior Smallest(id, 600);");
+    files.push(("smallest.gudsl".into(), DEVICE_FUNCTION.into()));
+    let kernel = generated_from(&files, "compute");
+    assert!(kernel.wgsl.contains("fn Smallest(a: i32, b: i32) -> i32"), "{}", kernel.wgsl);
+    support::with_diagram(&files, "Smallest", |sema, def| {
+        assert!(gudsl_codegen::is_device_diagram(sema, def), "device code");
+        assert!(!gudsl_codegen::is_kernel(sema, def), "no kernel");
+        assert!(!gudsl_codegen::device_diagrams(sema).iter().any(|d| d.fqn == "Smallest"), "no kernel to list");
+        // `check` (E0301) finds nothing to say: it is not generated as a kernel of its own.
+        let problems = gudsl_codegen::queries::device_diagnostics(sema.db(), sema.workspace(), def.file);
+        assert!(problems.is_empty(), "{problems:?}");
+    });
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    assert_eq!(got, (0..count as i32).map(|id| id.min(600)).collect::<Vec<_>>());
 }
 
 #[test]

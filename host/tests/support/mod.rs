@@ -82,7 +82,11 @@ pub fn main_sources(edit: impl Fn(String) -> String) -> Vec<(String, String)> {
 }
 
 /// The diagram `name` of these `(path, text)` files in one workspace with the bundled library.
-fn with_diagram<T>(sources: &[(String, String)], name: &str, f: impl FnOnce(&Semantics<'_>, &Definition) -> T) -> T {
+pub fn with_diagram<T>(
+    sources: &[(String, String)],
+    name: &str,
+    f: impl FnOnce(&Semantics<'_>, &Definition) -> T,
+) -> T {
     let db = RootDatabase::default();
     let mut files = library::library_files(&db);
     for (path, text) in sources {

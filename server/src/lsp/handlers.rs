@@ -34,7 +34,7 @@ pub fn code_lenses(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec<ls
                 ("▶ Run pipeline", RUN_PIPELINE)
             } else if !matches!(def.kind, DefKind::Activity(_)) {
                 continue;
-            } else if gudsl_codegen::is_device_diagram(sema, def) {
+            } else if gudsl_codegen::is_kernel(sema, def) {
                 ("Show generated WGSL", SHOW_WGSL)
             } else if is_runnable(sema, def) {
                 ("▶ Run", RUN)

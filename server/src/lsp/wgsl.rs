@@ -15,12 +15,12 @@ use super::{ext::SHOW_WGSL, host::Snapshot, to_proto};
 /// The scheme and folder of the generated documents' URIs.
 const PREFIX: &str = "gudsl:/wgsl/";
 
-/// The device diagrams declared in `file` (only its own activity diagrams are looked at: this
-/// runs for every file whose diagnostics are computed).
+/// The kernels declared in `file` (only its own activity diagrams are looked at: this runs for
+/// every file whose diagnostics are computed).
 fn device_diagrams_of<'db>(sema: &Semantics<'db>, file: FileId) -> Vec<&'db Definition> {
     sema.file_diagrams(file)
         .filter(|def| matches!(def.kind, DefKind::Activity(_)))
-        .filter(|def| gudsl_codegen::is_device_diagram(sema, def))
+        .filter(|def| gudsl_codegen::is_kernel(sema, def))
         .collect()
 }
 
