@@ -24,6 +24,9 @@ pub(crate) struct Function<'db> {
     /// Whether each declared parameter is a value parameter (passed), in declaration order; the
     /// others are `bound`.
     pub passed: Vec<bool>,
+    /// The `out` parameters among `params`: pointers to the caller's variable
+    /// (`ptr<function, T>`), read and written through.
+    pub out_params: Vec<String>,
     /// The buffer, image and `shared` parameters, each bound to the kernel parameter the calls
     /// of this specialisation pass (WGSL functions take no pointers to storage or work-group
     /// memory): (the parameter's name, the kernel parameter's).
@@ -286,8 +289,15 @@ impl<'db> Emitter<'db> {
                 Some(Ty::Bool) => format!("(params.{} != 0u)", ident(name)),
                 _ => format!("params.{}", ident(name)),
             },
+            _ if self.is_out_param(name) => format!("(*{})", ident(name)),
             _ => ident(&self.global_name(name)),
         }
+    }
+
+    /// Whether `name` is an `out` parameter of the function being written.
+    fn is_out_param(&self, name: &str) -> bool {
+        let function = self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index));
+        function.is_some_and(|f| f.out_params.iter().any(|p| p == name))
     }
 
     /// The kernel parameter a buffer, image or `shared` parameter stands for: itself in the

@@ -100,10 +100,18 @@ impl<'db> Emitter<'db> {
         let caller = self.current_function.as_ref().map(|(index, _)| *index);
         self.calls.push(Call { caller, callee, place: (self.file, at.text_range()) });
         let function = &self.functions[callee];
-        let params: Vec<Ty> = function.params.iter().map(|(_, ty)| ty.clone()).collect();
+        let params: Vec<(String, Ty)> = function.params.clone();
+        let out_params = function.out_params.clone();
         let passed: Vec<&ast::Expr> = args.iter().zip(&function.passed).filter(|(_, p)| **p).map(|(a, _)| a).collect();
         let name = function.name.clone();
-        let args: Vec<String> = passed.into_iter().zip(&params).map(|(arg, ty)| bare(self.expr_as(arg, ty))).collect();
+        let args: Vec<String> = passed
+            .into_iter()
+            .zip(&params)
+            .map(|(arg, (param, ty))| match out_params.contains(param) {
+                true => format!("&{}", self.expr(arg)),
+                false => bare(self.expr_as(arg, ty)),
+            })
+            .collect();
         format!("{name}({})", args.join(", "))
     }
 
@@ -118,7 +126,7 @@ impl<'db> Emitter<'db> {
         let body = Body::Diagram(def, diagram.clone());
         let args: Vec<ast::Expr> = call.args().collect();
         let types = self.sema.body_types(diagram.syntax());
-        let Parameters { values: params, passed, bound, mut fine } =
+        let Parameters { values: params, passed, bound, out_params, mut fine } =
             self.parameters(diagram.params(), &types, &args, def);
         if let Some(index) = self.functions.iter().position(|f| f.body == body && f.bound == bound) {
             return Some(index);
@@ -143,7 +151,7 @@ impl<'db> Emitter<'db> {
             return None;
         }
         let name = specialised(def.fqn.rsplit('.').next().unwrap_or_default(), &bound);
-        self.functions.push(Function { body, name, params, passed, bound, returns });
+        self.functions.push(Function { body, name, params, passed, bound, out_params, returns });
         Some(self.functions.len() - 1)
     }
 
@@ -158,7 +166,13 @@ impl<'db> Emitter<'db> {
         args: &[ast::Expr],
         declared: &Definition,
     ) -> Parameters {
-        let mut out = Parameters { values: Vec::new(), passed: Vec::new(), bound: Vec::new(), fine: true };
+        let mut out = Parameters {
+            values: Vec::new(),
+            passed: Vec::new(),
+            bound: Vec::new(),
+            out_params: Vec::new(),
+            fine: true,
+        };
         for (index, param) in params.enumerate() {
             let Some(name) = param.name().map(|n| n.text()) else { continue };
             let ty = types.locals.get(&name).cloned().unwrap_or(Ty::Unknown);
@@ -181,9 +195,17 @@ impl<'db> Emitter<'db> {
                 out.passed.push(false);
                 continue;
             }
-            let problem = if param.has_modifier(SyntaxKind::OUT_KW) {
-                Some(format!("`{name}`: a generated function's parameters are values or memory (no `out` yet)"))
-            } else if value_type(&ty).is_none() || matches!(ty, Ty::Ref { .. } | Ty::Array(_)) {
+            let is_out = param.has_modifier(SyntaxKind::OUT_KW);
+            if is_out && !args.get(index).is_some_and(|arg| self.is_variable(arg)) {
+                let at = args.get(index).map_or_else(|| param.syntax().clone(), |a| a.syntax().clone());
+                self.unsupported(&at, format!("`{name}` is `out`: pass a variable by its name, which the call sets"));
+                out.fine = false;
+            }
+            let value = match &ty {
+                Ty::Ref { inner, .. } if is_out => inner.as_ref().clone(),
+                _ => ty.clone(),
+            };
+            let problem = if value_type(&value).is_none() || matches!(value, Ty::Ref { .. } | Ty::Array(_)) {
                 Some(format!("`{name}` is a `{ty}`: generated functions take numbers, vectors, buffers and images"))
             } else {
                 None
@@ -194,10 +216,28 @@ impl<'db> Emitter<'db> {
                 self.file = file;
                 out.fine = false;
             }
-            out.values.push((name, ty));
+            if is_out {
+                out.out_params.push(name.clone());
+            }
+            out.values.push((name, value));
             out.passed.push(true);
         }
         out
+    }
+
+    /// Whether `arg` names a variable of the body being written (a local, a diagram variable or
+    /// an `out` parameter of its own): what an `out` parameter points to.
+    fn is_variable(&self, arg: &ast::Expr) -> bool {
+        let ast::Expr::NameExpr(name) = arg else { return false };
+        let Some(name) = name.name_ref().map(|n| n.text()) else { return false };
+        self.binding(&name).is_none() && self.types.locals.contains_key(&name) && !self.is_value_param(&name)
+    }
+
+    /// Whether `name` is a value parameter (not `out`) of the function being written: WGSL
+    /// function parameters are not variables.
+    fn is_value_param(&self, name: &str) -> bool {
+        let function = self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index));
+        function.is_some_and(|f| f.params.iter().any(|(p, _)| p == name) && !f.out_params.iter().any(|p| p == name))
     }
 
     /// The kernel parameter `arg` passes when it names a buffer, image or `shared` parameter of
@@ -218,7 +258,7 @@ impl<'db> Emitter<'db> {
     fn function_index(&mut self, class: &'db Definition, method: &ast::Method, args: &[ast::Expr]) -> Option<usize> {
         let body = Body::Method(class, method.clone());
         let types = self.sema.body_types(method.syntax());
-        let Parameters { values: params, passed, bound, mut fine } =
+        let Parameters { values: params, passed, bound, out_params, mut fine } =
             self.parameters(method.params(), &types, args, class);
         if let Some(index) = self.functions.iter().position(|f| f.body == body && f.bound == bound) {
             return Some(index);
@@ -244,7 +284,7 @@ impl<'db> Emitter<'db> {
         }
         let class_name = class.fqn.rsplit('.').next().unwrap_or_default();
         let name = specialised(&format!("{class_name}_{name}"), &bound);
-        self.functions.push(Function { body, name, params, passed, bound, returns });
+        self.functions.push(Function { body, name, params, passed, bound, out_params, returns });
         Some(self.functions.len() - 1)
     }
 
@@ -271,7 +311,13 @@ impl<'db> Emitter<'db> {
             let params: Vec<String> = function
                 .params
                 .iter()
-                .map(|(name, ty)| format!("{}: {}", ident(name), value_type(ty).unwrap_or_default()))
+                .map(|(name, ty)| {
+                    let ty = value_type(ty).unwrap_or_default();
+                    match function.out_params.contains(name) {
+                        true => format!("{}: ptr<function, {ty}>", ident(name)),
+                        false => format!("{}: {ty}", ident(name)),
+                    }
+                })
                 .collect();
             let returns = value_type(&function.returns).map(|ty| format!(" -> {ty}")).unwrap_or_default();
             let header = format!("fn {}({}){returns} {{", function.name, params.join(", "));
@@ -444,6 +490,7 @@ struct Parameters {
     values: Vec<(String, Ty)>,
     passed: Vec<bool>,
     bound: Vec<(String, String)>,
+    out_params: Vec<String>,
     fine: bool,
 }
 

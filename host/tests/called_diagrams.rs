@@ -2,8 +2,9 @@
 //! (decisions and a loop over nodes, `final … return` values, one that returns nothing, one
 //! calling another, one specialised for the kernel's buffer it takes, a device diagram that
 //! returns a value), runs on the GPU and
-//! computes what the same steps compute in Rust; what WGSL cannot take — recursion, a value
-//! where a buffer belongs, an `out` parameter — is an error at its place.
+//! computes what the same steps compute in Rust (an `out` parameter sets the caller's variable);
+//! what WGSL cannot take — recursion, a value where a buffer or a variable belongs — is an error
+//! at its place.
 
 mod support;
 
@@ -64,7 +65,8 @@ ActivityDiagram Written(int n, out int m)
 {
     swimlane L
     {
-        start S { => f; }
+        start S { => set; }
+        action set { m = n * 2; => f; }
         final f return n;
     }
 }
@@ -141,6 +143,20 @@ fn called_diagrams_run_as_functions_and_compute_what_rust_does() {
 }
 
 #[test]
+fn an_out_parameter_points_to_the_callers_variable() {
+    let body = "            var int m = 0;
+            var int r = call behavior Written(id, m);
+            out[id] = r + m;";
+    let kernel = generated_from(&sources(body), "compute");
+    assert!(kernel.wgsl.contains("fn Written(n: i32, m: ptr<function, i32>) -> i32"), "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("(*m) = n * 2i;"), "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("Written(id, &m)"), "{}", kernel.wgsl);
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    assert_eq!(got, (0..count as i32).map(|id| 3 * id).collect::<Vec<_>>());
+}
+
+#[test]
 fn what_a_called_diagram_cannot_be_is_an_error_at_its_place() {
     let errors = |body: &str| generation(&sources(body), "compute").expect_err("not generated");
     let recursion = errors("            out[id] = call behavior Forever(id);");
@@ -164,9 +180,11 @@ fn what_a_called_diagram_cannot_be_is_an_error_at_its_place() {
         untyped.iter().any(|(path, line, m)| path == "compute.gudsl" && *line == 11 && m.contains("no known type")),
         "{untyped:?}"
     );
-    let written = errors("            var int m = 0;\n            out[id] = call behavior Written(id, m);");
+    let not_a_variable = errors("            out[id] = call behavior Written(id, id + 1);");
     assert!(
-        written.iter().any(|(path, line, m)| path == "called.gudsl" && *line == 51 && m.contains("no `out`")),
-        "{written:?}"
+        not_a_variable
+            .iter()
+            .any(|(path, line, m)| path == "compute.gudsl" && *line == 11 && m.contains("pass a variable")),
+        "{not_a_variable:?}"
     );
 }
