@@ -117,9 +117,11 @@ impl Emitter<'_> {
         }
         use SyntaxKind::*;
         let (lt, rt) = (self.ty(&lhs), self.ty(&rhs));
-        match op.kind() {
+        let parent = op.kind();
+        match parent {
             AMP2 | PIPE2 => {
-                let (l, r) = (self.expr_as(&lhs, &Ty::Bool), self.expr_as(&rhs, &Ty::Bool));
+                let l = self.operand(&lhs, &Ty::Bool, parent, true);
+                let r = self.operand(&rhs, &Ty::Bool, parent, false);
                 format!("({l} {} {r})", op.text())
             }
             SHL | SHR => {
@@ -136,9 +138,35 @@ impl Emitter<'_> {
                     (_, Ty::Unknown) => lt.clone(),
                     _ => common(&lt, &rt),
                 };
-                let (l, r) = (self.expr_as(&lhs, &operands), self.expr_as(&rhs, &operands));
+                let l = self.operand(&lhs, &operands, parent, true);
+                let r = self.operand(&rhs, &operands, parent, false);
                 format!("({l} {} {r})", op.text())
             }
+        }
+    }
+
+    /// An operand of the operator `parent` (on its `left` or right) as `ty`: without the
+    /// parentheses of an operation or a negation inside it where WGSL reads the same without
+    /// them (`a * b + c`, `x - -y`); with them where its grammar needs them (`(a + b) << 2u`,
+    /// `(a & b) == c`: WGSL neither mixes bitwise with other operators nor takes a shift's
+    /// operand unparenthesized).
+    fn operand(&mut self, expr: &ast::Expr, ty: &Ty, parent: SyntaxKind, left: bool) -> String {
+        let converted = self.ty(expr).dereferenced() != ty.dereferenced();
+        let code = self.expr_as(expr, ty);
+        let redundant = match innermost(expr) {
+            // A negation is a unary expression: any operator's operand.
+            ast::Expr::PrefixExpr(p) => {
+                p.op().is_some_and(|o| matches!(o.kind(), SyntaxKind::MINUS | SyntaxKind::TILDE))
+            }
+            ast::Expr::BinExpr(inner) if !inner.is_assignment() => {
+                inner.op().and_then(|o| tier(o.kind())).is_some_and(|inner| same_meaning(parent, inner, left))
+            }
+            _ => false,
+        };
+        if redundant && !converted {
+            bare(code)
+        } else {
+            code
         }
     }
 
@@ -247,5 +275,58 @@ mod tests {
         assert_eq!(swizzle("rgb", 4).as_deref(), Some("xyz"));
         assert_eq!(swizzle("z", 2), None);
         assert_eq!(swizzle("length", 4), None);
+    }
+}
+
+/// WGSL's operator tiers (its grammar, not C's precedence table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Tier {
+    Multiplicative,
+    Additive,
+    Shift,
+    Relational,
+    /// `&`, `|` or `^`: chains of one of them only.
+    Bitwise(SyntaxKind),
+    And,
+    Or,
+}
+
+fn tier(op: SyntaxKind) -> Option<Tier> {
+    use SyntaxKind::*;
+    Some(match op {
+        STAR | SLASH | PERCENT => Tier::Multiplicative,
+        PLUS | MINUS => Tier::Additive,
+        SHL | SHR => Tier::Shift,
+        L_ANGLE | R_ANGLE | LTEQ | GTEQ | EQ2 | NEQ => Tier::Relational,
+        AMP | PIPE | CARET => Tier::Bitwise(op),
+        AMP2 => Tier::And,
+        PIPE2 => Tier::Or,
+        _ => return None,
+    })
+}
+
+/// Whether an operation of tier `inner`, written without parentheses as the `left` (or right)
+/// operand of `parent`, is read by WGSL as that operand: its grammar's operand rules
+/// (multiplicative and additive chains associate to the left; a relational operator takes
+/// additive and shift operands; `&&` and `||` take relational ones; shift and bitwise operators
+/// take unary ones only).
+fn same_meaning(parent: SyntaxKind, inner: Tier, left: bool) -> bool {
+    use Tier::*;
+    match tier(parent) {
+        Some(Multiplicative) => left && inner == Multiplicative,
+        Some(Additive) => inner == Multiplicative || (left && inner == Additive),
+        Some(Relational) => matches!(inner, Multiplicative | Additive | Shift),
+        Some(Bitwise(op)) => left && inner == Bitwise(op),
+        Some(And) => matches!(inner, Multiplicative | Additive | Shift | Relational) || (left && inner == And),
+        Some(Or) => matches!(inner, Multiplicative | Additive | Shift | Relational) || (left && inner == Or),
+        Some(Shift) | None => false,
+    }
+}
+
+/// The expression inside any parentheses written around it.
+fn innermost(expr: &ast::Expr) -> ast::Expr {
+    match expr {
+        ast::Expr::ParenExpr(paren) => paren.expr().map_or_else(|| expr.clone(), |inner| innermost(&inner)),
+        other => other.clone(),
     }
 }
