@@ -83,8 +83,13 @@ impl Emitter<'_> {
     pub fn expr_as(&mut self, expr: &ast::Expr, ty: &Ty) -> String {
         let from = self.ty(expr);
         if let ast::Expr::Literal(literal) = expr {
-            if let (Some(ast::LiteralValue::Int { value, .. }), Ty::Float) = (literal.value(), ty.dereferenced()) {
-                return format!("{value}.0");
+            match (literal.value(), ty.dereferenced()) {
+                (Some(ast::LiteralValue::Int { value, .. }), Ty::Float) => return format!("{value}.0"),
+                // A literal is written as the type wanted (`x << 2u`, not `x << u32(2i)`).
+                (Some(ast::LiteralValue::Int { value, .. }), Ty::UInt) if value <= u64::from(u32::MAX) => {
+                    return format!("{value}u")
+                }
+                _ => {}
             }
         }
         let code = self.expr(expr);

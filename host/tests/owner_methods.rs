@@ -178,3 +178,26 @@ fn what_wgsl_cannot_take_is_an_error_at_its_place() {
     let unknown = errors("            out[id] = twice(id, 2);");
     assert!(unknown.iter().any(|(_, _, m)| m.contains("with 2 parameter(s)")), "{unknown:?}");
 }
+
+/// Parentheses go where WGSL's operator tiers need them, and only there; the values are C's.
+#[test]
+fn operators_keep_their_meaning_with_the_parentheses_wgsl_needs() {
+    let body = "            out[id] = (id - (id / 3 - 7)) * 2 + ((id + 1) << 2) - (id & 12) + id % 7 * (id / 5) - -id + (id ^ 3 | 8);";
+    let kernel = generated_from(&sources(body), "compute");
+    for expected in [
+        "(id - (id / 3i - 7i)) * 2i",
+        "(id + 1i) << 2u",
+        "- (id & 12i)",
+        "id % 7i * (id / 5i)",
+        "- -id",
+        "(id ^ 3i) | 8i",
+    ] {
+        assert!(kernel.wgsl.contains(expected), "{expected} in\n{}", kernel.wgsl);
+    }
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    let expected: Vec<i32> = (0..count as i32)
+        .map(|id| (id - (id / 3 - 7)) * 2 + ((id + 1) << 2) - (id & 12) + id % 7 * (id / 5) - -id + ((id ^ 3) | 8))
+        .collect();
+    assert_eq!(got, expected);
+}
