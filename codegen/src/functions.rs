@@ -108,6 +108,8 @@ impl<'db> Emitter<'db> {
             .into_iter()
             .zip(&params)
             .map(|(arg, (param, ty))| match out_params.contains(param) {
+                // The caller's own `out` parameter is already the pointer.
+                true if self.out_param_named(arg).is_some() => self.out_param_named(arg).unwrap_or_default(),
                 true => format!("&{}", self.expr(arg)),
                 false => bare(self.expr_as(arg, ty)),
             })
@@ -231,6 +233,14 @@ impl<'db> Emitter<'db> {
         let ast::Expr::NameExpr(name) = arg else { return false };
         let Some(name) = name.name_ref().map(|n| n.text()) else { return false };
         self.binding(&name).is_none() && self.types.locals.contains_key(&name) && !self.is_value_param(&name)
+    }
+
+    /// `arg` as the pointer it is when it names an `out` parameter of the function being written.
+    fn out_param_named(&self, arg: &ast::Expr) -> Option<String> {
+        let ast::Expr::NameExpr(name) = arg else { return None };
+        let name = name.name_ref()?.text();
+        let function = self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index))?;
+        function.out_params.contains(&name).then(|| ident(&name))
     }
 
     /// Whether `name` is a value parameter (not `out`) of the function being written: WGSL

@@ -32,6 +32,10 @@ const CLASS: &str = "ClassDiagram Maths
         public int smaller(int a, int b) { call behavior Smaller(a, b); }
         public void store(global ref int p, int at, int v) { p[at] = v; }
         public void storeTwice(global ref int p, int at, int v) { store(p, at, v * 2); }
+        public int firstAtLeast(global ref int p, int n, int bound, out int steps)
+        {
+            call behavior FirstAtLeast(p, n, bound, steps);
+        }
     }
 }
 ";
@@ -99,6 +103,40 @@ fn a_buffer_passed_to_methods_is_the_kernels_own_buffer_in_them() {
     let Some(got) = run_compute_kernel(&kernel, count) else { return };
     let expected: Vec<i32> = (0..count as i32).map(|id| if id % 2 == 0 { id * 2 } else { id * 3 }).collect();
     assert_eq!(got, expected);
+}
+
+/// The device diagram that implements `firstAtLeast`: a device function (it returns a value)
+/// that scans the buffer it is passed and counts its steps into an `out` parameter.
+const FIRST_AT_LEAST: &str = "ActivityDiagram FirstAtLeast(global ref int p, int n, int bound, out int steps)
+{
+    var int i = 0;
+    swimlane Device, owner Maths.Kernels
+    {
+        start S { steps = 0; => test; }
+        decision test { [i >= n || p[i] >= bound] => done; [] => next; }
+        action next { i++; steps = steps + 1; => test; }
+        final done return i;
+    }
+}
+";
+
+#[test]
+fn a_method_implemented_by_a_device_diagram_hands_it_its_buffer_and_out_parameter() {
+    let body = "            var int steps = 0;
+            var int at = firstAtLeast(out, 8, id, steps);
+            out[id] = at + steps;";
+    let mut files = sources(body);
+    files.push(("first.gudsl".into(), FIRST_AT_LEAST.into()));
+    let kernel = generated_from(&files, "compute");
+    for expected in [
+        "fn Kernels_firstAtLeast_out(n: i32, bound: i32, steps: ptr<function, i32>) -> i32",
+        "return FirstAtLeast_out(n, bound, steps);",
+        "fn FirstAtLeast_out(n: i32, bound: i32, steps: ptr<function, i32>) -> i32",
+        "(*steps) = 0i;",
+        "Kernels_firstAtLeast_out(8i, id, &steps)",
+    ] {
+        assert!(kernel.wgsl.contains(expected), "{expected} in\n{}", kernel.wgsl);
+    }
 }
 
 /// A kernel of two buffers and work-group memory that hands each to methods of its class.
