@@ -7,8 +7,8 @@
 use std::collections::HashSet;
 
 use gudsl_model::{
-    ast::{self, AstNode},
-    hir::Ty,
+    ast::{self, AstNode, HasName},
+    hir::{Definition, Scope, Semantics, Ty},
     syntax::{SyntaxKind, SyntaxNode},
 };
 
@@ -26,6 +26,77 @@ pub(crate) fn atomic_targets(root: &SyntaxNode) -> HashSet<String> {
         .filter_map(|call| call.args().next())
         .filter_map(|pointer| pointer_parts(&pointer).map(|(name, _)| name))
         .collect()
+}
+
+/// The kernel memory parameters among `names` whose elements an atomic function works on: under
+/// `root`, or in a method of `owner` or a diagram that a call under `root` hands them to, by
+/// name, however deep (their elements are then `atomic<…>` in the whole module).
+pub(crate) fn atomic_memory(
+    sema: &Semantics<'_>,
+    owner: Option<&Definition>,
+    root: &SyntaxNode,
+    names: &HashSet<String>,
+) -> HashSet<String> {
+    through_calls(sema, owner, root, names, &mut HashSet::new())
+}
+
+fn through_calls(
+    sema: &Semantics<'_>,
+    owner: Option<&Definition>,
+    root: &SyntaxNode,
+    names: &HashSet<String>,
+    seen: &mut HashSet<(SyntaxNode, String)>,
+) -> HashSet<String> {
+    let mut out: HashSet<String> = atomic_targets(root).into_iter().filter(|n| names.contains(n)).collect();
+    for (callee, params, args) in calls_under(sema, owner, root) {
+        for (param, arg) in params.iter().zip(&args) {
+            let Some(arg) = arg.as_ref().filter(|a| names.contains(*a) && !out.contains(*a)) else { continue };
+            if !seen.insert((callee.clone(), param.clone())) {
+                continue;
+            }
+            let param_only = HashSet::from([param.clone()]);
+            if through_calls(sema, owner, &callee, &param_only, seen).contains(param) {
+                out.insert(arg.clone());
+            }
+        }
+    }
+    out
+}
+
+/// The calls under `root` of methods of `owner` and of diagrams: each callee's declaration, its
+/// parameters' names, and the name each argument is (if it is one).
+fn calls_under(
+    sema: &Semantics<'_>,
+    owner: Option<&Definition>,
+    root: &SyntaxNode,
+) -> Vec<(SyntaxNode, Vec<String>, Vec<Option<String>>)> {
+    let param_names = |params: &mut dyn Iterator<Item = ast::Param>| -> Vec<String> {
+        params.map(|p| p.name().map(|n| n.text()).unwrap_or_default()).collect()
+    };
+    let arg_names = |args: &mut dyn Iterator<Item = ast::Expr>| -> Vec<Option<String>> {
+        args.map(|a| match a {
+            ast::Expr::NameExpr(name) => name.name_ref().map(|n| n.text()),
+            _ => None,
+        })
+        .collect()
+    };
+    let mut out = Vec::new();
+    for node in root.descendants() {
+        if let Some(call) = ast::CallExpr::cast(node.clone()) {
+            let (Some(owner), Some(name)) = (owner, callee_name(&call)) else { continue };
+            if let [(_, method)] = &crate::functions::declared_methods(sema, owner, &name, call.args().count())[..] {
+                out.push((method.syntax().clone(), param_names(&mut method.params()), arg_names(&mut call.args())));
+            }
+        } else if let Some(call) = ast::CallBehaviorExpr::cast(node) {
+            let Some(path) = call.behavior() else { continue };
+            let def = sema.resolve(&Scope::at(call.syntax()), &path.text());
+            let diagram = def.and_then(|d| sema.declaration(d)).and_then(|(node, _)| ast::ActivityDiagram::cast(node));
+            if let Some(diagram) = diagram {
+                out.push((diagram.syntax().clone(), param_names(&mut diagram.params()), arg_names(&mut call.args())));
+            }
+        }
+    }
+    out
 }
 
 fn callee_name(call: &ast::CallExpr) -> Option<String> {
@@ -64,13 +135,13 @@ impl Emitter<'_> {
         let Some(pointer) = args.first() else {
             return self.unsupported(call.syntax(), "an atomic function takes a pointer");
         };
-        // A buffer a function is bound to is atomic only if the kernel works on it atomically
-        // itself: the kernel declares its buffers.
+        // A buffer a function is bound to is atomic only if `atomic_memory` followed it there:
+        // the kernel declares its buffers.
         let bound = pointer_parts(pointer).map(|(name, _)| name).filter(|name| self.global_name(name) != *name);
         if let Some(name) = bound.filter(|name| !self.atomics.contains(&self.global_name(name))) {
             let message = format!(
-                "`{name}` is the kernel's `{}`, which the kernel itself uses with no atomic function: generated \
-                 helpers work atomically only on buffers the kernel does (use one there too)",
+                "`{name}` is the kernel's `{}`, but the generator could not follow it here from the kernel \
+                 (a call of an overloaded method?): pass it by name through calls of one method each",
                 self.global_name(&name)
             );
             return self.unsupported(pointer.syntax(), message);

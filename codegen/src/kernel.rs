@@ -25,13 +25,15 @@ pub(crate) fn generate(sema: &Semantics<'_>, def: &Definition) -> Result<Kernel,
     };
     let diagram_types = sema.body_types(diagram.syntax());
     let mut errors = Vec::new();
-    let atomics = crate::atomics::atomic_targets(diagram.syntax());
+    let owner = sema.activity_owners(def).into_iter().find(|owner| sema.is_gpu_class(owner));
+    let memory: HashSet<String> = diagram.params().filter_map(|p| p.name().map(|n| n.text())).collect();
+    let atomics = crate::atomics::atomic_memory(sema, owner, diagram.syntax(), &memory);
     let params = parameters(def, &diagram, &diagram_types, &atomics, &mut errors);
     let by_name: HashMap<String, KernelParam> = params.iter().map(|p| (p.name.clone(), p.clone())).collect();
     let mut emitter = Emitter::new(*sema, def.file, by_name);
     emitter.errors = errors;
     emitter.atomics = atomics.clone();
-    emitter.owner = sema.activity_owners(def).into_iter().find(|owner| sema.is_gpu_class(owner));
+    emitter.owner = owner;
 
     // The entry point's body first: it tells whether the kernel synchronises.
     let nodes: Vec<ast::ActivityNode> = diagram.all_nodes().collect();

@@ -32,6 +32,8 @@ const CLASS: &str = "ClassDiagram Maths
         public int smaller(int a, int b) { call behavior Smaller(a, b); }
         public void store(global ref int p, int at, int v) { p[at] = v; }
         public void storeTwice(global ref int p, int at, int v) { store(p, at, v * 2); }
+        public int bump(global ref int counts, int bin) { return atomic_add(counts + bin, 1); }
+        public void bumpVia(global ref int counts, int bin) { bump(counts, bin); }
         public int firstAtLeast(global ref int p, int n, int bound, out int steps)
         {
             call behavior FirstAtLeast(p, n, bound, steps);
@@ -137,6 +139,17 @@ fn a_method_implemented_by_a_device_diagram_hands_it_its_buffer_and_out_paramete
     ] {
         assert!(kernel.wgsl.contains(expected), "{expected} in\n{}", kernel.wgsl);
     }
+}
+
+#[test]
+fn an_atomic_function_in_a_method_makes_the_kernels_buffer_atomic() {
+    let kernel = generated_from(&sources("            bumpVia(out, id % 10);"), "compute");
+    assert!(kernel.wgsl.contains("var<storage, read_write> out: array<atomic<i32>>"), "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("atomicAdd(&out[bin], 1i)"), "{}", kernel.wgsl);
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    let expected: Vec<i32> = (0..count).map(|i| if i < 10 { 100 } else { 0 }).collect();
+    assert_eq!(got, expected);
 }
 
 /// A kernel of two buffers and work-group memory that hands each to methods of its class.
