@@ -84,7 +84,7 @@ fn calls_under(
     for node in root.descendants() {
         if let Some(call) = ast::CallExpr::cast(node.clone()) {
             let (Some(owner), Some(name)) = (owner, callee_name(&call)) else { continue };
-            if let [(_, method)] = &crate::functions::declared_methods(sema, owner, &name, call.args().count())[..] {
+            if let [(_, method)] = &sema.method_declarations(owner, &name, call.args().count())[..] {
                 out.push((method.syntax().clone(), param_names(&mut method.params()), arg_names(&mut call.args())));
             }
         } else if let Some(call) = ast::CallBehaviorExpr::cast(node) {

@@ -9,7 +9,7 @@
 
 use gudsl_model::{
     ast::{self, AstNode, HasModifiers, HasName},
-    hir::{infer::implementing_behavior, BodyTypes, DefKind, Definition, Scope, Semantics, Ty},
+    hir::{infer::implementing_behavior, BodyTypes, DefKind, Definition, Scope, Ty},
     syntax::{SyntaxKind, SyntaxNode},
 };
 
@@ -40,7 +40,7 @@ impl<'db> Emitter<'db> {
                 format!("`{name}` is no OpenCL built-in, and the diagram has no OpenCL owner whose method it could be"),
             );
         };
-        let found = declared_methods(&self.sema, owner, name, args.len());
+        let found = self.sema.method_declarations(owner, name, args.len());
         let (class, method) = match &found[..] {
             [(class, method)] => (*class, method.clone()),
             [] => {
@@ -463,36 +463,6 @@ impl<'db> Emitter<'db> {
             )
         })
     }
-}
-
-/// The methods `name` of `owner` and its bases with `arity` parameters, with the class that
-/// declares each.
-pub(crate) fn declared_methods<'db>(
-    sema: &Semantics<'db>,
-    owner: &'db Definition,
-    name: &str,
-    arity: usize,
-) -> Vec<(&'db Definition, ast::Method)> {
-    let mut classes: Vec<&'db Definition> = Vec::new();
-    for (class, signature) in sema.methods(owner, name) {
-        if signature.params.len() == arity && !classes.iter().any(|c| c.fqn == class.fqn) {
-            classes.push(class);
-        }
-    }
-    let mut out = Vec::new();
-    for class in classes {
-        let Some(decl) = sema.declaration(class).and_then(|(node, _)| ast::TypeDecl::cast(node)) else {
-            continue;
-        };
-        for member in decl.members() {
-            if let ast::Member::Method(method) = member {
-                if method.name().is_some_and(|n| n.text() == name) && method.params().count() == arity {
-                    out.push((class, method));
-                }
-            }
-        }
-    }
-    out
 }
 
 /// What a function's parameters are at one call (`Emitter::parameters`).

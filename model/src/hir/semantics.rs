@@ -282,6 +282,34 @@ impl<'db> Semantics<'db> {
         out
     }
 
+    /// The declarations of the methods `name` with `arity` parameters of `def` and its bases,
+    /// with the type that declares each (what a call `name(…)` in a body of `def` may reach).
+    pub fn method_declarations(
+        &self,
+        def: &'db Definition,
+        name: &str,
+        arity: usize,
+    ) -> Vec<(&'db Definition, ast::Method)> {
+        let mut classes: Vec<&'db Definition> = Vec::new();
+        for (class, signature) in self.methods(def, name) {
+            if signature.params.len() == arity && !classes.iter().any(|c| c.fqn == class.fqn) {
+                classes.push(class);
+            }
+        }
+        let mut out = Vec::new();
+        for class in classes {
+            let Some(decl) = self.declaration(class).and_then(|(node, _)| ast::TypeDecl::cast(node)) else { continue };
+            for member in decl.members() {
+                if let ast::Member::Method(method) = member {
+                    if method.name().is_some_and(|n| n.text() == name) && method.params().count() == arity {
+                        out.push((class, method));
+                    }
+                }
+            }
+        }
+        out
+    }
+
     fn collect_methods(
         &self,
         def: &'db Definition,
