@@ -295,9 +295,13 @@ impl<'db> Emitter<'db> {
     }
 
     /// Whether `name` is an `out` parameter of the function being written.
-    fn is_out_param(&self, name: &str) -> bool {
-        let function = self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index));
-        function.is_some_and(|f| f.out_params.iter().any(|p| p == name))
+    pub fn is_out_param(&self, name: &str) -> bool {
+        self.function_written().is_some_and(|f| f.out_params.iter().any(|p| p == name))
+    }
+
+    /// The function whose body is being written; `None` in the kernel's.
+    pub fn function_written(&self) -> Option<&Function<'db>> {
+        self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index))
     }
 
     /// The kernel parameter a buffer, image or `shared` parameter stands for: itself in the

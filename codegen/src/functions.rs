@@ -109,8 +109,7 @@ impl<'db> Emitter<'db> {
             .zip(&params)
             .map(|(arg, (param, ty))| match out_params.contains(param) {
                 // The caller's own `out` parameter is already the pointer.
-                true if self.out_param_named(arg).is_some() => self.out_param_named(arg).unwrap_or_default(),
-                true => format!("&{}", self.expr(arg)),
+                true => self.out_param_named(arg).unwrap_or_else(|| format!("&{}", self.expr(arg))),
                 false => bare(self.expr_as(arg, ty)),
             })
             .collect();
@@ -239,15 +238,14 @@ impl<'db> Emitter<'db> {
     fn out_param_named(&self, arg: &ast::Expr) -> Option<String> {
         let ast::Expr::NameExpr(name) = arg else { return None };
         let name = name.name_ref()?.text();
-        let function = self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index))?;
-        function.out_params.contains(&name).then(|| ident(&name))
+        self.is_out_param(&name).then(|| ident(&name))
     }
 
     /// Whether `name` is a value parameter (not `out`) of the function being written: WGSL
     /// function parameters are not variables.
     fn is_value_param(&self, name: &str) -> bool {
-        let function = self.current_function.as_ref().and_then(|(index, _)| self.functions.get(*index));
-        function.is_some_and(|f| f.params.iter().any(|(p, _)| p == name) && !f.out_params.iter().any(|p| p == name))
+        let is_param = self.function_written().is_some_and(|f| f.params.iter().any(|(p, _)| p == name));
+        is_param && !self.is_out_param(name)
     }
 
     /// The kernel parameter `arg` passes when it names a buffer, image or `shared` parameter of

@@ -39,7 +39,6 @@ impl rowan::Language for GuDsl {
 pub type SyntaxNode = rowan::SyntaxNode<GuDsl>;
 pub type SyntaxToken = rowan::SyntaxToken<GuDsl>;
 pub type SyntaxElement = rowan::SyntaxElement<GuDsl>;
-pub type SyntaxNodeChildren = rowan::SyntaxNodeChildren<GuDsl>;
 
 /// The result of parsing one document: a green tree (cheap to clone, shareable across threads)
 /// and the syntax errors, ordered by position.
