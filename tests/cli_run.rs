@@ -61,7 +61,7 @@ fn samples_in(dir: &std::path::Path, edit: impl Fn(String) -> String) {
         "framework/framework.gudsl",
         "seed/listing15_mean_filter.gudsl",
         "seed/listing16_bilateral_filter.gudsl",
-        "gpu/find_index.gudsl",
+        "seed/listing34_39_find_index.gudsl",
     ] {
         let name = sample.rsplit('/').next().unwrap();
         std::fs::copy(repo(&format!("samples/{sample}")), dir.join(name)).unwrap();

@@ -289,7 +289,7 @@ impl<'db> Emitter<'db> {
                 Some(Ty::Bool) => format!("(params.{} != 0u)", ident(name)),
                 _ => format!("params.{}", ident(name)),
             },
-            _ if self.is_out_param(name) => format!("(*{})", ident(name)),
+            _ if self.is_out_param(name) => format!("*{}", ident(name)),
             _ => ident(&self.global_name(name)),
         }
     }

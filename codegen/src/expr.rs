@@ -62,8 +62,8 @@ impl Emitter<'_> {
                 let (Some(base), Some(at)) = (index.base(), index.index()) else {
                     return self.unsupported(expr.syntax(), "an incomplete index");
                 };
-                let base = self.expr(&base);
-                let at = self.expr_as(&at, &Ty::Int);
+                let base = postfix_operand(self.expr(&base));
+                let at = bare(self.expr_as(&at, &Ty::Int));
                 format!("{base}[{at}]")
             }
             MemberExpr(member) => self.member(member),
@@ -208,7 +208,7 @@ impl Emitter<'_> {
             return self.unsupported(member.syntax(), "fields of objects are not generated for the GPU");
         };
         match swizzle(&name.text(), width) {
-            Some(letters) => format!("{}.{letters}", self.expr(&receiver)),
+            Some(letters) => format!("{}.{letters}", postfix_operand(self.expr(&receiver))),
             None => {
                 self.unsupported(name.syntax(), format!("`{}` is no component of a {width}-wide vector", name.text()))
             }
@@ -240,6 +240,16 @@ impl Emitter<'_> {
         }
         let _ = width;
         format!("{target}({})", parts.join(", "))
+    }
+}
+
+/// The operand of an index or a member access: a dereference (`*p`, an `out` parameter) in
+/// parentheses, since WGSL's postfix binds tighter than its `*`.
+fn postfix_operand(code: String) -> String {
+    if code.starts_with('*') {
+        format!("({code})")
+    } else {
+        code
     }
 }
 

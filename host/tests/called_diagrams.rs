@@ -70,6 +70,16 @@ ActivityDiagram Written(int n, out int m)
         final f return n;
     }
 }
+
+ActivityDiagram WrittenPair(int n, out int2 v)
+{
+    swimlane L
+    {
+        start S { => set; }
+        action set { v.x = n; v.y = v.x + 1; => f; }
+        final f return n;
+    }
+}
 ";
 
 /// The OpenCL class that owns the kernel.
@@ -149,11 +159,23 @@ fn an_out_parameter_points_to_the_callers_variable() {
             out[id] = r + m;";
     let kernel = generated_from(&sources(body), "compute");
     assert!(kernel.wgsl.contains("fn Written(n: i32, m: ptr<function, i32>) -> i32"), "{}", kernel.wgsl);
-    assert!(kernel.wgsl.contains("(*m) = n * 2i;"), "{}", kernel.wgsl);
+    assert!(kernel.wgsl.contains("*m = n * 2i;"), "{}", kernel.wgsl);
     assert!(kernel.wgsl.contains("Written(id, &m)"), "{}", kernel.wgsl);
     let count = 1000u32;
     let Some(got) = run_compute_kernel(&kernel, count) else { return };
     assert_eq!(got, (0..count as i32).map(|id| 3 * id).collect::<Vec<_>>());
+}
+
+#[test]
+fn a_vector_out_parameters_components_are_written_through_its_pointer() {
+    let body = "            var int2 v = 0;
+            var int r = call behavior WrittenPair(id, v);
+            out[id] = r + v.x * 10 + v.y;";
+    let kernel = generated_from(&sources(body), "compute");
+    assert!(kernel.wgsl.contains("(*v).y = (*v).x + 1i;"), "{}", kernel.wgsl);
+    let count = 1000u32;
+    let Some(got) = run_compute_kernel(&kernel, count) else { return };
+    assert_eq!(got, (0..count as i32).map(|id| id + id * 10 + id + 1).collect::<Vec<_>>());
 }
 
 #[test]

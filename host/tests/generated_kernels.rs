@@ -5,7 +5,8 @@
 //! exact value: a device that divides in less than IEEE precision may round an exact mean
 //! down, as the listing's `float` arithmetic allows; on lavapipe all agree value for value), and against the
 //! runtime's own mean and bilateral kernels (f32 planes) in the interior; the findIndex reduction
-//! against the runtime's findIndex kernel and the CPU, including no match.
+//! against its hand-written WGSL, the runtime's findIndex kernel and the CPU, including no match,
+//! and both its stages against the CPU over random arrays.
 
 mod support;
 
@@ -122,7 +123,7 @@ fn the_generated_bilateral_filter_matches_the_hand_written_one_and_the_cpu() {
 }
 
 #[test]
-fn the_generated_find_index_equals_the_runtimes_kernel_and_the_cpu() {
+fn the_generated_find_index_equals_the_hand_written_one_the_runtimes_kernel_and_the_cpu() {
     let Some(gpu) = Gpu::for_tests() else { return };
     let find_index = FindIndex::new(&gpu);
     // A shuffled permutation as Main builds it, and random values with repeats; sizes that are
@@ -146,6 +147,8 @@ fn the_generated_find_index_equals_the_runtimes_kernel_and_the_cpu() {
             let cpu = elements.iter().position(|&v| v >= value);
             let (ours, _) = find_index.run(&gpu, &input, value);
             assert_eq!(ours, cpu.map_or(-1, |i| i as i32), "value {value} in {} elements", elements.len());
+            let (hand, _) = find_index.run_handwritten(&gpu, &input, value);
+            assert_eq!(hand, ours, "hand-written, value {value} in {} elements", elements.len());
             if value < 1 << 24 {
                 // The runtime's kernel works on floats: exact for these values. It answers the
                 // length where nothing matches.
@@ -155,6 +158,48 @@ fn the_generated_find_index_equals_the_runtimes_kernel_and_the_cpu() {
             }
         }
     }
+}
+
+/// Both stages over random arrays (values from a narrow or a wide range, so that hits are
+/// rare, common or absent), random search values and work-groups of 1 to 256: stage 1 leaves
+/// each group the first index of its slice whose element is >= the value, stage 2 the first of
+/// all (-1 for none), as the CPU finds them.
+#[test]
+fn both_find_index_stages_find_what_the_cpu_finds_for_random_arrays() {
+    use proptest::prelude::*;
+    let Some(gpu) = Gpu::for_tests() else { return };
+    let find_index = FindIndex::new(&gpu);
+    let limit = gpu.device.limits().max_compute_invocations_per_workgroup.min(256);
+    let arrays = (1u32..=1000, 1usize..3000).prop_flat_map(|(range, len)| prop::collection::vec(0..range, len));
+    let case = (arrays, any::<u32>(), 0u32..=8).prop_map(|(elements, pick, local)| {
+        // The search value: an element, one above the largest, or any number.
+        let value = match pick % 3 {
+            0 => elements[pick as usize % elements.len()],
+            1 => elements.iter().max().unwrap() + 1,
+            _ => pick % 1200,
+        };
+        (elements, value, 1u32 << local)
+    });
+    let config = ProptestConfig { cases: 48, failure_persistence: None, ..ProptestConfig::default() };
+    let mut runner = proptest::test_runner::TestRunner::new(config);
+    runner
+        .run(&case, |(elements, value, local)| {
+            let input = FindIndex::upload_for(&gpu, &elements, local.min(limit));
+            let (found, _) = find_index.run(&gpu, &input, value);
+            let first = |slice: &[u32], offset: usize| {
+                slice.iter().position(|&v| v >= value).map_or(-1, |i| (offset + i) as i32)
+            };
+            let (candidates, per_group) = find_index.group_candidates(&gpu, &input);
+            for (group, candidate) in candidates.iter().enumerate() {
+                let start = (group * per_group).min(elements.len());
+                let end = (start + per_group).min(elements.len());
+                prop_assert_eq!(*candidate, first(&elements[start..end], start), "stage 1, group {}", group);
+            }
+            prop_assert_eq!(found, first(&elements, 0), "stage 2");
+            prop_assert_eq!(find_index.run_handwritten(&gpu, &input, value).0, found, "hand-written");
+            Ok(())
+        })
+        .unwrap();
 }
 
 #[test]

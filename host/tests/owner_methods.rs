@@ -134,7 +134,7 @@ fn a_method_implemented_by_a_device_diagram_hands_it_its_buffer_and_out_paramete
         "fn Kernels_firstAtLeast_out(n: i32, bound: i32, steps: ptr<function, i32>) -> i32",
         "return FirstAtLeast_out(n, bound, steps);",
         "fn FirstAtLeast_out(n: i32, bound: i32, steps: ptr<function, i32>) -> i32",
-        "(*steps) = 0i;",
+        "*steps = 0i;",
         "Kernels_firstAtLeast_out(8i, id, &steps)",
     ] {
         assert!(kernel.wgsl.contains(expected), "{expected} in\n{}", kernel.wgsl);

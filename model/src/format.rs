@@ -165,6 +165,8 @@ impl Printer {
             || (kind == R_CURLY && !inline_block)
             || own_line_brace
             || (is_comment && self.newlines_before > 0 && started)
+            // A block comment (a doc comment above a declaration) keeps the line break after it.
+            || (prev_kind == Some(BLOCK_COMMENT) && self.newlines_before > 0)
             || (self.paren_depth > 0 && self.newlines_before > 0 && !is_comment && started);
         if kind == R_CURLY && inline_block && !self.force_newline {
             wants_newline = false;
@@ -311,6 +313,14 @@ mod tests {
         );
         assert!(out.contains("        port P(provider p : I);\n        [L source P.p ==> target Q.q]\n"), "{out}");
         assert_eq!(fmt(&out), out, "idempotent");
+    }
+
+    #[test]
+    fn a_comment_on_its_own_lines_keeps_the_declaration_below_it() {
+        let input = "ClassDiagram D\n{\n    /** A class\n        of two lines. */\n    public class C\n    {\n        /** m */\n        public void m(); /* after */ public void n();\n    }\n}\n";
+        let expected = "ClassDiagram D\n{\n    /** A class\n        of two lines. */\n    public class C\n    {\n        /** m */\n        public void m();\n        /* after */ public void n();\n    }\n}\n";
+        assert_eq!(fmt(input), expected);
+        assert_eq!(fmt(expected), expected);
     }
 
     #[test]

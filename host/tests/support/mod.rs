@@ -26,7 +26,7 @@ const SAMPLES: [&str; 4] = [
     "framework/framework.gudsl",
     "seed/listing15_mean_filter.gudsl",
     "seed/listing16_bilateral_filter.gudsl",
-    "gpu/find_index.gudsl",
+    "seed/listing34_39_find_index.gudsl",
 ];
 
 /// Kernel `compute(global ref int out)` owned by the OpenCL class `owner`: one action that
@@ -270,10 +270,13 @@ pub fn run_handwritten(gpu: &Gpu, source: &str, params: &[u8], image: &Rgba) -> 
 
 /// The two generated findIndex kernels, run as Main's calcRange nodes run them (Listing 32):
 /// work sizes from the device's largest work-group (at most 256), stage 1 over the elements,
-/// stage 2 over the groups' results.
+/// stage 2 over the groups' results; and the same two stages written by hand
+/// (`listings::find_index`).
 pub struct FindIndex {
     first: Launcher,
     second: Launcher,
+    hand_first: Program,
+    hand_second: Program,
 }
 
 /// The elements on the device and the work sizes for them.
@@ -291,21 +294,61 @@ impl FindIndex {
     pub fn new(gpu: &Gpu) -> FindIndex {
         let first = Launcher::new(gpu, &generated("AdFindMinimumIndexFirstStage")).unwrap();
         let second = Launcher::new(gpu, &generated("AdFindMinimumIndexSecondStage")).unwrap();
-        FindIndex { first, second }
+        let hand = |entry| {
+            let (source, bindings) = (listings::find_index::WGSL, &listings::find_index::BINDINGS);
+            Program::new(gpu, "findIndex", source, entry, bindings).unwrap()
+        };
+        let (hand_first, hand_second) =
+            (hand(listings::find_index::FIRST_STAGE), hand(listings::find_index::SECOND_STAGE));
+        FindIndex { first, second, hand_first, hand_second }
     }
 
+    /// `elements` on the device, with Main's work sizes for the device's largest work-group
+    /// (at most 256).
     pub fn upload(gpu: &Gpu, elements: &[u32]) -> FindIndexInput {
-        let len = elements.len() as u32;
         let local = gpu.device.limits().max_compute_invocations_per_workgroup.min(256);
+        FindIndex::upload_for(gpu, elements, local)
+    }
+
+    /// `elements` on the device, with Main's work sizes for work-groups of `local` (a power
+    /// of two): as many groups as fit `local` (stage 2 is one group of them), each work-item
+    /// scanning a slice so that they cover the elements.
+    pub fn upload_for(gpu: &Gpu, elements: &[u32], local: u32) -> FindIndexInput {
+        let len = elements.len() as u32;
         let needed = len.next_power_of_two();
         let groups = (needed / local).clamp(1, local);
-        let per_item = (needed / groups / local).max(1);
+        let per_item = needed.div_ceil(groups * local).max(1);
         let bytes: Vec<u8> = elements.iter().flat_map(|v| v.to_le_bytes()).collect();
         let input = DeviceBuffer::new(gpu, "elements", 4 * len as u64).unwrap();
         input.write(gpu, &bytes).unwrap();
         let minima = DeviceBuffer::new(gpu, "minima", 4 * groups as u64).unwrap();
         let last = DeviceBuffer::new(gpu, "last", 4).unwrap();
         FindIndexInput { elements: input, minima, last, len, local, groups, per_item }
+    }
+
+    /// What [`FindIndex::run`] finds, by the hand-written kernels at the same work sizes.
+    pub fn run_handwritten(&self, gpu: &Gpu, input: &FindIndexInput, value: u32) -> (i32, Duration) {
+        let FindIndexInput { elements, minima, last, len, local, groups, per_item } = input;
+        let params = listings::find_index::params(*len, value, *per_item, *groups);
+        let resources = [
+            (0, Resource::Uniform(&params)),
+            (1, Resource::Buffer(elements)),
+            (2, Resource::Buffer(minima)),
+            (3, Resource::Buffer(last)),
+        ];
+        let size = |n: u32| [(listings::find_index::GROUP_SIZE, f64::from(n))];
+        let first = self.hand_first.dispatch(gpu, &size(*local), &resources, [*groups, 1, 1]).unwrap();
+        let second = self.hand_second.dispatch(gpu, &size(*groups), &resources, [1, 1, 1]).unwrap();
+        let index = i32::from_le_bytes(last.read(gpu).unwrap()[..4].try_into().unwrap());
+        (index, first + second)
+    }
+
+    /// What stage 1 left for each work-group (its first index of an element >= the value, -1
+    /// for none), after [`FindIndex::run`], and the elements each group scanned.
+    pub fn group_candidates(&self, gpu: &Gpu, input: &FindIndexInput) -> (Vec<i32>, usize) {
+        let bytes = input.minima.read(gpu).unwrap();
+        let candidates = bytes.chunks_exact(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect();
+        (candidates, (input.local * input.per_item) as usize)
     }
 
     /// The first index of an element >= `value` (-1 for none), and the time of both stages.

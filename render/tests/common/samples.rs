@@ -1,4 +1,4 @@
-//! Every diagram of the samples (`samples/seed`, `framework`, `pipelines`, `gpu`) in one
+//! Every diagram of the samples (`samples/seed`, `framework`, `pipelines`) in one
 //! workspace — the pipelines use the seed's classes. Shared by the crate's unit tests and the
 //! reference pictures (`#[path]`-included: an integration test cannot see `cfg(test)` code).
 
@@ -7,7 +7,7 @@ use gudsl_model::{graph::Graph, AnalysisHost};
 pub(crate) fn sample_graphs() -> Vec<Graph> {
     let samples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples");
     let mut files = Vec::new();
-    for dir in ["seed", "framework", "pipelines", "gpu"] {
+    for dir in ["seed", "framework", "pipelines"] {
         let mut entries: Vec<_> = std::fs::read_dir(samples.join(dir)).unwrap().flatten().map(|e| e.path()).collect();
         entries.sort();
         for path in entries.into_iter().filter(|p| p.extension().is_some_and(|e| e == "gudsl")) {

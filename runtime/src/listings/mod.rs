@@ -4,8 +4,11 @@
 //! are checked and timed against (10.4.5 compares generated with hand-written code). Each runs
 //! as a [`Program`](crate::program::Program) with [`BINDINGS`]: its parameters at 0, the input
 //! texture at 1, the output storage texture at 2, one work-item per pixel in 8×8 work-groups.
+//! [`find_index`] is Listings 34–39's reduction, the yardstick of the generated findIndex.
 
 use crate::program::{BindingKind, BindingSpec, TexelFormat};
+
+pub mod find_index;
 
 /// Listing 15's mean filter.
 pub const MEAN_WGSL: &str = include_str!("mean.wgsl");
