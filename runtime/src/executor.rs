@@ -114,7 +114,7 @@ impl<'g> Executor<'g> {
         work: impl FnOnce(&Gpu, &mut wgpu::CommandEncoder, Option<wgpu::ComputePassTimestampWrites<'_>>) -> R,
     ) -> Option<R> {
         let gpu = self.gpu?;
-        let writes = self.timing.as_mut().and_then(|t| t.next(stage));
+        let writes = self.timing.as_mut().map(|t| t.next(gpu, stage));
         let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
         Some(work(gpu, encoder, writes))
     }

@@ -221,9 +221,9 @@ impl Program {
         workgroups: [u32; 3],
     ) -> Result<Duration, ProgramError> {
         let dispatch_error = |message| ProgramError::Dispatch { program: self.label.clone(), message };
-        let mut timing = Timing::new(gpu, 2);
+        let mut timing = Timing::new(gpu, 1);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let writes = timing.as_mut().and_then(|t| t.next(0));
+        let writes = timing.as_mut().map(|t| t.next(gpu, 0));
         self.record(gpu, &mut encoder, constants, resources, workgroups, writes)?;
         if let Some(timing) = &timing {
             timing.resolve(&mut encoder);

@@ -1,75 +1,99 @@
 //! The GPU's own clock around compute passes: two timestamp queries a pass, each pair owned by
 //! a stage (an index of the caller's: a pipeline stage, a chain's step), resolved in the
-//! recording that ran them and read back after it; the set grows when a recording needs more.
+//! recording that ran them and read back after it; query sets are added when a recording has
+//! more passes than they hold, so every pass of every recording is timed.
 //! The executor times every kernel of a frame with it, [`crate::Program::dispatch`] one pass.
 
 use std::time::Duration;
 
 use crate::Gpu;
 
-/// The timestamp queries of one recording and the stage each pair belongs to.
+/// The timestamp queries of one recording, in query sets of a fixed size (a new one when a
+/// recording has more passes than the sets so far hold; kept for the next recordings), and the
+/// stage each pair belongs to.
 pub(crate) struct Timing {
-    queries: wgpu::QuerySet,
-    capacity: u32,
+    chunks: Vec<Chunk>,
+    /// Queries per set (two a pass).
+    chunk_queries: u32,
     used: u32,
-    resolved: wgpu::Buffer,
     period_ns: f32,
     owners: Vec<usize>,
 }
 
-impl Timing {
-    /// Timestamps for `capacity / 2` passes; `None` unless `gpu` has timestamp queries (a
-    /// [`Gpu::with_timestamps`]).
-    pub fn new(gpu: &Gpu, capacity: u32) -> Option<Timing> {
-        if !gpu.times_on_device() {
-            return None;
-        }
+/// One query set and the buffer it resolves into.
+struct Chunk {
+    queries: wgpu::QuerySet,
+    resolved: wgpu::Buffer,
+}
+
+impl Chunk {
+    fn new(gpu: &Gpu, count: u32) -> Chunk {
         let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("pass timestamps"),
             ty: wgpu::QueryType::Timestamp,
-            count: capacity,
+            count,
         });
         let resolved = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("pass timestamps"),
-            size: capacity as u64 * 8,
+            size: count as u64 * 8,
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let period_ns = gpu.queue.get_timestamp_period();
-        Some(Timing { queries, capacity, used: 0, resolved, period_ns, owners: Vec::new() })
+        Chunk { queries, resolved }
     }
+}
 
-    /// The writes of the next pass, owned by `stage`; `None` when the set is full for this
-    /// recording (it grows for the next).
-    pub fn next(&mut self, stage: usize) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        if self.used + 2 > self.capacity {
+impl Timing {
+    /// Timestamps for any number of passes, in query sets of `passes_per_set` passes; `None`
+    /// unless `gpu` has timestamp queries (a [`Gpu::with_timestamps`]).
+    pub fn new(gpu: &Gpu, passes_per_set: u32) -> Option<Timing> {
+        if !gpu.times_on_device() {
             return None;
         }
-        let at = self.used;
+        let chunk_queries = (2 * passes_per_set).clamp(2, wgpu::QUERY_SET_MAX_QUERIES);
+        let period_ns = gpu.queue.get_timestamp_period();
+        Some(Timing { chunks: Vec::new(), chunk_queries, used: 0, period_ns, owners: Vec::new() })
+    }
+
+    /// The writes of the next pass, owned by `stage`.
+    pub fn next(&mut self, gpu: &Gpu, stage: usize) -> wgpu::ComputePassTimestampWrites<'_> {
+        let (chunk, at) = (self.used / self.chunk_queries, self.used % self.chunk_queries);
+        if chunk as usize == self.chunks.len() {
+            self.chunks.push(Chunk::new(gpu, self.chunk_queries));
+        }
         self.used += 2;
         self.owners.push(stage);
-        Some(wgpu::ComputePassTimestampWrites {
-            query_set: &self.queries,
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.chunks[chunk as usize].queries,
             beginning_of_pass_write_index: Some(at),
             end_of_pass_write_index: Some(at + 1),
+        }
+    }
+
+    /// The sets this recording used, each with the number of its queries used.
+    fn used_chunks(&self) -> impl Iterator<Item = (&Chunk, u32)> {
+        let full = self.chunk_queries;
+        self.chunks.iter().enumerate().map_while(move |(k, chunk)| {
+            let before = k as u32 * full;
+            (before < self.used).then(|| (chunk, (self.used - before).min(full)))
         })
     }
 
     /// Resolves the recording's timestamps (at its end, before it is submitted).
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        if self.used > 0 {
-            encoder.resolve_query_set(&self.queries, 0..self.used, &self.resolved, 0);
+        for (chunk, used) in self.used_chunks() {
+            encoder.resolve_query_set(&chunk.queries, 0..used, &chunk.resolved, 0);
         }
     }
 
-    /// The time each timed pass took, by stage, once the recording ran; the set is then empty
-    /// for the next recording (and twice as large if this one filled it).
+    /// The time each timed pass took, by stage, once the recording ran; the sets are then
+    /// free for the next recording.
     pub fn take(&mut self, gpu: &Gpu) -> Result<Vec<(usize, Duration)>, String> {
-        if self.used == 0 {
-            return Ok(Vec::new());
+        let mut ticks: Vec<u64> = Vec::with_capacity(self.used as usize);
+        for (chunk, used) in self.used_chunks() {
+            let bytes = gpu.download(&chunk.resolved, used as u64 * 8)?;
+            ticks.extend_from_slice(bytemuck::cast_slice(&bytes));
         }
-        let bytes = gpu.download(&self.resolved, self.used as u64 * 8)?;
-        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
         let times = self
             .owners
             .iter()
@@ -79,14 +103,8 @@ impl Timing {
                 (stage, Duration::from_nanos(ns as u64))
             })
             .collect();
-        let full = self.owners.len() as u32 * 2 >= self.capacity;
         self.used = 0;
         self.owners.clear();
-        if full {
-            if let Some(grown) = Timing::new(gpu, self.capacity * 2) {
-                *self = grown;
-            }
-        }
         Ok(times)
     }
 }
