@@ -22,6 +22,20 @@ impl fmt::Display for GpuUnavailable {
 
 impl std::error::Error for GpuUnavailable {}
 
+/// Keeps a headless machine's terminal clean: without `XDG_RUNTIME_DIR` there is no Wayland
+/// session, yet Mesa's implicit Vulkan layer `VK_LAYER_MESA_device_select` tries to connect to
+/// one while it orders the adapters, and libwayland prints "error: XDG_RUNTIME_DIR is invalid
+/// or not set in the environment." to the user's terminal. There, `NODEVICE_SELECT=1` turns the
+/// layer off (it has no display to choose by); a value the user set is kept. Call it first in
+/// `main`, before any thread starts (it sets an environment variable).
+pub fn quiet_headless_adapters() {
+    let runtime_dir = std::env::var_os("XDG_RUNTIME_DIR").map(std::path::PathBuf::from);
+    let headless = runtime_dir.is_none_or(|dir| !dir.is_dir());
+    if headless && std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+}
+
 /// A device and queue with a cache of compute pipelines by kernel and entry point; shared by
 /// threads (a pipeline's stages that run apart).
 pub struct Gpu {

@@ -45,6 +45,7 @@ struct LspArgs {
 }
 
 fn main() -> ExitCode {
+    gudsl_runtime::gpu::quiet_headless_adapters();
     let cli = Cli::parse();
     match cli.command {
         Command::Check(args) => commands::check::run(&args),

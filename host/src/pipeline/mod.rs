@@ -235,7 +235,7 @@ impl PreparedPipeline {
         let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
         PipelineReport {
             diagram: self.plan.diagram.clone(),
-            device: gpu.map_or_else(|| "the CPU reference (no GPU adapter)".to_string(), Gpu::describe),
+            device: gpu.map_or_else(|| "the CPU reference".to_string(), Gpu::describe),
             frames,
             total: start.elapsed(),
             loading,

@@ -91,7 +91,10 @@ pub fn write_report(report: &PipelineReport, output: &mut OutputDir) -> Result<s
 }
 
 /// `report.json`: what the run did, for scripts; `plots` are the SVG plots among the outputs.
+/// Times say what they are: over the whole run (`_total`, `total_ms`) or per frame, as the
+/// printed table gives them (`_per_frame`, `ms_per_frame`).
 fn report_json(report: &PipelineReport) -> serde_json::Value {
+    let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
     let paths = |keep: fn(&Path) -> bool| {
         report.outputs.iter().filter(|p| keep(p)).map(|p| p.display().to_string()).collect::<Vec<_>>()
     };
@@ -100,10 +103,13 @@ fn report_json(report: &PipelineReport) -> serde_json::Value {
         "device": report.device,
         "frames": report.frames,
         "total_ms": ms(report.total),
+        "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "stages": report.stages.iter().map(|s| serde_json::json!({
             "instance": s.instance, "component": s.class, "items": s.items,
-            "host_ms": ms(s.host), "device_ms": ms(s.device), "async": s.apart,
+            "host_ms_total": ms(s.host), "device_ms_total": ms(s.device),
+            "host_ms_per_frame": per_frame(s.host), "device_ms_per_frame": per_frame(s.device),
+            "async": s.apart,
         })).collect::<Vec<_>>(),
         "outputs": paths(|_| true),
         "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),
