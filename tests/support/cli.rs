@@ -19,6 +19,18 @@ pub fn repo(path: &str) -> String {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path).to_string_lossy().into_owned()
 }
 
+/// `gudsl run ARGS` as on a headless machine (no Wayland session: what Mesa prints then must
+/// not show): its exit code, stdout and stderr.
+pub fn gudsl_run(args: &[&str]) -> (Option<i32>, String, String) {
+    let out =
+        gudsl().arg("run").args(args).env_remove("XDG_RUNTIME_DIR").env_remove("NODEVICE_SELECT").output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// An empty folder of its own for the test `name` of this test binary and process.
 pub fn temp_dir(name: &str) -> PathBuf {
     let binary = env!("CARGO_CRATE_NAME");

@@ -215,6 +215,7 @@ impl PreparedPipeline {
                 device: Duration::ZERO,
                 items: 0,
                 apart: *mode != Mode::InOrder,
+                failed: None,
             })
             .collect();
         let mut device = Executor::new(gpu);
@@ -228,11 +229,15 @@ impl PreparedPipeline {
         let mut outcome = outcome;
         for (index, time) in stages.iter_mut().enumerate() {
             let joined = self.join(index, output, time);
+            let joined = self.sink_alone(index, time, joined);
             if outcome.is_ok() {
                 outcome = joined;
             }
         }
-        let outcome = outcome.and_then(|()| self.finish(output, &mut stages));
+        // What the sinks write once is written after a failed or cancelled run too: the
+        // frames that ran are not lost.
+        let finished = self.finish(output, &mut stages);
+        let outcome = outcome.and(finished);
         PipelineReport {
             diagram: self.plan.diagram.clone(),
             device: gpu.map_or_else(|| "the CPU reference".to_string(), Gpu::describe),
@@ -287,6 +292,9 @@ impl PreparedPipeline {
                 times[stage].device += time;
             }
             for (index, time) in times.iter_mut().enumerate() {
+                if time.failed.is_some() {
+                    continue;
+                }
                 match self.modes[index] {
                     // Joined before this frame's `process` above.
                     Mode::WritesApart => {
@@ -304,8 +312,9 @@ impl PreparedPipeline {
                     .as_mut()
                     .expect("joined")
                     .finish_frame(&mut ctx, &reads)
-                    .map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
+                    .map_err(|message| self.error(Some(index), ErrorKind::Failed, message));
                 time.host += started.elapsed();
+                let Some(produced) = self.sink_alone_or(index, time, produced)? else { continue };
                 // What a stage gives after the frame's reads arrives next frame.
                 self.deliver(device, index, produced, &mut queues, frame, true);
             }
@@ -347,7 +356,12 @@ impl PreparedPipeline {
                 ));
             }
             let inputs = self.take_inputs(index, at.queues, frame);
-            self.join(index, at.output, &mut at.times[index])?;
+            let joined = self.join(index, at.output, &mut at.times[index]);
+            self.sink_alone(index, &mut at.times[index], joined)?;
+            if at.times[index].failed.is_some() {
+                done[index] = true;
+                continue;
+            }
             let component = self.components[index].as_mut().expect("joined");
             if component.frames().is_none() && inputs.is_empty() {
                 done[index] = true;
@@ -374,8 +388,12 @@ impl PreparedPipeline {
                         self.error(None, ErrorKind::Cancelled, format!("cancelled in frame {frame}, in {stage}"))
                     }
                     false => self.error(Some(index), ErrorKind::Failed, message),
-                })?;
+                });
             at.times[index].host += started.elapsed();
+            let Some(produced) = self.sink_alone_or(index, &mut at.times[index], produced)? else {
+                done[index] = true;
+                continue;
+            };
             self.deliver(at.device, index, produced, at.queues, frame, false);
             done[index] = true;
         }
@@ -439,24 +457,54 @@ impl PreparedPipeline {
                 let message = "its component was lost when its writer panicked in an earlier run".to_string();
                 return Err(self.error(Some(index), ErrorKind::Failed, message));
             };
-            component.load().map_err(|message| self.error(Some(index), ErrorKind::Input, message))?;
+            let loaded = component.load().map_err(|message| self.error(Some(index), ErrorKind::Input, message));
             time.host += started.elapsed();
+            self.sink_alone(index, time, loaded)?;
         }
         Ok(())
     }
 
-    /// After the last frame: what sinks write once (a plot, the last cloud).
+    /// After the last frame: what sinks write once (a plot, the last cloud). Components lost with a panicked thread and failed sinks write nothing more.
     fn finish(&mut self, output: &mut OutputDir, times: &mut [StageTime]) -> Result<(), PipelineError> {
         for (index, time) in times.iter_mut().enumerate() {
+            let Some(component) = self.components[index].as_mut().filter(|_| time.failed.is_none()) else {
+                continue;
+            };
             let started = Instant::now();
-            self.components[index]
-                .as_mut()
-                .expect("joined after the last frame")
-                .finish_run(output)
-                .map_err(|message| self.error(Some(index), ErrorKind::Output, message))?;
+            let finished =
+                component.finish_run(output).map_err(|message| self.error(Some(index), ErrorKind::Output, message));
             time.host += started.elapsed();
+            self.sink_alone(index, time, finished)?;
         }
         Ok(())
+    }
+
+    /// A sink's failure is its own: kept on its stage (it runs no more this run) while the run
+    /// goes on; anything else's, and a cancellation, stops the run.
+    fn sink_alone(
+        &self,
+        index: usize,
+        time: &mut StageTime,
+        result: Result<(), PipelineError>,
+    ) -> Result<(), PipelineError> {
+        self.sink_alone_or(index, time, result).map(|_| ())
+    }
+
+    /// [`Self::sink_alone`] for a result with a value: `None` when the sink failed.
+    fn sink_alone_or<T>(
+        &self,
+        index: usize,
+        time: &mut StageTime,
+        result: Result<T, PipelineError>,
+    ) -> Result<Option<T>, PipelineError> {
+        match result {
+            Ok(value) => Ok(Some(value)),
+            Err(error) if self.plan.stages[index].kind == ClassKind::Sink && error.kind != ErrorKind::Cancelled => {
+                time.failed = Some(error);
+                Ok(None)
+            }
+            Err(error) => Err(error),
+        }
     }
 
     /// The items for stage `index` this frame, by port: an unbuffered binding's items of this

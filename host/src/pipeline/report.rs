@@ -9,6 +9,13 @@ use std::{
 
 use super::{ErrorKind, OutputDir, PipelineError};
 
+impl PipelineReport {
+    /// The sinks that failed (each ran no more; the run went on).
+    pub fn failed_stages(&self) -> impl Iterator<Item = &PipelineError> {
+        self.stages.iter().filter_map(|s| s.failed.as_ref())
+    }
+}
+
 /// What a run did.
 #[derive(Debug, Clone)]
 pub struct PipelineReport {
@@ -39,6 +46,8 @@ pub struct StageTime {
     /// Whether it runs on a thread of its own (bound through an `async` port): its host time
     /// then overlaps the others'.
     pub apart: bool,
+    /// Why a sink stopped (it then ran no more, and the run went on without it).
+    pub failed: Option<PipelineError>,
 }
 
 fn ms(duration: Duration) -> f64 {
@@ -48,7 +57,11 @@ fn ms(duration: Duration) -> f64 {
 /// One line: how the run ended, in how long, on which device.
 pub fn summary(report: &PipelineReport) -> String {
     let per_frame = ms(report.total) / report.frames.max(1) as f64;
+    let failed: Vec<&str> = report.failed_stages().filter_map(|e| e.stage.as_deref()).collect();
     let ended = match &report.outcome {
+        Ok(()) if !failed.is_empty() => {
+            format!("ran {} ({} frames; failed: {})", report.diagram, report.frames, failed.join(", "))
+        }
         Ok(()) => format!("ran {} ({} frames)", report.diagram, report.frames),
         Err(error) if error.kind == ErrorKind::Cancelled => format!("{}: {}", report.diagram, error.message),
         Err(_) => format!("{} stopped with an error", report.diagram),
@@ -110,6 +123,8 @@ fn report_json(report: &PipelineReport) -> serde_json::Value {
             "host_ms_total": ms(s.host), "device_ms_total": ms(s.device),
             "host_ms_per_frame": per_frame(s.host), "device_ms_per_frame": per_frame(s.device),
             "async": s.apart,
+            "state": if s.failed.is_some() { "failed" } else { "ok" },
+            "error": s.failed.as_ref().map(|e| e.message.clone()),
         })).collect::<Vec<_>>(),
         "outputs": paths(|_| true),
         "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),

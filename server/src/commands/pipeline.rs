@@ -94,7 +94,12 @@ pub fn run(
         eprintln!("gudsl run: {error}");
         return ExitCode::from(2);
     }
+    // A sink that failed failed alone: the others wrote everything; the run still fails.
+    for error in report.failed_stages() {
+        eprintln!("error: {error}");
+    }
     match &report.outcome {
+        Ok(()) if report.failed_stages().next().is_some() => ExitCode::from(1),
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
             eprintln!("error: {error}");

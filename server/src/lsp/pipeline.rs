@@ -84,10 +84,14 @@ fn job(
             summary: summary(&report),
             output: output_dir.path().to_path_buf(),
             report: report_json,
-            failure: report.outcome.err().map(|error| Failure {
-                message: error.to_string(),
-                cancelled: error.kind == ErrorKind::Cancelled,
-                location: error.range.and_then(|range| places.at(file, range)),
+            // A run that stopped, or else the first sink that failed alone (the rest is in the
+            // report's stages).
+            failure: report.outcome.clone().err().or_else(|| report.failed_stages().next().cloned()).map(|error| {
+                Failure {
+                    message: error.to_string(),
+                    cancelled: error.kind == ErrorKind::Cancelled,
+                    location: error.range.and_then(|range| places.at(file, range)),
+                }
             }),
         })
     };
