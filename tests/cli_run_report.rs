@@ -65,6 +65,8 @@ fn a_failing_sink_fails_alone_and_the_others_write_everything() {
     }
     assert_eq!(std::fs::read_to_string(out.join("Depth")).unwrap(), "in the way");
     assert!(stderr.contains("Depth") && stderr.contains("not a folder"), "{stderr}");
+    assert!(stdout.contains("(2 frames; failed: Depth)"), "{stdout}");
+    assert!(stdout.lines().any(|l| l.starts_with("Depth ") && l.ends_with("  failed")), "{stdout}");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
     let stage =

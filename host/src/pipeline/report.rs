@@ -70,7 +70,7 @@ pub fn summary(report: &PipelineReport) -> String {
 }
 
 /// The stages' table: per stage its time per frame on the host and on the GPU, and its share
-/// of the total; a stage on a thread of its own (`async`) is marked so.
+/// of the total; a stage on a thread of its own (`async`) is marked so, a sink that failed too.
 pub fn table(report: &PipelineReport) -> String {
     let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
     let total: Duration = report.stages.iter().map(|s| s.host + s.device).sum();
@@ -84,12 +84,13 @@ pub fn table(report: &PipelineReport) -> String {
     for stage in &report.stages {
         let share = (stage.host + stage.device).as_secs_f64() / total.as_secs_f64().max(1e-12) * 100.0;
         table += &format!(
-            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%\n",
+            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%{}\n",
             stage.instance,
             class(stage),
             per_frame(stage.host),
             per_frame(stage.device),
-            share
+            share,
+            if stage.failed.is_some() { "  failed" } else { "" }
         );
     }
     table
