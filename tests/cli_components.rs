@@ -192,10 +192,17 @@ fn components_that_cannot_run_are_refused_with_the_reason() {
     assert!(text.contains("extends no sink of the ToF library"), "{text}");
     assert!(!dir.join("out").exists(), "nothing written for a refused pipeline");
 
-    // Generated device code needs a GPU: on the CPU reference the run stops at the filter.
+    // Generated device code needs a GPU: on the CPU reference the run stops at the filter —
+    // also where the filter runs on a thread of its own (its port `async`), failing there.
     let (code, text) = run(&["run", &repo(SAMPLE), "--cpu", "--frames", "1", "-o", out]);
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("`MeanFilter1` runs device diagrams") && text.contains("need a GPU adapter"), "{text}");
+    let port = "        port MeanImageProcessorPort";
+    let file = edited(&dir, "async-cpu", &[(port, "        async port MeanImageProcessorPort")]);
+    let (code, text) = run(&["run", &file, "--cpu", "--frames", "2", "-o", out]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("ComponentExampleClasses.MeanFilter (async)"), "{text}");
+    assert!(text.contains("`MeanFilter1`: `MeanFilter1` runs device diagrams"), "{text}");
 }
 
 /// A depth filter of the workspace: its `process` scales the distance by its field `factor` in a

@@ -5,7 +5,8 @@
 #[path = "support/cli.rs"]
 mod cli;
 
-use cli::{gudsl_run as run, repo, temp_dir};
+use cli::{gudsl, gudsl_run as run, repo, temp_dir};
+use gudsl_formats::arrays;
 
 const SAMPLE: &str = "samples/pipelines/ch4_motion_compensation.gudsl";
 
@@ -79,4 +80,82 @@ fn a_failing_sink_fails_alone_and_the_others_write_everything() {
     assert_eq!(report["frames"], 2);
     let outputs = report["outputs"].as_array().unwrap();
     assert!(outputs.iter().any(|o| o.as_str().unwrap().ends_with("distance_0001.png")), "{report}");
+}
+
+/// A recording (raw channel files) through black-image correction and demodulation into an
+/// accuracy report and an NPY writer.
+const RECORDED: &str = r#"ComponentInstanceDiagram Recorded
+{
+    import ToF.*;
+    Recording instantiates RawFrameFile (channelA = "a.npy", channelB = "b.npy")
+    {
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Black.In.frame ]
+    }
+    Black instantiates BlackImageCorrection ( )
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Demod.In.frame ]
+    }
+    Demod instantiates Demodulation ( )
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Accuracy.In.depth ]
+        [ source Out.depth ==> target Writer.In.depth ]
+    }
+    Accuracy instantiates AccuracyReport ( )
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+    Writer instantiates NpyWriter ( )
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+}
+"#;
+
+/// Issue 51, item 1: what a run of recorded frames would lack — a black image of the frames'
+/// own for `BlackImageCorrection( )`, ground truth for `AccuracyReport` — is an error before
+/// the run, at the component (`gudsl check`, as the editor shows it), and `run` refuses; with
+/// the black image's files and without the report, the same recording runs.
+#[test]
+fn what_recorded_frames_lack_is_an_error_before_the_run() {
+    let dir = temp_dir("recorded-lacks");
+    for name in ["a.npy", "b.npy"] {
+        let data: Vec<f32> = (0..2 * 4 * 6 * 8).map(|i| (i % 500) as f32).collect();
+        arrays::write(&dir.join(name), &[2, 4, 6, 8], &data, arrays::Dtype::U16).unwrap();
+        arrays::write(&dir.join(format!("black_{name}")), &[4, 6, 8], &data[..4 * 6 * 8], arrays::Dtype::U16).unwrap();
+    }
+    let model = dir.join("recorded.gudsl");
+    std::fs::write(&model, RECORDED).unwrap();
+    let checked = gudsl().args(["check", model.to_str().unwrap()]).output().unwrap();
+    let text = String::from_utf8_lossy(&checked.stdout).into_owned() + &String::from_utf8_lossy(&checked.stderr);
+    assert_eq!(checked.status.code(), Some(1), "{text}");
+    // Each diagnostic with its place: `error[E0405]: message` then `┌─ path:line:column`.
+    let at = |line: usize, message: &str| {
+        text.split("error[")
+            .any(|d| d.starts_with("E0405]") && d.contains(message) && d.contains(&format!("recorded.gudsl:{line}:5")))
+    };
+    assert!(at(9, "the raw frames from `Recording` have no black image of their own"), "{text}");
+    assert!(at(22, "the depth images from `Demod` have no ground truth"), "{text}");
+    let out = dir.join("out");
+    let (code, _, stderr) = run(&[model.to_str().unwrap(), "--cpu", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("the model has errors; nothing is done"), "{stderr}");
+    assert!(!out.exists());
+
+    // The black image from files, no report: it runs.
+    let fixed = RECORDED
+        .replace("BlackImageCorrection ( )", "BlackImageCorrection (channelA = \"black_a.npy\", channelB = \"black_b.npy\")")
+        .replace("        [ source Out.depth ==> target Accuracy.In.depth ]\n", "")
+        .replace(
+            "    Accuracy instantiates AccuracyReport ( )\n    {\n        In : DepthIn ( processor depth = IDepthImageProcessor() );\n    }\n",
+            "",
+        );
+    std::fs::write(&model, fixed).unwrap();
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(out.join("Writer/distance_0001.npy").is_file(), "{stdout}");
 }

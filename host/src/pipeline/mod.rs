@@ -14,6 +14,7 @@
 //! stages that do not wait for it go on.
 
 mod apart;
+mod carries;
 mod components;
 pub mod data;
 mod error;
@@ -149,6 +150,7 @@ pub fn prepare(
     // Checked even where another stage cannot run (it passes its sizes on), so the editor
     // shows a mismatch beside a component only `run` refuses.
     errors.extend(sizes::that_cannot_meet(plan, &made, files));
+    errors.extend(carries::that_lack(plan, &made, files));
     let frames = made.iter().flatten().filter_map(|c| c.frames()).max().unwrap_or(0);
     if errors.is_empty() && frames == 0 {
         errors.push(PipelineError {

@@ -4,7 +4,9 @@
 
 use gudsl_runtime::Kernel;
 
-use super::{raw::Demodulation, sinks::png, slots, sources::Simulated, Component, Ctx, Inputs, Outputs, Params, Size};
+use super::{
+    raw::Demodulation, sinks::png, slots, sources::Simulated, Carries, Component, Ctx, Inputs, Outputs, Params, Size,
+};
 use crate::pipeline::{
     data::{Data, Item, Picture},
     executor::{KernelSlot, Later, Reads},
@@ -74,6 +76,10 @@ impl AmplitudeCamera {
 impl Component for AmplitudeCamera {
     fn frames(&self) -> Option<usize> {
         self.camera.frames()
+    }
+
+    fn carries(&self, arriving: Carries) -> Carries {
+        self.camera.carries(arriving)
     }
 
     fn image_size(&self) -> Option<Size> {

@@ -102,6 +102,34 @@ pub fn size_text((width, height): Size) -> String {
     format!("{width}×{height}")
 }
 
+/// What the items a stage gives carry beside their images, known before a run (`carries.rs`
+/// follows it down the bindings): raw frames a black image of their own, frames and depth
+/// images the scene's true distances (a simulated camera's do, a recording's do not).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Carries {
+    pub black: bool,
+    pub truth: bool,
+}
+
+impl Carries {
+    /// What every item can carry: where nothing has arrived yet.
+    pub const ALL: Carries = Carries { black: true, truth: true };
+
+    /// What items from both carry.
+    pub fn and(self, other: Carries) -> Carries {
+        Carries { black: self.black && other.black, truth: self.truth && other.truth }
+    }
+}
+
+/// What a component needs the items it is given to carry, and what to do where they do not.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Need {
+    /// A black image of the frame's own; the advice.
+    Black(&'static str),
+    /// The true distances; the advice.
+    Truth(&'static str),
+}
+
 /// What a stage produced: data for its provider ports, by port name.
 pub type Outputs = Vec<(String, Data)>;
 
@@ -121,6 +149,17 @@ pub trait Component: Send {
     /// in it; else the parameter concerned (if one) and what does not fit.
     fn sizes_meet(&self, _sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         Ok(())
+    }
+
+    /// What the items it gives carry, given what the items it is given carry: a filter passes
+    /// on what arrives, a source says what its own carry.
+    fn carries(&self, arriving: Carries) -> Carries {
+        arriving
+    }
+
+    /// What the items it is given must carry for it to run.
+    fn needs(&self) -> Option<Need> {
+        None
     }
 
     /// Before the first frame: reads what it needs from files (their headers were checked when

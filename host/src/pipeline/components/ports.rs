@@ -6,7 +6,7 @@
 
 use gudsl_model::hir::{items::ConnectorRole, pipeline::Stage};
 
-use super::{Component, Ctx, Inputs, Outputs, Size, SizesByPort};
+use super::{Carries, Component, Ctx, Inputs, Need, Outputs, Size, SizesByPort};
 use crate::pipeline::{data::Data, executor::Reads, OutputDir};
 
 /// The library's data types and the port names its components use for them (`DepthIn`, …).
@@ -121,6 +121,14 @@ impl Component for OnStagePorts {
             renamed.entry(self.library_input(port)).or_default().extend(set);
         }
         self.component.sizes_meet(&renamed)
+    }
+
+    fn carries(&self, arriving: Carries) -> Carries {
+        self.component.carries(arriving)
+    }
+
+    fn needs(&self) -> Option<Need> {
+        self.component.needs()
     }
 
     fn load(&mut self) -> Result<(), String> {

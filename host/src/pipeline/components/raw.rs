@@ -5,7 +5,7 @@ use std::path::Path;
 
 use gudsl_runtime::{kernels::motion::mean_direction, phase_normalization::PhaseCalibration, Image, Kernel};
 
-use super::{size_text, slots, Component, Ctx, Inputs, Outputs, Params, SizesByPort};
+use super::{size_text, slots, Carries, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
     executor::{BufferSlot, KernelSlot, Later, Reads},
@@ -94,6 +94,16 @@ impl Component for BlackImageCorrection {
             "the black image",
             "they cannot meet",
         )
+    }
+
+    /// Its frames have had their black image subtracted: they carry none any more.
+    fn carries(&self, arriving: Carries) -> Carries {
+        Carries { black: false, ..arriving }
+    }
+
+    /// Without files of its own, each frame's own black image.
+    fn needs(&self) -> Option<Need> {
+        self.files.is_none().then_some(Need::Black("give the black image's files (channelA, channelB)"))
     }
 
     fn load(&mut self) -> Result<(), String> {

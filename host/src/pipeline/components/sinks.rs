@@ -9,7 +9,7 @@ use std::{fmt::Write as _, io::Cursor, sync::Arc};
 use gudsl_formats::{arrays, ply::Points};
 use gudsl_runtime::Image;
 
-use super::{depth_images, Component, Ctx, Inputs, Outputs, Params};
+use super::{depth_images, Component, Ctx, Inputs, Need, Outputs, Params};
 use crate::pipeline::{
     data::Data,
     executor::{Later, Reads},
@@ -194,6 +194,10 @@ impl AccuracyReport {
 }
 
 impl Component for AccuracyReport {
+    fn needs(&self) -> Option<Need> {
+        Some(Need::Truth("only a simulated camera's frames have it"))
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for (producer, depth) in depth_images(inputs) {
             let Some(truth) = &depth.truth else {

@@ -12,7 +12,7 @@ use gudsl_runtime::{
 
 use gudsl_runtime::Image;
 
-use super::{raw::open_raw_files, Component, Ctx, Inputs, Outputs, Params, Size};
+use super::{raw::open_raw_files, Carries, Component, Ctx, Inputs, Outputs, Params, Size};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame},
     executor::BufferSlot,
@@ -95,6 +95,11 @@ impl Component for Simulated {
         Some(self.frames)
     }
 
+    /// The scene's true distances always; the black image unless it is a grey-value camera's.
+    fn carries(&self, _arriving: Carries) -> Carries {
+        Carries { black: self.gives_black, truth: true }
+    }
+
     fn image_size(&self) -> Option<Size> {
         Some((self.camera.intrinsics.width, self.camera.intrinsics.height))
     }
@@ -172,6 +177,11 @@ impl RawFrameFile {
 }
 
 impl Component for RawFrameFile {
+    /// A recording's frames: no black image of their own, no truth.
+    fn carries(&self, _arriving: Carries) -> Carries {
+        Carries { black: false, truth: false }
+    }
+
     fn frames(&self) -> Option<usize> {
         Some(self.frames)
     }
@@ -220,6 +230,11 @@ impl DepthFile {
 }
 
 impl Component for DepthFile {
+    /// Recorded depth images: no truth.
+    fn carries(&self, _arriving: Carries) -> Carries {
+        Carries { black: false, truth: false }
+    }
+
     fn frames(&self) -> Option<usize> {
         Some(self.frames)
     }

@@ -27,7 +27,7 @@ use super::{
     ports::{input_port, kind_of, port_kinds},
     slots,
     texels::Conversions,
-    Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort,
+    Carries, Component, Ctx, Inputs, Need, Outputs, Params, Size, SizesByPort,
 };
 use crate::{
     launch::{Arg, Launcher, Number, WorkRange},
@@ -267,6 +267,14 @@ impl Component for WorkspaceComponent {
             renamed.entry(input_port(kind)).or_default().extend(set);
         }
         base.sizes_meet(&renamed)
+    }
+
+    fn carries(&self, arriving: Carries) -> Carries {
+        self.base.as_ref().map_or(arriving, |b| b.carries(arriving))
+    }
+
+    fn needs(&self) -> Option<Need> {
+        self.base.as_ref().and_then(|b| b.needs())
     }
 
     fn load(&mut self) -> Result<(), String> {
