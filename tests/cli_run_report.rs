@@ -159,3 +159,69 @@ fn what_recorded_frames_lack_is_an_error_before_the_run() {
     assert_eq!(code, Some(0), "{stdout}\n{stderr}");
     assert!(out.join("Writer/distance_0001.npy").is_file(), "{stdout}");
 }
+
+/// Issue 51, item 3: recorded frames get an accuracy report from a ground-truth file: the
+/// simulator's frames, black image and true distances recorded as `.npy` files, run as a
+/// recording; the report's mean error per frame is the one computed here from the written
+/// distances and the truth file.
+#[test]
+fn recorded_frames_get_an_accuracy_report_from_a_ground_truth_file() {
+    use gudsl_runtime::sim::{simulate, Camera, Motion, Scene};
+    let dir = temp_dir("recorded-truth");
+    let camera = Camera::default();
+    let frames: Vec<_> = (0..2).map(|f| simulate(&Scene::sphere(), Motion::Still, &camera, f)).collect();
+    let (w, h) = (frames[0].raw.width, frames[0].raw.height);
+    let channel = |image: &gudsl_runtime::Image, first: usize| -> Vec<f32> {
+        (0..4).flat_map(|p| image.plane(2 * p + first).to_vec()).collect()
+    };
+    for (name, first) in [("a", 0), ("b", 1)] {
+        let data: Vec<f32> = frames.iter().flat_map(|f| channel(&f.raw, first)).collect();
+        arrays::write(&dir.join(format!("{name}.npy")), &[2, 4, h, w], &data, arrays::Dtype::U16).unwrap();
+        let black = channel(&frames[0].black, first);
+        arrays::write(&dir.join(format!("black_{name}.npy")), &[4, h, w], &black, arrays::Dtype::U16).unwrap();
+    }
+    let truth: Vec<f32> = frames.iter().flat_map(|f| f.truth.data.clone()).collect();
+    arrays::write(&dir.join("truth.npy"), &[2, h, w], &truth, arrays::Dtype::F32).unwrap();
+    let model = dir.join("recorded.gudsl");
+    let text = RECORDED
+        .replace(
+            "BlackImageCorrection ( )",
+            "BlackImageCorrection (channelA = \"black_a.npy\", channelB = \"black_b.npy\")",
+        )
+        .replace("AccuracyReport ( )", "AccuracyReport (groundTruth = \"truth.npy\")");
+    std::fs::write(&model, text).unwrap();
+    let checked = gudsl().args(["check", model.to_str().unwrap()]).output().unwrap();
+    assert_eq!(checked.status.code(), Some(0), "{}", String::from_utf8_lossy(&checked.stdout));
+    let out = dir.join("out");
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let csv = std::fs::read_to_string(out.join("Accuracy/accuracy.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    for (frame, row) in rows.iter().enumerate() {
+        let distances = read_npy(&out.join(format!("Writer/distance_{frame:04}.npy")));
+        let truth = &frames[frame].truth.data;
+        let errors: Vec<f64> = distances
+            .iter()
+            .zip(truth)
+            .filter(|(d, t)| t.is_finite() && **t < 3.85 && **d > 0.0)
+            .map(|(d, t)| ((d - t).abs() * 100.0) as f64)
+            .collect();
+        let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+        assert_eq!(row[2].parse::<usize>().unwrap(), errors.len(), "frame {frame}: {csv}");
+        assert!((row[3].parse::<f64>().unwrap() - mean).abs() < 1e-3, "frame {frame}: {mean} in {csv}");
+        assert!(mean < 5.0, "a still sphere measured within centimetres: {mean} cm");
+    }
+
+    // A ground truth of another size cannot meet the depth images (E0405 at `groundTruth`).
+    arrays::write(&dir.join("small.npy"), &[4, 4], &[1.0; 16], arrays::Dtype::F32).unwrap();
+    std::fs::write(&model, std::fs::read_to_string(&model).unwrap().replace("truth.npy", "small.npy")).unwrap();
+    let checked = gudsl().args(["check", model.to_str().unwrap()]).output().unwrap();
+    let text = String::from_utf8_lossy(&checked.stdout);
+    assert!(text.contains("E0405") && text.contains("the ground truth is 4×4, the depth images it is given"), "{text}");
+}
+
+/// The values of a float32 `.npy` file.
+fn read_npy(path: &std::path::Path) -> Vec<f32> {
+    arrays::read(&gudsl_files::Folder::open(path.parent().unwrap()).unwrap(), path).unwrap().values
+}

@@ -193,6 +193,11 @@ impl DepthFile {
         Ok(DepthFile { folder, path: path.to_path_buf(), png, extent })
     }
 
+    /// The file, as the model names it.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
     /// The first `frames` images (all when there are fewer) in metres, read one at a time:
     /// an array's values as they are, a PNG's times `scale`.
     pub fn frames(&self, frames: usize, scale: f32) -> DepthFrames {

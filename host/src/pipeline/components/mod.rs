@@ -5,6 +5,7 @@
 //! (`cloud.rs`), RGBA images (`images.rs`), sinks (`sinks.rs`); and the workspace's own
 //! components, whose `process` runs device diagrams (`workspace.rs`).
 
+mod accuracy;
 mod cloud;
 mod depth;
 mod exposure;
@@ -237,7 +238,7 @@ fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Ve
         "ToF.PlyWriter" => made(sinks::PlyWriter::new(params)),
         "ToF.PngWriter" => made(sinks::PngWriter::new(params)),
         "ToF.ImageViewer" => made(images::ImageViewer::new(params)),
-        "ToF.AccuracyReport" => made(sinks::AccuracyReport::new(params)),
+        "ToF.AccuracyReport" => accuracy::AccuracyReport::new(params).and_then(made),
         _ => return None,
     })
 }
