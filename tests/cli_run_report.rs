@@ -225,3 +225,34 @@ fn recorded_frames_get_an_accuracy_report_from_a_ground_truth_file() {
 fn read_npy(path: &std::path::Path) -> Vec<f32> {
     arrays::read(&gudsl_files::Folder::open(path.parent().unwrap()).unwrap(), path).unwrap().values
 }
+
+/// Issue 51, item 5: settings that cannot act are warnings at their parameter (E0406) —
+/// ρ in a run of one frame, θ = 0 — and the run goes on.
+#[test]
+fn settings_that_cannot_act_are_warnings_at_their_parameter() {
+    let dir = temp_dir("ineffective");
+    let sample = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    let one_frame = sample.replace("speed = 1, frames = 6)", "speed = 1, frames = 1)");
+    let zero_theta = sample.replace("threshold = 1,", "threshold = 0,");
+    for (name, text, param, words) in [
+        ("one.gudsl", one_frame, "directionRestriction = 90", "a run of one frame has no previous frame"),
+        ("theta.gudsl", zero_theta, "threshold = 0", "θ = 0 takes every pixel for moving"),
+    ] {
+        assert!(text.contains(param), "{param}");
+        let model = dir.join(name);
+        std::fs::write(&model, &text).unwrap();
+        let checked = gudsl().args(["check", model.to_str().unwrap()]).output().unwrap();
+        let out = String::from_utf8_lossy(&checked.stdout);
+        assert_eq!(checked.status.code(), Some(0), "warnings only: {out}");
+        let line = text.lines().position(|l| l.contains(param)).unwrap() + 1;
+        let column = text.lines().nth(line - 1).unwrap().find(param).unwrap() + 1 + param.find('=').unwrap() + 2;
+        let warning = out.split("warning[").find(|w| w.starts_with("E0406]")).unwrap_or_else(|| panic!("{out}"));
+        assert!(warning.contains(words), "{warning}");
+        assert!(warning.contains(&format!("{name}:{line}:{column}")), "at the value: {warning}");
+    }
+    // The one-frame run runs, ρ or not.
+    let out = dir.join("out");
+    let model = dir.join("one.gudsl");
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+}

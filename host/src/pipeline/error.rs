@@ -30,13 +30,17 @@ pub enum ErrorKind {
     /// An output that cannot be written.
     Output,
     Cancelled,
+    /// A setting that cannot act in this pipeline (a warning, E0406): the run goes on.
+    Ineffective,
 }
 
 impl PipelineError {
-    /// Its diagnostic code: E0404 for an input, E0405 for the rest.
+    /// Its diagnostic code: E0404 for an input, E0406 for a setting that cannot act, E0405 for
+    /// the rest.
     pub fn code(&self) -> DiagnosticCode {
         match self.kind {
             ErrorKind::Input => DiagnosticCode::PipelineInput,
+            ErrorKind::Ineffective => DiagnosticCode::PipelineIneffective,
             _ => DiagnosticCode::PipelineMismatch,
         }
     }

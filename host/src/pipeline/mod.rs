@@ -84,6 +84,8 @@ pub struct PreparedPipeline {
     /// How each stage runs: in order, or apart (bound through an `async` port).
     modes: Vec<Mode>,
     frames: usize,
+    /// Settings that cannot act in it (E0406 warnings); it runs nonetheless.
+    pub warnings: Vec<PipelineError>,
 }
 
 /// The kernels of the device diagrams the plan's workspace components call in `process`
@@ -160,6 +162,16 @@ pub fn prepare(
             message: format!("`{}` has no source: nothing produces frames", plan.diagram),
         });
     }
+    let warnings: Vec<PipelineError> = plan
+        .stages
+        .iter()
+        .zip(&made)
+        .filter_map(|(stage, component)| {
+            let (param, why) = component.as_ref()?.cannot_act(frames)?;
+            let params = components::Params { stage, providers: 0, files };
+            Some(params.error(param, ErrorKind::Ineffective, why))
+        })
+        .collect();
     if errors.is_empty() {
         let modes = (0..plan.stages.len())
             .map(|i| match plan.stages[i].kind {
@@ -175,8 +187,10 @@ pub fn prepare(
             components: made,
             modes,
             frames,
+            warnings,
         })
     } else {
+        errors.extend(warnings);
         Err(errors)
     }
 }

@@ -179,13 +179,16 @@ impl Preparations {
 /// What keeps a prepared pipeline from running, as diagnostics placed in `plan`: not that the
 /// runtime cannot run a component (the model is right, only a run refuses it).
 fn problems(entry: &Entry, plan: &PipelinePlan) -> Vec<Diagnostic> {
-    let Err(errors) = &entry.prepared else { return Vec::new() };
+    let errors = match &entry.prepared {
+        Ok(prepared) => &prepared.warnings,
+        Err(errors) => errors,
+    };
     errors
         .iter()
         .filter(|error| error.kind != ErrorKind::NotRunnable)
         .map(|error| Diagnostic {
             code: error.code(),
-            severity: Severity::Error,
+            severity: if error.kind == ErrorKind::Ineffective { Severity::Warning } else { Severity::Error },
             range: error.range.unwrap_or(plan.name_range),
             message: error.message.clone(),
             suggestion: None,

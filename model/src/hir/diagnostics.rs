@@ -142,6 +142,8 @@ pub enum DiagnosticCode {
     PipelineInput,
     /// Images of sizes that cannot meet, or a stage that cannot run (reported by `gudsl-host`).
     PipelineMismatch,
+    /// A setting that cannot act in its pipeline, a warning (reported by `gudsl-host`).
+    PipelineIneffective,
     /// Device code the GPU code generator cannot generate (reported by `gudsl-codegen`).
     NotGenerated,
     /// Host code the interpreter cannot run (reported by `gudsl-host` before a run).
@@ -211,6 +213,7 @@ impl DiagnosticCode {
             DiagnosticCode::ParameterValue => "E0403",
             DiagnosticCode::PipelineInput => "E0404",
             DiagnosticCode::PipelineMismatch => "E0405",
+            DiagnosticCode::PipelineIneffective => "E0406",
             DiagnosticCode::NotGenerated => "E0301",
             DiagnosticCode::NotRunnable => "E0302",
             DiagnosticCode::RunFailed => "E0303",
@@ -281,6 +284,7 @@ impl DiagnosticCode {
             DiagnosticCode::ParameterValue => "a parameter out of range, not constant or missing",
             DiagnosticCode::PipelineInput => "a file a pipeline reads is missing or malformed",
             DiagnosticCode::PipelineMismatch => "images that cannot meet, or a stage that cannot run",
+            DiagnosticCode::PipelineIneffective => "a pipeline setting that cannot act",
             DiagnosticCode::NotGenerated => "device code the GPU code generator cannot generate",
             DiagnosticCode::NotRunnable => "host code the interpreter cannot run",
             DiagnosticCode::RunFailed => "where a run stopped with an error",

@@ -163,6 +163,11 @@ pub trait Component: Send {
         None
     }
 
+    /// A setting that cannot act in a run of `frames` frames: the parameter and why.
+    fn cannot_act(&self, _frames: usize) -> Option<(&'static str, String)> {
+        None
+    }
+
     /// Before the first frame: reads what it needs from files (their headers were checked when
     /// it was made). `Err` is a message naming the file.
     fn load(&mut self) -> Result<(), String> {

@@ -131,6 +131,10 @@ impl Component for OnStagePorts {
         self.component.needs()
     }
 
+    fn cannot_act(&self, frames: usize) -> Option<(&'static str, String)> {
+        self.component.cannot_act(frames)
+    }
+
     fn load(&mut self) -> Result<(), String> {
         self.component.load()
     }

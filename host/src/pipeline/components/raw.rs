@@ -187,6 +187,8 @@ pub struct MotionCompensation {
     theta: f32,
     /// Half of ρ in radians, when restricted.
     half_rho: Option<f32>,
+    /// θ as written, in percent.
+    theta_percent: f32,
     smooth: bool,
     subpixel: bool,
     /// The phase-normalization calibration (8 planes), if given, and its upload.
@@ -226,6 +228,7 @@ impl MotionCompensation {
             window: params.count("windowSize") as u32,
             theta: params.f32("threshold") / 100.0 * 65535.0,
             half_rho: (rho > 0.0).then(|| (rho / 2.0).to_radians()),
+            theta_percent: params.f32("threshold"),
             smooth: params.flag("smoothNeighbourhood"),
             subpixel: params.flag("subpixel"),
             calibration,
@@ -236,6 +239,21 @@ impl MotionCompensation {
 }
 
 impl Component for MotionCompensation {
+    /// ρ needs a previous frame; θ = 0 takes every pixel for moving.
+    fn cannot_act(&self, frames: usize) -> Option<(&'static str, String)> {
+        if self.half_rho.is_some() && frames <= 1 {
+            let why = "ρ restricts the flow to directions around the previous frame's mean direction: a run of one \
+                       frame has no previous frame, so it does nothing";
+            return Some(("directionRestriction", why.into()));
+        }
+        if self.theta_percent == 0.0 {
+            let why = "θ = 0 takes every pixel for moving: static pixels are matched and corrected too (noise \
+                       becomes flow); a θ above the noise leaves them as they are";
+            return Some(("threshold", why.into()));
+        }
+        None
+    }
+
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(calibration) = &self.calibration else { return Ok(()) };
         let own = (calibration.width, calibration.height);

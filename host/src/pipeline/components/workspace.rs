@@ -277,6 +277,10 @@ impl Component for WorkspaceComponent {
         self.base.as_ref().and_then(|b| b.needs())
     }
 
+    fn cannot_act(&self, frames: usize) -> Option<(&'static str, String)> {
+        self.base.as_ref().and_then(|b| b.cannot_act(frames))
+    }
+
     fn load(&mut self) -> Result<(), String> {
         self.base.as_mut().map_or(Ok(()), |b| b.load())
     }
