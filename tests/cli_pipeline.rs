@@ -155,6 +155,72 @@ fn a_phase_calibration_is_written_used_and_refused_when_it_does_not_fit() {
     assert!(calibrated < uncalibrated, "calibrated {calibrated:.2} cm, uncalibrated {uncalibrated:.2} cm");
 }
 
+/// Issue 51, item 6: the calibration fitted on recorded walls (`--from DIR`) — here the
+/// simulated sweep's walls, recorded as channel files with the black image — is the one fitted
+/// on the simulated walls directly; a folder that holds no wall, or too few, is refused.
+#[test]
+fn a_phase_calibration_is_fitted_on_recorded_walls() {
+    use gudsl_runtime::phase_normalization::{PhaseCalibration, SWEEP_DISTANCES, SWEEP_REFLECTIVITIES};
+    let dir = temp_dir("calibrate-recorded");
+    let walls = dir.join("walls");
+    std::fs::create_dir(&walls).unwrap();
+    let camera = Camera { gain_spread: 0.02, ..Camera::default() };
+    let (w, h) = (camera.intrinsics.width, camera.intrinsics.height);
+    let channel = |image: &gudsl_runtime::Image, first: usize| -> Vec<f32> {
+        (0..4).flat_map(|p| image.plane(2 * p + first).to_vec()).collect()
+    };
+    let mut black = None;
+    for (k, &distance) in SWEEP_DISTANCES.iter().enumerate() {
+        for (j, &reflectivity) in SWEEP_REFLECTIVITIES.iter().enumerate() {
+            let wall = Scene { wall_distance: distance, wall_reflectivity: reflectivity, ..Scene::empty() };
+            let frames: Vec<_> = (0..4).map(|f| simulate(&wall, Motion::Still, &camera, f)).collect();
+            for (tap, first) in [("a", 0), ("b", 1)] {
+                let data: Vec<f32> = frames.iter().flat_map(|f| channel(&f.raw, first)).collect();
+                let path = walls.join(format!("wall{k}{j}_{tap}.npy"));
+                arrays::write(&path, &[4, 4, h, w], &data, arrays::Dtype::U16).unwrap();
+            }
+            black = Some(frames[0].black.clone());
+        }
+    }
+    let black = black.unwrap();
+    for (tap, first) in [("a", 0), ("b", 1)] {
+        let path = walls.join(format!("black_{tap}.npy"));
+        arrays::write(&path, &[4, h, w], &channel(&black, first), arrays::Dtype::U16).unwrap();
+    }
+    let out = dir.join("recorded.npy");
+    let made =
+        gudsl().args(["calibrate-phases", out.to_str().unwrap(), "--from", walls.to_str().unwrap()]).output().unwrap();
+    assert_eq!(made.status.code(), Some(0), "{}", String::from_utf8_lossy(&made.stderr));
+    assert!(String::from_utf8_lossy(&made.stderr).contains("fitting on 12 wall(s)"));
+    let recorded = read_array(&out).unwrap();
+    assert_eq!(recorded.shape, [8, h, w]);
+    let simulated = PhaseCalibration::simulated(&camera).coefficients.data;
+    // The same walls, frames and black image: the same fit, but for the order of float sums.
+    let worst =
+        recorded.values.iter().zip(&simulated).map(|(a, b)| (a - b).abs() / b.abs().max(1.0)).fold(0.0, f32::max);
+    assert!(worst < 1e-3, "relative difference {worst}");
+
+    // Refusals: no wall, fewer than four.
+    let empty = dir.join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let refused = |folder: &Path| {
+        let out = gudsl()
+            .args(["calibrate-phases", dir.join("x.npy").to_str().unwrap(), "--from", folder.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert!(!dir.join("x.npy").exists());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    assert!(refused(&empty).contains("holds no wall"));
+    for name in std::fs::read_dir(&walls).unwrap().flatten().map(|e| e.file_name().into_string().unwrap()) {
+        if !name.starts_with("wall0") && !name.starts_with("black") {
+            std::fs::remove_file(walls.join(name)).unwrap();
+        }
+    }
+    assert!(refused(&walls).contains("at least 4 static recordings"));
+}
+
 /// A pipeline file in a scratch folder, `body` inside `ComponentInstanceDiagram Bad`.
 fn pipeline(dir: &Path, body: &str) -> String {
     let path = dir.join("bad.gudsl");

@@ -22,6 +22,7 @@ mod files;
 mod preparations;
 mod report;
 mod sizes;
+mod walls;
 
 use std::{
     collections::VecDeque,
@@ -45,6 +46,7 @@ use data::Item;
 pub use error::{ErrorKind, PipelineError};
 pub use preparations::{model_dir, Preparations};
 pub use report::{summary, table, write_report, PipelineReport, StageTime};
+pub use walls::calibration_walls;
 
 /// The GPU a pipeline runs on: the first adapter, its kernels timed where it has timestamp
 /// queries; `None`, the CPU reference, with `cpu` or when there is no adapter (`no_adapter`
