@@ -256,3 +256,28 @@ fn settings_that_cannot_act_are_warnings_at_their_parameter() {
     let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "-o", out.to_str().unwrap()]);
     assert_eq!(code, Some(0), "{stdout}\n{stderr}");
 }
+
+/// Issue 51, item 1: an accumulated cloud bound into ICP (which registers a camera's clouds)
+/// is an error before the run, at the registration.
+#[test]
+fn an_accumulated_cloud_into_icp_is_an_error_before_the_run() {
+    let dir = temp_dir("accumulated-icp");
+    let text = std::fs::read_to_string(repo("samples/pipelines/ch6_object_scan.gudsl")).unwrap();
+    let into_ply = "        [ source Out.cloud ==> target Ply.In.cloud ]\n";
+    assert!(text.contains(into_ply));
+    let text = text
+        .replace(into_ply, &format!("{into_ply}        [ source Out.cloud ==> target Extra.In.cloud ]\n"))
+        .replace(
+            "    Ply instantiates PlyWriter ( )",
+            "    Extra instantiates IcpRegistration ( )\n    {\n        In : CloudIn ( processor cloud = IPointCloudProcessor() );\n    }\n\n    Ply instantiates PlyWriter ( )",
+        );
+    let model = dir.join("scan.gudsl");
+    std::fs::write(&model, &text).unwrap();
+    let checked = gudsl().args(["check", model.to_str().unwrap()]).output().unwrap();
+    let out = String::from_utf8_lossy(&checked.stdout);
+    assert_eq!(checked.status.code(), Some(1), "{out}");
+    let line = text.lines().position(|l| l.contains("Extra instantiates")).unwrap() + 1;
+    let error = out.split("error[").find(|e| e.starts_with("E0405]")).unwrap_or_else(|| panic!("{out}"));
+    assert!(error.contains("the point clouds from `Model` are accumulated, not on a camera's grid"), "{error}");
+    assert!(error.contains(&format!("scan.gudsl:{line}:5")), "{error}");
+}

@@ -89,6 +89,21 @@ impl Folder {
         Ok(bytes)
     }
 
+    /// The names of the regular files in the folder itself (not in its subfolders, no links),
+    /// sorted; names that are not UTF-8 are left out.
+    pub fn file_names(&self) -> Result<Vec<String>, FileError> {
+        let failed = |e: std::io::Error| FileError::io(&self.path, &self.path, &e);
+        let mut names = Vec::new();
+        for entry in self.dir.entries().map_err(failed)? {
+            let entry = entry.map_err(failed)?;
+            if entry.file_type().map_err(failed)?.is_file() {
+                names.extend(entry.file_name().into_string());
+            }
+        }
+        names.sort();
+        Ok(names)
+    }
+
     /// `path`'s length and modification time (following links that stay in the folder), without
     /// opening it; `None` when it is missing, outside or unreadable.
     pub fn stamp(&self, path: &Path) -> Option<Stamp> {

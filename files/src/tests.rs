@@ -97,3 +97,19 @@ fn an_output_folder_is_never_reached_through_a_link_and_holds_none() {
     ));
     assert_eq!(fs::read(victim.path().join("keep")).unwrap(), b"keep");
 }
+
+#[test]
+fn lists_its_own_regular_files_only() {
+    let root = tempfile::tempdir().unwrap();
+    let outside = tempfile::tempdir().unwrap();
+    fs::write(root.path().join("b.npy"), b"b").unwrap();
+    fs::write(root.path().join("a.npy"), b"a").unwrap();
+    fs::create_dir(root.path().join("sub")).unwrap();
+    fs::write(root.path().join("sub/c.npy"), b"c").unwrap();
+    fs::write(outside.path().join("secret.npy"), b"secret").unwrap();
+    symlink(outside.path().join("secret.npy"), root.path().join("far.npy")).unwrap();
+    symlink("a.npy", root.path().join("near.npy")).unwrap();
+    mkfifo(&root.path().join("pipe.npy"));
+    let folder = Folder::open(root.path()).unwrap();
+    assert_eq!(folder.file_names().unwrap(), ["a.npy", "b.npy"], "no subfolder, link or FIFO");
+}

@@ -1,6 +1,7 @@
 //! What a run would find missing, found before it, in the editor too: whether the items that
 //! reach a component carry what it needs — a black image of the frame's own, the scene's true
-//! distances — followed from each source down the bindings (E0405 at the component).
+//! distances, a camera's grid — followed from each source down the bindings (E0405 at the
+//! component).
 
 use gudsl_model::hir::pipeline::PipelinePlan;
 
@@ -19,10 +20,12 @@ pub fn that_lack(plan: &PipelinePlan, made: &[Option<Box<dyn Component>>], files
         let (what, missing, advice) = match need {
             Need::Black(advice) => ("raw frames", "have no black image of their own", advice),
             Need::Truth(advice) => ("depth images", "have no ground truth", advice),
+            Need::Organized(advice) => ("point clouds", "are accumulated, not on a camera's grid", advice),
         };
         let lacks = |c: Carries| match need {
             Need::Black(_) => !c.black,
             Need::Truth(_) => !c.truth,
+            Need::Organized(_) => !c.organized,
         };
         let mut lacking: Vec<&str> = plan
             .bindings

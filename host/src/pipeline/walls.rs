@@ -13,17 +13,22 @@ use crate::access::ModelFiles;
 /// The black image's channel files, subtracted from every wall when they are there.
 const BLACK: &str = "black";
 
-/// The walls in `dir`, in the order of their names: `<wall>_a.npy` with `<wall>_b.npy` (raw
+/// The walls in `dir` (the folder `files` reads beneath), in the order of their names: `<wall>_a.npy` with `<wall>_b.npy` (raw
 /// frames of (4, H, W) or (N, 4, H, W), 16-bit values), each the mean of its frames less the
 /// black image (`black_a.npy`/`black_b.npy`, one frame) when there is one. Every problem is a
 /// message naming its file.
 pub fn calibration_walls(files: &ModelFiles, dir: &Path) -> Result<Vec<(String, Image)>, String> {
-    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let mut names: Vec<String> = entries
-        .flatten()
-        .filter_map(|entry| entry.file_name().to_str()?.strip_suffix("_a.npy").map(str::to_string))
-        .collect();
-    names.sort();
+    let present = files.folder(dir).map_err(|e| e.to_string())?.file_names().map_err(|e| e.to_string())?;
+    let mut names: Vec<String> =
+        present.iter().filter_map(|name| name.strip_suffix("_a.npy").map(str::to_string)).collect();
+    let unpaired = names.iter().find(|name| !present.contains(&format!("{name}_b.npy")));
+    if let Some(name) = unpaired {
+        return Err(format!(
+            "{} has no {}: a wall is two channel files",
+            channel(dir, name, 'a').display(),
+            channel(dir, name, 'b').display()
+        ));
+    }
     let black = match names.iter().position(|n| n == BLACK) {
         Some(at) => Some(mean_frame(files, dir, &names.remove(at))?),
         None => None,
@@ -64,9 +69,6 @@ fn channel(dir: &Path, name: &str, tap: char) -> PathBuf {
 /// The mean of the frames of `<name>_a.npy` and `<name>_b.npy` (8 planes).
 fn mean_frame(files: &ModelFiles, dir: &Path, name: &str) -> Result<Image, String> {
     let (a, b) = (channel(dir, name, 'a'), channel(dir, name, 'b'));
-    if !b.is_file() {
-        return Err(format!("{} has no {}: a wall is two channel files", a.display(), b.display()));
-    }
     let recording = RawFiles::open(files, &a, &b)
         .map_err(|errors| errors.into_iter().map(|e| e.message).collect::<Vec<_>>().join("; "))?;
     let count = recording.extent.frames;

@@ -14,7 +14,9 @@ use gudsl_runtime::{
     Image, Kernel, Shape,
 };
 
-use super::{depth_images, size_text, slots, Component, Ctx, Inputs, Outputs, Params, Size, SizesByPort};
+use super::{
+    depth_images, size_text, slots, Carries, Component, Ctx, Inputs, Need, Outputs, Params, Size, SizesByPort,
+};
 use crate::pipeline::{
     data::{Data, DepthImage, PointCloud, Tensor},
     executor::{BufferSlot, KernelSlot, Later, Reads},
@@ -215,6 +217,10 @@ impl IcpRegistration {
 }
 
 impl Component for IcpRegistration {
+    fn needs(&self) -> Option<Need> {
+        Some(Need::Organized("ICP registers a camera's clouds (from a PointCloudConversion)"))
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let mut out = Vec::new();
         for (producer, cloud) in clouds(inputs) {
@@ -320,6 +326,11 @@ pub struct Accumulation {
 }
 
 impl Component for Accumulation {
+    /// One cloud of all it was given: no camera's grid.
+    fn carries(&self, arriving: Carries) -> Carries {
+        Carries { organized: false, ..arriving }
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for (_, cloud) in clouds(inputs) {
             let (points, normals) = host_points(ctx, cloud)?;

@@ -105,20 +105,26 @@ pub fn size_text((width, height): Size) -> String {
 
 /// What the items a stage gives carry beside their images, known before a run (`carries.rs`
 /// follows it down the bindings): raw frames a black image of their own, frames and depth
-/// images the scene's true distances (a simulated camera's do, a recording's do not).
+/// images the scene's true distances (a simulated camera's do, a recording's do not), point
+/// clouds the camera's grid (an accumulated cloud has none).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Carries {
     pub black: bool,
     pub truth: bool,
+    pub organized: bool,
 }
 
 impl Carries {
     /// What every item can carry: where nothing has arrived yet.
-    pub const ALL: Carries = Carries { black: true, truth: true };
+    pub const ALL: Carries = Carries { black: true, truth: true, organized: true };
 
     /// What items from both carry.
     pub fn and(self, other: Carries) -> Carries {
-        Carries { black: self.black && other.black, truth: self.truth && other.truth }
+        Carries {
+            black: self.black && other.black,
+            truth: self.truth && other.truth,
+            organized: self.organized && other.organized,
+        }
     }
 }
 
@@ -129,6 +135,8 @@ pub enum Need {
     Black(&'static str),
     /// The true distances; the advice.
     Truth(&'static str),
+    /// Clouds on a camera's grid; the advice.
+    Organized(&'static str),
 }
 
 /// What a stage produced: data for its provider ports, by port name.

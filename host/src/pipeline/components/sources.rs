@@ -97,7 +97,7 @@ impl Component for Simulated {
 
     /// The scene's true distances always; the black image unless it is a grey-value camera's.
     fn carries(&self, _arriving: Carries) -> Carries {
-        Carries { black: self.gives_black, truth: true }
+        Carries { black: self.gives_black, truth: true, organized: true }
     }
 
     fn image_size(&self) -> Option<Size> {
@@ -179,7 +179,7 @@ impl RawFrameFile {
 impl Component for RawFrameFile {
     /// A recording's frames: no black image of their own, no truth.
     fn carries(&self, _arriving: Carries) -> Carries {
-        Carries { black: false, truth: false }
+        Carries { black: false, truth: false, organized: true }
     }
 
     fn frames(&self) -> Option<usize> {
@@ -232,7 +232,7 @@ impl DepthFile {
 impl Component for DepthFile {
     /// Recorded depth images: no truth.
     fn carries(&self, _arriving: Carries) -> Carries {
-        Carries { black: false, truth: false }
+        Carries { black: false, truth: false, organized: true }
     }
 
     fn frames(&self) -> Option<usize> {
