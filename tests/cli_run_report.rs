@@ -281,3 +281,39 @@ fn an_accumulated_cloud_into_icp_is_an_error_before_the_run() {
     assert!(error.contains("the point clouds from `Model` are accumulated, not on a camera's grid"), "{error}");
     assert!(error.contains(&format!("scan.gudsl:{line}:5")), "{error}");
 }
+
+/// Issue 51, item 7: a tap — motion compensation's motion mask, bound from its `MaskOut` to a
+/// `MaskWriter` — is written per frame, and is the mask the runtime's motion detection gives
+/// for the same frame on the CPU (θ 1 %, black subtracted).
+#[test]
+fn the_motion_mask_can_be_tapped_and_written() {
+    use gudsl_runtime::{
+        kernels::{motion::detect, tof::subtract_black},
+        sim::{simulate, Camera, Motion, Scene},
+    };
+    let dir = temp_dir("mask-tap");
+    let sample = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    let motion = "        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Compensated.In.frame ]\n";
+    assert!(sample.contains(motion), "the sample has changed");
+    let text = sample.replace(
+        motion,
+        &format!("{motion}        Mask : MaskOut ( provider mask = IMaskProvider() );\n        [ source Mask.mask ==> target Masks.In.mask ]\n"),
+    );
+    let text = text.trim_end().strip_suffix('}').unwrap().to_string()
+        + "\n    Masks instantiates MaskWriter ( )\n    {\n        In : MaskIn ( processor mask = IMaskProcessor() );\n    }\n}\n";
+    let model = dir.join("tapped.gudsl");
+    std::fs::write(&model, &text).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "--frames", "2", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    for frame in 0..2 {
+        let written = image::open(out.join(format!("Masks/mask_{frame:04}.png"))).unwrap();
+        assert_eq!(written.color(), image::ColorType::L8);
+        let simulated = simulate(&Scene::sphere(), Motion::Translation([0.01, 0.0, 0.0]), &Camera::default(), frame);
+        let [_, mask] = detect(&subtract_black(&simulated.raw, &simulated.black), 0.01 * 65535.0);
+        let expected: Vec<u8> = mask.data.iter().map(|&m| if m > 0.0 { 255 } else { 0 }).collect();
+        let moving = expected.iter().filter(|&&m| m == 255).count();
+        assert!(moving > 100 && moving < expected.len() / 2, "frame {frame}: {moving} moving pixels");
+        assert!(written.to_luma8().into_raw() == expected, "frame {frame}: the mask differs from the runtime's");
+    }
+}

@@ -250,6 +250,7 @@ fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Ve
         "ToF.NpyWriter" => made(sinks::NpyWriter::new(params)),
         "ToF.PlyWriter" => made(sinks::PlyWriter::new(params)),
         "ToF.PngWriter" => made(sinks::PngWriter::new(params)),
+        "ToF.MaskWriter" => made(sinks::MaskWriter::new(params)),
         "ToF.ImageViewer" => made(images::ImageViewer::new(params)),
         "ToF.AccuracyReport" => accuracy::AccuracyReport::new(params).and_then(made),
         _ => return None,

@@ -287,6 +287,8 @@ impl Component for MotionCompensation {
             // ρ restricts the next frame around this one's mean direction.
             item.flow = self.half_rho.map(|_| device.read_later(&flow));
             out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));
+            // A tap: the motion mask, to whatever is bound to `MaskOut`.
+            out.push(("MaskOut".to_string(), Data::Mask(mask)));
         }
         Ok(out)
     }

@@ -131,6 +131,42 @@ impl Component for PngWriter {
     }
 }
 
+/// `ToF.MaskWriter`: each mask as 8-bit grey PNG, 255 where set.
+pub struct MaskWriter {
+    instance: String,
+    several: bool,
+    pending: Pending,
+}
+
+impl MaskWriter {
+    pub fn new(params: &Params) -> MaskWriter {
+        MaskWriter { instance: params.stage.instance.clone(), several: params.providers > 1, pending: Vec::new() }
+    }
+}
+
+impl Component for MaskWriter {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        for item in inputs.port("MaskIn") {
+            if let Data::Mask(mask) = &item.data {
+                self.pending.push((item.producer.clone(), "mask", ctx.device.read_later(mask)));
+            }
+        }
+        Ok(Vec::new())
+    }
+
+    fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
+        for (producer, what, later) in std::mem::take(&mut self.pending) {
+            let image = reads.get(later);
+            let grey: Vec<u8> = image.plane(0).iter().map(|&m| if m > 0.0 { 255 } else { 0 }).collect();
+            let buffer = image::GrayImage::from_raw(image.width as u32, image.height as u32, grey)
+                .ok_or("an image of no pixels")?;
+            let name = file_name(self.several.then_some(producer.as_str()), what, ctx.frame, "png");
+            ctx.output.write(&self.instance, &name, &png(buffer)?)?;
+        }
+        Ok(Vec::new())
+    }
+}
+
 /// An image encoded as PNG.
 pub(super) fn png<P: image::PixelWithColorType, C: std::ops::Deref<Target = [P::Subpixel]>>(
     buffer: image::ImageBuffer<P, C>,
