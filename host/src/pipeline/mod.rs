@@ -482,7 +482,8 @@ impl PreparedPipeline {
         Ok(())
     }
 
-    /// After the last frame: what sinks write once (a plot, the last cloud). Components lost with a panicked thread and failed sinks write nothing more.
+    /// After the last frame: what sinks write once (a plot, the last cloud). Components lost
+    /// with a panicked thread and failed sinks write nothing more.
     fn finish(&mut self, output: &mut OutputDir, times: &mut [StageTime]) -> Result<(), PipelineError> {
         for (index, time) in times.iter_mut().enumerate() {
             let Some(component) = self.components[index].as_mut().filter(|_| time.failed.is_none()) else {

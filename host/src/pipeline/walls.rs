@@ -13,10 +13,10 @@ use crate::access::ModelFiles;
 /// The black image's channel files, subtracted from every wall when they are there.
 const BLACK: &str = "black";
 
-/// The walls in `dir` (the folder `files` reads beneath), in the order of their names: `<wall>_a.npy` with `<wall>_b.npy` (raw
-/// frames of (4, H, W) or (N, 4, H, W), 16-bit values), each the mean of its frames less the
-/// black image (`black_a.npy`/`black_b.npy`, one frame) when there is one. Every problem is a
-/// message naming its file.
+/// The walls in `dir` (the folder `files` reads beneath), in the order of their names:
+/// `<wall>_a.npy` with `<wall>_b.npy` (raw frames of (4, H, W) or (N, 4, H, W), 16-bit values),
+/// each the mean of its frames less the black image (`black_a.npy`/`black_b.npy`, one frame)
+/// when there is one. Every problem is a message naming its file.
 pub fn calibration_walls(files: &ModelFiles, dir: &Path) -> Result<Vec<(String, Image)>, String> {
     let present = files.folder(dir).map_err(|e| e.to_string())?.file_names().map_err(|e| e.to_string())?;
     let mut names: Vec<String> =

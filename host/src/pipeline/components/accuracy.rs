@@ -6,7 +6,7 @@ use std::{fmt::Write as _, sync::Arc};
 
 use gudsl_runtime::Image;
 
-use super::{depth_images, size_text, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
+use super::{depth_images, of_size, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
 use crate::pipeline::{
     executor::{Later, Reads},
     files, ErrorKind, OutputDir, PipelineError,
@@ -86,17 +86,7 @@ impl Component for AccuracyReport {
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(truth) = &self.truth_file else { return Ok(()) };
         let own = (truth.file.extent.width, truth.file.extent.height);
-        match sizes.get("DepthIn").into_iter().flatten().find(|&&size| size != own) {
-            Some(&given) => Err((
-                Some("groundTruth"),
-                format!(
-                    "the ground truth is {}, the depth images it is given {}: they cannot meet",
-                    size_text(own),
-                    size_text(given)
-                ),
-            )),
-            None => Ok(()),
-        }
+        of_size(sizes, ("DepthIn", "depth images"), own, "groundTruth", "the ground truth", "they cannot meet")
     }
 
     fn load(&mut self) -> Result<(), String> {

@@ -103,6 +103,25 @@ pub fn size_text((width, height): Size) -> String {
     format!("{width}×{height}")
 }
 
+/// Whether every image arriving on `port` (`given`: what they are, "frames") is `own` in size;
+/// if not, the error at `param`: "`what` is W×H, the `given` it is given W×H: `advice`".
+pub fn of_size(
+    sizes: &SizesByPort,
+    (port, given): (&str, &str),
+    own: Size,
+    param: &'static str,
+    what: &str,
+    advice: &str,
+) -> Result<(), (Option<&'static str>, String)> {
+    match sizes.get(port).into_iter().flatten().find(|&&size| size != own) {
+        Some(&other) => Err((
+            Some(param),
+            format!("{what} is {}, the {given} it is given {}: {advice}", size_text(own), size_text(other)),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// What the items a stage gives carry beside their images, known before a run (`carries.rs`
 /// follows it down the bindings): raw frames a black image of their own, frames and depth
 /// images the scene's true distances (a simulated camera's do, a recording's do not), point

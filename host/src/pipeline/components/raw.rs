@@ -5,7 +5,7 @@ use std::path::Path;
 
 use gudsl_runtime::{kernels::motion::mean_direction, phase_normalization::PhaseCalibration, Image, Kernel};
 
-use super::{size_text, slots, Carries, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
+use super::{of_size, slots, Carries, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
     executor::{BufferSlot, KernelSlot, Later, Reads},
@@ -58,24 +58,6 @@ impl BlackImageCorrection {
     }
 }
 
-/// Whether every raw frame arriving on `RawIn` is `own` in size; if not, the error at `param`:
-/// "`what` is W×H, the frames it is given W×H: `advice`".
-fn frames_of_size(
-    sizes: &SizesByPort,
-    own: (usize, usize),
-    param: &'static str,
-    what: &str,
-    advice: &str,
-) -> Result<(), (Option<&'static str>, String)> {
-    match sizes.get("RawIn").into_iter().flatten().find(|&&size| size != own) {
-        Some(&frames) => Err((
-            Some(param),
-            format!("{what} is {}, the frames it is given {}: {advice}", size_text(own), size_text(frames)),
-        )),
-        None => Ok(()),
-    }
-}
-
 /// A recording's channel files (`channelA`, `channelB`), each problem at its parameter.
 pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, Vec<PipelineError>> {
     RawFiles::open(params.files, a, b).map_err(|errors| {
@@ -87,13 +69,8 @@ pub fn open_raw_files(params: &Params, a: &Path, b: &Path) -> Result<RawFiles, V
 impl Component for BlackImageCorrection {
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(files) = &self.files else { return Ok(()) };
-        frames_of_size(
-            sizes,
-            (files.extent.width, files.extent.height),
-            "channelA",
-            "the black image",
-            "they cannot meet",
-        )
+        let own = (files.extent.width, files.extent.height);
+        of_size(sizes, ("RawIn", "frames"), own, "channelA", "the black image", "they cannot meet")
     }
 
     /// Its frames have had their black image subtracted: they carry none any more.
@@ -257,7 +234,8 @@ impl Component for MotionCompensation {
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(calibration) = &self.calibration else { return Ok(()) };
         let own = (calibration.width, calibration.height);
-        frames_of_size(sizes, own, "phaseCalibration", "the phase calibration", "calibrate for this camera")
+        let advice = "calibrate for this camera";
+        of_size(sizes, ("RawIn", "frames"), own, "phaseCalibration", "the phase calibration", advice)
     }
 
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
