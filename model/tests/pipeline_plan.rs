@@ -118,3 +118,37 @@ fn an_edit_elsewhere_does_not_rebuild_the_plan_and_a_parameter_edit_does() {
     assert_eq!(ran(&w.db.take_executions(), "pipeline_plan"), 1);
     assert_eq!(edited.stages[0].param("frames"), Some(&Value::Int(7)));
 }
+
+#[test]
+fn a_value_not_of_its_fields_type_is_e0403_where_it_is_written() {
+    let cases = [
+        ("frames = 2 * 6", "frames = 2.5", "`frames` is 2.5, but must be a whole number"),
+        (
+            "modulationFrequency = 20",
+            "modulationFrequency = true",
+            "`modulationFrequency` is true, but must be a number",
+        ),
+        (
+            "scene = Scene.Plates",
+            "scene = IntegrationControl.MeanIntensity",
+            "`scene` is MeanIntensity, but must be a member of `Scene`: `Scene.Sphere`, `Scene.Box`",
+        ),
+        ("frames = 2 * 6", "frames = \"12\"", "`frames` is \"12\", but must be a whole number"),
+    ];
+    for (before, after, message) in cases {
+        let mut w = workspace();
+        let text = w.pipeline.text(&w.db).replace(before, after);
+        let at = text.find(after).expect("the edit") + after.find('=').unwrap() + 2;
+        w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
+        let plan = plan(&w);
+        let [problem] = &plan.diagnostics[..] else { panic!("{after}: {:#?}", plan.diagnostics) };
+        assert_eq!(problem.code.as_str(), "E0403");
+        assert!(problem.message.starts_with(message), "{after}: {}", problem.message);
+        assert_eq!(usize::from(problem.range.start()), at, "{after}: at the value written");
+    }
+    // A whole number where a floating-point one is wanted converts, as in C.
+    let mut w = workspace();
+    let text = w.pipeline.text(&w.db).replace("modulationFrequency = 20", "modulationFrequency = 30");
+    w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
+    assert!(plan(&w).diagnostics.is_empty());
+}

@@ -12,9 +12,10 @@ use crate::{
     hir::{
         definitions::{DefKind, Definition},
         diagnostics::{DiagnosticCode, Diagnostics},
-        items::TypeKind,
+        items::{TypeKind, TypeSignature},
         scope::Scope,
         semantics::Semantics,
+        ty::{self, Ty},
     },
     syntax::{SyntaxKind, TextRange},
 };
@@ -57,17 +58,26 @@ pub(super) fn parameters(
                 written: at,
                 input_file: false,
             };
-            params.push(check(sema, &declared_scope, &decl, param, range, value.is_none() && at.is_some(), sink));
+            let declared = Declared { scope: &declared_scope, decl: &decl, ty: &field.ty };
+            params.push(check(sema, declared, param, range, value.is_none() && at.is_some(), sink));
         }
     }
     params
 }
 
-/// The field's constraints on the parameter; a value that breaks one is an error at `range`.
+/// A parameter's field: where it is declared, its declaration and its type.
+#[derive(Clone, Copy)]
+struct Declared<'a> {
+    scope: &'a Scope,
+    decl: &'a ast::Field,
+    ty: &'a TypeSignature,
+}
+
+/// The field's type and constraints on the parameter; a value that breaks one is an error at
+/// `range`.
 fn check(
     sema: &Semantics,
-    scope: &Scope,
-    decl: &ast::Field,
+    Declared { scope, decl, ty }: Declared,
     mut param: Param,
     range: TextRange,
     not_constant: bool,
@@ -80,6 +90,10 @@ fn check(
             range,
             format!("`{name}` needs a constant: a number, text, `true`/`false` or an enum member"),
         );
+        return param;
+    }
+    if let Some(wanted) = type_mismatch(sema, scope, ty, &param.value) {
+        sink.error(DiagnosticCode::ParameterValue, range, format!("`{name}` is {}, {wanted}", shown(&param.value)));
         return param;
     }
     // One problem a value: a window of 2 is out of range, and saying it is even adds nothing.
@@ -134,6 +148,59 @@ fn check(
 /// A number as a user writes it: `5`, `0.5`.
 fn show(value: f64) -> String {
     format!("{value}")
+}
+
+/// A value as a user writes it.
+fn shown(value: &Value) -> String {
+    match value {
+        Value::Int(v) => v.to_string(),
+        Value::Float(v) => show(v.get()),
+        Value::Bool(v) => v.to_string(),
+        Value::Text(text) => format!("{text:?}"),
+        Value::Enum(member) => member.clone(),
+        Value::Missing => "missing".to_string(),
+    }
+}
+
+/// What the field's type wants where `value` is not of it (`None`: it is, or the type is none
+/// a constant can have). Numbers convert as in C from integer to floating point, not back.
+fn type_mismatch(sema: &Semantics, scope: &Scope, ty: &TypeSignature, value: &Value) -> Option<String> {
+    let resolved = ty::from_signature(ty, &mut |path| sema.resolve(scope, path).map(|d| d.fqn.clone()));
+    let fits = match (&resolved, value) {
+        (_, Value::Missing) => true,
+        (Ty::Int, Value::Int(_)) | (Ty::UInt, Value::Int(0..)) | (Ty::Float, Value::Int(_) | Value::Float(_)) => true,
+        (Ty::Bool, Value::Bool(_)) | (Ty::String, Value::Text(_)) => true,
+        (Ty::Named(fqn), Value::Enum(member)) => enum_members(sema, fqn).is_none_or(|m| m.contains(member)),
+        (Ty::Int | Ty::UInt | Ty::Float | Ty::Bool | Ty::String, _) => false,
+        (Ty::Named(fqn), _) => enum_members(sema, fqn).is_none(),
+        _ => true,
+    };
+    if fits {
+        return None;
+    }
+    Some(match &resolved {
+        Ty::Int => "but must be a whole number".to_string(),
+        Ty::UInt => "but must be a whole number of at least 0".to_string(),
+        Ty::Float => "but must be a number".to_string(),
+        Ty::Bool => "but must be `true` or `false`".to_string(),
+        Ty::String => "but must be text in double quotes".to_string(),
+        Ty::Named(fqn) => {
+            let members = enum_members(sema, fqn).unwrap_or_default();
+            let short = fqn.rsplit('.').next().unwrap_or(fqn);
+            let listed: Vec<String> = members.iter().map(|m| format!("`{short}.{m}`")).collect();
+            format!("but must be a member of `{short}`: {}", listed.join(", "))
+        }
+        other => format!("but must be of type `{other}`"),
+    })
+}
+
+/// The members of the enum `fqn` (`None`: it is no enum).
+fn enum_members(sema: &Semantics, fqn: &str) -> Option<Vec<String>> {
+    let def = sema.definition(fqn)?;
+    match &def.kind {
+        DefKind::Type(item) if item.kind == TypeKind::Enum => Some(item.enum_values.clone()),
+        _ => None,
+    }
 }
 
 /// The constant an expression denotes, or `None` if it is not one.
