@@ -291,6 +291,18 @@ impl Analysis {
         self.with(|db, workspace| ide::graph_edit(db, workspace, file, diagram, ops))
     }
 
+    /// The edit of the text that sets `parameter` of the instance `instance` of the pipeline
+    /// `diagram` (fully qualified) to `value` as written in the model.
+    pub fn parameter_edit(
+        &self,
+        diagram: &str,
+        instance: &str,
+        parameter: &str,
+        value: &str,
+    ) -> Cancellable<Result<ide::ParameterEdit, String>> {
+        self.with(|db, workspace| ide::parameter_edit(db, workspace, diagram, instance, parameter, value))
+    }
+
     pub fn completions(&self, file: FileId, offset: TextSize) -> Cancellable<ide::Completions> {
         self.with(|db, workspace| ide::completions(db, workspace, file, offset))
     }

@@ -3,6 +3,7 @@
 //! bindings from provider to processor with the receiving port's mode; and incrementality,
 //! counted query by query: an edit elsewhere does not rebuild the plan, a parameter edited does.
 
+use gudsl_model::ide::parameter_edit;
 use gudsl_model::{
     db::{RootDatabase, SourceFile, Workspace, EDITED, UNEDITED},
     hir::{
@@ -151,4 +152,72 @@ fn a_value_not_of_its_fields_type_is_e0403_where_it_is_written() {
     let text = w.pipeline.text(&w.db).replace("modulationFrequency = 20", "modulationFrequency = 30");
     w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
     assert!(plan(&w).diagnostics.is_empty());
+}
+
+/// `instance.parameter = value` set by an edit of the text, as `gudsl run --set` does: the
+/// edited text and the value's range in it.
+fn set(w: &Workspace2, instance: &str, parameter: &str, value: &str) -> Result<(String, String), String> {
+    let edit = parameter_edit(&w.db, w.workspace, "ClosedLoop", instance, parameter, value)?;
+    assert_eq!(edit.file, w.pipeline);
+    let text = w.pipeline.text(&w.db).clone();
+    let mut edited = text.clone();
+    edited.replace_range(std::ops::Range::<usize>::from(edit.range), &edit.text);
+    let at = edited[std::ops::Range::<usize>::from(edit.value)].to_string();
+    Ok((edited, at))
+}
+
+#[test]
+fn a_parameter_is_set_where_it_is_written_or_added_to_the_instance() {
+    let mut w = workspace();
+    let (edited, value) = set(&w, "Demod", "modulationFrequency", "30").unwrap();
+    assert!(edited.contains("Demodulation (modulationFrequency = 30)"), "replaced where written");
+    assert_eq!(value, "30");
+    let (edited, value) = set(&w, "Camera", "seed", " 7 ").unwrap();
+    assert!(edited.contains("(scene = Scene.Plates, frames = 2 * 6, seed = 7)"), "after the last: {edited}");
+    assert_eq!(value, "7");
+    w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(edited);
+    assert_eq!(plan(&w).stages[0].param("seed"), Some(&Value::Int(7)), "the plan runs with it");
+
+    for (before, after, wanted) in [
+        (
+            "IntegrationTimeControl (method = IntegrationControl.MeanIntensity)",
+            "IntegrationTimeControl ( )",
+            "IntegrationTimeControl (method = IntegrationControl.MeanIntensity)",
+        ),
+        ("Demodulation (modulationFrequency = 20)", "Demodulation", "Demodulation (modulationFrequency = 25)"),
+    ] {
+        let mut w = workspace();
+        let text = w.pipeline.text(&w.db).replace(before, after);
+        w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
+        let (parameter, value) = if wanted.contains("method") {
+            ("method", "IntegrationControl.MeanIntensity")
+        } else {
+            ("modulationFrequency", "25")
+        };
+        let instance = if wanted.contains("method") { "Control" } else { "Demod" };
+        let (edited, at) = set(&w, instance, parameter, value).unwrap();
+        assert!(edited.contains(wanted), "{edited}");
+        assert_eq!(at, value);
+    }
+}
+
+#[test]
+fn a_parameter_edit_names_what_there_is_and_writes_one_value_only() {
+    let w = workspace();
+    let error = set(&w, "Demodd", "modulationFrequency", "30").unwrap_err();
+    assert_eq!(error, "`ClosedLoop` has no instance `Demodd` (it has Camera, Demod, Control)");
+    let error = set(&w, "Demod", "frequency", "30").unwrap_err();
+    assert!(
+        error.starts_with(
+            "`Demod` (ToF.Demodulation) has no parameter `frequency` (its parameters: modulationFrequency"
+        ),
+        "{error}"
+    );
+    for sneaky in ["30, modulationFrequency = 40", "30) { } X instantiates Y (", "30 /* a */", "", "(scene = Scene.Box"]
+    {
+        assert!(set(&w, "Demod", "modulationFrequency", sneaky).is_err(), "`{sneaky}` is refused");
+        assert!(set(&w, "Camera", "seed", sneaky).is_err(), "`{sneaky}` is refused where it would be added");
+    }
+    // A value of the wrong type is written: the plan tells what is wrong with it (E0403).
+    assert!(set(&w, "Demod", "modulationFrequency", "true").is_ok());
 }

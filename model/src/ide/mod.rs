@@ -8,6 +8,7 @@ mod folding;
 mod graph_edit;
 mod hints;
 mod navigation;
+mod parameters;
 mod references;
 mod structure;
 mod symbols;
@@ -20,6 +21,7 @@ pub use folding::{folding_ranges, Fold, FoldKind};
 pub use graph_edit::{graph_edit, property, GraphEditError, GraphOp, NewKind, Properties};
 pub use hints::{inlay_hints, signature_help, InlayHint, SignatureHelp};
 pub use navigation::{goto_definition, goto_type_definition, hover, NavigationTarget};
+pub use parameters::{parameter_edit, ParameterEdit};
 pub use references::{find_references, prepare_rename, rename, FileRange, RenameError};
 pub use structure::{
     selection_ranges, semantic_tokens, workspace_symbols, HighlightedToken, TokenClass, WorkspaceSymbol,
