@@ -40,6 +40,13 @@ impl OutputDir {
         Ok(OutputDir { root: Arc::new(named_folder(path)?), written: Vec::new() })
     }
 
+    /// The folder `name` (reduced to a plain name) in it, as the output folder of a run of its
+    /// own: a setting of a parameter study.
+    pub fn nested(&self, name: &str) -> Result<OutputDir, String> {
+        let folder = self.root.subfolder(&plain(name)).map_err(|e| format!("cannot write into {e}"))?;
+        Ok(OutputDir { root: Arc::new(folder), written: Vec::new() })
+    }
+
     /// The folder's path.
     pub fn path(&self) -> &Path {
         self.root.path()

@@ -120,38 +120,36 @@ fn an_edit_elsewhere_does_not_rebuild_the_plan_and_a_parameter_edit_does() {
     assert_eq!(edited.stages[0].param("frames"), Some(&Value::Int(7)));
 }
 
-#[test]
-fn a_value_not_of_its_fields_type_is_e0403_where_it_is_written() {
-    let cases = [
-        ("frames = 2 * 6", "frames = 2.5", "`frames` is 2.5, but must be a whole number"),
-        (
-            "modulationFrequency = 20",
-            "modulationFrequency = true",
-            "`modulationFrequency` is true, but must be a number",
-        ),
-        (
-            "scene = Scene.Plates",
-            "scene = IntegrationControl.MeanIntensity",
-            "`scene` is MeanIntensity, but must be a member of `Scene`: `Scene.Sphere`, `Scene.Box`",
-        ),
-        ("frames = 2 * 6", "frames = \"12\"", "`frames` is \"12\", but must be a whole number"),
-    ];
-    for (before, after, message) in cases {
-        let mut w = workspace();
-        let text = w.pipeline.text(&w.db).replace(before, after);
-        let at = text.find(after).expect("the edit") + after.find('=').unwrap() + 2;
-        w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
-        let plan = plan(&w);
-        let [problem] = &plan.diagnostics[..] else { panic!("{after}: {:#?}", plan.diagnostics) };
-        assert_eq!(problem.code.as_str(), "E0403");
-        assert!(problem.message.starts_with(message), "{after}: {}", problem.message);
-        assert_eq!(usize::from(problem.range.start()), at, "{after}: at the value written");
-    }
-    // A whole number where a floating-point one is wanted converts, as in C.
+/// The plan with `before` replaced by `after` in the pipeline's text.
+fn edited_plan(before: &str, after: &str) -> (Workspace2, PipelinePlan) {
     let mut w = workspace();
-    let text = w.pipeline.text(&w.db).replace("modulationFrequency = 20", "modulationFrequency = 30");
+    let text = w.pipeline.text(&w.db).replace(before, after);
+    assert_ne!(&text, w.pipeline.text(&w.db), "`{before}` is in the text");
     w.pipeline.set_text(&mut w.db).with_durability(EDITED).to(text);
-    assert!(plan(&w).diagnostics.is_empty());
+    let plan = plan(&w);
+    (w, plan)
+}
+
+#[test]
+fn values_convert_to_their_fields_type_as_c_converts_constants() {
+    let (w, plan) = edited_plan("frames = 2 * 6", "frames = 2.5");
+    let [problem] = &plan.diagnostics[..] else { panic!("{:#?}", plan.diagnostics) };
+    assert_eq!(problem.code.as_str(), "E0403");
+    assert_eq!(problem.message, "`frames` is 2.5, but must be a whole number");
+    let at = w.pipeline.text(&w.db).find("2.5").unwrap();
+    assert_eq!(usize::from(problem.range.start()), at, "at the value written");
+
+    let (_, plan) = edited_plan("frames = 2 * 6", "frames = 24.0 / 2");
+    assert!(plan.diagnostics.is_empty(), "{:#?}", plan.diagnostics);
+    assert_eq!(plan.stages[0].param("frames"), Some(&Value::Int(12)), "a whole number is an integer");
+    let (_, plan) = edited_plan("modulationFrequency = 20", "modulationFrequency = true");
+    assert_eq!(plan.stages[1].param("modulationFrequency"), Some(&Value::Int(1)), "C's true is 1");
+
+    // A value of another kind is validation's to report (E0225), once.
+    let (w, plan) = edited_plan("scene = Scene.Plates", "scene = IntegrationControl.MeanIntensity");
+    assert!(plan.diagnostics.is_empty(), "{:#?}", plan.diagnostics);
+    let codes: Vec<&str> = file_diagnostics(&w.db, w.workspace, w.pipeline).iter().map(|d| d.code.as_str()).collect();
+    assert_eq!(codes, ["E0225"]);
 }
 
 /// `instance.parameter = value` set by an edit of the text, as `gudsl run --set` does: the
@@ -220,4 +218,29 @@ fn a_parameter_edit_names_what_there_is_and_writes_one_value_only() {
     }
     // A value of the wrong type is written: the plan tells what is wrong with it (E0403).
     assert!(set(&w, "Demod", "modulationFrequency", "true").is_ok());
+}
+
+#[test]
+fn text_a_shell_left_unquoted_is_written_as_text() {
+    let pipeline = r#"
+ComponentInstanceDiagram Recorded
+{
+    import ToF.*;
+    Truth instantiates AccuracyReport (maxTrueDistance = 3)
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+}
+"#;
+    let db = RootDatabase::default();
+    let file = SourceFile::builder("recorded.gudsl".into(), pipeline.into()).new(&db);
+    let library = gudsl_model::library::library_files(&db);
+    let workspace = Workspace::new(&db, library.into_iter().chain([file]).collect());
+    let edit = |value: &str| parameter_edit(&db, workspace, "Recorded", "Truth", "groundTruth", value);
+    assert_eq!(edit("truth/wall.npy").unwrap().text, r#", groundTruth = "truth/wall.npy""#);
+    assert_eq!(edit(r#""quoted.npy""#).unwrap().text, r#", groundTruth = "quoted.npy""#);
+    assert_eq!(edit(r#"say "hi".npy"#).unwrap().text, r#", groundTruth = "say \"hi\".npy""#);
+    // A number is no text: the field is checked as typed.
+    let number = parameter_edit(&db, workspace, "Recorded", "Truth", "maxTrueDistance", "x.npy").unwrap();
+    assert_eq!(number.text, "x.npy");
 }

@@ -22,6 +22,7 @@ mod files;
 mod preparations;
 mod report;
 mod sizes;
+mod study;
 mod walls;
 
 use std::{
@@ -45,7 +46,8 @@ use components::{Component, Inputs, Outputs};
 use data::Item;
 pub use error::{ErrorKind, PipelineError};
 pub use preparations::{model_dir, Preparations};
-pub use report::{summary, table, write_report, PipelineReport, StageTime};
+pub use report::{summary, table, write_report, Figure, PipelineReport, StageTime};
+pub use study::{study_table, write_study, StudyRun};
 pub use walls::calibration_walls;
 
 /// The GPU a pipeline runs on: the first adapter, its kernels timed where it has timestamp
@@ -198,6 +200,11 @@ pub fn prepare(
 }
 
 impl PreparedPipeline {
+    /// The diagram it runs (fully qualified).
+    pub fn diagram(&self) -> &str {
+        &self.plan.diagram
+    }
+
     /// The frames the sources give (the longest source).
     pub fn frames(&self) -> usize {
         self.frames
@@ -256,6 +263,7 @@ impl PreparedPipeline {
         // frames that ran are not lost.
         let finished = self.finish(output, &mut stages);
         let outcome = outcome.and(finished);
+        let figures = self.figures(&stages);
         PipelineReport {
             diagram: self.plan.diagram.clone(),
             device: gpu.map_or_else(|| "the CPU reference".to_string(), Gpu::describe),
@@ -264,8 +272,20 @@ impl PreparedPipeline {
             loading,
             stages,
             outputs: output.written().to_vec(),
+            figures,
             outcome,
         }
+    }
+
+    /// What the stages that did not fail measured.
+    fn figures(&self, times: &[StageTime]) -> Vec<Figure> {
+        let measured = self.components.iter().zip(times).filter(|(_, time)| time.failed.is_none());
+        let by_stage = measured.filter_map(|(component, time)| Some((component.as_ref()?, &time.instance)));
+        by_stage
+            .flat_map(|(component, stage)| {
+                component.figures().into_iter().map(|(name, value)| Figure { stage: stage.clone(), name, value })
+            })
+            .collect()
     }
 
     fn frames_loop<'g>(

@@ -29,7 +29,18 @@ pub struct PipelineReport {
     pub stages: Vec<StageTime>,
     /// Files written, under the output folder.
     pub outputs: Vec<PathBuf>,
+    /// What the stages measured over the run (an accuracy report's errors).
+    pub figures: Vec<Figure>,
     pub outcome: Result<(), PipelineError>,
+}
+
+/// One number a stage measured over a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    pub stage: String,
+    /// What it is, with its unit (`Compensated mean_cm`).
+    pub name: String,
+    pub value: f64,
 }
 
 /// The time one stage took over the run.
@@ -126,6 +137,9 @@ fn report_json(report: &PipelineReport) -> serde_json::Value {
             "async": s.apart,
             "state": if s.failed.is_some() { "failed" } else { "ok" },
             "error": s.failed.as_ref().map(|e| e.message.clone()),
+        })).collect::<Vec<_>>(),
+        "figures": report.figures.iter().map(|f| serde_json::json!({
+            "stage": f.stage, "name": f.name, "value": f.value,
         })).collect::<Vec<_>>(),
         "outputs": paths(|_| true),
         "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),

@@ -39,11 +39,19 @@ pub fn parameter_edit(
     let plan = pipeline_plan(db, workspace, Fqn::new(db, diagram.to_string()))
         .as_ref()
         .ok_or_else(|| format!("no component-instance diagram `{diagram}`"))?;
-    known(plan, instance, parameter)?;
+    let class = known(plan, instance, parameter)?;
     let value = value.trim();
     if value.is_empty() {
         return Err(format!("`{instance}.{parameter}` needs a value"));
     }
+    // Text as a shell leaves it (`calibration.npy`, its quotes gone) is text all the same.
+    let quoted;
+    let value = if is_text(db, workspace, class, parameter) && !value.starts_with('"') {
+        quoted = format!("{value:?}");
+        quoted.as_str()
+    } else {
+        value
+    };
     let syntax = instance_syntax(db, workspace, plan, instance)?;
     let (range, text, value_at) = edit_of(&syntax, parameter, value);
     let file = plan.file;
@@ -58,9 +66,9 @@ pub fn parameter_edit(
     Ok(ParameterEdit { file, range, text, value: value_range })
 }
 
-/// Refuses an instance the plan has no stage for, or a parameter its component has not,
-/// naming those there are.
-fn known(plan: &PipelinePlan, instance: &str, parameter: &str) -> Result<(), String> {
+/// The component class (fully qualified) of `instance`; refuses an instance the plan has no
+/// stage for, or a parameter its component has not, naming those there are.
+fn known<'p>(plan: &'p PipelinePlan, instance: &str, parameter: &str) -> Result<&'p str, String> {
     let Some(stage) = plan.stages.iter().find(|s| s.instance == instance) else {
         let names: Vec<&str> = plan.stages.iter().map(|s| s.instance.as_str()).collect();
         return Err(format!("`{}` has no instance `{instance}` (it has {})", plan.diagram, names.join(", ")));
@@ -70,7 +78,18 @@ fn known(plan: &PipelinePlan, instance: &str, parameter: &str) -> Result<(), Str
         let has = if names.is_empty() { "none".to_string() } else { names.join(", ") };
         return Err(format!("`{instance}` ({}) has no parameter `{parameter}` (its parameters: {has})", stage.class));
     }
-    Ok(())
+    Ok(&stage.class)
+}
+
+/// Whether the field `parameter` of `class` (or of a base) holds text.
+fn is_text(db: &dyn Db, workspace: Workspace, class: &str, parameter: &str) -> bool {
+    let sema = Semantics::new(db, workspace);
+    let Some(class) = sema.definition(class) else { return false };
+    let field = sema.type_and_bases(class).into_iter().find_map(|def| match &def.kind {
+        DefKind::Type(ty) => ty.fields.iter().find(|f| f.name == parameter).cloned(),
+        _ => None,
+    });
+    field.is_some_and(|f| f.ty.builtin.as_deref() == Some("string"))
 }
 
 /// The instance's syntax in the diagram's declaration.

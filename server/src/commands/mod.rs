@@ -7,6 +7,8 @@ pub mod fmt;
 pub mod pipeline;
 pub mod render;
 pub mod run;
+pub mod settings;
+pub mod study;
 pub mod wgsl;
 
 #[cfg(test)]

@@ -55,10 +55,19 @@ pub struct RunArgs {
     /// Run a pipeline on the CPU reference instead of the GPU.
     #[arg(long)]
     pub(super) cpu: bool,
+    /// Run a pipeline with a parameter set as written in the model, without editing it (as
+    /// `Motion.windowSize=7`; checked as if typed). Repeatable.
+    #[arg(long = "set", value_name = "INSTANCE.PARAMETER=VALUE", value_parser = super::settings::assignment)]
+    pub(super) sets: Vec<super::settings::Assignment>,
+    /// A parameter study: run the pipeline at each value (as `Motion.threshold=0,1,5`); several
+    /// sweeps run every combination, each setting into a folder of its own, with a table,
+    /// `study.csv` and a plot of every figure per setting. Repeatable.
+    #[arg(long = "sweep", value_name = "INSTANCE.PARAMETER=V1,V2,…", value_parser = super::settings::sweep)]
+    pub(super) sweeps: Vec<super::settings::Sweep>,
 }
 
 pub fn run(args: &RunArgs) -> ExitCode {
-    let Checked { host, files, report: mut checked, preparations } =
+    let Checked { mut host, files, report: mut checked, preparations } =
         match super::checked_model(&args.paths, args.root.as_deref(), "run") {
             Ok(checked) => checked,
             Err(code) => return code,
@@ -73,8 +82,11 @@ pub fn run(args: &RunArgs) -> ExitCode {
                 frames: args.frames,
                 cpu: args.cpu,
                 output: args.output.as_deref(),
+                sets: &args.sets,
+                sweeps: &args.sweeps,
             };
-            return super::pipeline::run(&analysis, &files, &preparations, checked, &pipeline);
+            drop(analysis);
+            return super::pipeline::run(&mut host, &files, &preparations, checked, &pipeline);
         }
         Ok(Runnable::Activity(fqn)) => fqn,
     };

@@ -34,6 +34,8 @@ fn kernels_generated_by_run(path: &str, diagram: &str) -> usize {
         frames: Some(1),
         cpu: false,
         root: None,
+        sets: Vec::new(),
+        sweeps: Vec::new(),
     };
     let before = generated_kernels();
     let code = run(&args);

@@ -128,6 +128,27 @@ impl Component for AccuracyReport {
         output.write(&self.instance, "accuracy.png", &png)?;
         Ok(())
     }
+
+    /// Per series, over every pixel of every frame: the mean error and the mean of the frames'
+    /// σ, in cm.
+    fn figures(&self) -> Vec<(String, f64)> {
+        let mut series: Vec<&str> = Vec::new();
+        for row in &self.rows {
+            if !series.contains(&row.series.as_str()) {
+                series.push(&row.series);
+            }
+        }
+        let mut figures = Vec::new();
+        for name in series {
+            let rows: Vec<&Row> = self.rows.iter().filter(|r| r.series == name).collect();
+            let pixels: usize = rows.iter().map(|r| r.pixels).sum();
+            let mean = rows.iter().map(|r| r.mean_cm * r.pixels as f64).sum::<f64>() / pixels.max(1) as f64;
+            let sigma = rows.iter().map(|r| r.sigma_cm).sum::<f64>() / rows.len().max(1) as f64;
+            figures.push((format!("{name} mean_cm"), mean));
+            figures.push((format!("{name} sigma_cm"), sigma));
+        }
+        figures
+    }
 }
 
 /// Pixels, mean and σ of |distance − truth| in cm over the pixels with a measurement whose

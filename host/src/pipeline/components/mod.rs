@@ -215,6 +215,12 @@ pub trait Component: Send {
     fn finish_run(&mut self, _output: &mut OutputDir) -> Result<(), String> {
         Ok(())
     }
+
+    /// What it measured over the run, by name (a series' mean error in cm): a row of a
+    /// parameter study's table.
+    fn figures(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
 }
 
 /// The component of a stage's class with its parameters, or why there is none: a class of the

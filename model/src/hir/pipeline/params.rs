@@ -92,10 +92,14 @@ fn check(
         );
         return param;
     }
-    if let Some(wanted) = type_mismatch(sema, scope, ty, &param.value) {
-        sink.error(DiagnosticCode::ParameterValue, range, format!("`{name}` is {}, {wanted}", shown(&param.value)));
-        return param;
-    }
+    param.value = match converted(sema, scope, ty, param.value) {
+        Ok(value) => value,
+        Err((value, wanted)) => {
+            sink.error(DiagnosticCode::ParameterValue, range, format!("`{name}` is {}, {wanted}", shown(&value)));
+            param.value = value;
+            return param;
+        }
+    };
     // One problem a value: a window of 2 is out of range, and saying it is even adds nothing.
     let mut reported = false;
     for attribute in decl.attribute_lists().iter().flat_map(|list| list.uses()) {
@@ -162,44 +166,24 @@ fn shown(value: &Value) -> String {
     }
 }
 
-/// What the field's type wants where `value` is not of it (`None`: it is, or the type is none
-/// a constant can have). Numbers convert as in C from integer to floating point, not back.
-fn type_mismatch(sema: &Semantics, scope: &Scope, ty: &TypeSignature, value: &Value) -> Option<String> {
+/// `value` converted to the field's type as C converts a constant: a whole floating-point
+/// number to an integer, a number to `bool` (non-zero: `true`) and back; why it cannot be where C would
+/// change its value (`2.5` into an `int`, `-1` into an `unsigned`). A value of another kind
+/// is left as it is: validation reports it (E0225).
+fn converted(sema: &Semantics, scope: &Scope, ty: &TypeSignature, value: Value) -> Result<Value, (Value, String)> {
     let resolved = ty::from_signature(ty, &mut |path| sema.resolve(scope, path).map(|d| d.fqn.clone()));
-    let fits = match (&resolved, value) {
-        (_, Value::Missing) => true,
-        (Ty::Int, Value::Int(_)) | (Ty::UInt, Value::Int(0..)) | (Ty::Float, Value::Int(_) | Value::Float(_)) => true,
-        (Ty::Bool, Value::Bool(_)) | (Ty::String, Value::Text(_)) => true,
-        (Ty::Named(fqn), Value::Enum(member)) => enum_members(sema, fqn).is_none_or(|m| m.contains(member)),
-        (Ty::Int | Ty::UInt | Ty::Float | Ty::Bool | Ty::String, _) => false,
-        (Ty::Named(fqn), _) => enum_members(sema, fqn).is_none(),
-        _ => true,
-    };
-    if fits {
-        return None;
-    }
-    Some(match &resolved {
-        Ty::Int => "but must be a whole number".to_string(),
-        Ty::UInt => "but must be a whole number of at least 0".to_string(),
-        Ty::Float => "but must be a number".to_string(),
-        Ty::Bool => "but must be `true` or `false`".to_string(),
-        Ty::String => "but must be text in double quotes".to_string(),
-        Ty::Named(fqn) => {
-            let members = enum_members(sema, fqn).unwrap_or_default();
-            let short = fqn.rsplit('.').next().unwrap_or(fqn);
-            let listed: Vec<String> = members.iter().map(|m| format!("`{short}.{m}`")).collect();
-            format!("but must be a member of `{short}`: {}", listed.join(", "))
+    match (&resolved, value) {
+        (Ty::Int | Ty::UInt, Value::Float(v)) if v.get().fract() == 0.0 && v.get().abs() < 9.0e15 => {
+            converted(sema, scope, ty, Value::Int(v.get() as i64))
         }
-        other => format!("but must be of type `{other}`"),
-    })
-}
-
-/// The members of the enum `fqn` (`None`: it is no enum).
-fn enum_members(sema: &Semantics, fqn: &str) -> Option<Vec<String>> {
-    let def = sema.definition(fqn)?;
-    match &def.kind {
-        DefKind::Type(item) if item.kind == TypeKind::Enum => Some(item.enum_values.clone()),
-        _ => None,
+        (Ty::Int | Ty::UInt, value @ Value::Float(_)) => Err((value, "but must be a whole number".to_string())),
+        (Ty::UInt, value @ Value::Int(..0)) => {
+            Err((value, "but must be at least 0 (the field is unsigned)".to_string()))
+        }
+        (Ty::Int | Ty::UInt | Ty::Float, Value::Bool(v)) => Ok(Value::Int(i64::from(v))),
+        (Ty::Bool, Value::Int(v)) => Ok(Value::Bool(v != 0)),
+        (Ty::Bool, Value::Float(v)) => Ok(Value::Bool(v.get() != 0.0)),
+        (_, value) => Ok(value),
     }
 }
 
