@@ -92,11 +92,22 @@ impl Folder {
     /// The names of the regular files in the folder itself (not in its subfolders, no links),
     /// sorted; names that are not UTF-8 are left out.
     pub fn file_names(&self) -> Result<Vec<String>, FileError> {
+        self.names(|kind| kind.is_file())
+    }
+
+    /// The names of the folders in the folder itself (no links), sorted; names that are not
+    /// UTF-8 are left out.
+    pub fn folder_names(&self) -> Result<Vec<String>, FileError> {
+        self.names(|kind| kind.is_dir())
+    }
+
+    /// The sorted names of the entries of a `kind` (a link is none) in the folder itself.
+    fn names(&self, kind: fn(&cap_std::fs::FileType) -> bool) -> Result<Vec<String>, FileError> {
         let failed = |e: std::io::Error| FileError::io(&self.path, &self.path, &e);
         let mut names = Vec::new();
         for entry in self.dir.entries().map_err(failed)? {
             let entry = entry.map_err(failed)?;
-            if entry.file_type().map_err(failed)?.is_file() {
+            if kind(&entry.file_type().map_err(failed)?) {
                 names.extend(entry.file_name().into_string());
             }
         }

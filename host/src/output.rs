@@ -47,6 +47,15 @@ impl OutputDir {
         Ok(OutputDir { root: Arc::new(folder), written: Vec::new() })
     }
 
+    /// The `report.json` of every run beneath it, up to `depth` folders down (a recording's
+    /// folder, a setting's in it), with the folder each is in (relative, `/`-separated), in
+    /// the order of their folders' names.
+    pub fn reports(&self, depth: usize) -> Result<Vec<(String, Vec<u8>)>, String> {
+        let mut found = Vec::new();
+        reports_in(&self.root, "", depth, &mut found).map_err(|e| format!("cannot read {e}"))?;
+        Ok(found)
+    }
+
     /// The folder's path.
     pub fn path(&self) -> &Path {
         self.root.path()
@@ -90,6 +99,24 @@ impl OutputDir {
     pub fn written(&self) -> &[PathBuf] {
         &self.written
     }
+}
+
+/// Limits a run's `report.json` (they are small: a stage a line).
+const REPORT_LIMIT: u64 = 16 << 20;
+
+fn reports_in(folder: &Folder, at: &str, depth: usize, found: &mut Vec<(String, Vec<u8>)>) -> Result<(), FileError> {
+    if depth == 0 {
+        return Ok(());
+    }
+    for name in folder.folder_names()? {
+        let inner = folder.subfolder(&name)?;
+        let relative = if at.is_empty() { name.clone() } else { format!("{at}/{name}") };
+        if inner.file_names()?.iter().any(|f| f == "report.json") {
+            found.push((relative.clone(), inner.read(&inner.path().join("report.json"), REPORT_LIMIT)?));
+        }
+        reports_in(&inner, &relative, depth - 1, found)?;
+    }
+    Ok(())
 }
 
 /// A folder the user named: made beneath its parent (which is the user's and made if missing).

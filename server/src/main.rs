@@ -29,10 +29,20 @@ enum Command {
     Wgsl(commands::wgsl::WgslArgs),
     /// Run a host activity diagram (e.g. `Main`): its calc nodes' kernels on the GPU (lavapipe without one).
     Run(commands::run::RunArgs),
+    /// Merge the runs of many recordings (every shard's) under an output folder into one summary table.
+    Summarize(SummarizeArgs),
     /// Fit chapter 4's phase-normalization calibration on the simulated camera and write it as .npy.
     CalibratePhases(commands::calibrate_phases::CalibratePhasesArgs),
     /// Run the language server on stdin/stdout (for editors).
     Lsp(LspArgs),
+}
+
+/// `gudsl summarize DIR`: the summary `gudsl run --inputs` writes when it ran every recording,
+/// of what every shard wrote under `DIR`.
+#[derive(clap::Args)]
+struct SummarizeArgs {
+    /// The output folder of `gudsl run --inputs` (its `-o`).
+    folder: std::path::PathBuf,
 }
 
 /// `gudsl lsp`'s flags: stdio is its only transport, and `--stdio` (which clients such as
@@ -54,6 +64,13 @@ fn main() -> ExitCode {
         Command::Wgsl(args) => commands::wgsl::run(&args),
         Command::CalibratePhases(args) => commands::calibrate_phases::run(&args),
         Command::Run(args) => commands::run::run(&args),
+        Command::Summarize(args) => match gudsl_host::output::OutputDir::named(&args.folder) {
+            Ok(mut folder) => ExitCode::from(commands::pipeline::summarize(&mut folder)),
+            Err(error) => {
+                eprintln!("gudsl summarize: {error}");
+                ExitCode::from(2)
+            }
+        },
         Command::Lsp(LspArgs { stdio: _ }) => lsp::run(),
     }
 }

@@ -47,7 +47,7 @@ use data::Item;
 pub use error::{ErrorKind, PipelineError};
 pub use preparations::{model_dir, Preparations};
 pub use report::{summary, table, write_report, Figure, PipelineReport, StageTime};
-pub use study::{study_table, write_study, StudyRun};
+pub use study::{rows_beneath, study_table, write_study, StudyRow};
 pub use walls::calibration_walls;
 
 /// The GPU a pipeline runs on: the first adapter, its kernels timed where it has timestamp
@@ -266,6 +266,7 @@ impl PreparedPipeline {
         let figures = self.figures(&stages);
         PipelineReport {
             diagram: self.plan.diagram.clone(),
+            setting: Vec::new(),
             device: gpu.map_or_else(|| "the CPU reference".to_string(), Gpu::describe),
             frames,
             total: start.elapsed(),

@@ -20,6 +20,9 @@ impl PipelineReport {
 #[derive(Debug, Clone)]
 pub struct PipelineReport {
     pub diagram: String,
+    /// What it ran with, by name and value (a recording, the values of `--set` and `--sweep`);
+    /// told by whoever started it.
+    pub setting: Vec<(String, String)>,
     pub device: String,
     pub frames: usize,
     pub total: Duration,
@@ -125,6 +128,7 @@ fn report_json(report: &PipelineReport) -> serde_json::Value {
     };
     serde_json::json!({
         "diagram": report.diagram,
+        "setting": report.setting.iter().map(|(name, value)| [name, value]).collect::<Vec<_>>(),
         "device": report.device,
         "frames": report.frames,
         "total_ms": ms(report.total),

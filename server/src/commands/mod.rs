@@ -1,6 +1,7 @@
 //! One module per `gudsl` subcommand, and what the commands that act on a model share: loading
 //! and checking it, refusing one with errors.
 
+pub mod batch;
 pub mod calibrate_phases;
 pub mod check;
 pub mod fmt;
@@ -8,7 +9,6 @@ pub mod pipeline;
 pub mod render;
 pub mod run;
 pub mod settings;
-pub mod study;
 pub mod wgsl;
 
 #[cfg(test)]
@@ -50,6 +50,18 @@ pub struct Checked {
 /// read (exit code 2), the model has errors (1) or a file a pipeline reads is missing or
 /// malformed (E0404, 2), the exit code after printing why `command` does nothing.
 pub fn checked_model(paths: &[PathBuf], root: Option<&Path>, command: &str) -> Result<Checked, ExitCode> {
+    checked_model_but_inputs(paths, root, command, false)
+}
+
+/// [`checked_model`], where `inputs_given` says the files the pipelines read are given on the
+/// command line (`run --set`, `--inputs`): the model's own missing or malformed ones (E0404)
+/// are left out, as each run is checked with its values again.
+pub fn checked_model_but_inputs(
+    paths: &[PathBuf],
+    root: Option<&Path>,
+    command: &str,
+    inputs_given: bool,
+) -> Result<Checked, ExitCode> {
     let loaded = workspace::load(paths);
     let unreadable = !loaded.errors.is_empty();
     let (host, files) = workspace::analysis_host(&loaded.documents);
@@ -58,6 +70,10 @@ pub fn checked_model(paths: &[PathBuf], root: Option<&Path>, command: &str) -> R
         eprintln!("gudsl {command}: the analysis was cancelled");
         return Err(ExitCode::from(2));
     };
+    let mut report = report;
+    if inputs_given {
+        report.findings.retain(|f| f.code != DiagnosticCode::PipelineInput);
+    }
     if unreadable {
         eprintln!("gudsl {command}: a path could not be read; nothing is done");
         return Err(refuse(&report, 2));

@@ -64,14 +64,32 @@ pub struct RunArgs {
     /// `study.csv` and a plot of every figure per setting. Repeatable.
     #[arg(long = "sweep", value_name = "INSTANCE.PARAMETER=V1,V2,…", value_parser = super::settings::sweep)]
     pub(super) sweeps: Vec<super::settings::Sweep>,
+    /// Many recordings: run the pipeline once for each file or folder the glob names (relative
+    /// to the current folder; `@FILE`: a manifest, one path a line), its path in place of
+    /// `{recording}` in the values of --set and --sweep, into `<output>/<recording's name>/`;
+    /// then `summary.csv` of them all.
+    #[arg(long, value_name = "GLOB|@FILE")]
+    pub(super) inputs: Option<String>,
+    /// Run only shard K of N of the recordings (K from 0; every N-th from the K-th); unset,
+    /// from JOB_COMPLETION_INDEX/JOB_COMPLETION_COUNT (Kubernetes) or
+    /// SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT (Slurm). `gudsl summarize` merges the shards.
+    #[arg(long, value_name = "K/N", value_parser = super::batch::shard)]
+    pub(super) shard: Option<super::batch::Shard>,
+    /// Skip the recordings whose runs all ended well before (each wrote its `report.json`).
+    #[arg(long)]
+    pub(super) resume: bool,
 }
 
 pub fn run(args: &RunArgs) -> ExitCode {
-    let Checked { mut host, files, report: mut checked, preparations } =
-        match super::checked_model(&args.paths, args.root.as_deref(), "run") {
-            Ok(checked) => checked,
-            Err(code) => return code,
-        };
+    let Checked { mut host, files, report: mut checked, preparations } = match super::checked_model_but_inputs(
+        &args.paths,
+        args.root.as_deref(),
+        "run",
+        !args.sets.is_empty() || !args.sweeps.is_empty() || args.inputs.is_some(),
+    ) {
+        Ok(checked) => checked,
+        Err(code) => return code,
+    };
     let analysis = host.analysis();
     let chosen = analysis.with_semantics(|sema| named::runnable(sema, &files, args.diagram.as_deref()));
     let diagram = match answered(chosen) {
@@ -84,6 +102,9 @@ pub fn run(args: &RunArgs) -> ExitCode {
                 output: args.output.as_deref(),
                 sets: &args.sets,
                 sweeps: &args.sweeps,
+                inputs: args.inputs.as_deref(),
+                shard: args.shard,
+                resume: args.resume,
             };
             drop(analysis);
             return super::pipeline::run(&mut host, &files, &preparations, checked, &pipeline);

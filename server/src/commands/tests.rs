@@ -36,6 +36,9 @@ fn kernels_generated_by_run(path: &str, diagram: &str) -> usize {
         root: None,
         sets: Vec::new(),
         sweeps: Vec::new(),
+        inputs: None,
+        shard: None,
+        resume: false,
     };
     let before = generated_kernels();
     let code = run(&args);

@@ -130,7 +130,7 @@ impl Component for AccuracyReport {
     }
 
     /// Per series, over every pixel of every frame: the mean error and the mean of the frames'
-    /// σ, in cm.
+    /// σ, in cm; none for a series without a pixel measured.
     fn figures(&self) -> Vec<(String, f64)> {
         let mut series: Vec<&str> = Vec::new();
         for row in &self.rows {
@@ -142,6 +142,9 @@ impl Component for AccuracyReport {
         for name in series {
             let rows: Vec<&Row> = self.rows.iter().filter(|r| r.series == name).collect();
             let pixels: usize = rows.iter().map(|r| r.pixels).sum();
+            if pixels == 0 {
+                continue; // no pixel was measured: no error to tell
+            }
             let mean = rows.iter().map(|r| r.mean_cm * r.pixels as f64).sum::<f64>() / pixels.max(1) as f64;
             let sigma = rows.iter().map(|r| r.sigma_cm).sum::<f64>() / rows.len().max(1) as f64;
             figures.push((format!("{name} mean_cm"), mean));
