@@ -15,6 +15,7 @@ mod find_index;
 pub mod icp;
 pub mod integration;
 pub mod motion;
+mod pixels;
 pub mod tof;
 
 pub use filters::{bilateral, gaussian, mean, median};

@@ -2,9 +2,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::plus;
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{pixels::per_pixel, Pass, Shape, Unit},
     Image,
 };
 
@@ -51,15 +50,14 @@ impl Unit for DetectMotion {
 
 /// Motion detection (eq. 4.4, 4.5): `M = Σ_{i=1..3} |P⁺_i − P⁺_0|` and the mask `M > θ` (1 or 0).
 pub fn detect(raw: &Image, theta: f32) -> [Image; 2] {
-    let (w, h) = (raw.width, raw.height);
-    let mut m = Image::zeros(w, h, 1);
-    for y in 0..h {
-        for x in 0..w {
-            let (x, y) = (x as isize, y as isize);
-            let p0 = plus(raw, 0, x, y);
-            m.data[y as usize * w + x as usize] = (1..4).map(|i| (plus(raw, i, x, y) - p0).abs()).sum();
-        }
-    }
-    let mask = Image { data: m.data.iter().map(|&v| if v > theta { 1.0 } else { 0.0 }).collect(), ..m.clone() };
-    [m, mask]
+    let (w, h, n) = (raw.width, raw.height, raw.pixels());
+    let d = &raw.data;
+    let plus = |k: usize, i: usize| d[2 * k * n + i] + d[(2 * k + 1) * n + i];
+    let motion = per_pixel(w, h, |x, y| {
+        let i = y * w + x;
+        let p0 = plus(0, i);
+        (1..4).map(|k| (plus(k, i) - p0).abs()).sum::<f32>()
+    });
+    let mask = motion.iter().map(|&v| if v > theta { 1.0 } else { 0.0 }).collect();
+    [Image { width: w, height: h, planes: 1, data: motion }, Image { width: w, height: h, planes: 1, data: mask }]
 }

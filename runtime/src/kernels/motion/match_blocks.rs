@@ -3,10 +3,14 @@
 //! optionally refined to a quarter pixel.
 
 use bytemuck::{Pod, Zeroable};
+use rayon::prelude::*;
 
-use super::{allowed, blended_squared_difference, plus};
+use super::{allowed, blended_squared_difference};
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{
+        pixels::{per_pixel, scatter},
+        Pass, Shape, Unit,
+    },
     Image,
 };
 
@@ -86,61 +90,113 @@ const REFINEMENT_STEPS: [f32; 2] = [0.5, 0.25];
 pub fn match_blocks(raw: &Image, mask: &Image, window: u32, restriction: Option<(f32, f32)>, subpixel: bool) -> Image {
     let (w, h) = (raw.width, raw.height);
     let r = (window as i32 - 1) / 2;
-    let mut flow = Image::zeros(w, h, 2);
-    for y in 0..h {
-        for x in 0..w {
-            let i = y * w + x;
-            if mask.data[i] == 0.0 {
-                continue;
+    // The candidates every pixel tries, in scan order: the restriction is the same for all.
+    let candidates: Vec<(i32, i32)> = (-r..=r)
+        .flat_map(|dy| (-r..=r).map(move |dx| (dx, dy)))
+        .filter(|&(dx, dy)| allowed(dx as f32, dy as f32, restriction))
+        .collect();
+    let sums = PhaseSums::new(raw, 3 * r as usize + 2);
+    let flow = per_pixel(w, h, |x, y| {
+        if mask.data[y * w + x] == 0.0 {
+            return [0.0, 0.0];
+        }
+        let (xi, yi) = (x as isize, y as isize);
+        let p0 = sums.at(0, xi, yi);
+        let mut best = (f32::INFINITY, i32::MAX, 0, 0);
+        for &(dx, dy) in &candidates {
+            let ssd: f32 = (1..4)
+                .map(|k| {
+                    let d = p0 - sums.at(k, xi + (k as i32 * dx) as isize, yi + (k as i32 * dy) as isize);
+                    d * d
+                })
+                .sum();
+            let length = dx * dx + dy * dy;
+            if ssd < best.0 || (ssd == best.0 && length < best.1) {
+                best = (ssd, length, dx, dy);
             }
-            let (xi, yi) = (x as isize, y as isize);
-            let p0 = plus(raw, 0, xi, yi);
-            let mut best = (f32::INFINITY, i32::MAX, 0, 0);
-            for dy in -r..=r {
-                for dx in -r..=r {
-                    if !allowed(dx as f32, dy as f32, restriction) {
-                        continue;
-                    }
-                    let ssd: f32 = (1..4)
-                        .map(|k| {
-                            let d = p0 - plus(raw, k, xi + (k as i32 * dx) as isize, yi + (k as i32 * dy) as isize);
-                            d * d
-                        })
-                        .sum();
-                    let length = dx * dx + dy * dy;
-                    if ssd < best.0 || (ssd == best.0 && length < best.1) {
-                        best = (ssd, length, dx, dy);
-                    }
+        }
+        let (ssd, u, v) = (best.0, best.2 as f32, best.3 as f32);
+        if subpixel {
+            let (_, u, v) = refined(raw, (x as f32, y as f32), p0, (ssd, u, v), restriction);
+            return [u, v];
+        }
+        [u, v]
+    });
+    let mut out = Image::zeros(w, h, 2);
+    scatter(&mut out.data, w * h, &flow);
+    out
+}
+
+/// The whole-pixel vector `(ssd, u, v)` of the pixel at `at` refined by half, then quarter
+/// pixels, each step's eight neighbours taken only when strictly better.
+fn refined(
+    raw: &Image,
+    at: (f32, f32),
+    p0: f32,
+    whole: (f32, f32, f32),
+    restriction: Option<(f32, f32)>,
+) -> (f32, f32, f32) {
+    let (mut ssd, mut u, mut v) = whole;
+    for step in REFINEMENT_STEPS {
+        let (cu, cv) = (u, v);
+        for oy in -1..=1 {
+            for ox in -1..=1 {
+                let (du, dv) = (cu + ox as f32 * step, cv + oy as f32 * step);
+                if (ox == 0 && oy == 0) || !allowed(du, dv, restriction) {
+                    continue;
+                }
+                let candidate: f32 = (1..4)
+                    .map(|k| {
+                        let (fx, fy) = (at.0 + k as f32 * du, at.1 + k as f32 * dv);
+                        blended_squared_difference(raw, k, fx, fy, p0)
+                    })
+                    .sum();
+                if candidate < ssd {
+                    (ssd, u, v) = (candidate, du, dv);
                 }
             }
-            let (mut ssd, mut u, mut v) = (best.0, best.2 as f32, best.3 as f32);
-            if subpixel {
-                for step in REFINEMENT_STEPS {
-                    let (cu, cv) = (u, v);
-                    for oy in -1..=1 {
-                        for ox in -1..=1 {
-                            let (du, dv) = (cu + ox as f32 * step, cv + oy as f32 * step);
-                            if (ox == 0 && oy == 0) || !allowed(du, dv, restriction) {
-                                continue;
-                            }
-                            let candidate: f32 = (1..4)
-                                .map(|k| {
-                                    let (fx, fy) = (x as f32 + k as f32 * du, y as f32 + k as f32 * dv);
-                                    blended_squared_difference(raw, k, fx, fy, p0)
-                                })
-                                .sum();
-                            if candidate < ssd {
-                                (ssd, u, v) = (candidate, du, dv);
-                            }
-                        }
-                    }
-                }
-            }
-            flow.data[i] = u;
-            flow.data[w * h + i] = v;
         }
     }
-    flow
+    (ssd, u, v)
+}
+
+/// `P⁺_k = A_k + B_k` of the four phase images, computed once a frame on a border of `pad`
+/// pixels that repeats the edge (as clamping would): a candidate up to `pad` pixels out reads
+/// one value, no clamping.
+struct PhaseSums {
+    planes: Vec<Vec<f32>>,
+    width: usize,
+    height: usize,
+    pad: usize,
+}
+
+impl PhaseSums {
+    fn new(raw: &Image, pad: usize) -> PhaseSums {
+        let (w, h, n) = (raw.width, raw.height, raw.pixels());
+        let (width, height) = (w + 2 * pad, h + 2 * pad);
+        let clamped = |at: usize, size: usize| at.saturating_sub(pad).min(size - 1);
+        let planes = (0..4)
+            .into_par_iter()
+            .map(|k| {
+                let (a, b) = (&raw.data[2 * k * n..(2 * k + 1) * n], &raw.data[(2 * k + 1) * n..(2 * k + 2) * n]);
+                let mut plane = Vec::with_capacity(width * height);
+                for py in 0..height {
+                    let row = clamped(py, h) * w;
+                    plane.extend((0..width).map(|px| row + clamped(px, w)).map(|i| a[i] + b[i]));
+                }
+                plane
+            })
+            .collect();
+        PhaseSums { planes, width, height, pad }
+    }
+
+    /// `P⁺_k` at `(x, y)`, coordinates clamped (beyond the border only, where a refinement or a
+    /// large window reaches).
+    fn at(&self, k: usize, x: isize, y: isize) -> f32 {
+        let x = (x + self.pad as isize).clamp(0, self.width as isize - 1) as usize;
+        let y = (y + self.pad as isize).clamp(0, self.height as isize - 1) as usize;
+        self.planes[k][y * self.width + x]
+    }
 }
 
 #[cfg(test)]

@@ -5,7 +5,10 @@ use std::f32::consts::PI;
 use bytemuck::{Pod, Zeroable};
 
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{
+        pixels::{per_pixel, scatter},
+        Pass, Shape, Unit,
+    },
     Image,
 };
 
@@ -60,36 +63,35 @@ pub fn smooth_flow(flow: &Image, window: u32) -> Image {
     let (w, h) = (flow.width, flow.height);
     let r = (window as isize - 1) / 2;
     let n = w * h;
-    let mut out = flow.clone();
-    for y in 0..h as isize {
-        for x in 0..w as isize {
-            let i = y as usize * w + x as usize;
-            let (u, v) = (flow.data[i], flow.data[n + i]);
-            if u == 0.0 && v == 0.0 {
-                continue;
-            }
-            // (direction relative to the pixel's own, the neighbour's vector)
-            let mut neighbours: Vec<(f32, f32, f32)> = Vec::new();
-            for dy in -r..=r {
-                for dx in -r..=r {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
-                        continue;
-                    }
-                    let j = ny as usize * w + nx as usize;
-                    let (a, b) = (flow.data[j], flow.data[n + j]);
-                    if a != 0.0 || b != 0.0 {
-                        neighbours.push((relative_angle(u, v, a, b), a, b));
-                    }
+    let smoothed = per_pixel(w, h, |x, y| {
+        let i = y * w + x;
+        let (u, v) = (flow.data[i], flow.data[n + i]);
+        if u == 0.0 && v == 0.0 {
+            return [u, v];
+        }
+        let (x, y) = (x as isize, y as isize);
+        // (direction relative to the pixel's own, the neighbour's vector)
+        let mut neighbours: Vec<(f32, f32, f32)> = Vec::with_capacity(((2 * r + 1) * (2 * r + 1)) as usize);
+        for dy in -r..=r {
+            for dx in -r..=r {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                let (a, b) = (flow.data[j], flow.data[n + j]);
+                if a != 0.0 || b != 0.0 {
+                    neighbours.push((relative_angle(u, v, a, b), a, b));
                 }
             }
-            neighbours.sort_by(|p, q| p.0.total_cmp(&q.0));
-            let (_, a, b) = neighbours[neighbours.len() / 2];
-            let scale = (u * u + v * v).sqrt() / (a * a + b * b).sqrt();
-            out.data[i] = (a * scale).round_ties_even();
-            out.data[n + i] = (b * scale).round_ties_even();
         }
-    }
+        neighbours.sort_by(|p, q| p.0.total_cmp(&q.0));
+        let (_, a, b) = neighbours[neighbours.len() / 2];
+        let scale = (u * u + v * v).sqrt() / (a * a + b * b).sqrt();
+        [(a * scale).round_ties_even(), (b * scale).round_ties_even()]
+    });
+    let mut out = Image::zeros(w, h, 2);
+    scatter(&mut out.data, n, &smoothed);
     out
 }
 

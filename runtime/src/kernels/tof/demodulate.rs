@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::unambiguous_range;
 use crate::{
-    kernels::{Pass, Shape, Unit},
+    kernels::{pixels::per_pixel, Pass, Shape, Unit},
     Image,
 };
 
@@ -72,13 +72,10 @@ pub fn demodulate_pixel(raw: [f32; 8], modulation_hz: f32) -> [f32; 4] {
 
 /// Demodulates a raw frame into phase, amplitude, intensity and distance images.
 pub fn demodulate(raw: &Image, modulation_hz: f32) -> [Image; 4] {
-    let n = raw.pixels();
-    let mut out: [Image; 4] = std::array::from_fn(|_| Image::zeros(raw.width, raw.height, 1));
-    for i in 0..n {
-        let samples: [f32; 8] = std::array::from_fn(|p| raw.data[p * n + i]);
-        for (image, value) in out.iter_mut().zip(demodulate_pixel(samples, modulation_hz)) {
-            image.data[i] = value;
-        }
-    }
-    out
+    let (w, h, n) = (raw.width, raw.height, raw.pixels());
+    let values = per_pixel(w, h, |x, y| {
+        let i = y * w + x;
+        demodulate_pixel(std::array::from_fn(|p| raw.data[p * n + i]), modulation_hz)
+    });
+    std::array::from_fn(|k| Image { width: w, height: h, planes: 1, data: values.iter().map(|v| v[k]).collect() })
 }
