@@ -317,3 +317,65 @@ fn the_motion_mask_can_be_tapped_and_written() {
         assert!(written.to_luma8().into_raw() == expected, "frame {frame}: the mask differs from the runtime's");
     }
 }
+
+/// Recorded raw frames through demodulation into `.npy`: the channel files' names are `a.npy`
+/// and `b.npy` beside the model.
+const DEMODULATED: &str = r#"ComponentInstanceDiagram Demodulated
+{
+    import ToF.*;
+    Recording instantiates RawFrameFile (channelA = "a.npy", channelB = "b.npy")
+    {
+        Out : RawOut ( provider frame = IRawFrameProvider() );
+        [ source Out.frame ==> target Demod.In.frame ]
+    }
+    Demod instantiates Demodulation ( )
+    {
+        In : RawIn ( processor frame = IRawFrameProcessor() );
+        Out : DepthOut ( provider depth = IDepthImageProvider() );
+        [ source Out.depth ==> target Writer.In.depth ]
+    }
+    Writer instantiates NpyWriter ( )
+    {
+        In : DepthIn ( processor depth = IDepthImageProcessor() );
+    }
+}
+"#;
+
+/// Issue 51, item 9: float32 raw frames (averaged or calibrated) are read in the camera's
+/// 16-bit units like uint16 ones — the same values give the same distances — and a value
+/// that is none (NaN) or outside 0–65535 stops the run at its frame, naming the file.
+#[test]
+fn float32_raw_frames_read_as_their_16_bit_values() {
+    let distances = |dtype: arrays::Dtype, values: &dyn Fn(usize) -> f32| {
+        let dir = temp_dir(&format!("raw-{dtype:?}"));
+        std::fs::write(dir.join("model.gudsl"), DEMODULATED).unwrap();
+        for (name, shift) in [("a.npy", 0), ("b.npy", 11)] {
+            let data: Vec<f32> = (0..2 * 4 * 6 * 8).map(|i| values(i + shift)).collect();
+            arrays::write(&dir.join(name), &[2, 4, 6, 8], &data, dtype).unwrap();
+        }
+        let model = dir.join("model.gudsl");
+        let (code, stdout, stderr) = run(&[
+            model.to_str().unwrap(),
+            "--cpu",
+            "--root",
+            dir.to_str().unwrap(),
+            "-o",
+            dir.join("out").to_str().unwrap(),
+        ]);
+        let folder = gudsl_files::Folder::open(&dir).unwrap();
+        let read = |frame: usize| arrays::read(&folder, &dir.join(format!("out/Writer/distance_{frame:04}.npy")));
+        (code, format!("{stdout}\n{stderr}"), read(1).map(|a| a.values).unwrap_or_default())
+    };
+    let whole = |i: usize| ((i as f32 * 0.7).sin() * 500.0 + 2000.0).round();
+    let (code, text, recorded) = distances(arrays::Dtype::U16, &whole);
+    assert_eq!(code, Some(0), "{text}");
+    let (code, text, floats) = distances(arrays::Dtype::F32, &whole);
+    assert_eq!(code, Some(0), "{text}");
+    assert_eq!(floats, recorded, "the same values, the same distances");
+    let (code, text, averaged) = distances(arrays::Dtype::F32, &|i| whole(i) + if i % 7 == 0 { 0.25 } else { 0.0 });
+    assert_eq!(code, Some(0), "{text}");
+    assert!(averaged.iter().all(|d| d.is_finite()) && averaged != recorded, "fractions are kept");
+    let (code, text, _) = distances(arrays::Dtype::F32, &|i| if i == 3 { f32::NAN } else { whole(i) });
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("a.npy holds NaN at index 3 of frame 0, outside 0..=65535"), "{text}");
+}

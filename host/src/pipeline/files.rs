@@ -22,7 +22,8 @@ use gudsl_runtime::Image;
 use crate::access::ModelFiles;
 
 /// What raw frames' channel files must hold.
-const RAW: &str = "a .npy array of uint16 of shape (4, H, W) or (N, 4, H, W)";
+const RAW: &str =
+    "a .npy array of 16-bit values (uint16, or floating point from 0 to 65535) of shape (4, H, W) or (N, 4, H, W)";
 
 /// What a depth file must hold.
 const DEPTH: &str = "a .npy array of shape (H, W) or (N, H, W), or a 16-bit PNG";
@@ -143,7 +144,9 @@ impl RawFrames {
 /// A channel file's extent, from its header.
 fn channel(folder: &Folder, path: &Path) -> Result<Extent, String> {
     let (shape, dtype) = arrays::header(folder, path).map_err(|e| unreadable(e, RAW))?;
-    if !dtype.is_integer() || dtype.kind == arrays::Kind::Bool {
+    // Raw values are the camera's 16-bit units whatever the dtype: integers as recorded, or
+    // floating point (frames averaged or calibrated), each checked as it is read.
+    if dtype.kind == arrays::Kind::Bool {
         return Err(format!("{} has dtype {dtype}; expected {RAW}", path.display()));
     }
     match shape[..] {
@@ -153,7 +156,7 @@ fn channel(folder: &Folder, path: &Path) -> Result<Extent, String> {
     }
 }
 
-/// A frame of a channel file whose values are 16-bit values.
+/// A frame of a channel file whose values are 16-bit values (a NaN is none).
 fn sixteen_bits(values: Vec<f32>, path: &Path, frame: usize) -> Result<Vec<f32>, String> {
     match values.iter().position(|v| !(0.0..=65535.0).contains(v)) {
         Some(at) => Err(format!(
