@@ -379,3 +379,58 @@ fn float32_raw_frames_read_as_their_16_bit_values() {
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("a.npy holds NaN at index 3 of frame 0, outside 0..=65535"), "{text}");
 }
+
+/// Issue 51, item 7: motion compensation's flow, bound from its `FlowOut` to a `FlowWriter`, is
+/// written per frame as `.npy` — the flow the runtime's block matching gives for the same frame
+/// on the CPU (MWS 5, θ 1 %, no ρ) — and as a colour wheel: black where nothing moved, the
+/// direction's hue where it did (the camera moves sideways: the image along x).
+#[test]
+fn the_flow_can_be_tapped_and_written_as_arrays_and_a_colour_wheel() {
+    use gudsl_runtime::{
+        kernels::{
+            motion::{detect, match_blocks},
+            tof::subtract_black,
+        },
+        sim::{simulate, Camera, Motion, Scene},
+    };
+    let dir = temp_dir("flow-tap");
+    let sample = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    let motion = "        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Compensated.In.frame ]\n";
+    let text = sample.replace("directionRestriction = 90)", "directionRestriction = 0)").replace(
+        motion,
+        &format!("{motion}        Flow : FlowOut ( provider flow = IFlowProvider() );\n        [ source Flow.flow ==> target Flows.In.flow ]\n"),
+    );
+    assert!(text.contains("Flows.In.flow") && text.contains("directionRestriction = 0)"), "the sample has changed");
+    let text = text.trim_end().strip_suffix('}').unwrap().to_string()
+        + "\n    Flows instantiates FlowWriter (maxLength = 1)\n    {\n        In : FlowIn ( processor flow = IFlowProcessor() );\n    }\n}\n";
+    let model = dir.join("tapped.gudsl");
+    std::fs::write(&model, &text).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "--frames", "2", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let folder = gudsl_files::Folder::open(&dir).unwrap();
+    for frame in 0..2 {
+        let written = arrays::read(&folder, &out.join(format!("Flows/flow_{frame:04}.npy"))).unwrap();
+        let simulated = simulate(&Scene::sphere(), Motion::Translation([0.01, 0.0, 0.0]), &Camera::default(), frame);
+        let raw = subtract_black(&simulated.raw, &simulated.black);
+        let [_, mask] = detect(&raw, 0.01 * 65535.0);
+        let expected = match_blocks(&raw, &mask, 5, None, false);
+        assert_eq!(written.shape, [2, expected.height, expected.width]);
+        assert!(written.values == expected.data, "frame {frame}: the flow differs from the runtime's");
+        let n = expected.pixels();
+        let picture = image::open(out.join(format!("Flows/flow_{frame:04}.png"))).unwrap().to_rgb8();
+        let (mut still, mut sideways) = (0, 0);
+        for (i, pixel) in picture.pixels().enumerate() {
+            let (u, v) = (expected.data[i], expected.data[n + i]);
+            if (u, v) == (0.0, 0.0) {
+                assert_eq!(pixel.0, [0, 0, 0], "frame {frame}, pixel {i}: no motion is black");
+                still += 1;
+            } else if v == 0.0 {
+                let expected = if u > 0.0 { [255, 0, 0] } else { [0, 255, 255] };
+                assert_eq!(pixel.0, expected, "frame {frame}, pixel {i}: ({u}, {v})");
+                sideways += 1;
+            }
+        }
+        assert!(still > 0 && sideways > 50, "frame {frame}: {still} still, {sideways} sideways");
+    }
+}

@@ -104,7 +104,7 @@ BAD = {
         [("E0404", 9), ("E0404", 9)],
     ),
     "malformed.gudsl": (
-        pipeline("Malformed", black('channelA = "float_a.npy", channelB = "short_b.npy"')),
+        pipeline("Malformed", black('channelA = "bool_a.npy", channelB = "short_b.npy"')),
         [("E0404", 9), ("E0404", 9)],
     ),
     "sizes.gudsl": (
@@ -115,10 +115,10 @@ BAD = {
 
 
 def npy(path, descr, shape, values):
-    """A .npy file (version 1.0) of `values` (little-endian `descr`: <u2 or <f4)."""
+    """A .npy file (version 1.0) of `values` (little-endian `descr`: <u2, <f4 or |b1)."""
     header = f"{{'descr': '{descr}', 'fortran_order': False, 'shape': {tuple(shape)}, }}"
     header += " " * (63 - (10 + len(header)) % 64) + "\n"
-    code = {"<u2": "H", "<f4": "f"}[descr]
+    code = {"<u2": "H", "<f4": "f", "|b1": "?"}[descr]
     body = struct.pack(f"<{len(values)}{code}", *values)
     path.write_bytes(b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header.encode() + body)
 
@@ -139,7 +139,7 @@ async def main(gudsl, repo, gpu):
     work = Path(tempfile.mkdtemp(prefix="gudsl-lsp-pipeline-"))
     workspace = work / "models"
     shutil.copytree(repo / "samples" / "pipelines", workspace)
-    npy(workspace / "float_a.npy", "<f4", (4, 30, 40), [0.0] * 4800)
+    npy(workspace / "bool_a.npy", "|b1", (4, 30, 40), [False] * 4800)
     npy(workspace / "short_b.npy", "<u2", (3, 30, 40), [0] * 3600)
     for name in ("small_a.npy", "small_b.npy"):
         npy(workspace / name, "<u2", (4, 20, 10), [0] * 800)
@@ -253,7 +253,7 @@ async def bad_pipelines(client, workspace, work, diagnostics):
             fail(f"the sizes that cannot meet named: {found[0].message}")
         if name == "malformed.gudsl":
             messages = " | ".join(d.message for d in found)
-            if "float_a.npy has dtype float32" not in messages or "short_b.npy has shape (3, 30, 40)" not in messages or "uint16" not in messages:
+            if "bool_a.npy has dtype bool" not in messages or "short_b.npy has shape (3, 30, 40)" not in messages or "16-bit values" not in messages:
                 fail(f"the malformed files, their dtype and shape named: {messages}")
         print(f"{name}: {codes}")
 

@@ -1,4 +1,4 @@
-//! What flows between the stages of a pipeline: raw frames, depth images, masks, point clouds,
+//! What flows between the stages of a pipeline: raw frames, depth images, masks, flow fields, point clouds,
 //! poses, integration times and RGBA images (the interfaces of `ToF.*`), their images kept on the GPU as
 //! buffers (or on the CPU without an adapter) until a stage or a sink reads them.
 
@@ -57,6 +57,8 @@ pub enum Data {
     Raw(RawFrame),
     Depth(DepthImage),
     Mask(Tensor),
+    /// Motion compensation's flow: 2 planes, dx and dy in pixels per phase image.
+    Flow(Tensor),
     Cloud(PointCloud),
     Pose(Pose),
     IntegrationTime(f32),
@@ -88,6 +90,7 @@ pub fn detached(executor: &mut Executor, data: &Data) -> Data {
             ..depth.clone()
         }),
         Data::Mask(mask) => Data::Mask(copy(mask)),
+        Data::Flow(flow) => Data::Flow(copy(flow)),
         Data::Image(picture) => Data::Image(Picture { texels: copy(&picture.texels), source: picture.source.clone() }),
         Data::Cloud(PointCloud::Organized { points, normals }) => {
             Data::Cloud(PointCloud::Organized { points: copy(points), normals: copy(normals) })

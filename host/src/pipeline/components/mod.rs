@@ -276,6 +276,7 @@ fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Ve
         "ToF.PlyWriter" => made(sinks::PlyWriter::new(params)),
         "ToF.PngWriter" => made(sinks::PngWriter::new(params)),
         "ToF.MaskWriter" => made(sinks::MaskWriter::new(params)),
+        "ToF.FlowWriter" => made(sinks::FlowWriter::new(params)),
         "ToF.ImageViewer" => made(images::ImageViewer::new(params)),
         "ToF.AccuracyReport" => accuracy::AccuracyReport::new(params).and_then(made),
         _ => return None,

@@ -10,10 +10,11 @@ use super::{Carries, Component, Ctx, Inputs, Need, Outputs, Size, SizesByPort};
 use crate::pipeline::{data::Data, executor::Reads, OutputDir};
 
 /// The library's data types and the port names its components use for them (`DepthIn`, …).
-const KINDS: [(&str, &str); 7] = [
+const KINDS: [(&str, &str); 8] = [
     ("ToF.RawFrame", "Raw"),
     ("ToF.DepthImage", "Depth"),
     ("ToF.Mask", "Mask"),
+    ("ToF.FlowField", "Flow"),
     ("ToF.PointCloud", "Cloud"),
     ("ToF.Pose", "Pose"),
     ("ToF.IntegrationTime", "Time"),
@@ -38,6 +39,7 @@ pub fn kind_of(data: &Data) -> &'static str {
         Data::Raw(_) => "Raw",
         Data::Depth(_) => "Depth",
         Data::Mask(_) => "Mask",
+        Data::Flow(_) => "Flow",
         Data::Cloud(_) => "Cloud",
         Data::Pose(_) => "Pose",
         Data::IntegrationTime(_) => "Time",

@@ -264,6 +264,8 @@ impl Component for MotionCompensation {
             let raw = run(device, &mut item.correct, Kernel::CorrectRaw, &[&normalized, &flow])?.remove(0);
             // ρ restricts the next frame around this one's mean direction.
             item.flow = self.half_rho.map(|_| device.read_later(&flow));
+            // A tap: the flow, to whatever is bound to `FlowOut`.
+            out.push(("FlowOut".to_string(), Data::Flow(flow)));
             out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));
             // A tap: the motion mask, to whatever is bound to `MaskOut`.
             out.push(("MaskOut".to_string(), Data::Mask(mask)));

@@ -167,6 +167,71 @@ impl Component for MaskWriter {
     }
 }
 
+/// `ToF.FlowWriter`: each flow field as `.npy` (2, H, W) and as a colour-wheel PNG.
+pub struct FlowWriter {
+    instance: String,
+    several: bool,
+    max_length: f32,
+    pending: Pending,
+}
+
+impl FlowWriter {
+    pub fn new(params: &Params) -> FlowWriter {
+        FlowWriter {
+            instance: params.stage.instance.clone(),
+            several: params.providers > 1,
+            max_length: params.f32("maxLength"),
+            pending: Vec::new(),
+        }
+    }
+}
+
+impl Component for FlowWriter {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        for item in inputs.port("FlowIn") {
+            if let Data::Flow(flow) = &item.data {
+                self.pending.push((item.producer.clone(), "flow", ctx.device.read_later(flow)));
+            }
+        }
+        Ok(Vec::new())
+    }
+
+    fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
+        for (producer, what, later) in std::mem::take(&mut self.pending) {
+            let flow = reads.get(later);
+            let prefix = self.several.then_some(producer.as_str());
+            let npy =
+                arrays::encode(&[2, flow.height, flow.width], &flow.data[..2 * flow.pixels()], arrays::Dtype::F32);
+            ctx.output.write(&self.instance, &file_name(prefix, what, ctx.frame, "npy"), &npy)?;
+            let (dx, dy) = (flow.plane(0), flow.plane(1));
+            let rgb: Vec<u8> = dx.iter().zip(dy).flat_map(|(&u, &v)| wheel(u, v, self.max_length)).collect();
+            let buffer =
+                image::RgbImage::from_raw(flow.width as u32, flow.height as u32, rgb).ok_or("an image of no pixels")?;
+            ctx.output.write(&self.instance, &file_name(prefix, what, ctx.frame, "png"), &png(buffer)?)?;
+        }
+        Ok(Vec::new())
+    }
+}
+
+/// The colour of flow `(u, v)` on the wheel: the hue its direction (0° red, to the right;
+/// image y grows downwards), the brightness its length up to `max_length`, full saturation.
+fn wheel(u: f32, v: f32, max_length: f32) -> [u8; 3] {
+    let value = ((u * u + v * v).sqrt() / max_length).min(1.0);
+    let hue = v.atan2(u).to_degrees().rem_euclid(360.0) / 60.0;
+    let sector = hue.floor();
+    let f = hue - sector;
+    let (p, q, t) = (0.0, value * (1.0 - f), value * f);
+    let (r, g, b) = match sector as u32 % 6 {
+        0 => (value, t, p),
+        1 => (q, value, p),
+        2 => (p, value, t),
+        3 => (p, q, value),
+        4 => (t, p, value),
+        _ => (value, p, q),
+    };
+    [r, g, b].map(|c| (c * 255.0).round() as u8)
+}
+
 /// An image encoded as PNG.
 pub(super) fn png<P: image::PixelWithColorType, C: std::ops::Deref<Target = [P::Subpixel]>>(
     buffer: image::ImageBuffer<P, C>,
