@@ -434,3 +434,41 @@ fn the_flow_can_be_tapped_and_written_as_arrays_and_a_colour_wheel() {
         assert!(still > 0 && sideways > 50, "frame {frame}: {still} still, {sideways} sideways");
     }
 }
+
+/// Issue 51: a ground-truth file of fewer images than the run has frames is E0404 at
+/// `groundTruth` before the run (`check` says so), not an error at the first frame without one;
+/// one image a frame, or one for all, runs.
+#[test]
+fn too_few_ground_truth_images_are_an_error_before_the_run() {
+    let dir = temp_dir("truth-short");
+    let model = DEMODULATED.replace(
+        "        [ source Out.depth ==> target Writer.In.depth ]\n",
+        "        [ source Out.depth ==> target Writer.In.depth ]\n        [ source Out.depth ==> target Accuracy.In.depth ]\n",
+    );
+    let model = model.trim_end().strip_suffix('}').unwrap().to_string()
+        + "    Accuracy instantiates AccuracyReport (groundTruth = \"truth.npy\")\n    {\n        In : DepthIn ( processor depth = IDepthImageProcessor() );\n    }\n}\n";
+    std::fs::write(dir.join("model.gudsl"), model).unwrap();
+    for name in ["a.npy", "b.npy"] {
+        let data: Vec<f32> = (0..3 * 4 * 48).map(|i| ((i as f32 * 0.3).sin() * 400.0 + 2000.0).round()).collect();
+        arrays::write(&dir.join(name), &[3, 4, 6, 8], &data, arrays::Dtype::U16).unwrap();
+    }
+    let path = dir.join("model.gudsl");
+    let run_with = |images: usize| {
+        let shape: Vec<usize> = if images == 1 { vec![6, 8] } else { vec![images, 6, 8] };
+        arrays::write(&dir.join("truth.npy"), &shape, &vec![1.5; images * 48], arrays::Dtype::F32).unwrap();
+        let root = dir.to_str().unwrap();
+        let checked = gudsl().current_dir(&dir).args(["check", "model.gudsl"]).output().unwrap();
+        let ran = run(&[path.to_str().unwrap(), "--cpu", "--root", root, "-o", dir.join("out").to_str().unwrap()]);
+        (checked.status.code(), String::from_utf8_lossy(&checked.stdout).into_owned(), ran)
+    };
+    let (checked, report, (code, _, stderr)) = run_with(2);
+    assert_eq!((checked, code), (Some(1), Some(2)), "{report}\n{stderr}");
+    assert!(
+        report.contains("error[E0404]") && report.contains("holds 2 ground-truth images, but the run has 3 frames"),
+        "{report}"
+    );
+    for images in [1, 3] {
+        let (checked, report, (code, stdout, stderr)) = run_with(images);
+        assert_eq!((checked, code), (Some(0), Some(0)), "{images} images: {report}\n{stdout}\n{stderr}");
+    }
+}

@@ -166,6 +166,10 @@ pub fn prepare(
             message: format!("`{}` has no source: nothing produces frames", plan.diagram),
         });
     }
+    errors.extend(plan.stages.iter().zip(&made).filter_map(|(stage, component)| {
+        let (param, why) = component.as_ref()?.too_short(frames)?;
+        Some(components::Params { stage, providers: 0, files }.error(param, ErrorKind::Input, why))
+    }));
     let warnings: Vec<PipelineError> = plan
         .stages
         .iter()

@@ -83,6 +83,18 @@ impl Component for AccuracyReport {
             .then_some(Need::Truth("only a simulated camera's frames have it; for recorded data give `groundTruth`"))
     }
 
+    fn too_short(&self, frames: usize) -> Option<(&'static str, String)> {
+        let truth = self.truth_file.as_ref()?;
+        let images = truth.file.extent.frames;
+        (images > 1 && images < frames).then(|| {
+            let path = truth.file.path().display();
+            let why = format!(
+                "{path} holds {images} ground-truth images, but the run has {frames} frames: give one image a frame (or one for all), or run fewer frames (the source's `frames`)"
+            );
+            ("groundTruth", why)
+        })
+    }
+
     fn sizes_meet(&self, sizes: &SizesByPort) -> Result<(), (Option<&'static str>, String)> {
         let Some(truth) = &self.truth_file else { return Ok(()) };
         let own = (truth.file.extent.width, truth.file.extent.height);

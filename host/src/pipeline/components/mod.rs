@@ -195,6 +195,12 @@ pub trait Component: Send {
         None
     }
 
+    /// A file of it that holds too little for a run of `frames` frames: the parameter and why
+    /// (E0404 before the run, not an error at the frame that finds it missing).
+    fn too_short(&self, _frames: usize) -> Option<(&'static str, String)> {
+        None
+    }
+
     /// Before the first frame: reads what it needs from files (their headers were checked when
     /// it was made). `Err` is a message naming the file.
     fn load(&mut self) -> Result<(), String> {
