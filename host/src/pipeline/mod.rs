@@ -32,16 +32,13 @@ use std::{
     time::{Duration, Instant},
 };
 
-use gudsl_model::{
-    ast::ClassKind,
-    hir::{pipeline::PipelinePlan, Semantics},
-};
+use gudsl_model::{ast::ClassKind, hir::pipeline::PipelinePlan};
 pub(crate) use gudsl_runtime::executor;
 use gudsl_runtime::{Executor, Gpu};
 
 pub use crate::output::OutputDir;
 use apart::{Mode, Processed, Written};
-pub use components::Behaviors;
+pub use components::{behaviors, Behaviors};
 use components::{Component, Inputs, Outputs};
 use data::Item;
 pub use error::{ErrorKind, PipelineError};
@@ -90,32 +87,6 @@ pub struct PreparedPipeline {
     frames: usize,
     /// Settings that cannot act in it (E0406 warnings); it runs nonetheless.
     pub warnings: Vec<PipelineError>,
-}
-
-/// The kernels of the device diagrams the plan's workspace components call in `process`
-/// (generated once, here, where the model is: a run needs no database).
-pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
-    let mut behaviors = Behaviors::new();
-    if plan.stages.iter().all(|s| s.behavior.is_empty()) {
-        return behaviors; // the editor asks at every change: no scan of the workspace for none
-    }
-    let device = gudsl_codegen::device_diagrams(sema);
-    for fqn in plan.stages.iter().flat_map(|s| &s.behavior).map(|call| &call.diagram) {
-        if behaviors.contains_key(fqn) {
-            continue;
-        }
-        let kernel = match device.iter().find(|d| &d.fqn == fqn) {
-            Some(def) => gudsl_codegen::generate(sema, def).map_err(|errors| {
-                let first = errors.first().map_or("", |e| e.message.as_str());
-                format!("`{fqn}` cannot be generated as WGSL: {first} (`gudsl wgsl` lists every problem)")
-            }),
-            None => Err(format!(
-                "`{fqn}` is not a device diagram (no class implementing `OpenCL` owns it): a component's `process` runs device diagrams"
-            )),
-        };
-        behaviors.insert(fqn.clone(), kernel);
-    }
-    behaviors
 }
 
 /// Makes the plan's components: each a component of the ToF library or of the workspace (with

@@ -17,7 +17,7 @@ mod sources;
 mod texels;
 mod workspace;
 
-pub use workspace::Behaviors;
+pub use workspace::{behaviors, Behaviors};
 
 use std::{collections::BTreeMap, sync::atomic::AtomicBool};
 

@@ -146,11 +146,10 @@ impl MaskWriter {
 
 impl Component for MaskWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
-        for item in inputs.port("MaskIn") {
-            if let Data::Mask(mask) = &item.data {
-                self.pending.push((item.producer.clone(), "mask", ctx.device.read_later(mask)));
-            }
-        }
+        read_each(ctx, inputs, ("MaskIn", "mask"), &mut self.pending, |data| match data {
+            Data::Mask(mask) => Some(mask),
+            _ => None,
+        });
         Ok(Vec::new())
     }
 
@@ -188,11 +187,10 @@ impl FlowWriter {
 
 impl Component for FlowWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
-        for item in inputs.port("FlowIn") {
-            if let Data::Flow(flow) = &item.data {
-                self.pending.push((item.producer.clone(), "flow", ctx.device.read_later(flow)));
-            }
-        }
+        read_each(ctx, inputs, ("FlowIn", "flow"), &mut self.pending, |data| match data {
+            Data::Flow(flow) => Some(flow),
+            _ => None,
+        });
         Ok(Vec::new())
     }
 
@@ -230,6 +228,22 @@ fn wheel(u: f32, v: f32, max_length: f32) -> [u8; 3] {
         _ => (value, p, q),
     };
     [r, g, b].map(|c| (c * 255.0).round() as u8)
+}
+
+/// Asks for the read of the image `pick` finds in each item on `port`, kept in `pending` as
+/// `what` (the files' name) with its producer.
+fn read_each(
+    ctx: &mut Ctx,
+    inputs: &Inputs,
+    (port, what): (&str, &'static str),
+    pending: &mut Pending,
+    pick: fn(&Data) -> Option<&crate::pipeline::data::Tensor>,
+) {
+    for item in inputs.port(port) {
+        if let Some(image) = pick(&item.data) {
+            pending.push((item.producer.clone(), what, ctx.device.read_later(image)));
+        }
+    }
 }
 
 /// An image encoded as PNG.

@@ -19,7 +19,11 @@ use std::collections::HashMap;
 use gudsl_codegen::{Binding, Kernel};
 use gudsl_model::{
     ast::ClassKind,
-    hir::{items::ConnectorRole, pipeline::Value, Ty},
+    hir::{
+        items::ConnectorRole,
+        pipeline::{PipelinePlan, Value},
+        Semantics, Ty,
+    },
 };
 use gudsl_runtime::{executor::BufferSlot, DeviceImage, Gpu, TexelFormat};
 
@@ -435,4 +439,30 @@ impl WorkspaceComponent {
         conversions.unpack(ctx, current, &device_planes)?;
         Ok(Data::Image(Picture { texels: planes, source: picture.source.clone() }))
     }
+}
+
+/// The kernels of the device diagrams the plan's workspace components call in `process`
+/// (generated once, here, where the model is: a run needs no database).
+pub fn behaviors(sema: &Semantics, plan: &PipelinePlan) -> Behaviors {
+    let mut behaviors = Behaviors::new();
+    if plan.stages.iter().all(|s| s.behavior.is_empty()) {
+        return behaviors; // the editor asks at every change: no scan of the workspace for none
+    }
+    let device = gudsl_codegen::device_diagrams(sema);
+    for fqn in plan.stages.iter().flat_map(|s| &s.behavior).map(|call| &call.diagram) {
+        if behaviors.contains_key(fqn) {
+            continue;
+        }
+        let kernel = match device.iter().find(|d| &d.fqn == fqn) {
+            Some(def) => gudsl_codegen::generate(sema, def).map_err(|errors| {
+                let first = errors.first().map_or("", |e| e.message.as_str());
+                format!("`{fqn}` cannot be generated as WGSL: {first} (`gudsl wgsl` lists every problem)")
+            }),
+            None => Err(format!(
+                "`{fqn}` is not a device diagram (no class implementing `OpenCL` owns it): a component's `process` runs device diagrams"
+            )),
+        };
+        behaviors.insert(fqn.clone(), kernel);
+    }
+    behaviors
 }
