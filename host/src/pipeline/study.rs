@@ -35,7 +35,10 @@ impl StudyRow {
             folder,
             figures: report.figures.clone(),
             ms_per_frame: per_frame(report.total),
-            state: state(report),
+            state: state(
+                report.outcome.is_err(),
+                &report.failed_stages().filter_map(|e| e.stage.as_deref()).collect::<Vec<_>>(),
+            ),
             stages: report
                 .stages
                 .iter()
@@ -56,11 +59,8 @@ impl StudyRow {
         let stages = json["stages"].as_array()?;
         let failed: Vec<String> =
             stages.iter().filter(|s| s["state"] == "failed").filter_map(|s| text(&s["instance"])).collect();
-        let state = match (json["error"].is_null(), failed.is_empty()) {
-            (false, _) => "error".to_string(),
-            (true, true) => "ok".to_string(),
-            (true, false) => format!("failed: {}", failed.join(" ")),
-        };
+        let failed: Vec<&str> = failed.iter().map(String::as_str).collect();
+        let state = state(!json["error"].is_null(), &failed);
         let stages = stages.iter().map(|s| {
             Some((text(&s["instance"])?, s["host_ms_per_frame"].as_f64()?, s["device_ms_per_frame"].as_f64()?))
         });
@@ -90,12 +90,13 @@ pub fn rows_beneath(output: &OutputDir, depth: usize) -> Result<(Vec<StudyRow>, 
 }
 
 /// How a run ended: `ok`, `failed: <sinks>` or `error`.
-fn state(report: &PipelineReport) -> String {
-    let failed: Vec<&str> = report.failed_stages().filter_map(|e| e.stage.as_deref()).collect();
-    match (&report.outcome, failed.is_empty()) {
-        (Err(_), _) => "error".to_string(),
-        (Ok(()), true) => "ok".to_string(),
-        (Ok(()), false) => format!("failed: {}", failed.join(" ")),
+/// Decided once for a run and for the `report.json` it wrote: whether it stopped with an
+/// error, else the sinks that failed.
+fn state(stopped: bool, failed: &[&str]) -> String {
+    match (stopped, failed.is_empty()) {
+        (true, _) => "error".to_string(),
+        (false, true) => "ok".to_string(),
+        (false, false) => format!("failed: {}", failed.join(" ")),
     }
 }
 
