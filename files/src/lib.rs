@@ -7,9 +7,11 @@
 
 mod error;
 mod folder;
+mod growing;
 mod output;
 #[cfg(test)]
 mod tests;
 
 pub use error::{FileError, Problem};
 pub use folder::{lexical, Folder, Opened, Stamp};
+pub use growing::Growing;

@@ -113,3 +113,29 @@ fn lists_its_own_regular_files_only() {
     let folder = Folder::open(root.path()).unwrap();
     assert_eq!(folder.file_names().unwrap(), ["a.npy", "b.npy"], "no subfolder, link or FIFO");
 }
+
+#[test]
+fn a_growing_file_appears_whole_when_committed_replaces_a_link_and_vanishes_when_dropped() {
+    use std::io::{Seek, SeekFrom, Write};
+    let root = tempfile::tempdir().unwrap();
+    let victim = tempfile::tempdir().unwrap();
+    let target = victim.path().join("authorized_keys");
+    fs::write(&target, b"keys\n").unwrap();
+    symlink(&target, root.path().join("run.mcap")).unwrap();
+    let folder = Folder::open(root.path()).unwrap();
+
+    let mut growing = folder.create("run.mcap").unwrap();
+    growing.write_all(b"hello, world").unwrap();
+    growing.seek(SeekFrom::Start(0)).unwrap();
+    growing.write_all(b"HELLO").unwrap();
+    assert!(fs::symlink_metadata(root.path().join("run.mcap")).unwrap().file_type().is_symlink(), "not yet");
+    assert_eq!(growing.commit().unwrap(), root.path().join("run.mcap"));
+    assert_eq!(fs::read(root.path().join("run.mcap")).unwrap(), b"HELLO, world");
+    assert_eq!(fs::read(&target).unwrap(), b"keys\n", "the link was replaced, not written through");
+
+    let dropped = folder.create("half.mcap").unwrap();
+    drop(dropped);
+    let names: Vec<_> = fs::read_dir(root.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("run.mcap")], "no temporary file is left");
+    assert!(matches!(folder.create("../out.mcap").unwrap_err().problem, Problem::Outside { .. }));
+}

@@ -34,10 +34,21 @@ pub struct FramesWanted {
 impl FrameStream {
     /// Starts reading `wanted` of the array at `path` (beneath `folder`).
     pub fn open(folder: Arc<Folder>, path: &Path, wanted: FramesWanted) -> FrameStream {
-        let (sender, frames) = mpsc::sync_channel(0);
         let reading = path.to_path_buf();
+        FrameStream::spawn(path, move |send| send_frames(&folder, &reading, &wanted, send))
+    }
+
+    /// Frames of the file `path` that `read` gives, on a thread of its own: it hands each frame
+    /// to the function it is given, which says whether to go on (`false`: the stream was
+    /// dropped or every frame wanted was read).
+    pub fn spawn<R>(path: &Path, read: R) -> FrameStream
+    where
+        R: FnOnce(&mut dyn FnMut(Vec<f32>) -> bool) -> Result<(), ArrayError> + Send + 'static,
+    {
+        let (sender, frames) = mpsc::sync_channel(0);
         std::thread::spawn(move || {
-            if let Err(error) = send_frames(&folder, &reading, &wanted, &sender) {
+            let mut send = |frame: Vec<f32>| sender.send(Ok(frame)).is_ok();
+            if let Err(error) = read(&mut send) {
                 let _ = sender.send(Err(error));
             }
         });
@@ -57,7 +68,7 @@ fn send_frames(
     folder: &Folder,
     path: &Path,
     wanted: &FramesWanted,
-    sender: &mpsc::SyncSender<Result<Vec<f32>, ArrayError>>,
+    sender: &mut dyn FnMut(Vec<f32>) -> bool,
 ) -> Result<(), ArrayError> {
     arrays::with_array(folder, path, |file, shown| {
         let shape = arrays::shape_of(&file);
@@ -74,7 +85,7 @@ fn send_frames(
         let mut left = wanted.frames;
         let mut send = |frame: Vec<f32>| {
             left = left.saturating_sub(1);
-            sender.send(Ok(frame)).is_ok() && left > 0
+            sender(frame) && left > 0
         };
         if wanted.frames == 0 {
             return Ok(());

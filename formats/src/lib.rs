@@ -5,6 +5,9 @@
 //! has a fuzz target (`fuzz/`). No GPU here: the runtime, the host and the tools share it.
 
 pub mod arrays;
+pub mod bag;
 pub mod frame_stream;
+pub mod openexr;
 pub mod picture;
 pub mod ply;
+pub mod ros2;

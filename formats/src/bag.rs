@@ -1,0 +1,327 @@
+//! ROS 2 bags in MCAP, rosbag2's default store since Iron, through the `mcap` crate. A topic
+//! is named after its file: `recording.mcap:/camera/depth`. Its images (`sensor_msgs/msg/Image`
+//! in CDR) are checked from the file's summary and first message of the topic — what a check
+//! reads —, then read a message at a time on a thread of their own (chunks compressed by zstd
+//! or lz4 too), one frame ahead of the run. A run's images and point clouds are written on
+//! topics of their own into a file Foxglove, Rerun and the Python `mcap` reader open by the
+//! standard schemas.
+
+use std::{
+    collections::BTreeMap,
+    io::{BufReader, Read, Seek, Write},
+    path::{Path, PathBuf},
+    sync::Arc,
+};
+
+use gudsl_files::Folder;
+use mcap::{
+    records::MessageHeader,
+    sans_io::{LinearReaderOptions, SummaryReadEvent, SummaryReader, SummaryReaderOptions},
+    Summary, WriteOptions, Writer,
+};
+
+use crate::{
+    arrays::ArrayError,
+    frame_stream::FrameStream,
+    ros2::{self, Header, Image, PointCloud2, Time},
+};
+
+/// The longest bag read (1 TiB).
+const MAX_BAG_BYTES: u64 = 1 << 40;
+
+/// The longest record (a message, a chunk decompressed) read: 1 GiB.
+const MAX_RECORD_BYTES: usize = 1 << 30;
+
+/// Why a bag cannot be read: the file and what is wrong, said of it.
+pub type BagError = String;
+
+/// A topic of a bag: the file and the topic's name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Place {
+    pub file: PathBuf,
+    pub topic: String,
+}
+
+impl Place {
+    /// The topic a path names, `recording.mcap:/topic`; `None` when the path is no bag's.
+    pub fn parse(path: &Path) -> Option<Place> {
+        let text = path.to_str()?;
+        let (file, topic) = text.rsplit_once(".mcap:")?;
+        Some(Place { file: PathBuf::from(format!("{file}.mcap")), topic: topic.to_string() })
+    }
+
+    fn shown(&self) -> String {
+        format!("{}:{}", self.file.display(), self.topic)
+    }
+}
+
+/// Whether `path` names a bag (`.mcap`) or a topic of one.
+pub fn is_bag(path: &Path) -> bool {
+    Place::parse(path).is_some() || path.extension().is_some_and(|e| e.eq_ignore_ascii_case("mcap"))
+}
+
+/// A topic of images: how many, their size and encoding (from its first message).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ImageTopic {
+    pub messages: usize,
+    pub width: usize,
+    pub height: usize,
+    pub encoding: String,
+    /// Whether its pixels are integers (a depth image of them is in some unit, not metres).
+    pub integer: bool,
+}
+
+/// Checks the images of the topic `place` names: the file's summary and the topic's first
+/// message.
+pub fn image_topic(folder: &Folder, place: &Place) -> Result<ImageTopic, BagError> {
+    let shown = place.shown();
+    let summary = summary(folder, &place.file)?;
+    let channel = channel_of(&summary, place)?;
+    let schema = channel.schema.as_ref().map_or("", |s| s.name.as_str());
+    if schema != ros2::IMAGE_SCHEMA.0 || channel.message_encoding != "cdr" {
+        return Err(format!(
+            "{shown} carries {schema} in {}; expected {} in cdr",
+            channel.message_encoding,
+            ros2::IMAGE_SCHEMA.0
+        ));
+    }
+    let messages = summary.stats.as_ref().and_then(|s| s.channel_message_counts.get(&channel.id)).copied();
+    let messages = messages.ok_or_else(|| format!("{}: its summary counts no messages per topic", shown))?;
+    let mut first = None;
+    read_images(folder, place, &mut |image| {
+        first = Some(image);
+        false
+    })?;
+    let first = first.ok_or_else(|| format!("{shown} holds no message"))?;
+    first.values().map_err(|e| format!("{shown}: its first image {e}"))?;
+    Ok(ImageTopic {
+        messages: messages as usize,
+        width: first.width as usize,
+        height: first.height as usize,
+        integer: first.is_integer().map_err(|e| format!("{shown}: its first image {e}"))?,
+        encoding: first.encoding,
+    })
+}
+
+/// The values of the first `frames` images of the topic, a frame at a time, each of
+/// `width`×`height` pixels (a message of another size is an error at its index).
+pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, usize)) -> FrameStream {
+    let place = place.clone();
+    let shown = PathBuf::from(place.shown());
+    FrameStream::spawn(&shown.clone(), move |send| {
+        let (mut index, mut failed) = (0, None);
+        let mut each = |image: Image| {
+            let values = match (image.width as usize, image.height as usize) == size {
+                true => image.values().map_err(|e| format!("its image {index} {e}")),
+                false => Err(format!(
+                    "its image {index} is {}×{}, not {}×{} as the first",
+                    image.width, image.height, size.0, size.1
+                )),
+            };
+            index += 1;
+            match values {
+                Ok(values) => send(values) && index < frames,
+                Err(message) => {
+                    failed = Some(message);
+                    false
+                }
+            }
+        };
+        let read = read_images(&folder, &place, &mut each);
+        match failed.map(Err).unwrap_or(read) {
+            Ok(()) => Ok(()),
+            Err(message) => Err(ArrayError::invalid(&shown, message.replace(&format!("{}: ", shown.display()), ""))),
+        }
+    })
+}
+
+/// Hands each image of the topic to `each` in the file's order while it says to go on.
+fn read_images(folder: &Folder, place: &Place, each: &mut dyn FnMut(Image) -> bool) -> Result<(), BagError> {
+    let shown = place.shown();
+    let opened = folder.open_file(&place.file, MAX_BAG_BYTES).map_err(|e| e.to_string())?;
+    let options = LinearReaderOptions::default().with_record_length_limit(MAX_RECORD_BYTES);
+    let messages = mcap::io::MessageReader::new_with_options(BufReader::new(opened.file), options);
+    for message in messages {
+        let message = message.map_err(|e| format!("{}: {e}", place.file.display()))?;
+        if message.channel.topic != place.topic {
+            continue;
+        }
+        let image: Image = ros2::decode(&message.data).map_err(|e| format!("{shown}: message {e}"))?;
+        if !each(image) {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// The bag's summary (its topics and their message counts), read from the end of the file.
+fn summary(folder: &Folder, file: &Path) -> Result<Summary, BagError> {
+    let opened = folder.open_file(file, MAX_BAG_BYTES).map_err(|e| e.to_string())?;
+    let unreadable = |e: &dyn std::fmt::Display| format!("{}: is not a readable MCAP file ({e})", file.display());
+    let options = SummaryReaderOptions::default().with_file_size(opened.len).with_record_length_limit(MAX_RECORD_BYTES);
+    let mut reader = SummaryReader::new_with_options(options);
+    let mut source = opened.file;
+    while let Some(event) = reader.next_event() {
+        match event.map_err(|e| unreadable(&e))? {
+            SummaryReadEvent::ReadRequest(need) => {
+                let read = source.read(reader.insert(need)).map_err(|e| unreadable(&e))?;
+                reader.notify_read(read);
+            }
+            SummaryReadEvent::SeekRequest(to) => reader.notify_seeked(source.seek(to).map_err(|e| unreadable(&e))?),
+        }
+    }
+    reader.finish().ok_or_else(|| {
+        format!("{}: has no summary: the recording was not closed (`mcap recover` mends it)", file.display())
+    })
+}
+
+/// The channel of the topic, or an error listing the topics there are.
+fn channel_of<'s>(summary: &'s Summary, place: &Place) -> Result<&'s mcap::Channel<'static>, BagError> {
+    let mut channels: Vec<_> = summary.channels.values().collect();
+    channels.sort_by_key(|c| c.id);
+    if let Some(channel) = channels.iter().find(|c| c.topic == place.topic) {
+        return Ok(channel);
+    }
+    let topics: Vec<String> = channels
+        .iter()
+        .map(|c| format!("{} ({})", c.topic, c.schema.as_ref().map_or("no schema", |s| s.name.as_str())))
+        .collect();
+    Err(format!(
+        "{} has no topic `{}`; its topics: {}",
+        place.file.display(),
+        place.topic,
+        if topics.is_empty() { "none".to_string() } else { topics.join(", ") }
+    ))
+}
+
+/// A bag being written: images and point clouds, each topic a channel of its own, in
+/// zstd-compressed chunks, stamped by the caller.
+pub struct BagWriter<W: Write + Seek> {
+    writer: Writer<W>,
+    channels: BTreeMap<String, u16>,
+    sequence: u32,
+}
+
+impl<W: Write + Seek> BagWriter<W> {
+    pub fn new(sink: W) -> Result<BagWriter<W>, BagError> {
+        let options = WriteOptions::new().profile("ros2").library("gudsl");
+        let writer = options.create(sink).map_err(|e| format!("cannot start an MCAP file ({e})"))?;
+        Ok(BagWriter { writer, channels: BTreeMap::new(), sequence: 0 })
+    }
+
+    /// A one-channel image of 32-bit floats (`32FC1`) on `topic`, stamped `stamp` ns.
+    pub fn floats(
+        &mut self,
+        topic: &str,
+        stamp: u64,
+        frame_id: &str,
+        size: (usize, usize),
+        values: &[f32],
+    ) -> Result<(), BagError> {
+        let image = Image::floats(header(stamp, frame_id), size.0, size.1, values);
+        self.message(topic, ros2::IMAGE_SCHEMA, stamp, &ros2::encode(&image))
+    }
+
+    /// A point cloud with normals (`PointCloud2`) on `topic`, stamped `stamp` ns.
+    pub fn cloud(
+        &mut self,
+        topic: &str,
+        stamp: u64,
+        frame_id: &str,
+        points: &[[f32; 3]],
+        normals: &[[f32; 3]],
+    ) -> Result<(), BagError> {
+        let cloud = PointCloud2::with_normals(header(stamp, frame_id), points, normals);
+        self.message(topic, ros2::POINT_CLOUD_SCHEMA, stamp, &ros2::encode(&cloud))
+    }
+
+    fn message(&mut self, topic: &str, schema: (&str, &str), stamp: u64, data: &[u8]) -> Result<(), BagError> {
+        let failed = |e: mcap::McapError| format!("cannot write {topic} ({e})");
+        let channel_id = match self.channels.get(topic) {
+            Some(&id) => id,
+            None => {
+                let schema_id = self.writer.add_schema(schema.0, "ros2msg", schema.1.as_bytes()).map_err(failed)?;
+                let id = self.writer.add_channel(schema_id, topic, "cdr", &BTreeMap::new()).map_err(failed)?;
+                *self.channels.entry(topic.to_string()).or_insert(id)
+            }
+        };
+        self.sequence += 1;
+        let header = MessageHeader { channel_id, sequence: self.sequence, log_time: stamp, publish_time: stamp };
+        self.writer.write_to_known_channel(&header, data).map_err(failed)
+    }
+
+    /// Writes the summary (topics, counts, the chunk index) and gives the sink back.
+    pub fn finish(mut self) -> Result<W, BagError> {
+        self.writer.finish().map_err(|e| format!("cannot finish the MCAP file ({e})"))?;
+        Ok(self.writer.into_inner())
+    }
+}
+
+fn header(stamp: u64, frame_id: &str) -> Header {
+    Header { stamp: Time::from_nanos(stamp), frame_id: frame_id.to_string() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn written(frames: usize) -> (tempfile::TempDir, Folder) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut bag = BagWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
+        for k in 0..frames {
+            let values: Vec<f32> = (0..6).map(|v| (v + 10 * k) as f32).collect();
+            bag.floats("/tof/depth", k as u64 * 1000, "tof", (3, 2), &values).unwrap();
+            bag.cloud("/tof/cloud", k as u64 * 1000, "tof", &[[1.0, 2.0, 3.0]], &[[0.0, 0.0, 1.0]]).unwrap();
+        }
+        std::fs::write(dir.path().join("run.mcap"), bag.finish().unwrap().into_inner()).unwrap();
+        let folder = Folder::open(dir.path()).unwrap();
+        (dir, folder)
+    }
+
+    #[test]
+    fn a_written_topic_reads_back_frame_by_frame() {
+        let (dir, folder) = written(3);
+        let place = Place::parse(&dir.path().join("run.mcap:/tof/depth")).unwrap();
+        let topic = image_topic(&folder, &place).unwrap();
+        assert_eq!(topic, ImageTopic { messages: 3, width: 3, height: 2, encoding: "32FC1".into(), integer: false });
+        let stream = images(Arc::new(folder), &place, 2, (3, 2));
+        assert_eq!(stream.next_frame().unwrap(), vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
+        assert_eq!(stream.next_frame().unwrap()[0], 10.0);
+        assert!(stream.next_frame().is_err(), "two frames were asked for");
+    }
+
+    #[test]
+    fn a_wrong_topic_or_schema_or_file_is_told_with_what_there_is() {
+        let (dir, folder) = written(1);
+        let place = |topic: &str| Place::parse(&dir.path().join(format!("run.mcap:{topic}"))).unwrap();
+        let error = image_topic(&folder, &place("/tof/dpeth")).unwrap_err();
+        assert!(
+            error.contains("has no topic `/tof/dpeth`; its topics: /tof/depth (sensor_msgs/msg/Image), /tof/cloud"),
+            "{error}"
+        );
+        let error = image_topic(&folder, &place("/tof/cloud")).unwrap_err();
+        assert!(
+            error.contains("carries sensor_msgs/msg/PointCloud2 in cdr; expected sensor_msgs/msg/Image"),
+            "{error}"
+        );
+        std::fs::write(dir.path().join("bad.mcap"), b"\x89MCAP0\r\nnot really").unwrap();
+        let bad = Place::parse(&dir.path().join("bad.mcap:/x")).unwrap();
+        assert!(image_topic(&folder, &bad).unwrap_err().contains("is not a readable MCAP file"));
+        assert!(Place::parse(Path::new("depth.npy")).is_none());
+        assert!(is_bag(Path::new("a/b.MCAP")) && is_bag(Path::new("a/b.mcap:/t")));
+    }
+
+    #[test]
+    fn an_image_of_another_size_stops_the_stream_at_its_index() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut bag = BagWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
+        bag.floats("/d", 0, "", (2, 2), &[1.0; 4]).unwrap();
+        bag.floats("/d", 1, "", (3, 1), &[1.0; 3]).unwrap();
+        std::fs::write(dir.path().join("b.mcap"), bag.finish().unwrap().into_inner()).unwrap();
+        let place = Place::parse(&dir.path().join("b.mcap:/d")).unwrap();
+        let stream = images(Arc::new(Folder::open(dir.path()).unwrap()), &place, 5, (2, 2));
+        assert!(stream.next_frame().is_ok());
+        let error = stream.next_frame().unwrap_err().to_string();
+        assert!(error.contains("b.mcap:/d: its image 1 is 3×1, not 2×2 as the first"), "{error}");
+    }
+}
