@@ -95,6 +95,15 @@ impl Folder {
         self.names(|kind| kind.is_file())
     }
 
+    /// The names of the regular files in the folder at `path` beneath this one (see
+    /// [`Folder::file_names`]); refused outside it like a file.
+    pub fn file_names_in(&self, path: &Path) -> Result<Vec<String>, FileError> {
+        let (inside, shown) = self.inside(path)?;
+        let failed = |e: std::io::Error| FileError::io(&shown, &self.path, &e);
+        let dir = self.dir.open_dir(&inside).map_err(failed)?;
+        Folder { dir, path: self.path.join(&inside) }.file_names()
+    }
+
     /// The names of the folders in the folder itself (no links), sorted; names that are not
     /// UTF-8 are left out.
     pub fn folder_names(&self) -> Result<Vec<String>, FileError> {

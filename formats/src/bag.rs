@@ -137,11 +137,15 @@ pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, u
 
 /// Hands each image of the topic to `each` in the file's order while it says to go on.
 fn read_images(folder: &Folder, place: &Place, each: &mut dyn FnMut(Image) -> bool) -> Result<(), BagError> {
-    let shown = place.shown();
     let opened = folder.open_file(&place.file, MAX_BAG_BYTES).map_err(|e| e.to_string())?;
+    images_of(BufReader::new(opened.file), place, each)
+}
+
+/// Hands each image of the topic in `source` (a bag) to `each` while it says to go on.
+fn images_of(source: impl Read, place: &Place, each: &mut dyn FnMut(Image) -> bool) -> Result<(), BagError> {
+    let shown = place.shown();
     let options = LinearReaderOptions::default().with_record_length_limit(MAX_RECORD_BYTES);
-    let messages = mcap::io::MessageReader::new_with_options(BufReader::new(opened.file), options);
-    for message in messages {
+    for message in mcap::io::MessageReader::new_with_options(source, options) {
         let message = message.map_err(|e| format!("{}: {e}", place.file.display()))?;
         if message.channel.topic != place.topic {
             continue;
@@ -157,10 +161,14 @@ fn read_images(folder: &Folder, place: &Place, each: &mut dyn FnMut(Image) -> bo
 /// The bag's summary (its topics and their message counts), read from the end of the file.
 fn summary(folder: &Folder, file: &Path) -> Result<Summary, BagError> {
     let opened = folder.open_file(file, MAX_BAG_BYTES).map_err(|e| e.to_string())?;
+    summary_of(opened.file, opened.len, file)
+}
+
+/// The summary of the bag `source` (`len` bytes) holds.
+fn summary_of(mut source: impl Read + Seek, len: u64, file: &Path) -> Result<Summary, BagError> {
     let unreadable = |e: &dyn std::fmt::Display| format!("{}: is not a readable MCAP file ({e})", file.display());
-    let options = SummaryReaderOptions::default().with_file_size(opened.len).with_record_length_limit(MAX_RECORD_BYTES);
+    let options = SummaryReaderOptions::default().with_file_size(len).with_record_length_limit(MAX_RECORD_BYTES);
     let mut reader = SummaryReader::new_with_options(options);
-    let mut source = opened.file;
     while let Some(event) = reader.next_event() {
         match event.map_err(|e| unreadable(&e))? {
             SummaryReadEvent::ReadRequest(need) => {
@@ -173,6 +181,32 @@ fn summary(folder: &Folder, file: &Path) -> Result<Summary, BagError> {
     reader.finish().ok_or_else(|| {
         format!("{}: has no summary: the recording was not closed (`mcap recover` mends it)", file.display())
     })
+}
+
+/// Every image of every topic of images in the bag `bytes`, as its values: what the fuzz
+/// target feeds (the summary, the messages, their CDR and their pixels all read).
+pub fn images_in_bytes(bytes: &[u8]) -> Result<Vec<Vec<f32>>, BagError> {
+    let file = Path::new("fuzz.mcap");
+    let summary = summary_of(std::io::Cursor::new(bytes), bytes.len() as u64, file)?;
+    let mut values = Vec::new();
+    for channel in summary.channels.values() {
+        let place = Place { file: file.to_path_buf(), topic: channel.topic.clone() };
+        let mut failed = None;
+        images_of(bytes, &place, &mut |image| match image.values() {
+            Ok(image) => {
+                values.push(image);
+                true
+            }
+            Err(e) => {
+                failed = Some(e);
+                false
+            }
+        })?;
+        if let Some(e) = failed {
+            return Err(e);
+        }
+    }
+    Ok(values)
 }
 
 /// The channel of the topic, or an error listing the topics there are.
@@ -209,33 +243,29 @@ impl<W: Write + Seek> BagWriter<W> {
         Ok(BagWriter { writer, channels: BTreeMap::new(), sequence: 0 })
     }
 
-    /// A one-channel image of 32-bit floats (`32FC1`) on `topic`, stamped `stamp` ns.
-    pub fn floats(
-        &mut self,
-        topic: &str,
-        stamp: u64,
-        frame_id: &str,
-        size: (usize, usize),
-        values: &[f32],
-    ) -> Result<(), BagError> {
-        let image = Image::floats(header(stamp, frame_id), size.0, size.1, values);
-        self.message(topic, ros2::IMAGE_SCHEMA, stamp, &ros2::encode(&image))
+    /// A one-channel image of 32-bit floats (`32FC1`).
+    pub fn floats(&mut self, at: &At, size: (usize, usize), values: &[f32]) -> Result<(), BagError> {
+        let image = Image::floats(at.header(), size.0, size.1, values);
+        self.message(at, ros2::IMAGE_SCHEMA, &ros2::encode(&image))
     }
 
-    /// A point cloud with normals (`PointCloud2`) on `topic`, stamped `stamp` ns.
-    pub fn cloud(
-        &mut self,
-        topic: &str,
-        stamp: u64,
-        frame_id: &str,
-        points: &[[f32; 3]],
-        normals: &[[f32; 3]],
-    ) -> Result<(), BagError> {
-        let cloud = PointCloud2::with_normals(header(stamp, frame_id), points, normals);
-        self.message(topic, ros2::POINT_CLOUD_SCHEMA, stamp, &ros2::encode(&cloud))
+    /// A one-channel image: `16UC1` when every value is a whole number in 0..=65535 (raw
+    /// channels), else `32FC1`.
+    pub fn values(&mut self, at: &At, size: (usize, usize), values: &[f32]) -> Result<(), BagError> {
+        match Image::sixteen_bits(at.header(), size.0, size.1, values) {
+            Some(image) => self.message(at, ros2::IMAGE_SCHEMA, &ros2::encode(&image)),
+            None => self.floats(at, size, values),
+        }
     }
 
-    fn message(&mut self, topic: &str, schema: (&str, &str), stamp: u64, data: &[u8]) -> Result<(), BagError> {
+    /// A point cloud with normals (`PointCloud2`).
+    pub fn cloud(&mut self, at: &At, points: &[[f32; 3]], normals: &[[f32; 3]]) -> Result<(), BagError> {
+        let cloud = PointCloud2::with_normals(at.header(), points, normals);
+        self.message(at, ros2::POINT_CLOUD_SCHEMA, &ros2::encode(&cloud))
+    }
+
+    fn message(&mut self, at: &At, schema: (&str, &str), data: &[u8]) -> Result<(), BagError> {
+        let (topic, stamp) = (at.topic, at.stamp);
         let failed = |e: mcap::McapError| format!("cannot write {topic} ({e})");
         let channel_id = match self.channels.get(topic) {
             Some(&id) => id,
@@ -257,8 +287,18 @@ impl<W: Write + Seek> BagWriter<W> {
     }
 }
 
-fn header(stamp: u64, frame_id: &str) -> Header {
-    Header { stamp: Time::from_nanos(stamp), frame_id: frame_id.to_string() }
+/// Where a message goes: its topic, its time stamp (ns) and its coordinate frame.
+#[derive(Debug, Clone, Copy)]
+pub struct At<'a> {
+    pub topic: &'a str,
+    pub stamp: u64,
+    pub frame_id: &'a str,
+}
+
+impl At<'_> {
+    fn header(&self) -> Header {
+        Header { stamp: Time::from_nanos(self.stamp), frame_id: self.frame_id.to_string() }
+    }
 }
 
 #[cfg(test)]
@@ -270,8 +310,9 @@ mod tests {
         let mut bag = BagWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
         for k in 0..frames {
             let values: Vec<f32> = (0..6).map(|v| (v + 10 * k) as f32).collect();
-            bag.floats("/tof/depth", k as u64 * 1000, "tof", (3, 2), &values).unwrap();
-            bag.cloud("/tof/cloud", k as u64 * 1000, "tof", &[[1.0, 2.0, 3.0]], &[[0.0, 0.0, 1.0]]).unwrap();
+            let at = |topic| At { topic, stamp: k as u64 * 1000, frame_id: "tof" };
+            bag.floats(&at("/tof/depth"), (3, 2), &values).unwrap();
+            bag.cloud(&at("/tof/cloud"), &[[1.0, 2.0, 3.0]], &[[0.0, 0.0, 1.0]]).unwrap();
         }
         std::fs::write(dir.path().join("run.mcap"), bag.finish().unwrap().into_inner()).unwrap();
         let folder = Folder::open(dir.path()).unwrap();
@@ -315,8 +356,8 @@ mod tests {
     fn an_image_of_another_size_stops_the_stream_at_its_index() {
         let dir = tempfile::tempdir().unwrap();
         let mut bag = BagWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
-        bag.floats("/d", 0, "", (2, 2), &[1.0; 4]).unwrap();
-        bag.floats("/d", 1, "", (3, 1), &[1.0; 3]).unwrap();
+        bag.floats(&At { topic: "/d", stamp: 0, frame_id: "" }, (2, 2), &[1.0; 4]).unwrap();
+        bag.floats(&At { topic: "/d", stamp: 1, frame_id: "" }, (3, 1), &[1.0; 3]).unwrap();
         std::fs::write(dir.path().join("b.mcap"), bag.finish().unwrap().into_inner()).unwrap();
         let place = Place::parse(&dir.path().join("b.mcap:/d")).unwrap();
         let stream = images(Arc::new(Folder::open(dir.path()).unwrap()), &place, 5, (2, 2));

@@ -45,7 +45,7 @@ pub fn encode(width: usize, height: usize, channels: &[(&str, &[f32])]) -> Vec<u
     let layer = Layer::new(
         (width, height),
         LayerAttributes::default(),
-        Encoding::FAST_LOSSLESS,
+        Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(list.collect()),
     );
     let mut bytes = Cursor::new(Vec::new());

@@ -192,6 +192,21 @@ impl Image {
         }
     }
 
+    /// A one-channel image of 16-bit values (`16UC1`), when every value is a whole number in
+    /// 0..=65535 (a camera's raw channels); `None` otherwise.
+    pub fn sixteen_bits(header: Header, width: usize, height: usize, values: &[f32]) -> Option<Image> {
+        let whole = |v: &f32| (0.0..=65535.0).contains(v) && v.fract() == 0.0;
+        values.iter().all(whole).then(|| Image {
+            header,
+            height: height as u32,
+            width: width as u32,
+            encoding: "16UC1".to_string(),
+            is_bigendian: 0,
+            step: 2 * width as u32,
+            data: values.iter().flat_map(|&v| (v as u16).to_le_bytes()).collect(),
+        })
+    }
+
     /// Whether its encoding is integers (a depth image of them is in millimetres or so).
     pub fn is_integer(&self) -> Result<bool, MessageError> {
         Ok(!matches!(self.pixel()?, Pixel::F32 | Pixel::F64))
@@ -282,6 +297,10 @@ mod tests {
         };
         assert_eq!(image.values().unwrap(), vec![1.0, 256.0, 65535.0, 2.0]);
         assert!(image.is_integer().unwrap());
+        let whole = Image::sixteen_bits(Header::default(), 2, 1, &[0.0, 65535.0]).unwrap();
+        assert_eq!(whole.values().unwrap(), vec![0.0, 65535.0]);
+        assert!(Image::sixteen_bits(Header::default(), 1, 1, &[0.5]).is_none());
+        assert!(Image::sixteen_bits(Header::default(), 1, 1, &[65536.0]).is_none());
     }
 
     #[test]

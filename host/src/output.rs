@@ -11,7 +11,7 @@ use std::{
     sync::Arc,
 };
 
-use gudsl_files::{FileError, Folder};
+use gudsl_files::{FileError, Folder, Growing};
 
 /// The folder outputs go to when the user names none: `gudsl-out/<diagram's simple name>`.
 pub const DEFAULT_FOLDER: &str = "gudsl-out";
@@ -66,6 +66,19 @@ impl OutputDir {
     pub fn write(&mut self, sink: &str, name: &str, bytes: &[u8]) -> Result<PathBuf, String> {
         let folder = self.root.subfolder(&plain(sink)).map_err(|e| format!("cannot write into {e}"))?;
         let path = folder.write(&plain(name), bytes).map_err(|e| format!("cannot write {e}"))?;
+        Ok(self.listed(path))
+    }
+
+    /// Starts the file `name` in the folder `sink` (both reduced to plain names) that a sink
+    /// writes a piece at a time (a recording): it appears, whole, when [`OutputDir::commit`]ted.
+    pub fn create(&mut self, sink: &str, name: &str) -> Result<Growing, String> {
+        let folder = self.root.subfolder(&plain(sink)).map_err(|e| format!("cannot write into {e}"))?;
+        folder.create(&plain(name)).map_err(|e| format!("cannot write {e}"))
+    }
+
+    /// Gives a file [`OutputDir::create`] started its name, and lists it.
+    pub fn commit(&mut self, file: Growing) -> Result<PathBuf, String> {
+        let path = file.commit().map_err(|e| format!("cannot write {e}"))?;
         Ok(self.listed(path))
     }
 

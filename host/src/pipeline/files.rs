@@ -1,10 +1,14 @@
 //! Files a pipeline reads. Raw frames: two arrays of 16-bit values, channel A and channel B,
 //! shape (4, H, W) for one frame or (N, 4, H, W) for N (phase image, row, column), interleaved
-//! into the runtime's 8-plane frames (`A0 B0 A1 B1 A2 B2 A3 B3`). Depth images: an array of
-//! (H, W) or (N, H, W) values, or one 16-bit PNG. Arrays are `.npy` files or members of `.npz`
-//! archives (`gudsl_formats::arrays`). Opening reads the headers only — what the editor checks
-//! as the model is typed —; a run reads the values a frame at a time as it asks for them. Every problem is a
-//! message naming the file and what was expected.
+//! into the runtime's 8-plane frames (`A0 B0 A1 B1 A2 B2 A3 B3`); or two topics of a ROS 2 bag
+//! (`rec.mcap:/tof/raw_a`), a message a frame holding its four phase images one below the
+//! other (4·H rows). Depth images: an array of (H, W) or (N, H, W) values, a topic of a bag,
+//! one picture (a 16-bit PNG, an OpenEXR image) or a sequence of them (`depth/*.png`, in name
+//! order). Arrays are `.npy` files or members of `.npz` archives (`gudsl_formats::arrays`).
+//! Opening reads the headers only — what the editor checks as the model is typed —; a run
+//! reads the values a frame at a time as it asks for them. Every problem is a message naming
+//! the file and what was expected. [`stamped_path`] says which file (or folder) a path's
+//! contents depend on.
 
 use std::{
     path::{Path, PathBuf},
@@ -14,19 +18,21 @@ use std::{
 use gudsl_files::Folder;
 use gudsl_formats::{
     arrays,
+    bag::{self, Place},
     frame_stream::{FrameStream, FramesWanted},
-    picture,
+    openexr, picture,
 };
 use gudsl_runtime::Image;
 
 use crate::access::ModelFiles;
 
 /// What raw frames' channel files must hold.
-const RAW: &str =
-    "a .npy array of 16-bit values (uint16, or floating point from 0 to 65535) of shape (4, H, W) or (N, 4, H, W)";
+const RAW: &str = "a .npy array of 16-bit values (uint16, or floating point from 0 to 65535) of shape (4, H, W) or \
+     (N, 4, H, W), or a bag's topic of images of 4·H rows (`rec.mcap:/topic`)";
 
 /// What a depth file must hold.
-const DEPTH: &str = "a .npy array of shape (H, W) or (N, H, W), or a 16-bit PNG";
+const DEPTH: &str = "a .npy array of shape (H, W) or (N, H, W), a bag's topic of images (`rec.mcap:/topic`), or \
+     pictures: a 16-bit PNG or an OpenEXR image, or a sequence of them (`depth/*.png`)";
 
 /// Why a channel file cannot be read; `in_b` when channel B's file is the culprit.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -102,9 +108,13 @@ impl RawFiles {
             frames: frames.min(self.extent.frames),
             expected: self.extent.frames * 4 * width * height,
         };
+        let stream = |path: &Path| match Place::parse(path) {
+            Some(place) => bag::images(self.folder.clone(), &place, frames, (width, 4 * height)),
+            None => FrameStream::open(self.folder.clone(), path, wanted()),
+        };
         RawFrames {
-            a: FrameStream::open(self.folder.clone(), &self.a, wanted()),
-            b: FrameStream::open(self.folder.clone(), &self.b, wanted()),
+            a: stream(&self.a),
+            b: stream(&self.b),
             paths: [self.a.clone(), self.b.clone()],
             extent: self.extent,
             next: 0,
@@ -143,6 +153,17 @@ impl RawFrames {
 
 /// A channel file's extent, from its header.
 fn channel(folder: &Folder, path: &Path) -> Result<Extent, String> {
+    if let Some(place) = Place::parse(path) {
+        let topic = bag::image_topic(folder, &place)?;
+        return match topic.height % 4 {
+            0 => Ok(Extent { frames: topic.messages, height: topic.height / 4, width: topic.width }),
+            _ => Err(format!(
+                "{} holds images of {} rows, not four phase images one below the other; expected {RAW}",
+                path.display(),
+                topic.height
+            )),
+        };
+    }
     let (shape, dtype) = arrays::header(folder, path).map_err(|e| unreadable(e, RAW))?;
     // Raw values are the camera's 16-bit units whatever the dtype: integers as recorded, or
     // floating point (frames averaged or calibrated), each checked as it is read.
@@ -168,32 +189,48 @@ fn sixteen_bits(values: Vec<f32>, path: &Path, frame: usize) -> Result<Vec<f32>,
     }
 }
 
-/// A file of depth images: an array or a 16-bit PNG.
+/// A file of depth images: an array, a bag's topic, or pictures.
 #[derive(Debug, Clone)]
 pub struct DepthFile {
     folder: Arc<Folder>,
     path: PathBuf,
-    png: bool,
+    stored: Stored,
     pub extent: Extent,
 }
 
+/// How a file source's depth images are stored.
+#[derive(Debug, Clone)]
+enum Stored {
+    /// A `.npy` array or `.npz` member of shape (H, W) or (N, H, W): metres.
+    Array,
+    /// A topic of images in a bag: metres when floats, units of `scale` when integers.
+    Bag { place: Place, integer: bool },
+    /// Pictures, one a frame, in name order: a PNG's values are units of `scale`, an EXR's metres.
+    Pictures(Vec<PathBuf>),
+}
+
 impl DepthFile {
-    /// Checks the file's header.
+    /// Checks the file's header (a sequence's first picture's, and that every name is a picture's).
     pub fn open(files: &ModelFiles, path: &Path) -> Result<DepthFile, String> {
         let folder = files.folder(path).cloned().map_err(|e| e.to_string())?;
-        let png = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
-        let extent = if png {
-            let (width, height) = picture::dimensions(&folder, path).map_err(|e| format!("{e}; expected {DEPTH}"))?;
-            Extent { frames: 1, height: height as usize, width: width as usize }
+        let (stored, extent) = if let Some(place) = Place::parse(path) {
+            let topic = bag::image_topic(&folder, &place)?;
+            let extent = Extent { frames: topic.messages, height: topic.height, width: topic.width };
+            (Stored::Bag { place, integer: topic.integer }, extent)
+        } else if is_picture(path) || is_pattern(path) {
+            let pictures = pictures_named(&folder, path)?;
+            let (width, height) = picture_size(&folder, &pictures[0])?;
+            (Stored::Pictures(pictures.clone()), Extent { frames: pictures.len(), height, width })
         } else {
             let (shape, _) = arrays::header(&folder, path).map_err(|e| unreadable(e, DEPTH))?;
-            match shape[..] {
+            let extent = match shape[..] {
                 [height, width] if height > 0 && width > 0 => Extent { frames: 1, height, width },
                 [frames, height, width] if frames > 0 && height > 0 && width > 0 => Extent { frames, height, width },
                 _ => return Err(format!("{} has shape {}; expected {DEPTH}", path.display(), shape_text(&shape))),
-            }
+            };
+            (Stored::Array, extent)
         };
-        Ok(DepthFile { folder, path: path.to_path_buf(), png, extent })
+        Ok(DepthFile { folder, path: path.to_path_buf(), stored, extent })
     }
 
     /// The file, as the model names it.
@@ -202,37 +239,101 @@ impl DepthFile {
     }
 
     /// The first `frames` images (all when there are fewer) in metres, read one at a time:
-    /// an array's values as they are, a PNG's times `scale`.
+    /// an array's values and floating-point images as they are, integer ones times `scale`.
     pub fn frames(&self, frames: usize, scale: f32) -> DepthFrames {
         let Extent { height, width, .. } = self.extent;
-        let source = match self.png {
-            true => Depths::Picture(Some(self.folder.clone())),
-            false => Depths::Array(FrameStream::open(
-                self.folder.clone(),
-                &self.path,
-                FramesWanted {
+        let frames = frames.min(self.extent.frames);
+        let (source, scale) = match &self.stored {
+            Stored::Array => {
+                let wanted = FramesWanted {
                     frame_values: width * height,
-                    frames: frames.min(self.extent.frames),
+                    frames,
                     expected: self.extent.frames * width * height,
-                },
-            )),
+                };
+                (Depths::Stream(FrameStream::open(self.folder.clone(), &self.path, wanted)), 1.0)
+            }
+            Stored::Bag { place, integer } => {
+                let stream = bag::images(self.folder.clone(), place, frames, (width, height));
+                (Depths::Stream(stream), if *integer { scale } else { 1.0 })
+            }
+            Stored::Pictures(paths) => (Depths::Pictures(self.folder.clone(), paths[..frames].to_vec().into()), scale),
         };
-        DepthFrames { source, path: self.path.clone(), extent: self.extent, scale }
+        DepthFrames { source, extent: self.extent, scale }
     }
+}
+
+/// Whether `path` names one picture (PNG, EXR).
+fn is_picture(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png") || e.eq_ignore_ascii_case("exr"))
+}
+
+/// Whether `path`'s file name is a pattern (`*`, `?`, `[…]`) naming a sequence of pictures.
+fn is_pattern(path: &Path) -> bool {
+    path.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.contains(['*', '?', '[']))
+}
+
+/// The pictures `path` names: itself, or the files of its folder its file name's pattern
+/// matches, in name order; an error when none does or one is no picture.
+fn pictures_named(folder: &Folder, path: &Path) -> Result<Vec<PathBuf>, String> {
+    if !is_pattern(path) {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+    let pattern = glob::Pattern::new(name).map_err(|e| format!("{}: `{name}` is no pattern ({e})", path.display()))?;
+    let parent = path.parent().unwrap_or(Path::new(""));
+    let names = folder.file_names_in(parent).map_err(|e| e.to_string())?;
+    let matched: Vec<PathBuf> = names.iter().filter(|n| pattern.matches(n)).map(|n| parent.join(n)).collect();
+    if let Some(other) = matched.iter().find(|p| !is_picture(p)) {
+        return Err(format!(
+            "{} matches {}, which is no PNG or EXR picture; expected {DEPTH}",
+            path.display(),
+            other.display()
+        ));
+    }
+    match matched.is_empty() {
+        true => Err(format!("no file matches {}; expected {DEPTH}", path.display())),
+        false => Ok(matched),
+    }
+}
+
+/// A picture's width and height, from its header.
+fn picture_size(folder: &Folder, path: &Path) -> Result<(usize, usize), String> {
+    if is_exr(path) {
+        return openexr::dimensions(folder, path);
+    }
+    let (width, height) = picture::dimensions(folder, path).map_err(|e| format!("{e}; expected {DEPTH}"))?;
+    Ok((width as usize, height as usize))
+}
+
+fn is_exr(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// The file (or, for a sequence, the folder) a file parameter's contents depend on: what a
+/// prepared pipeline's stamp is taken of.
+pub fn stamped_path(path: &Path) -> PathBuf {
+    if let Some(place) = Place::parse(path) {
+        return place.file;
+    }
+    if is_pattern(path) {
+        return path.parent().map(Path::to_path_buf).unwrap_or_default();
+    }
+    arrays::Source::parse(path).file
 }
 
 /// A file's depth images as they are read.
 pub struct DepthFrames {
     source: Depths,
-    path: PathBuf,
     extent: Extent,
+    /// Metres per unit of an integer image.
     scale: f32,
 }
 
 enum Depths {
-    /// A PNG's one image, decoded when it is asked for (`None` once it was).
-    Picture(Option<Arc<Folder>>),
-    Array(FrameStream),
+    /// An array's or a topic's images, read ahead on their thread.
+    Stream(FrameStream),
+    /// Pictures, each decoded when its frame is asked for.
+    Pictures(Arc<Folder>, std::collections::VecDeque<PathBuf>),
 }
 
 impl DepthFrames {
@@ -241,36 +342,45 @@ impl DepthFrames {
         let Extent { height, width, .. } = self.extent;
         let values = match &mut self.source {
             // The stream refuses an array whose shape changed since it was opened.
-            Depths::Array(stream) => stream.next_frame().map_err(|e| unreadable(e, DEPTH))?,
-            Depths::Picture(folder) => {
-                let folder = folder.take().ok_or_else(|| format!("{} holds one image", self.path.display()))?;
-                let values = picture_values(&folder, &self.path)?;
-                changed_since_opened(&self.path, values.len(), width * height)?;
+            Depths::Stream(stream) => {
+                let values = stream.next_frame().map_err(|e| unreadable(e, DEPTH))?;
                 values.into_iter().map(|v| v * self.scale).collect()
+            }
+            Depths::Pictures(folder, paths) => {
+                let path = paths.pop_front().ok_or("the pictures are all read")?;
+                let (values, integer) = picture_values(folder, &path)?;
+                changed_since_opened(&path, values.len(), width * height)?;
+                let scale = if integer { self.scale } else { 1.0 };
+                values.into_iter().map(|v| v * scale).collect()
             }
         };
         Ok(Image { width, height, planes: 1, data: values })
     }
 }
 
-/// A greyscale PNG's values (16 or 8 bits).
-fn picture_values(folder: &Folder, path: &Path) -> Result<Vec<f32>, String> {
+/// A picture's values, and whether they are integers: a greyscale PNG's (16 or 8 bits), an
+/// EXR's depth channel.
+fn picture_values(folder: &Folder, path: &Path) -> Result<(Vec<f32>, bool), String> {
+    if is_exr(path) {
+        return openexr::read_depth(folder, path).map(|(_, _, values)| (values, false));
+    }
     match picture::decode(folder, path).map_err(|e| format!("{e}; expected {DEPTH}"))? {
-        image::DynamicImage::ImageLuma16(grey) => Ok(grey.into_raw().into_iter().map(f32::from).collect()),
-        image::DynamicImage::ImageLuma8(grey) => Ok(grey.into_raw().into_iter().map(f32::from).collect()),
+        image::DynamicImage::ImageLuma16(grey) => Ok((grey.into_raw().into_iter().map(f32::from).collect(), true)),
+        image::DynamicImage::ImageLuma8(grey) => Ok((grey.into_raw().into_iter().map(f32::from).collect(), true)),
         other => {
             Err(format!("{} is a {:?} PNG; expected a greyscale PNG of 16 (or 8) bits", path.display(), other.color()))
         }
     }
 }
 
-/// An error unless a file still holds the `expected` values its header promised when it was
-/// opened (it may have been written again since).
+/// An error unless a picture holds the `expected` values (`width`×`height`) its sequence's
+/// first had when the run was prepared (it may have been written again since).
 fn changed_since_opened(path: &Path, values: usize, expected: usize) -> Result<(), String> {
     match values == expected {
         true => Ok(()),
         false => Err(format!(
-            "{} holds {values} values, not the {expected} it held when the run was prepared: it changed meanwhile",
+            "{} holds {values} values, not the {expected} of the sequence's first picture when the run was \
+             prepared: the pictures of a sequence have one size, and a file must not change while it is read",
             path.display()
         )),
     }

@@ -65,7 +65,7 @@ impl Key {
             Value::Text(text) if param.input_file && !text.is_empty() => Some(model_files.path(text)),
             _ => None,
         });
-        let files = texts.map(|path| (path.clone(), model_files.stamp(&path))).collect();
+        let files = texts.map(|path| (path.clone(), model_files.stamp(&super::files::stamped_path(&path)))).collect();
         Key { plan: placeless(plan), behaviors, files }
     }
 }

@@ -2,10 +2,11 @@
 //! when a stage of its class runs, made from the stage's parameters (`make`). Sources
 //! (`sources.rs`), filters on raw frames (`raw.rs`), on depth images (`depth.rs`), chapter 5's
 //! integration time (`exposure.rs`), chapter 6's segmentation, clouds and registration
-//! (`cloud.rs`), RGBA images (`images.rs`), sinks (`sinks.rs`); and the workspace's own
+//! (`cloud.rs`), RGBA images (`images.rs`), sinks (`sinks.rs`, ROS 2 bags `bags.rs`); and the workspace's own
 //! components, whose `process` runs device diagrams (`workspace.rs`).
 
 mod accuracy;
+mod bags;
 mod cloud;
 mod depth;
 mod exposure;
@@ -80,6 +81,22 @@ pub fn depth_images(inputs: &Inputs) -> impl Iterator<Item = (&str, &DepthImage)
     inputs.port("DepthIn").iter().filter_map(|item| match &item.data {
         Data::Depth(depth) => Some((item.producer.as_str(), depth)),
         _ => None,
+    })
+}
+
+/// The planes of a depth image a writer was asked for (`distance`, `amplitude`, `intensity`),
+/// each with its name.
+pub fn depth_planes<'d>(
+    depth: &'d DepthImage,
+    planes: &'d [&'static str],
+) -> impl Iterator<Item = (&'static str, &'d super::data::Tensor)> + 'd {
+    planes.iter().map(move |&what| {
+        let tensor = match what {
+            "distance" => &depth.distance,
+            "amplitude" => &depth.amplitude,
+            _ => &depth.intensity,
+        };
+        (what, tensor)
     })
 }
 
@@ -278,7 +295,9 @@ fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Ve
         "ToF.IcpRegistration" => made(cloud::IcpRegistration::new(params)),
         "ToF.CloudTransform" => made(cloud::CloudTransform::new(params)),
         "ToF.Accumulation" => made(cloud::Accumulation::default()),
-        "ToF.NpyWriter" => made(sinks::NpyWriter::new(params)),
+        "ToF.NpyWriter" => made(sinks::DepthWriter::new(params, sinks::DepthFormat::Npy)),
+        "ToF.ExrWriter" => made(sinks::DepthWriter::new(params, sinks::DepthFormat::Exr)),
+        "ToF.McapWriter" => made(bags::McapWriter::new(params)),
         "ToF.PlyWriter" => made(sinks::PlyWriter::new(params)),
         "ToF.PngWriter" => made(sinks::PngWriter::new(params)),
         "ToF.MaskWriter" => made(sinks::MaskWriter::new(params)),
@@ -319,6 +338,14 @@ impl Params<'_> {
     pub fn member(&self, name: &str) -> &str {
         match self.stage.param(name) {
             Some(Value::Enum(member)) => member,
+            _ => "",
+        }
+    }
+
+    /// A text parameter's value ("" when not text).
+    pub fn text(&self, name: &str) -> &str {
+        match self.stage.param(name) {
+            Some(Value::Text(text)) => text,
             _ => "",
         }
     }

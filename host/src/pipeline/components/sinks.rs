@@ -1,13 +1,13 @@
-//! Sinks: depth images to `.npy` (float32) and PNG (16-bit millimetres and a colour-mapped
-//! preview), point clouds to PLY (the accuracy report: `accuracy.rs`). Each asks for its images at the end of the frame and writes them then, into a
+//! Sinks: depth images to `.npy` and OpenEXR (float32) and PNG (16-bit millimetres and a
+//! colour-mapped preview), point clouds to PLY (the accuracy report: `accuracy.rs`). Each asks for its images at the end of the frame and writes them then, into a
 //! folder of the output named after its instance; fed by several producers, it prefixes its
 //! files with the producer's name.
 
-use std::io::Cursor;
+use std::{io::Cursor, sync::Arc};
 
 use gudsl_formats::{arrays, ply::Points};
 
-use super::{depth_images, Component, Ctx, Inputs, Outputs, Params};
+use super::{depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::Data,
     executor::{Later, Reads},
@@ -26,35 +26,59 @@ fn file_name(prefix: Option<&str>, what: &str, frame: usize, extension: &str) ->
 /// Reads asked for this frame: (producer, what, read).
 type Pending = Vec<(String, &'static str, Later)>;
 
-/// `ToF.NpyWriter`.
-pub struct NpyWriter {
+/// `ToF.NpyWriter` and `ToF.ExrWriter`: depth images a file a frame and plane
+/// (`distance_0003.npy`, float32) or a file a frame (`depth_0003.exr`, float32 channels `Z` —
+/// the distance, where depth readers look —, `amplitude`, `intensity`).
+pub struct DepthWriter {
     instance: String,
+    format: DepthFormat,
     planes: Vec<&'static str>,
     several: bool,
     pending: Pending,
 }
 
-impl NpyWriter {
-    pub fn new(params: &Params) -> NpyWriter {
+/// The files a [`DepthWriter`] writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DepthFormat {
+    Npy,
+    Exr,
+}
+
+impl DepthWriter {
+    pub fn new(params: &Params, format: DepthFormat) -> DepthWriter {
         let planes = ["distance", "amplitude", "intensity"].into_iter().filter(|p| params.flag(p)).collect();
-        NpyWriter {
+        DepthWriter {
             instance: params.stage.instance.clone(),
+            format,
             planes,
             several: params.providers > 1,
             pending: Vec::new(),
         }
     }
+
+    /// One producer's planes of a frame as one EXR file.
+    fn write_exr(
+        &self,
+        ctx: &mut Ctx,
+        producer: &str,
+        planes: &[(&str, &Arc<gudsl_runtime::Image>)],
+    ) -> Result<(), String> {
+        let Some((_, first)) = planes.first() else { return Ok(()) };
+        let channels: Vec<(&str, &[f32])> = planes
+            .iter()
+            .map(|(what, image)| (if *what == "distance" { "Z" } else { what }, &image.data[..]))
+            .collect();
+        let bytes = gudsl_formats::openexr::encode(first.width, first.height, &channels);
+        let name = file_name(self.several.then_some(producer), "depth", ctx.frame, "exr");
+        ctx.output.write(&self.instance, &name, &bytes)?;
+        Ok(())
+    }
 }
 
-impl Component for NpyWriter {
+impl Component for DepthWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for (producer, depth) in depth_images(inputs) {
-            for &what in &self.planes {
-                let tensor = match what {
-                    "distance" => &depth.distance,
-                    "amplitude" => &depth.amplitude,
-                    _ => &depth.intensity,
-                };
+            for (what, tensor) in depth_planes(depth, &self.planes) {
                 self.pending.push((producer.to_string(), what, ctx.device.read_later(tensor)));
             }
         }
@@ -62,7 +86,18 @@ impl Component for NpyWriter {
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (producer, what, later) in std::mem::take(&mut self.pending) {
+        let pending = std::mem::take(&mut self.pending);
+        if self.format == DepthFormat::Exr {
+            for (k, (producer, ..)) in pending.iter().enumerate().step_by(self.planes.len().max(1)) {
+                let planes: Vec<_> = pending[k..k + self.planes.len()]
+                    .iter()
+                    .map(|(_, what, later)| (*what, reads.get(*later)))
+                    .collect();
+                self.write_exr(ctx, producer, &planes)?;
+            }
+            return Ok(Vec::new());
+        }
+        for (producer, what, later) in pending {
             let image = reads.get(later);
             let bytes = arrays::encode(&[image.height, image.width], &image.data, arrays::Dtype::F32);
             let name = file_name(self.several.then_some(producer.as_str()), what, ctx.frame, "npy");

@@ -349,9 +349,11 @@ fn bindings(
     out
 }
 
-/// A filter or a sink runs when data arrives (Sec. 11.4.1): each of its processor connectors
-/// needs a binding, or it never runs. A warning: the diagram is valid GU-DSL, but cannot run.
-/// A diagram without any binding only declares instances (Listing 23): not a pipeline yet.
+/// A filter or a sink runs when data arrives (Sec. 11.4.1): each processor connector of a
+/// filter needs a binding, or it never runs; a sink writes what arrives on each of its inputs
+/// apart, so it needs one bound (a bag writer takes raw frames, depth images or clouds). A
+/// warning: the diagram is valid GU-DSL, but cannot run. A diagram without any binding only
+/// declares instances (Listing 23): not a pipeline yet.
 fn unbound_processors(stages: &[Stage], bindings: &[PlanBinding], sink: &mut Diagnostics) {
     if bindings.is_empty() {
         return;
@@ -360,26 +362,33 @@ fn unbound_processors(stages: &[Stage], bindings: &[PlanBinding], sink: &mut Dia
         if !matches!(stage.kind, ClassKind::Filter | ClassKind::Sink) {
             continue;
         }
-        for port in &stage.ports {
-            for connector in port.connectors.iter().filter(|c| c.role == ConnectorRole::Processor) {
-                let bound = bindings.iter().any(|b| {
-                    b.processor.stage == index
-                        && b.processor.port == port.name
-                        && b.processor.connector == connector.name
-                });
-                if !bound {
-                    sink.warn(
-                        DiagnosticCode::UnboundProcessor,
-                        stage.range,
-                        format!(
-                            "`{}` receives nothing on `{}.{}`: bind a provider to it (a {} runs when data arrives)",
-                            stage.instance,
-                            port.name,
-                            connector.name,
-                            if stage.kind == ClassKind::Sink { "sink" } else { "filter" }
-                        ),
-                    );
-                }
+        let fed = |port: &str, connector: &str| {
+            bindings
+                .iter()
+                .any(|b| b.processor.stage == index && b.processor.port == port && b.processor.connector == connector)
+        };
+        let processors = || {
+            stage.ports.iter().flat_map(|port| {
+                let connectors = port.connectors.iter().filter(|c| c.role == ConnectorRole::Processor);
+                connectors.map(move |c| (port, c))
+            })
+        };
+        if stage.kind == ClassKind::Sink && processors().any(|(port, c)| fed(&port.name, &c.name)) {
+            continue;
+        }
+        for (port, connector) in processors() {
+            if !fed(&port.name, &connector.name) {
+                sink.warn(
+                    DiagnosticCode::UnboundProcessor,
+                    stage.range,
+                    format!(
+                        "`{}` receives nothing on `{}.{}`: bind a provider to it (a {} runs when data arrives)",
+                        stage.instance,
+                        port.name,
+                        connector.name,
+                        if stage.kind == ClassKind::Sink { "sink" } else { "filter" }
+                    ),
+                );
             }
         }
     }
