@@ -128,9 +128,8 @@ fn check(dir: &Path, text: &str) -> (Option<i32>, String) {
 }
 
 fn depth_source(path: &str, scale: &str) -> String {
-    format!(
-        "ComponentInstanceDiagram FromFiles\n{{\n    import ToF.*;\n\n    Depth instantiates DepthFile (path = \"{path}\"{scale})\n    {{\n        Out : DepthOut ( provider depth = IDepthImageProvider() );\n        [ source Out.depth ==> target Arrays.In.depth ]\n    }}\n\n    Arrays instantiates NpyWriter (amplitude = false)\n    {{\n        In : DepthIn ( processor depth = IDepthImageProcessor() );\n    }}\n}}\n"
-    )
+    let source = format!("DepthFile (path = \"{path}\"{scale})");
+    source_to_sink(&source, ("Depth", "depth"), "NpyWriter (amplitude = false)")
 }
 
 fn distances(folder: &Path) -> Vec<Vec<f32>> {
@@ -171,10 +170,71 @@ fn picture_sequences_read_back_what_the_writers_wrote() {
         let (code, stdout, stderr) =
             run(&[model.to_str().unwrap(), "--cpu", "--root", dir.to_str().unwrap(), "-o", read.to_str().unwrap()]);
         assert_eq!(code, Some(0), "{pattern}: {stdout}\n{stderr}");
-        for (back, wrote) in distances(&read.join("Arrays")).iter().zip(&arrays) {
+        for (back, wrote) in distances(&read.join("Sink")).iter().zip(&arrays) {
             let worst = back.iter().zip(wrote).map(|(b, w)| (b - w).abs()).fold(0.0, f32::max);
             assert!(worst <= tolerance, "{pattern}: {worst} m off");
         }
+    }
+}
+
+/// A model of one source bound to one sink.
+fn source_to_sink(source: &str, (port, kind): (&str, &str), sink: &str) -> String {
+    format!(
+        "ComponentInstanceDiagram Copy\n{{\n    import ToF.*;\n\n    Source instantiates {source}\n    {{\n        Out : {port}Out ( provider {kind} = I{provider}Provider() );\n        [ source Out.{kind} ==> target Sink.In.{kind} ]\n    }}\n\n    Sink instantiates {sink}\n    {{\n        In : {port}In ( processor {kind} = I{provider}Processor() );\n    }}\n}}\n",
+        provider = if kind == "cloud" { "PointCloud" } else { "DepthImage" },
+    )
+}
+
+/// The clouds of a run written as PLY and as PCD read back as a `CloudFile` sequence
+/// (`cloud_*.ply`) and written as PCD again: the same points and normals as the run's PCD.
+#[test]
+fn cloud_sequences_in_ply_and_pcd_read_back_what_the_writers_wrote() {
+    let dir = temp_dir("clouds");
+    std::fs::copy(repo(BAG), dir.join("rec.mcap")).unwrap();
+    let text =
+        std::fs::read_to_string(repo(FROM_BAG)).unwrap().replace("recordings/sphere_translation.mcap", "rec.mcap");
+    let text = text.replace(
+        "Results instantiates McapWriter ( )",
+        "Ply instantiates PlyWriter (everyFrame = true)\n    {\n        Clouds : CloudIn ( processor cloud = IPointCloudProcessor() );\n    }\n\n    Pcd instantiates PcdWriter (everyFrame = true)",
+    );
+    let text = text.replace("[ source Out.depth ==> target Results.Depth.depth ]", "");
+    let text = text.replace("        Depth : DepthIn ( processor depth = IDepthImageProcessor() );\n", "");
+    let text = text.replace(
+        "[ source Out.cloud ==> target Results.Clouds.cloud ]",
+        "[ source Out.cloud ==> target Ply.Clouds.cloud ]\n        [ source Out.cloud ==> target Pcd.Clouds.cloud ]",
+    );
+    let model = dir.join("clouds.gudsl");
+    std::fs::write(&model, &text).unwrap();
+    let root = dir.to_str().unwrap();
+    let written = dir.join("written");
+    let (code, stdout, stderr) =
+        run(&[model.to_str().unwrap(), "--cpu", "--root", root, "-o", written.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{text}\n{stdout}\n{stderr}");
+
+    let model = dir.join("copy.gudsl");
+    std::fs::write(
+        &model,
+        source_to_sink(
+            "CloudFile (path = \"written/Ply/cloud_*.ply\")",
+            ("Cloud", "cloud"),
+            "PcdWriter (everyFrame = true)",
+        ),
+    )
+    .unwrap();
+    let copied = dir.join("copied");
+    let (code, stdout, stderr) =
+        run(&[model.to_str().unwrap(), "--cpu", "--root", root, "-o", copied.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(stdout.contains("(2 frames)"), "one cloud a frame: {stdout}");
+    let read = |path: PathBuf| {
+        let folder = Folder::open(path.parent().unwrap()).unwrap();
+        gudsl_formats::pcd::read(&folder, &path).unwrap()
+    };
+    for k in 0..2 {
+        let name = format!("cloud_{k:04}.pcd");
+        let (points, normals) = read(written.join("Pcd").join(&name));
+        assert!(points.len() > 10_000 && normals.iter().any(|n| n[2] != 0.0), "{} points", points.len());
+        assert_eq!(read(copied.join("Sink").join(&name)), (points, normals), "{name}");
     }
 }
 

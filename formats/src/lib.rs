@@ -8,6 +8,7 @@ pub mod arrays;
 pub mod bag;
 pub mod frame_stream;
 pub mod openexr;
+pub mod pcd;
 pub mod picture;
 pub mod ply;
 pub mod ros2;

@@ -275,6 +275,18 @@ fn is_pattern(path: &Path) -> bool {
 /// The pictures `path` names: itself, or the files of its folder its file name's pattern
 /// matches, in name order; an error when none does or one is no picture.
 fn pictures_named(folder: &Folder, path: &Path) -> Result<Vec<PathBuf>, String> {
+    files_named(folder, path, (is_picture, "PNG or EXR picture"), DEPTH)
+}
+
+/// The files `path` names — itself, or the files of its folder its file name's pattern
+/// matches, in name order — each of a `kind` (a test, and what it is called); an error saying
+/// what was `expected` when none does or one is of another kind.
+fn files_named(
+    folder: &Folder,
+    path: &Path,
+    kind: (fn(&Path) -> bool, &str),
+    expected: &str,
+) -> Result<Vec<PathBuf>, String> {
     if !is_pattern(path) {
         return Ok(vec![path.to_path_buf()]);
     }
@@ -283,16 +295,56 @@ fn pictures_named(folder: &Folder, path: &Path) -> Result<Vec<PathBuf>, String> 
     let parent = path.parent().unwrap_or(Path::new(""));
     let names = folder.file_names_in(parent).map_err(|e| e.to_string())?;
     let matched: Vec<PathBuf> = names.iter().filter(|n| pattern.matches(n)).map(|n| parent.join(n)).collect();
-    if let Some(other) = matched.iter().find(|p| !is_picture(p)) {
+    if let Some(other) = matched.iter().find(|p| !kind.0(p)) {
         return Err(format!(
-            "{} matches {}, which is no PNG or EXR picture; expected {DEPTH}",
+            "{} matches {}, which is no {}; expected {expected}",
             path.display(),
-            other.display()
+            other.display(),
+            kind.1
         ));
     }
     match matched.is_empty() {
-        true => Err(format!("no file matches {}; expected {DEPTH}", path.display())),
+        true => Err(format!("no file matches {}; expected {expected}", path.display())),
         false => Ok(matched),
+    }
+}
+
+/// What a cloud file must be.
+const CLOUD: &str = "a PLY or PCD point cloud, or a sequence of them (`clouds/*.ply`)";
+
+fn is_cloud(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ply") || e.eq_ignore_ascii_case("pcd"))
+}
+
+/// Point clouds, one a frame: a PLY or PCD file or a sequence of them.
+#[derive(Debug, Clone)]
+pub struct CloudFiles {
+    folder: Arc<Folder>,
+    pub paths: Vec<PathBuf>,
+}
+
+impl CloudFiles {
+    /// The files `path` names, the first read through (clouds are read whole).
+    pub fn open(files: &ModelFiles, path: &Path) -> Result<CloudFiles, String> {
+        let folder = files.folder(path).cloned().map_err(|e| e.to_string())?;
+        let paths = match is_cloud(path) || is_pattern(path) {
+            true => files_named(&folder, path, (is_cloud, "PLY or PCD point cloud"), CLOUD)?,
+            false => return Err(format!("{} is no PLY or PCD file; expected {CLOUD}", path.display())),
+        };
+        let clouds = CloudFiles { folder, paths };
+        clouds.read(0)?;
+        Ok(clouds)
+    }
+
+    /// The `k`-th cloud's points and normals (zero where the file has none).
+    pub fn read(&self, k: usize) -> Result<gudsl_formats::ply::Points, String> {
+        let path = &self.paths[k];
+        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pcd")) {
+            return gudsl_formats::pcd::read(&self.folder, path);
+        }
+        let bytes = self.folder.read(path, gudsl_formats::pcd::MAX_PCD_BYTES).map_err(|e| e.to_string())?;
+        gudsl_formats::ply::read(&bytes)
+            .map_err(|e| format!("{}: is not a readable PLY file ({e}); expected {CLOUD}", path.display()))
     }
 }
 

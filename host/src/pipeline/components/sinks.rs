@@ -1,5 +1,5 @@
 //! Sinks: depth images to `.npy` and OpenEXR (float32) and PNG (16-bit millimetres and a
-//! colour-mapped preview), point clouds to PLY (the accuracy report: `accuracy.rs`). Each asks for its images at the end of the frame and writes them then, into a
+//! colour-mapped preview), point clouds to PLY and PCD (the accuracy report: `accuracy.rs`). Each asks for its images at the end of the frame and writes them then, into a
 //! folder of the output named after its instance; fed by several producers, it prefixes its
 //! files with the producer's name.
 
@@ -312,21 +312,30 @@ fn colour(distance: f32, max: f32) -> [u8; 3] {
     [(r * v * 255.0) as u8, (g * v * 255.0) as u8, (b * v * 255.0) as u8]
 }
 
-/// `ToF.PlyWriter`: the clouds it receives as binary PLY with normals, every frame's
-/// (`cloud_0003.ply`) or the last (`cloud.ply`, when the run ends); fed by several producers,
-/// a file for each.
-pub struct PlyWriter {
+/// `ToF.PlyWriter` and `ToF.PcdWriter`: the clouds it receives as binary PLY or PCD with
+/// normals, every frame's (`cloud_0003.ply`) or the last (`cloud.ply`, when the run ends); fed
+/// by several producers, a file for each.
+pub struct CloudWriter {
     instance: String,
+    format: CloudFormat,
     every_frame: bool,
     several: bool,
     /// The last cloud of each producer.
     last: Vec<(String, Points)>,
 }
 
-impl PlyWriter {
-    pub fn new(params: &Params) -> PlyWriter {
-        PlyWriter {
+/// The files a [`CloudWriter`] writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CloudFormat {
+    Ply,
+    Pcd,
+}
+
+impl CloudWriter {
+    pub fn new(params: &Params, format: CloudFormat) -> CloudWriter {
+        CloudWriter {
             instance: params.stage.instance.clone(),
+            format,
             every_frame: params.flag("everyFrame"),
             several: params.providers > 1,
             last: Vec::new(),
@@ -334,37 +343,48 @@ impl PlyWriter {
     }
 
     fn name(&self, producer: &str, frame: Option<usize>) -> String {
+        let extension = match self.format {
+            CloudFormat::Ply => "ply",
+            CloudFormat::Pcd => "pcd",
+        };
         match frame {
-            Some(frame) => file_name(self.several.then_some(producer), "cloud", frame, "ply"),
-            None if self.several => format!("{producer}_cloud.ply"),
-            None => "cloud.ply".to_string(),
+            Some(frame) => file_name(self.several.then_some(producer), "cloud", frame, extension),
+            None if self.several => format!("{producer}_cloud.{extension}"),
+            None => format!("cloud.{extension}"),
+        }
+    }
+
+    fn encode(&self, (points, normals): &Points) -> Result<Vec<u8>, String> {
+        match self.format {
+            CloudFormat::Pcd => Ok(gudsl_formats::pcd::encode(points, normals)),
+            CloudFormat::Ply => {
+                let mut bytes = Vec::new();
+                gudsl_formats::ply::write(&mut bytes, points, normals, "gudsl ToF point cloud")
+                    .map_err(|e| e.to_string())?;
+                Ok(bytes)
+            }
         }
     }
 }
 
-impl Component for PlyWriter {
+impl Component for CloudWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for item in inputs.port("CloudIn") {
             let Data::Cloud(cloud) = &item.data else { continue };
-            let (points, normals) = super::cloud::host_points(ctx, cloud)?;
+            let points = super::cloud::host_points(ctx, cloud)?;
             if self.every_frame {
-                let mut bytes = Vec::new();
-                gudsl_formats::ply::write(&mut bytes, &points, &normals, "gudsl ToF point cloud")
-                    .map_err(|e| e.to_string())?;
+                let bytes = self.encode(&points)?;
                 ctx.output.write(&self.instance, &self.name(&item.producer, Some(ctx.frame)), &bytes)?;
             }
             self.last.retain(|(producer, _)| *producer != item.producer);
-            self.last.push((item.producer.clone(), (points, normals)));
+            self.last.push((item.producer.clone(), points));
         }
         Ok(Vec::new())
     }
 
     fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
-        for (producer, (points, normals)) in &self.last {
-            let mut bytes = Vec::new();
-            gudsl_formats::ply::write(&mut bytes, points, normals, "gudsl ToF point cloud")
-                .map_err(|e| e.to_string())?;
-            output.write(&self.instance, &self.name(producer, None), &bytes)?;
+        for (producer, points) in &self.last {
+            output.write(&self.instance, &self.name(producer, None), &self.encode(points)?)?;
         }
         Ok(())
     }

@@ -1,7 +1,8 @@
 //! Sources: the simulated PMD camera (`ToF.SimulatedCamera`, and `ToF.ControlledCamera`, which
 //! takes each frame at the last integration time it received), raw frames made by the
 //! runtime's simulator on the host and uploaded where the kernels run; recorded raw frames
-//! (`ToF.RawFrameFile`) and depth images (`ToF.DepthFile`) read from files.
+//! (`ToF.RawFrameFile`), depth images (`ToF.DepthFile`) and point clouds (`ToF.CloudFile`)
+//! read from files.
 
 use std::sync::Arc;
 
@@ -14,7 +15,7 @@ use gudsl_runtime::Image;
 
 use super::{raw::open_raw_files, Carries, Component, Ctx, Inputs, Outputs, Params, Size};
 use crate::pipeline::{
-    data::{Data, DepthImage, RawFrame},
+    data::{Data, DepthImage, PointCloud, RawFrame},
     executor::BufferSlot,
     files::{self, Extent, RawFiles},
     ErrorKind, PipelineError,
@@ -261,5 +262,49 @@ impl Component for DepthFile {
             integration_us: 0.0,
         };
         Ok(vec![("DepthOut".to_string(), Data::Depth(depth))])
+    }
+}
+
+/// `ToF.CloudFile`: point clouds recorded elsewhere, one a frame (PLY, PCD).
+pub struct CloudFile {
+    files: files::CloudFiles,
+    frames: usize,
+}
+
+impl CloudFile {
+    pub fn new(params: &Params) -> Result<CloudFile, Vec<PipelineError>> {
+        let path = params.required_file("path")?;
+        let files = files::CloudFiles::open(params.files, &path)
+            .map_err(|e| vec![params.error("path", ErrorKind::Input, e)])?;
+        let held = files.paths.len();
+        let frames = match params.count("frames") {
+            0 => held,
+            asked if asked <= held => asked,
+            asked => {
+                let why = format!("{} names {held} cloud(s); {asked} are asked for", path.display());
+                return Err(vec![params.error("frames", ErrorKind::Input, why)]);
+            }
+        };
+        Ok(CloudFile { files, frames })
+    }
+}
+
+impl Component for CloudFile {
+    /// Clouds of points alone: no image, no truth.
+    fn carries(&self, _arriving: Carries) -> Carries {
+        Carries { black: false, truth: false, organized: false }
+    }
+
+    fn frames(&self) -> Option<usize> {
+        Some(self.frames)
+    }
+
+    fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
+        if ctx.frame >= self.frames {
+            return Ok(Vec::new());
+        }
+        let (points, normals) = self.files.read(ctx.frame)?;
+        let cloud = PointCloud::Unorganized { points: Arc::new(points), normals: Arc::new(normals) };
+        Ok(vec![("CloudOut".to_string(), Data::Cloud(cloud))])
     }
 }
