@@ -185,23 +185,20 @@ fn source_to_sink(source: &str, (port, kind): (&str, &str), sink: &str) -> Strin
     )
 }
 
-/// The clouds of a run written as PLY and as PCD read back as a `CloudFile` sequence
-/// (`cloud_*.ply`) and written as PCD again: the same points and normals as the run's PCD.
+/// The clouds of a run written as PLY, PCD and to a bag read back as a `CloudFile` — a PLY
+/// sequence (`cloud_*.ply`), the bag's topic — and written as PCD again: the same points and
+/// normals as the run's PCD.
 #[test]
 fn cloud_sequences_in_ply_and_pcd_read_back_what_the_writers_wrote() {
     let dir = temp_dir("clouds");
     std::fs::copy(repo(BAG), dir.join("rec.mcap")).unwrap();
     let text =
         std::fs::read_to_string(repo(FROM_BAG)).unwrap().replace("recordings/sphere_translation.mcap", "rec.mcap");
-    let text = text.replace(
-        "Results instantiates McapWriter ( )",
-        "Ply instantiates PlyWriter (everyFrame = true)\n    {\n        Clouds : CloudIn ( processor cloud = IPointCloudProcessor() );\n    }\n\n    Pcd instantiates PcdWriter (everyFrame = true)",
-    );
-    let text = text.replace("[ source Out.depth ==> target Results.Depth.depth ]", "");
-    let text = text.replace("        Depth : DepthIn ( processor depth = IDepthImageProcessor() );\n", "");
+    let writers = "Ply instantiates PlyWriter (everyFrame = true)\n    {\n        Clouds : CloudIn ( processor cloud = IPointCloudProcessor() );\n    }\n\n    Pcd instantiates PcdWriter (everyFrame = true)\n    {\n        Clouds : CloudIn ( processor cloud = IPointCloudProcessor() );\n    }\n\n    Results instantiates McapWriter ( )";
+    let text = text.replace("Results instantiates McapWriter ( )", writers);
     let text = text.replace(
         "[ source Out.cloud ==> target Results.Clouds.cloud ]",
-        "[ source Out.cloud ==> target Ply.Clouds.cloud ]\n        [ source Out.cloud ==> target Pcd.Clouds.cloud ]",
+        "[ source Out.cloud ==> target Results.Clouds.cloud ]\n        [ source Out.cloud ==> target Ply.Clouds.cloud ]\n        [ source Out.cloud ==> target Pcd.Clouds.cloud ]",
     );
     let model = dir.join("clouds.gudsl");
     std::fs::write(&model, &text).unwrap();
@@ -211,30 +208,25 @@ fn cloud_sequences_in_ply_and_pcd_read_back_what_the_writers_wrote() {
         run(&[model.to_str().unwrap(), "--cpu", "--root", root, "-o", written.to_str().unwrap()]);
     assert_eq!(code, Some(0), "{text}\n{stdout}\n{stderr}");
 
-    let model = dir.join("copy.gudsl");
-    std::fs::write(
-        &model,
-        source_to_sink(
-            "CloudFile (path = \"written/Ply/cloud_*.ply\")",
-            ("Cloud", "cloud"),
-            "PcdWriter (everyFrame = true)",
-        ),
-    )
-    .unwrap();
-    let copied = dir.join("copied");
-    let (code, stdout, stderr) =
-        run(&[model.to_str().unwrap(), "--cpu", "--root", root, "-o", copied.to_str().unwrap()]);
-    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
-    assert!(stdout.contains("(2 frames)"), "one cloud a frame: {stdout}");
     let read = |path: PathBuf| {
         let folder = Folder::open(path.parent().unwrap()).unwrap();
         gudsl_formats::pcd::read(&folder, &path).unwrap()
     };
-    for k in 0..2 {
-        let name = format!("cloud_{k:04}.pcd");
-        let (points, normals) = read(written.join("Pcd").join(&name));
-        assert!(points.len() > 10_000 && normals.iter().any(|n| n[2] != 0.0), "{} points", points.len());
-        assert_eq!(read(copied.join("Sink").join(&name)), (points, normals), "{name}");
+    for source in ["written/Ply/cloud_*.ply", "written/Results/results.mcap:/Points/cloud"] {
+        let model = dir.join("copy.gudsl");
+        let source = format!("CloudFile (path = \"{source}\")");
+        std::fs::write(&model, source_to_sink(&source, ("Cloud", "cloud"), "PcdWriter (everyFrame = true)")).unwrap();
+        let copied = dir.join("copied");
+        let (code, stdout, stderr) =
+            run(&[model.to_str().unwrap(), "--cpu", "--root", root, "-o", copied.to_str().unwrap()]);
+        assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+        assert!(stdout.contains("(2 frames)"), "one cloud a frame: {stdout}");
+        for k in 0..2 {
+            let name = format!("cloud_{k:04}.pcd");
+            let (points, normals) = read(written.join("Pcd").join(&name));
+            assert!(points.len() > 10_000 && normals.iter().any(|n| n[2] != 0.0), "{} points", points.len());
+            assert_eq!(read(copied.join("Sink").join(&name)), (points, normals), "{source}: {name}");
+        }
     }
 }
 

@@ -19,11 +19,12 @@ use mcap::{
     sans_io::{LinearReaderOptions, SummaryReadEvent, SummaryReader, SummaryReaderOptions},
     Summary, WriteOptions, Writer,
 };
+use serde::de::DeserializeOwned;
 
 use crate::{
     arrays::ArrayError,
     frame_stream::FrameStream,
-    ros2::{self, Header, Image, PointCloud2, Time},
+    ros2::{self, Header, Image, MessageError, PointCloud2, Time},
 };
 
 /// The longest bag read (1 TiB).
@@ -75,32 +76,83 @@ pub struct ImageTopic {
 /// message.
 pub fn image_topic(folder: &Folder, place: &Place) -> Result<ImageTopic, BagError> {
     let shown = place.shown();
-    let summary = summary(folder, &place.file)?;
-    let channel = channel_of(&summary, place)?;
-    let schema = channel.schema.as_ref().map_or("", |s| s.name.as_str());
-    if schema != ros2::IMAGE_SCHEMA.0 || channel.message_encoding != "cdr" {
-        return Err(format!(
-            "{shown} carries {schema} in {}; expected {} in cdr",
-            channel.message_encoding,
-            ros2::IMAGE_SCHEMA.0
-        ));
-    }
-    let messages = summary.stats.as_ref().and_then(|s| s.channel_message_counts.get(&channel.id)).copied();
-    let messages = messages.ok_or_else(|| format!("{}: its summary counts no messages per topic", shown))?;
+    let messages = messages_of(folder, place, ros2::IMAGE_SCHEMA.0)?;
     let mut first = None;
-    read_images(folder, place, &mut |image| {
+    read_messages(folder, place, &mut |image: Image| {
         first = Some(image);
         false
     })?;
     let first = first.ok_or_else(|| format!("{shown} holds no message"))?;
     first.values().map_err(|e| format!("{shown}: its first image {e}"))?;
     Ok(ImageTopic {
-        messages: messages as usize,
+        messages,
         width: first.width as usize,
         height: first.height as usize,
         integer: first.is_integer().map_err(|e| format!("{shown}: its first image {e}"))?,
         encoding: first.encoding,
     })
+}
+
+/// Checks the point clouds of the topic `place` names (the summary and the first message):
+/// how many there are.
+pub fn cloud_topic(folder: &Folder, place: &Place) -> Result<usize, BagError> {
+    let messages = messages_of(folder, place, ros2::POINT_CLOUD_SCHEMA.0)?;
+    let mut first = None;
+    read_messages(folder, place, &mut |cloud: PointCloud2| {
+        first = Some(cloud.points());
+        false
+    })?;
+    match first {
+        Some(Ok(_)) => Ok(messages),
+        Some(Err(e)) => Err(format!("{}: its first cloud {e}", place.shown())),
+        None => Err(format!("{} holds no message", place.shown())),
+    }
+}
+
+/// The clouds of the topic, the first `frames` of them, read a message at a time: each as its
+/// points' `x y z nx ny nz`, one point after the other (a cloud that cannot be read is an
+/// error at its index).
+pub fn clouds(folder: Arc<Folder>, place: &Place, frames: usize) -> FrameStream {
+    let place = place.clone();
+    let shown = PathBuf::from(place.shown());
+    FrameStream::spawn(&shown.clone(), move |send| {
+        let (mut index, mut failed) = (0, None);
+        let mut each = |cloud: PointCloud2| {
+            index += 1;
+            match cloud.points() {
+                Ok((points, normals)) => {
+                    let values = points.iter().zip(&normals).flat_map(|(p, n)| p.iter().chain(n).copied());
+                    send(values.collect()) && index < frames
+                }
+                Err(e) => {
+                    failed = Some(format!("its cloud {} {e}", index - 1));
+                    false
+                }
+            }
+        };
+        let read = read_messages(&folder, &place, &mut each);
+        match failed.map(Err).unwrap_or(read) {
+            Ok(()) => Ok(()),
+            Err(message) => Err(ArrayError::invalid(&shown, message.replace(&format!("{}: ", shown.display()), ""))),
+        }
+    })
+}
+
+/// How many messages the topic holds, checked to carry `schema` in CDR.
+fn messages_of(folder: &Folder, place: &Place, schema: &str) -> Result<usize, BagError> {
+    let summary = summary(folder, &place.file)?;
+    let channel = channel_of(&summary, place)?;
+    let carried = channel.schema.as_ref().map_or("", |s| s.name.as_str());
+    if carried != schema || channel.message_encoding != "cdr" {
+        return Err(format!(
+            "{} carries {carried} in {}; expected {schema} in cdr",
+            place.shown(),
+            channel.message_encoding
+        ));
+    }
+    let messages = summary.stats.as_ref().and_then(|s| s.channel_message_counts.get(&channel.id)).copied();
+    let messages = messages.ok_or_else(|| format!("{}: its summary counts no messages per topic", place.shown()))?;
+    Ok(messages as usize)
 }
 
 /// The values of the first `frames` images of the topic, a frame at a time, each of
@@ -127,7 +179,7 @@ pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, u
                 }
             }
         };
-        let read = read_images(&folder, &place, &mut each);
+        let read = read_messages(&folder, &place, &mut each);
         match failed.map(Err).unwrap_or(read) {
             Ok(()) => Ok(()),
             Err(message) => Err(ArrayError::invalid(&shown, message.replace(&format!("{}: ", shown.display()), ""))),
@@ -135,14 +187,22 @@ pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, u
     })
 }
 
-/// Hands each image of the topic to `each` in the file's order while it says to go on.
-fn read_images(folder: &Folder, place: &Place, each: &mut dyn FnMut(Image) -> bool) -> Result<(), BagError> {
+/// Hands each message of the topic to `each` in the file's order while it says to go on.
+fn read_messages<T: DeserializeOwned>(
+    folder: &Folder,
+    place: &Place,
+    each: &mut dyn FnMut(T) -> bool,
+) -> Result<(), BagError> {
     let opened = folder.open_file(&place.file, MAX_BAG_BYTES).map_err(|e| e.to_string())?;
-    images_of(BufReader::new(opened.file), place, each)
+    messages_in(BufReader::new(opened.file), place, each)
 }
 
-/// Hands each image of the topic in `source` (a bag) to `each` while it says to go on.
-fn images_of(source: impl Read, place: &Place, each: &mut dyn FnMut(Image) -> bool) -> Result<(), BagError> {
+/// Hands each message of the topic in `source` (a bag) to `each` while it says to go on.
+fn messages_in<T: DeserializeOwned>(
+    source: impl Read,
+    place: &Place,
+    each: &mut dyn FnMut(T) -> bool,
+) -> Result<(), BagError> {
     let shown = place.shown();
     let options = LinearReaderOptions::default().with_record_length_limit(MAX_RECORD_BYTES);
     for message in mcap::io::MessageReader::new_with_options(source, options) {
@@ -150,8 +210,8 @@ fn images_of(source: impl Read, place: &Place, each: &mut dyn FnMut(Image) -> bo
         if message.channel.topic != place.topic {
             continue;
         }
-        let image: Image = ros2::decode(&message.data).map_err(|e| format!("{shown}: message {e}"))?;
-        if !each(image) {
+        let decoded: T = ros2::decode(&message.data).map_err(|e| format!("{shown}: message {e}"))?;
+        if !each(decoded) {
             break;
         }
     }
@@ -183,25 +243,29 @@ fn summary_of(mut source: impl Read + Seek, len: u64, file: &Path) -> Result<Sum
     })
 }
 
-/// Every image of every topic of images in the bag `bytes`, as its values: what the fuzz
-/// target feeds (the summary, the messages, their CDR and their pixels all read).
-pub fn images_in_bytes(bytes: &[u8]) -> Result<Vec<Vec<f32>>, BagError> {
+/// What every topic of images or clouds in the bag `bytes` holds, as values: what the fuzz
+/// target feeds (the summary, the messages, their CDR, their pixels and points all read).
+pub fn contents_in_bytes(bytes: &[u8]) -> Result<Vec<Vec<f32>>, BagError> {
     let file = Path::new("fuzz.mcap");
     let summary = summary_of(std::io::Cursor::new(bytes), bytes.len() as u64, file)?;
     let mut values = Vec::new();
     for channel in summary.channels.values() {
         let place = Place { file: file.to_path_buf(), topic: channel.topic.clone() };
         let mut failed = None;
-        images_of(bytes, &place, &mut |image| match image.values() {
-            Ok(image) => {
-                values.push(image);
+        let mut keep = |read: Result<Vec<f32>, MessageError>| match read {
+            Ok(read) => values.push(read),
+            Err(e) => failed = Some(e),
+        };
+        match channel.schema.as_ref().map(|s| s.name.as_str()) {
+            Some(name) if name == ros2::POINT_CLOUD_SCHEMA.0 => messages_in(bytes, &place, &mut |c: PointCloud2| {
+                keep(c.points().map(|(p, _)| p.concat()));
                 true
-            }
-            Err(e) => {
-                failed = Some(e);
-                false
-            }
-        })?;
+            })?,
+            _ => messages_in(bytes, &place, &mut |image: Image| {
+                keep(image.values());
+                true
+            })?,
+        }
         if let Some(e) = failed {
             return Err(e);
         }

@@ -68,8 +68,9 @@ pub struct PointCloud2 {
     pub is_dense: bool,
 }
 
-/// `PointField`'s datatype of a 32-bit float.
+/// `PointField`'s datatypes of 32- and 64-bit floats.
 const FLOAT32: u8 = 7;
+const FLOAT64: u8 = 8;
 
 /// The schema name and `ros2msg` text of `sensor_msgs/msg/Image`.
 pub const IMAGE_SCHEMA: (&str, &str) = (
@@ -264,6 +265,53 @@ impl PointCloud2 {
     }
 }
 
+impl PointCloud2 {
+    /// Its points and normals (`normal_x normal_y normal_z` when it has them, else zero),
+    /// points with a NaN coordinate left out; checked against the sizes it claims.
+    pub fn points(&self) -> Result<crate::ply::Points, MessageError> {
+        let field = |name: &str| {
+            self.fields
+                .iter()
+                .find(|f| f.name == name && f.count <= 1 && (f.datatype == FLOAT32 || f.datatype == FLOAT64))
+        };
+        let [x, y, z] = ["x", "y", "z"].map(field);
+        let (Some(x), Some(y), Some(z)) = (x, y, z) else {
+            return Err("has no fields x, y and z of floats".to_string());
+        };
+        let normal = ["normal_x", "normal_y", "normal_z"].map(field);
+        let (step, row) = (self.point_step as usize, self.row_step as usize);
+        let (width, height) = (self.width as usize, self.height as usize);
+        let fits = |f: &PointField| f.offset as usize + if f.datatype == FLOAT32 { 4 } else { 8 } <= step;
+        let all = [x, y, z].into_iter().chain(normal.into_iter().flatten());
+        if !all.clone().all(fits) || row < width.saturating_mul(step) || self.data.len() < row.saturating_mul(height) {
+            return Err(format!(
+                "is {width}×{height} points of {step} bytes in rows of {row} bytes but holds {} bytes",
+                self.data.len()
+            ));
+        }
+        let big = self.is_bigendian;
+        let read = |point: &[u8], f: &PointField| {
+            let at = f.offset as usize;
+            match f.datatype {
+                FLOAT32 => Pixel::F32.value(&point[at..at + 4], big),
+                _ => Pixel::F64.value(&point[at..at + 8], big),
+            }
+        };
+        let (mut points, mut normals) = (Vec::new(), Vec::new());
+        for r in 0..height {
+            for point in self.data[r * row..r * row + width * step].chunks_exact(step.max(1)).take(width) {
+                let p = [x, y, z].map(|f| read(point, f));
+                if p.iter().any(|v| v.is_nan()) {
+                    continue;
+                }
+                points.push(p);
+                normals.push(normal.map(|f| f.map_or(0.0, |f| read(point, f))));
+            }
+        }
+        Ok((points, normals))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -321,5 +369,33 @@ mod tests {
         assert_eq!(back.data.len(), 24);
         assert_eq!(f32::from_le_bytes(back.data[8..12].try_into().unwrap()), 3.0);
         assert_eq!(back.fields[3].name, "normal_x");
+        assert_eq!(back.points().unwrap(), (vec![[1.0, 2.0, 3.0]], vec![[0.0, 0.0, 1.0]]));
+    }
+
+    #[test]
+    fn clouds_of_other_layouts_are_read_and_lying_ones_refused() {
+        // x y z as float64 with padding, no normals, a NaN point (not dense), two rows.
+        let field = |name: &str, offset| PointField { name: name.into(), offset, datatype: FLOAT64, count: 1 };
+        let mut data = Vec::new();
+        for p in [[1.0f64, 2.0, 3.0], [f64::NAN, 0.0, 0.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]] {
+            p.iter().for_each(|v| data.extend(v.to_le_bytes()));
+            data.extend([0; 8]);
+        }
+        let cloud = PointCloud2 {
+            height: 2,
+            width: 2,
+            fields: vec![field("x", 0), field("y", 8), field("z", 16)],
+            point_step: 32,
+            row_step: 64,
+            data,
+            ..PointCloud2::default()
+        };
+        let (points, normals) = cloud.points().unwrap();
+        assert_eq!(points, vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]]);
+        assert_eq!(normals, vec![[0.0; 3]; 3]);
+        let short = PointCloud2 { height: 1000, ..cloud.clone() };
+        assert!(short.points().unwrap_err().contains("holds 128 bytes"));
+        let outside = PointCloud2 { point_step: 16, row_step: 32, ..cloud };
+        assert!(outside.points().is_err(), "z at 16 does not fit a point of 16 bytes");
     }
 }

@@ -310,42 +310,84 @@ fn files_named(
 }
 
 /// What a cloud file must be.
-const CLOUD: &str = "a PLY or PCD point cloud, or a sequence of them (`clouds/*.ply`)";
+const CLOUD: &str =
+    "a PLY or PCD point cloud, a sequence of them (`clouds/*.ply`), or a bag's topic of PointCloud2 (`rec.mcap:/topic`)";
 
 fn is_cloud(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("ply") || e.eq_ignore_ascii_case("pcd"))
 }
 
-/// Point clouds, one a frame: a PLY or PCD file or a sequence of them.
+/// Point clouds, one a frame: a PLY or PCD file, a sequence of them, or a bag's topic.
 #[derive(Debug, Clone)]
 pub struct CloudFiles {
     folder: Arc<Folder>,
-    pub paths: Vec<PathBuf>,
+    stored: StoredClouds,
+    /// How many clouds there are.
+    pub count: usize,
+}
+
+#[derive(Debug, Clone)]
+enum StoredClouds {
+    Files(Vec<PathBuf>),
+    Bag(Place),
 }
 
 impl CloudFiles {
-    /// The files `path` names, the first read through (clouds are read whole).
+    /// The clouds `path` names, checked: a file's (or a sequence's first) read through, a
+    /// topic's summary and first message.
     pub fn open(files: &ModelFiles, path: &Path) -> Result<CloudFiles, String> {
         let folder = files.folder(path).cloned().map_err(|e| e.to_string())?;
+        if let Some(place) = Place::parse(path) {
+            let count = bag::cloud_topic(&folder, &place)?;
+            return Ok(CloudFiles { folder, stored: StoredClouds::Bag(place), count });
+        }
         let paths = match is_cloud(path) || is_pattern(path) {
             true => files_named(&folder, path, (is_cloud, "PLY or PCD point cloud"), CLOUD)?,
             false => return Err(format!("{} is no PLY or PCD file; expected {CLOUD}", path.display())),
         };
-        let clouds = CloudFiles { folder, paths };
-        clouds.read(0)?;
-        Ok(clouds)
+        read_cloud(&folder, &paths[0])?;
+        Ok(CloudFiles { folder, count: paths.len(), stored: StoredClouds::Files(paths) })
     }
 
-    /// The `k`-th cloud's points and normals (zero where the file has none).
-    pub fn read(&self, k: usize) -> Result<gudsl_formats::ply::Points, String> {
-        let path = &self.paths[k];
-        if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pcd")) {
-            return gudsl_formats::pcd::read(&self.folder, path);
+    /// The first `frames` clouds, read one at a time as the run asks for them.
+    pub fn clouds(&self, frames: usize) -> Clouds {
+        let frames = frames.min(self.count);
+        match &self.stored {
+            StoredClouds::Files(paths) => Clouds::Files(self.folder.clone(), paths[..frames].to_vec().into()),
+            StoredClouds::Bag(place) => Clouds::Stream(bag::clouds(self.folder.clone(), place, frames)),
         }
-        let bytes = self.folder.read(path, gudsl_formats::pcd::MAX_PCD_BYTES).map_err(|e| e.to_string())?;
-        gudsl_formats::ply::read(&bytes)
-            .map_err(|e| format!("{}: is not a readable PLY file ({e}); expected {CLOUD}", path.display()))
     }
+}
+
+/// A source's clouds as they are read.
+pub enum Clouds {
+    Files(Arc<Folder>, std::collections::VecDeque<PathBuf>),
+    /// A topic's, each as its points' `x y z nx ny nz` one after the other.
+    Stream(FrameStream),
+}
+
+impl Clouds {
+    /// The next cloud's points and normals (zero where it has none).
+    pub fn next_cloud(&mut self) -> Result<gudsl_formats::ply::Points, String> {
+        match self {
+            Clouds::Files(folder, paths) => read_cloud(folder, &paths.pop_front().ok_or("the clouds are all read")?),
+            Clouds::Stream(stream) => {
+                let values = stream.next_frame().map_err(|e| format!("{e}; expected {CLOUD}"))?;
+                let point = |v: &[f32]| [v[0], v[1], v[2]];
+                Ok(values.chunks_exact(6).map(|v| (point(v), point(&v[3..]))).unzip())
+            }
+        }
+    }
+}
+
+/// The points and normals of a PLY or PCD file.
+fn read_cloud(folder: &Folder, path: &Path) -> Result<gudsl_formats::ply::Points, String> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pcd")) {
+        return gudsl_formats::pcd::read(folder, path);
+    }
+    let bytes = folder.read(path, gudsl_formats::pcd::MAX_PCD_BYTES).map_err(|e| e.to_string())?;
+    gudsl_formats::ply::read(&bytes)
+        .map_err(|e| format!("{}: is not a readable PLY file ({e}); expected {CLOUD}", path.display()))
 }
 
 /// A picture's width and height, from its header.

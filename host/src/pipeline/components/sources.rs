@@ -265,10 +265,12 @@ impl Component for DepthFile {
     }
 }
 
-/// `ToF.CloudFile`: point clouds recorded elsewhere, one a frame (PLY, PCD).
+/// `ToF.CloudFile`: point clouds recorded elsewhere, one a frame (PLY, PCD, a bag's topic).
 pub struct CloudFile {
     files: files::CloudFiles,
     frames: usize,
+    /// The clouds as they are read, once the run started.
+    reading: Option<files::Clouds>,
 }
 
 impl CloudFile {
@@ -276,7 +278,7 @@ impl CloudFile {
         let path = params.required_file("path")?;
         let files = files::CloudFiles::open(params.files, &path)
             .map_err(|e| vec![params.error("path", ErrorKind::Input, e)])?;
-        let held = files.paths.len();
+        let held = files.count;
         let frames = match params.count("frames") {
             0 => held,
             asked if asked <= held => asked,
@@ -285,7 +287,7 @@ impl CloudFile {
                 return Err(vec![params.error("frames", ErrorKind::Input, why)]);
             }
         };
-        Ok(CloudFile { files, frames })
+        Ok(CloudFile { files, frames, reading: None })
     }
 }
 
@@ -299,11 +301,14 @@ impl Component for CloudFile {
         Some(self.frames)
     }
 
+    fn load(&mut self) -> Result<(), String> {
+        self.reading = Some(self.files.clouds(self.frames));
+        Ok(())
+    }
+
     fn process(&mut self, ctx: &mut Ctx, _inputs: &Inputs) -> Result<Outputs, String> {
-        if ctx.frame >= self.frames {
-            return Ok(Vec::new());
-        }
-        let (points, normals) = self.files.read(ctx.frame)?;
+        let Some(reading) = self.reading.as_mut().filter(|_| ctx.frame < self.frames) else { return Ok(Vec::new()) };
+        let (points, normals) = reading.next_cloud()?;
         let cloud = PointCloud::Unorganized { points: Arc::new(points), normals: Arc::new(normals) };
         Ok(vec![("CloudOut".to_string(), Data::Cloud(cloud))])
     }
