@@ -318,6 +318,43 @@ fn the_motion_mask_can_be_tapped_and_written() {
     }
 }
 
+/// Motion compensation's normalised channels, tapped on `NormalizedOut` and written by a
+/// `RawWriter`, are the frame's channels through the calibration's curves (here f(X) = 2X + 10
+/// for tap A, 3X for tap B), in the layout `RawFrameFile` reads.
+#[test]
+fn the_normalised_channels_can_be_tapped_and_written() {
+    let dir = temp_dir("normalised-tap");
+    let (width, height) = (64, 48);
+    let pixels = width * height;
+    let planes = [[0.0, 0.0, 2.0, 10.0], [0.0, 0.0, 3.0, 0.0]].concat();
+    let calibration: Vec<f32> = planes.iter().flat_map(|&v| vec![v; pixels]).collect();
+    arrays::write(&dir.join("calibration.npy"), &[8, height, width], &calibration, arrays::Dtype::F32).unwrap();
+    let port = |name: &str, kind: &str, role: &str, interface: &str| {
+        format!("        {name} : {kind} ( {role} frame = {interface}() );\n")
+    };
+    let (raw_in, raw_out) = (
+        port("In", "RawIn", "processor", "IRawFrameProcessor"),
+        port("Out", "RawOut", "provider", "IRawFrameProvider"),
+    );
+    let text = format!(
+        "ComponentInstanceDiagram Tapped\n{{\n    import ToF.*;\n\n    Camera instantiates SimulatedCamera (motion = Motion.Translation, frames = 1, width = {width}, height = {height})\n    {{\n{raw_out}        [ source Out.frame ==> target Black.In.frame ]\n    }}\n\n    Black instantiates BlackImageCorrection ( )\n    {{\n{raw_in}{raw_out}        [ source Out.frame ==> target Motion.In.frame ]\n        [ source Out.frame ==> target Raws.In.frame ]\n    }}\n\n    Motion instantiates MotionCompensation (phaseCalibration = \"calibration.npy\")\n    {{\n{raw_in}{}        [ source Normalized.frame ==> target Normalised.In.frame ]\n    }}\n\n    Raws instantiates RawWriter ( )\n    {{\n{raw_in}    }}\n\n    Normalised instantiates RawWriter ( )\n    {{\n{raw_in}    }}\n}}\n",
+        port("Normalized", "NormalizedOut", "provider", "IRawFrameProvider"),
+    );
+    let model = dir.join("tapped.gudsl");
+    std::fs::write(&model, &text).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{text}\n{stdout}\n{stderr}");
+    for (channel, curve) in [("raw_a", (2.0, 10.0)), ("raw_b", (3.0, 0.0))] {
+        let raw = read_npy(&out.join(format!("Raws/{channel}_0000.npy")));
+        let normalised = read_npy(&out.join(format!("Normalised/{channel}_0000.npy")));
+        assert_eq!((raw.len(), normalised.len()), (4 * pixels, 4 * pixels));
+        let worst = raw.iter().zip(&normalised).map(|(x, n)| (curve.0 * x + curve.1 - n).abs()).fold(0.0, f32::max);
+        assert!(worst < 1e-2, "{channel}: {worst} off the curve");
+        assert!(raw.iter().any(|&x| x > 100.0), "{channel}: a frame of light");
+    }
+}
+
 /// Recorded raw frames through demodulation into `.npy`: the channel files' names are `a.npy`
 /// and `b.npy` beside the model.
 const DEMODULATED: &str = r#"ComponentInstanceDiagram Demodulated

@@ -89,7 +89,7 @@ impl Component for AccuracyReport {
         (images > 1 && images < frames).then(|| {
             let path = truth.file.path().display();
             let why = format!(
-                "{path} holds {images} ground-truth images, but the run has {frames} frames: give one image a frame (or one for all), or run fewer frames (the source's `frames`)"
+                "{path} holds {images} ground-truth images, but the run has {frames} frames: give one image a frame (or one for all), or run fewer frames: the source's `frames` (on the command line `--set <source>.frames={images}`; `--frames` shortens a run of a model that checks)"
             );
             ("groundTruth", why)
         })

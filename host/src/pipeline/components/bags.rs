@@ -117,7 +117,7 @@ impl Component for McapWriter {
                 Pending::Raw(later) => {
                     let raw = reads.get(*later);
                     for (channel, first) in [("a", 0), ("b", 1)] {
-                        let planes: Vec<f32> = (0..4).flat_map(|k| raw.plane(2 * k + first).iter().copied()).collect();
+                        let planes = super::channel(raw, first);
                         let topic = format!("{topic}{channel}");
                         bag.values(&At { topic: &topic, ..at }, (raw.width, 4 * raw.height), &planes)?;
                     }

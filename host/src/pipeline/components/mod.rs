@@ -100,6 +100,12 @@ pub fn depth_planes<'d>(
     })
 }
 
+/// Channel A (`first` 0) or B (1) of a raw frame (planes `A0 B0 A1 B1 …`): its four phase
+/// images one after the other, as a recording holds them.
+pub fn channel(raw: &gudsl_runtime::Image, first: usize) -> Vec<f32> {
+    (0..4).flat_map(|k| raw.plane(2 * k + first).iter().copied()).collect()
+}
+
 /// The slots of the `k`-th item of a frame (each item its own buffers: a later item must not
 /// overwrite an earlier one's results before they are read).
 pub fn slots<T: Default>(slots: &mut Vec<T>, k: usize) -> &mut T {
@@ -303,6 +309,7 @@ fn library(class: &str, params: &Params) -> Option<Result<Box<dyn Component>, Ve
         "ToF.CloudFile" => sources::CloudFile::new(params).and_then(made),
         "ToF.PngWriter" => made(sinks::PngWriter::new(params)),
         "ToF.MaskWriter" => made(sinks::MaskWriter::new(params)),
+        "ToF.RawWriter" => made(sinks::RawWriter::new(params)),
         "ToF.FlowWriter" => made(sinks::FlowWriter::new(params)),
         "ToF.ImageViewer" => made(images::ImageViewer::new(params)),
         "ToF.AccuracyReport" => accuracy::AccuracyReport::new(params).and_then(made),

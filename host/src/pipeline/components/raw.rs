@@ -267,6 +267,8 @@ impl Component for MotionCompensation {
             // A tap: the flow, to whatever is bound to `FlowOut`.
             out.push(("FlowOut".to_string(), Data::Flow(flow)));
             out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));
+            // A tap: the normalised channels (the frame itself without a calibration).
+            out.push(("NormalizedOut".to_string(), Data::Raw(RawFrame { raw: normalized, ..frame.clone() })));
             // A tap: the motion mask, to whatever is bound to `MaskOut`.
             out.push(("MaskOut".to_string(), Data::Mask(mask)));
         }

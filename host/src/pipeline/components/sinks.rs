@@ -1,4 +1,4 @@
-//! Sinks: depth images to `.npy` and OpenEXR (float32) and PNG (16-bit millimetres and a
+//! Sinks: raw frames to `.npy` (the channels a recording has), depth images to `.npy` and OpenEXR (float32) and PNG (16-bit millimetres and a
 //! colour-mapped preview), point clouds to PLY and PCD (the accuracy report: `accuracy.rs`). Each asks for its images at the end of the frame and writes them then, into a
 //! folder of the output named after its instance; fed by several producers, it prefixes its
 //! files with the producer's name.
@@ -160,6 +160,43 @@ impl Component for PngWriter {
                 let buffer = image::RgbImage::from_raw(image.width as u32, image.height as u32, colours)
                     .ok_or("an image of no pixels")?;
                 ctx.output.write(&self.instance, &file_name(prefix, "preview", ctx.frame, "png"), &png(buffer)?)?;
+            }
+        }
+        Ok(Vec::new())
+    }
+}
+
+/// `ToF.RawWriter`: raw frames as the channels `RawFrameFile` reads, `raw_a_0000.npy` and
+/// `raw_b_0000.npy`, float32 of shape (4, H, W).
+pub struct RawWriter {
+    instance: String,
+    several: bool,
+    pending: Pending,
+}
+
+impl RawWriter {
+    pub fn new(params: &Params) -> RawWriter {
+        RawWriter { instance: params.stage.instance.clone(), several: params.providers > 1, pending: Vec::new() }
+    }
+}
+
+impl Component for RawWriter {
+    fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        read_each(ctx, inputs, ("RawIn", "raw"), &mut self.pending, |data| match data {
+            Data::Raw(frame) => Some(&frame.raw),
+            _ => None,
+        });
+        Ok(Vec::new())
+    }
+
+    fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
+        for (producer, _, later) in std::mem::take(&mut self.pending) {
+            let raw = reads.get(later);
+            for (channel, first) in [("raw_a", 0), ("raw_b", 1)] {
+                let planes = super::channel(raw, first);
+                let bytes = arrays::encode(&[4, raw.height, raw.width], &planes, arrays::Dtype::F32);
+                let name = file_name(self.several.then_some(producer.as_str()), channel, ctx.frame, "npy");
+                ctx.output.write(&self.instance, &name, &bytes)?;
             }
         }
         Ok(Vec::new())
