@@ -118,6 +118,32 @@ fn a_recording_in_a_bag_runs_into_a_bag_python_reads() {
     assert!((3.0..6.0).contains(&z), "the wall is the farthest, at {z} m");
 }
 
+/// Frames read from a bag keep the times they were recorded at in the bag a run writes (here
+/// 10 frames a second, where the writer's own clock would say 30).
+#[test]
+fn frames_from_a_bag_keep_their_time_stamps() {
+    let dir = temp_dir("stamps");
+    let recorded = dir.join("recorded");
+    let (code, stdout, stderr) =
+        run(&[&repo(RECORD), "--set", "Recorder.frameRate=10", "-o", recorded.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let bag = "recorded/Recorder/sphere_translation.mcap";
+    let text = format!(
+        "ComponentInstanceDiagram Stamped\n{{\n    import ToF.*;\n\n    Recording instantiates RawFrameFile (channelA = \"{bag}:/Tof/raw_a\", channelB = \"{bag}:/Tof/raw_b\")\n    {{\n        Out : RawOut ( provider frame = IRawFrameProvider() );\n        [ source Out.frame ==> target Demod.In.frame ]\n    }}\n\n    Demod instantiates Demodulation ( )\n    {{\n        In : RawIn ( processor frame = IRawFrameProcessor() );\n        Out : DepthOut ( provider depth = IDepthImageProvider() );\n        [ source Out.depth ==> target Results.In.depth ]\n    }}\n\n    Results instantiates McapWriter ( )\n    {{\n        In : DepthIn ( processor depth = IDepthImageProcessor() );\n    }}\n}}\n"
+    );
+    let model = dir.join("stamped.gudsl");
+    std::fs::write(&model, &text).unwrap();
+    let out = dir.join("out");
+    let root = dir.to_str().unwrap();
+    let (code, stdout, stderr) = run(&[model.to_str().unwrap(), "--cpu", "--root", root, "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let python = python_reads(&out.join("Results/results.mcap"));
+    let messages = python["/Demod/distance"]["messages"].as_array().unwrap();
+    let times: Vec<(u64, u64)> =
+        messages.iter().map(|m| (m["log_time"].as_u64().unwrap(), m["stamp"].as_u64().unwrap())).collect();
+    assert_eq!(times, [(0, 0), (100_000_000, 100_000_000)]);
+}
+
 /// A model of `text` in `dir`, checked with `gudsl check`: its exit code and output.
 fn check(dir: &Path, text: &str) -> (Option<i32>, String) {
     let model = dir.join("model.gudsl");

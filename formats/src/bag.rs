@@ -78,7 +78,7 @@ pub fn image_topic(folder: &Folder, place: &Place) -> Result<ImageTopic, BagErro
     let shown = place.shown();
     let messages = messages_of(folder, place, ros2::IMAGE_SCHEMA.0)?;
     let mut first = None;
-    read_messages(folder, place, &mut |image: Image| {
+    read_messages(folder, place, &mut |image: Image, _| {
         first = Some(image);
         false
     })?;
@@ -98,7 +98,7 @@ pub fn image_topic(folder: &Folder, place: &Place) -> Result<ImageTopic, BagErro
 pub fn cloud_topic(folder: &Folder, place: &Place) -> Result<usize, BagError> {
     let messages = messages_of(folder, place, ros2::POINT_CLOUD_SCHEMA.0)?;
     let mut first = None;
-    read_messages(folder, place, &mut |cloud: PointCloud2| {
+    read_messages(folder, place, &mut |cloud: PointCloud2, _| {
         first = Some(cloud.points());
         false
     })?;
@@ -117,12 +117,12 @@ pub fn clouds(folder: Arc<Folder>, place: &Place, frames: usize) -> FrameStream 
     let shown = PathBuf::from(place.shown());
     FrameStream::spawn(&shown.clone(), move |send| {
         let (mut index, mut failed) = (0, None);
-        let mut each = |cloud: PointCloud2| {
+        let mut each = |cloud: PointCloud2, stamp: u64| {
             index += 1;
             match cloud.points() {
                 Ok((points, normals)) => {
                     let values = points.iter().zip(&normals).flat_map(|(p, n)| p.iter().chain(n).copied());
-                    send(values.collect()) && index < frames
+                    send(values.collect(), Some(stamp)) && index < frames
                 }
                 Err(e) => {
                     failed = Some(format!("its cloud {} {e}", index - 1));
@@ -162,7 +162,7 @@ pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, u
     let shown = PathBuf::from(place.shown());
     FrameStream::spawn(&shown.clone(), move |send| {
         let (mut index, mut failed) = (0, None);
-        let mut each = |image: Image| {
+        let mut each = |image: Image, stamp: u64| {
             let values = match (image.width as usize, image.height as usize) == size {
                 true => image.values().map_err(|e| format!("its image {index} {e}")),
                 false => Err(format!(
@@ -172,7 +172,7 @@ pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, u
             };
             index += 1;
             match values {
-                Ok(values) => send(values) && index < frames,
+                Ok(values) => send(values, Some(stamp)) && index < frames,
                 Err(message) => {
                     failed = Some(message);
                     false
@@ -187,11 +187,12 @@ pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, u
     })
 }
 
-/// Hands each message of the topic to `each` in the file's order while it says to go on.
+/// Hands each message of the topic, with its log time, to `each` in the file's order while it
+/// says to go on.
 fn read_messages<T: DeserializeOwned>(
     folder: &Folder,
     place: &Place,
-    each: &mut dyn FnMut(T) -> bool,
+    each: &mut dyn FnMut(T, u64) -> bool,
 ) -> Result<(), BagError> {
     let opened = folder.open_file(&place.file, MAX_BAG_BYTES).map_err(|e| e.to_string())?;
     messages_in(BufReader::new(opened.file), place, each)
@@ -201,7 +202,7 @@ fn read_messages<T: DeserializeOwned>(
 fn messages_in<T: DeserializeOwned>(
     source: impl Read,
     place: &Place,
-    each: &mut dyn FnMut(T) -> bool,
+    each: &mut dyn FnMut(T, u64) -> bool,
 ) -> Result<(), BagError> {
     let shown = place.shown();
     let options = LinearReaderOptions::default().with_record_length_limit(MAX_RECORD_BYTES);
@@ -211,7 +212,7 @@ fn messages_in<T: DeserializeOwned>(
             continue;
         }
         let decoded: T = ros2::decode(&message.data).map_err(|e| format!("{shown}: message {e}"))?;
-        if !each(decoded) {
+        if !each(decoded, message.log_time) {
             break;
         }
     }
@@ -257,11 +258,13 @@ pub fn contents_in_bytes(bytes: &[u8]) -> Result<Vec<Vec<f32>>, BagError> {
             Err(e) => failed = Some(e),
         };
         match channel.schema.as_ref().map(|s| s.name.as_str()) {
-            Some(name) if name == ros2::POINT_CLOUD_SCHEMA.0 => messages_in(bytes, &place, &mut |c: PointCloud2| {
-                keep(c.points().map(|(p, _)| p.concat()));
-                true
-            })?,
-            _ => messages_in(bytes, &place, &mut |image: Image| {
+            Some(name) if name == ros2::POINT_CLOUD_SCHEMA.0 => {
+                messages_in(bytes, &place, &mut |c: PointCloud2, _| {
+                    keep(c.points().map(|(p, _)| p.concat()));
+                    true
+                })?
+            }
+            _ => messages_in(bytes, &place, &mut |image: Image, _| {
                 keep(image.values());
                 true
             })?,
@@ -391,7 +394,7 @@ mod tests {
         assert_eq!(topic, ImageTopic { messages: 3, width: 3, height: 2, encoding: "32FC1".into(), integer: false });
         let stream = images(Arc::new(folder), &place, 2, (3, 2));
         assert_eq!(stream.next_frame().unwrap(), vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0]);
-        assert_eq!(stream.next_frame().unwrap()[0], 10.0);
+        assert_eq!(stream.next_stamped().unwrap(), (vec![10.0, 11.0, 12.0, 13.0, 14.0, 15.0], Some(1000)));
         assert!(stream.next_frame().is_err(), "two frames were asked for");
     }
 

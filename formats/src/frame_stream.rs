@@ -14,9 +14,12 @@ use npyz::Order;
 
 use crate::arrays::{self, ArrayError};
 
+/// A frame's values and, when the file records it, its time (ns since the epoch).
+pub type Stamped = (Vec<f32>, Option<u64>);
+
 /// The frames of one array, in order.
 pub struct FrameStream {
-    frames: mpsc::Receiver<Result<Vec<f32>, ArrayError>>,
+    frames: mpsc::Receiver<Result<Stamped, ArrayError>>,
     path: PathBuf,
 }
 
@@ -35,19 +38,19 @@ impl FrameStream {
     /// Starts reading `wanted` of the array at `path` (beneath `folder`).
     pub fn open(folder: Arc<Folder>, path: &Path, wanted: FramesWanted) -> FrameStream {
         let reading = path.to_path_buf();
-        FrameStream::spawn(path, move |send| send_frames(&folder, &reading, &wanted, send))
+        FrameStream::spawn(path, move |send| send_frames(&folder, &reading, &wanted, &mut |frame| send(frame, None)))
     }
 
     /// Frames of the file `path` that `read` gives, on a thread of its own: it hands each frame
-    /// to the function it is given, which says whether to go on (`false`: the stream was
-    /// dropped or every frame wanted was read).
+    /// and its time to the function it is given, which says whether to go on (`false`: the
+    /// stream was dropped or every frame wanted was read).
     pub fn spawn<R>(path: &Path, read: R) -> FrameStream
     where
-        R: FnOnce(&mut dyn FnMut(Vec<f32>) -> bool) -> Result<(), ArrayError> + Send + 'static,
+        R: FnOnce(&mut dyn FnMut(Vec<f32>, Option<u64>) -> bool) -> Result<(), ArrayError> + Send + 'static,
     {
         let (sender, frames) = mpsc::sync_channel(0);
         std::thread::spawn(move || {
-            let mut send = |frame: Vec<f32>| sender.send(Ok(frame)).is_ok();
+            let mut send = |frame: Vec<f32>, stamp: Option<u64>| sender.send(Ok((frame, stamp))).is_ok();
             if let Err(error) = read(&mut send) {
                 let _ = sender.send(Err(error));
             }
@@ -57,6 +60,11 @@ impl FrameStream {
 
     /// The next frame's values.
     pub fn next_frame(&self) -> Result<Vec<f32>, ArrayError> {
+        self.next_stamped().map(|(values, _)| values)
+    }
+
+    /// The next frame's values and its time, when the file records it.
+    pub fn next_stamped(&self) -> Result<Stamped, ArrayError> {
         self.frames.recv().unwrap_or_else(|_| {
             Err(ArrayError::new(&self.path, std::io::ErrorKind::UnexpectedEof, "holds no more frames"))
         })

@@ -22,6 +22,8 @@ pub struct RawFrame {
     pub truth: Option<Arc<Image>>,
     /// Integration time per phase image, microseconds.
     pub integration_us: f32,
+    /// When the frame was recorded (a bag's), ns since the epoch.
+    pub stamp: Option<u64>,
 }
 
 /// A demodulated frame.
@@ -33,6 +35,8 @@ pub struct DepthImage {
     pub intensity: Tensor,
     pub truth: Option<Arc<Image>>,
     pub integration_us: f32,
+    /// When the frame was recorded (a bag's), ns since the epoch.
+    pub stamp: Option<u64>,
 }
 
 /// Points in the camera's frame (3 planes) and their normals (3 planes, zero until computed),

@@ -118,6 +118,7 @@ impl RawFiles {
             paths: [self.a.clone(), self.b.clone()],
             extent: self.extent,
             next: 0,
+            stamp: None,
         }
     }
 }
@@ -130,6 +131,8 @@ pub struct RawFrames {
     extent: Extent,
     /// The index of the next frame.
     next: usize,
+    /// When the last frame read was recorded (a bag's), ns.
+    pub stamp: Option<u64>,
 }
 
 impl RawFrames {
@@ -137,8 +140,11 @@ impl RawFrames {
     pub fn next_frame(&mut self) -> Result<Image, String> {
         let frame = self.next;
         self.next += 1;
-        let [a, b] = [&self.a, &self.b].map(|stream| stream.next_frame());
-        let a = sixteen_bits(a.map_err(|e| unreadable(e, RAW))?, &self.paths[0], frame)?;
+        let [a, b] = [&self.a, &self.b].map(|stream| stream.next_stamped());
+        let (a, stamp) = a.map_err(|e| unreadable(e, RAW))?;
+        self.stamp = stamp;
+        let b = b.map(|(values, _)| values);
+        let a = sixteen_bits(a, &self.paths[0], frame)?;
         let b = sixteen_bits(b.map_err(|e| unreadable(e, RAW))?, &self.paths[1], frame)?;
         let Extent { height, width, .. } = self.extent;
         let n = width * height;
@@ -258,7 +264,7 @@ impl DepthFile {
             }
             Stored::Pictures(paths) => (Depths::Pictures(self.folder.clone(), paths[..frames].to_vec().into()), scale),
         };
-        DepthFrames { source, extent: self.extent, scale }
+        DepthFrames { source, extent: self.extent, scale, stamp: None }
     }
 }
 
@@ -421,6 +427,8 @@ pub struct DepthFrames {
     extent: Extent,
     /// Metres per unit of an integer image.
     scale: f32,
+    /// When the last image read was recorded (a bag's), ns.
+    pub stamp: Option<u64>,
 }
 
 enum Depths {
@@ -437,7 +445,8 @@ impl DepthFrames {
         let values = match &mut self.source {
             // The stream refuses an array whose shape changed since it was opened.
             Depths::Stream(stream) => {
-                let values = stream.next_frame().map_err(|e| unreadable(e, DEPTH))?;
+                let (values, stamp) = stream.next_stamped().map_err(|e| unreadable(e, DEPTH))?;
+                self.stamp = stamp;
                 values.into_iter().map(|v| v * self.scale).collect()
             }
             Depths::Pictures(folder, paths) => {

@@ -4,7 +4,8 @@
 //! four phase images of a channel one below the other, `16UC1` — the layout `RawFrameFile`
 //! reads), `/<producer>/distance` (`32FC1` metres, REP 118's depth), `…/amplitude`,
 //! `…/intensity`, `…/truth` (the true distances, when the frames know them) and `…/cloud`
-//! (`PointCloud2` with normals); frame k is stamped k / `frameRate` s.
+//! (`PointCloud2` with normals). A frame is stamped when it was recorded (a bag's frames keep
+//! their times), else k / `frameRate` s for frame k.
 
 use std::sync::Arc;
 
@@ -31,6 +32,8 @@ pub struct McapWriter {
     frame_id: String,
     /// This frame's messages to write, each with its topic.
     pending: Vec<(String, Pending)>,
+    /// When this frame was recorded, as the first of its items that knows says.
+    recorded: Option<u64>,
     /// The bag, from the first frame that gave it anything until the run ends.
     bag: Option<BagWriter<Growing>>,
 }
@@ -55,6 +58,7 @@ impl McapWriter {
             period: 1e9 / params.number("frameRate").max(1e-3),
             frame_id: params.text("frameId").to_string(),
             pending: Vec::new(),
+            recorded: None,
             bag: None,
         }
     }
@@ -79,12 +83,14 @@ impl Component for McapWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for item in inputs.port("RawIn") {
             if let Data::Raw(frame) = &item.data {
+                self.recorded = self.recorded.or(frame.stamp);
                 self.pending
                     .push((format!("/{}/raw_", item.producer), Pending::Raw(ctx.device.read_later(&frame.raw))));
                 self.truth(&item.producer, frame.truth.as_ref());
             }
         }
         for (producer, depth) in depth_images(inputs) {
+            self.recorded = self.recorded.or(depth.stamp);
             for (what, tensor) in depth_planes(depth, &self.planes) {
                 self.pending.push((format!("/{producer}/{what}"), Pending::Image(ctx.device.read_later(tensor))));
             }
@@ -103,7 +109,7 @@ impl Component for McapWriter {
         if pending.is_empty() {
             return Ok(Vec::new());
         }
-        let stamp = (ctx.frame as f64 * self.period).round() as u64;
+        let stamp = self.recorded.take().unwrap_or((ctx.frame as f64 * self.period).round() as u64);
         let frame_id = self.frame_id.clone();
         let bag = self.bag(ctx.output)?;
         for (topic, message) in &pending {

@@ -146,6 +146,7 @@ impl Component for Demodulation {
                     intensity,
                     truth: frame.truth.clone(),
                     integration_us: frame.integration_us,
+                    stamp: frame.stamp,
                 }),
             ));
         }

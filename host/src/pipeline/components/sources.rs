@@ -127,6 +127,7 @@ impl Component for Simulated {
                 black,
                 truth: Some(Arc::new(frame.truth)),
                 integration_us: self.camera.integration_us,
+                stamp: None,
             }),
         )])
     }
@@ -200,7 +201,8 @@ impl Component for RawFrameFile {
         let Some(reading) = self.reading.as_mut().filter(|_| ctx.frame < self.frames) else { return Ok(Vec::new()) };
         let frame = reading.next_frame()?;
         let raw = ctx.device.upload(&mut self.raw, &frame);
-        let frame = RawFrame { raw, black: None, truth: None, integration_us: self.integration_us };
+        let stamp = reading.stamp;
+        let frame = RawFrame { raw, black: None, truth: None, integration_us: self.integration_us, stamp };
         Ok(vec![("RawOut".to_string(), Data::Raw(frame))])
     }
 }
@@ -260,6 +262,7 @@ impl Component for DepthFile {
             intensity: ctx.device.upload(i, &zeros),
             truth: None,
             integration_us: 0.0,
+            stamp: reading.stamp,
         };
         Ok(vec![("DepthOut".to_string(), Data::Depth(depth))])
     }
