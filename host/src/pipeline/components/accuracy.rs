@@ -5,6 +5,7 @@
 use std::{fmt::Write as _, sync::Arc};
 
 use gudsl_runtime::Image;
+use plotters::prelude::*;
 
 use super::{depth_images, of_size, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
 use crate::pipeline::{
@@ -133,7 +134,7 @@ impl Component for AccuracyReport {
             let _ = writeln!(csv, "{frame},{series},{pixels},{mean_cm:.4},{sigma_cm:.4},{integration_us}");
         }
         output.write(&self.instance, "accuracy.csv", csv.as_bytes())?;
-        let svg = plot(&self.rows);
+        let svg = plot(&self.rows)?;
         output.write(&self.instance, "accuracy.svg", svg.as_bytes())?;
         let png = gudsl_render::png::to_png(&svg, gudsl_render::png::EXPORT_SCALE)
             .map_err(|e| format!("the plot as PNG: {e}"))?;
@@ -182,9 +183,15 @@ pub fn error_cm(distance: &Image, truth: &Image, max_true: f32) -> (usize, f64, 
     (errors.len(), mean, variance.sqrt())
 }
 
-/// The mean error per frame of each series as a line plot with its σ as a band.
-fn plot(rows: &[Row]) -> String {
-    let (width, height, left, right, top, bottom) = (640.0, 360.0, 64.0, 160.0, 24.0, 48.0);
+/// The mean error per frame of each series as a line plot with its σ as a band (plotters:
+/// ticks at round values, the axes named with their units), one colour a series.
+fn plot(rows: &[Row]) -> Result<String, String> {
+    let mut svg = String::new();
+    draw(&mut svg, rows).map_err(|e| format!("the accuracy plot: {e}"))?;
+    Ok(svg)
+}
+
+fn draw(svg: &mut String, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
     let mut series: Vec<&str> = Vec::new();
     for row in rows {
         if !series.contains(&row.series.as_str()) {
@@ -192,76 +199,75 @@ fn plot(rows: &[Row]) -> String {
         }
     }
     let last = rows.iter().map(|r| r.frame).max().unwrap_or(0).max(1) as f64;
-    let top_value = rows.iter().map(|r| r.mean_cm + r.sigma_cm).fold(0.0f64, f64::max).max(0.1) * 1.1;
-    let x = |frame: usize| left + (width - left - right) * frame as f64 / last;
-    let y = |value: f64| top + (height - top - bottom) * (1.0 - value / top_value);
-    let colours = ["#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"];
-    let mut svg = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\" \
-         font-family=\"DejaVu Sans\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    );
-    let _ = writeln!(
-        svg,
-        "<path d=\"M{left} {top} V{} H{}\" stroke=\"black\" fill=\"none\"/>",
-        height - bottom,
-        width - right
-    );
-    for k in 0..=4 {
-        let value = top_value * k as f64 / 4.0;
-        let _ =
-            writeln!(svg, "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{value:.2}</text>", left - 6.0, y(value) + 4.0);
-    }
-    let step = (last as usize).div_ceil(10).max(1);
-    for frame in (0..=last as usize).step_by(step) {
-        let _ = writeln!(
-            svg,
-            "<text x=\"{:.1}\" y=\"{}\" text-anchor=\"middle\">{frame}</text>",
-            x(frame),
-            height - bottom + 16.0
-        );
-    }
-    let _ = writeln!(
-        svg,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">frame</text>",
-        (left + width - right) / 2.0,
-        height - 12.0
-    );
-    let _ = writeln!(svg, "<text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">mean |error| (cm), band ±σ</text>", height / 2.0, height / 2.0);
+    let top = rows.iter().map(|r| r.mean_cm + r.sigma_cm).fold(0.0f64, f64::max).max(0.1) * 1.1;
+    let root = SVGBackend::with_string(svg, (640, 360)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .margin(14)
+        .x_label_area_size(40)
+        .y_label_area_size(56)
+        .build_cartesian_2d(0.0..last, 0.0..top)?;
+    chart
+        .configure_mesh()
+        .x_desc("frame")
+        .y_desc("mean |error| (cm), band ±σ")
+        .x_labels((last as usize + 1).min(11))
+        .x_label_formatter(&|x| if x.fract() == 0.0 { format!("{x}") } else { String::new() })
+        .bold_line_style(BLACK.mix(0.12))
+        .light_line_style(WHITE.mix(0.0))
+        .draw()?;
     for (s, name) in series.iter().enumerate() {
-        let colour = colours[s % colours.len()];
+        let colour = Palette99::pick(s).to_rgba();
         let points: Vec<&Row> = rows.iter().filter(|r| r.series == *name).collect();
-        let upper: Vec<String> =
-            points.iter().map(|r| format!("{:.1},{:.1}", x(r.frame), y(r.mean_cm + r.sigma_cm))).collect();
-        let lower: Vec<String> = points
+        let band: Vec<(f64, f64)> = points
             .iter()
-            .rev()
-            .map(|r| format!("{:.1},{:.1}", x(r.frame), y((r.mean_cm - r.sigma_cm).max(0.0))))
+            .map(|r| (r.frame as f64, r.mean_cm + r.sigma_cm))
+            .chain(points.iter().rev().map(|r| (r.frame as f64, (r.mean_cm - r.sigma_cm).max(0.0))))
             .collect();
-        let _ = writeln!(
-            svg,
-            "<polygon points=\"{} {}\" fill=\"{colour}\" fill-opacity=\"0.15\"/>",
-            upper.join(" "),
-            lower.join(" ")
-        );
-        let line: Vec<String> = points.iter().map(|r| format!("{:.1},{:.1}", x(r.frame), y(r.mean_cm))).collect();
-        let _ = writeln!(
-            svg,
-            "<polyline points=\"{}\" stroke=\"{colour}\" stroke-width=\"2\" fill=\"none\"/>",
-            line.join(" ")
-        );
-        let ly = top + 16.0 * s as f64 + 8.0;
-        let _ = writeln!(
-            svg,
-            "<rect x=\"{}\" y=\"{}\" width=\"12\" height=\"3\" fill=\"{colour}\"/>",
-            width - right + 12.0,
-            ly - 4.0
-        );
-        let _ = writeln!(svg, "<text x=\"{}\" y=\"{ly}\">{}</text>", width - right + 30.0, escape(name));
+        chart.draw_series(std::iter::once(Polygon::new(band, colour.mix(0.15).filled())))?;
+        let line = points.iter().map(|r| (r.frame as f64, r.mean_cm));
+        chart
+            .draw_series(LineSeries::new(line, colour.stroke_width(2)))?
+            .label(name.to_string())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], colour.stroke_width(2)));
     }
-    svg.push_str("</svg>\n");
-    svg
+    chart.configure_series_labels().border_style(BLACK.mix(0.3)).background_style(WHITE.mix(0.8)).draw()?;
+    root.present()?;
+    Ok(())
 }
 
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The texts of the plot that are numbers, in the order drawn.
+    fn numbers(svg: &str) -> Vec<f64> {
+        svg.split("<text").filter_map(|t| t.split('>').nth(1)?.split('<').next()?.trim().parse().ok()).collect()
+    }
+
+    /// Ticks at round values with their units named, not the range cut in fourths (0, 8.38,
+    /// 16.76, … as the hand-drawn plot had them).
+    #[test]
+    fn the_plot_has_round_ticks_and_names_its_units() {
+        let row = |frame, series: &str, mean_cm| Row {
+            frame,
+            series: series.to_string(),
+            pixels: 10,
+            mean_cm,
+            sigma_cm: 4.0,
+            integration_us: 1000.0,
+        };
+        let rows = [row(0, "Uncompensated", 26.46), row(1, "Uncompensated", 24.0), row(0, "Compensated", 3.0)];
+        let svg = plot(&rows).unwrap();
+        assert!(svg.contains("mean |error| (cm), band ±σ") && svg.contains("\nframe\n"), "{svg}");
+        assert!(svg.contains("Uncompensated") && svg.contains("Compensated"));
+        let values: Vec<f64> = numbers(&svg).into_iter().filter(|v| v.fract() != 0.0 || *v > 1.0).collect();
+        assert!(values.len() >= 4, "{values:?}");
+        let steps: Vec<f64> = values.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+        let step = steps[0];
+        assert!(steps.iter().all(|s| (s - step).abs() < 1e-9), "evenly spaced: {values:?}");
+        let mantissa = step / 10f64.powf(step.log10().floor());
+        assert!([1.0, 2.0, 2.5, 5.0].iter().any(|m| (m - mantissa).abs() < 1e-9), "a round step: {step} ({values:?})");
+        assert!(values.iter().all(|v| (v / step).fract().abs() < 1e-9), "ticks on the step: {values:?}");
+    }
 }
