@@ -113,28 +113,9 @@ pub fn cloud_topic(folder: &Folder, place: &Place) -> Result<usize, BagError> {
 /// points' `x y z nx ny nz`, one point after the other (a cloud that cannot be read is an
 /// error at its index).
 pub fn clouds(folder: Arc<Folder>, place: &Place, frames: usize) -> FrameStream {
-    let place = place.clone();
-    let shown = PathBuf::from(place.shown());
-    FrameStream::spawn(&shown.clone(), move |send| {
-        let (mut index, mut failed) = (0, None);
-        let mut each = |cloud: PointCloud2, stamp: u64| {
-            index += 1;
-            match cloud.points() {
-                Ok((points, normals)) => {
-                    let values = points.iter().zip(&normals).flat_map(|(p, n)| p.iter().chain(n).copied());
-                    send(values.collect(), Some(stamp)) && index < frames
-                }
-                Err(e) => {
-                    failed = Some(format!("its cloud {} {e}", index - 1));
-                    false
-                }
-            }
-        };
-        let read = read_messages(&folder, &place, &mut each);
-        match failed.map(Err).unwrap_or(read) {
-            Ok(()) => Ok(()),
-            Err(message) => Err(ArrayError::invalid(&shown, message.replace(&format!("{}: ", shown.display()), ""))),
-        }
+    stream(folder, place, frames, |cloud: PointCloud2, index| {
+        let (points, normals) = cloud.points().map_err(|e| format!("its cloud {index} {e}"))?;
+        Ok(points.iter().zip(&normals).flat_map(|(p, n)| p.iter().chain(n).copied()).collect())
     })
 }
 
@@ -158,21 +139,33 @@ fn messages_of(folder: &Folder, place: &Place, schema: &str) -> Result<usize, Ba
 /// The values of the first `frames` images of the topic, a frame at a time, each of
 /// `width`×`height` pixels (a message of another size is an error at its index).
 pub fn images(folder: Arc<Folder>, place: &Place, frames: usize, size: (usize, usize)) -> FrameStream {
+    stream(folder, place, frames, move |image: Image, index| {
+        match (image.width as usize, image.height as usize) == size {
+            true => image.values().map_err(|e| format!("its image {index} {e}")),
+            false => Err(format!(
+                "its image {index} is {}×{}, not {}×{} as the first",
+                image.width, image.height, size.0, size.1
+            )),
+        }
+    })
+}
+
+/// The first `frames` messages of the topic as `values` makes them of each (with its index),
+/// with their log times, read on the stream's thread; the first that cannot be made stops it.
+fn stream<T, V>(folder: Arc<Folder>, place: &Place, frames: usize, values: V) -> FrameStream
+where
+    T: DeserializeOwned,
+    V: Fn(T, usize) -> Result<Vec<f32>, String> + Send + 'static,
+{
     let place = place.clone();
     let shown = PathBuf::from(place.shown());
     FrameStream::spawn(&shown.clone(), move |send| {
         let (mut index, mut failed) = (0, None);
-        let mut each = |image: Image, stamp: u64| {
-            let values = match (image.width as usize, image.height as usize) == size {
-                true => image.values().map_err(|e| format!("its image {index} {e}")),
-                false => Err(format!(
-                    "its image {index} is {}×{}, not {}×{} as the first",
-                    image.width, image.height, size.0, size.1
-                )),
-            };
+        let mut each = |message: T, stamp: u64| {
+            let made = values(message, index);
             index += 1;
-            match values {
-                Ok(values) => send(values, Some(stamp)) && index < frames,
+            match made {
+                Ok(made) => send(made, Some(stamp)) && index < frames,
                 Err(message) => {
                     failed = Some(message);
                     false

@@ -145,14 +145,8 @@ impl Component for AccuracyReport {
     /// Per series, over every pixel of every frame: the mean error and the mean of the frames'
     /// σ, in cm; none for a series without a pixel measured.
     fn figures(&self) -> Vec<(String, f64)> {
-        let mut series: Vec<&str> = Vec::new();
-        for row in &self.rows {
-            if !series.contains(&row.series.as_str()) {
-                series.push(&row.series);
-            }
-        }
         let mut figures = Vec::new();
-        for name in series {
+        for name in series_of(&self.rows) {
             let rows: Vec<&Row> = self.rows.iter().filter(|r| r.series == name).collect();
             let pixels: usize = rows.iter().map(|r| r.pixels).sum();
             if pixels == 0 {
@@ -183,6 +177,17 @@ pub fn error_cm(distance: &Image, truth: &Image, max_true: f32) -> (usize, f64, 
     (errors.len(), mean, variance.sqrt())
 }
 
+/// The series of the rows, in the order they first appear.
+fn series_of(rows: &[Row]) -> Vec<&str> {
+    let mut series: Vec<&str> = Vec::new();
+    for row in rows {
+        if !series.contains(&row.series.as_str()) {
+            series.push(&row.series);
+        }
+    }
+    series
+}
+
 /// The mean error per frame of each series as a line plot with its σ as a band (plotters:
 /// ticks at round values, the axes named with their units), one colour a series.
 fn plot(rows: &[Row]) -> Result<String, String> {
@@ -192,12 +197,7 @@ fn plot(rows: &[Row]) -> Result<String, String> {
 }
 
 fn draw(svg: &mut String, rows: &[Row]) -> Result<(), Box<dyn std::error::Error>> {
-    let mut series: Vec<&str> = Vec::new();
-    for row in rows {
-        if !series.contains(&row.series.as_str()) {
-            series.push(&row.series);
-        }
-    }
+    let series = series_of(rows);
     let last = rows.iter().map(|r| r.frame).max().unwrap_or(0).max(1) as f64;
     let top = rows.iter().map(|r| r.mean_cm + r.sigma_cm).fold(0.0f64, f64::max).max(0.1) * 1.1;
     let root = SVGBackend::with_string(svg, (640, 360)).into_drawing_area();
