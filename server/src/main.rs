@@ -1,5 +1,9 @@
 //! `gudsl`: the GU-DSL command-line tools and language server.
 
+// Proving the server's futures `Send` walks down into wgpu's types (a live preview's kept
+// items hold device buffers), deeper than the default 128.
+#![recursion_limit = "256"]
+
 mod commands;
 mod layout_file;
 mod lsp;

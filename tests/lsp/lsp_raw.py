@@ -5,13 +5,15 @@ response of megabytes is timed when it arrives without being decoded."""
 import asyncio
 import json
 import re
+import time
 
 BIG = 1 << 20  # responses larger than this are not decoded
 
 
 class Client:
     """Requests are futures of (result, error); the server's own requests are answered null;
-    diagnostics, log messages and answers to no request of the client's (id null) are kept."""
+    diagnostics, log messages, other notifications (with when they arrived) and answers to no
+    request of the client's (id null) are kept."""
 
     def __init__(self, proc):
         self.proc = proc
@@ -20,6 +22,7 @@ class Client:
         self.diagnostics = {}
         self.log = []
         self.unsolicited_errors = []
+        self.notifications = []
         self.reader = asyncio.ensure_future(self.read())
 
     async def read(self):
@@ -52,6 +55,8 @@ class Client:
                     self.diagnostics[params["uri"]] = (params.get("version"), params["diagnostics"])
                 elif message["method"] in ("window/logMessage", "window/showMessage"):
                     self.log.append((params.get("type"), params.get("message", "")))
+                else:  # gudsl's own (gudsl/preview, gudsl/graphChanged), with when it arrived
+                    self.notifications.append((time.perf_counter(), message["method"], params))
             else:
                 future = self.pending.pop(message.get("id"), None)
                 if future and not future.done():

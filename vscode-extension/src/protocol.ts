@@ -1,6 +1,7 @@
 //! gudsl's requests beyond LSP (`docs/protocol.md`), typed for the client; the server's side is
-//! `server/src/lsp/ext.rs` (its commands: `gudsl.run`, `gudsl.runPipeline`, `gudsl.showWgsl`).
-//! lsp/ext.rs hash: 142d2c545b87bff5 (a test checks this file is reviewed whenever ext.rs changes)
+//! `server/src/lsp/ext.rs` (its commands: `gudsl.run`, `gudsl.runPipeline`, `gudsl.showWgsl`,
+//! `gudsl.preview`).
+//! lsp/ext.rs hash: b39cfb8e8a19c04b (a test checks this file is reviewed whenever ext.rs changes)
 import { NotificationType, Range, RequestType, TextDocumentIdentifier, VersionedTextDocumentIdentifier, WorkspaceEdit } from 'vscode-languageclient';
 
 export type DiagramKind = 'class' | 'activity' | 'component' | 'componentInstance';
@@ -88,3 +89,27 @@ export const viewFileTextRequest = new RequestType<TextDocumentIdentifier, strin
 export const graphChangedNotification = new NotificationType<{ uri: string; version: number | null; diagrams: string[] }>('gudsl/graphChanged');
 
 export type { VersionedTextDocumentIdentifier };
+
+/** The answer of `gudsl.preview`: which pipeline is live now. */
+export interface PreviewState {
+  diagram: string | null;
+  live: boolean;
+  frames: number;
+}
+
+/** `gudsl/preview`: a live preview ran (`ran`, `failed`) or stopped on the model's errors. */
+export interface Preview {
+  diagram: string;
+  uri: string | null;
+  version: number | null;
+  sequence: number;
+  state: 'ran' | 'failed' | 'stopped';
+  message: string;
+  report: { frames: number; stages: unknown[]; figures: { stage: string; name: string; value: number }[]; outputs: string[] } | null;
+  replayed: string[];
+  problems: unknown[];
+  output: string | null;
+  timings: { prepareMs: number; queuedMs: number; runMs: number; totalMs: number };
+}
+
+export const previewNotification = new NotificationType<Preview>('gudsl/preview');

@@ -20,6 +20,9 @@ pub mod data;
 mod error;
 mod files;
 mod preparations;
+mod prepare;
+mod preview;
+mod replay;
 mod report;
 mod sizes;
 mod study;
@@ -43,7 +46,10 @@ use components::{Component, Inputs, Outputs};
 use data::Item;
 pub use error::{ErrorKind, PipelineError};
 pub use preparations::{model_dir, Preparations};
-pub use report::{summary, table, write_report, Figure, PipelineReport, StageTime};
+pub use prepare::prepare;
+pub use preview::{Preview, PreviewReport};
+pub use replay::StageKey;
+pub use report::{report_json, summary, table, write_report, Figure, PipelineReport, StageTime};
 pub use study::{rows_beneath, study_table, write_study, StudyRow};
 pub use walls::calibration_walls;
 
@@ -87,97 +93,21 @@ pub struct PreparedPipeline {
     frames: usize,
     /// Settings that cannot act in it (E0406 warnings); it runs nonetheless.
     pub warnings: Vec<PipelineError>,
-}
-
-/// Makes the plan's components: each a component of the ToF library or of the workspace (with
-/// the kernels of `behaviors`), with its parameters and the files it reads (as `files`
-/// allows) checked; every problem found, not just the first.
-pub fn prepare(
-    plan: &PipelinePlan,
-    behaviors: &Behaviors,
-    files: &ModelFiles,
-) -> Result<PreparedPipeline, Vec<PipelineError>> {
-    let mut errors = Vec::new();
-    let mut made = Vec::new();
-    for (index, stage) in plan.stages.iter().enumerate() {
-        let providers = plan.bindings.iter().filter(|b| b.processor.stage == index).count();
-        match components::make(stage, providers, files, behaviors) {
-            Ok(component) => made.push(Some(component)),
-            Err(mut problems) => {
-                errors.append(&mut problems);
-                made.push(None);
-            }
-        }
-    }
-    if plan.stages.is_empty() {
-        errors.push(PipelineError {
-            kind: ErrorKind::NotRunnable,
-            stage: None,
-            range: Some(plan.name_range),
-            message: format!("`{}` has no instances to run", plan.diagram),
-        });
-    } else if plan.bindings.is_empty() {
-        errors.push(PipelineError {
-            kind: ErrorKind::NotRunnable,
-            stage: None,
-            range: Some(plan.name_range),
-            message: format!("`{}` binds nothing: bind the sources' ports to filters and sinks", plan.diagram),
-        });
-    }
-    // Checked even where another stage cannot run (it passes its sizes on), so the editor
-    // shows a mismatch beside a component only `run` refuses.
-    errors.extend(sizes::that_cannot_meet(plan, &made, files));
-    errors.extend(carries::that_lack(plan, &made, files));
-    let frames = made.iter().flatten().filter_map(|c| c.frames()).max().unwrap_or(0);
-    if errors.is_empty() && frames == 0 {
-        errors.push(PipelineError {
-            kind: ErrorKind::NotRunnable,
-            stage: None,
-            range: Some(plan.name_range),
-            message: format!("`{}` has no source: nothing produces frames", plan.diagram),
-        });
-    }
-    errors.extend(plan.stages.iter().zip(&made).filter_map(|(stage, component)| {
-        let (param, why) = component.as_ref()?.too_short(frames)?;
-        Some(components::Params { stage, providers: 0, files }.error(param, ErrorKind::Input, why))
-    }));
-    let warnings: Vec<PipelineError> = plan
-        .stages
-        .iter()
-        .zip(&made)
-        .filter_map(|(stage, component)| {
-            let (param, why) = component.as_ref()?.cannot_act(frames)?;
-            let params = components::Params { stage, providers: 0, files };
-            Some(params.error(param, ErrorKind::Ineffective, why))
-        })
-        .collect();
-    if errors.is_empty() {
-        let modes = (0..plan.stages.len())
-            .map(|i| match plan.stages[i].kind {
-                _ if !plan.bindings.iter().any(|b| b.processor.stage == i && b.is_async) => Mode::InOrder,
-                ClassKind::Sink => Mode::WritesApart,
-                ClassKind::Filter => Mode::ProcessesApart,
-                _ => Mode::InOrder,
-            })
-            .collect();
-        Ok(PreparedPipeline {
-            plan: plan.clone(),
-            writers: made.iter().map(|_| None).collect(),
-            components: made,
-            modes,
-            frames,
-            warnings,
-        })
-    } else {
-        errors.extend(warnings);
-        Err(errors)
-    }
+    /// What each stage's items depend on, for a preview's replay.
+    keys: Vec<replay::StageKey>,
+    /// In a preview: the stages that replay a kept run, and what the others give, recorded.
+    replay: Option<replay::Replay>,
 }
 
 impl PreparedPipeline {
     /// The diagram it runs (fully qualified).
     pub fn diagram(&self) -> &str {
         &self.plan.diagram
+    }
+
+    /// What each stage's items depend on: two pipelines with the same keys give the same.
+    pub fn keys(&self) -> &[StageKey] {
+        &self.keys
     }
 
     /// The frames the sources give (the longest source).
@@ -255,8 +185,10 @@ impl PreparedPipeline {
 
     /// What the stages that did not fail measured.
     fn figures(&self, times: &[StageTime]) -> Vec<Figure> {
-        let measured = self.components.iter().zip(times).filter(|(_, time)| time.failed.is_none());
-        let by_stage = measured.filter_map(|(component, time)| Some((component.as_ref()?, &time.instance)));
+        let replays = |index| self.replay.as_ref().is_some_and(|replay| replay.replays(index));
+        let measured = self.components.iter().zip(times).enumerate();
+        let measured = measured.filter(|(index, (_, time))| time.failed.is_none() && !replays(*index));
+        let by_stage = measured.filter_map(|(_, (component, time))| Some((component.as_ref()?, &time.instance)));
         by_stage
             .flat_map(|(component, stage)| {
                 component.figures().into_iter().map(|(name, value)| Figure { stage: stage.clone(), name, value })
@@ -318,6 +250,7 @@ impl PreparedPipeline {
                         continue;
                     }
                     Mode::ProcessesApart => continue, // its finish_frame ran on its thread
+                    Mode::InOrder if self.replayed(device, index, &mut queues, frame, true) => continue,
                     Mode::InOrder => {}
                 }
                 let started = Instant::now();
@@ -329,6 +262,7 @@ impl PreparedPipeline {
                     .map_err(|message| self.error(Some(index), ErrorKind::Failed, message));
                 time.host += started.elapsed();
                 let Some(produced) = self.sink_alone_or(index, time, produced)? else { continue };
+                self.record(device, (index, frame), &produced, true);
                 // What a stage gives after the frame's reads arrives next frame.
                 self.deliver(device, index, produced, &mut queues, frame, true);
             }
@@ -372,7 +306,7 @@ impl PreparedPipeline {
             let inputs = self.take_inputs(index, at.queues, frame);
             let joined = self.join(index, at.output, &mut at.times[index]);
             self.sink_alone(index, &mut at.times[index], joined)?;
-            if at.times[index].failed.is_some() {
+            if at.times[index].failed.is_some() || self.replayed(at.device, index, at.queues, frame, false) {
                 done[index] = true;
                 continue;
             }
@@ -408,6 +342,7 @@ impl PreparedPipeline {
                 done[index] = true;
                 continue;
             };
+            self.record(at.device, (index, frame), &produced, false);
             self.deliver(at.device, index, produced, at.queues, frame, false);
             done[index] = true;
         }
@@ -466,6 +401,9 @@ impl PreparedPipeline {
     /// Before the first frame: the files the components read.
     fn load(&mut self, times: &mut [StageTime]) -> Result<(), PipelineError> {
         for (index, time) in times.iter_mut().enumerate() {
+            if self.replay.as_ref().is_some_and(|replay| replay.replays(index)) {
+                continue; // its files were read for the run it replays
+            }
             let started = Instant::now();
             let Some(component) = self.components[index].as_mut() else {
                 let message = "its component was lost when its writer panicked in an earlier run".to_string();
@@ -567,9 +505,31 @@ impl PreparedPipeline {
         }
     }
 
+    /// In a preview, whether stage `index` replays the kept run: then what it gave in `frame`
+    /// (during the frame, or `later`, after its reads) is delivered as it was then.
+    fn replayed(
+        &self,
+        device: &mut Executor,
+        index: usize,
+        queues: &mut [VecDeque<Item>],
+        frame: usize,
+        later: bool,
+    ) -> bool {
+        let Some(gave) = self.replay.as_ref().and_then(|replay| replay.gave(index, frame)) else { return false };
+        let items = if later { &gave.later } else { &gave.given };
+        self.deliver(device, index, items.clone(), queues, frame, later);
+        true
+    }
+
+    /// In a preview, records what stage `index` gave in a frame for the next preview to replay.
+    fn record(&mut self, device: &mut Executor, at: (usize, usize), produced: &Outputs, later: bool) {
+        if let Some(replay) = self.replay.as_mut() {
+            replay.record(device, at, produced, later);
+        }
+    }
+
     fn error(&self, stage: Option<usize>, kind: ErrorKind, message: String) -> PipelineError {
         let stage = stage.map(|s| &self.plan.stages[s]);
         PipelineError { kind, stage: stage.map(|s| s.instance.clone()), range: stage.map(|s| s.range), message }
     }
 }
-use crate::access::ModelFiles;

@@ -18,17 +18,14 @@ use std::{
 use gudsl_files::Stamp;
 
 use gudsl_model::{
-    hir::{
-        pipeline::{PipelinePlan, Value},
-        DefKind, Diagnostic, Severity,
-    },
+    hir::{pipeline::PipelinePlan, DefKind, Diagnostic, Severity},
     syntax::TextRange,
     Analysis, Cancellable, FileId,
 };
 
 use crate::access::{Access, ModelFiles};
 
-use super::{behaviors, prepare, Behaviors, ErrorKind, PipelineError, PreparedPipeline};
+use super::{behaviors, prepare, replay, Behaviors, ErrorKind, PipelineError, PreparedPipeline};
 
 /// The pipelines prepared for a model, by diagram (fully qualified).
 #[derive(Default)]
@@ -61,11 +58,7 @@ struct Key {
 impl Key {
     /// The key of `plan` now: its kernels and the state of every file it reads.
     fn of(plan: &PipelinePlan, behaviors: Behaviors, model_files: &ModelFiles) -> Key {
-        let texts = plan.stages.iter().flat_map(|stage| &stage.params).filter_map(|param| match &param.value {
-            Value::Text(text) if param.input_file && !text.is_empty() => Some(model_files.path(text)),
-            _ => None,
-        });
-        let files = texts.map(|path| (path.clone(), model_files.stamp(&super::files::stamped_path(&path)))).collect();
+        let files = plan.stages.iter().flat_map(|stage| replay::read_files(stage, model_files)).collect();
         Key { plan: placeless(plan), behaviors, files }
     }
 }
@@ -163,6 +156,17 @@ impl Preparations {
             }
         }
         Ok(out)
+    }
+
+    /// A pipeline of its own for `plan` of `analysis`'s model, prepared now: the one the check
+    /// prepared stays for the check and for a run (a live preview prepares at every edit).
+    pub fn prepare_apart(
+        &self,
+        analysis: &Analysis,
+        plan: &PipelinePlan,
+    ) -> Cancellable<Result<PreparedPipeline, Vec<PipelineError>>> {
+        let behaviors = analysis.with_semantics(|sema| behaviors(sema, plan))?;
+        Ok(prepare(plan, &behaviors, &self.access().files(&model_dir(analysis, plan.file))))
     }
 
     /// The pipeline `plan` of `analysis`'s model ready to run (see [`Preparations::take`]).

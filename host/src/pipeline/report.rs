@@ -121,7 +121,7 @@ pub fn write_report(report: &PipelineReport, output: &mut OutputDir) -> Result<s
 /// `report.json`: what the run did, for scripts; `plots` are the SVG plots among the outputs.
 /// Times say what they are: over the whole run (`_total`, `total_ms`) or per frame, as the
 /// printed table gives them (`_per_frame`, `ms_per_frame`).
-fn report_json(report: &PipelineReport) -> serde_json::Value {
+pub fn report_json(report: &PipelineReport) -> serde_json::Value {
     let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
     let paths = |keep: fn(&Path) -> bool| {
         report.outputs.iter().filter(|p| keep(p)).map(|p| p.display().to_string()).collect::<Vec<_>>()

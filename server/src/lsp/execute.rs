@@ -11,11 +11,11 @@ use tower_lsp_server::{
 };
 
 use super::{
-    ext::{COMMANDS, RUN, RUN_PIPELINE, SHOW_WGSL},
+    ext::{COMMANDS, PREVIEW, RUN, RUN_PIPELINE, SHOW_WGSL},
     host::Snapshot,
     invalid_params,
     jobs::{spawn, Event, Job, Refusal, RunRequest, WorkDone},
-    pipeline, request_failed, run,
+    lock, pipeline, request_failed, run,
     server::Backend,
     wgsl, CLIENT_ANSWER,
 };
@@ -42,8 +42,22 @@ impl Backend {
                 let argument = argument.unwrap_or_default();
                 self.on_snapshot(move |s| wgsl::show(s, &argument)).await?.map(Some).map_err(request_failed)
             }
+            PREVIEW => self.preview(argument.as_ref()).await,
             other => Err(invalid_params(format!("no command `{other}`; the server offers {}", COMMANDS.join(", ")))),
         }
+    }
+
+    /// `gudsl.preview`: the live pipeline set (refused while the workspace is not trusted), and
+    /// its first preview started.
+    async fn preview(&self, argument: Option<&lsp::LSPAny>) -> jsonrpc::Result<Option<lsp::LSPAny>> {
+        if !lock(&self.host).trusted() {
+            return Err(request_failed(format!("gudsl: {UNTRUSTED}")));
+        }
+        let (state, start) = self.previews.command(argument).map_err(invalid_params)?;
+        if start {
+            self.follow_preview(std::time::Instant::now());
+        }
+        Ok(Some(serde_json::to_value(state).unwrap_or_default()))
     }
 
     /// Prepares a run on a snapshot (none while the workspace is not trusted), runs it off the message loop with progress, and answers

@@ -1,8 +1,8 @@
 //! gudsl's own protocol beside LSP (`docs/protocol.md`; rust-analyzer's `lsp/ext.rs`): the
 //! `gudsl.*` commands, and the requests, notifications and their types — `gudsl/diagrams`,
-//! `gudsl/graph`, `gudsl/applyGraphEdit`, `gudsl/viewFileText` and `gudsl/graphChanged`. The
-//! client's side is `vscode-extension/src/protocol.ts`; a test fails when this file changes
-//! and the hash that `docs/protocol.md` records for it does not.
+//! `gudsl/graph`, `gudsl/applyGraphEdit`, `gudsl/viewFileText`, `gudsl/graphChanged` and
+//! `gudsl/preview`. The client's side is `vscode-extension/src/protocol.ts`; a test fails when
+//! this file changes and the hash that `docs/protocol.md` records for it does not.
 
 use gudsl_model::ide::Properties;
 use gudsl_render::scene::Rect;
@@ -21,14 +21,84 @@ pub const RUN_PIPELINE: &str = "gudsl.runPipeline";
 /// `{"diagram": name}`), or of every device diagram of a document (`{"uri": uri}`).
 pub const SHOW_WGSL: &str = "gudsl.showWgsl";
 
+/// Turns a pipeline's live preview on or off: its name (toggles), or `{"diagram": name,
+/// "live": bool, "frames": n, "cpu": bool}`; answered with [`PreviewState`]. While it is live,
+/// `gudsl/preview` brings its results.
+pub const PREVIEW: &str = "gudsl.preview";
+
 /// The commands `workspace/executeCommand` takes.
-pub const COMMANDS: [&str; 3] = [RUN, RUN_PIPELINE, SHOW_WGSL];
+pub const COMMANDS: [&str; 4] = [RUN, RUN_PIPELINE, SHOW_WGSL, PREVIEW];
 
 /// The requests beyond LSP a client may send.
 pub const REQUESTS: [&str; 4] = ["gudsl/diagrams", "gudsl/graph", "gudsl/applyGraphEdit", "gudsl/viewFileText"];
 
 /// The notifications beyond LSP a client may get.
-pub const NOTIFICATIONS: [&str; 1] = [GraphChangedNotification::METHOD_NAME];
+pub const NOTIFICATIONS: [&str; 2] = [GraphChangedNotification::METHOD_NAME, PreviewNotification::METHOD_NAME];
+
+// ---- gudsl.preview, gudsl/preview
+
+/// The answer of `gudsl.preview`: which pipeline is live now, if one is.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct PreviewState {
+    /// The live pipeline (fully qualified), `null` when none is.
+    pub diagram: Option<String>,
+    pub live: bool,
+    /// The frames each preview runs (the first ones).
+    pub frames: usize,
+}
+
+/// `gudsl/preview`: a live preview ran, or stopped (the model has errors; it goes on once they
+/// are fixed). Previews are numbered: an older one never follows a newer.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Preview {
+    pub diagram: String,
+    /// The document that declares it, and the version previewed.
+    pub uri: Option<lsp::Uri>,
+    pub version: Option<i32>,
+    pub sequence: u64,
+    /// `ran`, `failed` (it ran and stopped with an error), or `stopped` (the model has errors:
+    /// nothing ran).
+    pub state: String,
+    /// One line: what it ran, in how long, or why it stopped.
+    pub message: String,
+    /// The run's report, as `report.json` has it (stages' times, figures, outputs).
+    pub report: Option<serde_json::Value>,
+    /// The stages that gave what they gave in the last preview instead of running again.
+    pub replayed: Vec<String>,
+    /// Where the model's errors are (`stopped`) or where the run stopped (`failed`): each
+    /// `{uri, range, code, message}`.
+    pub problems: Vec<serde_json::Value>,
+    /// The folder its outputs are in.
+    pub output: Option<String>,
+    pub timings: PreviewTimings,
+}
+
+/// Where a preview's time went, in milliseconds from the edit the server received.
+#[derive(Debug, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct PreviewTimings {
+    /// Checking the model and preparing the pipeline.
+    pub prepare_ms: f64,
+    /// Waiting for the preview thread (a preview under way finishing its stage).
+    pub queued_ms: f64,
+    /// Running the frames.
+    pub run_ms: f64,
+    /// From the edit to the notification sent.
+    pub total_ms: f64,
+}
+
+pub enum PreviewNotification {}
+
+impl PreviewNotification {
+    const METHOD_NAME: &'static str = "gudsl/preview";
+}
+
+impl lsp::notification::Notification for PreviewNotification {
+    type Params = Preview;
+    const METHOD: &'static str = Self::METHOD_NAME;
+}
 
 // ---- gudsl/diagrams, gudsl/graph
 

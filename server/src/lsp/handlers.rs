@@ -7,7 +7,7 @@ use gudsl_model::{hir::DefKind, syntax::TextRange, Cancellable, FileId};
 use tower_lsp_server::ls_types as lsp;
 
 use super::{
-    ext::{RUN, RUN_PIPELINE, SHOW_WGSL},
+    ext::{PREVIEW, RUN, RUN_PIPELINE, SHOW_WGSL},
     from_proto,
     host::Snapshot,
     to_proto,
@@ -22,8 +22,8 @@ pub fn diagnostics(snap: &Snapshot, file: FileId) -> Cancellable<Vec<lsp::Diagno
 }
 
 /// Above each diagram of a document that can be run or generated: "▶ Run" for a host activity
-/// diagram without parameters, "Show generated WGSL" for a device diagram, "▶ Run pipeline" for
-/// a component-instance diagram.
+/// diagram without parameters, "Show generated WGSL" for a device diagram, "▶ Run pipeline" and
+/// "◉ Live preview" (on and off) for a component-instance diagram.
 pub fn code_lenses(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec<lsp::CodeLens>>> {
     let Some(file) = snap.file(uri) else { return Ok(None) };
     let index = snap.analysis.line_index(file)?;
@@ -43,6 +43,9 @@ pub fn code_lenses(snap: &Snapshot, uri: &lsp::Uri) -> Cancellable<Option<Vec<ls
             };
             let Some((_, name)) = sema.declaration(def) else { continue };
             lenses.push((name, title, command, def.fqn.clone()));
+            if command == RUN_PIPELINE {
+                lenses.push((name, "◉ Live preview", PREVIEW, def.fqn.clone()));
+            }
         }
         lenses
     })?;

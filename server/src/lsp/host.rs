@@ -85,6 +85,12 @@ impl Host {
     pub fn set_access(&self, access: Access) {
         self.preparations.set_access(access);
     }
+
+    /// Whether the client trusts the workspace (else nothing runs and no file a model names is
+    /// read).
+    pub fn trusted(&self) -> bool {
+        self.preparations.access().trusted()
+    }
 }
 
 /// A read-only view of the analysis and the documents at one moment. Its queries return

@@ -16,6 +16,7 @@ mod handlers;
 mod host;
 mod jobs;
 mod pipeline;
+mod preview;
 mod run;
 mod scenes;
 mod server;

@@ -14,9 +14,11 @@ use std::{
 
 use gudsl_host::{
     named::pipeline_named,
-    pipeline::{self, summary, table, write_report, ErrorKind, PipelineObserver, PreparedPipeline},
+    pipeline::{
+        self, summary, table, write_report, ErrorKind, PipelineError, PipelineObserver, Preparations, PreparedPipeline,
+    },
 };
-use gudsl_model::{Cancellable, FileId};
+use gudsl_model::{hir::pipeline::PipelinePlan, Analysis, Cancellable, FileId};
 use tokio::sync::mpsc;
 
 use super::{
@@ -28,6 +30,29 @@ use super::{
 /// Prepares the pipeline the request names; refused when any document of the workspace has
 /// errors, when no component-instance diagram or several have the name, or when it cannot run.
 pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job, Refusal>> {
+    let ready = ready(snap, request, Preparations::take_for)?;
+    Ok(ready.map(|ready| job(ready.prepared, ready.diagram, ready.file, ready.places, ready.destination, request)))
+}
+
+/// A pipeline prepared to run, and what its run needs of the model.
+pub struct Ready {
+    pub prepared: PreparedPipeline,
+    /// Its diagram, fully qualified.
+    pub diagram: String,
+    pub file: FileId,
+    /// Where its errors are placed.
+    pub places: Places,
+    pub destination: Destination,
+}
+
+/// How a pipeline is prepared: the check's taken ([`Preparations::take_for`]) or one of its own.
+pub type HowPrepared =
+    fn(&Preparations, &Analysis, &PipelinePlan) -> Cancellable<Result<PreparedPipeline, Vec<PipelineError>>>;
+
+/// The pipeline the request names, prepared `how`; refused when any document of the workspace
+/// has errors, when no component-instance diagram or several have the name, or when it cannot
+/// run — with every problem's place.
+pub fn ready(snap: &Snapshot, request: &RunRequest, how: HowPrepared) -> Cancellable<Result<Ready, Refusal>> {
     let name = request.diagram.as_str();
     if let Some(refusal) = run::model_errors(snap, name)? {
         return Ok(Err(refusal));
@@ -44,7 +69,7 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
         let problems = plan.diagnostics.iter().map(|d| (plan.file, d.range, d.code, d.message.clone()));
         return Ok(Err(run::cannot_run(snap, name, problems.collect::<Vec<_>>())?));
     }
-    let prepared = match snap.preparations.take_for(&snap.analysis, &plan)? {
+    let prepared = match how(&snap.preparations, &snap.analysis, &plan)? {
         Ok(prepared) => prepared,
         Err(errors) => {
             let problems =
@@ -54,7 +79,7 @@ pub fn prepare(snap: &Snapshot, request: &RunRequest) -> Cancellable<Result<Job,
     };
     let places = Places::of(snap, [plan.file])?;
     let destination = Destination::of(snap, plan.file, request);
-    Ok(Ok(job(prepared, fqn, plan.file, places, destination, request)))
+    Ok(Ok(Ready { prepared, diagram: fqn, file: plan.file, places, destination }))
 }
 
 /// The run of a prepared pipeline: on the first wgpu adapter with timestamp queries (the CPU

@@ -9,6 +9,7 @@ use std::{
         atomic::{AtomicU64, Ordering},
         Arc, Mutex, OnceLock,
     },
+    time::Instant,
 };
 
 use gudsl_host::access::Access;
@@ -27,7 +28,9 @@ use super::{
     host::{ChangeRefused, Document, Host, Snapshot},
     invalid_params,
     jobs::Runs,
-    lock, request_failed, scenes, to_proto, CLIENT_ANSWER,
+    lock,
+    preview::{Follower, Previews},
+    request_failed, scenes, to_proto, CLIENT_ANSWER,
 };
 
 /// Diagnostics as last sent for a document, with the document version they were for.
@@ -53,6 +56,8 @@ pub struct Backend {
     pub(super) runs: Arc<Runs>,
     /// The scenes last laid out for `gudsl/graph`.
     pub(super) scenes: Arc<scenes::SceneCache>,
+    /// The live preview (`gudsl.preview`).
+    pub(super) previews: Arc<Previews>,
 }
 
 /// How long after publishing an edited document's diagnostics the other documents' are
@@ -76,6 +81,7 @@ impl Backend {
             next_result_id: AtomicU64::new(1),
             runs: Arc::default(),
             scenes: Arc::default(),
+            previews: Arc::default(),
         }
     }
 
@@ -120,6 +126,8 @@ impl Backend {
     /// (`edited`) is computed and published first, before any other document's work; then the
     /// other open documents, then the rest of the workspace.
     fn schedule_diagnostics(&self, edited: Option<FileId>) {
+        let received = Instant::now();
+        let previews = self.previews.is_live().then(|| self.follower());
         let generation = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
         let current = self.generation.clone();
         let host = self.host.clone();
@@ -142,6 +150,10 @@ impl Backend {
             };
             const LAST_PHASE: usize = 2;
             for phase in 0..=LAST_PHASE {
+                if let Some(follower) = previews.clone().filter(|_| phase == 1) {
+                    // The edited document's diagnostics are out: the live preview follows.
+                    tokio::spawn(follower.follow(received));
+                }
                 if phase == 1 && edited.is_some() {
                     tokio::time::sleep(BACKGROUND_DELAY).await;
                 }
@@ -213,6 +225,21 @@ impl Backend {
                 }
             }
         });
+    }
+
+    /// What the live preview follows edits with.
+    fn follower(&self) -> Follower {
+        Follower {
+            previews: self.previews.clone(),
+            host: self.host.clone(),
+            client: self.client.clone(),
+            encoding: self.encoding(),
+        }
+    }
+
+    /// Runs the live preview after an edit received at `received`, if one is live.
+    pub(super) fn follow_preview(&self, received: Instant) {
+        tokio::spawn(self.follower().follow(received));
     }
 
     /// Loads every `.gudsl` file under the workspace roots, reporting progress.
