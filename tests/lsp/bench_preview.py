@@ -14,6 +14,7 @@ usage: python3 bench_preview.py GUDSL_BINARY REPO_DIR [EDITS] [--cpu]
 Prints tables; exits 1 if the keystroke p95 while previews run is 20 ms or more."""
 
 import asyncio
+import re
 import shutil
 import sys
 import tempfile
@@ -64,9 +65,10 @@ def previews(client):
     return [(at, params) for at, method, params in client.notifications if method == "gudsl/preview"]
 
 
-async def preview_of(client, version):
-    """When the preview of `version` arrived, and it."""
-    found = lambda: next(((at, p) for at, p in previews(client) if p["version"] == version), None)
+async def preview_of(client, model, version):
+    """When the preview of `model` at `version` arrived, and it."""
+    mine = lambda p: p["uri"] == model.uri and p["version"] == version
+    found = lambda: next(((at, p) for at, p in previews(client) if mine(p)), None)
     at, preview = await until(found, f"the preview of version {version}")
     if preview["state"] != "ran":
         raise SystemExit(f"the preview did not run: {preview['message']} {preview['problems']}")
@@ -86,11 +88,11 @@ async def edits(client, model, diagram, values, cpu):
     """Each of `values` (old, new) applied in turn, its preview awaited: the latencies, the
     server's timings and the stages' ms per frame."""
     await live(client, diagram, 1, cpu)
-    await until(lambda: previews(client), "the first preview")
+    await until(lambda: any(p["diagram"] == diagram for _, p in previews(client)), "the first preview")
     latencies, timings, stages = [], [], {}
     for old, new in values:
         sent, version = model.replace(old, new)
-        at, preview = await preview_of(client, version)
+        at, preview = await preview_of(client, model, version)
         latencies.append((at - sent) * 1e3)
         timings.append(preview["timings"])
         for stage in preview["report"]["stages"]:
@@ -147,12 +149,10 @@ async def main(gudsl, repo, count, cpu):
 
     print(f"\n{'keystroke -> diagnostics (ms)':<44} {'p50':>8} {'p95':>8} {'n':>4}")
     await live(client, "ObjectScanPipeline", 6, cpu)
-    sigma = [2.0]
-
     def retune(_):
-        old = f"LeftGaussian instantiates GaussianFilter (sigma = {sigma[0]:g})"
-        sigma[0] = round(sigma[0] + 0.5, 1)
-        scan.replace(old, f"LeftGaussian instantiates GaussianFilter (sigma = {sigma[0]:g})")
+        old = re.search(r"LeftGaussian instantiates GaussianFilter \(sigma = [0-9.]+\)", scan.text).group(0)
+        sigma = float(old.split("= ")[1].rstrip(")")) + 0.5
+        scan.replace(old, f"LeftGaussian instantiates GaussianFilter (sigma = {sigma:g})")
 
     busy = await keystrokes(client, scan, 4 * count, retune)
     ran = len(previews(client))

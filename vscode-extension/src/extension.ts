@@ -3,6 +3,7 @@
 //! the runs.
 import * as vscode from 'vscode';
 import { DiagramPanel } from './diagramPanel';
+import { followPreviews } from './preview';
 import { renderDiagram } from './render';
 import { RunArgument, Runs } from './runs';
 import { Server } from './server';
@@ -19,6 +20,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
   const runs = new Runs(server, status, context);
   const panel = new DiagramPanel(server, context);
   const wgsl = new WgslDocuments(server);
+  followPreviews(server, context);
   context.subscriptions.push(
     output,
     status,

@@ -19,6 +19,12 @@ export interface Report {
   printed?: string[];
   calcs?: { node: string; kernel: string; launches: number; device_ms: number; wall_ms: number }[];
   errorLocation?: { uri: string; range: { start: { line: number; character: number } } } | null;
+  /** What the stages measured (an accuracy report's errors). */
+  figures?: { stage: string; name: string; value: number }[];
+  /** A line under the summary (a live preview's timings and replayed stages). */
+  note?: string;
+  /** Bumped by every live preview: its pictures, rewritten under the same names, are reloaded. */
+  revision?: number;
 }
 
 /** How many images the panel shows inline (the rest are listed). */
@@ -70,6 +76,13 @@ function resultsHtml(webview: vscode.Webview, report: Report, files: string[]): 
     const link = report.errorLocation ? ` <a href="#" id="error-location">Go to the place</a>` : '';
     parts.push(`<p class="error">${escapeHtml(report.error)}${link}</p>`);
   }
+  if (report.note) parts.push(`<p class="note">${escapeHtml(report.note)}</p>`);
+  if (report.figures?.length) {
+    const rows = report.figures
+      .map((f) => `<tr><td>${escapeHtml(f.stage)}</td><td>${escapeHtml(f.name)}</td><td>${f.value.toFixed(3)}</td></tr>`)
+      .join('');
+    parts.push(`<h3>Figures</h3><table class="figures"><tr><th>stage</th><th>figure</th><th>value</th></tr>${rows}</table>`);
+  }
   if (report.table) parts.push(`<h3>Stages</h3><pre class="table">${escapeHtml(report.table)}</pre>`);
   if (report.calcs?.length) {
     const rows = report.calcs
@@ -82,7 +95,7 @@ function resultsHtml(webview: vscode.Webview, report: Report, files: string[]): 
   if (pictures.length) {
     const shown = pictures
       .slice(0, INLINE_IMAGES)
-      .map((f) => `<figure><img src="${webview.asWebviewUri(vscode.Uri.file(f))}" alt="${escapeHtml(path.basename(f))}"><figcaption>${escapeHtml(path.basename(f))}</figcaption></figure>`)
+      .map((f) => `<figure><img src="${webview.asWebviewUri(vscode.Uri.file(f)).with({ query: `v=${report.revision ?? 0}` })}" alt="${escapeHtml(path.basename(f))}"><figcaption>${escapeHtml(path.basename(f))}</figcaption></figure>`)
       .join('');
     parts.push(`<h3>Pictures</h3><div class="pictures">${shown}</div>`);
   }
@@ -95,6 +108,7 @@ function resultsHtml(webview: vscode.Webview, report: Report, files: string[]): 
 <style nonce="${n}">
 body { font-family: var(--vscode-font-family); color: var(--vscode-foreground); padding: 0 12px; }
 .error { color: var(--vscode-errorForeground); }
+.note { opacity: 0.8; }
 pre { font-family: var(--vscode-editor-font-family); background: var(--vscode-textCodeBlock-background); padding: 6px; overflow-x: auto; }
 table { border-collapse: collapse; } td, th { padding: 2px 8px; text-align: right; } td:first-child, td:nth-child(2), th { text-align: left; }
 .pictures { display: flex; flex-wrap: wrap; gap: 12px; } figure { margin: 0; } img { max-width: 420px; max-height: 320px; background: white; }
