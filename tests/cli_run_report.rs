@@ -509,3 +509,46 @@ fn too_few_ground_truth_images_are_an_error_before_the_run() {
         assert_eq!((checked, code), (Some(0), Some(0)), "{images} images: {report}\n{stdout}\n{stderr}");
     }
 }
+
+/// Issue 52: `report.json` says what each binding carried, and `gudsl render --with-report`
+/// draws it on the pipeline — each instance's time per frame and share, the slowest marked,
+/// each binding labelled with what flowed through it; a report of another diagram, or no
+/// report, is refused.
+#[test]
+fn a_run_s_report_is_drawn_on_its_diagram() {
+    let out = temp_dir("pipeline-drawn-report");
+    let (code, stdout, stderr) = run(&[&repo(SAMPLE), "--cpu", "--frames", "1", "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let report_path = out.join("report.json");
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    let camera = report["bindings"].as_array().unwrap().iter().find(|b| b["provider"] == "Camera").unwrap();
+    assert_eq!(camera["provider_port"], "Out.frame");
+    assert_eq!((camera["processor"].as_str(), camera["processor_port"].as_str()), (Some("Black"), Some("In.frame")));
+    assert_eq!((camera["items"].as_u64(), camera["carries"].as_str()), (Some(1), Some("4×2×200×200 f32 raw")));
+
+    let pictures = out.join("pictures");
+    let render = |report: &std::path::Path| {
+        let args = [repo(SAMPLE), "--with-report".into(), report.display().to_string(), "-o".into()];
+        gudsl().arg("render").args(args).arg(&pictures).output().unwrap()
+    };
+    let drawn = render(&report_path);
+    assert!(drawn.status.success(), "{}", String::from_utf8_lossy(&drawn.stderr));
+    let svg = std::fs::read_to_string(pictures.join("MotionCompensationPipeline.svg")).unwrap();
+    for label in ["4×2×200×200 f32 raw", "200×200 f32 depth", "ms/frame (GPU", "«slowest»"] {
+        assert!(svg.contains(label), "`{label}` is not drawn");
+    }
+    let drawn_lines = svg.split("<text").filter(|text| text.split("</text>").next().unwrap().contains("ms/frame (GPU"));
+    assert_eq!(drawn_lines.count(), 8, "one line drawn for each instance");
+
+    // A report of another pipeline, and a file that is no report.
+    let other = out.join("other.json");
+    std::fs::write(&other, serde_json::to_string(&serde_json::json!({"diagram": "Elsewhere", "stages": []})).unwrap())
+        .unwrap();
+    let refused = render(&other);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("the report is of `Elsewhere`"));
+    std::fs::write(&other, "{\"frames\": 1}").unwrap();
+    let refused = render(&other);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("is not a pipeline run's report.json"));
+}

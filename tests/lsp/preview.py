@@ -18,7 +18,7 @@ from pathlib import Path
 
 from lsprotocol import types as t
 
-from checks import fail, start_client, wait_for
+from checks import fail, field, start_client, wait_for
 
 DIAGRAM = "MotionCompensationPipeline"
 SAMPLE = "ch4_motion_compensation.gudsl"
@@ -33,6 +33,10 @@ def plain(value):
     if isinstance(value, dict):
         return {k: plain(v) for k, v in value.items()}
     return value
+
+
+def drawn_stereotypes(view):
+    return [n["stereotype"] for n in view["nodes"] if n["stereotype"]]
 
 
 def figure(notification, name):
@@ -88,6 +92,18 @@ async def main(gudsl, repo, gpu):
     if [(lens.command.title, list(lens.command.arguments)) for lens in live_lenses] != [("◉ Live preview", [{"diagram": DIAGRAM}])]:
         fail(f"one ◉ Live preview lens naming the diagram expected: {lenses}")
 
+    async def graph():
+        params = {"textDocument": {"uri": document.uri}, "diagram": DIAGRAM}
+        return plain(await client.protocol.send_request_async("gudsl/graph", params))
+
+    def node_lines(view, node):
+        found = next(n for n in view["nodes"] if n["id"] == node)
+        return [line for c in found["compartments"] for line in c["lines"]]
+
+    drawn = await graph()
+    if any("ms/frame" in line for n in drawn["nodes"] for c in n["compartments"] for line in c["lines"]):
+        fail("times drawn on the diagram before any run")
+
     def after(sequence):
         """The first preview with a higher sequence than `sequence`."""
         newer = [p for p in previews if p["sequence"] > sequence]
@@ -109,6 +125,13 @@ async def main(gudsl, repo, gpu):
     if not any(p.endswith(".png") and "/preview/" in p for p in first["report"]["outputs"]):
         fail(f"the sinks write into gudsl-out/<diagram>/preview: {first['report']['outputs']}")
     print(f"first preview: {first['timings']}")
+    # The diagram the client fetched is drawn with the preview's times and flows.
+    await wait_for(lambda: any(DIAGRAM in (field(c, "diagrams") or []) for c in seen.graph_changed), "gudsl/graphChanged after the preview")
+    drawn = await graph()
+    if not any("ms/frame" in line for line in node_lines(drawn, "Motion")) or drawn_stereotypes(drawn) != ["slowest"]:
+        fail(f"the preview's times are not drawn: {node_lines(drawn, 'Motion')} {drawn_stereotypes(drawn)}")
+    if "4×2×200×200 f32 raw" not in [e["label"] for e in drawn["edges"]]:
+        fail(f"the bindings are not labelled with what they carried: {[e['label'] for e in drawn['edges']]}")
 
     # θ: motion compensation and what is downstream of it run; the rest replays.
     version = document.replace("threshold = 1,", "threshold = 40,")
@@ -121,6 +144,8 @@ async def main(gudsl, repo, gpu):
         fail("the uncompensated error changed with θ")
     if figure(tuned, "Compensated mean_cm") == figure(first, "Compensated mean_cm"):
         fail("the compensated error did not change with θ")
+    if node_lines(await graph(), "Camera")[-1] != "replayed (unchanged)":
+        fail(f"the replayed camera is not drawn so: {node_lines(await graph(), 'Camera')}")
     print(f"θ 1 → 40: compensated {figure(first, 'Compensated mean_cm'):.3f} → {figure(tuned, 'Compensated mean_cm'):.3f} cm")
 
     # A comment changes nothing a stage runs with: no preview.

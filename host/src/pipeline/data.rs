@@ -69,6 +69,40 @@ pub enum Data {
     Image(Picture),
 }
 
+impl Data {
+    /// What it is, with its size and element type, as a binding's label says it:
+    /// `4×2×200×200 f32 raw`, `200×200 f32 depth`, `1 523 points`.
+    pub fn describe(&self) -> String {
+        let planes = |t: &Tensor, what: &str| {
+            let s = t.shape();
+            match s.planes {
+                1 => format!("{}×{} {what}", s.width, s.height),
+                n => format!("{n}×{}×{} {what}", s.width, s.height),
+            }
+        };
+        match self {
+            Data::Raw(frame) => {
+                let s = frame.raw.shape();
+                format!("4×2×{}×{} f32 raw", s.width, s.height)
+            }
+            Data::Depth(depth) => planes(&depth.distance, "f32 depth"),
+            Data::Mask(mask) => planes(mask, "mask"),
+            Data::Flow(flow) => planes(flow, "f32 flow"),
+            Data::Cloud(PointCloud::Organized { points, .. }) => {
+                let s = points.shape();
+                format!("{}×{} points", s.width, s.height)
+            }
+            Data::Cloud(PointCloud::Unorganized { points, .. }) => format!("{} points", points.len()),
+            Data::Pose(_) => "pose".to_string(),
+            Data::IntegrationTime(_) => "integration time".to_string(),
+            Data::Image(picture) => {
+                let s = picture.texels.shape();
+                format!("{}×{} RGBA8", s.width, s.height)
+            }
+        }
+    }
+}
+
 /// An item delivered to a stage: its data, and the instance that produced it (a sink fed by
 /// several names its outputs after their producers).
 #[derive(Debug, Clone)]

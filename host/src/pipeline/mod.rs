@@ -25,6 +25,7 @@ mod preview;
 mod replay;
 mod report;
 mod sizes;
+mod on_graph;
 mod study;
 mod walls;
 
@@ -49,7 +50,8 @@ pub use preparations::{model_dir, Preparations};
 pub use prepare::prepare;
 pub use preview::{Preview, PreviewReport};
 pub use replay::StageKey;
-pub use report::{report_json, summary, table, write_report, Figure, PipelineReport, StageTime};
+pub use report::{report_json, summary, table, write_report, Figure, Flow, PipelineReport, StageTime};
+pub use on_graph::annotate;
 pub use study::{rows_beneath, study_table, write_study, StudyRow};
 pub use walls::calibration_walls;
 
@@ -97,6 +99,8 @@ pub struct PreparedPipeline {
     keys: Vec<replay::StageKey>,
     /// In a preview: the stages that replay a kept run, and what the others give, recorded.
     replay: Option<replay::Replay>,
+    /// What each binding carried in this run.
+    flows: Vec<Flow>,
 }
 
 impl PreparedPipeline {
@@ -138,7 +142,8 @@ impl PreparedPipeline {
             .stages
             .iter()
             .zip(&self.modes)
-            .map(|(s, mode)| StageTime {
+            .enumerate()
+            .map(|(index, (s, mode))| StageTime {
                 instance: s.instance.clone(),
                 class: s.class.clone(),
                 host: Duration::ZERO,
@@ -146,8 +151,10 @@ impl PreparedPipeline {
                 items: 0,
                 apart: *mode != Mode::InOrder,
                 failed: None,
+                replayed: self.replay.as_ref().is_some_and(|replay| replay.replays(index)),
             })
             .collect();
+        self.flows = self.plan.bindings.iter().map(|b| self.flow(b)).collect();
         let mut device = Executor::new(gpu);
         let loading = Instant::now();
         let outcome = self.load(&mut stages);
@@ -179,7 +186,21 @@ impl PreparedPipeline {
             stages,
             outputs: output.written().to_vec(),
             figures,
+            flows: std::mem::take(&mut self.flows),
             outcome,
+        }
+    }
+
+    /// Nothing yet carried through `binding`.
+    fn flow(&self, binding: &gudsl_model::hir::pipeline::PlanBinding) -> Flow {
+        let instance = |stage: usize| self.plan.stages[stage].instance.clone();
+        Flow {
+            provider: instance(binding.provider.stage),
+            provider_port: format!("{}.{}", binding.provider.port_instance, binding.provider.connector),
+            processor: instance(binding.processor.stage),
+            processor_port: format!("{}.{}", binding.processor.port_instance, binding.processor.connector),
+            items: 0,
+            carries: None,
         }
     }
 
@@ -241,7 +262,8 @@ impl PreparedPipeline {
                 if time.failed.is_some() {
                     continue;
                 }
-                match self.modes[index] {
+                let mode = self.modes[index];
+                match mode {
                     // Joined before this frame's `process` above.
                     Mode::WritesApart => {
                         let component = self.components[index].take().expect("joined");
@@ -481,7 +503,7 @@ impl PreparedPipeline {
     /// buffered port — there with its images copied (the producer writes its buffers again next
     /// frame), a full queue dropping its oldest item.
     fn deliver(
-        &self,
+        &mut self,
         device: &mut Executor,
         index: usize,
         produced: Outputs,
@@ -491,10 +513,13 @@ impl PreparedPipeline {
     ) {
         let producer = &self.plan.stages[index].instance;
         for (port, data) in produced {
-            for (binding, queue) in self.plan.bindings.iter().zip(queues.iter_mut()) {
+            let described = data.describe();
+            for ((binding, queue), flow) in self.plan.bindings.iter().zip(queues.iter_mut()).zip(&mut self.flows) {
                 if binding.provider.stage != index || binding.provider.port != port {
                     continue;
                 }
+                flow.items += 1;
+                flow.carries = Some(described.clone());
                 let data = if binding.is_buffered { data::detached(device, &data) } else { data.clone() };
                 let at = frame + usize::from(binding.is_buffered || after_reads);
                 if binding.is_buffered && queue.len() >= binding.buffer_size {
@@ -508,7 +533,7 @@ impl PreparedPipeline {
     /// In a preview, whether stage `index` replays the kept run: then what it gave in `frame`
     /// (during the frame, or `later`, after its reads) is delivered as it was then.
     fn replayed(
-        &self,
+        &mut self,
         device: &mut Executor,
         index: usize,
         queues: &mut [VecDeque<Item>],
@@ -516,8 +541,8 @@ impl PreparedPipeline {
         later: bool,
     ) -> bool {
         let Some(gave) = self.replay.as_ref().and_then(|replay| replay.gave(index, frame)) else { return false };
-        let items = if later { &gave.later } else { &gave.given };
-        self.deliver(device, index, items.clone(), queues, frame, later);
+        let items = if later { gave.later.clone() } else { gave.given.clone() };
+        self.deliver(device, index, items, queues, frame, later);
         true
     }
 

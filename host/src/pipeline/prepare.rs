@@ -87,6 +87,7 @@ pub fn prepare(
             warnings,
             keys: replay::keys(plan, behaviors, files),
             replay: None,
+            flows: Vec::new(),
         })
     } else {
         errors.extend(warnings);

@@ -34,6 +34,8 @@ pub struct PipelineReport {
     pub outputs: Vec<PathBuf>,
     /// What the stages measured over the run (an accuracy report's errors).
     pub figures: Vec<Figure>,
+    /// What each binding carried, in the plan's order.
+    pub flows: Vec<Flow>,
     pub outcome: Result<(), PipelineError>,
 }
 
@@ -44,6 +46,19 @@ pub struct Figure {
     /// What it is, with its unit (`Compensated mean_cm`).
     pub name: String,
     pub value: f64,
+}
+
+/// What one binding carried over a run: how many items, and what the last one was.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flow {
+    pub provider: String,
+    /// The port instance and connector, as the binding names them (`Out.frame`).
+    pub provider_port: String,
+    pub processor: String,
+    pub processor_port: String,
+    pub items: usize,
+    /// `200×200 f32 depth` (`Data::describe`); `None` while nothing went through.
+    pub carries: Option<String>,
 }
 
 /// The time one stage took over the run.
@@ -62,6 +77,8 @@ pub struct StageTime {
     pub apart: bool,
     /// Why a sink stopped (it then ran no more, and the run went on without it).
     pub failed: Option<PipelineError>,
+    /// In a preview: it gave what it gave in the last preview instead of running.
+    pub replayed: bool,
 }
 
 fn ms(duration: Duration) -> f64 {
@@ -139,11 +156,17 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
             "host_ms_total": ms(s.host), "device_ms_total": ms(s.device),
             "host_ms_per_frame": per_frame(s.host), "device_ms_per_frame": per_frame(s.device),
             "async": s.apart,
+            "replayed": s.replayed,
             "state": if s.failed.is_some() { "failed" } else { "ok" },
             "error": s.failed.as_ref().map(|e| e.message.clone()),
         })).collect::<Vec<_>>(),
         "figures": report.figures.iter().map(|f| serde_json::json!({
             "stage": f.stage, "name": f.name, "value": f.value,
+        })).collect::<Vec<_>>(),
+        "bindings": report.flows.iter().map(|b| serde_json::json!({
+            "provider": b.provider, "provider_port": b.provider_port,
+            "processor": b.processor, "processor_port": b.processor_port,
+            "items": b.items, "carries": b.carries,
         })).collect::<Vec<_>>(),
         "outputs": paths(|_| true),
         "plots": paths(|p| p.extension().is_some_and(|e| e == "svg")),

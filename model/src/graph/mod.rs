@@ -67,7 +67,7 @@ pub struct Compartment {
 
 impl Compartment {
     /// A compartment of lines that are no elements of their own.
-    fn plain(title: Option<String>, lines: Vec<String>) -> Compartment {
+    pub fn plain(title: Option<String>, lines: Vec<String>) -> Compartment {
         let ids = vec![String::new(); lines.len()];
         let statics = vec![false; lines.len()];
         Compartment { title, lines, ids, statics }

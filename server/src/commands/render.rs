@@ -1,12 +1,13 @@
-//! `gudsl render PATH… [--diagram NAME] [--format svg|png|layout-json] [-o DIR]`: draws the
-//! diagrams of the given files (resolved together as one workspace) into one file per diagram,
-//! named after the diagram's fully qualified name, with the nodes pinned in each file's layout
-//! sidecar (`<file>.gudsl.layout`) where they were put. Output is byte-identical for identical
-//! input.
+//! `gudsl render PATH… [--diagram NAME] [--format svg|png|layout-json] [--with-report
+//! report.json] [-o DIR]`: draws the diagrams of the given files (resolved together as one
+//! workspace) into one file per diagram, named after the diagram's fully qualified name, with
+//! the nodes pinned in each file's layout sidecar (`<file>.gudsl.layout`) where they were put;
+//! the pipeline a run's `report.json` is of with its times and flows on it
+//! (`gudsl_host::pipeline::annotate`). Output is byte-identical for identical input.
 //! Exit code: 0 drawn, 1 nothing to draw or a file has syntax errors (what parsed is still
-//! drawn), 2 a path could not be read or an output not written.
+//! drawn), 2 a path or the report could not be read or an output not written.
 
-use gudsl_host::output::OutputDir;
+use gudsl_host::{output::OutputDir, pipeline::annotate};
 use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
@@ -26,6 +27,10 @@ pub struct RenderArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Svg)]
     format: Format,
+    /// A pipeline run's `report.json`: its diagram is drawn with each instance's time per frame
+    /// and share, the slowest marked, and what each binding carried.
+    #[arg(long = "with-report", value_name = "REPORT")]
+    with_report: Option<PathBuf>,
     /// Output folder (created if missing).
     #[arg(short = 'o', long = "output", default_value = ".")]
     output: PathBuf,
@@ -52,6 +57,14 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let report = match args.with_report.as_deref().map(read_report).transpose() {
+        Ok(report) => report,
+        Err(error) => {
+            eprintln!("gudsl render: {error}");
+            return ExitCode::from(2);
+        }
+    };
+    let mut reported = false;
     let (host, files) = workspace::analysis_host(&loaded.documents);
     let analysis = host.analysis();
     // Diagrams of a file with syntax errors are drawn from what parsed, and said so.
@@ -80,7 +93,21 @@ pub fn run(args: &RenderArgs) -> ExitCode {
                 continue;
             }
             let hints = Hints { pins: layout.pins(&graph.id), previous: None };
-            let scene = gudsl_render::scene::build(graph, hints);
+            let annotated = report.as_ref().filter(|r| r["diagram"] == graph.id.as_str()).map(|r| {
+                let mut annotated = graph.clone();
+                annotate(&mut annotated, r).map(|()| annotated)
+            });
+            let scene = match annotated.transpose() {
+                Ok(Some(annotated)) => {
+                    reported = true;
+                    gudsl_render::scene::build(&annotated, hints)
+                }
+                Ok(None) => gudsl_render::scene::build(graph, hints),
+                Err(error) => {
+                    eprintln!("gudsl render: {}: {error}", graph.id);
+                    return ExitCode::from(2);
+                }
+            };
             let (extension, bytes) = match args.format {
                 Format::Svg => ("svg", gudsl_render::svg::write(&scene).into_bytes()),
                 Format::LayoutJson => ("json", gudsl_render::json::write(&scene).into_bytes()),
@@ -110,12 +137,36 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     } else {
         eprintln!("wrote {written} diagram(s) to {}", args.output.display());
     }
+    if let (Some(report), false) = (&report, reported) {
+        let diagram = report["diagram"].as_str().unwrap_or("?");
+        eprintln!("gudsl render: the report is of `{diagram}`, which none of the diagrams drawn is");
+        return ExitCode::from(2);
+    }
     if !loaded.errors.is_empty() {
         ExitCode::from(2)
     } else if written == 0 || broken {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+/// The largest `report.json` read (a run's report is kilobytes).
+const REPORT_LIMIT: u64 = 64 << 20;
+
+/// A run's `report.json`, the file the user named.
+fn read_report(path: &std::path::Path) -> Result<serde_json::Value, String> {
+    let shown = path.display();
+    let size = std::fs::metadata(path).map_err(|e| format!("cannot read the report {shown}: {e}"))?.len();
+    if size > REPORT_LIMIT {
+        return Err(format!("{shown} is {size} bytes: no run's report.json is that large"));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read the report {shown}: {e}"))?;
+    let report: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{shown} is not a report.json: {e}"))?;
+    match report["diagram"].is_string() && report["stages"].is_array() {
+        true => Ok(report),
+        false => Err(format!("{shown} is not a pipeline run's report.json (no `diagram` and `stages`)")),
     }
 }
 

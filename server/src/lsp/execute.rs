@@ -11,7 +11,7 @@ use tower_lsp_server::{
 };
 
 use super::{
-    ext::{COMMANDS, PREVIEW, RUN, RUN_PIPELINE, SHOW_WGSL},
+    ext::{GraphChangedNotification, COMMANDS, PREVIEW, RUN, RUN_PIPELINE, SHOW_WGSL},
     host::Snapshot,
     invalid_params,
     jobs::{spawn, Event, Job, Refusal, RunRequest, WorkDone},
@@ -144,6 +144,15 @@ impl Backend {
         let output = finished.output.display();
         answer["output"] = serde_json::json!(output.to_string());
         answer["errorLocation"] = serde_json::to_value(&location).unwrap_or_default();
+        if answer["bindings"].is_array() {
+            // A pipeline's diagram is drawn with this run's times and flows from now on.
+            let snap = lock(&self.host).snapshot(self.encoding());
+            let changed = self.scenes.ran(&answer, &snap);
+            drop(snap);
+            for changed in changed {
+                self.client.send_notification::<GraphChangedNotification>(changed).await;
+            }
+        }
         let (kind, message) = match &finished.failure {
             None => (lsp::MessageType::INFO, format!("gudsl: {}; output in {output}", finished.summary)),
             Some(failure) if failure.cancelled => (lsp::MessageType::INFO, format!("gudsl: {}", finished.summary)),

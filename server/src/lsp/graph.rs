@@ -62,6 +62,7 @@ pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Canc
         Err(error) => (Default::default(), Some(error)),
     };
     let pins = layout.pins(&graph.id);
+    let graph = &scenes.as_drawn(graph);
     let scene = scenes.scene(file, graph, pins, params.relayout);
     snap.analysis.check_cancelled()?;
     let mut view = view(snap, index, graph, &scene, pins, version(snap, uri), uri);

@@ -21,11 +21,12 @@ use tower_lsp_server::{ls_types as lsp, Client};
 
 use super::{
     capabilities::Encoding,
-    ext::{self, PreviewNotification, PreviewState, PreviewTimings},
+    ext::{self, GraphChangedNotification, PreviewNotification, PreviewState, PreviewTimings},
     host::Host,
     jobs::{Refusal, RunRequest},
     lock,
     pipeline::{ready, Ready},
+    scenes::SceneCache,
 };
 
 /// The frames a preview runs when the command names none: the first.
@@ -118,6 +119,15 @@ pub struct Follower {
     pub host: Arc<Mutex<Host>>,
     pub client: Client,
     pub encoding: Encoding,
+    pub scenes: Arc<SceneCache>,
+}
+
+/// What the preview thread needs to draw a preview's report on its diagram.
+#[derive(Clone)]
+struct Drawn {
+    scenes: Arc<SceneCache>,
+    host: Arc<Mutex<Host>>,
+    encoding: Encoding,
 }
 
 impl Follower {
@@ -125,7 +135,7 @@ impl Follower {
     /// handed to the preview thread when what it runs with changed, or stopped with the
     /// model's errors.
     pub async fn follow(self, received: Instant) {
-        let Follower { previews, host, client, encoding } = self;
+        let Follower { previews, host, client, encoding, scenes } = self;
         let Some(live) = lock(&previews.state).live.clone() else { return };
         let ticket = previews.tickets.fetch_add(1, Ordering::SeqCst) + 1;
         let snapshot = lock(&host).snapshot(encoding);
@@ -160,10 +170,11 @@ impl Follower {
         state.last = Some(ready.prepared.keys().to_vec());
         state.sequence += 1;
         let work = Box::new(Work { ready, live, cancel, sequence: state.sequence, uri, version, received, prepare_ms });
-        let worker = state.worker.get_or_insert_with(|| spawn_worker(client.clone()));
+        let drawn = Drawn { scenes, host, encoding };
+        let worker = state.worker.get_or_insert_with(|| spawn_worker(client.clone(), drawn.clone()));
         if let Err(mpsc::SendError(work)) = worker.send(work) {
             // The thread ended (a panic): a new one takes the preview.
-            state.worker = Some(spawn_worker(client));
+            state.worker = Some(spawn_worker(client, drawn));
             let _ = state.worker.as_ref().map(|worker| worker.send(work));
         }
     }
@@ -196,7 +207,7 @@ fn stop(state: &mut State, client: &Client, live: &Live, refusal: Refusal, prepa
 
 /// The preview thread: the newest preview handed to it, run on the device it keeps (made at the
 /// first preview, and again when the CPU reference is asked for or no longer).
-fn spawn_worker(client: Client) -> mpsc::Sender<Box<Work>> {
+fn spawn_worker(client: Client, drawn: Drawn) -> mpsc::Sender<Box<Work>> {
     let (sender, receiver) = mpsc::channel::<Box<Work>>();
     let runtime = tokio::runtime::Handle::current();
     std::thread::spawn(move || {
@@ -213,8 +224,17 @@ fn spawn_worker(client: Client) -> mpsc::Sender<Box<Work>> {
             }
             let Some((_, live)) = preview.as_mut() else { continue };
             if let Some(notification) = run(live, work) {
+                // Its diagram drawn with the preview's times and flows, where a client has it.
+                let snap = lock(&drawn.host).snapshot(drawn.encoding);
+                let changed = notification.report.as_ref().map(|r| drawn.scenes.ran(r, &snap)).unwrap_or_default();
+                drop(snap);
                 let client = client.clone();
-                runtime.spawn(async move { client.send_notification::<PreviewNotification>(notification).await });
+                runtime.spawn(async move {
+                    client.send_notification::<PreviewNotification>(notification).await;
+                    for changed in changed {
+                        client.send_notification::<GraphChangedNotification>(changed).await;
+                    }
+                });
             }
         }
     });

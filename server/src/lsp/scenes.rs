@@ -2,7 +2,8 @@
 //! changed, a diagram is not laid out again; changed, it is laid out around the scene drawn
 //! before (its nodes stay where they were) and the nodes pinned in the document's layout
 //! sidecar. The same memory says which diagrams a client has fetched that an edit changed
-//! (`gudsl/graphChanged`), in any document.
+//! (`gudsl/graphChanged`), in any document. A pipeline is drawn with the times and flows of
+//! its last run or live preview on it (`gudsl_host::pipeline::annotate`).
 
 use std::{
     collections::HashMap,
@@ -19,9 +20,9 @@ use tower_lsp_server::ls_types as lsp;
 use super::{ext::GraphChanged, host::Snapshot};
 use crate::layout_file;
 
-/// The scenes last laid out.
+/// The scenes last laid out, and the last report of each pipeline run.
 #[derive(Default)]
-pub struct SceneCache(Mutex<Scenes>);
+pub struct SceneCache(Mutex<Scenes>, Mutex<HashMap<String, serde_json::Value>>);
 
 /// By document and diagram id: what was drawn.
 type Scenes = HashMap<(FileId, String), Drawn>;
@@ -69,7 +70,7 @@ impl SceneCache {
         let mut changed: Vec<GraphChanged> = Vec::new();
         for (uri, file, id, was) in drawn {
             let graphs = snap.analysis.graphs(file)?;
-            if graphs.iter().find(|g| g.id == id).is_some_and(|g| without_ranges(g) == was) {
+            if graphs.iter().find(|g| g.id == id).is_some_and(|g| without_ranges(&self.as_drawn(g)) == was) {
                 continue;
             }
             match changed.last_mut() {
@@ -81,6 +82,33 @@ impl SceneCache {
             }
         }
         Ok(changed)
+    }
+
+    /// Keeps `report` (a pipeline run's `report.json`) to draw on its diagram from now on;
+    /// `gudsl/graphChanged` for each document where a client fetched that diagram.
+    pub fn ran(&self, report: &serde_json::Value, snap: &Snapshot) -> Vec<GraphChanged> {
+        let Some(diagram) = report["diagram"].as_str() else { return Vec::new() };
+        let mut reports = self.1.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        reports.insert(diagram.to_string(), report.clone());
+        drop(reports);
+        let files: Vec<FileId> = self.lock().keys().filter(|(_, id)| id == diagram).map(|(file, _)| *file).collect();
+        let changed = files.into_iter().filter_map(|file| snap.uri_of(file)).map(|uri| {
+            let version = snap.document(&uri).and_then(|d| d.version);
+            GraphChanged { uri, version, diagrams: vec![diagram.to_string()] }
+        });
+        changed.collect()
+    }
+
+    /// `graph` as it is drawn: a pipeline with its last run's report on it (what
+    /// [`SceneCache::scene`] is given).
+    pub fn as_drawn<'g>(&self, graph: &'g Graph) -> std::borrow::Cow<'g, Graph> {
+        let reports = self.1.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let Some(report) = reports.get(&graph.id) else { return std::borrow::Cow::Borrowed(graph) };
+        let mut annotated = graph.clone();
+        match gudsl_host::pipeline::annotate(&mut annotated, report) {
+            Ok(()) => std::borrow::Cow::Owned(annotated),
+            Err(_) => std::borrow::Cow::Borrowed(graph),
+        }
     }
 
     fn lock(&self) -> std::sync::MutexGuard<'_, Scenes> {

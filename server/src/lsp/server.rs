@@ -85,7 +85,7 @@ impl Backend {
         }
     }
 
-    fn encoding(&self) -> Encoding {
+    pub(super) fn encoding(&self) -> Encoding {
         *self.encoding.get().unwrap_or(&Encoding(ColumnUnit::Utf16))
     }
 
@@ -234,6 +234,7 @@ impl Backend {
             host: self.host.clone(),
             client: self.client.clone(),
             encoding: self.encoding(),
+            scenes: self.scenes.clone(),
         }
     }
 

@@ -177,7 +177,10 @@ pub struct PlanBinding {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct PlanEnd {
     pub stage: usize,
+    /// The component's port (`RawOut`).
     pub port: String,
+    /// The instance's port instance of it (`Out`), as the binding names it.
+    pub port_instance: String,
     pub connector: String,
 }
 
@@ -321,7 +324,8 @@ fn bindings(
                     let stage = *index.get(end.instance.as_str())?;
                     let port = stages[stage].ports.iter().find(|p| p.name == end.port)?;
                     let role = port.connectors.iter().find(|c| c.name == end.connector)?.role;
-                    Some((PlanEnd { stage, port: end.port.clone(), connector: end.connector.clone() }, role, end))
+                    let port_instance = end.port_instance.clone();
+                    Some((PlanEnd { stage, port: end.port.clone(), port_instance, connector: end.connector.clone() }, role, end))
                 })
                 .collect();
             let [(a, a_role, a_end), (b, b_role, b_end)] = &ends[..] else { continue };
