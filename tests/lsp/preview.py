@@ -18,7 +18,7 @@ from pathlib import Path
 
 from lsprotocol import types as t
 
-from checks import fail, field, start_client, wait_for
+from checks import fail, field, refused, start_client, wait_for
 
 DIAGRAM = "MotionCompensationPipeline"
 SAMPLE = "ch4_motion_compensation.gudsl"
@@ -62,6 +62,25 @@ class Document:
         if old not in self.text:
             fail(f"{old!r} is not in the document")
         self.text = self.text.replace(old, new, 1)
+        self.version += 1
+        self.client.text_document_did_change(
+            t.DidChangeTextDocumentParams(
+                text_document=t.VersionedTextDocumentIdentifier(uri=self.uri, version=self.version),
+                content_changes=[t.TextDocumentContentChangeWholeDocument(text=self.text)],
+            )
+        )
+        return self.version
+
+    def apply(self, edit):
+        """A workspace edit of this document applied as the editor applies it (one change)."""
+        lines = self.text.split("\n")
+        offset = lambda p: sum(len(line) + 1 for line in lines[: p["line"]]) + p["character"]
+        # (pygls gives the URI keys as renamed fields: the edit is of this one document)
+        (edits,) = edit["changes"].values()
+        changes = sorted(edits, key=lambda e: offset(e["range"]["start"]), reverse=True)
+        for change in changes:
+            start, end = offset(change["range"]["start"]), offset(change["range"]["end"])
+            self.text = self.text[:start] + change["newText"] + self.text[end:]
         self.version += 1
         self.client.text_document_did_change(
             t.DidChangeTextDocumentParams(
@@ -147,6 +166,32 @@ async def main(gudsl, repo, gpu):
     if node_lines(await graph(), "Camera")[-1] != "replayed (unchanged)":
         fail(f"the replayed camera is not drawn so: {node_lines(await graph(), 'Camera')}")
     print(f"θ 1 → 40: compensated {figure(first, 'Compensated mean_cm'):.3f} → {figure(tuned, 'Compensated mean_cm'):.3f} cm")
+
+    # A control: the panel's parameters of Motion, and θ set through gudsl/setParameter.
+    request = lambda method, params: client.protocol.send_request_async(method, params)
+    motion = {"textDocument": {"uri": document.uri}, "diagram": DIAGRAM, "instance": "Motion"}
+    shown = plain(await request("gudsl/parameters", motion))
+    controls = {p["name"]: p for p in shown["parameters"]}
+    theta, window = controls["threshold"], controls["windowSize"]
+    if (theta["type"], theta["value"], theta["min"], theta["max"], theta["step"]) != ("float", "40", 0, 100, None):
+        fail(f"θ's control: {theta}")
+    if (window["type"], window["value"], window["min"], window["max"], window["step"]) != ("int", "5", 3, 15, 2):
+        fail(f"MWS's control (odd, 3 to 15): {window}")
+    if shown["version"] != document.version or shown["component"] != "ToF.MotionCompensation":
+        fail(f"the parameters name their version and component: {shown}")
+    edit = plain(await request("gudsl/setParameter", {**motion, "textDocument": {"uri": document.uri, "version": document.version}, "parameter": "threshold", "value": "3"}))
+    version = document.apply(edit)
+    if "threshold = 3," not in document.text:
+        fail(f"setParameter wrote no `threshold = 3`: {edit}")
+    slid = await next_preview(tuned["sequence"], "the preview of θ = 3 set by a control")
+    if slid["version"] != version or figure(slid, "Compensated mean_cm") in (figure(tuned, "Compensated mean_cm"), figure(first, "Compensated mean_cm")):
+        fail(f"the control's θ was not previewed: {slid}")
+    stale = {**motion, "textDocument": {"uri": document.uri, "version": version - 1}, "parameter": "threshold", "value": "30"}
+    await refused(request("gudsl/setParameter", stale), "a value for an old version")
+    unknown = {**motion, "textDocument": {"uri": document.uri, "version": version}, "parameter": "thresold", "value": "30"}
+    await refused(request("gudsl/setParameter", unknown), "an unknown parameter")
+    document.replace("threshold = 3,", "threshold = 40,")
+    tuned = await next_preview(slid["sequence"], "the preview of θ = 40 again")
 
     # A comment changes nothing a stage runs with: no preview.
     document.replace("ComponentInstanceDiagram", "// tuned\nComponentInstanceDiagram")

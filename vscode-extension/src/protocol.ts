@@ -1,7 +1,7 @@
 //! gudsl's requests beyond LSP (`docs/protocol.md`), typed for the client; the server's side is
 //! `server/src/lsp/ext.rs` (its commands: `gudsl.run`, `gudsl.runPipeline`, `gudsl.showWgsl`,
 //! `gudsl.preview`).
-//! lsp/ext.rs hash: b39cfb8e8a19c04b (a test checks this file is reviewed whenever ext.rs changes)
+//! lsp/ext.rs hash: 97ee5b28695119b7 (a test checks this file is reviewed whenever ext.rs changes)
 import { NotificationType, Range, RequestType, TextDocumentIdentifier, VersionedTextDocumentIdentifier, WorkspaceEdit } from 'vscode-languageclient';
 
 export type DiagramKind = 'class' | 'activity' | 'component' | 'componentInstance';
@@ -113,3 +113,31 @@ export interface Preview {
 }
 
 export const previewNotification = new NotificationType<Preview>('gudsl/preview');
+
+/** One parameter of an instance (`gudsl/parameters`): its declared type, range and value. */
+export interface ParameterView {
+  name: string;
+  type: string;
+  value: string | null;
+  written: boolean;
+  min: number | null;
+  max: number | null;
+  step: number | null;
+  choices: string[];
+  inputFile: boolean;
+}
+
+export interface Parameters {
+  uri: string;
+  version: number | null;
+  instance: string;
+  component: string;
+  parameters: ParameterView[];
+}
+
+export const parametersRequest = new RequestType<{ textDocument: TextDocumentIdentifier; diagram: string; instance: string }, Parameters, void>('gudsl/parameters');
+export const setParameterRequest = new RequestType<
+  { textDocument: { uri: string; version: number | null }; diagram: string; instance: string; parameter: string; value: string },
+  WorkspaceEdit,
+  void
+>('gudsl/setParameter');

@@ -19,13 +19,13 @@ mod components;
 pub mod data;
 mod error;
 mod files;
+mod on_graph;
 mod preparations;
 mod prepare;
 mod preview;
 mod replay;
 mod report;
 mod sizes;
-mod on_graph;
 mod study;
 mod walls;
 
@@ -46,12 +46,12 @@ pub use components::{behaviors, Behaviors};
 use components::{Component, Inputs, Outputs};
 use data::Item;
 pub use error::{ErrorKind, PipelineError};
+pub use on_graph::annotate;
 pub use preparations::{model_dir, Preparations};
 pub use prepare::prepare;
 pub use preview::{Preview, PreviewReport};
 pub use replay::StageKey;
 pub use report::{report_json, summary, table, write_report, Figure, Flow, PipelineReport, StageTime};
-pub use on_graph::annotate;
 pub use study::{rows_beneath, study_table, write_study, StudyRow};
 pub use walls::calibration_walls;
 

@@ -30,7 +30,14 @@ pub const PREVIEW: &str = "gudsl.preview";
 pub const COMMANDS: [&str; 4] = [RUN, RUN_PIPELINE, SHOW_WGSL, PREVIEW];
 
 /// The requests beyond LSP a client may send.
-pub const REQUESTS: [&str; 4] = ["gudsl/diagrams", "gudsl/graph", "gudsl/applyGraphEdit", "gudsl/viewFileText"];
+pub const REQUESTS: [&str; 6] = [
+    "gudsl/diagrams",
+    "gudsl/graph",
+    "gudsl/applyGraphEdit",
+    "gudsl/viewFileText",
+    "gudsl/parameters",
+    "gudsl/setParameter",
+];
 
 /// The notifications beyond LSP a client may get.
 pub const NOTIFICATIONS: [&str; 2] = [GraphChangedNotification::METHOD_NAME, PreviewNotification::METHOD_NAME];
@@ -98,6 +105,67 @@ impl PreviewNotification {
 impl lsp::notification::Notification for PreviewNotification {
     type Params = Preview;
     const METHOD: &'static str = Self::METHOD_NAME;
+}
+
+// ---- gudsl/parameters, gudsl/setParameter
+
+/// An instance of a pipeline, by document, diagram (fully qualified) and instance name.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ParametersParams {
+    pub text_document: lsp::TextDocumentIdentifier,
+    pub diagram: String,
+    pub instance: String,
+}
+
+/// `gudsl/parameters`: what a parameter panel shows of an instance.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Parameters {
+    pub uri: lsp::Uri,
+    /// The document version they describe (what `gudsl/setParameter` names).
+    pub version: Option<i32>,
+    pub instance: String,
+    /// Its component, fully qualified.
+    pub component: String,
+    pub parameters: Vec<ParameterView>,
+}
+
+/// One parameter: its declared type and constraints, and its value.
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ParameterView {
+    pub name: String,
+    /// The field's type as declared: `int`, `float`, `bool`, `string`, or an enum's name.
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// The value as a model writes it (`5`, `0.5`, `true`, `"a.npy"`, `Scene.Sphere`); `null`
+    /// when it has none.
+    pub value: Option<String>,
+    /// Whether the instance writes it (else it is the field's default).
+    pub written: bool,
+    /// Its `ToF.Range`.
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    /// A slider's step: 1 for an integer, 2 for an odd one; `null` for a float.
+    pub step: Option<f64>,
+    /// An enum's members, as a model writes them.
+    pub choices: Vec<String>,
+    /// It names a file to read.
+    pub input_file: bool,
+}
+
+/// `gudsl/setParameter`: the edit that sets an instance's parameter, for the client to apply.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct SetParameterParams {
+    /// The document at the version the panel shows (another version is refused).
+    pub text_document: lsp::OptionalVersionedTextDocumentIdentifier,
+    pub diagram: String,
+    pub instance: String,
+    pub parameter: String,
+    /// As a model writes it.
+    pub value: String,
 }
 
 // ---- gudsl/diagrams, gudsl/graph

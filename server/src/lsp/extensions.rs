@@ -1,12 +1,13 @@
 //! The handlers of gudsl's own requests (`ext.rs`, `docs/protocol.md`): `gudsl/viewFileText`,
 //! `gudsl/diagrams`, `gudsl/graph` and `gudsl/applyGraphEdit` (with the `gudsl/graphChanged`
-//! it sends when positions change), and the cancel of a run's progress.
+//! it sends when positions change), `gudsl/parameters` and `gudsl/setParameter`, and the
+//! cancel of a run's progress.
 
 use tower_lsp_server::{jsonrpc::Result, ls_types as lsp};
 
 use super::{
     ext::{self, GraphChanged, GraphChangedNotification},
-    graph, graph_edit, invalid_params, lock, request_failed,
+    graph, graph_edit, invalid_params, lock, parameters, request_failed,
     server::Backend,
     wgsl,
 };
@@ -47,6 +48,16 @@ impl Backend {
             self.client.send_notification::<GraphChangedNotification>(changed).await;
         }
         Ok(answer)
+    }
+
+    /// `gudsl/parameters`: an instance's parameters for a panel's controls.
+    pub async fn parameters(&self, params: ext::ParametersParams) -> Result<ext::Parameters> {
+        self.on_snapshot(move |s| parameters::parameters(s, &params)).await?.map_err(invalid_params)
+    }
+
+    /// `gudsl/setParameter`: the edit that sets a parameter, for the client to apply.
+    pub async fn set_parameter(&self, params: ext::SetParameterParams) -> Result<lsp::WorkspaceEdit> {
+        self.on_snapshot(move |s| parameters::set_parameter(s, &params)).await?.map_err(request_failed)
     }
 
     /// `window/workDoneProgress/cancel`: stops the run reporting under the token (between

@@ -15,6 +15,7 @@ mod graph_edit;
 mod handlers;
 mod host;
 mod jobs;
+mod parameters;
 mod pipeline;
 mod preview;
 mod run;
@@ -79,6 +80,8 @@ pub fn run() -> ExitCode {
             .custom_method("gudsl/diagrams", server::Backend::diagrams)
             .custom_method("gudsl/graph", server::Backend::graph)
             .custom_method("gudsl/applyGraphEdit", server::Backend::apply_graph_edit)
+            .custom_method("gudsl/parameters", server::Backend::parameters)
+            .custom_method("gudsl/setParameter", server::Backend::set_parameter)
             .custom_method("window/workDoneProgress/cancel", server::Backend::work_done_progress_cancel)
             .finish();
         transport::serve(service, socket).await

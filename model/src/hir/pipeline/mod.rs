@@ -104,6 +104,21 @@ pub struct Param {
     pub written: Option<TextRange>,
     /// Whether it names a file the component reads (`ToF.InputFile`).
     pub input_file: bool,
+    /// What an editor's control of it offers.
+    pub control: Control,
+}
+
+/// What a parameter's control in an editor offers, from its field's declaration.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Hash)]
+pub struct Control {
+    /// The field's type as declared (`int`, `float`, `bool`, `string`, `Scene`).
+    pub ty: String,
+    /// Its `ToF.Range(min, max)`.
+    pub range: Option<(Number, Number)>,
+    /// Its `ToF.Odd`: only odd values.
+    pub odd: bool,
+    /// An enum's members as written in a model (`Scene.Sphere`).
+    pub choices: Vec<String>,
 }
 
 /// A constant parameter value.
@@ -325,7 +340,11 @@ fn bindings(
                     let port = stages[stage].ports.iter().find(|p| p.name == end.port)?;
                     let role = port.connectors.iter().find(|c| c.name == end.connector)?.role;
                     let port_instance = end.port_instance.clone();
-                    Some((PlanEnd { stage, port: end.port.clone(), port_instance, connector: end.connector.clone() }, role, end))
+                    Some((
+                        PlanEnd { stage, port: end.port.clone(), port_instance, connector: end.connector.clone() },
+                        role,
+                        end,
+                    ))
                 })
                 .collect();
             let [(a, a_role, a_end), (b, b_role, b_end)] = &ends[..] else { continue };

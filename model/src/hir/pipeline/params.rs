@@ -57,6 +57,7 @@ pub(super) fn parameters(
                 value: value.clone().unwrap_or(Value::Missing),
                 written: at,
                 input_file: false,
+                control: control_of(sema, &declared_scope, &field.ty),
             };
             let declared = Declared { scope: &declared_scope, decl: &decl, ty: &field.ty };
             params.push(check(sema, declared, param, range, value.is_none() && at.is_some(), sink));
@@ -118,6 +119,7 @@ fn check(
                 else {
                     continue;
                 };
+                param.control.range = Some((min.into(), max.into()));
                 if let Some(value) = param.value.number() {
                     if value < min || value > max {
                         reported = true;
@@ -130,6 +132,7 @@ fn check(
                 }
             }
             ODD => {
+                param.control.odd = true;
                 if let Some(value) = param.value.number().filter(|_| !reported) {
                     if value.fract() != 0.0 || value.rem_euclid(2.0) != 1.0 {
                         sink.error(
@@ -147,6 +150,21 @@ fn check(
         sink.error(DiagnosticCode::ParameterValue, range, format!("`{name}` names the file to read: give it a path"));
     }
     param
+}
+
+/// A field's type as a control offers it (its range and oddness are its attributes'): an
+/// enum's members as a model writes them.
+fn control_of(sema: &Semantics, scope: &Scope, ty: &TypeSignature) -> super::Control {
+    let written = ty.builtin.clone().or_else(|| ty.path.clone()).unwrap_or_default();
+    let def = ty.path.as_deref().and_then(|path| sema.resolve(scope, path));
+    let choices = match def.as_ref().map(|d| &d.kind) {
+        Some(DefKind::Type(item)) if item.kind == TypeKind::Enum => {
+            let simple = written.rsplit('.').next().unwrap_or(&written);
+            item.enum_values.iter().map(|member| format!("{simple}.{member}")).collect()
+        }
+        _ => Vec::new(),
+    };
+    super::Control { ty: written, range: None, odd: false, choices }
 }
 
 /// A number as a user writes it: `5`, `0.5`.
