@@ -1,7 +1,8 @@
 // The GU-DSL extension in a real VS Code (code-server) driven by Debian's Chromium as a user
 // would: diagnostics appear and clear, completion, the diagram panel (selection both ways, drag
-// → layout file, palette → text, undo), a pipeline run with its results, a run cancelled, the
-// panel on a diagram of every kind. A screenshot after each step; exits 1 on the first failure.
+// → layout file, palette → text, undo), a pipeline run with its results, its live preview
+// following θ set by a slider and by typing, a run cancelled, the panel on a diagram of every
+// kind. A screenshot after each step; exits 1 on the first failure.
 // Traffic: 127.0.0.1 only.
 //   CS_URL=http://127.0.0.1:8765 WS=workspace RUNS=run-output OUT=screenshots DRIVER=dir node e2e.mjs
 import fs from 'node:fs';
@@ -252,6 +253,51 @@ try {
   if (!fs.existsSync(path.join(RUNS, 'MotionCompensationPipeline', 'report.json'))) throw new Error('no report.json in the output folder');
   ok('pipeline ran, results panel shows table and plot', summary.slice(0, 120));
   await shot('pipeline-results');
+
+  // 8b. Live preview: on from its lens, θ changed by the diagram's slider and by typing, and
+  // the preview's error figure follows each; the diagram shows the stages' times.
+  const CH4 = path.join(WS, 'pipelines', 'ch4_motion_compensation.gudsl');
+  const compensated = async () => {
+    const row = results.locator('table.figures tr', { hasText: 'Compensated mean_cm' });
+    return (await row.count()) ? (await row.locator('td').nth(2).innerText()).trim() : null;
+  };
+  const figureChange = async (from, how) => {
+    let now;
+    await until(`the compensated error to change (${how})`, async () => (now = await compensated().catch(() => null)) !== null && now !== from);
+    return now;
+  };
+  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Live preview' }).first().click();
+  await results.locator('h2', { hasText: '(live)' }).waitFor({ timeout: T });
+  await results.locator('table.figures', { hasText: 'Compensated mean_cm' }).waitFor({ timeout: T });
+  const live0 = await compensated();
+  ok('live preview on: the first frame previewed', `compensated ${live0} cm`);
+  await shot('preview');
+  await focusFirstEditor();
+  await goToLine(lineOf('Motion instantiates', CH4));
+  await palette('GU-DSL: Show Diagram');
+  const timed = await webview('#params');
+  const theta = timed.locator('#params input[data-name="threshold"]');
+  await theta.waitFor({ timeout: T });
+  await timed.locator('#canvas text', { hasText: 'ms/frame' }).first().waitFor({ timeout: T });
+  ok('the diagram shows the stages\' times, the parameters of the instance under the cursor');
+  await shot('timed-diagram');
+  // The slider as a keyboard moves it: End takes it to its maximum, 100 %.
+  await timed.locator('#params input[data-name="threshold.slider"]').focus();
+  await page.keyboard.press('End');
+  const live1 = await figureChange(live0, 'slider');
+  await until('θ = 100 in the text', async () => page.locator('.view-line', { hasText: 'threshold = 100' }).count().then((n) => n > 0));
+  ok('θ by the slider: written into the text, the preview follows', `compensated ${live0} → ${live1} cm`);
+  await shot('preview-slider');
+  await focusFirstEditor();
+  await page.keyboard.press('Control+f');
+  await page.keyboard.type('threshold = 100', { delay: 10 });
+  await page.keyboard.press('Enter');
+  await page.keyboard.press('Escape');
+  await page.keyboard.type('threshold = 3', { delay: 30 });
+  const live2 = await figureChange(live1, 'typing');
+  ok('θ by typing: the preview follows', `compensated ${live1} → ${live2} cm`);
+  await shot('preview-typed');
+  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Live preview' }).first().click();
 
   // 9. A long run is cancelled from its notification.
   await openFile('long_pipeline.gudsl');

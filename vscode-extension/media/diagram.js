@@ -9,6 +9,7 @@
   const toolbar = document.getElementById('toolbar');
   const status = document.getElementById('status');
   const menu = document.getElementById('menu');
+  const params = document.getElementById('params');
 
   /** What each diagram kind's palette creates: [operation kind, button label]. */
   const PALETTE = {
@@ -37,6 +38,7 @@
     else if (m.type === 'graph') show(m);
     else if (m.type === 'highlight') select(m.id, false);
     else if (m.type === 'message') say(m.text, true);
+    else if (m.type === 'parameters') showParameters(m);
   });
 
   function show(m) {
@@ -67,6 +69,95 @@
     if (selected && !element(selected)) selected = null;
     markSelected();
     say(m.layoutError ? `Layout file not used: ${m.layoutError}` : '', !!m.layoutError);
+  }
+
+  /** How long a slider rests before its value is written (each write is an edit and a preview). */
+  const SLIDE_PAUSE_MS = 120;
+
+  /** An instance's parameters as controls: a slider and a number for a value with a range, a
+   * number, a checkbox, a list of an enum's members, or text; each change is sent to be written
+   * into the model's text. `m.parameters` null: none shown. */
+  function showParameters(m) {
+    params.hidden = !m.parameters;
+    if (!m.parameters) return;
+    const names = m.parameters.map((p) => p.name).join(' ');
+    if (params.dataset.instance === m.instance && params.dataset.names === names) {
+      // The same controls: new values, but the one in the user's hand (a slider held) keeps its own.
+      for (const p of m.parameters) {
+        for (const el of params.querySelectorAll(`[data-name="${CSS.escape(p.name)}"], [data-name="${CSS.escape(p.name)}.slider"]`)) {
+          if (el === document.activeElement) continue;
+          if (el.type === 'checkbox') el.checked = p.value === 'true';
+          else el.value = p.value ?? '';
+        }
+      }
+      return;
+    }
+    params.dataset.instance = m.instance;
+    params.dataset.names = names;
+    const focused = document.activeElement && params.contains(document.activeElement) ? document.activeElement.dataset.name : null;
+    params.textContent = '';
+    const title = document.createElement('h3');
+    title.textContent = `${m.instance} : ${m.component.split('.').pop()}`;
+    params.append(title);
+    for (const p of m.parameters) params.append(control(m.instance, p));
+    if (focused) params.querySelector(`[data-name="${CSS.escape(focused)}"]`)?.focus();
+  }
+
+  function control(instance, p) {
+    const row = document.createElement('label');
+    row.className = 'param';
+    row.title = `${p.name} : ${p.type}${p.min !== null ? ` (${p.min} to ${p.max})` : ''}${p.written ? '' : ' — the default'}`;
+    const name = document.createElement('span');
+    name.textContent = p.name;
+    row.append(name);
+    const set = (value) => post({ type: 'setParameter', instance, parameter: p.name, value: String(value) });
+    const number = ['int', 'float', 'double', 'unsigned', 'uint', 'long', 'short'].includes(p.type);
+    if (p.choices.length) {
+      const select = input('select', p);
+      for (const choice of p.choices) select.append(new Option(choice.split('.').pop(), choice, false, choice === p.value));
+      select.addEventListener('change', () => set(select.value));
+      row.append(select);
+    } else if (p.type === 'bool') {
+      const box = input('input', p);
+      box.type = 'checkbox';
+      box.checked = p.value === 'true';
+      box.addEventListener('change', () => set(box.checked));
+      row.append(box);
+    } else if (number) {
+      const field = input('input', p);
+      field.type = 'number';
+      field.value = p.value ?? '';
+      const step = p.step ?? 'any';
+      field.step = String(step);
+      field.addEventListener('change', () => field.value !== '' && set(field.value));
+      if (p.min !== null && p.max !== null) {
+        const slider = input('input', p, 'slider');
+        slider.type = 'range';
+        [slider.min, slider.max, slider.step] = [p.min, p.max, p.step ?? (p.max - p.min) / 200];
+        slider.value = p.value ?? p.min;
+        let pause;
+        slider.addEventListener('input', () => {
+          field.value = slider.value;
+          clearTimeout(pause);
+          pause = setTimeout(() => set(slider.value), SLIDE_PAUSE_MS);
+        });
+        row.append(slider);
+      }
+      row.append(field);
+    } else {
+      const field = input('input', p);
+      field.value = p.value ?? '';
+      field.addEventListener('change', () => set(field.value));
+      row.append(field);
+    }
+    return row;
+  }
+
+  function input(tag, p, role) {
+    const el = document.createElement(tag);
+    el.dataset.name = role ? `${p.name}.${role}` : p.name;
+    el.setAttribute('aria-label', role ? `${p.name} slider` : p.name);
+    return el;
   }
 
   function element(id) {

@@ -5,7 +5,16 @@
 import * as vscode from 'vscode';
 import { LanguageClient, LSPErrorCodes, Range } from 'vscode-languageclient/node';
 import { diagramsOf, innermostAt } from './diagrams';
-import { applyGraphEditRequest, DiagramInfo, Graph, graphChangedNotification, graphRequest, GraphOperation } from './protocol';
+import {
+  applyGraphEditRequest,
+  DiagramInfo,
+  Graph,
+  graphChangedNotification,
+  graphRequest,
+  GraphOperation,
+  parametersRequest,
+  setParameterRequest,
+} from './protocol';
 import { nonce } from './html';
 import { errorText, Server } from './server';
 
@@ -19,7 +28,8 @@ type FromView =
   | { type: 'rename'; id: string }
   | { type: 'delete'; id: string }
   | { type: 'connect'; source: string; target: string }
-  | { type: 'relayout' };
+  | { type: 'relayout' }
+  | { type: 'setParameter'; instance: string; parameter: string; value: string };
 
 /** The edge kinds a user connects two nodes of a class diagram by. */
 const CLASS_RELATIONS = ['association', 'generalization', 'realization', 'aggregation', 'composition'];
@@ -36,6 +46,8 @@ export class DiagramPanel implements vscode.Disposable {
   private staleTimer: NodeJS.Timeout | undefined;
   /** Counts cursor moves followed: a move's answer older than the newest is dropped. */
   private followed = 0;
+  /** The pipeline instance whose parameters the panel shows. */
+  private instance: string | undefined;
 
   constructor(
     private readonly server: Server,
@@ -126,6 +138,44 @@ export class DiagramPanel implements vscode.Disposable {
       const indent = document.lineAt(position.line).firstNonWhitespaceCharacterIndex;
       const id = this.elementAt(position) ?? this.elementAt(position.with(undefined, Math.max(position.character, indent)));
       this.post({ type: 'highlight', id: id ?? null });
+      await this.showParameters(id);
+    }
+  }
+
+  /** The parameters of the instance `id` names (a pipeline's), as controls beside the diagram;
+   * none for anything else. */
+  private async showParameters(id: string | undefined): Promise<void> {
+    const node = this.graph?.diagram.kind === 'componentInstance' ? this.graph.nodes.find((n) => n.id === id) : undefined;
+    this.instance = node?.shape === 'instance' ? node.id : undefined;
+    if (!this.instance || !this.uri || !this.diagram) return this.post({ type: 'parameters', parameters: null });
+    try {
+      const client = await this.server.running();
+      const shown = await client.sendRequest(parametersRequest, { textDocument: { uri: this.uri }, diagram: this.diagram.id, instance: this.instance });
+      if (shown.instance === this.instance) this.post({ type: 'parameters', ...shown });
+    } catch {
+      this.post({ type: 'parameters', parameters: null }); // an edit came between: the next selection asks again
+    }
+  }
+
+  /** A control's value written into the text (one undo), as `gudsl/setParameter` edits it. */
+  private async setParameter(instance: string, parameter: string, value: string): Promise<void> {
+    const uri = this.uri!;
+    try {
+      const client = await this.server.running();
+      const open = vscode.workspace.textDocuments.find((d) => d.uri.toString() === uri);
+      const answer = await client.sendRequest(setParameterRequest, {
+        textDocument: { uri, version: open?.version ?? null },
+        diagram: this.diagram!.id,
+        instance,
+        parameter,
+        value,
+      });
+      const edit = await client.protocol2CodeConverter.asWorkspaceEdit(answer);
+      if (edit.size > 0 && !(await vscode.workspace.applyEdit(edit))) {
+        void vscode.window.showErrorMessage('GU-DSL: the editor did not apply the parameter (the document changed meanwhile?)');
+      }
+    } catch (e) {
+      void vscode.window.showErrorMessage(`GU-DSL: ${instance}.${parameter} = ${value}: ${errorText(e)}`);
     }
   }
 
@@ -163,6 +213,7 @@ export class DiagramPanel implements vscode.Disposable {
           groups: graph.groups.map((g) => g.id),
           layoutError: graph.layoutError,
         });
+        if (this.instance) await this.showParameters(this.instance);
         return;
       } catch (e) {
         if ((e as { code?: number }).code === LSPErrorCodes.ContentModified) {
@@ -196,7 +247,10 @@ export class DiagramPanel implements vscode.Disposable {
     if (!graph || !this.uri || !this.diagram) return;
     switch (message.type) {
       case 'select':
+        await this.showParameters(message.id);
         return this.reveal(message.id, message.focus ?? false);
+      case 'setParameter':
+        return this.setParameter(message.instance, message.parameter, message.value);
       case 'move':
         return this.edit([{ op: 'move', element: message.id, position: { x: Math.max(0, message.x), y: Math.max(0, message.y) } }]);
       case 'unpin':
@@ -295,7 +349,7 @@ export class DiagramPanel implements vscode.Disposable {
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <link rel="stylesheet" href="${style}"><title>Diagram</title></head>
 <body><div id="toolbar" role="toolbar" aria-label="Diagram palette"></div><div id="status" role="status"></div>
-<div id="canvas" tabindex="0"></div><div id="menu" role="menu" hidden></div>
+<div id="canvas" tabindex="0"></div><div id="params" role="form" aria-label="Parameters" hidden></div><div id="menu" role="menu" hidden></div>
 <script nonce="${n}" src="${script}"></script></body></html>`;
   }
 
