@@ -264,12 +264,21 @@
     svg.setAttribute('height', String(Number(svg.dataset.height) * zoom));
   }
 
+  /** The smallest text Fit draws, in screen pixels: a diagram that would need smaller text to
+   * fit is drawn at this size and the panel scrolls (− still zooms out further). */
+  const READABLE_PX = 9;
+
   function fit() {
     const svg = canvas.querySelector('svg');
     if (!svg) return;
     const w = Number(svg.dataset.width);
     const h = Number(svg.dataset.height);
-    setZoom(Math.min((canvas.clientWidth - 8) / w, (canvas.clientHeight - 8) / h, 2));
+    const fits = Math.min((canvas.clientWidth - 8) / w, (canvas.clientHeight - 8) / h, 2);
+    const sizes = [...svg.querySelectorAll('[font-size]')].map((e) => Number(e.getAttribute('font-size'))).filter((n) => n > 0);
+    const readable = sizes.length ? READABLE_PX / Math.min(...sizes) : 0;
+    setZoom(Math.max(fits, readable));
+    canvas.dataset.fit = fits < readable ? 'readable' : 'whole';
+    if (fits < readable) say('Fit keeps the text readable: scroll to see the rest (− zooms out further)');
   }
 
   // Dragging a node moves it (and the nodes drawn inside it) until the server's new graph comes.

@@ -100,6 +100,17 @@ fn port_label(port: &str, connector: &str, interface: &str) -> String {
     }
 }
 
+/// A port instance's connector in a component-instance diagram, as short as the
+/// dissertation's figures draw it: the port instance's name (`Out`), with the connector's where
+/// the port has several (`Out.frame`). Its interface is the component diagram's to show.
+fn instance_port_label(port: &str, connector: &str, several: bool) -> String {
+    if several {
+        format!("{port}.{connector}")
+    } else {
+        port.to_string()
+    }
+}
+
 pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram) -> Graph {
     let mut graph = Graph::new(id, GraphKind::ComponentInstance, diagram.syntax());
     for instance in diagram.instances() {
@@ -114,12 +125,12 @@ pub(super) fn instance_graph(id: String, diagram: &ast::ComponentInstanceDiagram
             .flat_map(|pi| {
                 let pi_name = pi.name().map(|n| n.text()).unwrap_or_default();
                 let name = name.clone();
+                let several = pi.connectors().count() > 1;
                 pi.connectors()
                     .filter_map(move |c| {
                         let connector = c.name()?.text();
-                        let interface = c.interface().map(|i| i.text()).unwrap_or_default();
                         let values: Vec<String> = c.field_values().map(|v| text(&v)).collect();
-                        let mut label = port_label(&pi_name, &connector, &interface);
+                        let mut label = instance_port_label(&pi_name, &connector, several);
                         if !values.is_empty() {
                             label.push_str(&format!(" ({})", values.join(", ")));
                         }

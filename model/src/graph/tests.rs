@@ -221,6 +221,20 @@ fn component_ports_are_named_once_with_their_mode_and_commented_components_keep_
     assert_eq!(camera.stereotype.as_deref(), Some("source"));
 }
 
+/// An instance's ports are named as short as the dissertation draws them: the port instance
+/// (`Camera1ProviderPort`, not `Camera1ProviderPort.CameraImageProviderPort : IImageProvider`),
+/// its connector added only where it has several.
+#[test]
+fn instance_ports_are_named_by_their_port_instances() {
+    let g = &graphs_of(&[("a", seed("listing28_component_instance_example.gudsl"))])[0];
+    let camera = g.nodes.iter().find(|n| n.id == "Camera1").unwrap();
+    assert_eq!(camera.ports.iter().map(|p| p.label.as_str()).collect::<Vec<_>>(), ["Camera1ProviderPort"]);
+    assert_eq!(camera.ports[0].id, "Camera1.Camera1ProviderPort.CameraImageProviderPort", "ids keep the connector");
+    let text = "ComponentInstanceDiagram D\n{\n    A instantiates C\n    {\n        P : Q ( provider x = I(), processor y = J() );\n    }\n}\n";
+    let g = &graphs_of(&[("a", text.to_string())])[0];
+    assert_eq!(g.nodes[0].ports.iter().map(|p| p.label.as_str()).collect::<Vec<_>>(), ["P.x", "P.y"]);
+}
+
 #[test]
 fn class_members_show_their_qualifiers_as_uml_does_and_applied_attributes_their_usage() {
     // Listing 3: constants are {readOnly} with their values, references `ref type`, statics
