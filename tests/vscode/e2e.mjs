@@ -257,8 +257,10 @@ try {
   // 8b. Live preview: on from its lens, θ changed by the diagram's slider and by typing, and
   // the preview's error figure follows each; the diagram shows the stages' times.
   const CH4 = path.join(WS, 'pipelines', 'ch4_motion_compensation.gudsl');
+  // Each preview rewrites the results page: its frame is looked up again each time.
   const compensated = async () => {
-    const row = results.locator('table.figures tr', { hasText: 'Compensated mean_cm' });
+    const shown = await webview('table.figures');
+    const row = shown.locator('table.figures tr:has(td:text-is("Compensated mean_cm"))');
     return (await row.count()) ? (await row.locator('td').nth(2).innerText()).trim() : null;
   };
   const figureChange = async (from, how) => {
@@ -267,9 +269,10 @@ try {
     return now;
   };
   await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Live preview' }).first().click();
-  await results.locator('h2', { hasText: '(live)' }).waitFor({ timeout: T });
-  await results.locator('table.figures', { hasText: 'Compensated mean_cm' }).waitFor({ timeout: T });
-  const live0 = await compensated();
+  await until('the live preview in the results panel', async () =>
+    (await webview('.summary')).locator('h2', { hasText: '(live)' }).count().catch(() => 0));
+  let live0;
+  await until('the first preview\'s figures', async () => (live0 = await compensated().catch(() => null)) !== null);
   ok('live preview on: the first frame previewed', `compensated ${live0} cm`);
   await shot('preview');
   await focusFirstEditor();
@@ -291,12 +294,19 @@ try {
   await focusFirstEditor();
   await page.keyboard.press('Control+f');
   await page.keyboard.type('threshold = 100', { delay: 10 });
+  await page.locator('.find-widget.visible').waitFor({ timeout: T });
   await page.keyboard.press('Enter');
-  await page.keyboard.press('Escape');
+  await page.locator('#status\\.editor\\.selection', { hasText: '(15 selected)' }).waitFor({ timeout: T });
+  // (Escape here can reach the workbench instead of the find widget: its close button is sure.)
+  await page.locator('.find-widget.visible [aria-label^="Close"]').first().click();
+  await page.locator('.find-widget.visible').waitFor({ state: 'hidden', timeout: T });
+  await page.locator('#status\\.editor\\.selection', { hasText: '(15 selected)' }).waitFor({ timeout: T });
   await page.keyboard.type('threshold = 3', { delay: 30 });
   const live2 = await figureChange(live1, 'typing');
   ok('θ by typing: the preview follows', `compensated ${live1} → ${live2} cm`);
   await shot('preview-typed');
+  // Off again: the lens is above the diagram's first line.
+  await page.keyboard.press('Control+Home');
   await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Live preview' }).first().click();
 
   // 9. A long run is cancelled from its notification.

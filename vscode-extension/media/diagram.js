@@ -145,8 +145,9 @@
       }
       row.append(field);
     } else {
+      // Text as typed, without the model's quotes (the server writes them).
       const field = input('input', p);
-      field.value = p.value ?? '';
+      field.value = p.value?.startsWith('"') ? JSON.parse(p.value) : p.value ?? '';
       field.addEventListener('change', () => set(field.value));
       row.append(field);
     }

@@ -49,6 +49,9 @@ struct State {
     last: Option<Vec<StageKey>>,
     /// The preview under way's cancellation.
     running: Option<Arc<AtomicBool>>,
+    /// Why the preview stopped, as last told (each keystroke while the model has the same
+    /// errors tells nothing new).
+    stopped: Option<String>,
     sequence: u64,
     worker: Option<mpsc::Sender<Box<Work>>>,
 }
@@ -96,7 +99,7 @@ impl Previews {
         if let Some(running) = state.running.take() {
             running.store(true, Ordering::Relaxed);
         }
-        state.last = None;
+        (state.last, state.stopped) = (None, None);
         if live.unwrap_or(!is_live) {
             state.live = Some(Live { diagram: request.diagram.clone(), frames, cpu: request.cpu });
             Ok((PreviewState { diagram: Some(request.diagram), live: true, frames }, true))
@@ -165,6 +168,7 @@ impl Follower {
         if let Some(running) = state.running.take() {
             running.store(true, Ordering::Relaxed);
         }
+        state.stopped = None;
         let cancel = Arc::new(AtomicBool::new(false));
         state.running = Some(cancel.clone());
         state.last = Some(ready.prepared.keys().to_vec());
@@ -187,6 +191,10 @@ fn stop(state: &mut State, client: &Client, live: &Live, refusal: Refusal, prepa
         running.store(true, Ordering::Relaxed);
     }
     state.last = None;
+    if state.stopped.as_deref() == Some(refusal.message.as_str()) {
+        return;
+    }
+    state.stopped = Some(refusal.message.clone());
     state.sequence += 1;
     let notification = ext::Preview {
         diagram: live.diagram.clone(),
@@ -223,7 +231,14 @@ fn spawn_worker(client: Client, drawn: Drawn) -> mpsc::Sender<Box<Work>> {
                 preview = Some((work.live.cpu, Preview::new(host_pipeline::gpu(work.live.cpu, |_| {}))));
             }
             let Some((_, live)) = preview.as_mut() else { continue };
-            if let Some(notification) = run(live, work) {
+            let (diagram, sequence) = (work.ready.diagram.clone(), work.sequence);
+            let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run(live, work)));
+            let ran = ran.unwrap_or_else(|panic| {
+                // What it kept may be half made: the next preview starts afresh.
+                preview = None;
+                Some(panicked(diagram, sequence, &*panic))
+            });
+            if let Some(notification) = ran {
                 // Its diagram drawn with the preview's times and flows, where a client has it.
                 let snap = lock(&drawn.host).snapshot(drawn.encoding);
                 let changed = notification.report.as_ref().map(|r| drawn.scenes.ran(r, &snap)).unwrap_or_default();
@@ -286,6 +301,28 @@ fn run(preview: &mut Preview, work: Box<Work>) -> Option<ext::Preview> {
     notification.replayed = previewed.replayed;
     notification.output = Some(output.path().display().to_string());
     Some(finished(notification, received, started))
+}
+
+/// A preview whose run panicked, said so (a bug: the message is the panic's).
+fn panicked(diagram: String, sequence: u64, panic: &(dyn std::any::Any + Send)) -> ext::Preview {
+    let why = panic
+        .downcast_ref::<String>()
+        .cloned()
+        .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+        .unwrap_or_else(|| "unknown panic".into());
+    ext::Preview {
+        message: format!("{diagram} was not previewed: its run panicked: {why}"),
+        diagram,
+        uri: None,
+        version: None,
+        sequence,
+        state: "failed".to_string(),
+        report: None,
+        replayed: Vec::new(),
+        problems: Vec::new(),
+        output: None,
+        timings: PreviewTimings::default(),
+    }
 }
 
 /// `notification` with its run's and its total time.
