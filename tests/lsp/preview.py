@@ -62,6 +62,10 @@ class Document:
         if old not in self.text:
             fail(f"{old!r} is not in the document")
         self.text = self.text.replace(old, new, 1)
+        return self.changed()
+
+    def changed(self):
+        """The new text sent as the next version; that version."""
         self.version += 1
         self.client.text_document_did_change(
             t.DidChangeTextDocumentParams(
@@ -81,14 +85,7 @@ class Document:
         for change in changes:
             start, end = offset(change["range"]["start"]), offset(change["range"]["end"])
             self.text = self.text[:start] + change["newText"] + self.text[end:]
-        self.version += 1
-        self.client.text_document_did_change(
-            t.DidChangeTextDocumentParams(
-                text_document=t.VersionedTextDocumentIdentifier(uri=self.uri, version=self.version),
-                content_changes=[t.TextDocumentContentChangeWholeDocument(text=self.text)],
-            )
-        )
-        return self.version
+        return self.changed()
 
 
 async def main(gudsl, repo, gpu):
