@@ -1,5 +1,6 @@
 //! The results panel of a run: what ran where and how long, the stages' or kernels' table, the
-//! error with a link to its place, the plots and images inline, and every output file to open.
+//! error with a link to its place, the plots and images inline, the arrays it wrote to inspect
+//! (`media/inspect.js`: colour map, value under the cursor, A − B), and every output file to open.
 import * as path from 'node:path';
 import * as vscode from 'vscode';
 import { escapeHtml, nonce } from './html';
@@ -40,7 +41,8 @@ export function showResults(context: vscode.ExtensionContext, report: Report): v
     path.isAbsolute(f) ? f : path.join(output, f),
   );
   // The pictures are read from the run's folder only (none when the answer names none).
-  const roots = output ? [vscode.Uri.file(output)] : [];
+  const media = vscode.Uri.joinPath(context.extensionUri, 'media');
+  const roots = output ? [vscode.Uri.file(output), media] : [media];
   if (!panel) {
     panel = vscode.window.createWebviewPanel('gudsl.results', 'Run results', { viewColumn: vscode.ViewColumn.Beside, preserveFocus: true }, {
       enableScripts: true,
@@ -62,10 +64,13 @@ export function showResults(context: vscode.ExtensionContext, report: Report): v
   shown = report;
   const current = panel;
   current.title = `Run: ${report.diagram ?? 'results'}`;
-  current.webview.html = resultsHtml(current.webview, report, files);
+  current.webview.html = resultsHtml(current.webview, report, files, media);
 }
 
-function resultsHtml(webview: vscode.Webview, report: Report, files: string[]): string {
+/** How many arrays the inspector offers (the first ones written). */
+const INSPECTED_ARRAYS = 200;
+
+function resultsHtml(webview: vscode.Webview, report: Report, files: string[], media: vscode.Uri): string {
   const n = nonce();
   const parts: string[] = [];
   const took = report.total_ms !== undefined ? ` in ${report.total_ms.toFixed(1)} ms` : '';
@@ -99,12 +104,23 @@ function resultsHtml(webview: vscode.Webview, report: Report, files: string[]): 
       .join('');
     parts.push(`<h3>Pictures</h3><div class="pictures">${shown}</div>`);
   }
+  const arrays = files.filter((f) => f.endsWith('.npy')).slice(0, INSPECTED_ARRAYS);
+  if (arrays.length) {
+    const named = arrays.map((f) => ({
+      name: path.relative(report.output ?? '', f) || path.basename(f),
+      uri: webview.asWebviewUri(vscode.Uri.file(f)).with({ query: `v=${report.revision ?? 0}` }).toString(),
+    }));
+    parts.push(`<h3>Arrays</h3><div id="inspector" data-arrays="${escapeHtml(JSON.stringify(named))}">
+<label>A <select id="inspect-a"></select></label> <label>show <select id="inspect-mode"><option value="a">A</option><option value="difference">A − B</option></select></label>
+<label>B <select id="inspect-b"></select></label>
+<div id="inspect-scale" class="note"></div><canvas id="inspect-canvas"></canvas><div id="inspect-readout" aria-live="polite"></div></div>`);
+  }
   if (files.length) {
     const list = files.map((f) => `<li><a href="#" data-open="${escapeHtml(f)}">${escapeHtml(path.relative(report.output ?? '', f) || f)}</a></li>`).join('');
     parts.push(`<h3>Files (${files.length})</h3><ul class="files">${list}</ul>`);
   }
   return `<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">
-<meta http-equiv="Content-Security-Policy" content="default-src 'none'; img-src ${webview.cspSource}; style-src 'nonce-${n}'; script-src 'nonce-${n}';">
+<meta http-equiv="Content-Security-Policy" content="default-src 'none'; img-src ${webview.cspSource}; connect-src ${webview.cspSource}; style-src 'nonce-${n}'; script-src 'nonce-${n}';">
 <style nonce="${n}">
 body { font-family: var(--vscode-font-family); color: var(--vscode-foreground); padding: 0 12px; }
 .error { color: var(--vscode-errorForeground); }
@@ -113,6 +129,8 @@ pre { font-family: var(--vscode-editor-font-family); background: var(--vscode-te
 table { border-collapse: collapse; } td, th { padding: 2px 8px; text-align: right; } td:first-child, td:nth-child(2), th { text-align: left; }
 .pictures { display: flex; flex-wrap: wrap; gap: 12px; } figure { margin: 0; } img { max-width: 420px; max-height: 320px; background: white; }
 figcaption { font-size: 0.9em; opacity: 0.8; }
+#inspect-canvas { display: block; margin: 6px 0; image-rendering: pixelated; cursor: crosshair; }
+#inspect-readout { min-height: 1.4em; font-family: var(--vscode-editor-font-family); }
 </style></head><body>${parts.join('\n')}
 <script nonce="${n}">
 const vscode = acquireVsCodeApi();
@@ -123,5 +141,6 @@ document.addEventListener('click', (e) => {
   if (a.dataset.open) vscode.postMessage({ open: a.dataset.open });
   if (a.id === 'error-location') vscode.postMessage({ location: true });
 });
-</script></body></html>`;
+</script>
+<script nonce="${n}" src="${webview.asWebviewUri(vscode.Uri.joinPath(media, 'inspect.js'))}"></script></body></html>`;
 }
