@@ -322,9 +322,14 @@ try {
   const live2 = await figureChange(live1, 'typing');
   ok('θ by typing: the preview follows', `compensated ${live1} → ${live2} cm`);
   await shot('preview-typed');
-  // Off again: the lens is above the diagram's first line.
+  // Off again: the lens is above the diagram's first line. (Lenses are drawn again after each
+  // edit: a click on one being replaced does nothing, so it is clicked until the status says off.)
   await page.keyboard.press('Control+Home');
-  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Live preview' }).first().click();
+  await until('the live preview off', async () => {
+    await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Live preview' }).first().click();
+    return page.locator('.statusbar-item', { hasText: 'live preview off' }).first().waitFor({ timeout: 3000 }).then(() => true, () => false);
+  });
+  await palette('Notifications: Clear All Notifications');
 
   // 9. A long run is cancelled from its notification.
   await openFile('long_pipeline.gudsl');
@@ -337,6 +342,26 @@ try {
   await page.locator('.notification-toast', { hasText: 'run cancelled' }).first().waitFor({ timeout: T });
   ok('long run cancelled from the notification');
   await shot('pipeline-cancelled');
+
+  // 9b. Chapter 6's scan: its point cloud in 3D in the results panel, orbited by a drag.
+  await focusFirstEditor();
+  await openFile('ch6_object_scan.gudsl');
+  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();
+  let scanned;
+  await until('the scan\'s point cloud drawn', async () => {
+    scanned = await webview('#cloud-info');
+    return /^\d+ points, [\d.]+ m across/.test(await scanned.locator('#cloud-info').innerText().catch(() => ''));
+  });
+  const cloudCanvas = scanned.locator('#cloud-canvas');
+  await cloudCanvas.scrollIntoViewIfNeeded();
+  const cloudBox = await cloudCanvas.boundingBox();
+  await page.mouse.move(cloudBox.x + cloudBox.width / 2, cloudBox.y + cloudBox.height / 2);
+  await page.mouse.down();
+  for (let i = 1; i <= 8; i++) await page.mouse.move(cloudBox.x + cloudBox.width / 2 + 12 * i, cloudBox.y + cloudBox.height / 2 + 3 * i);
+  await page.mouse.up();
+  ok('chapter 6: the point cloud in 3D, orbited', (await scanned.locator('#cloud-info').innerText()).split(';')[0]);
+  await shot('point-cloud');
+  await focusFirstEditor(); // the drag left the keyboard in the results panel
 
   // 10. The panel follows the editor to a diagram of each other kind (one screenshot each, with
   // the side bar, the bottom panel and the notifications out of the way).

@@ -3,7 +3,7 @@
 //! the runs.
 import * as vscode from 'vscode';
 import { DiagramPanel } from './diagramPanel';
-import { followPreviews } from './preview';
+import { followPreviews, toggleLivePreview } from './preview';
 import { renderDiagram } from './render';
 import { RunArgument, Runs } from './runs';
 import { Server } from './server';
@@ -32,6 +32,7 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
     vscode.commands.registerCommand('gudsl.renderDiagram', () => renderDiagram(server!)),
     vscode.commands.registerCommand('gudsl.runDiagram', (arg?: RunArgument) => runs.run(arg)),
     vscode.commands.registerCommand('gudsl.showGeneratedWgsl', (arg?: { diagram?: string }) => wgsl.show(arg?.diagram)),
+    vscode.commands.registerCommand('gudsl.toggleLivePreview', (arg?: { diagram?: string }) => toggleLivePreview(server!, arg)),
     vscode.workspace.onDidChangeConfiguration((e) => {
       if (e.affectsConfiguration('gudsl.server')) void server!.restart();
     }),

@@ -3,9 +3,10 @@
 //! — a preview that ran, failed, or stopped on the model's errors — is shown in the results
 //! panel, the newest only.
 import * as vscode from 'vscode';
-import { Preview, previewNotification } from './protocol';
+import { ExecuteCommandRequest } from 'vscode-languageclient/node';
+import { Preview, previewNotification, PreviewState } from './protocol';
 import { Report, showResults } from './results';
-import type { Server } from './server';
+import { errorText, type Server } from './server';
 
 export function followPreviews(server: Server, context: vscode.ExtensionContext): void {
   let newest = 0;
@@ -19,6 +20,25 @@ export function followPreviews(server: Server, context: vscode.ExtensionContext)
       }),
     );
   });
+}
+
+/** "◉ Live preview" (the lens's `gudsl.preview`, taken over): turns the diagram's preview on or
+ * off and says which pipeline is live in a message. */
+export async function toggleLivePreview(server: Server, argument?: { diagram?: string }): Promise<PreviewState | undefined> {
+  if (!argument?.diagram) return undefined;
+  try {
+    const client = await server.running();
+    const state = (await client.sendRequest(ExecuteCommandRequest.type, {
+      command: 'gudsl.preview',
+      arguments: [{ diagram: argument.diagram }],
+    })) as PreviewState;
+    const said = state.live ? `live preview of ${state.diagram} on (its first ${state.frames} frame(s) run at each edit)` : 'live preview off';
+    void vscode.window.setStatusBarMessage(`GU-DSL: ${said}`, 5000);
+    return state;
+  } catch (e) {
+    void vscode.window.showErrorMessage(`GU-DSL: ${errorText(e)}`);
+    return undefined;
+  }
 }
 
 /** A preview as the results panel shows a run. */

@@ -1,6 +1,7 @@
 //! The results panel of a run: what ran where and how long, the stages' or kernels' table, the
 //! error with a link to its place, the plots and images inline, the arrays it wrote to inspect
-//! (`media/inspect.js`: colour map, value under the cursor, A − B), and every output file to open.
+//! (`media/inspect.js`: colour map, value under the cursor, A − B), its point clouds in 3D
+//! (`media/cloud.js`: orbit, zoom, colour by depth or height), and every output file to open.
 import * as path from 'node:path';
 import * as vscode from 'vscode';
 import { escapeHtml, nonce } from './html';
@@ -115,6 +116,16 @@ function resultsHtml(webview: vscode.Webview, report: Report, files: string[], m
 <label>B <select id="inspect-b"></select></label>
 <div id="inspect-scale" class="note"></div><canvas id="inspect-canvas"></canvas><div id="inspect-readout" aria-live="polite"></div></div>`);
   }
+  const clouds = files.filter((f) => f.endsWith('.ply')).slice(0, INSPECTED_ARRAYS);
+  if (clouds.length) {
+    const named = clouds.map((f) => ({
+      name: path.relative(report.output ?? '', f) || path.basename(f),
+      uri: webview.asWebviewUri(vscode.Uri.file(f)).with({ query: `v=${report.revision ?? 0}` }).toString(),
+    }));
+    parts.push(`<h3>Point clouds</h3><div id="clouds" data-clouds="${escapeHtml(JSON.stringify(named))}">
+<label>cloud <select id="cloud-file"></select></label> <label>colour by <select id="cloud-colour"><option value="depth">depth</option><option value="height">height</option></select></label>
+<canvas id="cloud-canvas" width="560" height="400"></canvas><div id="cloud-info" class="note"></div></div>`);
+  }
   if (files.length) {
     const list = files.map((f) => `<li><a href="#" data-open="${escapeHtml(f)}">${escapeHtml(path.relative(report.output ?? '', f) || f)}</a></li>`).join('');
     parts.push(`<h3>Files (${files.length})</h3><ul class="files">${list}</ul>`);
@@ -131,6 +142,7 @@ table { border-collapse: collapse; } td, th { padding: 2px 8px; text-align: righ
 figcaption { font-size: 0.9em; opacity: 0.8; }
 #inspect-canvas { display: block; margin: 6px 0; image-rendering: pixelated; cursor: crosshair; }
 #inspect-readout { min-height: 1.4em; font-family: var(--vscode-editor-font-family); }
+#cloud-canvas { display: block; margin: 6px 0; cursor: grab; touch-action: none; }
 </style></head><body>${parts.join('\n')}
 <script nonce="${n}">
 const vscode = acquireVsCodeApi();
@@ -142,5 +154,6 @@ document.addEventListener('click', (e) => {
   if (a.id === 'error-location') vscode.postMessage({ location: true });
 });
 </script>
-<script nonce="${n}" src="${webview.asWebviewUri(vscode.Uri.joinPath(media, 'inspect.js'))}"></script></body></html>`;
+<script nonce="${n}" src="${webview.asWebviewUri(vscode.Uri.joinPath(media, 'inspect.js'))}"></script>
+<script nonce="${n}" src="${webview.asWebviewUri(vscode.Uri.joinPath(media, 'cloud.js'))}"></script></body></html>`;
 }

@@ -13,6 +13,7 @@ const LENS_COMMANDS: Record<string, string> = {
   'gudsl.run': 'gudsl.runDiagram',
   'gudsl.runPipeline': 'gudsl.runDiagram',
   'gudsl.showWgsl': 'gudsl.showGeneratedWgsl',
+  'gudsl.preview': 'gudsl.toggleLivePreview',
 };
 
 /** Where the binary comes from: what `Show Server Log` and error messages name. */
