@@ -331,6 +331,32 @@ try {
   });
   await palette('Notifications: Clear All Notifications');
 
+  // 8c. Motion compensation looked into: its mask as a picture, its flow field as a colour
+  // wheel with arrows (the vector under the cursor), compensated − uncompensated.
+  await focusFirstEditor();
+  await openFile('ch4_motion_taps.gudsl');
+  await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();
+  let taps;
+  await until('the taps\' results', async () => {
+    taps = await webview('#inspector');
+    return (await taps.locator('h2').innerText().catch(() => '')).startsWith('MotionTapsPipeline');
+  });
+  await taps.locator('.pictures img[alt="mask_0000.png"]').waitFor({ timeout: T });
+  await taps.locator('#inspect-a').selectOption({ label: 'Flows/flow_0000.npy' });
+  await until('the flow drawn', async () => (await taps.locator('#inspect-scale').innerText()).startsWith('flow:'));
+  await taps.locator('#inspector').scrollIntoViewIfNeeded();
+  await taps.locator('#inspect-canvas').hover({ position: { x: 200, y: 200 } });
+  await until('the flow under the cursor', async () => /px per phase image/.test(await taps.locator('#inspect-readout').innerText()));
+  ok('the flow field: colour wheel, arrows, the vector under the cursor', await taps.locator('#inspect-readout').innerText());
+  await shot('flow-field');
+  await taps.locator('#inspect-a').selectOption({ label: 'CompensatedDepth/distance_0000.npy' });
+  await taps.locator('#inspect-b').selectOption({ label: 'UncompensatedDepth/distance_0000.npy' });
+  await taps.locator('#inspect-mode').selectOption('difference');
+  await until('compensated − uncompensated drawn', async () => /^A − B: -?[\d.]+ cm/.test(await taps.locator('#inspect-scale').innerText()));
+  ok('compensated − uncompensated', (await taps.locator('#inspect-scale').innerText()).split('(')[0]);
+  await shot('difference');
+  await focusFirstEditor();
+
   // 9. A long run is cancelled from its notification.
   await openFile('long_pipeline.gudsl');
   await page.locator('.contentWidgets .codelens-decoration a', { hasText: 'Run pipeline' }).first().click();

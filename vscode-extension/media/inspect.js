@@ -1,7 +1,8 @@
 // The results panel's array inspector: a run's `.npy` images (distance, amplitude, intensity,
-// masks, flows) drawn with a colour map and its scale, the value under the cursor (distances in
-// cm), and the difference of two (A − B, a diverging map around 0) — compensated against
-// uncompensated, one setting against another. Arrays are read from the run's folder as the
+// masks) drawn with a colour map and its scale, the value under the cursor (distances in cm),
+// and the difference of two (A − B, a diverging map around 0) — compensated against
+// uncompensated, one setting against another; a flow field (2 planes, dx and dy) as a colour
+// wheel with arrows, its vector under the cursor. Arrays are read from the run's folder as the
 // panel's pictures are; a file that is no little-endian, C-ordered NumPy array says so.
 (function () {
   'use strict';
@@ -30,8 +31,14 @@
     const x = Math.floor(((event.clientX - box.left) / box.width) * shown.width);
     const y = Math.floor(((event.clientY - box.top) / box.height) * shown.height);
     if (x < 0 || y < 0 || x >= shown.width || y >= shown.height) return;
-    const v = shown.values[y * shown.width + x];
-    readout.textContent = `(${x}, ${y}): ${format(v, shown.metres)}`;
+    const i = y * shown.width + x;
+    if (shown.dy) {
+      const [dx, dy] = [shown.values[i], shown.dy[i]];
+      const angle = (Math.atan2(dy, dx) * 180) / Math.PI;
+      readout.textContent = `(${x}, ${y}): dx ${dx.toFixed(3)}, dy ${dy.toFixed(3)} px per phase image (${Math.hypot(dx, dy).toFixed(3)} px at ${angle.toFixed(0)}°)`;
+      return;
+    }
+    readout.textContent = `(${x}, ${y}): ${format(shown.values[i], shown.metres)}`;
   });
   canvas.addEventListener('mouseleave', () => (readout.textContent = ''));
   void draw();
@@ -55,6 +62,10 @@
         values = a.values.map((v, i) => v - b.values[i]);
       }
       const name = first.selectedOptions[0]?.text ?? '';
+      if (a.dy && !difference) {
+        shown = { width: a.width, height: a.height, values: a.values, dy: a.dy };
+        return paintFlow(shown);
+      }
       shown = { width: a.width, height: a.height, values, metres: /distance|depth|truth/i.test(name) };
       paint(shown, difference);
     } catch (error) {
@@ -68,7 +79,8 @@
     return loaded.get(uri);
   }
 
-  /** A NumPy array (.npy, versions 1–3) as its last two axes' first plane, in float. */
+  /** A NumPy array (.npy, versions 1–3) as its last two axes' first plane, in float; a flow's
+   * second plane (shape (2, H, W): dx, dy) as `dy`. */
   function parseNpy(buffer) {
     const bytes = new Uint8Array(buffer);
     const magic = String.fromCharCode(...bytes.slice(1, 6));
@@ -92,9 +104,11 @@
       i1: Int8Array, i2: Int16Array, i4: Int32Array, b1: Uint8Array,
     }[descr[2] + size];
     if (!Kind) throw new Error(`elements of type ${descr[2]}${size}`);
-    if (buffer.byteLength < start + count * size) throw new Error('the array is shorter than its header says');
-    const data = new Kind(buffer.slice(start, start + count * size));
-    return { width, height, values: Float32Array.from(data) };
+    const flow = dims.length === 3 && dims[0] === 2;
+    const planes = flow ? 2 : 1;
+    if (buffer.byteLength < start + planes * count * size) throw new Error('the array is shorter than its header says');
+    const data = Float32Array.from(new Kind(buffer.slice(start, start + planes * count * size)));
+    return { width, height, values: data.subarray(0, count), dy: flow ? data.subarray(count) : null };
   }
 
   /** Viridis at t in [0, 1] (its anchors every eighth, linear between). */
@@ -109,6 +123,56 @@
   function diverging(t) {
     const s = Math.min(1, Math.abs(t));
     return t < 0 ? [Math.round(255 * (1 - s)), Math.round(255 * (1 - s)), 255] : [255, Math.round(255 * (1 - s)), Math.round(255 * (1 - s))];
+  }
+
+  /** A flow field as a colour wheel (hue the direction, brightness the length up to its 99th
+   * percentile) with an arrow every 8 pixels where something moved. */
+  function paintFlow({ width, height, values, dy }) {
+    const lengths = values.map((dx, i) => Math.hypot(dx, dy[i]));
+    const sorted = Float32Array.from(lengths).filter((l) => l > 0).sort();
+    const top = sorted.length ? sorted[Math.floor(0.99 * (sorted.length - 1))] : 1;
+    canvas.width = width * 2;
+    canvas.height = height * 2;
+    const context = canvas.getContext('2d');
+    const image = context.createImageData(width, height);
+    values.forEach((dx, i) => {
+      const [r, g, b] = wheel(Math.atan2(dy[i], dx), Math.min(1, lengths[i] / top));
+      image.data.set([r, g, b, 255], i * 4);
+    });
+    // Drawn at twice its size, so the arrows have room.
+    const small = new OffscreenCanvas(width, height);
+    small.getContext('2d').putImageData(image, 0, 0);
+    context.imageSmoothingEnabled = false;
+    context.drawImage(small, 0, 0, width * 2, height * 2);
+    context.strokeStyle = 'white';
+    context.lineWidth = 1;
+    const step = 8;
+    for (let y = step / 2; y < height; y += step) {
+      for (let x = step / 2; x < width; x += step) {
+        const i = y * width + x;
+        if (!(lengths[i] > 0)) continue;
+        const reach = (Math.min(1, lengths[i] / top) * step * 2 - 1) / lengths[i];
+        const [x0, y0, x1, y1] = [x * 2, y * 2, x * 2 + values[i] * reach, y * 2 + dy[i] * reach];
+        context.beginPath();
+        context.moveTo(x0, y0);
+        context.lineTo(x1, y1);
+        const head = Math.atan2(y1 - y0, x1 - x0);
+        for (const side of [-0.5, 0.5]) context.lineTo(x1 - 4 * Math.cos(head + side), y1 - 4 * Math.sin(head + side));
+        context.stroke();
+      }
+    }
+    canvas.style.width = `${width * 2}px`;
+    scale.textContent = `flow: up to ${top.toFixed(3)} px per phase image at full brightness; hue the direction (red right, yellow-green down, cyan left, blue-violet up), black where nothing moved`;
+  }
+
+  /** The colour wheel's colour of a direction (radians, y down) at a brightness. */
+  function wheel(angle, value) {
+    const hue = ((angle / (2 * Math.PI)) * 360 + 360) % 360;
+    const f = (n) => {
+      const k = (n + hue / 60) % 6;
+      return value * (1 - Math.max(0, Math.min(k, 4 - k, 1)));
+    };
+    return [f(5), f(3), f(1)].map((c) => Math.round(c * 255));
   }
 
   function paint({ width, height, values, metres }, difference) {
