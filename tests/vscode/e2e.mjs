@@ -355,6 +355,13 @@ try {
   await until('compensated − uncompensated drawn', async () => /^A − B: -?[\d.]+ cm/.test(await taps.locator('#inspect-scale').innerText()));
   ok('compensated − uncompensated', (await taps.locator('#inspect-scale').innerText()).split('(')[0]);
   await shot('difference');
+  await taps.locator('#inspect-mode').selectOption('both');
+  await until('A | B drawn side by side', async () => (await taps.locator('#inspect-scale').innerText()).startsWith('A | B'));
+  const pairBox = await taps.locator('#inspect-canvas').boundingBox();
+  await taps.locator('#inspect-canvas').hover({ position: { x: pairBox.width * 0.75, y: pairBox.height / 2 } });
+  await until('B\'s value under the cursor', async () => /^B \(\d+, \d+\): /.test(await taps.locator('#inspect-readout').innerText()));
+  ok('side by side on one scale', await taps.locator('#inspect-readout').innerText());
+  await shot('side-by-side');
   await focusFirstEditor();
 
   // 9. A long run is cancelled from its notification.

@@ -28,8 +28,17 @@
   canvas.addEventListener('mousemove', (event) => {
     if (!shown) return;
     const box = canvas.getBoundingClientRect();
-    const x = Math.floor(((event.clientX - box.left) / box.width) * shown.width);
-    const y = Math.floor(((event.clientY - box.top) / box.height) * shown.height);
+    // Canvas pixels to array pixels: a flow is drawn at twice its size; side by side, B is
+    // right of A after a gap.
+    const zoom = shown.dy ? 2 : 1;
+    let x = Math.floor((((event.clientX - box.left) / box.width) * canvas.width) / zoom);
+    const y = Math.floor((((event.clientY - box.top) / box.height) * canvas.height) / zoom);
+    let values = shown.values;
+    let which = '';
+    if (shown.second) {
+      which = x >= shown.width ? 'B ' : 'A ';
+      if (x >= shown.width) [x, values] = [x - shown.width - GAP, shown.second];
+    }
     if (x < 0 || y < 0 || x >= shown.width || y >= shown.height) return;
     const i = y * shown.width + x;
     if (shown.dy) {
@@ -38,7 +47,7 @@
       readout.textContent = `(${x}, ${y}): dx ${dx.toFixed(3)}, dy ${dy.toFixed(3)} px per phase image (${Math.hypot(dx, dy).toFixed(3)} px at ${angle.toFixed(0)}°)`;
       return;
     }
-    readout.textContent = `(${x}, ${y}): ${format(shown.values[i], shown.metres)}`;
+    readout.textContent = `${which}(${x}, ${y}): ${format(values[i], shown.metres)}`;
   });
   canvas.addEventListener('mouseleave', () => (readout.textContent = ''));
   void draw();
@@ -53,20 +62,22 @@
     try {
       const a = await load(first.value);
       const difference = mode.value === 'difference';
+      const pair = mode.value === 'both';
       let values = a.values;
-      if (difference) {
-        const b = await load(second.value);
+      let b = null;
+      if (difference || pair) {
+        b = await load(second.value);
         if (b.width !== a.width || b.height !== a.height) {
-          throw new Error(`A is ${a.width}×${a.height}, B ${b.width}×${b.height}: no difference`);
+          throw new Error(`A is ${a.width}×${a.height}, B ${b.width}×${b.height}: they cannot be compared`);
         }
-        values = a.values.map((v, i) => v - b.values[i]);
+        if (difference) values = a.values.map((v, i) => v - b.values[i]);
       }
       const name = first.selectedOptions[0]?.text ?? '';
       if (a.dy && !difference) {
         shown = { width: a.width, height: a.height, values: a.values, dy: a.dy };
         return paintFlow(shown);
       }
-      shown = { width: a.width, height: a.height, values, metres: /distance|depth|truth/i.test(name) };
+      shown = { width: a.width, height: a.height, values, metres: /distance|depth|truth/i.test(name), second: pair ? b.values : null };
       paint(shown, difference);
     } catch (error) {
       shown = null;
@@ -175,31 +186,38 @@
     return [f(5), f(3), f(1)].map((c) => Math.round(c * 255));
   }
 
-  function paint({ width, height, values, metres }, difference) {
+  /** The pixels between A and B side by side. */
+  const GAP = 4;
+
+  /** An image (and, side by side, B on the same scale) with its colour map. */
+  function paint({ width, height, values, metres, second }, difference) {
     // The range of the values that are there: a distance of 0 is "no value" (the invalid pixels).
     const present = (v) => Number.isFinite(v) && !(metres && !difference && v === 0);
     let low = Infinity;
     let high = -Infinity;
-    for (const v of values) {
+    for (const v of second ? [...values, ...second] : values) {
       if (!present(v)) continue;
       low = Math.min(low, v);
       high = Math.max(high, v);
     }
     const bound = Math.max(Math.abs(low), Math.abs(high)) || 1;
-    canvas.width = width;
+    canvas.width = second ? width * 2 + GAP : width;
     canvas.height = height;
     const context = canvas.getContext('2d');
-    const image = context.createImageData(width, height);
-    values.forEach((v, i) => {
-      const [r, g, b] = !present(v) ? [128, 128, 128] : difference ? diverging(v / bound) : viridis((v - low) / (high - low || 1));
-      image.data.set([r, g, b, 255], i * 4);
-    });
-    context.putImageData(image, 0, 0);
-    const shownWidth = Math.max(width, Math.min(640, width * 2));
+    context.clearRect(0, 0, canvas.width, canvas.height);
+    for (const [k, plane] of (second ? [values, second] : [values]).entries()) {
+      const image = context.createImageData(width, height);
+      plane.forEach((v, i) => {
+        const [r, g, b] = !present(v) ? [128, 128, 128] : difference ? diverging(v / bound) : viridis((v - low) / (high - low || 1));
+        image.data.set([r, g, b, 255], i * 4);
+      });
+      context.putImageData(image, k * (width + GAP), 0);
+    }
+    const shownWidth = Math.max(canvas.width, Math.min(second ? 960 : 640, canvas.width * 2));
     canvas.style.width = `${shownWidth}px`;
     const range = difference ? [-bound, bound] : [low, high];
     scale.textContent = Number.isFinite(range[0])
-      ? `${difference ? 'A − B' : first.selectedOptions[0]?.text}: ${format(range[0], metres)} … ${format(range[1], metres)}${difference ? ' (blue: A < B, red: A > B)' : ''}; grey: no value`
+      ? `${difference ? 'A − B' : second ? 'A | B' : first.selectedOptions[0]?.text}: ${format(range[0], metres)} … ${format(range[1], metres)}${difference ? ' (blue: A < B, red: A > B)' : ''}; grey: no value`
       : 'no values';
   }
 })();

@@ -112,7 +112,7 @@ function resultsHtml(webview: vscode.Webview, report: Report, files: string[], m
       uri: webview.asWebviewUri(vscode.Uri.file(f)).with({ query: `v=${report.revision ?? 0}` }).toString(),
     }));
     parts.push(`<h3>Arrays</h3><div id="inspector" data-arrays="${escapeHtml(JSON.stringify(named))}">
-<label>A <select id="inspect-a"></select></label> <label>show <select id="inspect-mode"><option value="a">A</option><option value="difference">A − B</option></select></label>
+<label>A <select id="inspect-a"></select></label> <label>show <select id="inspect-mode"><option value="a">A</option><option value="both">A | B</option><option value="difference">A − B</option></select></label>
 <label>B <select id="inspect-b"></select></label>
 <div id="inspect-scale" class="note"></div><canvas id="inspect-canvas"></canvas><div id="inspect-readout" aria-live="polite"></div></div>`);
   }
@@ -140,7 +140,7 @@ pre { font-family: var(--vscode-editor-font-family); background: var(--vscode-te
 table { border-collapse: collapse; } td, th { padding: 2px 8px; text-align: right; } td:first-child, td:nth-child(2), th { text-align: left; }
 .pictures { display: flex; flex-wrap: wrap; gap: 12px; } figure { margin: 0; } img { max-width: 420px; max-height: 320px; background: white; }
 figcaption { font-size: 0.9em; opacity: 0.8; }
-#inspect-canvas { display: block; margin: 6px 0; image-rendering: pixelated; cursor: crosshair; }
+#inspect-canvas { display: block; margin: 6px 0; max-width: 100%; height: auto; image-rendering: pixelated; cursor: crosshair; }
 #inspect-readout { min-height: 1.4em; font-family: var(--vscode-editor-font-family); }
 #cloud-canvas { display: block; margin: 6px 0; cursor: grab; touch-action: none; }
 </style></head><body>${parts.join('\n')}
