@@ -30,7 +30,7 @@ export async function toggleLivePreview(server: Server, argument?: { diagram?: s
     const client = await server.running();
     const state = (await client.sendRequest(ExecuteCommandRequest.type, {
       command: 'gudsl.preview',
-      arguments: [{ diagram: argument.diagram }],
+      arguments: [{ diagram: argument.diagram, frames: vscode.workspace.getConfiguration('gudsl').get<number>('preview.frames', 1) }],
     })) as PreviewState;
     const said = state.live ? `live preview of ${state.diagram} on (its first ${state.frames} frame(s) run at each edit)` : 'live preview off';
     void vscode.window.setStatusBarMessage(`GU-DSL: ${said}`, 5000);
