@@ -49,7 +49,7 @@ pub use error::{ErrorKind, PipelineError};
 pub use on_graph::annotate;
 pub use preparations::{model_dir, Preparations};
 pub use prepare::prepare;
-pub use preview::{Preview, PreviewReport};
+pub use preview::Preview;
 pub use replay::StageKey;
 pub use report::{report_json, summary, table, write_report, Figure, Flow, PipelineReport, StageTime};
 pub use study::{rows_beneath, study_table, write_study, StudyRow};

@@ -19,13 +19,6 @@ pub struct Preview {
     kept: Kept,
 }
 
-/// What one preview did.
-pub struct PreviewReport {
-    pub report: PipelineReport,
-    /// The stages that replayed the last preview instead of running (in the plan's order).
-    pub replayed: Vec<String>,
-}
-
 impl Preview {
     /// A preview on `gpu` (the CPU reference without one), with nothing kept yet.
     pub fn new(gpu: Option<Gpu>) -> Preview {
@@ -34,20 +27,18 @@ impl Preview {
 
     /// Runs `prepared` on its first `window` frames (at least one, at most its frames),
     /// writing under `output`, stopping when `cancel` is set. What a whole run gave is kept
-    /// for the next; a cancelled or failed one keeps the last.
+    /// for the next; a cancelled or failed one keeps the last. The report's stages say which
+    /// replayed ([`PipelineReport::replayed`]).
     pub fn run(
         &mut self,
         mut prepared: PreparedPipeline,
         window: usize,
         output: &mut OutputDir,
         cancel: &AtomicBool,
-    ) -> PreviewReport {
+    ) -> PipelineReport {
         let frames = window.clamp(1, prepared.frames.max(1));
         prepared.modes.iter_mut().for_each(|mode| *mode = Mode::InOrder);
-        let replay = Replay::after(&self.kept, &prepared.plan, &prepared.keys, frames);
-        let replayed = (0..prepared.plan.stages.len()).filter(|&i| replay.replays(i));
-        let replayed = replayed.map(|i| prepared.plan.stages[i].instance.clone()).collect();
-        prepared.replay = Some(replay);
+        prepared.replay = Some(Replay::after(&self.kept, &prepared.plan, &prepared.keys, frames));
         let mut report = prepared.run(self.gpu.as_ref(), output, Some(frames), &mut Quiet, cancel);
         let replay = prepared.replay.take().expect("set above");
         report.figures.extend(replay.figures(&self.kept, &prepared.plan));
@@ -57,7 +48,7 @@ impl Preview {
             let kept = std::mem::take(&mut self.kept);
             self.kept = replay.keep(kept, (&prepared.plan, &prepared.keys), frames, &report.figures);
         }
-        PreviewReport { report, replayed }
+        report
     }
 }
 
@@ -97,20 +88,24 @@ mod tests {
     }
 
     /// Previews `text` on its first 2 frames, into the folder `out`.
-    fn preview(live: &mut Preview, text: String, out: &str) -> PreviewReport {
+    fn preview(live: &mut Preview, text: String, out: &str) -> PipelineReport {
         let mut output = OutputDir::named(&dir().join(out)).unwrap();
         let report = live.run(prepared(text), 2, &mut output, &AtomicBool::new(false));
-        assert!(report.report.outcome.is_ok(), "{:?}", report.report.outcome);
+        assert!(report.outcome.is_ok(), "{:?}", report.outcome);
         report
     }
 
-    fn figures(report: &PreviewReport) -> Vec<(String, String, f64)> {
-        report.report.figures.iter().map(|f| (f.stage.clone(), f.name.clone(), f.value)).collect()
+    fn figures(report: &PipelineReport) -> Vec<(String, String, f64)> {
+        report.figures.iter().map(|f| (f.stage.clone(), f.name.clone(), f.value)).collect()
     }
 
-    fn mean_cm(report: &PreviewReport, series: &str) -> f64 {
+    fn replayed(report: &PipelineReport) -> Vec<&str> {
+        report.replayed().collect()
+    }
+
+    fn mean_cm(report: &PipelineReport, series: &str) -> f64 {
         let name = format!("{series} mean_cm");
-        report.report.figures.iter().find(|f| f.name == name).map(|f| f.value).expect("measured")
+        report.figures.iter().find(|f| f.name == name).map(|f| f.value).expect("measured")
     }
 
     /// A parameter of motion compensation runs it and what is downstream of it, and the camera,
@@ -120,19 +115,19 @@ mod tests {
     fn a_later_stage_s_parameter_runs_only_what_is_downstream_of_it() {
         let mut live = Preview::new(None);
         let first = preview(&mut live, model(1, 1), "first");
-        assert!(first.replayed.is_empty(), "{:?}", first.replayed);
-        assert_eq!(first.report.frames, 2);
+        assert!(replayed(&first).is_empty(), "{:?}", replayed(&first));
+        assert_eq!(first.frames, 2);
         let tuned = preview(&mut live, model(40, 1), "tuned");
-        assert_eq!(tuned.replayed, ["Camera", "Black", "Uncompensated"]);
+        assert_eq!(replayed(&tuned), ["Camera", "Black", "Uncompensated"]);
         assert_eq!(mean_cm(&tuned, "Uncompensated"), mean_cm(&first, "Uncompensated"));
         assert_ne!(mean_cm(&tuned, "Compensated"), mean_cm(&first, "Compensated"));
         let control = preview(&mut Preview::new(None), model(40, 1), "control");
-        assert!(control.replayed.is_empty());
+        assert!(replayed(&control).is_empty());
         assert_eq!(figures(&tuned), figures(&control));
-        assert!(tuned.report.outputs.iter().any(|p| p.extension().is_some_and(|e| e == "png")), "the sinks ran");
+        assert!(tuned.outputs.iter().any(|p| p.extension().is_some_and(|e| e == "png")), "the sinks ran");
         // A camera's parameter reaches every stage.
         let moved = preview(&mut live, model(40, 2), "moved");
-        assert!(moved.replayed.is_empty(), "{:?}", moved.replayed);
+        assert!(replayed(&moved).is_empty(), "{:?}", replayed(&moved));
         assert_ne!(mean_cm(&moved, "Uncompensated"), mean_cm(&tuned, "Uncompensated"));
     }
 
@@ -143,8 +138,8 @@ mod tests {
         preview(&mut live, model(1, 1), "whole");
         let mut output = OutputDir::named(&dir().join("cancelled")).unwrap();
         let cancelled = live.run(prepared(model(40, 2)), 2, &mut output, &AtomicBool::new(true));
-        assert!(cancelled.report.outcome.is_err());
+        assert!(cancelled.outcome.is_err());
         let again = preview(&mut live, model(20, 1), "again");
-        assert_eq!(again.replayed, ["Camera", "Black", "Uncompensated"]);
+        assert_eq!(replayed(&again), ["Camera", "Black", "Uncompensated"]);
     }
 }

@@ -14,6 +14,12 @@ impl PipelineReport {
     pub fn failed_stages(&self) -> impl Iterator<Item = &PipelineError> {
         self.stages.iter().filter_map(|s| s.failed.as_ref())
     }
+
+    /// The stages that replayed a live preview's last run instead of running (in the plan's
+    /// order).
+    pub fn replayed(&self) -> impl Iterator<Item = &str> {
+        self.stages.iter().filter(|s| s.replayed).map(|s| s.instance.as_str())
+    }
 }
 
 /// What a run did.

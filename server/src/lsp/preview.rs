@@ -283,8 +283,7 @@ fn run(preview: &mut Preview, work: Box<Work>) -> Option<ext::Preview> {
             return Some(finished(notification, received, started));
         }
     };
-    let previewed = preview.run(ready.prepared, live.frames, &mut output, &cancel);
-    let report = previewed.report;
+    let report = preview.run(ready.prepared, live.frames, &mut output, &cancel);
     if cancel.load(Ordering::Relaxed) {
         return None;
     }
@@ -298,7 +297,7 @@ fn run(preview: &mut Preview, work: Box<Work>) -> Option<ext::Preview> {
     notification.state = if report.outcome.is_ok() { "ran" } else { "failed" }.to_string();
     notification.message = summary(&report);
     notification.report = Some(report_json(&report));
-    notification.replayed = previewed.replayed;
+    notification.replayed = report.replayed().map(str::to_string).collect();
     notification.output = Some(output.path().display().to_string());
     Some(finished(notification, received, started))
 }
