@@ -16,23 +16,21 @@ pub fn annotate(graph: &mut Graph, report: &Value) -> Result<(), String> {
     }
     let stages = report["stages"].as_array().ok_or("it is no pipeline's report.json (no `stages`)")?;
     let ms = |stage: &Value, key: &str| stage[key].as_f64().unwrap_or(0.0);
-    let total: f64 = stages.iter().map(|s| ms(s, "host_ms_per_frame") + ms(s, "device_ms_per_frame")).sum();
-    let slowest = stages
-        .iter()
-        .max_by(|a, b| {
-            let cost = |s: &Value| ms(s, "host_ms_per_frame") + ms(s, "device_ms_per_frame");
-            cost(a).total_cmp(&cost(b))
-        })
-        .and_then(|s| s["instance"].as_str());
+    // A stage's time per frame, host and GPU.
+    let cost = |stage: &Value| ms(stage, "host_ms_per_frame") + ms(stage, "device_ms_per_frame");
+    let total: f64 = stages.iter().map(cost).sum();
+    let slowest = stages.iter().max_by(|a, b| cost(a).total_cmp(&cost(b))).and_then(|s| s["instance"].as_str());
     for stage in stages {
         let Some(node) = graph.nodes.iter_mut().find(|n| Some(n.id.as_str()) == stage["instance"].as_str()) else {
             continue;
         };
-        let (host, device) = (ms(stage, "host_ms_per_frame"), ms(stage, "device_ms_per_frame"));
-        let share = (host + device) / total.max(1e-12) * 100.0;
+        let share = cost(stage) / total.max(1e-12) * 100.0;
         let line = match stage["replayed"].as_bool() == Some(true) {
             true => "replayed (unchanged)".to_string(),
-            false => format!("{:.2} ms/frame (GPU {device:.2}) · {share:.0} %", host + device),
+            false => {
+                let device = ms(stage, "device_ms_per_frame");
+                format!("{:.2} ms/frame (GPU {device:.2}) · {share:.0} %", cost(stage))
+            }
         };
         node.compartments.push(Compartment::plain(None, vec![line]));
         if stage["state"] == "failed" {

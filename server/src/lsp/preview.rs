@@ -24,7 +24,7 @@ use super::{
     ext::{self, GraphChangedNotification, PreviewNotification, PreviewState, PreviewTimings},
     host::Host,
     jobs::{Refusal, RunRequest},
-    lock,
+    lock, panic_text,
     pipeline::{ready, Ready},
     scenes::SceneCache,
 };
@@ -304,13 +304,8 @@ fn run(preview: &mut Preview, work: Box<Work>) -> Option<ext::Preview> {
 
 /// A preview whose run panicked, said so (a bug: the message is the panic's).
 fn panicked(diagram: String, sequence: u64, panic: &(dyn std::any::Any + Send)) -> ext::Preview {
-    let why = panic
-        .downcast_ref::<String>()
-        .cloned()
-        .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-        .unwrap_or_else(|| "unknown panic".into());
     ext::Preview {
-        message: format!("{diagram} was not previewed: its run panicked: {why}"),
+        message: format!("{diagram} was not previewed: its run panicked: {}", panic_text(panic)),
         diagram,
         uri: None,
         version: None,

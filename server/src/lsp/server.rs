@@ -28,7 +28,7 @@ use super::{
     host::{ChangeRefused, Document, Host, Snapshot},
     invalid_params,
     jobs::Runs,
-    lock,
+    lock, panic_text,
     preview::{Follower, Previews},
     request_failed, scenes, to_proto, CLIENT_ANSWER,
 };
@@ -106,11 +106,7 @@ impl Backend {
                 data: None,
             }),
             Ok(Err(panic)) => {
-                let what = panic
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-                    .unwrap_or_else(|| "unknown panic".into());
+                let what = panic_text(&*panic);
                 self.client.log_message(lsp::MessageType::ERROR, format!("gudsl: request panicked: {what}")).await;
                 Err(Error::internal_error())
             }
