@@ -3,6 +3,7 @@
 //! layout JSON of the metrics script, and PNG through resvg.
 
 mod geometry;
+mod grid;
 pub mod json;
 pub mod layout;
 pub mod pins;

@@ -12,8 +12,10 @@ use super::{order::Order, proper::Proper, sifting::GlobalOrder};
 /// `SIFTED_SHUFFLES` shuffles whose sweeps came out best. The best plain start's order wins
 /// (`best_of`) unless the best shuffle's has `FEWER` crossings. The sweeps end in local optima that differ
 /// much from start to start, so the many starts; sifting costs more than the sweeps, and a
-/// start's sweeps predict where sifting ends, so only the best shuffles are sifted.
+/// start's sweeps predict where sifting ends, so only the best shuffles are sifted. A large
+/// graph gets fewer starts and passes (`Effort`), so that the work grows about linearly.
 pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, width: &dyn Fn(&[Vec<usize>]) -> f64) {
+    let effort = Effort::for_graph(graph);
     let starts = [
         layers.to_vec(),
         graph.initial_layers(false, false),
@@ -23,10 +25,10 @@ pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, widt
     // Each start mirrored too: the sweeps break ties by position, so a mirror is a new start.
     let mirrored: Vec<Vec<Vec<usize>>> =
         starts.iter().map(|layers| layers.iter().map(|rank| rank.iter().rev().copied().collect()).collect()).collect();
-    let plain: Vec<Vec<Vec<usize>>> = starts.into_iter().chain(mirrored).collect();
+    let plain: Vec<Vec<Vec<usize>>> = starts.into_iter().chain(mirrored).take(effort.plain).collect();
     let plain_count = plain.len();
     let mut swept: Vec<(Vec<Vec<usize>>, usize)> = Vec::new();
-    for start in plain.into_iter().chain(shuffled(layers, graph, SHUFFLED)) {
+    for start in plain.into_iter().chain(shuffled(layers, graph, effort.shuffled)) {
         let (order, crossings) = sweeps(start, graph);
         if crossings == 0 {
             layers.clone_from_slice(&order);
@@ -37,8 +39,9 @@ pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, widt
     // Every plain start and the shuffles whose sweeps came out best are sifted.
     let mut shuffles = swept.split_off(plain_count);
     shuffles.sort_by_key(|&(_, crossings)| crossings); // stable: the first of equals stays first
-    swept.extend(shuffles.into_iter().take(SIFTED_SHUFFLES));
-    let mut sifted: Vec<(Vec<Vec<usize>>, usize)> = swept.into_iter().map(|start| sifted(start, graph)).collect();
+    swept.extend(shuffles.into_iter().take(effort.sifted_shuffles));
+    let mut sifted: Vec<(Vec<Vec<usize>>, usize)> =
+        swept.into_iter().map(|start| sifted(start, graph, effort.passes)).collect();
     let shuffles = sifted.split_off(plain_count);
     let plain = best_of(sifted, width);
     let chosen = match (plain, best_of(shuffles, width)) {
@@ -88,6 +91,34 @@ const FEWER: f64 = 0.95;
 const SHUFFLED: usize = 16;
 const SIFTED_SHUFFLES: usize = 4;
 
+/// How many vertices (boxes and dummies) a graph may have for crossing minimisation to try
+/// everything; beyond it the starts and sifting passes shrink in proportion.
+const FULL_EFFORT: usize = 1000;
+
+/// How many starts crossing minimisation sweeps from, how many it sifts, and how many
+/// sifting passes it makes at most.
+struct Effort {
+    plain: usize,
+    shuffled: usize,
+    sifted_shuffles: usize,
+    passes: usize,
+}
+
+impl Effort {
+    /// Everything up to `FULL_EFFORT` vertices; beyond it each count shrinks by the share of
+    /// `FULL_EFFORT` in the vertices (one plain start and two passes at least).
+    fn for_graph(graph: &Proper) -> Effort {
+        let share = (FULL_EFFORT as f64 / graph.vertices().max(1) as f64).min(1.0);
+        let scaled = |full: usize, least: usize| ((full as f64 * share).round() as usize).max(least);
+        Effort {
+            plain: scaled(8, 1),
+            shuffled: scaled(SHUFFLED, 0),
+            sifted_shuffles: scaled(SIFTED_SHUFFLES, 0),
+            passes: scaled(12, 2),
+        }
+    }
+}
+
 /// `count` shuffles of every rank of `layers`: each vertex sorted by a pseudo-random key of
 /// the shuffle's number and the vertex's identity (a box's index; a dummy's edge and place on
 /// it), so that an edit shuffles the boxes it leaves alone as before.
@@ -123,13 +154,13 @@ fn mix(mut x: u64) -> u64 {
 
 /// Global sifting from `order`: long edges move as a whole, which sweeps cannot do; then
 /// transposition. The better of `order` and the result, with its crossings.
-fn sifted((order, crossings): (Vec<Vec<usize>>, usize), graph: &Proper) -> (Vec<Vec<usize>>, usize) {
+fn sifted((order, crossings): (Vec<Vec<usize>>, usize), graph: &Proper, passes: usize) -> (Vec<Vec<usize>>, usize) {
     if crossings == 0 {
         return (order, crossings);
     }
     let mut global = GlobalOrder::new(&Order::new(order.clone(), graph.vertices()), graph);
     let mut now = global.order.crossings(graph);
-    for _ in 0..12 {
+    for _ in 0..passes {
         global.sift_all(graph);
         let after = global.order.crossings(graph);
         if after >= now {

@@ -7,7 +7,8 @@
 //! one long row across the top.
 
 use super::{Layout, LayoutInput, Point, Spacing};
-use crate::geometry::{intersects, segment_meets_box, Rect};
+use crate::geometry::Rect;
+use crate::grid::{Boxes, Segments};
 
 /// The most boxes of a part laid out apart.
 const SMALL_PART: usize = 4;
@@ -127,15 +128,17 @@ fn into_free_room(
     rows.dedup_by(|a, b| (*a - *b).abs() < 0.5);
     let (left, right, bottom) = (spacing.margin, layout.width - spacing.margin, layout.height - spacing.margin);
     let mut spots = Vec::with_capacity(parts.len());
+    let (mut taken, labels_grid) = (Boxes::new(boxes.iter().copied()), Boxes::new(labels));
+    let segments_grid = Segments::new(segments.iter().copied());
     for &(width, height) in sizes {
-        let clear = |r: Rect, boxes: &[Rect]| {
+        let clear = |r: Rect, taken: &Boxes| {
             let near = r.grown(gap / 2.0);
             r.x >= left
                 && r.x + r.width <= right
                 && r.y + r.height <= bottom
-                && !boxes.iter().any(|b| intersects(r.grown(gap), *b))
-                && !labels.iter().any(|l| intersects(near, *l))
-                && !segments.iter().any(|&(a, b)| segment_meets_box(a, b, near))
+                && !taken.overlap(r.grown(gap), &[])
+                && !labels_grid.overlap(near, &[])
+                && !segments_grid.meet(near)
         };
         // The drawing's sides in every row first, then the gaps inside a row, left to right.
         let sides = rows.iter().flat_map(|&y| [right - width, left].map(|x| Rect { x, y, width, height }));
@@ -150,9 +153,10 @@ fn into_free_room(
             xs.sort_by(f64::total_cmp);
             xs.into_iter().map(move |x| Rect { x, y, width, height })
         });
-        let spot = sides.chain(inside).find(|r| clear(*r, &boxes));
+        let spot = sides.chain(inside).find(|r| clear(*r, &taken));
         if let Some(r) = spot {
             boxes.push(r);
+            taken.push(r);
         }
         spots.push(spot.map(|r| Point { x: r.x, y: r.y }));
     }

@@ -68,18 +68,26 @@ impl GlobalOrder {
         let lane = self.lane[b];
         let start = self.blocks.partition_point(|&x| self.lane[x] < lane);
         let end = self.blocks.partition_point(|&x| self.lane[x] <= lane);
+        // The cost changes only where b passes a block it shares ranks with: between two such
+        // blocks every place costs the same, and the one nearest where b was is the best of them.
         let (mut cost, mut best_cost, mut best_place) = (0i64, 0i64, start);
         let mut best_distance = from.abs_diff(start);
-        for place in start..end {
-            let c = self.blocks[place];
-            if let Some((first, last)) = self.shared_ranks(b, c) {
-                cost += self.swap_cost(b, c, place, first, last, graph);
-            }
-            let distance = from.abs_diff(place + 1);
+        let mut consider = |cost: i64, low: usize, high: usize| {
+            let place = from.clamp(low, high);
+            let distance = from.abs_diff(place);
             if cost < best_cost || (cost == best_cost && distance < best_distance) {
-                (best_cost, best_place, best_distance) = (cost, place + 1, distance);
+                (best_cost, best_place, best_distance) = (cost, place, distance);
             }
+        };
+        let mut low = start;
+        for c in self.sharing_ranks(b, lane, graph) {
+            let place = self.index[c];
+            consider(cost, low, place);
+            let (first, last) = self.shared_ranks(b, c).expect("a block met in b's ranks shares them");
+            cost += self.swap_cost(b, c, place, first, last, graph);
+            low = place + 1;
         }
+        consider(cost, low, end);
         self.blocks.insert(best_place, b);
         self.renumber_blocks(best_place.min(from));
         // Each rank follows the order: b's vertex goes after the vertices of earlier blocks.
@@ -95,6 +103,20 @@ impl GlobalOrder {
                 self.order.position[w] = low + i;
             }
         }
+    }
+
+    /// The blocks of `lane` other than `b` in the ranks `b` crosses, in the order.
+    fn sharing_ranks(&self, b: usize, lane: usize, graph: &Proper) -> Vec<usize> {
+        let (first, last) = self.span[b];
+        let mut met: Vec<usize> = self.order.layers[first..=last]
+            .iter()
+            .flatten()
+            .map(|&w| graph.block_of[w])
+            .filter(|&c| c != b && self.lane[c] == lane)
+            .collect();
+        met.sort_unstable_by_key(|&c| self.index[c]);
+        met.dedup();
+        met
     }
 
     /// Recomputes the place in the order of every block from `start` on.

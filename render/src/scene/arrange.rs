@@ -9,6 +9,7 @@ use std::collections::HashMap;
 use super::{labels::around, Point, Rect, Scene, SceneEdge};
 use crate::{
     geometry::{intersects, segment_meets_box},
+    grid::Segments,
     layout::{parallel_edges, self_loop, Layout},
     pins::Pins,
 };
@@ -273,42 +274,6 @@ fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Re
     }
     let right = boxes.iter().map(|b| b.x + b.width).fold(obstacles.corner.x, f64::max);
     Rect { x: right + CLEARANCE, ..wanted }
-}
-
-/// Route segments bucketed by the cells of a grid their bounding boxes touch: which of
-/// thousands of segments meet a box is asked for each of thousands of candidate spots.
-#[derive(Default)]
-struct Segments {
-    cells: HashMap<(i64, i64), Vec<(Point, Point)>>,
-}
-
-/// The side of a cell of `Segments`.
-const CELL: f64 = 80.0;
-
-impl Segments {
-    fn new(segments: impl Iterator<Item = (Point, Point)>) -> Segments {
-        let mut cells: HashMap<(i64, i64), Vec<(Point, Point)>> = HashMap::new();
-        for (a, b) in segments {
-            let bounds = Rect { x: a.x.min(b.x), y: a.y.min(b.y), width: (a.x - b.x).abs(), height: (a.y - b.y).abs() };
-            for cell in cells_of(bounds) {
-                cells.entry(cell).or_default().push((a, b));
-            }
-        }
-        Segments { cells }
-    }
-
-    /// Whether a segment passes through `r`.
-    fn meet(&self, r: Rect) -> bool {
-        cells_of(r)
-            .any(|cell| self.cells.get(&cell).is_some_and(|s| s.iter().any(|&(a, b)| segment_meets_box(a, b, r))))
-    }
-}
-
-/// The grid cells a box touches.
-fn cells_of(r: Rect) -> impl Iterator<Item = (i64, i64)> {
-    let cell = |v: f64| (v / CELL).floor() as i64;
-    let (x0, x1, y0, y1) = (cell(r.x), cell(r.x + r.width), cell(r.y), cell(r.y + r.height));
-    (x0..=x1).flat_map(move |x| (y0..=y1).map(move |y| (x, y)))
 }
 
 /// Per edge, how far its route bows out of the line between its boxes' centres, to one side of

@@ -3,7 +3,10 @@
 //! of its edge; each clear of every box, every label placed before and every edge, and inside
 //! the frame's body.
 
-use crate::geometry::{intersects, segment_meets_box};
+use crate::{
+    geometry::segment_meets_box,
+    grid::{Boxes, Segments},
+};
 use gudsl_model::graph::{EdgeKind, GraphEdge};
 
 use super::{
@@ -65,7 +68,6 @@ pub(crate) fn place_all(
     inside: &[Vec<usize>],
     corner: Point,
 ) -> Vec<Placed> {
-    let all_routes: Vec<&[Point]> = routes.iter().map(Vec::as_slice).collect();
     let mut placed: Vec<Placed> = texts
         .iter()
         .zip(laid_out)
@@ -75,8 +77,13 @@ pub(crate) fn place_all(
             Placed { middle, ..Placed::default() }
         })
         .collect();
-    let placed_before = placed.iter().flat_map(Placed::all).collect();
-    let mut room = Room { obstacles: boxes, open: &[], placed: placed_before, routes: &all_routes, corner };
+    let mut room = Room {
+        obstacles: Boxes::new(boxes.iter().copied()),
+        open: &[],
+        placed: Boxes::new(placed.iter().flat_map(Placed::all)),
+        routes: Segments::new(routes.iter().flat_map(|route| route.windows(2).map(|s| (s[0], s[1])))),
+        corner,
+    };
     // The end labels the layout made room for before any label is placed by searching.
     let ends = Ends { texts, routes, laid_out: laid_out_ends, inside };
     ends.place(true, &mut placed, &mut room);
@@ -220,11 +227,11 @@ fn place_end_label(
 /// What a label must keep clear of: the boxes, the labels placed before, every edge, and the
 /// frame's heading (it stays right of and below `corner`).
 struct Room<'a> {
-    obstacles: &'a [Rect],
+    obstacles: Boxes,
     /// The obstacles the label being placed may lie in.
     open: &'a [usize],
-    placed: Vec<Rect>,
-    routes: &'a [&'a [Point]],
+    placed: Boxes,
+    routes: Segments,
     corner: Point,
 }
 
@@ -237,17 +244,11 @@ impl Room<'_> {
         let clear = |b: &Rect| {
             b.x >= self.corner.x
                 && b.y >= self.corner.y
-                && !self
-                    .obstacles
-                    .iter()
-                    .enumerate()
-                    .filter(|(i, _)| !self.open.contains(i))
-                    .map(|(_, o)| o)
-                    .chain(&self.placed)
-                    .any(|o| intersects(b.grown(2.0), *o))
+                && !self.obstacles.overlap(b.grown(2.0), self.open)
+                && !self.placed.overlap(b.grown(2.0), &[])
         };
         let off = |route: &[Point], b: &Rect| !route.windows(2).any(|s| segment_meets_box(s[0], s[1], *b));
-        let off_edges = |b: &Rect| self.routes.iter().all(|route| off(route, b));
+        let off_edges = |b: &Rect| !self.routes.meet(*b);
         // Near the first candidate, clear of everything, where no candidate is.
         let nearby = || {
             let first = candidates.first()?;
