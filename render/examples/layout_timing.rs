@@ -50,7 +50,7 @@ fn diagrams(paths: Vec<String>) {
     for ((path, _), &file) in files.iter().zip(&ids) {
         for graph in analysis.graphs(file).expect("not cancelled").iter() {
             let start = std::time::Instant::now();
-            let scene = scene::build(graph, Hints { pins: None, previous: None });
+            let scene = scene::build(graph, Hints { pins: None, previous: None, ..Hints::default() });
             let took = start.elapsed().as_secs_f64() * 1e3;
             let out = std::path::Path::new(path).with_file_name(format!("{}.json", graph.id));
             std::fs::write(&out, gudsl_render::json::write(&scene)).expect("written");

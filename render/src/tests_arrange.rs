@@ -43,7 +43,7 @@ fn pinned_nodes_are_drawn_where_they_were_put_and_the_others_keep_clear() {
         let mut pins = Pins::new();
         pins.insert(first.id.clone(), pin(before.width + 35.5, before.height / 2.0));
         pins.insert(last.id.clone(), pin(first.rect.x, first.rect.y));
-        let scene = scene::build(graph, Hints { pins: Some(&pins), previous: None });
+        let scene = scene::build(graph, Hints { pins: Some(&pins), previous: None, ..Hints::default() });
         for (id, p) in &pins {
             let drawn = scene.nodes.iter().find(|n| &n.id == id).unwrap().rect;
             assert_eq!((drawn.x, drawn.y), (p.x, p.y), "{}: {id} is not where it was put", graph.id);
@@ -61,7 +61,7 @@ fn a_node_added_to_a_drawing_moves_no_other_node() {
     for graph in sample_graphs().iter().filter(|g| g.nodes.len() >= 3) {
         for k in [graph.nodes.len() / 2, graph.nodes.len() - 1] {
             let previous = fresh(&without(graph, k));
-            let scene = scene::build(graph, Hints { pins: None, previous: Some(&previous) });
+            let scene = scene::build(graph, Hints { pins: None, previous: Some(&previous), ..Hints::default() });
             // The components that hold the new one grow to hold it too; they do not move. What
             // they hold is laid out afresh inside them (the arranging is the top level's).
             let parent = |id: &String| scene.nodes.iter().find(|n| &n.id == id).and_then(|n| n.parent.as_ref());
@@ -97,7 +97,7 @@ fn a_node_keeps_its_place_when_another_is_pinned_onto_it_only_if_there_is_room()
         let [target, dragged, ..] = top[..] else { continue };
         let mut pins = Pins::new();
         pins.insert(dragged.id.clone(), pin(target.rect.x, target.rect.y));
-        let scene = scene::build(graph, Hints { pins: Some(&pins), previous: Some(&previous) });
+        let scene = scene::build(graph, Hints { pins: Some(&pins), previous: Some(&previous), ..Hints::default() });
         let moved = scene.nodes.iter().find(|n| n.id == target.id).unwrap().rect;
         assert_ne!(moved, target.rect, "{}", graph.id);
         let dropped = scene.nodes.iter().find(|n| n.id == dragged.id).unwrap().rect;
@@ -115,7 +115,7 @@ fn parallel_edges_to_a_moved_node_stay_apart() {
     let image = before.nodes.iter().find(|n| n.id.ends_with("Image")).unwrap();
     let mut pins = Pins::new();
     pins.insert(image.id.clone(), pin(before.width + 60.0, before.height + 40.0));
-    let scene = scene::build(graph, Hints { pins: Some(&pins), previous: None });
+    let scene = scene::build(graph, Hints { pins: Some(&pins), previous: None, ..Hints::default() });
     assert_clean(graph, &scene, false);
     let between: Vec<&[Point]> = scene.edges.iter().filter(|e| e.source != e.target).map(|e| &e.points[..]).collect();
     assert_eq!(between.len(), 3);
@@ -146,7 +146,7 @@ fn a_resized_node_has_its_size_but_never_less_than_its_text() {
     let (id, text) = (&graph.nodes[0].id, content(&graph.nodes[0]));
     let mut pins = Pins::new();
     pins.insert(id.clone(), Pin { x: 500.0, y: 20.0, width: Some(text.width + 100.0), height: Some(1.0) });
-    let scene = scene::build(&graph, Hints { pins: Some(&pins), previous: None });
+    let scene = scene::build(&graph, Hints { pins: Some(&pins), previous: None, ..Hints::default() });
     let rect = scene.nodes[0].rect;
     assert_eq!((rect.width, rect.height), (text.width + 100.0, text.height));
     assert_clean(&graph, &scene, false);
@@ -162,8 +162,11 @@ fn a_previous_scene_is_followed_only_while_it_holds_half_the_nodes() {
     for node in &mut previous.nodes {
         node.rect.x += 400.0;
     }
-    assert_eq!(scene::build(&graph, Hints { pins: None, previous: Some(&previous) }), fresh(&graph));
+    assert_eq!(
+        scene::build(&graph, Hints { pins: None, previous: Some(&previous), ..Hints::default() }),
+        fresh(&graph)
+    );
     // A previous scene of the same nodes is this one's layout again.
     let again = fresh(&graph);
-    assert_eq!(scene::build(&graph, Hints { pins: None, previous: Some(&again) }), again);
+    assert_eq!(scene::build(&graph, Hints { pins: None, previous: Some(&again), ..Hints::default() }), again);
 }

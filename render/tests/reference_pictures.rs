@@ -8,7 +8,12 @@
 
 use std::path::{Path, PathBuf};
 
-use gudsl_render::png;
+use gudsl_model::{graph::Graph, AnalysisHost};
+use gudsl_render::{
+    layout::Page,
+    png,
+    scene::{self, Hints},
+};
 use resvg::tiny_skia::{Pixmap, PremultipliedColorU8};
 
 mod common {
@@ -35,6 +40,13 @@ const PICTURES: &[&str] = &[
     "ComponentInstanceExampleDiagram",
 ];
 
+/// Diagrams of the models in `tests/reference/models/` (file stem = diagram id), each drawn
+/// for a page: generated at sizes the samples do not reach.
+const MODELS: &[(&str, Page)] = &[
+    // A control flow taller than a screen, wrapped into columns.
+    ("LongFlow", Page::SCREEN),
+];
+
 /// A channel may differ by this much (rounding in the rasterizer) before the pixel counts as
 /// different.
 const CHANNEL_TOLERANCE: u8 = 2;
@@ -50,9 +62,14 @@ fn diagrams_look_like_their_reviewed_reference_pictures() {
     let update = std::env::var_os("GUDSL_UPDATE_REFERENCES").is_some_and(|v| v == "1");
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reference-pictures");
     let mut failures = Vec::new();
-    for id in PICTURES {
-        let graph = sample(&graphs, id);
-        let drawn = png::to_png(&gudsl_render::svg::render(graph), 1.0).unwrap();
+    let models: Vec<(Graph, Page)> = MODELS.iter().map(|&(id, page)| (model(&references, id), page)).collect();
+    let drawings = PICTURES
+        .iter()
+        .map(|id| (*id, sample(&graphs, id), Page::default()))
+        .chain(models.iter().zip(MODELS).map(|((graph, page), (id, _))| (*id, graph, *page)));
+    for (id, graph, page) in drawings {
+        let scene = scene::build(graph, Hints { page, ..Hints::default() });
+        let drawn = png::to_png(&gudsl_render::svg::write(&scene), 1.0).unwrap();
         let reference = references.join(format!("{id}.png"));
         if update {
             std::fs::write(&reference, &drawn).unwrap();
@@ -76,6 +93,15 @@ fn diagrams_look_like_their_reviewed_reference_pictures() {
         references.display(),
         failures.join("\n")
     );
+}
+
+/// The diagram `id` of `models/<id>.gudsl`.
+fn model(references: &Path, id: &str) -> Graph {
+    let path = references.join("models").join(format!("{id}.gudsl"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let (host, files) = AnalysisHost::with_files([(path.display().to_string(), text)]);
+    let graphs = host.analysis().graphs(files[0]).unwrap().to_vec();
+    graphs.into_iter().find(|g| g.id == id).unwrap_or_else(|| panic!("{}: no diagram `{id}`", path.display()))
 }
 
 /// How a picture differs from its reference: in words, and as an image.

@@ -68,6 +68,12 @@ fn best_of(
     Some(candidates.swap_remove(chosen))
 }
 
+/// The order median sweeps find from the breadth-first start alone: a first idea of the
+/// drawing, for measuring it.
+pub(super) fn quick_order(graph: &Proper) -> Vec<Vec<usize>> {
+    sweeps(graph.initial_layers(true, false), graph).0
+}
+
 /// The fewest crossings median sweeps find from the four plain starts.
 pub(super) fn swept_crossings(graph: &Proper) -> usize {
     let starts = [(true, false), (false, false), (true, true), (false, true)];

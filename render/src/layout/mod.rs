@@ -17,6 +17,8 @@ mod rank;
 mod route;
 mod sifting;
 mod simplex;
+mod unzip;
+mod wrap;
 
 pub(crate) use bundle::parallel_edges;
 pub(crate) use route::self_loop;
@@ -56,7 +58,7 @@ pub struct LayoutInput {
     pub end_labels: Vec<[Option<(f64, f64)>; 2]>,
 }
 
-/// Spacing of the layout.
+/// Spacing of the layout, and the page it is meant for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spacing {
     /// Between boxes of one rank.
@@ -65,11 +67,78 @@ pub struct Spacing {
     pub rank_gap: f64,
     /// Around the drawing.
     pub margin: f64,
+    /// A drawing that does not fit it, and whose aspect ratio is far from the page's, is
+    /// reshaped towards the page's: wide ranks split (`unzip`), a tall drawing wrapped into
+    /// columns (`wrap`).
+    pub page: Page,
 }
 
 impl Default for Spacing {
     fn default() -> Self {
-        Spacing { node_gap: 40.0, rank_gap: 60.0, margin: 20.0 }
+        Spacing { node_gap: 40.0, rank_gap: 60.0, margin: 20.0, page: Page::SCREEN }
+    }
+}
+
+/// The page (or screen) a drawing is meant for, in the drawing's units (px, 1/96 in).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Page {
+    pub width: f64,
+    pub height: f64,
+}
+
+impl Default for Page {
+    fn default() -> Page {
+        Page::SCREEN
+    }
+}
+
+impl Page {
+    /// A landscape screen's diagram panel, 16:10.
+    pub const SCREEN: Page = Page { width: 1600.0, height: 1000.0 };
+    /// No page: the drawing as its ranks come, however wide or tall.
+    pub const UNBOUNDED: Page = Page { width: f64::INFINITY, height: f64::INFINITY };
+
+    /// A page of paper by name, upright (`A4`, `A3`, `Letter`; any case), or on its side with
+    /// `-landscape` after the name; the drawing's units are px, 96 to the inch.
+    pub fn paper(name: &str) -> Option<Page> {
+        let lower = name.to_ascii_lowercase();
+        let (paper, landscape) = match lower.strip_suffix("-landscape") {
+            Some(paper) => (paper, true),
+            None => (lower.as_str(), false),
+        };
+        let (width_mm, height_mm) = match paper {
+            "a4" => (210.0, 297.0),
+            "a3" => (297.0, 420.0),
+            "letter" => (215.9, 279.4),
+            _ => return None,
+        };
+        let page = Page { width: width_mm / 25.4 * 96.0, height: height_mm / 25.4 * 96.0 };
+        Some(if landscape { page.turned() } else { page })
+    }
+
+    /// A page of width to height `width:height` as large as the screen (`SCREEN`'s area).
+    pub fn with_aspect(width: f64, height: f64) -> Option<Page> {
+        let aspect = width / height;
+        if !(aspect.is_finite() && aspect > 0.0) {
+            return None;
+        }
+        let area = Page::SCREEN.width * Page::SCREEN.height;
+        Some(Page { width: (area * aspect).sqrt(), height: (area / aspect).sqrt() })
+    }
+
+    /// Width over height (1 for an unbounded page).
+    pub fn aspect(self) -> f64 {
+        let aspect = self.width / self.height;
+        if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        }
+    }
+
+    /// The page turned on its side (for a layout drawn across and turned back).
+    pub fn turned(self) -> Page {
+        Page { width: self.height, height: self.width }
     }
 }
 
@@ -115,7 +184,7 @@ pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
         firm: input.firm.clone(),
         end_labels: Vec::new(),
     };
-    let mut layout = layered(&across, spacing);
+    let mut layout = layered(&across, Spacing { page: spacing.page.turned(), ..spacing });
     let turn = |p: &mut Point| std::mem::swap(&mut p.x, &mut p.y);
     layout.positions.iter_mut().for_each(turn);
     layout.edges.iter_mut().flatten().for_each(turn);
@@ -209,6 +278,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let mut ways: Vec<(rank::Ranked, Proper, Vec<bool>)> = rank::candidates(n, &input.edges, input.flow, &input.firm)
         .into_iter()
         .map(|mut ranked| {
+            unzip::unzip(&mut ranked.rank, &ranked.edges, &input.nodes, &input.groups, labelled, spacing);
             if labelled {
                 ranked.rank.iter_mut().for_each(|r| *r *= 2);
             }
@@ -272,7 +342,12 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     }
     let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
     let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
-    Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height }
+    let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height };
+    // Swimlanes are columns of their own: a drawing in lanes is not wrapped.
+    if input.groups.iter().all(Option::is_none) {
+        wrap::wrap(&mut layout, input, &bands, spacing);
+    }
+    layout
 }
 
 #[cfg(test)]

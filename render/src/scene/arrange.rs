@@ -10,7 +10,7 @@ use super::{labels::around, Point, Rect, Scene, SceneEdge};
 use crate::{
     geometry::{intersects, segment_meets_box},
     grid::Segments,
-    layout::{parallel_edges, self_loop, Layout},
+    layout::{parallel_edges, self_loop, Layout, Page},
     pins::Pins,
 };
 
@@ -22,6 +22,9 @@ pub struct Hints<'a> {
     /// The scene of the same diagram drawn before: its nodes stay where they were, if it still
     /// holds at least half of this one's nodes.
     pub previous: Option<&'a Scene>,
+    /// The page or screen the drawing is meant for: a fresh layout that does not fit it is
+    /// reshaped towards its aspect ratio.
+    pub page: Page,
 }
 
 /// A node to place: its id, its size, and the room its port symbols take left and right of it

@@ -13,7 +13,7 @@ use super::{
     nesting::Nesting,
     notation, port_reach, scene_node, Hints, Point, Rect, Scene, SceneEdge, BODY_INSET,
 };
-use crate::layout::{layered, layered_left_to_right, Layout, LayoutInput, LayoutNode, Spacing};
+use crate::layout::{layered, layered_left_to_right, Layout, LayoutInput, LayoutNode, Page, Spacing};
 
 /// A graph's edge with both ends found: node indices, and port indices on them.
 struct ResolvedEdge<'g> {
@@ -40,7 +40,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
     let mut nesting = Nesting::of(graph);
-    let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset());
+    let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), hints.page);
     arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
     let boxes: Vec<Rect> = layout
         .positions
@@ -158,10 +158,19 @@ fn layout_input(parts: &Parts) -> LayoutInput {
 /// filters, sinks; between the columns the ports' symbols and tracks), class and activity
 /// diagrams top down; nested components inside their parents. Upward edges drawn from the
 /// child to the parent.
-fn lay_out(parts: &mut Parts, input: &LayoutInput, nesting: &mut Nesting, (body_x, body_y): (f64, f64)) -> Layout {
+fn lay_out(
+    parts: &mut Parts,
+    input: &LayoutInput,
+    nesting: &mut Nesting,
+    (body_x, body_y): (f64, f64),
+    page: Page,
+) -> Layout {
+    let spacing = Spacing { page, ..Spacing::default() };
     let mut layout = match parts.graph.kind {
         GraphKind::Component | GraphKind::ComponentInstance => {
-            let spacing = Spacing { rank_gap: 20.0, ..Spacing::default() };
+            // Not fitted to the page yet: around nodes the user moved, the connection router
+            // can run a connection between wrapped rows through a box.
+            let spacing = Spacing { rank_gap: 20.0, page: Page::UNBOUNDED, ..spacing };
             if nesting.is_flat() {
                 layered_left_to_right(input, spacing)
             } else {
@@ -169,9 +178,9 @@ fn lay_out(parts: &mut Parts, input: &LayoutInput, nesting: &mut Nesting, (body_
             }
         }
         GraphKind::Activity if !nesting.is_flat() => {
-            nesting.layout(input, &mut parts.contents, &parts.reaches, Spacing::default(), layered)
+            nesting.layout(input, &mut parts.contents, &parts.reaches, spacing, layered)
         }
-        GraphKind::Class | GraphKind::Activity => layered(input, Spacing::default()),
+        GraphKind::Class | GraphKind::Activity => layered(input, spacing),
     };
     for (at, reach) in layout.positions.iter_mut().zip(&parts.reaches) {
         at.x += reach.0;

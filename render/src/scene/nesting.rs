@@ -7,7 +7,7 @@
 use gudsl_model::graph::Graph;
 
 use super::{measure::Content, Point};
-use crate::layout::{Layout, LayoutInput, LayoutNode, Spacing};
+use crate::layout::{Layout, LayoutInput, LayoutNode, Page, Spacing};
 
 /// An edge laid out inside a parent: the parent, the route and the label's place from the
 /// parent's corner.
@@ -96,7 +96,8 @@ impl Nesting {
         };
         for parent in parents {
             let (level, sub, edges) = self.level(input, Some(parent), |v| layout_box(contents, v));
-            let inner = lay(&sub, spacing);
+            // A component's inside is as its ranks come: only the whole drawing is fitted to the page.
+            let inner = lay(&sub, Spacing { page: Page::UNBOUNDED, ..spacing });
             let top = contents[parent].height;
             for (&child, at) in level.iter().zip(&inner.positions) {
                 self.offset[child] = Point { x: at.x + reaches[child].0, y: top + at.y };

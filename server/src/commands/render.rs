@@ -1,6 +1,7 @@
 //! `gudsl render PATH… [--diagram NAME] [--format svg|png|layout-json] [--with-report
-//! report.json] [-o DIR]`: draws the diagrams of the given files (resolved together as one
-//! workspace) into one file per diagram, named after the diagram's fully qualified name, with
+//! report.json] [--aspect W:H | --page PAPER] [-o DIR]`: draws the diagrams of the given files
+//! (resolved together as one workspace) into one file per diagram, named after the diagram's
+//! fully qualified name, fitted to a landscape screen (or the aspect ratio or paper given), with
 //! the nodes pinned in each file's layout sidecar (`<file>.gudsl.layout`) where they were put;
 //! the pipeline a run's `report.json` is of with its times and flows on it
 //! (`gudsl_host::pipeline::annotate`). Output is byte-identical for identical input.
@@ -12,7 +13,7 @@ use std::{path::PathBuf, process::ExitCode};
 
 use clap::{Args, ValueEnum};
 
-use gudsl_render::{pins::LayoutFile, scene::Hints};
+use gudsl_render::{layout::Page, pins::LayoutFile, scene::Hints};
 
 use crate::{layout_file, workspace};
 
@@ -31,9 +32,27 @@ pub struct RenderArgs {
     /// and share, the slowest marked, and what each binding carried.
     #[arg(long = "with-report", value_name = "REPORT")]
     with_report: Option<PathBuf>,
+    /// The width-to-height ratio the drawing aims at where it does not fit a screen, as `W:H`
+    /// (default 16:10, a landscape screen).
+    #[arg(long, value_name = "W:H", value_parser = aspect_page, conflicts_with = "page")]
+    aspect: Option<Page>,
+    /// The paper the drawing is meant for: `A4`, `A3` or `Letter`, upright, or on its side as
+    /// `A4-landscape`; a drawing that does not fit is reshaped towards the paper's shape.
+    #[arg(long, value_name = "PAPER", value_parser = paper_page)]
+    page: Option<Page>,
     /// Output folder (created if missing).
     #[arg(short = 'o', long = "output", default_value = ".")]
     output: PathBuf,
+}
+
+fn aspect_page(text: &str) -> Result<Page, String> {
+    let (width, height) = text.split_once(':').ok_or("an aspect ratio is written W:H, as 16:10")?;
+    let number = |n: &str| n.trim().parse::<f64>().map_err(|_| format!("`{n}` is no number"));
+    Page::with_aspect(number(width)?, number(height)?).ok_or_else(|| format!("{text} is no aspect ratio"))
+}
+
+fn paper_page(text: &str) -> Result<Page, String> {
+    Page::paper(text).ok_or_else(|| format!("no paper `{text}`: A4, A3 or Letter, upright or as A4-landscape"))
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -92,7 +111,8 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             if args.diagram.as_deref().is_some_and(|wanted| !gudsl_host::named::names_diagram(wanted, &graph.id)) {
                 continue;
             }
-            let hints = Hints { pins: layout.pins(&graph.id), previous: None };
+            let page = args.page.or(args.aspect).unwrap_or_default();
+            let hints = Hints { pins: layout.pins(&graph.id), previous: None, page };
             let annotated = report.as_ref().filter(|r| r["diagram"] == graph.id.as_str()).map(|r| {
                 let mut annotated = graph.clone();
                 annotate(&mut annotated, r).map(|()| annotated)

@@ -49,7 +49,7 @@ impl SceneCache {
             Some((_, scene)) if !relayout => Some(scene),
             _ => None,
         };
-        let scene = Arc::new(scene::build(graph, Hints { pins, previous: previous.as_deref() }));
+        let scene = Arc::new(scene::build(graph, Hints { pins, previous: previous.as_deref(), ..Hints::default() }));
         let mut scenes = self.lock();
         if scenes.len() >= CACHED_SCENES {
             scenes.clear();
