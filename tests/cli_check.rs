@@ -349,3 +349,35 @@ fn a_duplicate_across_files_shows_where_the_other_declaration_is() {
     assert!(related["path"].as_str().unwrap().ends_with("b.gudsl"), "{first}");
     assert_eq!((related["line"].as_u64(), related["column"].as_u64()), (Some(1), Some(17)), "{first}");
 }
+
+#[test]
+fn render_fits_a_long_flow_to_the_page_or_aspect_asked() {
+    let out = temp_dir("render-page");
+    let flow = repo("render/tests/reference/models/LongFlow.gudsl");
+    let size = |args: &[&str]| {
+        let mut all = vec!["render", flow.as_str(), "--format", "layout-json", "-o", out.to_str().unwrap()];
+        all.extend_from_slice(args);
+        let status = gudsl().args(&all).status().unwrap();
+        assert!(status.success(), "{args:?}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("LongFlow.json")).unwrap()).unwrap();
+        let nodes = json["nodes"].as_array().unwrap();
+        let reach = |at: &str, size: &str| {
+            nodes.iter().map(|n| n[at].as_f64().unwrap() + n[size].as_f64().unwrap()).fold(0.0, f64::max)
+        };
+        (reach("x", "w"), reach("y", "h"))
+    };
+    let screen = size(&[]);
+    assert!(screen.0 > screen.1, "wrapped into columns for a landscape screen: {screen:?}");
+    let wide = size(&["--aspect", "3:1"]);
+    assert!(wide.0 / wide.1 > screen.0 / screen.1, "{wide:?} vs {screen:?}");
+    let a4 = size(&["--page", "A4"]);
+    assert!(a4.0 < a4.1, "upright on A4: {a4:?}");
+    for (flag, value, said) in
+        [("--aspect", "16x10", "W:H"), ("--aspect", "0:1", "no aspect ratio"), ("--page", "B5", "no paper")]
+    {
+        let run = gudsl().args(["render", flow.as_str(), flag, value, "-o", out.to_str().unwrap()]).output().unwrap();
+        assert_eq!(run.status.code(), Some(2), "{flag} {value}");
+        assert!(String::from_utf8_lossy(&run.stderr).contains(said), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+}

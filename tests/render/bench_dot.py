@@ -9,6 +9,8 @@ structured control flow as programs have it — sequences, guarded branches that
 loops back (`realistic_activity_diagram`).
 
 usage: python3 bench_dot.py GUDSL_BINARY LAYOUT_METRICS_PY [--quick] [--seeds N]
+       python3 bench_dot.py GUDSL_BINARY LAYOUT_METRICS_PY --scale [--sizes 50,200,1000,2000] [--aspect W:H]
+           [--kinds class,activity,instance]
 Needs `dot` (Debian package graphviz; only the benchmark needs it, not the product). Both tools
 get the same boxes (gudsl's measured node sizes, its decision and merge diamonds included), the
 same edges (generalizations pointing up in both) and the same labels: the texts of gudsl's
@@ -17,7 +19,14 @@ is per diagram, median of 5 (gudsl: the whole `gudsl render --format layout-json
 parse and resolution included; dot: `dot -Tjson`). `--quick`: the realistic diagrams only, one
 timing run each. `--seeds N`: the realistic diagrams also from N more random seeds (one row
 each, "class 50 #2"), and a last line counting per metric on how many diagrams gudsl is
-better, equal and worse than dot — one seed can flatter either tool."""
+better, equal and worse than dot — one seed can flatter either tool.
+
+`--scale`: the realistic class and activity diagrams and generated component-instance
+pipelines (`realistic_instance_diagram`) at 50, 200, 1 000 and 2 000 nodes, each laid out by
+dot, by ELK layered (elkjs, `elk.py`, installed from npm on first use) and by gudsl for a page
+of aspect ratio `--aspect` (default 16:10; ELK is given it too, dot has no such option), side
+by side: crossings, edge–node hits, label overlaps, area, width/height, whole-process time
+(one run each from 1 000 nodes, else median of 3)."""
 
 import json
 import random
@@ -27,6 +36,9 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import elk  # noqa: E402
 
 # Edge labels as gudsl draws them (scene::measure::LABEL_SIZE, the bundled DejaVu Sans).
 LABEL_FONT = 'fontname="DejaVu Sans", fontsize=10.2'
@@ -145,16 +157,51 @@ def realistic_activity_diagram(n, seed=11):
     return "\n".join(lines) + "\n"
 
 
+def realistic_instance_diagram(n, seed=13):
+    """A component-instance pipeline of n instances of the seed's components (samples/seed,
+    listing 18): cameras first, viewers last, mean filters between; each filter and viewer
+    bound from one or two earlier instances, mostly recent ones, as dataflow graphs grow. (The
+    seed declares no filter-to-filter connection, so `gudsl check` reports those bindings; they
+    are drawn as any others.)"""
+    rng = random.Random(seed)
+    cameras, viewers = max(1, n // 10), max(1, n // 10)
+    kinds = ["camera"] * cameras + ["filter"] * (n - cameras - viewers) + ["viewer"] * viewers
+    bound = {i: [] for i in range(n)}
+    for i in range(cameras, n):
+        sources = [j for j in range(max(0, i - 12), min(i, n - viewers))]
+        for j in set(rng.sample(sources, min(len(sources), 1 if rng.random() < 0.7 else 2))):
+            bound[j].append(i)
+    port = {"camera": "CameraPortInstance", "filter": "FilterPortInstance", "viewer": "ViewerPortInstance"}
+    lines = ["ComponentInstanceDiagram Bench", "{"]
+    for i, kind in enumerate(kinds):
+        component = {"camera": "Camera", "filter": "MeanFilter", "viewer": "Viewer"}[kind]
+        lines.append(f"    I{i} instantiates ComponentClassDefinitions.{component} ( )")
+        lines.append("    {")
+        if kind == "camera":
+            lines.append("        CameraPortInstance : CameraPort ( provider ImageOut = IImageProvider(); );")
+        elif kind == "filter":
+            lines.append("        FilterPortInstance : FilterPort ( processor ImageIn = IImageProcessor(); provider ImageOut = IImageProvider(); );")
+        else:
+            lines.append("        ViewerPortInstance : ViewerPort ( processor ImageIn = IImageProcessor(); );")
+        for target in bound[i]:
+            lines.append(f"        [ source {port[kind]}.ImageOut ==> target I{target}.{port[kinds[target]]}.ImageIn ]")
+        lines.append("    }")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
 def quoted(text):
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
 
 
-def to_dot(layout):
+def to_dot(layout, across=False):
     """The same boxes, edges and labels for dot: a generalization or realization is laid out
-    parent first (as gudsl does, and as UML draws them upwards) and drawn back to the child."""
+    parent first (as gudsl does, and as UML draws them upwards) and drawn back to the child;
+    `across`: left to right (a component-instance diagram's dataflow), an edge between ports
+    joining their instances."""
     out = [
         "digraph G {",
-        "  rankdir=TB; nodesep=0.55; ranksep=0.8;",
+        f"  rankdir={'LR' if across else 'TB'}; nodesep=0.55; ranksep=0.8;",
         '  node [shape=box, fixedsize=true, label=""];',
         f"  edge [{LABEL_FONT}];",
     ]
@@ -166,7 +213,8 @@ def to_dot(layout):
     for i, edge in enumerate(layout["edges"]):
         attributes = {"mid": "label", "head": "headlabel", "tail": "taillabel"}
         labels = [f"{attributes[k]}={quoted(t)}" for k, t in sorted(texts.get(i, {}).items())]
-        src, dst = edge["src"], edge["dst"]
+        ids = {n["id"] for n in layout["nodes"]}
+        src, dst = elk.node_of(edge["src"], ids), elk.node_of(edge["dst"], ids)
         if edge.get("kind") in ("generalization", "realization"):
             src, dst = dst, src
             labels.append("dir=back")
@@ -248,7 +296,65 @@ def main(gudsl, metrics, quick=False, seeds=0):
     print("realistic diagrams, gudsl better/equal/worse: " + ", ".join(f"{c} {'/'.join(map(str, tally[k]))}" for c, k, _ in COLUMNS))
 
 
+def scale(gudsl, metrics, sizes, aspect, only=None):
+    """The --scale table: dot, ELK and gudsl side by side per diagram kind and size."""
+    work = Path(tempfile.mkdtemp(prefix="gudsl-scale-"))
+    seed = Path(__file__).resolve().parent.parent.parent / "samples" / "seed"
+    w, h = (float(v) for v in aspect.split(":"))
+    target = w / h
+    _, elk_version = elk.ensure_elkjs()
+    dot_version = subprocess.run(["dot", "-V"], capture_output=True, text=True).stderr.strip()
+    print(f"target aspect (w/h) {target:.2f}; {dot_version}; elkjs {elk_version}")
+    columns = ["crossings", "edge-node", "lbl-node", "lbl-lbl", "area Mpx2", "w/h", "time ms"]
+    print(f"{'diagram':<18} {'nodes':>5} {'edges':>5} | " + " | ".join(f"{c + ' dot/ELK/gudsl':>26}" for c in columns))
+    kinds = [("class", realistic_class_diagram, False), ("activity", realistic_activity_diagram, False), ("instance", realistic_instance_diagram, True)]
+    kinds = [k for k in kinds if k[0] in only] if only else kinds
+    for kind, make, across in kinds:
+        for n in sizes:
+            name = f"{kind}{n}"
+            src = work / f"{name}.gudsl"
+            src.write_text(make(n))
+            repeat = 1 if n >= 1000 else 3
+            paths = [src] + ([seed] if across else [])
+            out = work / name
+            times = []
+            for _ in range(repeat):
+                start = time.perf_counter()
+                subprocess.run([gudsl, "render", *map(str, paths), "--diagram", "Bench", "--format", "layout-json", "--aspect", aspect, "-o", str(out)], check=True, capture_output=True)
+                times.append(time.perf_counter() - start)
+            ours_path = out / "Bench.json"
+            layout = json.loads(ours_path.read_text())
+            dot_src, dot_out = work / f"{name}.dot", work / f"{name}.dot.json"
+            dot_src.write_text(to_dot(layout, across))
+            dot_times = []
+            for _ in range(repeat):
+                start = time.perf_counter()
+                with open(dot_out, "w") as f:
+                    subprocess.run(["dot", "-Tjson", str(dot_src)], check=True, stdout=f)
+                dot_times.append(time.perf_counter() - start)
+            elk_out = work / f"{name}.elk.json"
+            elk_time = elk.run(layout, across, target, elk_out, repeat)
+            # The metrics join edges to nodes: an edge between ports is scored between their instances.
+            ids = {n["id"] for n in layout["nodes"]}
+            scored = dict(layout, edges=[dict(e, src=elk.node_of(e["src"], ids), dst=elk.node_of(e["dst"], ids)) for e in layout["edges"]])
+            scored_path = work / f"{name}.scored.json"
+            scored_path.write_text(json.dumps(scored))
+            scores = [score(metrics, dot_out, "dotjson"), score(metrics, elk_out, "elk"), score(metrics, scored_path, "neutral")]
+            row = [[s["crossings"] for s in scores], [s["edge_node_hits"] for s in scores],
+                   [s["label_node_overlaps"] for s in scores], [s["label_label_overlaps"] for s in scores],
+                   [f"{s['area'] / 1e6:.1f}" for s in scores], [f"{s['width'] / s['height']:.2f}" for s in scores],
+                   [f"{statistics.median(dot_times) * 1e3:.0f}", f"{elk_time:.0f}", f"{statistics.median(times) * 1e3:.0f}"]]
+            cells = " | ".join(f"{' / '.join(map(str, r)):>26}" for r in row)
+            print(f"{name:<18} {scores[2]['nodes']:>5} {len(layout['edges']):>5} | {cells}", flush=True)
+    print("(each cell: dot / ELK / gudsl; areas and w/h of the drawings' bounding boxes; label counts as gudsl gives them to all three)")
+
+
 if __name__ == "__main__":
     flags = sys.argv[3:]
+    if "--scale" in flags:
+        sizes = [int(v) for v in flags[flags.index("--sizes") + 1].split(",")] if "--sizes" in flags else [50, 200, 1000, 2000]
+        only = flags[flags.index("--kinds") + 1].split(",") if "--kinds" in flags else None
+        scale(sys.argv[1], sys.argv[2], sizes, flags[flags.index("--aspect") + 1] if "--aspect" in flags else "16:10", only)
+        sys.exit(0)
     seeds = int(flags[flags.index("--seeds") + 1]) if "--seeds" in flags else 0
     main(sys.argv[1], sys.argv[2], "--quick" in flags, seeds)
