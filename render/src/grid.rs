@@ -14,18 +14,19 @@ const CELL: f64 = 80.0;
 const MOST_CELLS: i64 = 4096;
 
 /// Items bucketed by the grid cells their bounding boxes touch.
-struct Cells<T> {
+pub(crate) struct Cells<T> {
     cells: HashMap<(i64, i64), Vec<T>>,
     /// Items touching more than `MOST_CELLS` cells.
     apart: Vec<T>,
 }
 
 impl<T: Copy> Cells<T> {
-    fn new() -> Cells<T> {
+    pub fn new() -> Cells<T> {
         Cells { cells: HashMap::new(), apart: Vec::new() }
     }
 
-    fn insert(&mut self, bounds: Rect, item: T) {
+    /// Adds `item`, found by any box that meets `bounds`.
+    pub fn insert(&mut self, bounds: Rect, item: T) {
         match cells_of(bounds) {
             Some(cells) => cells.for_each(|cell| self.cells.entry(cell).or_default().push(item)),
             None => self.apart.push(item),
@@ -33,7 +34,7 @@ impl<T: Copy> Cells<T> {
     }
 
     /// Whether an item near `r` (in a cell `r` touches, or kept apart) passes `test`.
-    fn any(&self, r: Rect, test: impl Fn(&T) -> bool) -> bool {
+    pub fn any(&self, r: Rect, test: impl Fn(&T) -> bool) -> bool {
         if self.apart.iter().any(&test) {
             return true;
         }
@@ -57,6 +58,11 @@ fn cells_of(r: Rect) -> Option<impl Iterator<Item = (i64, i64)>> {
     Some((x0..=x1).flat_map(move |x| (y0..=y1).map(move |y| (x, y))))
 }
 
+/// The box a segment spans.
+pub(crate) fn span(a: Point, b: Point) -> Rect {
+    Rect { x: a.x.min(b.x), y: a.y.min(b.y), width: (a.x - b.x).abs(), height: (a.y - b.y).abs() }
+}
+
 /// Line segments: which pass through a box.
 pub(crate) struct Segments(Cells<(Point, Point)>);
 
@@ -70,8 +76,7 @@ impl Segments {
     pub fn new(segments: impl Iterator<Item = (Point, Point)>) -> Segments {
         let mut cells = Cells::new();
         for (a, b) in segments {
-            let bounds = Rect { x: a.x.min(b.x), y: a.y.min(b.y), width: (a.x - b.x).abs(), height: (a.y - b.y).abs() };
-            cells.insert(bounds, (a, b));
+            cells.insert(span(a, b), (a, b));
         }
         Segments(cells)
     }

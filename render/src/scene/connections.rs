@@ -6,7 +6,7 @@
 //! detours along the nearest free row between the boxes.
 
 use super::{Point, Rect};
-use crate::geometry::intersects;
+use crate::grid::{span, Boxes, Cells};
 
 /// A connection to route: its two port anchors and which way each port faces (1: the right
 /// border, -1: the left), and the ids of the ports.
@@ -32,6 +32,7 @@ const SHIFTS: usize = 12;
 pub(super) const TRACKS: f64 = STUB + 3.0 * TRACK;
 
 /// A segment of a route, with the ports of its connection.
+#[derive(Clone, Copy)]
 struct Placed<'a> {
     a: Point,
     b: Point,
@@ -41,16 +42,15 @@ struct Placed<'a> {
 
 /// Routes every connection among `boxes`, in order.
 pub(super) fn route(connections: &[Connection], boxes: &[Rect]) -> Vec<Vec<Point>> {
-    let mut placed: Vec<Placed> = Vec::new();
+    let obstacles = Boxes::new(boxes.iter().copied());
+    let mut placed: Cells<Placed> = Cells::new();
     let mut routes = Vec::new();
     for c in connections {
-        let route = best_route(c, boxes, &placed);
-        placed.extend(route.windows(2).map(|s| Placed {
-            a: s[0],
-            b: s[1],
-            from_port: c.from_port,
-            to_port: c.to_port,
-        }));
+        let route = best_route(c, boxes, &obstacles, &placed);
+        for s in route.windows(2) {
+            let segment = Placed { a: s[0], b: s[1], from_port: c.from_port, to_port: c.to_port };
+            placed.insert(span(s[0], s[1]), segment);
+        }
         routes.push(route);
     }
     routes
@@ -58,24 +58,27 @@ pub(super) fn route(connections: &[Connection], boxes: &[Rect]) -> Vec<Vec<Point
 
 /// The first clear route: on the ports' own tracks if it can, else on tracks further out; three
 /// segments where the target is ahead, else five around the boxes.
-fn best_route(c: &Connection, boxes: &[Rect], placed: &[Placed]) -> Vec<Point> {
-    let in_the_way = |i: usize| !c.inside.contains(&i);
-    let clear_of_boxes = |route: &[Point]| {
-        route.windows(2).all(|s| boxes.iter().enumerate().all(|(i, b)| !in_the_way(i) || !passes(s[0], s[1], *b)))
+fn best_route(c: &Connection, boxes: &[Rect], obstacles: &Boxes, placed: &Cells<Placed>) -> Vec<Point> {
+    // Whether the segment passes through a box grown by `CLEARANCE`, other than those it runs inside.
+    let blocked = |a: Point, b: Point| {
+        let segment = Rect { width: (a.x - b.x).abs().max(0.01), height: (a.y - b.y).abs().max(0.01), ..span(a, b) };
+        obstacles.overlap(segment.grown(CLEARANCE), &c.inside)
     };
+    let clear_of_boxes = |route: &[Point]| route.windows(2).all(|s| !blocked(s[0], s[1]));
     let alone = |route: &[Point]| {
         route.windows(2).all(|s| {
-            placed.iter().all(|p| {
+            !placed.any(span(s[0], s[1]).grown(2.0), |p| {
                 // Branches of one tree (the same source or target port) may share a stretch.
-                p.from_port == c.from_port || p.to_port == c.to_port || !overlap(s[0], s[1], p.a, p.b)
+                p.from_port != c.from_port && p.to_port != c.to_port && overlap(s[0], s[1], p.a, p.b)
             })
         })
     };
+    let rows = rows(c, boxes);
     let mut fallback = None;
     for shift in 0..SHIFTS {
         let out = c.from.x + c.from_faces * (STUB + shift as f64 * TRACK);
         let into = c.to.x + c.to_faces * (STUB + shift as f64 * TRACK);
-        for candidate in candidates(c, out, into, boxes) {
+        for candidate in candidates(c, out, into, &rows) {
             if clear_of_boxes(&candidate) {
                 if alone(&candidate) {
                     return candidate;
@@ -87,16 +90,9 @@ fn best_route(c: &Connection, boxes: &[Rect], placed: &[Placed]) -> Vec<Point> {
     fallback.unwrap_or_else(|| around_everything(c, boxes))
 }
 
-/// Routes on the tracks at `out` (beside the source) and `into` (beside the target).
-fn candidates(c: &Connection, out: f64, into: f64, boxes: &[Rect]) -> Vec<Vec<Point>> {
-    let mut routes = Vec::new();
-    let ahead = (into - out) * c.from_faces >= 0.0 && c.from_faces == -c.to_faces;
-    if ahead {
-        // Along the target's track (connections into one port join there), or the source's.
-        routes.push(three(c, into));
-        routes.push(three(c, out));
-    }
-    // Out, along a row between the boxes, and in: rows nearest the two ports first.
+/// The rows a route may run along between the boxes: the ports' own and those just above and
+/// below each box, nearest the two ports first.
+fn rows(c: &Connection, boxes: &[Rect]) -> Vec<f64> {
     let mut rows: Vec<f64> = vec![c.from.y, c.to.y];
     for b in boxes {
         rows.push(b.y - 2.0 * CLEARANCE);
@@ -105,8 +101,17 @@ fn candidates(c: &Connection, out: f64, into: f64, boxes: &[Rect]) -> Vec<Vec<Po
     let cost = |y: f64| (y - c.from.y).abs() + (y - c.to.y).abs();
     rows.sort_by(|a, b| cost(*a).total_cmp(&cost(*b)).then(a.total_cmp(b)));
     rows.dedup();
-    routes.extend(rows.into_iter().map(|y| five(c, out, y, into)));
-    routes
+    rows
+}
+
+/// Routes on the tracks at `out` (beside the source) and `into` (beside the target), made as
+/// they are tried.
+fn candidates<'r>(c: &'r Connection, out: f64, into: f64, rows: &'r [f64]) -> impl Iterator<Item = Vec<Point>> + 'r {
+    let ahead = (into - out) * c.from_faces >= 0.0 && c.from_faces == -c.to_faces;
+    // Along the target's track (connections into one port join there), or the source's.
+    let straight = ahead.then(|| [three(c, into), three(c, out)]).into_iter().flatten();
+    // Out, along a row between the boxes, and in.
+    straight.chain(rows.iter().map(move |&y| five(c, out, y, into)))
 }
 
 fn three(c: &Connection, x: f64) -> Vec<Point> {
@@ -135,17 +140,6 @@ fn around_everything(c: &Connection, boxes: &[Rect]) -> Vec<Point> {
     let right = boxes.iter().map(|b| b.x + b.width).fold(c.from.x.max(c.to.x), f64::max) + STUB;
     let side = |faces: f64, x: f64| if faces > 0.0 { right.max(x + STUB) } else { left.min(x - STUB) };
     five(c, side(c.from_faces, c.from.x), bottom + 2.0 * CLEARANCE, side(c.to_faces, c.to.x))
-}
-
-/// Whether the axis-parallel segment a–b passes through `b` grown by `CLEARANCE`.
-fn passes(a: Point, b: Point, r: Rect) -> bool {
-    let span = Rect {
-        x: a.x.min(b.x),
-        y: a.y.min(b.y),
-        width: (a.x - b.x).abs().max(0.01),
-        height: (a.y - b.y).abs().max(0.01),
-    };
-    intersects(span, r.grown(CLEARANCE))
 }
 
 /// Whether two axis-parallel segments run along one another (collinear within 2 pt, sharing
