@@ -2,7 +2,7 @@
 //! each of thousands of candidate spots (free room for a node, a label's place), so each is
 //! kept in the cells of a grid its bounding box touches and only those cells are searched.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use crate::geometry::{intersects, segment_meets_box, Point, Rect};
 
@@ -15,14 +15,14 @@ const MOST_CELLS: i64 = 4096;
 
 /// Items bucketed by the grid cells their bounding boxes touch.
 pub(crate) struct Cells<T> {
-    cells: HashMap<(i64, i64), Vec<T>>,
+    cells: FxHashMap<(i64, i64), Vec<T>>,
     /// Items touching more than `MOST_CELLS` cells.
     apart: Vec<T>,
 }
 
 impl<T: Copy> Cells<T> {
     pub fn new() -> Cells<T> {
-        Cells { cells: HashMap::new(), apart: Vec::new() }
+        Cells { cells: FxHashMap::default(), apart: Vec::new() }
     }
 
     /// Adds `item`, found by any box that meets `bounds`.

@@ -101,6 +101,10 @@ const SIFTED_SHUFFLES: usize = 4;
 /// everything; beyond it the starts and sifting passes shrink in proportion.
 const FULL_EFFORT: usize = 1000;
 
+/// How many vertices make a graph huge: beyond, one sifting pass, and one way to rank
+/// (`rank::candidates`).
+pub(super) const HUGE: usize = 10 * FULL_EFFORT;
+
 /// How many starts crossing minimisation sweeps from, how many it sifts, and how many
 /// sifting passes it makes at most.
 struct Effort {
@@ -112,7 +116,8 @@ struct Effort {
 
 impl Effort {
     /// Everything up to `FULL_EFFORT` vertices; beyond it each count shrinks by the share of
-    /// `FULL_EFFORT` in the vertices (one plain start and two passes at least).
+    /// `FULL_EFFORT` in the vertices (one plain start and two sifting passes at least; one pass
+    /// beyond `HUGE` vertices).
     fn for_graph(graph: &Proper) -> Effort {
         let share = (FULL_EFFORT as f64 / graph.vertices().max(1) as f64).min(1.0);
         let scaled = |full: usize, least: usize| ((full as f64 * share).round() as usize).max(least);
@@ -120,7 +125,7 @@ impl Effort {
             plain: scaled(8, 1),
             shuffled: scaled(SHUFFLED, 0),
             sifted_shuffles: scaled(SIFTED_SHUFFLES, 0),
-            passes: scaled(12, 2),
+            passes: scaled(12, if graph.vertices() > HUGE { 1 } else { 2 }),
         }
     }
 }

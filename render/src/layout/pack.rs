@@ -130,7 +130,13 @@ fn into_free_room(
     let mut spots = Vec::with_capacity(parts.len());
     let (mut taken, labels_grid) = (Boxes::new(boxes.iter().copied()), Boxes::new(labels));
     let segments_grid = Segments::new(segments.iter().copied());
+    // Placing parts only takes room: a part of the size of one that found none finds none.
+    let mut failed: Vec<(f64, f64)> = Vec::new();
     for &(width, height) in sizes {
+        if failed.contains(&(width, height)) {
+            spots.push(None);
+            continue;
+        }
         let clear = |r: Rect, taken: &Boxes| {
             let near = r.grown(gap / 2.0);
             r.x >= left
@@ -154,9 +160,12 @@ fn into_free_room(
             xs.into_iter().map(move |x| Rect { x, y, width, height })
         });
         let spot = sides.chain(inside).find(|r| clear(*r, &taken));
-        if let Some(r) = spot {
-            boxes.push(r);
-            taken.push(r);
+        match spot {
+            Some(r) => {
+                boxes.push(r);
+                taken.push(r);
+            }
+            None => failed.push((width, height)),
         }
         spots.push(spot.map(|r| Point { x: r.x, y: r.y }));
     }

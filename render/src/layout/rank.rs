@@ -12,7 +12,7 @@ use std::{
     collections::{BinaryHeap, VecDeque},
 };
 
-use super::simplex;
+use super::{minimise::HUGE, simplex};
 
 /// Edges oriented so that the graph is acyclic, `(from, to, reversed)`, and each box's rank.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,11 +23,17 @@ pub(super) struct Ranked {
 
 /// The ways to rank the boxes worth laying out, best guess first: for a flow the one it reads
 /// as; otherwise those of the three orientations that reverse the fewest firm edges, each
-/// once, by least total edge length, then fewest ranks. `flow` and `firm` as `LayoutInput`
-/// says.
+/// once, by least total edge length, then fewest ranks (of a huge graph, only the first that
+/// reverses the fewest). `flow` and `firm` as `LayoutInput` says.
 pub(super) fn candidates(n: usize, edges: &[(usize, usize)], flow: bool, firm: &[bool]) -> Vec<Ranked> {
     let orientations = if flow {
         vec![depth_first(n, edges, true)]
+    } else if n + edges.len() > HUGE {
+        // Ranking each costs more than it may save: the first that reverses fewest firm edges.
+        let mut all = vec![depth_first(n, edges, true), depth_first(n, edges, false), greedy(n, edges, firm)];
+        let against = |reversed: &[bool]| reversed.iter().zip(firm).filter(|(&r, &f)| r && f).count();
+        let fewest = (0..all.len()).min_by_key(|&i| against(&all[i])).expect("three orientations");
+        vec![all.swap_remove(fewest)]
     } else {
         vec![depth_first(n, edges, true), depth_first(n, edges, false), greedy(n, edges, firm)]
     };

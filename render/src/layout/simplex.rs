@@ -23,9 +23,11 @@ pub(super) fn network_simplex(n: usize, edges: &[(usize, usize, bool)], rank: &[
     };
     simplex.feasible_tree();
     simplex.tree = Tree::of(&simplex);
-    // Each exchange shortens the total edge length, so this ends; the bound keeps huge inputs fast.
+    // Each exchange shortens the total edge length, so this ends; the bound (ELK bounds it by
+    // 28 √n, as here)
+    // keeps huge inputs fast, leaving their ranks feasible but perhaps not least.
     let mut start = 0;
-    for _ in 0..(20 * n).max(100) {
+    for _ in 0..((28.0 * (n as f64).sqrt()) as usize).max(100) {
         let Some((leaving, next)) = simplex.leaving_arc(start) else { break };
         start = next;
         let Some(entering) = simplex.entering_arc(leaving) else { break };
@@ -62,37 +64,55 @@ impl Tree {
             Tree { parent_arc: vec![None; n], lim: vec![0; n], low: vec![0; n], order: Vec::with_capacity(n) };
         let mut seen = vec![false; n];
         for root in 0..n {
-            if seen[root] {
-                continue;
-            }
-            seen[root] = true;
-            // (box, next incident arc to look at, lowest postorder number below it)
-            let mut stack: Vec<(usize, usize, usize)> = vec![(root, 0, usize::MAX)];
-            while let Some(top) = stack.last_mut() {
-                let (v, next) = (top.0, top.1);
-                if let Some(&arc) = s.incident[v].get(next) {
-                    top.1 += 1;
-                    let (a, b) = s.arcs[arc];
-                    let w = if a == v { b } else { a };
-                    if s.in_tree[arc] && !seen[w] {
-                        seen[w] = true;
-                        tree.parent_arc[w] = Some(arc);
-                        stack.push((w, 0, usize::MAX));
-                    }
-                } else {
-                    let number = tree.order.len();
-                    let low = top.2.min(number);
-                    tree.lim[v] = number;
-                    tree.low[v] = low;
-                    tree.order.push(v);
-                    stack.pop();
-                    if let Some(parent) = stack.last_mut() {
-                        parent.2 = parent.2.min(low);
-                    }
-                }
+            if !seen[root] {
+                tree.walk(s, root, &mut seen);
             }
         }
         tree
+    }
+
+    /// Numbers the subtree of `top` again after an exchange inside it, from its first number
+    /// on, as a walk of the whole forest would: the boxes outside keep theirs.
+    fn number_from(&mut self, s: &Simplex, top: usize) {
+        let (first, last) = (self.low[top], self.lim[top]);
+        let mut seen = vec![false; s.rank.len()];
+        // Every box outside the subtree counts as seen (the way up from `top` among them).
+        self.order[..first].iter().chain(&self.order[last + 1..]).for_each(|&v| seen[v] = true);
+        let after = self.order.split_off(last + 1);
+        self.order.truncate(first);
+        self.walk(s, top, &mut seen);
+        self.order.extend(after);
+    }
+
+    /// Depth-first from `root` along tree arcs to boxes not yet `seen`, numbering each box in
+    /// postorder from `order.len()`.
+    fn walk(&mut self, s: &Simplex, root: usize, seen: &mut [bool]) {
+        seen[root] = true;
+        // (box, next incident arc to look at, lowest postorder number below it)
+        let mut stack: Vec<(usize, usize, usize)> = vec![(root, 0, usize::MAX)];
+        while let Some(top) = stack.last_mut() {
+            let (v, next) = (top.0, top.1);
+            if let Some(&arc) = s.incident[v].get(next) {
+                top.1 += 1;
+                let (a, b) = s.arcs[arc];
+                let w = if a == v { b } else { a };
+                if s.in_tree[arc] && !seen[w] {
+                    seen[w] = true;
+                    self.parent_arc[w] = Some(arc);
+                    stack.push((w, 0, usize::MAX));
+                }
+            } else {
+                let number = self.order.len();
+                let low = top.2.min(number);
+                self.lim[v] = number;
+                self.low[v] = low;
+                self.order.push(v);
+                stack.pop();
+                if let Some(parent) = stack.last_mut() {
+                    parent.2 = parent.2.min(low);
+                }
+            }
+        }
     }
 
     fn below(&self, c: usize, v: usize) -> bool {
@@ -234,9 +254,19 @@ impl Simplex {
         for v in subtree {
             self.rank[v] += delta;
         }
+        // Only the subtree of the entering arc's ends' lowest common ancestor changes (the
+        // leaving arc lies on the path between them): it is numbered again from where it began.
+        let (a, b) = self.arcs[entering];
+        let mut top = a;
+        while !self.tree.below(top, b) {
+            let arc = self.tree.parent_arc[top].expect("the ends of an arc share a tree");
+            top = if self.arcs[arc].0 == top { self.arcs[arc].1 } else { self.arcs[arc].0 };
+        }
         self.in_tree[leaving] = false;
         self.in_tree[entering] = true;
-        self.tree = Tree::of(self);
+        let mut tree = std::mem::take(&mut self.tree);
+        tree.number_from(self, top);
+        self.tree = tree;
     }
 
     /// Ranks with each connected part's top at 0 (a part is its tree root's subtree).
