@@ -175,7 +175,7 @@
     button('Rename', 'Rename the selected element (F2)', () => selected && post({ type: 'rename', id: selected }), 'rename');
     button('Delete', 'Delete the selected element (Del)', () => selected && post({ type: 'delete', id: selected }), 'delete');
     separator();
-    button('Re-layout', 'Lay the nodes no pin holds out afresh', () => post({ type: 'relayout' }), 'relayout');
+    button('Re-layout', 'Lay the nodes no pin holds out afresh', () => post({ type: 'relayout', page: page() }), 'relayout');
     button('−', 'Zoom out', () => setZoom(zoom / 1.25), 'zoom-out');
     button('Fit', 'Zoom to fit', fit, 'zoom-fit');
     button('+', 'Zoom in', () => setZoom(zoom * 1.25), 'zoom-in');
@@ -395,7 +395,7 @@
     }
     if (!id) {
       for (const [kind, label] of PALETTE[graph?.kind] || []) items.push([`New ${label.toLowerCase()}…`, () => create(kind)]);
-      items.push(['Re-layout', () => post({ type: 'relayout' })]);
+      items.push(['Re-layout', () => post({ type: 'relayout', page: page() })]);
     }
     showMenu(event.clientX, event.clientY, items);
   });
@@ -437,5 +437,13 @@
     if (!menu.contains(event.target)) hideMenu();
   });
 
-  post({ type: 'ready' });
+  // The view's size: the server fits a fresh layout to its shape (`page` of gudsl/graph).
+  const page = () => ({ width: Math.max(1, canvas.clientWidth), height: Math.max(1, canvas.clientHeight) });
+  let resized;
+  window.addEventListener('resize', () => {
+    clearTimeout(resized);
+    resized = setTimeout(() => post({ type: 'page', page: page() }), 300);
+  });
+
+  post({ type: 'ready', page: page() });
 })();

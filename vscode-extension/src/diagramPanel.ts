@@ -19,8 +19,12 @@ import { nonce } from './html';
 import { errorText, Server } from './server';
 
 /** What the webview sends. */
+/** The diagram view's size in px. */
+type Page = { width: number; height: number };
+
 type FromView =
-  | { type: 'ready' }
+  | { type: 'ready'; page?: Page }
+  | { type: 'page'; page: Page }
   | { type: 'select'; id: string; focus?: boolean }
   | { type: 'move'; id: string; x: number; y: number }
   | { type: 'unpin'; id: string }
@@ -28,7 +32,7 @@ type FromView =
   | { type: 'rename'; id: string }
   | { type: 'delete'; id: string }
   | { type: 'connect'; source: string; target: string }
-  | { type: 'relayout' }
+  | { type: 'relayout'; page?: Page }
   | { type: 'setParameter'; instance: string; parameter: string; value: string };
 
 /** The edge kinds a user connects two nodes of a class diagram by. */
@@ -48,6 +52,8 @@ export class DiagramPanel implements vscode.Disposable {
   private followed = 0;
   /** The pipeline instance whose parameters the panel shows. */
   private instance: string | undefined;
+  /** The view's size, as the webview last said: fresh layouts are fitted to it. */
+  private page: Page | undefined;
 
   constructor(
     private readonly server: Server,
@@ -199,7 +205,7 @@ export class DiagramPanel implements vscode.Disposable {
     }
     for (let attempt = 0; attempt < 5; attempt++) {
       try {
-        const graph = await client.sendRequest(graphRequest, { textDocument: { uri }, diagram: diagram.id, svg: true, relayout });
+        const graph = await client.sendRequest(graphRequest, { textDocument: { uri }, diagram: diagram.id, svg: true, relayout, page: this.page });
         if (generation !== this.generation) return;
         this.graph = graph;
         this.panel.title = `Diagram: ${graph.diagram.name}`;
@@ -240,8 +246,9 @@ export class DiagramPanel implements vscode.Disposable {
 
   private async onMessage(message: FromView): Promise<void> {
     const graph = this.graph;
-    if (message.type === 'ready') {
-      if (graph) await this.refresh();
+    if (message.type === 'ready' || message.type === 'page') {
+      this.page = message.page ?? this.page;
+      if (graph && message.type === 'ready') await this.refresh();
       return;
     }
     if (!graph || !this.uri || !this.diagram) return;
@@ -256,6 +263,7 @@ export class DiagramPanel implements vscode.Disposable {
       case 'unpin':
         return this.edit([{ op: 'move', element: message.id, position: null }]);
       case 'relayout':
+        this.page = message.page ?? this.page;
         return this.refresh(true);
       case 'delete':
         return this.edit([{ op: 'delete', element: message.id }]);

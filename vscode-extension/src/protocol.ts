@@ -1,7 +1,7 @@
 //! gudsl's requests beyond LSP (`docs/protocol.md`), typed for the client; the server's side is
 //! `server/src/lsp/ext.rs` (its commands: `gudsl.run`, `gudsl.runPipeline`, `gudsl.showWgsl`,
 //! `gudsl.preview`).
-//! lsp/ext.rs hash: 97ee5b28695119b7 (a test checks this file is reviewed whenever ext.rs changes)
+//! lsp/ext.rs hash: b040a20f21dab895 (a test checks this file is reviewed whenever ext.rs changes)
 import { NotificationType, Range, RequestType, TextDocumentIdentifier, VersionedTextDocumentIdentifier, WorkspaceEdit } from 'vscode-languageclient';
 
 export type DiagramKind = 'class' | 'activity' | 'component' | 'componentInstance';
@@ -73,7 +73,15 @@ export interface GraphEditResult {
 export const diagramsRequest = new RequestType<{ textDocument: TextDocumentIdentifier }, Diagrams | null, void>('gudsl/diagrams');
 
 export const graphRequest = new RequestType<
-  { textDocument: TextDocumentIdentifier; diagram: string; svg?: boolean; png?: boolean; relayout?: boolean },
+  {
+    textDocument: TextDocumentIdentifier;
+    diagram: string;
+    svg?: boolean;
+    png?: boolean;
+    relayout?: boolean;
+    /** The diagram view's size in px: a fresh layout is fitted to its shape. */
+    page?: { width: number; height: number };
+  },
   Graph,
   void
 >('gudsl/graph');

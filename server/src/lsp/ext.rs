@@ -214,6 +214,17 @@ pub struct GraphParams {
     /// before (where an edit leaves them).
     #[serde(default)]
     pub relayout: bool,
+    /// The size of the client's diagram view, in px: a fresh layout that does not fit it is
+    /// fitted to its shape (`docs/render.md`, "Fitting the page"). Kept for the diagram's later
+    /// layouts; without one, the last given, else a 16:10 screen.
+    #[serde(default)]
+    pub page: Option<PageSize>,
+}
+
+#[derive(Debug, Deserialize)]
+pub struct PageSize {
+    pub width: f64,
+    pub height: f64,
 }
 
 #[derive(Debug, Serialize)]

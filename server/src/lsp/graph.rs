@@ -14,6 +14,7 @@ use gudsl_model::{
     Cancellable,
 };
 use gudsl_render::{
+    layout::Page,
     pins::Pins,
     scene::{self, Rect, Scene},
 };
@@ -63,7 +64,8 @@ pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Canc
     };
     let pins = layout.pins(&graph.id);
     let graph = &scenes.as_drawn(graph);
-    let scene = scenes.scene(file, graph, pins, params.relayout);
+    let page = params.page.as_ref().and_then(|p| Page::of_size(p.width, p.height));
+    let scene = scenes.scene(file, graph, pins, params.relayout, page);
     snap.analysis.check_cancelled()?;
     let mut view = view(snap, index, graph, &scene, pins, version(snap, uri), uri);
     if params.svg || params.png {

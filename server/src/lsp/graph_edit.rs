@@ -168,7 +168,7 @@ fn save_positions(
         return Ok(Err(format!("{} declares no diagram `{diagram}`", uri.as_str())));
     };
     // Where the client sees each node now.
-    let scene = scenes.scene(file, &scenes.as_drawn(graph), layout.pins(diagram), false);
+    let scene = scenes.scene(file, &scenes.as_drawn(graph), layout.pins(diagram), false, None);
     let pins = layout.diagrams.entry(diagram.to_string()).or_default();
     for (k, (element, change)) in ops.iter().enumerate() {
         let Some(node) = scene.nodes.iter().find(|n| &n.id == element) else {

@@ -12,6 +12,7 @@ use std::{
 
 use gudsl_model::{graph::Graph, syntax::TextRange, Cancellable, FileId};
 use gudsl_render::{
+    layout::Page,
     pins::{LayoutFile, Pins},
     scene::{self, Hints, Scene},
 };
@@ -32,6 +33,8 @@ struct Drawn {
     graph: Graph,
     pins: Option<Pins>,
     scene: Arc<Scene>,
+    /// The page its fresh layouts were fitted to.
+    page: Page,
 }
 
 /// Diagrams whose scenes are kept; past it the cache starts again.
@@ -39,22 +42,32 @@ const CACHED_SCENES: usize = 64;
 
 impl SceneCache {
     /// The scene of `graph` with `pins`: the one kept if nothing drawn changed, else laid out
-    /// around the one kept (or afresh, `relayout`, for the nodes no pin holds).
-    pub fn scene(&self, file: FileId, graph: &Graph, pins: Option<&Pins>, relayout: bool) -> Arc<Scene> {
+    /// around the one kept (or afresh, `relayout`, for the nodes no pin holds), fitted to `page`
+    /// (none: the page it was drawn for before, else a screen's).
+    pub fn scene(
+        &self,
+        file: FileId,
+        graph: &Graph,
+        pins: Option<&Pins>,
+        relayout: bool,
+        page: Option<Page>,
+    ) -> Arc<Scene> {
         let drawn = without_ranges(graph);
         let key = (file, graph.id.clone());
-        let kept = self.lock().get(&key).map(|d| (d.graph == drawn && d.pins.as_ref() == pins, d.scene.clone()));
+        let kept =
+            self.lock().get(&key).map(|d| (d.graph == drawn && d.pins.as_ref() == pins, d.scene.clone(), d.page));
+        let page = page.or(kept.as_ref().map(|k| k.2)).unwrap_or_default();
         let previous = match kept {
-            Some((true, scene)) if !relayout => return scene,
-            Some((_, scene)) if !relayout => Some(scene),
+            Some((true, scene, was)) if !relayout && was == page => return scene,
+            Some((_, scene, _)) if !relayout => Some(scene),
             _ => None,
         };
-        let scene = Arc::new(scene::build(graph, Hints { pins, previous: previous.as_deref(), ..Hints::default() }));
+        let scene = Arc::new(scene::build(graph, Hints { pins, previous: previous.as_deref(), page }));
         let mut scenes = self.lock();
         if scenes.len() >= CACHED_SCENES {
             scenes.clear();
         }
-        scenes.insert(key, Drawn { graph: drawn, pins: pins.cloned(), scene: scene.clone() });
+        scenes.insert(key, Drawn { graph: drawn, pins: pins.cloned(), scene: scene.clone(), page });
         scene
     }
 
@@ -153,7 +166,7 @@ mod tests {
         let (mut host, files) = AnalysisHost::with_files([("a.gudsl".to_string(), TEXT.to_string())]);
         let cache = SceneCache::default();
         let scene = |host: &AnalysisHost, pins: Option<&Pins>| {
-            cache.scene(files[0], &host.analysis().graphs(files[0]).unwrap()[0], pins, false)
+            cache.scene(files[0], &host.analysis().graphs(files[0]).unwrap()[0], pins, false, None)
         };
         let first = scene(&host, None);
         // Text above the diagram moves its ranges, not what is drawn.
