@@ -163,8 +163,9 @@ async def main(gudsl, repo):
     if drawn < 20:
         fail(f"only {drawn} diagrams drawn from the listings")
 
-    # A long flow fitted to the view's size (`page`): wrapped into columns for a landscape
-    # view; laid out afresh for a tall one, narrower than tall; a size that is no size is ignored.
+    # A long flow fitted to the view's size (`page`): first drawn for a screen (no size told
+    # yet), then the view's first size lays it out afresh for it; a later size keeps the drawing
+    # until a re-layout; a size that is no size is ignored (the last told is kept).
     flow = workspace / "LongFlow.gudsl"
     long_flow = (repo / "render" / "tests" / "reference" / "models" / "LongFlow.gudsl").read_text()
     flow.write_text(long_flow)
@@ -172,16 +173,23 @@ async def main(gudsl, repo):
     await wait_for(lambda: flow.as_uri() in seen.diagnostics, "LongFlow's diagnostics", timeout=60.0)
 
     async def fitted(page, relayout=False):
-        params = {"textDocument": {"uri": flow.as_uri()}, "diagram": "LongFlow", "relayout": relayout, "page": page}
+        params = {"textDocument": {"uri": flow.as_uri()}, "diagram": "LongFlow", "relayout": relayout}
+        if page is not None:
+            params["page"] = page
         answer = await client.protocol.send_request_async("gudsl/graph", params)
-        return answer.width / answer.height
+        return round(answer.width / answer.height, 2)
 
-    wide = await fitted({"width": 1600, "height": 1000})
-    tall = await fitted({"width": 500, "height": 1600}, relayout=True)
-    ignored = await fitted({"width": -3, "height": 1000}, relayout=True)
-    print(f"LongFlow fitted: landscape {wide:.2f}, tall {tall:.2f}, no size {ignored:.2f}")
-    if not (wide > 1.0 > tall) or ignored != tall:
-        fail(f"LongFlow's width/height for a landscape view {wide:.2f}, a tall one {tall:.2f}, no size {ignored:.2f}")
+    shapes = [
+        await fitted(None),
+        await fitted({"width": 500, "height": 1600}),
+        await fitted({"width": 1600, "height": 1000}),
+        await fitted({"width": 1600, "height": 1000}, relayout=True),
+        await fitted({"width": -3, "height": 1000}, relayout=True),
+    ]
+    print(f"LongFlow's width/height: screen, first size (tall), resized, re-laid out, no size: {shapes}")
+    screen, tall, resized, wide, ignored = shapes
+    if not (screen > 1.0 > tall == resized and wide > 1.0 and ignored == wide):
+        fail(f"LongFlow is not fitted to the view's size as told: {shapes}")
 
     # The PNG a client saves ("Render Diagram to SVG/PNG…") is the one `gudsl render` writes.
     listing = workspace / "listing07_action_transitions.gudsl"

@@ -130,7 +130,8 @@ fn into_free_room(
     let mut spots = Vec::with_capacity(parts.len());
     let (mut taken, labels_grid) = (Boxes::new(boxes.iter().copied()), Boxes::new(labels));
     let segments_grid = Segments::new(segments.iter().copied());
-    // Placing parts only takes room: a part of the size of one that found none finds none.
+    // A part of the size of one that found no room finds none, until a part is placed (it takes
+    // room, but also offers the place right of it).
     let mut failed: Vec<(f64, f64)> = Vec::new();
     for &(width, height) in sizes {
         if failed.contains(&(width, height)) {
@@ -164,6 +165,7 @@ fn into_free_room(
             Some(r) => {
                 boxes.push(r);
                 taken.push(r);
+                failed.clear();
             }
             None => failed.push((width, height)),
         }

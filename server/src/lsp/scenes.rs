@@ -33,8 +33,8 @@ struct Drawn {
     graph: Graph,
     pins: Option<Pins>,
     scene: Arc<Scene>,
-    /// The page its fresh layouts were fitted to.
-    page: Page,
+    /// The page its fresh layouts are fitted to, once a client told one (else a screen's).
+    page: Option<Page>,
 }
 
 /// Diagrams whose scenes are kept; past it the cache starts again.
@@ -42,8 +42,8 @@ const CACHED_SCENES: usize = 64;
 
 impl SceneCache {
     /// The scene of `graph` with `pins`: the one kept if nothing drawn changed, else laid out
-    /// around the one kept (or afresh, `relayout`, for the nodes no pin holds), fitted to `page`
-    /// (none: the page it was drawn for before, else a screen's).
+    /// around the one kept (or afresh, `relayout`, for the nodes no pin holds); a fresh layout
+    /// fitted to `page` (none: the page told before, else a screen's).
     pub fn scene(
         &self,
         file: FileId,
@@ -56,13 +56,21 @@ impl SceneCache {
         let key = (file, graph.id.clone());
         let kept =
             self.lock().get(&key).map(|d| (d.graph == drawn && d.pins.as_ref() == pins, d.scene.clone(), d.page));
-        let page = page.or(kept.as_ref().map(|k| k.2)).unwrap_or_default();
+        // A page is kept for later layouts. The first one told lays the diagram out afresh
+        // (a client may ask before it knows its size); after that it matters only to a fresh
+        // layout, so a scene whose drawing did not change is kept as it is.
+        let first_told = page.is_some() && kept.as_ref().is_some_and(|k| k.2.is_none());
+        let page = page.or(kept.as_ref().and_then(|k| k.2));
         let previous = match kept {
-            Some((true, scene, was)) if !relayout && was == page => return scene,
-            Some((_, scene, _)) if !relayout => Some(scene),
+            Some((true, scene, _)) if !relayout && !first_told => {
+                self.lock().entry(key).and_modify(|d| d.page = page);
+                return scene;
+            }
+            Some((_, scene, _)) if !relayout && !first_told => Some(scene),
             _ => None,
         };
-        let scene = Arc::new(scene::build(graph, Hints { pins, previous: previous.as_deref(), page }));
+        let hints = Hints { pins, previous: previous.as_deref(), page: page.unwrap_or_default() };
+        let scene = Arc::new(scene::build(graph, hints));
         let mut scenes = self.lock();
         if scenes.len() >= CACHED_SCENES {
             scenes.clear();
