@@ -8,23 +8,8 @@
 /// Ranks of `n` boxes under `edges` (oriented so that the graph is acyclic; self loops are
 /// ignored), starting from the feasible `rank`; each connected part's top rank is 0.
 pub(super) fn network_simplex(n: usize, edges: &[(usize, usize, bool)], rank: &[usize]) -> Vec<usize> {
-    let arcs: Vec<(usize, usize)> = edges.iter().filter(|e| e.0 != e.1).map(|&(a, b, _)| (a, b)).collect();
-    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (i, &(a, b)) in arcs.iter().enumerate() {
-        incident[a].push(i);
-        incident[b].push(i);
-    }
-    let mut simplex = Simplex {
-        rank: rank.iter().map(|&r| r as i64).collect(),
-        in_tree: vec![false; arcs.len()],
-        arcs,
-        incident,
-        tree: Tree::default(),
-    };
-    simplex.feasible_tree();
-    simplex.tree = Tree::of(&simplex);
-    // Each exchange shortens the total edge length, so this ends; the bound (ELK bounds it by
-    // 28 √n, as here)
+    let mut simplex = Simplex::new(n, edges, rank);
+    // Each exchange shortens the total edge length, so this ends; the bound (ELK's, 28 √n)
     // keeps huge inputs fast, leaving their ranks feasible but perhaps not least.
     let mut start = 0;
     for _ in 0..((28.0 * (n as f64).sqrt()) as usize).max(100) {
@@ -47,7 +32,7 @@ struct Simplex {
 
 /// The spanning forest rooted at each part's first box, numbered in postorder: box `v` lies in
 /// the subtree of `c` exactly when `low[c] <= lim[v] <= lim[c]`.
-#[derive(Default)]
+#[derive(Debug, Default, PartialEq)]
 struct Tree {
     /// The tree arc to each box's parent (`None` at a root).
     parent_arc: Vec<Option<usize>>,
@@ -126,6 +111,26 @@ impl Tree {
 }
 
 impl Simplex {
+    /// The arcs of `edges` (self loops left out) from the feasible `rank`, with a feasible tree.
+    fn new(n: usize, edges: &[(usize, usize, bool)], rank: &[usize]) -> Simplex {
+        let arcs: Vec<(usize, usize)> = edges.iter().filter(|e| e.0 != e.1).map(|&(a, b, _)| (a, b)).collect();
+        let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (i, &(a, b)) in arcs.iter().enumerate() {
+            incident[a].push(i);
+            incident[b].push(i);
+        }
+        let mut simplex = Simplex {
+            rank: rank.iter().map(|&r| r as i64).collect(),
+            in_tree: vec![false; arcs.len()],
+            arcs,
+            incident,
+            tree: Tree::default(),
+        };
+        simplex.feasible_tree();
+        simplex.tree = Tree::of(&simplex);
+        simplex
+    }
+
     fn slack(&self, arc: usize) -> i64 {
         let (a, b) = self.arcs[arc];
         self.rank[b] - self.rank[a] - 1
@@ -280,5 +285,30 @@ impl Simplex {
             }
         }
         rank
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::{rank, tests::pseudo_random_edges};
+
+    #[test]
+    fn an_exchange_renumbers_the_tree_as_a_whole_walk_would() {
+        let mut exchanges = 0;
+        for seed in 0..24 {
+            let n = 40 + (seed as usize % 4) * 20;
+            let edges = rank::orient(n, &pseudo_random_edges(seed, n, n * 3 / 2));
+            let mut simplex = Simplex::new(n, &edges, &rank::longest_path(n, &edges));
+            let mut start = 0;
+            while let Some((leaving, next)) = simplex.leaving_arc(start) {
+                start = next;
+                let Some(entering) = simplex.entering_arc(leaving) else { break };
+                simplex.exchange(leaving, entering);
+                assert_eq!(simplex.tree, Tree::of(&simplex), "seed {seed}, exchange {exchanges}");
+                exchanges += 1;
+            }
+        }
+        assert!(exchanges > 50, "only {exchanges} exchanges: the test would prove little");
     }
 }
