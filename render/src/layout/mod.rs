@@ -143,6 +143,16 @@ pub(super) struct Extent {
     pub height: f64,
 }
 
+impl Extent {
+    /// Each box's extent (centred on its line), then `vertices - boxes.len()` dummies' (none).
+    pub(super) fn of_boxes(boxes: &[LayoutNode], vertices: usize) -> Vec<Extent> {
+        let mut extent: Vec<Extent> =
+            boxes.iter().map(|b| Extent { left: b.width / 2.0, right: b.width / 2.0, height: b.height }).collect();
+        extent.resize(vertices, Extent::default());
+        extent
+    }
+}
+
 /// Lays out `input` top to bottom: the boxes joined by edges (or in swimlanes) in layers, the
 /// boxes alone packed in rows under them (`pack`).
 pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
@@ -233,12 +243,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         (0..ways.len()).min_by_key(|&i| swept_crossings(&ways[i].1)).expect("one way to rank at least")
     };
     let (rank::Ranked { edges, rank }, graph, lane_ranks) = ways.swap_remove(chosen);
-    let mut extent: Vec<Extent> = input
-        .nodes
-        .iter()
-        .map(|node| Extent { left: node.width / 2.0, right: node.width / 2.0, height: node.height })
-        .collect();
-    extent.resize(graph.vertices(), Extent::default());
+    let mut extent = Extent::of_boxes(&input.nodes, graph.vertices());
     // A labelled edge's label goes right of the dummy nearest its middle in a between-rank.
     let label_vertex: Vec<Option<usize>> = (0..edges.len())
         .map(|e| {
@@ -255,7 +260,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let mut layers = graph.initial_layers(true, false);
     let width = |layers: &[Vec<usize>]| {
         let x = place::horizontal(&graph, layers, &extent, spacing);
-        (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max)
+        place::right_edge(&x, &extent)
     };
     minimise_crossings(&mut layers, &graph, &width);
     let mut x = place::horizontal(&graph, &layers, &extent, spacing);
@@ -280,7 +285,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         end_labels[placed.edge][placed.end] = Some(Point { x: x[placed.dummy] + LABEL_OFFSET, y });
     }
     let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
-    let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
+    let width = place::right_edge(&x, &extent) + spacing.margin;
     let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height };
     // Swimlanes are columns of their own: a drawing in lanes is not wrapped.
     if input.groups.iter().all(Option::is_none) {

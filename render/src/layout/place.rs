@@ -17,6 +17,11 @@ pub(super) fn separation(graph: &Proper, extent: &[Extent], spacing: Spacing, u:
     extent[u].right + gap + extent[v].left
 }
 
+/// How far right the vertices at `x` reach (0 for none).
+pub(super) fn right_edge(x: &[f64], extent: &[Extent]) -> f64 {
+    x.iter().zip(extent).map(|(x, e)| x + e.right).fold(0.0, f64::max)
+}
+
 /// Centre x per vertex, the leftmost box edge at `spacing.margin`.
 pub(super) fn horizontal(graph: &Proper, layers: &[Vec<usize>], extent: &[Extent], spacing: Spacing) -> Vec<f64> {
     let separation = |u: usize, v: usize| separation(graph, extent, spacing, u, v);

@@ -1,7 +1,7 @@
-//! Ranks too wide for the page split into several (unzipped): where the drawing would be
-//! wider than its page allows for its height, the widest rank's boxes alternate between two
-//! ranks (then three, …), in the order a breadth-first walk meets them, so that siblings
-//! stagger instead of standing in one long row. Decided before crossing minimisation (which
+//! Ranks too wide for the page split in two (unzipped): where the drawing would be wider than
+//! its page allows for its height, the widest ranks' boxes alternate between two ranks, in the
+//! order a breadth-first walk meets them, so that siblings stagger instead of standing in one
+//! long row (a third rank would make a row no narrower: `Estimate::width`). Decided before crossing minimisation (which
 //! then orders the new ranks as any others), on estimates corrected by quick layouts.
 
 use super::minimise::quick_order;
@@ -18,9 +18,9 @@ const ROUNDS: usize = 4;
 /// How much narrower than unsplit a split drawing must measure for splitting more to be tried.
 const NARROWER: f64 = 0.9;
 
-/// Splits the ranks of `rank` (of boxes `nodes` under the oriented `edges`) where the drawing
-/// would not fit `page` and be wider than `TOLERANCE` times the page's aspect ratio, widest
-/// first, until it is about as wide as the page's aspect ratio asks. How wide the drawing of
+/// Splits ranks of `rank` (of boxes `nodes` under the oriented `edges`) in two where the
+/// drawing would not fit `page` and be wider than `TOLERANCE` times the page's aspect ratio,
+/// widest first, until it is about as wide as the page's aspect ratio asks. How wide the drawing of
 /// some ranks comes out is estimated from the ranks' widths, then measured on a quick layout
 /// (one start of median sweeps, coordinates), and the aim corrected by what was measured.
 /// Edges still point down: a rank's parts take its place, the ranks below move down.
@@ -33,6 +33,10 @@ pub(super) fn unzip(
     spacing: Spacing,
 ) {
     let page = spacing.page;
+    // No drawing is too wide for an unbounded page: not worth a quick layout.
+    if !page.width.is_finite() {
+        return;
+    }
     let measure = |rank: &[usize]| quick_size(rank, edges, nodes, groups, spacing);
     let (width, height) = measure(rank);
     let unsplit_width = width;
@@ -104,12 +108,9 @@ fn quick_size(
 ) -> (f64, f64) {
     let graph = Proper::new(groups, edges, rank);
     let layers = quick_order(&graph);
-    let mut extent: Vec<Extent> =
-        nodes.iter().map(|n| Extent { left: n.width / 2.0, right: n.width / 2.0, height: n.height }).collect();
-    extent.resize(graph.vertices(), Extent::default());
+    let extent = Extent::of_boxes(nodes, graph.vertices());
     let x = place::horizontal(&graph, &layers, &extent, spacing);
-    let width = (0..graph.vertices()).map(|v| x[v] + extent[v].right).fold(0.0, f64::max) + spacing.margin;
-    (width, Bands::new(&layers, &extent, spacing, &[]).total_height)
+    (place::right_edge(&x, &extent) + spacing.margin, Bands::new(&layers, &extent, spacing, &[]).total_height)
 }
 
 /// How much earlier than the page's aspect ratio the drawing is reshaped: within this factor

@@ -5,6 +5,8 @@
 //! columns, up, right over the next run and down into it; each such edge has lanes of its
 //! own, nested so that they cross no more than they did.
 
+use std::collections::HashMap;
+
 use super::place::Bands;
 use super::unzip::TOLERANCE;
 use super::{Layout, LayoutInput, Point, Spacing};
@@ -212,25 +214,7 @@ impl Columns {
                 Held::End(e, end) => layout.end_labels[e][end] = Some(at),
             }
         }
-        // The divided segments, per cut, left to right where they leave the column above.
-        let mut divided: Vec<Vec<(f64, f64, usize, usize)>> = vec![Vec::new(); self.divided.len()];
-        for (e, route) in layout.edges.iter().enumerate() {
-            for (s, pair) in route.windows(2).enumerate() {
-                let (a, b) = (column(pair[0].y), column(pair[1].y));
-                let (upper, lower) = if a < b { (pair[0], pair[1]) } else { (pair[1], pair[0]) };
-                if a != b {
-                    divided[a.min(b)].push((upper.x, lower.x, e, s));
-                }
-            }
-        }
-        let mut lane = std::collections::HashMap::new();
-        for (j, segments) in divided.iter_mut().enumerate() {
-            segments.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
-            let k = segments.len();
-            for (i, &(_, _, e, s)) in segments.iter().enumerate() {
-                lane.insert((e, s), (j, i, k));
-            }
-        }
+        let lane = lanes(&layout.edges, &column, self.divided.len());
         for (e, route) in layout.edges.iter_mut().enumerate() {
             let mut wrapped = Vec::with_capacity(route.len());
             for (s, &p) in route.iter().enumerate() {
@@ -258,6 +242,35 @@ impl Columns {
         }
         (layout.width, layout.height) = self.size(spacing);
     }
+}
+
+/// Per segment of `routes` one of the `cuts` divides (by edge and segment): its cut, its lane
+/// among the cut's and how many the cut divides; lanes numbered left to right where the
+/// segments leave the column above.
+fn lanes(
+    routes: &[Vec<Point>],
+    column: &dyn Fn(f64) -> usize,
+    cuts: usize,
+) -> HashMap<(usize, usize), (usize, usize, usize)> {
+    let mut divided: Vec<Vec<(f64, f64, usize, usize)>> = vec![Vec::new(); cuts];
+    for (e, route) in routes.iter().enumerate() {
+        for (s, pair) in route.windows(2).enumerate() {
+            let (a, b) = (column(pair[0].y), column(pair[1].y));
+            let (upper, lower) = if a < b { (pair[0], pair[1]) } else { (pair[1], pair[0]) };
+            if a != b {
+                divided[a.min(b)].push((upper.x, lower.x, e, s));
+            }
+        }
+    }
+    let mut lane = HashMap::new();
+    for (j, segments) in divided.iter_mut().enumerate() {
+        segments.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
+        let k = segments.len();
+        for (i, &(_, _, e, s)) in segments.iter().enumerate() {
+            lane.insert((e, s), (j, i, k));
+        }
+    }
+    lane
 }
 
 #[cfg(test)]
