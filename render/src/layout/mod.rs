@@ -8,10 +8,12 @@
 
 mod align;
 mod bundle;
+mod fit;
 mod minimise;
 mod order;
 mod pack;
 mod page;
+mod pass;
 mod place;
 mod proper;
 mod rank;
@@ -265,12 +267,19 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     minimise_crossings(&mut layers, &graph, &width);
     let mut x = place::horizontal(&graph, &layers, &extent, spacing);
     let separation = |u: usize, v: usize| place::separation(&graph, &extent, spacing, u, v);
-    let least = |v: usize| spacing.margin + extent[v].left;
-    bundle::gather(&graph, &layers, &lane_ranks, &bundled, &mut x, &separation, &least);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
     // With labels every other rank is already half a gap from its neighbours.
     let inserted: &[bool] = if labelled { &[] } else { &lane_ranks };
-    let bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing }, inserted);
+    let mut bands = place::Bands::new(&layers, &extent, Spacing { rank_gap, ..spacing }, inserted);
+    // Swimlanes are columns of their own: a drawing in lanes is neither narrowed nor wrapped.
+    let in_lanes = input.groups.iter().any(Option::is_some);
+    let fit = if in_lanes { None } else { fit::plan(&layers, &extent, &x, &separation, spacing, bands.size()) };
+    if let Some(fit) = fit {
+        bands = place::Bands::new(&layers, &extent, Spacing { rank_gap: rank_gap * fit.stretch, ..spacing }, inserted);
+        fit::narrow(&graph, &layers, &extent, &mut x, &separation, spacing, fit.width);
+    }
+    let least = |v: usize| spacing.margin + extent[v].left;
+    bundle::gather(&graph, &layers, &lane_ranks, &bundled, &mut x, &separation, &least);
     let positions: Vec<Point> = (0..n)
         .map(|v| Point { x: x[v] - input.nodes[v].width / 2.0, y: bands.middle(rank[v]) - input.nodes[v].height / 2.0 })
         .collect();
@@ -284,11 +293,10 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         let y = if placed.at_top { top } else { top + height - placed.size.1 };
         end_labels[placed.edge][placed.end] = Some(Point { x: x[placed.dummy] + LABEL_OFFSET, y });
     }
-    let routed = route::polylines(&graph, &edges, &x, &bands, &extent);
+    let routed = route::polylines(&graph, &edges, &layers, &x, &bands, &extent);
     let width = place::right_edge(&x, &extent) + spacing.margin;
     let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height };
-    // Swimlanes are columns of their own: a drawing in lanes is not wrapped.
-    if input.groups.iter().all(Option::is_none) {
+    if !in_lanes {
         wrap::wrap(&mut layout, input, &bands, spacing);
     }
     layout

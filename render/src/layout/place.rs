@@ -94,6 +94,13 @@ impl Bands {
         Bands { top, height: heights, total_height: cursor + spacing.margin }
     }
 
+    /// The whole height, and how much of it lies in the gaps between ranks.
+    pub fn size(&self) -> (f64, f64) {
+        let (first, last) = (self.top.first().copied().unwrap_or(0.0), self.top.last().copied().unwrap_or(0.0));
+        let bottom = last + self.height.last().copied().unwrap_or(0.0);
+        (self.total_height, bottom - first - self.height.iter().sum::<f64>())
+    }
+
     /// The y of the middle of rank `r`.
     pub fn middle(&self, r: usize) -> f64 {
         self.top[r] + self.height[r] / 2.0

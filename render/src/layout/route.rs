@@ -1,10 +1,11 @@
 //! Edge polylines: each edge leaves its source straight down to the bottom of the source's rank
 //! band, runs through its dummies, and enters its target straight from the top of the target's
 //! band (so no edge cuts through a taller neighbour of the same rank); edges that share a box side
-//! attach at their own points along it.
+//! attach at their own points along it. A long edge passes each rank's band where `pass` puts it.
 
 use std::collections::HashMap;
 
+use super::pass::Passes;
 use super::place::Bands;
 use super::proper::Proper;
 use super::{Extent, Point};
@@ -14,11 +15,13 @@ use super::{Extent, Point};
 pub(super) fn polylines(
     graph: &Proper,
     edges: &[(usize, usize, bool)],
+    layers: &[Vec<usize>],
     x: &[f64],
     bands: &Bands,
     extent: &[Extent],
 ) -> Vec<Vec<Point>> {
     let centre = |v: usize| Point { x: x[v], y: bands.middle(graph.rank[v]) };
+    let pass = Passes::new(graph, layers, x, bands, extent);
     let mut routed: Vec<Vec<Point>> = graph
         .chains
         .iter()
@@ -39,8 +42,8 @@ pub(super) fn polylines(
                     route.push(Point { x: c.x, y: top });
                     route.push(Point { x: c.x, y: c.y - h / 2.0 });
                 } else {
-                    route.push(Point { x: c.x, y: top });
-                    route.push(Point { x: c.x, y: bottom });
+                    route.push(Point { x: pass.top[v], y: top });
+                    route.push(Point { x: pass.bottom[v], y: bottom });
                 }
             }
             route
