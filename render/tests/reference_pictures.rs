@@ -41,10 +41,13 @@ const PICTURES: &[&str] = &[
 ];
 
 /// Diagrams of the models in `tests/reference/models/` (file stem = diagram id), each drawn
-/// for a page: generated at sizes the samples do not reach.
-const MODELS: &[(&str, Page)] = &[
+/// for a page (a paper's name as `gudsl render --page` takes it, or none for the screen):
+/// generated at sizes the samples do not reach.
+const MODELS: &[(&str, Option<&str>)] = &[
     // A control flow taller than a screen, wrapped into columns.
-    ("LongFlow", Page::SCREEN),
+    ("LongFlow", None),
+    // 200 classes far wider than an upright A4 page as their ranks come, narrowed to it.
+    ("Classes200", Some("A4")),
 ];
 
 /// A channel may differ by this much (rounding in the rasterizer) before the pixel counts as
@@ -62,7 +65,8 @@ fn diagrams_look_like_their_reviewed_reference_pictures() {
     let update = std::env::var_os("GUDSL_UPDATE_REFERENCES").is_some_and(|v| v == "1");
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("reference-pictures");
     let mut failures = Vec::new();
-    let models: Vec<(Graph, Page)> = MODELS.iter().map(|&(id, page)| (model(&references, id), page)).collect();
+    let page = |paper: Option<&str>| paper.map_or(Page::SCREEN, |name| Page::paper(name).expect("a known paper"));
+    let models: Vec<(Graph, Page)> = MODELS.iter().map(|&(id, paper)| (model(&references, id), page(paper))).collect();
     let drawings = PICTURES
         .iter()
         .map(|id| (*id, sample(&graphs, id), Page::default()))
