@@ -170,3 +170,54 @@ fn a_previous_scene_is_followed_only_while_it_holds_half_the_nodes() {
     let again = fresh(&graph);
     assert_eq!(scene::build(&graph, Hints { pins: None, previous: Some(&again), ..Hints::default() }), again);
 }
+
+/// A pipeline of `n` mean filters after a camera, each bound to the next, the last to a viewer
+/// (the seed's component classes, listing 18).
+fn long_pipeline(n: usize) -> Graph {
+    let seed = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../samples/seed/listing26_component_classes_example.gudsl");
+    let classes = std::fs::read_to_string(&seed).unwrap();
+    let mut text = String::from("ComponentInstanceDiagram LongPipeline\n{\n");
+    let port = |k: usize| {
+        if k == 0 {
+            "CameraPortInstance"
+        } else if k > n {
+            "ViewerPortInstance"
+        } else {
+            "FilterPortInstance"
+        }
+    };
+    for k in 0..=n + 1 {
+        let (class, ports) = match k {
+            0 => ("Camera", "CameraPortInstance : CameraPort ( provider ImageOut = IImageProvider(); );"),
+            k if k > n => ("Viewer", "ViewerPortInstance : ViewerPort ( processor ImageIn = IImageProcessor(); );"),
+            _ => ("MeanFilter", "FilterPortInstance : FilterPort ( processor ImageIn = IImageProcessor(); provider ImageOut = IImageProvider(); );"),
+        };
+        text += &format!("    I{k} instantiates ComponentClassDefinitions.{class} ( )\n    {{\n        {ports}\n");
+        if k <= n {
+            text += &format!("        [ source {}.ImageOut ==> target I{}.{}.ImageIn ]\n", port(k), k + 1, port(k + 1));
+        }
+        text += "    }\n";
+    }
+    text += "}\n";
+    let (host, files) =
+        gudsl_model::AnalysisHost::with_files([(seed.display().to_string(), classes), ("pipeline.gudsl".into(), text)]);
+    let graphs = host.analysis().graphs(files[1]).unwrap().to_vec();
+    graphs.into_iter().next().expect("the pipeline's diagram")
+}
+
+#[test]
+fn a_long_pipeline_fits_the_screen_unless_the_user_pinned_a_node() {
+    let graph = long_pipeline(40);
+    assert_eq!(graph.nodes.len(), 42);
+    let scene = fresh(&graph);
+    let aspect = scene.width / scene.height;
+    assert!((1.6 / 1.5..1.6 * 1.5).contains(&aspect), "{} x {}", scene.width, scene.height);
+    assert_clean(&graph, &scene, false);
+    // Pinned, it is drawn as its ranks come, in one long row.
+    let mut pins = Pins::new();
+    pins.insert("I0".into(), pin(20.0, 40.0));
+    let pinned = scene::build(&graph, Hints { pins: Some(&pins), ..Hints::default() });
+    assert!(pinned.width / pinned.height > 10.0, "{} x {}", pinned.width, pinned.height);
+    assert_clean(&graph, &pinned, false);
+}

@@ -40,7 +40,8 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
     let mut nesting = Nesting::of(graph);
-    let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), hints.page);
+    let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
+    let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), (hints.page, pinned));
     arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
     let boxes: Vec<Rect> = layout
         .positions
@@ -157,20 +158,22 @@ fn layout_input(parts: &Parts) -> LayoutInput {
 /// The layout below the heading (`body`: the body's corner): dataflow left to right (sources,
 /// filters, sinks; between the columns the ports' symbols and tracks), class and activity
 /// diagrams top down; nested components inside their parents. Upward edges drawn from the
-/// child to the parent.
+/// child to the parent. Fitted to `page`, except a dataflow diagram with nodes the user
+/// `pinned`.
 fn lay_out(
     parts: &mut Parts,
     input: &LayoutInput,
     nesting: &mut Nesting,
     (body_x, body_y): (f64, f64),
-    page: Page,
+    (page, pinned): (Page, bool),
 ) -> Layout {
     let spacing = Spacing { page, ..Spacing::default() };
     let mut layout = match parts.graph.kind {
         GraphKind::Component | GraphKind::ComponentInstance => {
-            // Not fitted to the page yet: around nodes the user moved, the connection router
-            // can run a connection between wrapped rows through a box.
-            let spacing = Spacing { rank_gap: 20.0, page: Page::UNBOUNDED, ..spacing };
+            // Fitted to the page unless the user pinned nodes: around nodes the user moved,
+            // the connection router can run a connection between wrapped rows through a box.
+            let page = if pinned { Page::UNBOUNDED } else { page };
+            let spacing = Spacing { rank_gap: 20.0, page, ..spacing };
             if nesting.is_flat() {
                 layered_left_to_right(input, spacing)
             } else {
