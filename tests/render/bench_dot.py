@@ -26,7 +26,8 @@ pipelines (`realistic_instance_diagram`) at 50, 200, 1 000 and 2 000 nodes, each
 dot, by ELK layered (elkjs, `elk.py`, installed from npm on first use) and by gudsl for a page
 of aspect ratio `--aspect` (default 16:10; ELK is given it too, dot has no such option), side
 by side: crossings, edge–node hits, label overlaps, area, width/height, whole-process time
-(one run each from 1 000 nodes, else median of 3)."""
+(one run each from 1 000 nodes, else median of 3). Of gudsl's crossings, it also counts the
+joins (`joins`): the metrics count a segment ending on another edge as a crossing."""
 
 import json
 import random
@@ -223,6 +224,42 @@ def to_dot(layout, across=False):
     return "\n".join(out) + "\n"
 
 
+def joins(layout):
+    """How many of the crossings layout_metrics.py counts in `layout` (gudsl's layout JSON) are
+    one edge's segment ending on another edge: where bindings from one port run on one track
+    and part (gudsl draws a port's bindings as a tree), and corners on another edge. The
+    metrics count such a touch as a crossing; no line passes through another there."""
+    segments = [(e, a, b) for e, edge in enumerate(layout["edges"]) for a, b in zip(edge["points"], edge["points"][1:])]
+    cells = {}
+    for i, (_, a, b) in enumerate(segments):
+        for gx in range(int(min(a[0], b[0]) // 40), int(max(a[0], b[0]) // 40) + 1):
+            for gy in range(int(min(a[1], b[1]) // 40), int(max(a[1], b[1]) // 40) + 1):
+                cells.setdefault((gx, gy), []).append(i)
+    touches, seen = set(), set()
+    for members in cells.values():
+        for x, i in enumerate(members):
+            for j in members[x + 1:]:
+                (e, a, b), (f, c, d) = segments[i], segments[j]
+                if e == f or (i, j) in seen:
+                    continue
+                seen.add((i, j))
+                p = intersection(a, b, c, d)
+                if p is not None and any(abs(p[0] - q[0]) < 0.5 and abs(p[1] - q[1]) < 0.5 for q in (a, b, c, d)):
+                    touches.add((min(e, f), max(e, f), round(p[0]), round(p[1])))
+    return len(touches)
+
+
+def intersection(a, b, c, d):
+    """Where segments ab and cd meet, ends included, or None (parallel ones never)."""
+    r, s = (b[0] - a[0], b[1] - a[1]), (d[0] - c[0], d[1] - c[1])
+    den = r[0] * s[1] - r[1] * s[0]
+    if abs(den) < 1e-9:
+        return None
+    t = ((c[0] - a[0]) * s[1] - (c[1] - a[1]) * s[0]) / den
+    u = ((c[0] - a[0]) * r[1] - (c[1] - a[1]) * r[0]) / den
+    return (a[0] + t * r[0], a[1] + t * r[1]) if -1e-9 <= t <= 1 + 1e-9 and -1e-9 <= u <= 1 + 1e-9 else None
+
+
 def score(metrics, path, fmt):
     out = subprocess.run([sys.executable, metrics, str(path), "--format", fmt], capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -339,13 +376,14 @@ def scale(gudsl, metrics, sizes, aspect, only=None):
             scored_path = work / f"{name}.scored.json"
             scored_path.write_text(json.dumps(scored))
             scores = [score(metrics, dot_out, "dotjson"), score(metrics, elk_out, "elk"), score(metrics, scored_path, "neutral")]
-            row = [[s["crossings"] for s in scores], [s["edge_node_hits"] for s in scores],
+            row = [[s["crossings"] for s in scores[:2]] + [f"{scores[2]['crossings']} ({joins(scored)} joins)"], [s["edge_node_hits"] for s in scores],
                    [s["label_node_overlaps"] for s in scores], [s["label_label_overlaps"] for s in scores],
                    [f"{s['area'] / 1e6:.1f}" for s in scores], [f"{s['width'] / s['height']:.2f}" for s in scores],
                    [f"{dot_ms:.0f}", f"{elk_time:.0f}", f"{statistics.median(times) * 1e3:.0f}"]]
             cells = " | ".join(f"{' / '.join(map(str, r)):>26}" for r in row)
             print(f"{name:<18} {scores[2]['nodes']:>5} {len(layout['edges']):>5} | {cells}", flush=True)
-    print("(each cell: dot / ELK / gudsl; areas and w/h of the drawings' bounding boxes; label counts as gudsl gives them to all three)")
+    print("(each cell: dot / ELK / gudsl; areas and w/h of the drawings' bounding boxes; label counts as gudsl gives them to all three;")
+    print(" joins: of gudsl's crossings, those where a segment ends on another edge — a port's bindings parting from their shared track)")
 
 
 if __name__ == "__main__":
