@@ -221,3 +221,30 @@ fn a_long_pipeline_fits_the_screen_unless_the_user_pinned_a_node() {
     assert!(pinned.width / pinned.height > 10.0, "{} x {}", pinned.width, pinned.height);
     assert_clean(&graph, &pinned, false);
 }
+
+#[test]
+fn a_class_added_to_a_narrowed_drawing_gets_routes_that_pass_no_box() {
+    // 200 classes narrowed to an A4 page (the reference picture's model), drawn without their
+    // last class, then with it as the editor draws it: the others kept where they were.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/reference/models/Classes200.gudsl");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (host, files) = gudsl_model::AnalysisHost::with_files([(path.display().to_string(), text)]);
+    let graph = host.analysis().graphs(files[0]).unwrap()[0].clone();
+    let page = crate::layout::Page::paper("A4").unwrap();
+    let mut rerouted = 0;
+    for k in [graph.nodes.len() - 1, graph.nodes.len() / 2] {
+        let previous = scene::build(&without(&graph, k), Hints { page, ..Hints::default() });
+        let scene = scene::build(&graph, Hints { previous: Some(&previous), page, ..Hints::default() });
+        let added = &graph.nodes[k].id;
+        let rect = |id: &str| scene.nodes.iter().find(|n| n.id == id).unwrap().rect;
+        for edge in scene.edges.iter().filter(|e| &e.source == added || &e.target == added) {
+            for node in scene.nodes.iter().filter(|n| n.id != edge.source && n.id != edge.target) {
+                let through = edge.points.windows(2).any(|s| crate::geometry::segment_meets_box(s[0], s[1], node.rect));
+                assert!(!through, "{} -> {} passes {}", edge.source, edge.target, node.id);
+            }
+            assert!(rect(&edge.source).width > 0.0);
+            rerouted += 1;
+        }
+    }
+    assert!(rerouted >= 2);
+}

@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use super::{labels::around, Point, Rect, Scene, SceneEdge};
+use super::{detour, labels::around, Point, Rect, Scene, SceneEdge};
 use crate::{
     geometry::{intersects, segment_meets_box},
     grid::Segments,
@@ -90,6 +90,7 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
     // Whether a node is not where the previous scene had it.
     let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
     let parallel = fan_positions(edges);
+    let obstacles = detour::Obstacles::new(&boxes);
     let mut labels: Vec<[Option<Rect>; 3]> = vec![[None; 3]; edges.len()];
     let mut rerouted = vec![false; edges.len()];
     for ((k, e), previous) in edges.iter().enumerate().zip(previous_routes) {
@@ -101,7 +102,7 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
         rerouted[k] = kept.is_none();
         (layout.edges[k], labels[k]) = match kept {
             Some(drawn) => (drawn.route, drawn.labels),
-            None => (straight(boxes[e.from], boxes[e.to], parallel[k]), [None; 3]),
+            None => (anew(&obstacles, e, parallel[k]), [None; 3]),
         };
     }
     // A kept label stays unless a new route crosses it or a moved node covers it; the others
@@ -294,6 +295,16 @@ fn fan_positions(edges: &[Edge]) -> Vec<f64> {
         }
     }
     offsets
+}
+
+/// A route drawn anew for edge `e` among the placed boxes: the straight one (`straight`), or
+/// where that passes another box, one around them (`detour`) if there is one.
+fn anew(obstacles: &detour::Obstacles, e: &Edge, fan: f64) -> Vec<Point> {
+    let line = straight(obstacles.boxes[e.from], obstacles.boxes[e.to], fan);
+    if fan != 0.0 || e.from == e.to || !obstacles.blocks(&line, e.from, e.to) {
+        return line;
+    }
+    obstacles.around(e.from, e.to).unwrap_or(line)
 }
 
 /// How far apart the routes of edges between the same two boxes bow out at least.

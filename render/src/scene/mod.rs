@@ -7,6 +7,7 @@
 mod arrange;
 mod build;
 mod connections;
+mod detour;
 mod frame;
 pub(crate) mod labels;
 pub(crate) mod measure;
