@@ -48,6 +48,8 @@ const MODELS: &[(&str, Option<&str>)] = &[
     ("LongFlow", None),
     // 200 classes far wider than an upright A4 page as their ranks come, narrowed to it.
     ("Classes200", Some("A4")),
+    // A pipeline of 60 instances, far wider than a screen in one row, wrapped into rows.
+    ("LongPipeline", None),
 ];
 
 /// A channel may differ by this much (rounding in the rasterizer) before the pixel counts as
@@ -103,7 +105,14 @@ fn diagrams_look_like_their_reviewed_reference_pictures() {
 fn model(references: &Path, id: &str) -> Graph {
     let path = references.join("models").join(format!("{id}.gudsl"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let (host, files) = AnalysisHost::with_files([(path.display().to_string(), text)]);
+    // With the seed's listings, whose classes a model may instantiate.
+    let seed = root().join("../samples/seed");
+    let mut listings: Vec<PathBuf> = std::fs::read_dir(&seed).unwrap().flatten().map(|e| e.path()).collect();
+    listings.retain(|p| p.extension().is_some_and(|e| e == "gudsl"));
+    listings.sort();
+    let files = std::iter::once((path.display().to_string(), text))
+        .chain(listings.iter().map(|p| (p.display().to_string(), std::fs::read_to_string(p).unwrap())));
+    let (host, files) = AnalysisHost::with_files(files);
     let graphs = host.analysis().graphs(files[0]).unwrap().to_vec();
     graphs.into_iter().find(|g| g.id == id).unwrap_or_else(|| panic!("{}: no diagram `{id}`", path.display()))
 }
