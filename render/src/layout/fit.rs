@@ -57,7 +57,7 @@ pub(super) fn plan(
     let page = spacing.page;
     let width = super::place::right_edge(x, extent) - spacing.margin;
     let whole = width + 2.0 * spacing.margin;
-    if !page.width.is_finite() || whole <= page.width || whole / height <= page.aspect() * super::unzip::TOLERANCE {
+    if !page.too_wide(whole, height) {
         return None;
     }
     let least = layers.iter().map(|layer| least_width(layer, extent, separation)).fold(0.0, f64::max);

@@ -54,6 +54,18 @@ impl Page {
         (width.is_finite() && height.is_finite() && width >= 1.0 && height >= 1.0).then_some(Page { width, height })
     }
 
+    /// Whether a drawing `width` × `height` is to be made narrower: wider than the page, and
+    /// wider for its height than `TOLERANCE` times the page's aspect ratio allows.
+    pub(super) fn too_wide(self, width: f64, height: f64) -> bool {
+        width > self.width && width / height > self.aspect() * TOLERANCE
+    }
+
+    /// Whether a drawing `width` × `height` is to be made less tall: taller than the page, and
+    /// taller for its width than `TOLERANCE` times the page's aspect ratio allows.
+    pub(super) fn too_tall(self, width: f64, height: f64) -> bool {
+        height > self.height && width / height < self.aspect() / TOLERANCE
+    }
+
     /// Width over height (1 for an unbounded page).
     pub fn aspect(self) -> f64 {
         let aspect = self.width / self.height;
@@ -69,3 +81,7 @@ impl Page {
         Page { width: self.height, height: self.width }
     }
 }
+
+/// How much earlier than the page's aspect ratio a drawing is reshaped: within this factor of
+/// it, a drawing is left as its ranks come.
+pub(super) const TOLERANCE: f64 = 1.3;

@@ -5,6 +5,7 @@
 //! then orders the new ranks as any others), on estimates corrected by quick layouts.
 
 use super::minimise::quick_order;
+use super::page::TOLERANCE;
 use super::place::{self, Bands};
 use super::proper::Proper;
 use super::{Extent, LayoutNode, Spacing};
@@ -40,7 +41,7 @@ pub(super) fn unzip(
     let measure = |rank: &[usize]| quick_size(rank, edges, nodes, groups, spacing);
     let (width, height) = measure(rank);
     let unsplit_width = width;
-    if width <= page.width || width / height <= page.aspect() * TOLERANCE {
+    if !page.too_wide(width, height) {
         return;
     }
     let estimate = Estimate::new(rank, edges, nodes, labelled, spacing);
@@ -112,10 +113,6 @@ fn quick_size(
     let x = place::horizontal(&graph, &layers, &extent, spacing);
     (place::right_edge(&x, &extent) + spacing.margin, Bands::new(&layers, &extent, spacing, &[]).total_height)
 }
-
-/// How much earlier than the page's aspect ratio the drawing is reshaped: within this factor
-/// of it, a drawing is left as its ranks come.
-pub(super) const TOLERANCE: f64 = 1.3;
 
 /// What the layout of the ranks will measure, roughly: per rank the boxes' width, how many of
 /// them and how many long edges pass it, and its height.

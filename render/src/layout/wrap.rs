@@ -8,7 +8,6 @@
 use std::collections::HashMap;
 
 use super::place::Bands;
-use super::unzip::TOLERANCE;
 use super::{Layout, LayoutInput, Point, Spacing};
 
 /// Between the lanes of the edges a cut divides.
@@ -23,8 +22,7 @@ const MOST_COLUMNS: usize = 64;
 pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spacing: Spacing) {
     let page = spacing.page;
     let ranks = bands.top.len();
-    let too_tall = layout.height > page.height && layout.width / layout.height < page.aspect() / TOLERANCE;
-    if !too_tall || ranks < 2 {
+    if !page.too_tall(layout.width, layout.height) || ranks < 2 {
         return;
     }
     let measured = Measured::new(layout, input, bands);
