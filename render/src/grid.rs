@@ -107,6 +107,11 @@ impl Boxes {
     pub fn overlap(&self, r: Rect, except: &[usize]) -> bool {
         self.0.any(r, |&(i, b)| intersects(r, b) && !except.contains(&i))
     }
+
+    /// Whether the segment from `a` to `b` meets a box other than those `except` names.
+    pub fn meet_segment(&self, a: Point, b: Point, except: &[usize]) -> bool {
+        self.0.any(span(a, b), |&(i, r)| segment_meets_box(a, b, r) && !except.contains(&i))
+    }
 }
 
 #[cfg(test)]
@@ -126,6 +131,14 @@ mod tests {
         assert!(grid.overlap(rect(5e6, 0.2, 1.0, 0.5), &[]));
         assert!(!grid.overlap(rect(5e6, 0.2, 1.0, 0.5), &[2]));
         assert!(!grid.overlap(rect(100.0, 100.0, 10.0, 10.0), &[]));
+        let p = |x: f64, y: f64| Point { x, y };
+        for (from, to) in
+            [(p(-10.0, 15.0), p(2000.0, 15.0)), (p(60.0, -5.0), p(60.0, 40.0)), (p(25.0, -50.0), p(25.0, -1.0))]
+        {
+            let scan = boxes.iter().any(|b| segment_meets_box(from, to, *b));
+            assert_eq!(grid.meet_segment(from, to, &[]), scan, "{from:?} {to:?}");
+        }
+        assert!(!grid.meet_segment(p(-10.0, 15.0), p(40.0, 15.0), &[0]));
         let a = Point { x: 0.0, y: 0.0 };
         let segments =
             Segments::new([(a, Point { x: 0.0, y: 5000.0 }), (a, Point { x: f64::NAN, y: 1.0 })].into_iter());

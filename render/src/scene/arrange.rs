@@ -90,7 +90,8 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
     // Whether a node is not where the previous scene had it.
     let moved = |i: usize| !matches!(wanted[i], Wanted::Kept(was) if boxes[i] == was);
     let parallel = fan_positions(edges);
-    let obstacles = detour::Obstacles::new(&boxes);
+    // Indexed only when a route is drawn anew.
+    let obstacles = std::cell::LazyCell::new(|| detour::Obstacles::new(&boxes));
     let mut labels: Vec<[Option<Rect>; 3]> = vec![[None; 3]; edges.len()];
     let mut rerouted = vec![false; edges.len()];
     for ((k, e), previous) in edges.iter().enumerate().zip(previous_routes) {
