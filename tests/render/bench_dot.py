@@ -29,6 +29,7 @@ by side: crossings, edge–node hits, label overlaps, area, width/height, whole-
 (one run each from 1 000 nodes, else median of 3). Of gudsl's crossings, it also counts the
 joins (`joins`): the metrics count a segment ending on another edge as a crossing."""
 
+import importlib.util
 import json
 import random
 import statistics
@@ -224,11 +225,12 @@ def to_dot(layout, across=False):
     return "\n".join(out) + "\n"
 
 
-def joins(layout):
+def joins(layout, metrics):
     """How many of the crossings layout_metrics.py counts in `layout` (gudsl's layout JSON) are
     one edge's segment ending on another edge: where bindings from one port run on one track
     and part (gudsl draws a port's bindings as a tree), and corners on another edge. The
-    metrics count such a touch as a crossing; no line passes through another there."""
+    metrics count such a touch as a crossing; no line passes through another there. `metrics`:
+    layout_metrics.py as a module (its segment intersection, ends included, is the one used)."""
     segments = [(e, a, b) for e, edge in enumerate(layout["edges"]) for a, b in zip(edge["points"], edge["points"][1:])]
     cells = {}
     for i, (_, a, b) in enumerate(segments):
@@ -243,21 +245,10 @@ def joins(layout):
                 if e == f or (i, j) in seen:
                     continue
                 seen.add((i, j))
-                p = intersection(a, b, c, d)
+                p = metrics.seg_intersection(a, b, c, d)
                 if p is not None and any(abs(p[0] - q[0]) < 0.5 and abs(p[1] - q[1]) < 0.5 for q in (a, b, c, d)):
                     touches.add((min(e, f), max(e, f), round(p[0]), round(p[1])))
     return len(touches)
-
-
-def intersection(a, b, c, d):
-    """Where segments ab and cd meet, ends included, or None (parallel ones never)."""
-    r, s = (b[0] - a[0], b[1] - a[1]), (d[0] - c[0], d[1] - c[1])
-    den = r[0] * s[1] - r[1] * s[0]
-    if abs(den) < 1e-9:
-        return None
-    t = ((c[0] - a[0]) * s[1] - (c[1] - a[1]) * s[0]) / den
-    u = ((c[0] - a[0]) * r[1] - (c[1] - a[1]) * r[0]) / den
-    return (a[0] + t * r[0], a[1] + t * r[1]) if -1e-9 <= t <= 1 + 1e-9 and -1e-9 <= u <= 1 + 1e-9 else None
 
 
 def score(metrics, path, fmt):
@@ -346,6 +337,9 @@ def scale(gudsl, metrics, sizes, aspect, only=None):
     w, h = (float(v) for v in aspect.split(":"))
     target = w / h
     _, elk_version = elk.ensure_elkjs()
+    spec = importlib.util.spec_from_file_location("layout_metrics", metrics)
+    metrics_module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(metrics_module)
     dot_version = subprocess.run(["dot", "-V"], capture_output=True, text=True).stderr.strip()
     print(f"target aspect (w/h) {target:.2f}; {dot_version}; elkjs {elk_version}")
     columns = ["crossings", "edge-node", "lbl-node", "lbl-lbl", "area Mpx2", "w/h", "time ms"]
@@ -376,7 +370,7 @@ def scale(gudsl, metrics, sizes, aspect, only=None):
             scored_path = work / f"{name}.scored.json"
             scored_path.write_text(json.dumps(scored))
             scores = [score(metrics, dot_out, "dotjson"), score(metrics, elk_out, "elk"), score(metrics, scored_path, "neutral")]
-            row = [[s["crossings"] for s in scores[:2]] + [f"{scores[2]['crossings']} ({joins(scored)} joins)"], [s["edge_node_hits"] for s in scores],
+            row = [[s["crossings"] for s in scores[:2]] + [f"{scores[2]['crossings']} ({joins(scored, metrics_module)} joins)"], [s["edge_node_hits"] for s in scores],
                    [s["label_node_overlaps"] for s in scores], [s["label_label_overlaps"] for s in scores],
                    [f"{s['area'] / 1e6:.1f}" for s in scores], [f"{s['width'] / s['height']:.2f}" for s in scores],
                    [f"{dot_ms:.0f}", f"{elk_time:.0f}", f"{statistics.median(times) * 1e3:.0f}"]]
