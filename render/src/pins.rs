@@ -33,11 +33,20 @@ impl Pin {
 /// The pins of one diagram, by node id.
 pub type Pins = BTreeMap<String, Pin>;
 
+/// The rows of one diagram's last fresh layout: the ids of the boxes of each rank, in order, top
+/// to bottom (left to right in a dataflow diagram). A fresh layout keeps them where it can
+/// (`layout::seeded`).
+pub type Rows = Vec<Vec<String>>;
+
 /// A layout sidecar: the pins of each diagram of one model file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LayoutFile {
     #[serde(default)]
     pub diagrams: BTreeMap<String, Pins>,
+    /// The rows of each diagram's last fresh layout (written with the model, read by every fresh
+    /// layout after it). Declared between the others: the file's keys stay sorted.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub rows: BTreeMap<String, Rows>,
     #[serde(default = "version")]
     pub version: u32,
 }
@@ -48,7 +57,7 @@ fn version() -> u32 {
 
 impl Default for LayoutFile {
     fn default() -> LayoutFile {
-        LayoutFile { diagrams: BTreeMap::new(), version: VERSION }
+        LayoutFile { diagrams: BTreeMap::new(), rows: BTreeMap::new(), version: VERSION }
     }
 }
 
@@ -83,13 +92,43 @@ impl LayoutFile {
         self.diagrams.get(diagram).filter(|pins| !pins.is_empty())
     }
 
-    /// Keeps only the pins of nodes that `exists` (diagram id, node id); diagrams left without
-    /// pins go.
+    /// The rows of `diagram`'s last fresh layout, if they were kept.
+    pub fn rows(&self, diagram: &str) -> Option<&Rows> {
+        self.rows.get(diagram).filter(|rows| !rows.is_empty())
+    }
+
+    /// Keeps each `(diagram, rows)` drawn as that diagram's rows; whether any changed.
+    pub fn remember(&mut self, drawn: impl IntoIterator<Item = (String, Rows)>) -> bool {
+        let mut changed = false;
+        for (diagram, rows) in drawn {
+            if self.rows.get(&diagram).map_or(!rows.is_empty(), |kept| *kept != rows) {
+                changed = true;
+                match rows.is_empty() {
+                    true => self.rows.remove(&diagram),
+                    false => self.rows.insert(diagram, rows),
+                };
+            }
+        }
+        changed
+    }
+
+    /// Whether the file holds nothing: no pin and no rows (it is then removed).
+    pub fn is_empty(&self) -> bool {
+        self.diagrams.is_empty() && self.rows.is_empty()
+    }
+
+    /// Keeps only the pins and row places of nodes that `exists` (diagram id, node id);
+    /// diagrams left without pins or rows go.
     pub fn retain(&mut self, exists: impl Fn(&str, &str) -> bool) {
         for (diagram, pins) in &mut self.diagrams {
             pins.retain(|node, _| exists(diagram, node));
         }
         self.diagrams.retain(|_, pins| !pins.is_empty());
+        for (diagram, rows) in &mut self.rows {
+            rows.iter_mut().for_each(|row| row.retain(|node| exists(diagram, node)));
+            rows.retain(|row| !row.is_empty());
+        }
+        self.rows.retain(|_, rows| !rows.is_empty());
     }
 }
 
@@ -171,8 +210,14 @@ mod tests {
         file.diagrams.entry("A".into()).or_default().insert("A.kept".into(), pin);
         file.diagrams.entry("A".into()).or_default().insert("A.gone".into(), pin);
         file.diagrams.entry("B".into()).or_default().insert("B.gone".into(), pin);
+        file.rows.insert("A".into(), vec![vec!["A.gone".into()], vec!["A.gone".into(), "A.kept".into()]]);
+        file.rows.insert("B".into(), vec![vec!["B.gone".into()]]);
         file.retain(|_, node| node.ends_with("kept"));
         assert_eq!(file.diagrams.len(), 1);
         assert_eq!(file.diagrams["A"].keys().collect::<Vec<_>>(), ["A.kept"]);
+        assert_eq!(file.rows.keys().collect::<Vec<_>>(), ["A"]);
+        assert_eq!(file.rows["A"], [["A.kept"]]);
+        file.retain(|_, _| false);
+        assert!(file.is_empty());
     }
 }

@@ -46,7 +46,7 @@ pub fn read(path: &Path) -> Result<LayoutFile, String> {
 /// same folder renamed over it, so a link there is replaced, never written through.
 pub fn write(path: &Path, layout: &LayoutFile) -> Result<(), String> {
     let (folder, name) = folder_of(path)?;
-    let done = match layout.diagrams.is_empty() {
+    let done = match layout.is_empty() {
         true => folder.remove(&name),
         false => folder.write(&name, layout.to_json().as_bytes()).map(|_| ()),
     };

@@ -29,7 +29,7 @@ pub(super) fn minimise_crossings(layers: &mut [Vec<usize>], graph: &Proper, widt
     let plain_count = plain.len();
     let mut swept: Vec<(Vec<Vec<usize>>, usize)> = Vec::new();
     for start in plain.into_iter().chain(shuffled(layers, graph, effort.shuffled)) {
-        let (order, crossings) = sweeps(start, graph);
+        let (order, crossings) = sweeps(start, graph, &[]);
         if crossings == 0 {
             layers.clone_from_slice(&order);
             return;
@@ -71,7 +71,7 @@ fn best_of(
 /// The order median sweeps find from the breadth-first start alone: a first idea of the
 /// drawing, for measuring it.
 pub(super) fn quick_order(graph: &Proper) -> Vec<Vec<usize>> {
-    sweeps(graph.initial_layers(true, false), graph).0
+    sweeps(graph.initial_layers(true, false), graph, &[]).0
 }
 
 /// The fewest crossings median sweeps find from the four plain starts.
@@ -79,7 +79,7 @@ pub(super) fn swept_crossings(graph: &Proper) -> usize {
     let starts = [(true, false), (false, false), (true, true), (false, true)];
     starts
         .iter()
-        .map(|&(breadth_first, undirected)| sweeps(graph.initial_layers(breadth_first, undirected), graph).1)
+        .map(|&(breadth_first, undirected)| sweeps(graph.initial_layers(breadth_first, undirected), graph, &[]).1)
         .min()
         .unwrap_or(0)
 }
@@ -180,7 +180,7 @@ fn sifted((order, crossings): (Vec<Vec<usize>>, usize), graph: &Proper, passes: 
         now = after;
     }
     let mut result = global.order;
-    result.transpose(graph, false);
+    result.transpose(graph, false, &[]);
     let after = result.crossings(graph);
     if after < crossings {
         (result.layers, after)
@@ -191,8 +191,9 @@ fn sifted((order, crossings): (Vec<Vec<usize>>, usize), graph: &Proper, passes: 
 
 /// Median sweeps from `start`, alternately down and up, each followed by transposition (every
 /// other pair of sweeps also swapping neighbours whose crossings tie, to leave a plateau), until
-/// eight sweeps in a row bring nothing: the best order seen and its crossings.
-fn sweeps(mut start: Vec<Vec<usize>>, graph: &Proper) -> (Vec<Vec<usize>>, usize) {
+/// eight sweeps in a row bring nothing: the best order seen and its crossings. The `seated`
+/// vertices (by vertex; none where empty) keep their order among themselves.
+pub(super) fn sweeps(mut start: Vec<Vec<usize>>, graph: &Proper, seated: &[bool]) -> (Vec<Vec<usize>>, usize) {
     for layer in start.iter_mut() {
         layer.sort_by_key(|&v| graph.group[v]);
     }
@@ -204,8 +205,8 @@ fn sweeps(mut start: Vec<Vec<usize>>, graph: &Proper) -> (Vec<Vec<usize>>, usize
         if best_crossings == 0 || fruitless == 8 {
             break;
         }
-        order.median_sweep(graph, sweep % 2 == 0);
-        order.transpose(graph, sweep % 4 >= 2);
+        order.median_sweep(graph, sweep % 2 == 0, seated);
+        order.transpose(graph, sweep % 4 >= 2, seated);
         let crossings = order.crossings(graph);
         if crossings < best_crossings {
             best_crossings = crossings;

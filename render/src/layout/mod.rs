@@ -18,6 +18,7 @@ mod place;
 mod proper;
 mod rank;
 mod route;
+mod seeded;
 mod sifting;
 mod simplex;
 mod unzip;
@@ -28,6 +29,7 @@ pub(crate) use route::self_loop;
 
 pub use crate::geometry::Point;
 pub use page::Page;
+pub use seeded::{Entry, Remembered, Seat};
 
 use minimise::{minimise_crossings, swept_crossings};
 use proper::Proper;
@@ -60,6 +62,10 @@ pub struct LayoutInput {
     /// (an association's multiplicities and role names). The layout makes room for them only
     /// where edges run in parallel (`bundle`); elsewhere they are placed afterwards.
     pub end_labels: Vec<[Option<(f64, f64)>; 2]>,
+    /// Where the boxes and long edges sat in a layout before (`Layout::rows`). Where at least
+    /// half of the boxes have a seat, the layout keeps their rows' direction and their order in
+    /// every rank (`seeded`).
+    pub remembered: Remembered,
 }
 
 /// Spacing of the layout, and the page it is meant for.
@@ -95,6 +101,10 @@ pub struct Layout {
     pub end_labels: Vec<[Option<Point>; 2]>,
     pub width: f64,
     pub height: f64,
+    /// What each rank that holds boxes holds, in order, top to bottom — boxes and the long edges
+    /// passing (a part laid out apart, or nested, after the rest): what the next layout keeps
+    /// (`LayoutInput::remembered`, by `Remembered::of_rows`).
+    pub rows: Vec<Vec<Entry>>,
 }
 
 impl Layout {
@@ -124,6 +134,7 @@ pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
         flow: input.flow,
         firm: input.firm.clone(),
         end_labels: Vec::new(),
+        remembered: input.remembered.clone(),
     };
     let mut layout = layered(&across, Spacing { page: spacing.page.turned(), ..spacing });
     let turn = |p: &mut Point| std::mem::swap(&mut p.x, &mut p.y);
@@ -172,6 +183,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         end_labels: vec![[None; 2]; m],
         width: inner.width,
         height: inner.height,
+        rows: Vec::new(),
     };
     let joined_part = pack::Part { boxes: joined, edges: joined_edges, layout: inner };
     joined_part.put(&mut layout, Point { x: spacing.margin, y: spacing.margin }, spacing);
@@ -203,6 +215,7 @@ fn sub_input(input: &LayoutInput, boxes: &[usize]) -> (LayoutInput, Vec<usize>) 
         flow: input.flow,
         firm: edges.iter().map(|&e| input.firm.get(e).copied().unwrap_or(false)).collect(),
         end_labels: edges.iter().map(|&e| input.end_labels.get(e).copied().unwrap_or_default()).collect(),
+        remembered: input.remembered.part(boxes, &edges),
     };
     (sub, edges)
 }
@@ -219,31 +232,52 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
             end_labels: Vec::new(),
             width: empty,
             height: empty,
+            rows: Vec::new(),
         };
     }
     let label_of = |e: usize| input.labels.get(e).copied().flatten();
     let labelled = (0..input.edges.len()).any(|e| label_of(e).is_some());
     let bundled = bundle::bundled(&input.edges, &input.end_labels);
-    // Of the ways to rank the boxes, the one whose order sweeps find the fewest crossings in
-    // (fewer ranks are shorter but may crowd them), the first of equals.
-    let mut ways: Vec<(rank::Ranked, Proper, Vec<bool>)> = rank::candidates(n, &input.edges, input.flow, &input.firm)
-        .into_iter()
-        .map(|mut ranked| {
-            unzip::unzip(&mut ranked.rank, &ranked.edges, &input.nodes, &input.groups, labelled, spacing);
-            if labelled {
-                ranked.rank.iter_mut().for_each(|r| *r *= 2);
+    // The seats of a layout before, where they are worth keeping: ranks started from their rows,
+    // the way to rank that keeps the rows' direction, and their orders.
+    let seats = Some(&input.remembered).filter(|remembered| seeded::worth_keeping(remembered, n));
+    let wanted = seats.map_or(Vec::new(), seeded::wanted_rows);
+    let mut ways: Vec<(rank::Ranked, Proper, Vec<bool>)> =
+        rank::candidates(n, &input.edges, input.flow, &input.firm, &wanted)
+            .into_iter()
+            .map(|mut ranked| {
+                unzip::unzip(&mut ranked.rank, &ranked.edges, &input.nodes, &input.groups, labelled, spacing);
+                if labelled {
+                    ranked.rank.iter_mut().for_each(|r| *r *= 2);
+                }
+                let lane_ranks = bundle::insert_lane_ranks(&mut ranked.rank, &ranked.edges, &bundled, labelled);
+                let graph = Proper::new(&input.groups, &ranked.edges, &ranked.rank);
+                (ranked, graph, lane_ranks)
+            })
+            .collect();
+    let chosen = choose_way(&ways, seats);
+    if std::env::var("GUDSL_DEBUG_RANKS").is_ok() && n > 100 {
+        let against: Vec<usize> = ways.iter().map(|w| seats.map_or(0, |s| seeded::disagreements(&w.0, s))).collect();
+        eprintln!("ways {} chosen {chosen} against {against:?} seats {}", ways.len(), seats.is_some());
+        eprintln!("ranks {:?}", ways[chosen].0.rank);
+        if let Some(s) = seats {
+            for w in &ways {
+                for &(a, b, r) in &w.0.edges {
+                    if let (Some(sa), Some(sb)) = (s.boxes[a], s.boxes[b]) {
+                        if sa.row != sb.row
+                            && ((sa.row < sb.row) != (w.0.rank[a] < w.0.rank[b]) || w.0.rank[a] == w.0.rank[b])
+                        {
+                            eprintln!(
+                                "dis {a}->{b} rev {r} rows {} {} ranks {} {}",
+                                sa.row, sb.row, w.0.rank[a], w.0.rank[b]
+                            );
+                        }
+                    }
+                }
             }
-            let lane_ranks = bundle::insert_lane_ranks(&mut ranked.rank, &ranked.edges, &bundled, labelled);
-            let graph = Proper::new(&input.groups, &ranked.edges, &ranked.rank);
-            (ranked, graph, lane_ranks)
-        })
-        .collect();
-    // Sweeps only where there is a choice (a flow has one way).
-    let chosen = if ways.len() == 1 {
-        0
-    } else {
-        (0..ways.len()).min_by_key(|&i| swept_crossings(&ways[i].1)).expect("one way to rank at least")
-    };
+        }
+        eprintln!("wanted {:?}", seats.map(seeded::wanted_rows));
+    }
     let (rank::Ranked { edges, rank }, graph, lane_ranks) = ways.swap_remove(chosen);
     let mut extent = Extent::of_boxes(&input.nodes, graph.vertices());
     // A labelled edge's label goes right of the dummy nearest its middle in a between-rank.
@@ -265,6 +299,21 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         place::right_edge(&x, &extent)
     };
     minimise_crossings(&mut layers, &graph, &width);
+    // Seats that the order minimised afresh does not keep order the ranks instead (where it does,
+    // as for the layout the seats were read off, it is that layout's order).
+    let places = seats.map(|remembered| remembered.of_vertices(&graph));
+    let layers = match places {
+        Some(places) if !seeded::kept(&layers, &places) => {
+            let o = seeded::seeded_order(&graph, &places);
+            if std::env::var("GUDSL_DEBUG_RANKS").is_ok() && n > 100 {
+                let c = |l: &Vec<Vec<usize>>| order::Order::new(l.clone(), graph.vertices()).crossings(&graph);
+                let seated = places.iter().filter(|p| p.is_some()).count();
+                eprintln!("fresh {} seeded {} vertices {} seated {}", c(&layers), c(&o), graph.vertices(), seated);
+            }
+            o
+        }
+        _ => layers,
+    };
     let mut x = place::horizontal(&graph, &layers, &extent, spacing);
     let separation = |u: usize, v: usize| place::separation(&graph, &extent, spacing, u, v);
     let rank_gap = if labelled { spacing.rank_gap / 2.0 } else { spacing.rank_gap };
@@ -295,11 +344,29 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     }
     let routed = route::polylines(&graph, &edges, &layers, &x, &bands, &extent);
     let width = place::right_edge(&x, &extent) + spacing.margin;
-    let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height };
+    let rows = seeded::rows(&layers, &graph);
+    let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height, rows };
     if !in_lanes {
         wrap::wrap(&mut layout, input, &bands, spacing);
     }
     layout
+}
+
+/// Which of the ways to rank the boxes to lay out: of those that keep the direction of the rows
+/// the `seats` sat in best, the one whose order sweeps find the fewest crossings in (fewer ranks
+/// are shorter but may crowd them), the first of equals. Sweeps only where there is a choice (a
+/// flow has one way).
+fn choose_way(ways: &[(rank::Ranked, Proper, Vec<bool>)], seats: Option<&Remembered>) -> usize {
+    if ways.len() == 1 {
+        return 0;
+    }
+    let against: Vec<usize> =
+        ways.iter().map(|way| seats.map_or(0, |seats| seeded::disagreements(&way.0, seats))).collect();
+    let fewest = against.iter().copied().min().unwrap_or(0);
+    (0..ways.len())
+        .filter(|&i| against[i] == fewest)
+        .min_by_key(|&i| swept_crossings(&ways[i].1))
+        .expect("one way to rank at least")
 }
 
 #[cfg(test)]

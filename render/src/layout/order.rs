@@ -83,8 +83,9 @@ impl Order {
 
     /// Sorts each rank by the median position of its neighbours in the rank before it (sweeping
     /// down) or after it (sweeping up; the mean of the two middle ones for an even count); a
-    /// vertex without such neighbours keeps its place.
-    pub(super) fn median_sweep(&mut self, graph: &Proper, downward: bool) {
+    /// vertex without such neighbours keeps its place. The `seated` vertices (by vertex; none
+    /// where empty) keep their order among themselves: the others are sorted in between them.
+    pub(super) fn median_sweep(&mut self, graph: &Proper, downward: bool, seated: &[bool]) {
         let ranks: Vec<usize> = if downward {
             (1..self.layers.len()).collect()
         } else {
@@ -92,7 +93,7 @@ impl Order {
         };
         let neighbours = if downward { &graph.up } else { &graph.down };
         for r in ranks {
-            let mut keyed: Vec<(usize, f64, usize, usize)> = self.layers[r]
+            let keyed: Vec<(usize, f64, usize, usize)> = self.layers[r]
                 .iter()
                 .map(|&v| {
                     let adjacent = &neighbours[v];
@@ -107,21 +108,38 @@ impl Order {
                     (graph.group[v], key, self.position[v], v)
                 })
                 .collect();
-            keyed.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-            self.layers[r] = keyed.into_iter().map(|(.., v)| v).collect();
+            let before = |a: &(usize, f64, usize, usize), b: &(usize, f64, usize, usize)| {
+                a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2))
+            };
+            let is_seated = |v: usize| seated.get(v).copied().unwrap_or(false);
+            let (kept, mut free): (Vec<_>, Vec<_>) = keyed.into_iter().partition(|k| is_seated(k.3));
+            free.sort_by(before);
+            // The seated in their order, each free one before the first seated one it sorts before.
+            let mut merged = Vec::with_capacity(kept.len() + free.len());
+            let mut free = free.into_iter().peekable();
+            for k in kept {
+                while let Some(f) = free.next_if(|f| before(f, &k).is_lt()) {
+                    merged.push(f.3);
+                }
+                merged.push(k.3);
+            }
+            merged.extend(free.map(|f| f.3));
+            self.layers[r] = merged;
             self.renumber(r);
         }
     }
 
-    /// Swaps neighbours of one lane while that removes crossings (and, with `ties`, where it
-    /// keeps them: a way off a plateau; at most eight passes).
-    pub fn transpose(&mut self, graph: &Proper, ties: bool) {
+    /// Swaps neighbours of one lane, not both `seated` (by vertex; none where empty), while that
+    /// removes crossings (and, with `ties`, where it keeps them: a way off a plateau; at most
+    /// eight passes).
+    pub fn transpose(&mut self, graph: &Proper, ties: bool, seated: &[bool]) {
+        let is_seated = |v: usize| seated.get(v).copied().unwrap_or(false);
         for _ in 0..8 {
             let mut improved = false;
             for r in 0..self.layers.len() {
                 for i in 0..self.layers[r].len().saturating_sub(1) {
                     let (a, b) = (self.layers[r][i], self.layers[r][i + 1]);
-                    if graph.group[a] != graph.group[b] {
+                    if graph.group[a] != graph.group[b] || (is_seated(a) && is_seated(b)) {
                         continue;
                     }
                     let (a_left, b_left) = self.pair_crossings(a, b, graph);

@@ -6,7 +6,7 @@
 //! (or, where there is none or it is narrow, as wide as makes them a block of about 3:2) — not
 //! one long row across the top.
 
-use super::{Layout, LayoutInput, Point, Spacing};
+use super::{Entry, Layout, LayoutInput, Point, Spacing};
 use crate::geometry::Rect;
 use crate::grid::{Boxes, Segments};
 
@@ -64,7 +64,8 @@ impl Part {
         (self.layout.width - 2.0 * spacing.margin, self.layout.height - 2.0 * spacing.margin)
     }
 
-    /// Writes the part into `layout` with its drawing's top-left corner at `at`.
+    /// Writes the part into `layout` with its drawing's top-left corner at `at`; its rows follow
+    /// the layout's.
     pub(super) fn put(&self, layout: &mut Layout, at: Point, spacing: Spacing) {
         let (dx, dy) = (at.x - spacing.margin, at.y - spacing.margin);
         let moved = |p: Point| Point { x: p.x + dx, y: p.y + dy };
@@ -76,6 +77,11 @@ impl Part {
             layout.labels[e] = self.layout.labels[i].map(moved);
             layout.end_labels[e] = self.layout.end_labels[i].map(|at| at.map(moved));
         }
+        let entry = |entry: &Entry| match *entry {
+            Entry::Box(i) => Entry::Box(self.boxes[i]),
+            Entry::Edge(i) => Entry::Edge(self.edges[i]),
+        };
+        layout.rows.extend(self.layout.rows.iter().map(|row| row.iter().map(entry).collect()));
     }
 }
 

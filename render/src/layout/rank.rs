@@ -25,7 +25,15 @@ pub(super) struct Ranked {
 /// as; otherwise those of the three orientations that reverse the fewest firm edges, each
 /// once, by least total edge length, then fewest ranks (of a huge graph, only the first that
 /// reverses the fewest). `flow` and `firm` as `LayoutInput` says.
-pub(super) fn candidates(n: usize, edges: &[(usize, usize)], flow: bool, firm: &[bool]) -> Vec<Ranked> {
+/// With `wanted` ranks (per box, or none: a layout before's rows) the boxes keep them where the
+/// edges allow (`kept`) instead of being ranked by network simplex.
+pub(super) fn candidates(
+    n: usize,
+    edges: &[(usize, usize)],
+    flow: bool,
+    firm: &[bool],
+    wanted: &[Option<usize>],
+) -> Vec<Ranked> {
     let orientations = if flow {
         vec![depth_first(n, edges, true)]
     } else if n + edges.len() > HUGE {
@@ -42,7 +50,10 @@ pub(super) fn candidates(n: usize, edges: &[(usize, usize)], flow: bool, firm: &
         .map(|reversed| {
             let against = reversed.iter().zip(firm).filter(|(&r, &f)| r && f).count();
             let oriented = turned(edges, reversed);
-            let rank = simplex::network_simplex(n, &oriented, &longest_path(n, &oriented));
+            let rank = match wanted.is_empty() {
+                true => simplex::network_simplex(n, &oriented, &feasible_near(n, &oriented, &[])),
+                false => kept(n, &oriented, wanted),
+            };
             let length: usize = oriented.iter().filter(|e| e.0 != e.1).map(|e| rank[e.1] - rank[e.0]).sum();
             let height = rank.iter().max().map_or(0, |r| r + 1);
             ((against, length, height), Ranked { edges: oriented, rank })
@@ -200,7 +211,58 @@ fn firm_first(n: usize, edges: &[(usize, usize)], firm: &[bool], sequence: &[usi
 }
 
 /// Each box's rank: the length of the longest path to it from a source (feasible ranks).
+#[cfg(test)]
 pub(super) fn longest_path(n: usize, edges: &[(usize, usize, bool)]) -> Vec<usize> {
+    feasible_near(n, edges, &[])
+}
+
+/// Ranks that keep the `wanted` ones (a layout before's rows) where the edges allow: each box
+/// at its wanted rank or lower where an edge into it asks; a box without one (new) just below
+/// the boxes its edges come from, or, where none do, just above the highest box they go to.
+fn kept(n: usize, edges: &[(usize, usize, bool)], wanted: &[Option<usize>]) -> Vec<usize> {
+    let mut rank = feasible_near(n, edges, wanted);
+    let new = |v: usize| wanted.get(v).copied().flatten().is_none();
+    let mut sources = vec![true; n];
+    let mut highest_below = vec![usize::MAX; n];
+    for &(a, b, _) in edges.iter().filter(|e| e.0 != e.1) {
+        sources[b] = false;
+        highest_below[a] = highest_below[a].min(rank[b]);
+    }
+    for v in (0..n).filter(|&v| new(v) && sources[v] && highest_below[v] != usize::MAX) {
+        rank[v] = highest_below[v].saturating_sub(1).max(rank[v]);
+    }
+    top_at_zero(n, edges, rank)
+}
+
+/// `rank` moved up so that each connected part's top rank is 0, as network simplex leaves it.
+fn top_at_zero(n: usize, edges: &[(usize, usize, bool)], mut rank: Vec<usize>) -> Vec<usize> {
+    let mut part: Vec<usize> = (0..n).collect();
+    fn root(part: &mut [usize], mut v: usize) -> usize {
+        while part[v] != v {
+            part[v] = part[part[v]];
+            v = part[v];
+        }
+        v
+    }
+    for &(a, b, _) in edges {
+        let (ra, rb) = (root(&mut part, a), root(&mut part, b));
+        part[ra.max(rb)] = ra.min(rb);
+    }
+    let mut top = vec![usize::MAX; n];
+    for v in 0..n {
+        let r = root(&mut part, v);
+        top[r] = top[r].min(rank[v]);
+    }
+    for v in 0..n {
+        rank[v] -= top[root(&mut part, v)];
+    }
+    rank
+}
+
+/// Feasible ranks (every edge pointing down) nearest `wanted` from above: each box at its wanted
+/// rank (0 where none is), or lower where an edge into it asks. Without any wanted rank: the
+/// length of the longest path to each box from a source.
+pub(super) fn feasible_near(n: usize, edges: &[(usize, usize, bool)], wanted: &[Option<usize>]) -> Vec<usize> {
     let mut indegree = vec![0usize; n];
     let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
     for &(a, b, _) in edges {
@@ -209,7 +271,7 @@ pub(super) fn longest_path(n: usize, edges: &[(usize, usize, bool)]) -> Vec<usiz
             out[a].push(b);
         }
     }
-    let mut rank = vec![0usize; n];
+    let mut rank: Vec<usize> = (0..n).map(|v| wanted.get(v).copied().flatten().unwrap_or(0)).collect();
     let mut queue: VecDeque<usize> = (0..n).filter(|&v| indegree[v] == 0).collect();
     while let Some(v) = queue.pop_front() {
         for &w in &out[v] {
@@ -229,7 +291,7 @@ mod tests {
 
     /// The first candidate.
     fn ranks(n: usize, edges: &[(usize, usize)], flow: bool, firm: &[bool]) -> (Vec<(usize, usize, bool)>, Vec<usize>) {
-        let Ranked { edges, rank } = candidates(n, edges, flow, firm).remove(0);
+        let Ranked { edges, rank } = candidates(n, edges, flow, firm, &[]).remove(0);
         (edges, rank)
     }
 

@@ -60,7 +60,7 @@ impl GlobalOrder {
     /// Moves block `b` to the place in its lane's stretch of the order where its edges cross
     /// the fewest others. While `b` is sifted its vertices stay where they were in the ranks:
     /// `b` is placed virtually, before `blocks[place]`, and compared with others by that.
-    fn sift(&mut self, b: usize, graph: &Proper) {
+    pub(super) fn sift(&mut self, b: usize, graph: &Proper) {
         let from = self.index[b];
         self.blocks.remove(from);
         self.renumber_blocks(from);

@@ -11,7 +11,7 @@ use crate::{
     geometry::{intersects, segment_meets_box},
     grid::Segments,
     layout::{parallel_edges, self_loop, Layout, Page},
-    pins::Pins,
+    pins::{Pins, Rows},
 };
 
 /// What a scene is built from besides its graph.
@@ -25,6 +25,9 @@ pub struct Hints<'a> {
     /// The page or screen the drawing is meant for: a fresh layout that does not fit it is
     /// reshaped towards its aspect ratio.
     pub page: Page,
+    /// The rows of a fresh layout of the diagram before (the scene before's, or the sidecar's):
+    /// the fresh layout keeps their order where it can.
+    pub rows: Option<&'a Rows>,
 }
 
 /// A node to place: its id, its size, and the room its port symbols take left and right of it

@@ -13,7 +13,10 @@ use super::{
     nesting::Nesting,
     notation, port_reach, scene_node, Hints, Point, Rect, Scene, SceneEdge, BODY_INSET,
 };
-use crate::layout::{layered, layered_left_to_right, Layout, LayoutInput, LayoutNode, Page, Spacing};
+use crate::layout::{
+    layered, layered_left_to_right, Entry, Layout, LayoutInput, LayoutNode, Page, Remembered, Spacing,
+};
+use crate::pins::Rows;
 
 /// A graph's edge with both ends found: node indices, and port indices on them.
 struct ResolvedEdge<'g> {
@@ -36,12 +39,17 @@ struct Parts<'g> {
 pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let graph = &*notation::with_control_nodes(graph);
     let mut parts = measure(graph, hints);
-    let input = layout_input(&parts);
+    let input = LayoutInput { remembered: remembered(&parts, hints.rows), ..layout_input(&parts) };
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
     let mut nesting = Nesting::of(graph);
     let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
     let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), (hints.page, pinned));
+    let id = |entry: &Entry| match *entry {
+        Entry::Box(v) => graph.nodes[v].id.clone(),
+        Entry::Edge(e) => parts.edges[e].edge.id.clone(),
+    };
+    let rows = layout.rows.iter().map(|row| row.iter().map(id).collect()).collect();
     arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
     let boxes: Vec<Rect> = layout
         .positions
@@ -82,7 +90,19 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .zip(&boxes)
         .map(|((node, content), rect)| scene_node(node, content, *rect))
         .collect();
-    Scene { id: graph.id.clone(), width, height, frame, lanes, edges, nodes }
+    Scene { id: graph.id.clone(), width, height, frame, lanes, edges, nodes, rows }
+}
+
+/// Where each node and edge sat in `rows` (a fresh layout's before, by id); nothing without
+/// rows. Ids no longer in the graph are left out.
+fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
+    let Some(rows) = rows else { return Remembered::default() };
+    let nodes = parts.graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), Entry::Box(i)));
+    let edges = parts.edges.iter().enumerate().map(|(k, e)| (e.edge.id.as_str(), Entry::Edge(k)));
+    let by_id: HashMap<&str, Entry> = nodes.chain(edges).collect();
+    let entries: Vec<Vec<Entry>> =
+        rows.iter().map(|row| row.iter().filter_map(|id| by_id.get(id.as_str()).copied()).collect()).collect();
+    Remembered::of_rows(&entries, parts.graph.nodes.len(), parts.edges.len())
 }
 
 /// Each node measured (a node the user resized at that size, never smaller than its text),
@@ -139,6 +159,7 @@ fn layout_input(parts: &Parts) -> LayoutInput {
         flow: graph.kind != GraphKind::Class,
         firm: Vec::new(),
         end_labels: Vec::new(),
+        remembered: Remembered::default(),
     };
     for (e, texts) in parts.edges.iter().zip(&parts.texts) {
         let upwards = upwards(e.edge);

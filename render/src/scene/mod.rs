@@ -21,6 +21,7 @@ pub use frame::Frame;
 use gudsl_model::graph::{EdgeKind, NodeShape};
 
 pub use crate::geometry::{Point, Rect};
+use crate::pins::Rows;
 use crate::text::{self, Style};
 use measure::{port_anchors, port_on_left, text_top, Content, PORT_INSET, PORT_REACH};
 use measure::{FONT_SIZE, LABEL_SIZE, PADDING};
@@ -46,6 +47,9 @@ pub struct Scene {
     pub lanes: Vec<Lane>,
     pub edges: Vec<SceneEdge>,
     pub nodes: Vec<SceneNode>,
+    /// The rows of the fresh layout the scene was arranged from (`crate::pins::Rows`): what the
+    /// next fresh layout of the diagram keeps.
+    pub rows: Rows,
 }
 
 /// A swimlane: a partition around its nodes' column, titled `lane : owner`.

@@ -7,7 +7,7 @@
 use gudsl_model::graph::Graph;
 
 use super::{measure::Content, Point};
-use crate::layout::{Layout, LayoutInput, LayoutNode, Page, Spacing};
+use crate::layout::{Entry, Layout, LayoutInput, LayoutNode, Page, Spacing};
 
 /// An edge laid out inside a parent: the parent, the route and the label's place from the
 /// parent's corner.
@@ -90,6 +90,8 @@ impl Nesting {
         parents.sort_by_key(|&p| std::cmp::Reverse(self.depth(p)));
         // Routes (and label places) of edges laid out inside a parent, from the parent's corner.
         let mut inner_routes: Vec<Option<InnerRoute>> = vec![None; input.edges.len()];
+        // The rows of each parent's inside, innermost first; the top level's go before them.
+        let mut inner_rows: Vec<Vec<Entry>> = Vec::new();
         let layout_box = |contents: &[Content], v: usize| LayoutNode {
             width: reaches[v].0 + contents[v].width + reaches[v].1,
             height: contents[v].height,
@@ -98,6 +100,7 @@ impl Nesting {
             let (level, sub, edges) = self.level(input, Some(parent), |v| layout_box(contents, v));
             // A component's inside is as its ranks come: only the whole drawing is fitted to the page.
             let inner = lay(&sub, Spacing { page: Page::UNBOUNDED, ..spacing });
+            inner_rows.extend(inner.rows.iter().map(|row| row.iter().map(|e| outer(e, &level, &edges)).collect()));
             let top = contents[parent].height;
             for (&child, at) in level.iter().zip(&inner.positions) {
                 self.offset[child] = Point { x: at.x + reaches[child].0, y: top + at.y };
@@ -113,6 +116,12 @@ impl Nesting {
         }
         let (level, top_input, edges) = self.level(input, None, |v| layout_box(contents, v));
         let top = lay(&top_input, spacing);
+        let rows: Vec<Vec<Entry>> = top
+            .rows
+            .iter()
+            .map(|row| row.iter().map(|e| outer(e, &level, &edges)).collect())
+            .chain(inner_rows)
+            .collect();
         // Every box's corner: the top level's from its layout, the nested ones' from their parents.
         let mut corners = vec![Point::default(); n];
         for (&v, at) in level.iter().zip(&top.positions) {
@@ -141,6 +150,7 @@ impl Nesting {
             end_labels: vec![[None; 2]; input.edges.len()],
             width: top.width,
             height: top.height,
+            rows,
         }
     }
 
@@ -190,7 +200,17 @@ impl Nesting {
             flow: input.flow,
             firm: Vec::new(),
             end_labels: Vec::new(),
+            remembered: input.remembered.part(&members, &which),
         };
         (members, sub, which)
+    }
+}
+
+/// A row entry of one level's layout (`level`: its nodes, `edges`: its edges, as the whole
+/// graph's indices) as the whole graph's.
+fn outer(entry: &Entry, level: &[usize], edges: &[usize]) -> Entry {
+    match *entry {
+        Entry::Box(i) => Entry::Box(level[i]),
+        Entry::Edge(i) => Entry::Edge(edges[i]),
     }
 }

@@ -1,8 +1,9 @@
 //! `gudsl render PATH… [--diagram NAME] [--format svg|png|layout-json] [--with-report
-//! report.json] [--aspect W:H | --page PAPER] [-o DIR]`: draws the diagrams of the given files
+//! report.json] [--aspect W:H | --page PAPER] [--remember] [-o DIR]`: draws the diagrams of the given files
 //! (resolved together as one workspace) into one file per diagram, named after the diagram's
 //! fully qualified name, fitted to a landscape screen (or the aspect ratio or paper given), with
-//! the nodes pinned in each file's layout sidecar (`<file>.gudsl.layout`) where they were put;
+//! the nodes pinned in each file's layout sidecar (`<file>.gudsl.layout`) where they were put
+//! and the order of its rows kept (`--remember` writes them there);
 //! the pipeline a run's `report.json` is of with its times and flows on it
 //! (`gudsl_host::pipeline::annotate`). Output is byte-identical for identical input.
 //! Exit code: 0 drawn, 1 nothing to draw or a file has syntax errors (what parsed is still
@@ -43,6 +44,11 @@ pub struct RenderArgs {
     /// Output folder (created if missing).
     #[arg(short = 'o', long = "output", default_value = ".")]
     output: PathBuf,
+    /// Also write each drawn diagram's rows (the order of its boxes, rank by rank) into its
+    /// file's layout sidecar, as the language server does when the file is saved: the next
+    /// fresh layout of the diagram, here or in an editor, keeps that order where it can.
+    #[arg(long)]
+    remember: bool,
 }
 
 fn aspect_page(text: &str) -> Result<Page, String> {
@@ -103,16 +109,21 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     for (document, &file) in loaded.documents.iter().zip(&files) {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
         // Where the user put nodes; a sidecar that is no layout is said and left alone.
-        let layout = layout_file::read(&layout_file::path_for(&document.path)).unwrap_or_else(|error| {
-            eprintln!("gudsl render: {error}; its positions are not used");
-            LayoutFile::default()
-        });
+        let sidecar = layout_file::path_for(&document.path);
+        let (mut layout, readable) = match layout_file::read(&sidecar) {
+            Ok(layout) => (layout, true),
+            Err(error) => {
+                eprintln!("gudsl render: {error}; its positions are not used");
+                (LayoutFile::default(), false)
+            }
+        };
+        let mut drawn_rows = Vec::new();
         for graph in graphs {
             if args.diagram.as_deref().is_some_and(|wanted| !gudsl_host::named::names_diagram(wanted, &graph.id)) {
                 continue;
             }
             let page = args.page.or(args.aspect).unwrap_or_default();
-            let hints = Hints { pins: layout.pins(&graph.id), previous: None, page };
+            let hints = Hints { pins: layout.pins(&graph.id), previous: None, page, rows: layout.rows(&graph.id) };
             let annotated = report.as_ref().filter(|r| r["diagram"] == graph.id.as_str()).map(|r| {
                 let mut annotated = graph.clone();
                 annotate(&mut annotated, r).map(|()| annotated)
@@ -147,6 +158,13 @@ pub fn run(args: &RenderArgs) -> ExitCode {
                 return ExitCode::from(2);
             }
             written += 1;
+            drawn_rows.push((graph.id.clone(), scene.rows));
+        }
+        if args.remember && readable && layout.remember(drawn_rows) {
+            if let Err(error) = layout_file::write(&sidecar, &layout) {
+                eprintln!("gudsl render: not remembering the rows: {error}");
+                return ExitCode::from(2);
+            }
         }
     }
     if written == 0 {

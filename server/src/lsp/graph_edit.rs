@@ -211,7 +211,11 @@ fn save_positions(
             )));
         }
     }
-    layout.retain(|d, node| graphs.iter().any(|g| g.id == d && g.nodes.iter().any(|n| n.id == node)));
+    // Pins of nodes gone go, and rows forget nodes and edges gone.
+    let exists = |g: &gudsl_model::graph::Graph, id: &str| {
+        g.nodes.iter().any(|n| n.id == id) || g.edges.iter().any(|e| e.id == id)
+    };
+    layout.retain(|d, id| graphs.iter().any(|g| g.id == d && exists(g, id)));
     if let Err(error) = layout_file::write(&sidecar, &layout) {
         return Ok(Err(format!("the positions were not saved: {error}")));
     }

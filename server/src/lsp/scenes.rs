@@ -69,7 +69,7 @@ impl SceneCache {
             Some((_, scene, _)) if !relayout && !first_told => Some(scene),
             _ => None,
         };
-        let hints = Hints { pins, previous: previous.as_deref(), page: page.unwrap_or_default() };
+        let hints = Hints { pins, previous: previous.as_deref(), page: page.unwrap_or_default(), rows: None };
         let scene = Arc::new(scene::build(graph, hints));
         let mut scenes = self.lock();
         if scenes.len() >= CACHED_SCENES {

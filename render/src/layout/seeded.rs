@@ -1,0 +1,272 @@
+//! Orders kept from a layout before: each box's seat (its row among the ranks that hold boxes,
+//! and its place in that row) is read off a drawing and orders the next one. The boxes seated
+//! before keep their relative order in every rank; new boxes and the dummies of long edges are
+//! put, block by block, where they cross the fewest (global sifting of those blocks alone, then
+//! sweeps around the seated boxes). A fresh layout after an edit then keeps what the edit left
+//! alone; where crossing minimisation afresh keeps the seats' order anyway (as for the layout
+//! they were read off), its order stands.
+
+use super::{minimise::sweeps, order::Order, proper::Proper, rank::Ranked, sifting::GlobalOrder};
+
+/// Where a box, or one of a long edge's dummies, sat in a layout: its row (the ranks that hold
+/// boxes, counted from the top) and its place in the row as a share of it (the middle of its
+/// slot: (column + ½) / entries).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Seat {
+    pub row: usize,
+    pub at: f64,
+}
+
+/// What a row holds: a box, or a long edge passing through it (one of its dummies), by index.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Entry {
+    Box(usize),
+    Edge(usize),
+}
+
+/// Where the boxes and long edges of a graph sat in a layout before.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Remembered {
+    /// Per box (or none).
+    pub boxes: Vec<Option<Seat>>,
+    /// Per edge: its dummies' seats in the rows it passed, top to bottom.
+    pub edges: Vec<Vec<Seat>>,
+}
+
+impl Remembered {
+    /// The seats in `rows` of a graph of `boxes` boxes and `edges` edges (entries beyond are
+    /// left out).
+    pub fn of_rows(rows: &[Vec<Entry>], boxes: usize, edges: usize) -> Remembered {
+        let mut remembered = Remembered { boxes: vec![None; boxes], edges: vec![Vec::new(); edges] };
+        for (row, entries) in rows.iter().enumerate() {
+            for (column, entry) in entries.iter().enumerate() {
+                let seat = Seat { row, at: (column as f64 + 0.5) / entries.len() as f64 };
+                match *entry {
+                    Entry::Box(v) if v < boxes => remembered.boxes[v] = Some(seat),
+                    Entry::Edge(e) if e < edges => remembered.edges[e].push(seat),
+                    _ => {}
+                }
+            }
+        }
+        remembered
+    }
+
+    /// The seats of the part made of `boxes` and `edges` (indices here), in that order.
+    pub(crate) fn part(&self, boxes: &[usize], edges: &[usize]) -> Remembered {
+        Remembered {
+            boxes: boxes.iter().map(|&v| self.boxes.get(v).copied().flatten()).collect(),
+            edges: edges.iter().map(|&e| self.edges.get(e).cloned().unwrap_or_default()).collect(),
+        }
+    }
+
+    /// The seat of each vertex of `graph` that sits in its rank's row (none for the others): a
+    /// box's own, a dummy its edge's in that row. A rank's row is the one most of its seated
+    /// boxes sat in; a box that sat in another (its rank changed) is placed anew, as is a long
+    /// edge that did not pass the row.
+    pub(super) fn of_vertices(&self, graph: &Proper) -> Vec<Option<f64>> {
+        let row_of = self.row_of_ranks(graph);
+        let in_row = |v: usize, seat: &Seat| row_of[graph.rank[v]] == Some(seat.row);
+        let mut places: Vec<Option<f64>> =
+            (0..graph.vertices()).map(|v| self.box_seat(v).filter(|s| in_row(v, s)).map(|s| s.at)).collect();
+        for (e, chain) in graph.chains.iter().enumerate() {
+            let seats = self.edges.get(e).map_or(&[][..], Vec::as_slice);
+            for &v in chain.iter().filter(|&&v| v >= graph.boxes) {
+                places[v] = seats.iter().find(|s| in_row(v, s)).map(|s| s.at);
+            }
+        }
+        places
+    }
+
+    /// Per rank of `graph`: the row most of its seated boxes sat in (the first of equals).
+    fn row_of_ranks(&self, graph: &Proper) -> Vec<Option<usize>> {
+        let mut counts: Vec<std::collections::BTreeMap<usize, usize>> = vec![Default::default(); graph.ranks()];
+        for v in 0..graph.boxes {
+            if let Some(seat) = self.box_seat(v) {
+                *counts[graph.rank[v]].entry(seat.row).or_default() += 1;
+            }
+        }
+        let most = |count: &std::collections::BTreeMap<usize, usize>| {
+            count.iter().max_by_key(|&(&row, &n)| (n, std::cmp::Reverse(row))).map(|(&row, _)| row)
+        };
+        counts.iter().map(most).collect()
+    }
+
+    fn box_seat(&self, v: usize) -> Option<Seat> {
+        self.boxes.get(v).copied().flatten()
+    }
+}
+
+/// What each rank of `layers` that holds boxes holds, in order: the rows a layout leaves to the
+/// next.
+pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper) -> Vec<Vec<Entry>> {
+    let mut edge_of = vec![usize::MAX; graph.vertices()];
+    for (e, chain) in graph.chains.iter().enumerate() {
+        chain.iter().filter(|&&v| v >= graph.boxes).for_each(|&v| edge_of[v] = e);
+    }
+    let entry = |v: usize| if v < graph.boxes { Entry::Box(v) } else { Entry::Edge(edge_of[v]) };
+    layers
+        .iter()
+        .filter(|layer| layer.iter().any(|&v| v < graph.boxes))
+        .map(|layer| layer.iter().map(|&v| entry(v)).collect())
+        .collect()
+}
+
+/// Whether `remembered` is worth keeping for a graph of `boxes` boxes: at least half of them had
+/// a seat (else the layout before was of another graph, and the order starts afresh).
+pub(super) fn worth_keeping(remembered: &Remembered, boxes: usize) -> bool {
+    boxes > 0 && 2 * remembered.boxes.iter().take(boxes).flatten().count() >= boxes
+}
+
+/// Per box: the row it sat in (a start for ranking it).
+pub(super) fn wanted_rows(remembered: &Remembered) -> Vec<Option<usize>> {
+    remembered.boxes.iter().map(|seat| seat.map(|s| s.row)).collect()
+}
+
+/// Whether `layers` keep the seated vertices (`places`, per vertex) in the order of their
+/// places in every rank.
+pub(super) fn kept(layers: &[Vec<usize>], places: &[Option<f64>]) -> bool {
+    layers.iter().all(|layer| {
+        let seated: Vec<f64> = layer.iter().filter_map(|&v| places[v]).collect();
+        seated.windows(2).all(|pair| pair[0] < pair[1])
+    })
+}
+
+/// How many of `ranked`'s edges between seated boxes in different rows point the other way
+/// than those rows (or join boxes now in one rank): a way of ranking that keeps the rows
+/// before has none.
+pub(super) fn disagreements(ranked: &Ranked, remembered: &Remembered) -> usize {
+    let seat = |v: usize| remembered.box_seat(v);
+    ranked
+        .edges
+        .iter()
+        .filter(|&&(a, b, _)| match (seat(a), seat(b)) {
+            (Some(sa), Some(sb)) if sa.row != sb.row => {
+                (sa.row < sb.row) != (ranked.rank[a] < ranked.rank[b]) || ranked.rank[a] == ranked.rank[b]
+            }
+            _ => false,
+        })
+        .count()
+}
+
+/// At most this many passes of sifting the blocks none of whose vertices was seated.
+const PASSES: usize = 4;
+
+/// The order of every rank of `graph` from the seated vertices' `places`: those keep their
+/// order; every other block (a new box, a new long edge's dummies) first goes where its seated
+/// neighbours put it and is sifted to where it crosses the fewest until a pass brings nothing;
+/// then median sweeps and transposition around the seated vertices.
+pub(super) fn seeded_order(graph: &Proper, places: &[Option<f64>]) -> Vec<Vec<usize>> {
+    let place = initial_places(graph, places);
+    let mut layers = vec![Vec::new(); graph.ranks()];
+    for v in 0..graph.vertices() {
+        layers[graph.rank[v]].push(v);
+    }
+    for layer in &mut layers {
+        layer.sort_by(|&a, &b| graph.group[a].cmp(&graph.group[b]).then(place[a].total_cmp(&place[b])).then(a.cmp(&b)));
+    }
+    let free: Vec<usize> =
+        (0..graph.blocks.len()).filter(|&b| graph.blocks[b].iter().all(|&v| places[v].is_none())).collect();
+    let mut global = GlobalOrder::new(&Order::new(layers, graph.vertices()), graph);
+    let mut crossings = global.order.crossings(graph);
+    for _ in 0..PASSES {
+        if crossings == 0 {
+            break;
+        }
+        free.iter().for_each(|&b| global.sift(b, graph));
+        let after = global.order.crossings(graph);
+        if after >= crossings {
+            break;
+        }
+        crossings = after;
+    }
+    let seated: Vec<bool> = places.iter().map(Option::is_some).collect();
+    sweeps(global.order.layers, graph, &seated).0
+}
+
+/// A first place (0 left … 1 right) for every vertex: a seated one its seat's; a new box the
+/// mean of its seated neighbours' (the middle without any); a dummy not seated evenly between
+/// the nearest places along its edge.
+fn initial_places(graph: &Proper, places: &[Option<f64>]) -> Vec<f64> {
+    let mut sum = vec![(0.0, 0usize); graph.boxes];
+    for chain in &graph.chains {
+        let (a, b) = (chain[0], chain[chain.len() - 1]);
+        if let (Some(at), None) = (places[a], places[b]) {
+            sum[b] = (sum[b].0 + at, sum[b].1 + 1);
+        }
+        if let (None, Some(at)) = (places[a], places[b]) {
+            sum[a] = (sum[a].0 + at, sum[a].1 + 1);
+        }
+    }
+    let mut place: Vec<f64> = (0..graph.vertices())
+        .map(|v| match (places[v], v < graph.boxes) {
+            (Some(at), _) => at,
+            (None, true) if sum[v].1 > 0 => sum[v].0 / sum[v].1 as f64,
+            _ => 0.5,
+        })
+        .collect();
+    for chain in &graph.chains {
+        // The chain's ends are boxes: both have a place.
+        let known: Vec<usize> =
+            (0..chain.len()).filter(|&k| k == 0 || k == chain.len() - 1 || places[chain[k]].is_some()).collect();
+        for pair in known.windows(2) {
+            let (i, j) = (pair[0], pair[1]);
+            let (from, to) = (place[chain[i]], place[chain[j]]);
+            for k in i + 1..j {
+                place[chain[k]] = from + (to - from) * (k - i) as f64 / (j - i) as f64;
+            }
+        }
+    }
+    place
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::order::tests::proper;
+
+    /// The seats of every vertex in `layers`' rows.
+    fn places(layers: &[Vec<usize>], graph: &Proper) -> Vec<Option<f64>> {
+        Remembered::of_rows(&rows(layers, graph), graph.boxes, graph.chains.len()).of_vertices(graph)
+    }
+
+    #[test]
+    fn a_layout_seated_by_its_own_rows_keeps_them() {
+        let edges = crate::layout::tests::pseudo_random_edges(5, 30, 45);
+        let graph = proper(30, &edges, &[]);
+        let first = seeded_order(&graph, &places(&graph.initial_layers(true, false), &graph));
+        assert!(kept(&first, &places(&first, &graph)));
+        assert_eq!(rows(&seeded_order(&graph, &places(&first, &graph)), &graph), rows(&first, &graph));
+    }
+
+    #[test]
+    fn seated_boxes_keep_their_order_and_new_blocks_are_sifted_in() {
+        let edges = crate::layout::tests::pseudo_random_edges(9, 24, 30);
+        let graph = proper(24, &edges, &[]);
+        // Every rank's boxes seated right to left, the dummies not at all: the boxes keep that.
+        let start = graph.initial_layers(true, false);
+        let reversed: Vec<Vec<usize>> = start.iter().map(|layer| layer.iter().rev().copied().collect()).collect();
+        let mut seats = places(&reversed, &graph);
+        seats[graph.boxes..].iter_mut().for_each(|seat| *seat = None);
+        let order = seeded_order(&graph, &seats);
+        assert!(kept(&order, &seats));
+        let boxes_only = |layers: &[Vec<usize>]| -> Vec<Vec<usize>> {
+            layers.iter().map(|l| l.iter().copied().filter(|&v| v < 24).collect()).collect()
+        };
+        assert_eq!(boxes_only(&order), boxes_only(&reversed));
+        // The dummies found their places: fewer crossings than where they were first put.
+        let place = initial_places(&graph, &seats);
+        let mut unsifted = reversed.clone();
+        unsifted.iter_mut().for_each(|l| l.sort_by(|&a, &b| place[a].total_cmp(&place[b]).then(a.cmp(&b))));
+        let crossings = |layers: Vec<Vec<usize>>| Order::new(layers, graph.vertices()).crossings(&graph);
+        assert!(crossings(order) < crossings(unsifted));
+    }
+
+    #[test]
+    fn rows_pointing_the_other_way_disagree() {
+        let remembered = Remembered::of_rows(&[vec![Entry::Box(1)], vec![Entry::Box(0)]], 2, 1);
+        let down = Ranked { edges: vec![(0, 1, false)], rank: vec![0, 1] };
+        let up = Ranked { edges: vec![(1, 0, true)], rank: vec![1, 0] };
+        assert_eq!(disagreements(&down, &remembered), 1);
+        assert_eq!(disagreements(&up, &remembered), 0);
+    }
+}
