@@ -125,7 +125,9 @@ impl LayoutFile {
         }
         self.diagrams.retain(|_, pins| !pins.is_empty());
         for (diagram, rows) in &mut self.rows {
-            rows.iter_mut().for_each(|row| row.retain(|node| exists(diagram, node)));
+            // An entry is an id, then the centre it was drawn at.
+            let id = |entry: &String| entry.split(' ').next().unwrap_or_default().to_string();
+            rows.iter_mut().for_each(|row| row.retain(|entry| exists(diagram, &id(entry))));
             rows.retain(|row| !row.is_empty());
         }
         self.rows.retain(|_, rows| !rows.is_empty());

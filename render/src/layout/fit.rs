@@ -107,6 +107,36 @@ pub(super) fn narrow(
     }
 }
 
+/// Moves `x` back to where the vertices that were kept sat before (`seats`, per vertex): every
+/// rank settled nearest to those places (the others, of little weight, where they are, moved
+/// as the kept ones moved in the median), in order, with their gaps, right of `left`.
+pub(super) fn keep(
+    layers: &[Vec<usize>],
+    extent: &[Extent],
+    x: &mut [f64],
+    separation: &dyn Fn(usize, usize) -> f64,
+    left: f64,
+    seats: &[Option<super::Seat>],
+) {
+    let mut moved: Vec<f64> = (0..x.len()).filter_map(|v| Some(seats[v]?.x? - x[v])).collect();
+    if moved.is_empty() {
+        return;
+    }
+    moved.sort_by(f64::total_cmp);
+    let shift = moved[moved.len() / 2];
+    let ranks = Ranks { extent, separation, left, right: f64::INFINITY };
+    for layer in layers {
+        let wanted: Vec<(f64, f64)> = layer
+            .iter()
+            .map(|&v| match seats[v].and_then(|s| s.x) {
+                Some(at) => (at, 1.0),
+                None => (x[v] + shift, 0.01),
+            })
+            .collect();
+        ranks.settle(layer, x, &wanted);
+    }
+}
+
 /// The least width of a rank: its end vertices' outer halves and the gaps between neighbours.
 fn least_width(layer: &[usize], extent: &[Extent], separation: &dyn Fn(usize, usize) -> f64) -> f64 {
     let (Some(&first), Some(&last)) = (layer.first(), layer.last()) else { return 0.0 };

@@ -104,7 +104,7 @@ pub struct Layout {
     /// What each rank that holds boxes holds, in order, top to bottom — boxes and the long edges
     /// passing (a part laid out apart, or nested, after the rest): what the next layout keeps
     /// (`LayoutInput::remembered`, by `Remembered::of_rows`).
-    pub rows: Vec<Vec<Entry>>,
+    pub rows: Vec<Vec<(Entry, Option<f64>)>>,
 }
 
 impl Layout {
@@ -256,28 +256,6 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
             })
             .collect();
     let chosen = choose_way(&ways, seats);
-    if std::env::var("GUDSL_DEBUG_RANKS").is_ok() && n > 100 {
-        let against: Vec<usize> = ways.iter().map(|w| seats.map_or(0, |s| seeded::disagreements(&w.0, s))).collect();
-        eprintln!("ways {} chosen {chosen} against {against:?} seats {}", ways.len(), seats.is_some());
-        eprintln!("ranks {:?}", ways[chosen].0.rank);
-        if let Some(s) = seats {
-            for w in &ways {
-                for &(a, b, r) in &w.0.edges {
-                    if let (Some(sa), Some(sb)) = (s.boxes[a], s.boxes[b]) {
-                        if sa.row != sb.row
-                            && ((sa.row < sb.row) != (w.0.rank[a] < w.0.rank[b]) || w.0.rank[a] == w.0.rank[b])
-                        {
-                            eprintln!(
-                                "dis {a}->{b} rev {r} rows {} {} ranks {} {}",
-                                sa.row, sb.row, w.0.rank[a], w.0.rank[b]
-                            );
-                        }
-                    }
-                }
-            }
-        }
-        eprintln!("wanted {:?}", seats.map(seeded::wanted_rows));
-    }
     let (rank::Ranked { edges, rank }, graph, lane_ranks) = ways.swap_remove(chosen);
     let mut extent = Extent::of_boxes(&input.nodes, graph.vertices());
     // A labelled edge's label goes right of the dummy nearest its middle in a between-rank.
@@ -302,16 +280,9 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     // Seats that the order minimised afresh does not keep order the ranks instead (where it does,
     // as for the layout the seats were read off, it is that layout's order).
     let places = seats.map(|remembered| remembered.of_vertices(&graph));
-    let layers = match places {
-        Some(places) if !seeded::kept(&layers, &places) => {
-            let o = seeded::seeded_order(&graph, &places);
-            if std::env::var("GUDSL_DEBUG_RANKS").is_ok() && n > 100 {
-                let c = |l: &Vec<Vec<usize>>| order::Order::new(l.clone(), graph.vertices()).crossings(&graph);
-                let seated = places.iter().filter(|p| p.is_some()).count();
-                eprintln!("fresh {} seeded {} vertices {} seated {}", c(&layers), c(&o), graph.vertices(), seated);
-            }
-            o
-        }
+    let at: Option<Vec<Option<f64>>> = places.as_ref().map(|p| p.iter().map(|s| s.map(|s| s.at)).collect());
+    let layers = match at {
+        Some(places) if !seeded::kept(&layers, &places) => seeded::seeded_order(&graph, &places),
         _ => layers,
     };
     let mut x = place::horizontal(&graph, &layers, &extent, spacing);
@@ -329,6 +300,9 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     }
     let least = |v: usize| spacing.margin + extent[v].left;
     bundle::gather(&graph, &layers, &lane_ranks, &bundled, &mut x, &separation, &least);
+    if let Some(places) = &places {
+        fit::keep(&layers, &extent, &mut x, &separation, spacing.margin, places);
+    }
     let positions: Vec<Point> = (0..n)
         .map(|v| Point { x: x[v] - input.nodes[v].width / 2.0, y: bands.middle(rank[v]) - input.nodes[v].height / 2.0 })
         .collect();
@@ -344,7 +318,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     }
     let routed = route::polylines(&graph, &edges, &layers, &x, &bands, &extent);
     let width = place::right_edge(&x, &extent) + spacing.margin;
-    let rows = seeded::rows(&layers, &graph);
+    let rows = seeded::rows(&layers, &graph, &x);
     let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height, rows };
     if !in_lanes {
         wrap::wrap(&mut layout, input, &bands, spacing);

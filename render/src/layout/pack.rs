@@ -77,9 +77,9 @@ impl Part {
             layout.labels[e] = self.layout.labels[i].map(moved);
             layout.end_labels[e] = self.layout.end_labels[i].map(|at| at.map(moved));
         }
-        let entry = |entry: &Entry| match *entry {
-            Entry::Box(i) => Entry::Box(self.boxes[i]),
-            Entry::Edge(i) => Entry::Edge(self.edges[i]),
+        let entry = |&(entry, x): &(Entry, Option<f64>)| match entry {
+            Entry::Box(i) => (Entry::Box(self.boxes[i]), x),
+            Entry::Edge(i) => (Entry::Edge(self.edges[i]), x),
         };
         layout.rows.extend(self.layout.rows.iter().map(|row| row.iter().map(entry).collect()));
     }

@@ -15,6 +15,8 @@ use super::{minimise::sweeps, order::Order, proper::Proper, rank::Ranked, siftin
 pub struct Seat {
     pub row: usize,
     pub at: f64,
+    /// Its centre across the ranks, where it was kept.
+    pub x: Option<f64>,
 }
 
 /// What a row holds: a box, or a long edge passing through it (one of its dummies), by index.
@@ -36,12 +38,12 @@ pub struct Remembered {
 impl Remembered {
     /// The seats in `rows` of a graph of `boxes` boxes and `edges` edges (entries beyond are
     /// left out).
-    pub fn of_rows(rows: &[Vec<Entry>], boxes: usize, edges: usize) -> Remembered {
+    pub fn of_rows(rows: &[Vec<(Entry, Option<f64>)>], boxes: usize, edges: usize) -> Remembered {
         let mut remembered = Remembered { boxes: vec![None; boxes], edges: vec![Vec::new(); edges] };
         for (row, entries) in rows.iter().enumerate() {
-            for (column, entry) in entries.iter().enumerate() {
-                let seat = Seat { row, at: (column as f64 + 0.5) / entries.len() as f64 };
-                match *entry {
+            for (column, &(entry, x)) in entries.iter().enumerate() {
+                let seat = Seat { row, at: (column as f64 + 0.5) / entries.len() as f64, x };
+                match entry {
                     Entry::Box(v) if v < boxes => remembered.boxes[v] = Some(seat),
                     Entry::Edge(e) if e < edges => remembered.edges[e].push(seat),
                     _ => {}
@@ -63,15 +65,15 @@ impl Remembered {
     /// box's own, a dummy its edge's in that row. A rank's row is the one most of its seated
     /// boxes sat in; a box that sat in another (its rank changed) is placed anew, as is a long
     /// edge that did not pass the row.
-    pub(super) fn of_vertices(&self, graph: &Proper) -> Vec<Option<f64>> {
+    pub(super) fn of_vertices(&self, graph: &Proper) -> Vec<Option<Seat>> {
         let row_of = self.row_of_ranks(graph);
         let in_row = |v: usize, seat: &Seat| row_of[graph.rank[v]] == Some(seat.row);
-        let mut places: Vec<Option<f64>> =
-            (0..graph.vertices()).map(|v| self.box_seat(v).filter(|s| in_row(v, s)).map(|s| s.at)).collect();
+        let mut places: Vec<Option<Seat>> =
+            (0..graph.vertices()).map(|v| self.box_seat(v).filter(|s| in_row(v, s))).collect();
         for (e, chain) in graph.chains.iter().enumerate() {
             let seats = self.edges.get(e).map_or(&[][..], Vec::as_slice);
             for &v in chain.iter().filter(|&&v| v >= graph.boxes) {
-                places[v] = seats.iter().find(|s| in_row(v, s)).map(|s| s.at);
+                places[v] = seats.iter().find(|s| in_row(v, s)).copied();
             }
         }
         places
@@ -98,7 +100,7 @@ impl Remembered {
 
 /// What each rank of `layers` that holds boxes holds, in order: the rows a layout leaves to the
 /// next.
-pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper) -> Vec<Vec<Entry>> {
+pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper, x: &[f64]) -> Vec<Vec<(Entry, Option<f64>)>> {
     let mut edge_of = vec![usize::MAX; graph.vertices()];
     for (e, chain) in graph.chains.iter().enumerate() {
         chain.iter().filter(|&&v| v >= graph.boxes).for_each(|&v| edge_of[v] = e);
@@ -107,7 +109,7 @@ pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper) -> Vec<Vec<Entry>> {
     layers
         .iter()
         .filter(|layer| layer.iter().any(|&v| v < graph.boxes))
-        .map(|layer| layer.iter().map(|&v| entry(v)).collect())
+        .map(|layer| layer.iter().map(|&v| (entry(v), Some(x[v]))).collect())
         .collect()
 }
 
@@ -226,7 +228,9 @@ mod tests {
 
     /// The seats of every vertex in `layers`' rows.
     fn places(layers: &[Vec<usize>], graph: &Proper) -> Vec<Option<f64>> {
-        Remembered::of_rows(&rows(layers, graph), graph.boxes, graph.chains.len()).of_vertices(graph)
+        let x = vec![0.0; graph.vertices()];
+        let remembered = Remembered::of_rows(&rows(layers, graph, &x), graph.boxes, graph.chains.len());
+        remembered.of_vertices(graph).iter().map(|seat| seat.map(|s| s.at)).collect()
     }
 
     #[test]
@@ -235,7 +239,8 @@ mod tests {
         let graph = proper(30, &edges, &[]);
         let first = seeded_order(&graph, &places(&graph.initial_layers(true, false), &graph));
         assert!(kept(&first, &places(&first, &graph)));
-        assert_eq!(rows(&seeded_order(&graph, &places(&first, &graph)), &graph), rows(&first, &graph));
+        let x = vec![0.0; graph.vertices()];
+        assert_eq!(rows(&seeded_order(&graph, &places(&first, &graph)), &graph, &x), rows(&first, &graph, &x));
     }
 
     #[test]
@@ -263,7 +268,7 @@ mod tests {
 
     #[test]
     fn rows_pointing_the_other_way_disagree() {
-        let remembered = Remembered::of_rows(&[vec![Entry::Box(1)], vec![Entry::Box(0)]], 2, 1);
+        let remembered = Remembered::of_rows(&[vec![(Entry::Box(1), None)], vec![(Entry::Box(0), None)]], 2, 1);
         let down = Ranked { edges: vec![(0, 1, false)], rank: vec![0, 1] };
         let up = Ranked { edges: vec![(1, 0, true)], rank: vec![1, 0] };
         assert_eq!(disagreements(&down, &remembered), 1);

@@ -45,9 +45,15 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let mut nesting = Nesting::of(graph);
     let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
     let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), (hints.page, pinned));
-    let id = |entry: &Entry| match *entry {
-        Entry::Box(v) => graph.nodes[v].id.clone(),
-        Entry::Edge(e) => parts.edges[e].edge.id.clone(),
+    let id = |&(entry, x): &(Entry, Option<f64>)| {
+        let id = match entry {
+            Entry::Box(v) => &graph.nodes[v].id,
+            Entry::Edge(e) => &parts.edges[e].edge.id,
+        };
+        match x {
+            Some(x) => format!("{id} {}", crate::pins::rounded(x)),
+            None => id.clone(),
+        }
     };
     let rows = layout.rows.iter().map(|row| row.iter().map(id).collect()).collect();
     arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
@@ -100,8 +106,13 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let nodes = parts.graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), Entry::Box(i)));
     let edges = parts.edges.iter().enumerate().map(|(k, e)| (e.edge.id.as_str(), Entry::Edge(k)));
     let by_id: HashMap<&str, Entry> = nodes.chain(edges).collect();
-    let entries: Vec<Vec<Entry>> =
-        rows.iter().map(|row| row.iter().filter_map(|id| by_id.get(id.as_str()).copied()).collect()).collect();
+    // An entry is an id, or an id and the centre it was drawn at.
+    let entry = |text: &String| {
+        let (id, x) = text.split_once(' ').map_or((text.as_str(), None), |(id, x)| (id, x.parse::<f64>().ok()));
+        Some((*by_id.get(id)?, x.filter(|x| x.is_finite())))
+    };
+    let entries: Vec<Vec<(Entry, Option<f64>)>> =
+        rows.iter().map(|row| row.iter().filter_map(entry).collect()).collect();
     Remembered::of_rows(&entries, parts.graph.nodes.len(), parts.edges.len())
 }
 
