@@ -45,6 +45,10 @@ pub(super) fn candidates(
     } else {
         vec![depth_first(n, edges, true), depth_first(n, edges, false), greedy(n, edges, firm)]
     };
+    // Where rows were kept, the edges between their boxes point as they did.
+    let remembered =
+        (!flow && !wanted.is_empty()).then(|| as_remembered(n, edges, firm, wanted, &orientations[0])).flatten();
+    let orientations: Vec<Vec<bool>> = remembered.into_iter().chain(orientations).collect();
     let mut scored: Vec<((usize, usize, usize), Ranked)> = orientations
         .into_iter()
         .map(|reversed| {
@@ -78,6 +82,60 @@ pub(super) fn orient(n: usize, edges: &[(usize, usize)]) -> Vec<(usize, usize, b
 }
 
 /// `edges` with those marked `reversed` turned round: `(from, to, reversed)`.
+/// Which edges to reverse so that each edge between boxes in different `wanted` rows points down
+/// from the higher one, and an edge between a box in a row and a new one (not firm) points to the
+/// new one — below the rows, it pushes none of them down — unless the new box is a firm
+/// parent of boxes in rows (it goes above them); the others as in `fallback`. None where that
+/// makes a cycle.
+fn as_remembered(
+    n: usize,
+    edges: &[(usize, usize)],
+    firm: &[bool],
+    wanted: &[Option<usize>],
+    fallback: &[bool],
+) -> Option<Vec<bool>> {
+    let row = |v: usize| wanted.get(v).copied().flatten();
+    let is_firm = |e: usize| firm.get(e).copied().unwrap_or(false);
+    let mut parent_of_kept = vec![false; n];
+    for (e, &(a, b)) in edges.iter().enumerate() {
+        if is_firm(e) && row(a).is_none() && row(b).is_some() {
+            parent_of_kept[a] = true;
+        }
+    }
+    let reversed: Vec<bool> = edges
+        .iter()
+        .enumerate()
+        .map(|(e, &(a, b))| match (row(a), row(b)) {
+            (Some(ra), Some(rb)) if ra != rb => ra > rb,
+            _ if is_firm(e) => fallback[e],
+            // The new box above (a parent of boxes kept): it points down to the kept one.
+            (Some(_), None) => parent_of_kept[b],
+            (None, Some(_)) => !parent_of_kept[a],
+            _ => fallback[e],
+        })
+        .collect();
+    let oriented = turned(edges, reversed.clone());
+    // Acyclic: a topological order takes every box.
+    let mut indegree = vec![0usize; n];
+    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for &(a, b, _) in oriented.iter().filter(|e| e.0 != e.1) {
+        indegree[b] += 1;
+        out[a].push(b);
+    }
+    let mut ready: Vec<usize> = (0..n).filter(|&v| indegree[v] == 0).collect();
+    let mut taken = 0;
+    while let Some(v) = ready.pop() {
+        taken += 1;
+        for &w in &out[v] {
+            indegree[w] -= 1;
+            if indegree[w] == 0 {
+                ready.push(w);
+            }
+        }
+    }
+    (taken == n).then_some(reversed)
+}
+
 fn turned(edges: &[(usize, usize)], reversed: Vec<bool>) -> Vec<(usize, usize, bool)> {
     edges.iter().zip(reversed).map(|(&(a, b), r)| if r { (b, a, true) } else { (a, b, false) }).collect()
 }

@@ -166,14 +166,27 @@ pub(super) fn seeded_order(graph: &Proper, places: &[Option<f64>]) -> Vec<Vec<us
     for layer in &mut layers {
         layer.sort_by(|&a, &b| graph.group[a].cmp(&graph.group[b]).then(place[a].total_cmp(&place[b])).then(a.cmp(&b)));
     }
+    let seated: Vec<bool> = places.iter().map(Option::is_some).collect();
+    let sifted = sift_free(&layers, graph, places);
+    sweeps(sifted.unwrap_or(layers), graph, &seated).0
+}
+
+/// `layers` with the blocks none of whose vertices is seated sifted to where they cross the
+/// fewest, until a pass brings nothing; none where the one order of blocks that sifting needs
+/// would not keep the seated vertices' order (a long edge seated in some ranks).
+fn sift_free(layers: &[Vec<usize>], graph: &Proper, places: &[Option<f64>]) -> Option<Vec<Vec<usize>>> {
+    let mut global = GlobalOrder::new(&Order::new(layers.to_vec(), graph.vertices()), graph);
+    if !kept(&global.order.layers, places) {
+        return None;
+    }
     let free: Vec<usize> =
         (0..graph.blocks.len()).filter(|&b| graph.blocks[b].iter().all(|&v| places[v].is_none())).collect();
-    let mut global = GlobalOrder::new(&Order::new(layers, graph.vertices()), graph);
     let mut crossings = global.order.crossings(graph);
     for _ in 0..PASSES {
         if crossings == 0 {
             break;
         }
+        // Sifting moves one block past others: the order of the rest, the seated too, stays.
         free.iter().for_each(|&b| global.sift(b, graph));
         let after = global.order.crossings(graph);
         if after >= crossings {
@@ -181,8 +194,7 @@ pub(super) fn seeded_order(graph: &Proper, places: &[Option<f64>]) -> Vec<Vec<us
         }
         crossings = after;
     }
-    let seated: Vec<bool> = places.iter().map(Option::is_some).collect();
-    sweeps(global.order.layers, graph, &seated).0
+    Some(global.order.layers)
 }
 
 /// A first place (0 left … 1 right) for every vertex: a seated one its seat's; a new box the

@@ -51,7 +51,9 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
             Entry::Edge(e) => &parts.edges[e].edge.id,
         };
         match x {
-            Some(x) => format!("{id} {}", crate::pins::rounded(x)),
+            // Exactly (the shortest text that reads back as the same number): a layout from its
+            // own rows is the same layout.
+            Some(x) => format!("{id} {x}"),
             None => id.clone(),
         }
     };
