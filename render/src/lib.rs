@@ -14,4 +14,6 @@ pub mod svg;
 mod tests;
 #[cfg(test)]
 mod tests_arrange;
+#[cfg(test)]
+mod tests_memory;
 pub mod text;

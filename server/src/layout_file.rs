@@ -1,12 +1,13 @@
 //! The layout sidecar on disk: `<model>.gudsl.layout` beside a model file (its format is
-//! `gudsl_render::pins`). Read by `gudsl render` and the language server; written only by the
-//! server, when a client moves or resizes a node, atomically (a temporary file in the same
-//! folder renamed over it), and removed when its last pin goes.
+//! `gudsl_render::pins`). Read by `gudsl render` and the language server; written by the server
+//! when a client moves or resizes a node or saves the model (the rows of its diagrams drawn),
+//! and by `gudsl render --remember` — atomically (a temporary file in the same folder renamed
+//! over it) — and removed when its last pin and rows go.
 
 use std::path::{Path, PathBuf};
 
 use gudsl_files::{Folder, Problem};
-use gudsl_render::pins::LayoutFile;
+use gudsl_render::pins::{LayoutFile, Rows};
 
 /// The longest sidecar read: far more than the pins of any diagram a person places.
 const MAX_LAYOUT_BYTES: u64 = 16 << 20;
@@ -51,6 +52,17 @@ pub fn write(path: &Path, layout: &LayoutFile) -> Result<(), String> {
         false => folder.write(&name, layout.to_json().as_bytes()).map(|_| ()),
     };
     done.map_err(|e| e.to_string())
+}
+
+/// Keeps the `drawn` rows (by diagram) in the sidecar at `path`, written where they changed;
+/// whether it was. A sidecar that is no layout is not overwritten: the error says which and why.
+pub fn remember(path: &Path, drawn: Vec<(String, Rows)>) -> Result<bool, String> {
+    let mut layout = read(path).map_err(|error| format!("{error}: fix or delete it (it is not overwritten)"))?;
+    let changed = layout.remember(drawn);
+    if changed {
+        write(path, &layout)?;
+    }
+    Ok(changed)
 }
 
 #[cfg(test)]

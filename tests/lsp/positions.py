@@ -203,3 +203,22 @@ async def positions(client, seen, gudsl, workspace, graph, apply_graph_edit, tex
     error = await refused(apply_graph_edit(client, untitled, 1, "Moves", [shape]), "a move in an untitled document")
     if "save it first" not in str(error):
         fail(f"a move in an untitled document: {error}")
+
+    # Saving writes the rows of the diagrams drawn into the sidecar; `gudsl render` keeps them,
+    # drawing what the session drew.
+    saved = workspace / "saved.gudsl"
+    saved.write_text(MOVES)
+    saved_uri, saved_sidecar = saved.as_uri(), Path(str(saved) + ".layout")
+    client.text_document_did_open(t.DidOpenTextDocumentParams(t.TextDocumentItem(saved_uri, "gudsl", 1, MOVES)))
+    drawn = await graph(client, saved_uri, "Moves")
+    client.text_document_did_save(t.DidSaveTextDocumentParams(t.TextDocumentIdentifier(saved_uri)))
+    await wait_for(saved_sidecar.exists, "the diagrams' rows written on save")
+    rows = json.loads(saved_sidecar.read_text())["rows"]["Moves"]
+    if sorted(entry.split(" ")[0] for row in rows for entry in row) != sorted(n.id for n in drawn.nodes):
+        fail(f"the rows saved do not hold the diagram's nodes once each: {rows}")
+    out = workspace.parent / "rendered-saved"
+    done = subprocess.run([gudsl, "render", str(saved), "--format", "layout-json", "-o", str(out)], capture_output=True, text=True)
+    rendered = {n["id"]: (n["x"], n["y"]) for n in json.loads((out / "Moves.json").read_text())["nodes"]}
+    if done.returncode != 0 or rendered != {n.id: (n.bounds.x, n.bounds.y) for n in drawn.nodes}:
+        fail(f"gudsl render with the saved rows: {rendered} ({done.stderr}), the session drew {drawn.nodes}")
+    saved_sidecar.unlink()

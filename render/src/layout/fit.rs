@@ -133,7 +133,16 @@ pub(super) fn keep(
                 None => (x[v] + shift, 0.01),
             })
             .collect();
-        ranks.settle(layer, x, &wanted);
+        // Where every vertex can be where it wants, it is there exactly (a layout from its own
+        // rows is the same to the last bit).
+        // (Within a rounding error: placement leaves gaps that are a bit short in the last bits.)
+        let room = |i: usize| wanted[i + 1].0 - wanted[i].0 >= separation(layer[i], layer[i + 1]) - 1e-6;
+        let fits = layer.first().is_none_or(|&v| wanted[0].0 >= left + extent[v].left - 1e-6)
+            && (0..layer.len().saturating_sub(1)).all(room);
+        match fits {
+            true => layer.iter().zip(&wanted).for_each(|(&v, &(at, _))| x[v] = at),
+            false => ranks.settle(layer, x, &wanted),
+        }
     }
 }
 

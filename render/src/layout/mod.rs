@@ -29,7 +29,7 @@ pub(crate) use route::self_loop;
 
 pub use crate::geometry::Point;
 pub use page::Page;
-pub use seeded::{Entry, Remembered, Seat};
+pub use seeded::{Entry, Remembered, RowEntry, Seat};
 
 use minimise::{minimise_crossings, swept_crossings};
 use proper::Proper;
@@ -104,7 +104,7 @@ pub struct Layout {
     /// What each rank that holds boxes holds, in order, top to bottom — boxes and the long edges
     /// passing (a part laid out apart, or nested, after the rest): what the next layout keeps
     /// (`LayoutInput::remembered`, by `Remembered::of_rows`).
-    pub rows: Vec<Vec<(Entry, Option<f64>)>>,
+    pub rows: Vec<Vec<RowEntry>>,
 }
 
 impl Layout {
@@ -186,15 +186,18 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
         rows: Vec::new(),
     };
     let joined_part = pack::Part { boxes: joined, edges: joined_edges, layout: inner };
-    joined_part.put(&mut layout, Point { x: spacing.margin, y: spacing.margin }, spacing);
+    joined_part.put(&mut layout, Point { x: spacing.margin, y: spacing.margin }, spacing, false);
+    // A part apart keeps its order inside, and the place it had, where that is still free.
     let parts: Vec<pack::Part> = apart
         .into_iter()
         .map(|boxes| {
             let (sub, edges) = sub_input(input, &boxes);
+            let sub = LayoutInput { remembered: sub.remembered.orders_only(), ..sub };
             pack::Part { layout: layered_joined(&sub, spacing), boxes, edges }
         })
         .collect();
-    pack::place_apart(layout, input, &parts, spacing, !joined_part.boxes.is_empty())
+    let had: Vec<Option<Point>> = parts.iter().map(|part| part.place_before(&input.remembered, spacing)).collect();
+    pack::place_apart(layout, input, &parts, &had, spacing, !joined_part.boxes.is_empty())
 }
 
 /// The part of `input` made of `boxes` (in that order) and the edges between them, and those

@@ -6,7 +6,7 @@
 //! (or, where there is none or it is narrow, as wide as makes them a block of about 3:2) — not
 //! one long row across the top.
 
-use super::{Entry, Layout, LayoutInput, Point, Spacing};
+use super::{Entry, Layout, LayoutInput, Point, Remembered, RowEntry, Spacing};
 use crate::geometry::Rect;
 use crate::grid::{Boxes, Segments};
 
@@ -64,9 +64,23 @@ impl Part {
         (self.layout.width - 2.0 * spacing.margin, self.layout.height - 2.0 * spacing.margin)
     }
 
+    /// Where the part's drawing had its top-left corner in the layout `remembered` (its first box
+    /// with a place kept there), if it did.
+    pub(super) fn place_before(&self, remembered: &Remembered, spacing: Spacing) -> Option<Point> {
+        self.boxes.iter().enumerate().find_map(|(i, &v)| {
+            let seat = remembered.boxes.get(v).copied().flatten()?;
+            let (x, y) = (seat.x?, seat.y?);
+            let centre = self.layout.rows.iter().flatten().find_map(|e| match e {
+                (Entry::Box(j), Some(centre), _) if *j == i => Some(*centre),
+                _ => None,
+            })?;
+            Some(Point { x: x - centre + spacing.margin, y: y - self.layout.positions[i].y + spacing.margin })
+        })
+    }
+
     /// Writes the part into `layout` with its drawing's top-left corner at `at`; its rows follow
     /// the layout's.
-    pub(super) fn put(&self, layout: &mut Layout, at: Point, spacing: Spacing) {
+    pub(super) fn put(&self, layout: &mut Layout, at: Point, spacing: Spacing, apart: bool) {
         let (dx, dy) = (at.x - spacing.margin, at.y - spacing.margin);
         let moved = |p: Point| Point { x: p.x + dx, y: p.y + dy };
         for (i, &v) in self.boxes.iter().enumerate() {
@@ -77,29 +91,33 @@ impl Part {
             layout.labels[e] = self.layout.labels[i].map(moved);
             layout.end_labels[e] = self.layout.end_labels[i].map(|at| at.map(moved));
         }
-        let entry = |&(entry, x): &(Entry, Option<f64>)| match entry {
-            Entry::Box(i) => (Entry::Box(self.boxes[i]), x),
-            Entry::Edge(i) => (Entry::Edge(self.edges[i]), x),
+        // A box of a part apart is kept as drawn here: its centre and top, the part's place.
+        let top = |i: usize| Some(self.layout.positions[i].y + dy).filter(|_| apart);
+        let entry = |&(entry, x, _): &RowEntry| match entry {
+            Entry::Box(i) => (Entry::Box(self.boxes[i]), x.map(|x| x + dx), top(i)),
+            Entry::Edge(i) => (Entry::Edge(self.edges[i]), x.map(|x| x + dx), None),
         };
         layout.rows.extend(self.layout.rows.iter().map(|row| row.iter().map(entry).collect()));
     }
 }
 
 /// `layout` (of the joined boxes, at their indices; the others' positions, edges and labels are
-/// placeholders) with the small parts placed in its free room or in rows under it.
+/// placeholders) with the small parts placed in its free room — each first where it `had` its
+/// place before, if that is still free — or in rows under it.
 pub(super) fn place_apart(
     mut layout: Layout,
     input: &LayoutInput,
     parts: &[Part],
+    had: &[Option<Point>],
     spacing: Spacing,
     drawn: bool,
 ) -> Layout {
     let sizes: Vec<(f64, f64)> = parts.iter().map(|p| p.size(spacing)).collect();
     let mut spots =
-        if drawn { into_free_room(&layout, input, parts, &sizes, spacing) } else { vec![None; parts.len()] };
+        if drawn { into_free_room(&layout, input, parts, &sizes, had, spacing) } else { vec![None; parts.len()] };
     under(&mut layout, &sizes, &mut spots, spacing, drawn);
     for (part, spot) in parts.iter().zip(spots) {
-        part.put(&mut layout, spot.expect("every part placed"), spacing);
+        part.put(&mut layout, spot.expect("every part placed"), spacing, true);
     }
     layout
 }
@@ -111,6 +129,7 @@ fn into_free_room(
     input: &LayoutInput,
     parts: &[Part],
     sizes: &[(f64, f64)],
+    had: &[Option<Point>],
     spacing: Spacing,
 ) -> Vec<Option<Point>> {
     let gap = spacing.node_gap;
@@ -139,8 +158,9 @@ fn into_free_room(
     // A part of the size of one that found no room finds none, until a part is placed (it takes
     // room, but also offers the place right of it).
     let mut failed: Vec<(f64, f64)> = Vec::new();
-    for &(width, height) in sizes {
-        if failed.contains(&(width, height)) {
+    for (&(width, height), had) in sizes.iter().zip(had) {
+        let before = had.map(|at| Rect { x: at.x, y: at.y, width, height });
+        if before.is_none() && failed.contains(&(width, height)) {
             spots.push(None);
             continue;
         }
@@ -166,7 +186,7 @@ fn into_free_room(
             xs.sort_by(f64::total_cmp);
             xs.into_iter().map(move |x| Rect { x, y, width, height })
         });
-        let spot = sides.chain(inside).find(|r| clear(*r, &taken));
+        let spot = before.into_iter().chain(sides).chain(inside).find(|r| clear(*r, &taken));
         match spot {
             Some(r) => {
                 boxes.push(r);

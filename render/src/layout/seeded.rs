@@ -17,7 +17,13 @@ pub struct Seat {
     pub at: f64,
     /// Its centre across the ranks, where it was kept.
     pub x: Option<f64>,
+    /// Its top, for a box of a part laid out apart.
+    pub y: Option<f64>,
 }
+
+/// An entry of a row, where it was drawn: its centre across the ranks and, for a box of a part
+/// laid out apart, its top (with the centre, that part's place).
+pub type RowEntry = (Entry, Option<f64>, Option<f64>);
 
 /// What a row holds: a box, or a long edge passing through it (one of its dummies), by index.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,11 +44,11 @@ pub struct Remembered {
 impl Remembered {
     /// The seats in `rows` of a graph of `boxes` boxes and `edges` edges (entries beyond are
     /// left out).
-    pub fn of_rows(rows: &[Vec<(Entry, Option<f64>)>], boxes: usize, edges: usize) -> Remembered {
+    pub fn of_rows(rows: &[Vec<RowEntry>], boxes: usize, edges: usize) -> Remembered {
         let mut remembered = Remembered { boxes: vec![None; boxes], edges: vec![Vec::new(); edges] };
         for (row, entries) in rows.iter().enumerate() {
-            for (column, &(entry, x)) in entries.iter().enumerate() {
-                let seat = Seat { row, at: (column as f64 + 0.5) / entries.len() as f64, x };
+            for (column, &(entry, x, y)) in entries.iter().enumerate() {
+                let seat = Seat { row, at: (column as f64 + 0.5) / entries.len() as f64, x, y };
                 match entry {
                     Entry::Box(v) if v < boxes => remembered.boxes[v] = Some(seat),
                     Entry::Edge(e) if e < edges => remembered.edges[e].push(seat),
@@ -51,6 +57,14 @@ impl Remembered {
             }
         }
         remembered
+    }
+
+    /// The same seats without where they were drawn: orders only.
+    pub(super) fn orders_only(mut self) -> Remembered {
+        let forget = |seat: &mut Seat| (seat.x, seat.y) = (None, None);
+        self.boxes.iter_mut().flatten().for_each(forget);
+        self.edges.iter_mut().flatten().for_each(forget);
+        self
     }
 
     /// The seats of the part made of `boxes` and `edges` (indices here), in that order.
@@ -100,7 +114,7 @@ impl Remembered {
 
 /// What each rank of `layers` that holds boxes holds, in order: the rows a layout leaves to the
 /// next.
-pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper, x: &[f64]) -> Vec<Vec<(Entry, Option<f64>)>> {
+pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper, x: &[f64]) -> Vec<Vec<RowEntry>> {
     let mut edge_of = vec![usize::MAX; graph.vertices()];
     for (e, chain) in graph.chains.iter().enumerate() {
         chain.iter().filter(|&&v| v >= graph.boxes).for_each(|&v| edge_of[v] = e);
@@ -109,7 +123,7 @@ pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper, x: &[f64]) -> Vec<Vec<
     layers
         .iter()
         .filter(|layer| layer.iter().any(|&v| v < graph.boxes))
-        .map(|layer| layer.iter().map(|&v| (entry(v), Some(x[v]))).collect())
+        .map(|layer| layer.iter().map(|&v| (entry(v), Some(x[v]), None)).collect())
         .collect()
 }
 
@@ -280,7 +294,8 @@ mod tests {
 
     #[test]
     fn rows_pointing_the_other_way_disagree() {
-        let remembered = Remembered::of_rows(&[vec![(Entry::Box(1), None)], vec![(Entry::Box(0), None)]], 2, 1);
+        let remembered =
+            Remembered::of_rows(&[vec![(Entry::Box(1), None, None)], vec![(Entry::Box(0), None, None)]], 2, 1);
         let down = Ranked { edges: vec![(0, 1, false)], rank: vec![0, 1] };
         let up = Ranked { edges: vec![(1, 0, true)], rank: vec![1, 0] };
         assert_eq!(disagreements(&down, &remembered), 1);

@@ -14,7 +14,7 @@ use super::{
     notation, port_reach, scene_node, Hints, Point, Rect, Scene, SceneEdge, BODY_INSET,
 };
 use crate::layout::{
-    layered, layered_left_to_right, Entry, Layout, LayoutInput, LayoutNode, Page, Remembered, Spacing,
+    layered, layered_left_to_right, Entry, Layout, LayoutInput, LayoutNode, Page, Remembered, RowEntry, Spacing,
 };
 use crate::pins::Rows;
 
@@ -45,16 +45,17 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let mut nesting = Nesting::of(graph);
     let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
     let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), (hints.page, pinned));
-    let id = |&(entry, x): &(Entry, Option<f64>)| {
+    // An entry is its id, then where it was drawn (`RowEntry`), each number exactly (the shortest
+    // text that reads back as the same number): a layout from its own rows is the same layout.
+    let id = |&(entry, x, y): &RowEntry| {
         let id = match entry {
             Entry::Box(v) => &graph.nodes[v].id,
             Entry::Edge(e) => &parts.edges[e].edge.id,
         };
-        match x {
-            // Exactly (the shortest text that reads back as the same number): a layout from its
-            // own rows is the same layout.
-            Some(x) => format!("{id} {x}"),
-            None => id.clone(),
+        match (x, y) {
+            (Some(x), Some(y)) => format!("{id} {x} {y}"),
+            (Some(x), None) => format!("{id} {x}"),
+            _ => id.clone(),
         }
     };
     let rows = layout.rows.iter().map(|row| row.iter().map(id).collect()).collect();
@@ -108,13 +109,14 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let nodes = parts.graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), Entry::Box(i)));
     let edges = parts.edges.iter().enumerate().map(|(k, e)| (e.edge.id.as_str(), Entry::Edge(k)));
     let by_id: HashMap<&str, Entry> = nodes.chain(edges).collect();
-    // An entry is an id, or an id and the centre it was drawn at.
+    // An entry is an id, then where it was drawn, if it says: a number that is none is left out.
     let entry = |text: &String| {
-        let (id, x) = text.split_once(' ').map_or((text.as_str(), None), |(id, x)| (id, x.parse::<f64>().ok()));
-        Some((*by_id.get(id)?, x.filter(|x| x.is_finite())))
+        let mut words = text.split(' ');
+        let id = by_id.get(words.next()?)?;
+        let mut number = || words.next().and_then(|w| w.parse::<f64>().ok()).filter(|v| v.is_finite() && v.abs() < 1e7);
+        Some((*id, number(), number()))
     };
-    let entries: Vec<Vec<(Entry, Option<f64>)>> =
-        rows.iter().map(|row| row.iter().filter_map(entry).collect()).collect();
+    let entries: Vec<Vec<RowEntry>> = rows.iter().map(|row| row.iter().filter_map(entry).collect()).collect();
     Remembered::of_rows(&entries, parts.graph.nodes.len(), parts.edges.len())
 }
 

@@ -7,7 +7,7 @@
 use gudsl_model::graph::Graph;
 
 use super::{measure::Content, Point};
-use crate::layout::{Entry, Layout, LayoutInput, LayoutNode, Page, Spacing};
+use crate::layout::{Entry, Layout, LayoutInput, LayoutNode, Page, RowEntry, Spacing};
 
 /// An edge laid out inside a parent: the parent, the route and the label's place from the
 /// parent's corner.
@@ -91,7 +91,7 @@ impl Nesting {
         // Routes (and label places) of edges laid out inside a parent, from the parent's corner.
         let mut inner_routes: Vec<Option<InnerRoute>> = vec![None; input.edges.len()];
         // The rows of each parent's inside, innermost first; the top level's go before them.
-        let mut inner_rows: Vec<Vec<(Entry, Option<f64>)>> = Vec::new();
+        let mut inner_rows: Vec<Vec<RowEntry>> = Vec::new();
         let layout_box = |contents: &[Content], v: usize| LayoutNode {
             width: reaches[v].0 + contents[v].width + reaches[v].1,
             height: contents[v].height,
@@ -116,7 +116,7 @@ impl Nesting {
         }
         let (level, top_input, edges) = self.level(input, None, |v| layout_box(contents, v));
         let top = lay(&top_input, spacing);
-        let rows: Vec<Vec<(Entry, Option<f64>)>> = top
+        let rows: Vec<Vec<RowEntry>> = top
             .rows
             .iter()
             .map(|row| row.iter().map(|e| outer(e, &level, &edges)).collect())
@@ -208,9 +208,9 @@ impl Nesting {
 
 /// A row entry of one level's layout (`level`: its nodes, `edges`: its edges, as the whole
 /// graph's indices) as the whole graph's.
-fn outer(&(entry, x): &(Entry, Option<f64>), level: &[usize], edges: &[usize]) -> (Entry, Option<f64>) {
+fn outer(&(entry, x, y): &RowEntry, level: &[usize], edges: &[usize]) -> RowEntry {
     match entry {
-        Entry::Box(i) => (Entry::Box(level[i]), x),
-        Entry::Edge(i) => (Entry::Edge(edges[i]), x),
+        Entry::Box(i) => (Entry::Box(level[i]), x, y),
+        Entry::Edge(i) => (Entry::Edge(edges[i]), x, y),
     }
 }

@@ -110,7 +110,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
         // Where the user put nodes; a sidecar that is no layout is said and left alone.
         let sidecar = layout_file::path_for(&document.path);
-        let (mut layout, readable) = match layout_file::read(&sidecar) {
+        let (layout, readable) = match layout_file::read(&sidecar) {
             Ok(layout) => (layout, true),
             Err(error) => {
                 eprintln!("gudsl render: {error}; its positions are not used");
@@ -160,8 +160,8 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             written += 1;
             drawn_rows.push((graph.id.clone(), scene.rows));
         }
-        if args.remember && readable && layout.remember(drawn_rows) {
-            if let Err(error) = layout_file::write(&sidecar, &layout) {
+        if args.remember && readable {
+            if let Err(error) = layout_file::remember(&sidecar, drawn_rows) {
                 eprintln!("gudsl render: not remembering the rows: {error}");
                 return ExitCode::from(2);
             }

@@ -35,6 +35,8 @@ pub fn server_capabilities(encoding: Encoding) -> lsp::ServerCapabilities {
         text_document_sync: Some(lsp::TextDocumentSyncCapability::Options(lsp::TextDocumentSyncOptions {
             open_close: Some(true),
             change: Some(lsp::TextDocumentSyncKind::INCREMENTAL),
+            // Saving writes the diagrams' rows into the layout sidecar.
+            save: Some(lsp::TextDocumentSyncSaveOptions::Supported(true)),
             ..Default::default()
         })),
         document_symbol_provider: Some(lsp::OneOf::Left(true)),

@@ -65,7 +65,7 @@ pub fn graph(snap: &Snapshot, params: &GraphParams, scenes: &SceneCache) -> Canc
     let pins = layout.pins(&graph.id);
     let graph = &scenes.as_drawn(graph);
     let page = params.page.as_ref().and_then(|p| Page::of_size(p.width, p.height));
-    let scene = scenes.scene(file, graph, pins, params.relayout, page);
+    let scene = scenes.scene(file, graph, (pins, layout.rows(&graph.id)), params.relayout, page);
     snap.analysis.check_cancelled()?;
     let mut view = view(snap, index, graph, &scene, pins, version(snap, uri), uri);
     if params.svg || params.png {

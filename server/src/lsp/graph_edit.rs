@@ -137,6 +137,37 @@ static SIDECAR: Mutex<()> = Mutex::new(());
 
 /// Moves and resizes written into the document's layout sidecar (pins of nodes that no longer
 /// exist dropped); `Err` with the reason, and the file untouched, when one cannot be made.
+/// The layout sidecar of the model file at `uri`, where the server may write it: beside a
+/// file (not an unsaved document) inside the workspace folders.
+fn sidecar_of(snap: &Snapshot, uri: &lsp::Uri) -> Result<std::path::PathBuf, String> {
+    let Some(model) = from_proto::file_path(uri) else {
+        return Err(format!(
+            "positions are kept in a layout file beside the model file, and {} is no file: save it first",
+            uri.as_str()
+        ));
+    };
+    if !snap.preparations.access().may_write_beside(&model) {
+        return Err(format!(
+            "{} lies outside the workspace folders: positions are saved only beside models inside them",
+            model.display()
+        ));
+    }
+    Ok(layout_file::path_for(&model))
+}
+
+/// On saving the model file at `uri`: the rows of its diagrams drawn (what their next fresh
+/// layouts keep) written into its sidecar where they changed; nothing where none was drawn.
+pub fn remember_rows(snap: &Snapshot, uri: &lsp::Uri, scenes: &SceneCache) -> Result<(), String> {
+    let Some(file) = snap.file(uri) else { return Ok(()) };
+    let drawn = scenes.rows_of(file);
+    if drawn.is_empty() {
+        return Ok(());
+    }
+    let sidecar = sidecar_of(snap, uri)?;
+    let _one_at_a_time = SIDECAR.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    layout_file::remember(&sidecar, drawn).map(|_| ())
+}
+
 fn save_positions(
     snap: &Snapshot,
     file: FileId,
@@ -145,19 +176,10 @@ fn save_positions(
     ops: &[(String, LayoutChange)],
     scenes: &SceneCache,
 ) -> Cancellable<Result<LayoutWritten, String>> {
-    let Some(model) = from_proto::file_path(uri) else {
-        return Ok(Err(format!(
-            "positions are kept in a layout file beside the model file, and {} is no file: save it first",
-            uri.as_str()
-        )));
+    let sidecar = match sidecar_of(snap, uri) {
+        Ok(sidecar) => sidecar,
+        Err(error) => return Ok(Err(error)),
     };
-    if !snap.preparations.access().may_write_beside(&model) {
-        return Ok(Err(format!(
-            "{} lies outside the workspace folders: positions are saved only beside models inside them",
-            model.display()
-        )));
-    }
-    let sidecar = layout_file::path_for(&model);
     let _one_at_a_time = SIDECAR.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let mut layout = match layout_file::read(&sidecar) {
         Ok(layout) => layout,
@@ -168,7 +190,7 @@ fn save_positions(
         return Ok(Err(format!("{} declares no diagram `{diagram}`", uri.as_str())));
     };
     // Where the client sees each node now.
-    let scene = scenes.scene(file, &scenes.as_drawn(graph), layout.pins(diagram), false, None);
+    let scene = scenes.scene(file, &scenes.as_drawn(graph), (layout.pins(diagram), layout.rows(diagram)), false, None);
     let pins = layout.diagrams.entry(diagram.to_string()).or_default();
     for (k, (element, change)) in ops.iter().enumerate() {
         let Some(node) = scene.nodes.iter().find(|n| &n.id == element) else {

@@ -13,7 +13,7 @@ use std::{
 use gudsl_model::{graph::Graph, syntax::TextRange, Cancellable, FileId};
 use gudsl_render::{
     layout::Page,
-    pins::{LayoutFile, Pins},
+    pins::{LayoutFile, Pins, Rows},
     scene::{self, Hints, Scene},
 };
 use tower_lsp_server::ls_types as lsp;
@@ -43,12 +43,13 @@ const CACHED_SCENES: usize = 64;
 impl SceneCache {
     /// The scene of `graph` with `pins`: the one kept if nothing drawn changed, else laid out
     /// around the one kept (or afresh, `relayout`, for the nodes no pin holds); a fresh layout
-    /// fitted to `page` (none: the page told before, else a screen's).
+    /// fitted to `page` (none: the page told before, else a screen's) and keeping the rows of
+    /// the one kept, else the sidecar's `rows`.
     pub fn scene(
         &self,
         file: FileId,
         graph: &Graph,
-        pins: Option<&Pins>,
+        (pins, rows): (Option<&Pins>, Option<&Rows>),
         relayout: bool,
         page: Option<Page>,
     ) -> Arc<Scene> {
@@ -61,6 +62,7 @@ impl SceneCache {
         // layout, so a scene whose drawing did not change is kept as it is.
         let first_told = page.is_some() && kept.as_ref().is_some_and(|k| k.2.is_none());
         let page = page.or(kept.as_ref().and_then(|k| k.2));
+        let kept_rows = kept.as_ref().map(|k| k.1.clone());
         let previous = match kept {
             Some((true, scene, _)) if !relayout && !first_told => {
                 self.lock().entry(key).and_modify(|d| d.page = page);
@@ -69,7 +71,8 @@ impl SceneCache {
             Some((_, scene, _)) if !relayout && !first_told => Some(scene),
             _ => None,
         };
-        let hints = Hints { pins, previous: previous.as_deref(), page: page.unwrap_or_default(), rows: None };
+        let rows = kept_rows.as_ref().map(|scene| &scene.rows).or(rows);
+        let hints = Hints { pins, previous: previous.as_deref(), page: page.unwrap_or_default(), rows };
         let scene = Arc::new(scene::build(graph, hints));
         let mut scenes = self.lock();
         if scenes.len() >= CACHED_SCENES {
@@ -77,6 +80,18 @@ impl SceneCache {
         }
         scenes.insert(key, Drawn { graph: drawn, pins: pins.cloned(), scene: scene.clone(), page });
         scene
+    }
+
+    /// The rows of each diagram of `file` drawn (what its next fresh layout keeps), by diagram.
+    pub fn rows_of(&self, file: FileId) -> Vec<(String, Rows)> {
+        let scenes = self.lock();
+        let mut rows: Vec<(String, Rows)> = scenes
+            .iter()
+            .filter(|(key, _)| key.0 == file)
+            .map(|(key, d)| (key.1.clone(), d.scene.rows.clone()))
+            .collect();
+        rows.sort();
+        rows
     }
 
     /// The diagrams drawn for a client whose graph is no longer what was drawn (or that are
@@ -174,7 +189,7 @@ mod tests {
         let (mut host, files) = AnalysisHost::with_files([("a.gudsl".to_string(), TEXT.to_string())]);
         let cache = SceneCache::default();
         let scene = |host: &AnalysisHost, pins: Option<&Pins>| {
-            cache.scene(files[0], &host.analysis().graphs(files[0]).unwrap()[0], pins, false, None)
+            cache.scene(files[0], &host.analysis().graphs(files[0]).unwrap()[0], (pins, None), false, None)
         };
         let first = scene(&host, None);
         // Text above the diagram moves its ranges, not what is drawn.

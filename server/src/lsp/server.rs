@@ -383,6 +383,19 @@ impl LanguageServer for Backend {
         }
     }
 
+    async fn did_save(&self, params: lsp::DidSaveTextDocumentParams) {
+        // The rows of the diagrams drawn are saved with the model: the next fresh layout (a new
+        // session, `gudsl render`) keeps them.
+        let uri = params.text_document.uri;
+        let scenes = self.scenes.clone();
+        let saved = self.on_snapshot(move |snap| Ok(super::graph_edit::remember_rows(snap, &uri, &scenes))).await;
+        if let Ok(Err(error)) = saved {
+            self.client
+                .log_message(lsp::MessageType::WARNING, format!("gudsl: the diagrams' rows were not saved: {error}"))
+                .await;
+        }
+    }
+
     async fn did_close(&self, params: lsp::DidCloseTextDocumentParams) {
         let uri = params.text_document.uri;
         // Back to the disk's version (the editor may close without saving) for a file of the
