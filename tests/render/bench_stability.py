@@ -4,9 +4,11 @@ The same edit, laid out before and after: one class (a subclass with an associat
 realistic class diagram (a random inheritance forest over ~60 % of the classes, n/2 associations
 between random pairs with role names and multiplicities at both ends), and one action inserted
 into a flow of an activity diagram (tests/render/bench_dot.py's). Laid out by `dot -Tjson` (the
-same boxes and edges), by gudsl afresh (`gudsl render`, no memory), and by gudsl's language
-server as an editor sees it (`gudsl/graph` before and after the edit: the scene drawn before is
-kept). Scored with research/layout_metrics.py --stability: mean node displacement after removing
+same boxes and edges), by gudsl afresh (`gudsl render`, no memory), by gudsl afresh keeping the
+rows of the layout before (`gudsl render --remember`, then the edited model rendered with that
+sidecar), by gudsl's language server as an editor sees it (`gudsl/graph` before and after the
+edit: the scene drawn before is kept), and by a language server started anew on the edited model
+after the one before saved it (`didSave` writes the rows into the sidecar). Scored with research/layout_metrics.py --stability: mean node displacement after removing
 the median shift, share of nodes moved > 20 pt, Kendall tau of the left-right order. Then pins:
 10 nodes moved through `gudsl/applyGraphEdit`, the edit made, the diagram laid out afresh
 (`relayout`): the pinned nodes' displacement from where they were put, and the others'.
@@ -37,12 +39,18 @@ def stability(metrics, a, b, fmt):
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def render(gudsl, text, work, name):
+def render(gudsl, text, work, name, remember=False, sidecar=None):
+    """`gudsl render` of `text`: with `remember`, writing the rows into the model's sidecar; with
+    `sidecar`, a copy of that one beside the model. The layout-json and the model's sidecar."""
     src = work / f"{name}.gudsl"
     src.write_text(text)
+    mine = Path(f"{src}.layout")
+    if sidecar:
+        mine.write_text(sidecar.read_text())
     out = work / name
-    subprocess.run([gudsl, "render", str(src), "--format", "layout-json", "-o", str(out)], check=True, capture_output=True)
-    return out / "Bench.json"
+    flags = ["--remember"] if remember else []
+    subprocess.run([gudsl, "render", str(src), "--format", "layout-json", "-o", str(out), *flags], check=True, capture_output=True)
+    return out / "Bench.json", mine
 
 
 def dot_layout(layout_json, work, name):
@@ -111,6 +119,31 @@ async def editor_session(gudsl, work, name, before, after):
     return neutral(first, work / f"{name}-editor-1.json"), neutral(second, work / f"{name}-editor-2.json"), max(off), len(pinned)
 
 
+async def reopened_session(gudsl, work, name, before, after):
+    """A session that draws `before` and saves it (the rows go into the sidecar), then a new
+    session on the same folder with the model edited meanwhile: both first drawings."""
+    root = work / f"{name}-reopened"
+    root.mkdir()
+    path = root / "bench.gudsl"
+    drawn = []
+    for k, text in enumerate([before, after]):
+        path.write_text(text)
+        client = await start_server(gudsl, root)
+        uri = path.as_uri()
+        client.notify("textDocument/didOpen", {"textDocument": {"uri": uri, "languageId": "gudsl", "version": 1, "text": text}})
+        result, error = await client.request("gudsl/graph", {"textDocument": {"uri": uri}, "diagram": "Bench"})
+        if error:
+            raise SystemExit(f"gudsl/graph: {error}")
+        drawn.append(neutral(result, work / f"{name}-reopened-{k}.json"))
+        client.notify("textDocument/didSave", {"textDocument": {"uri": uri}})
+        # A request after the notification: the save is handled by then.
+        await client.request("gudsl/diagrams", {"textDocument": {"uri": uri}})
+        await stop_server(client)
+    if not Path(f"{path}.layout").exists():
+        raise SystemExit("no sidecar written on save")
+    return drawn
+
+
 def main(gudsl, metrics):
     work = Path(tempfile.mkdtemp(prefix="gudsl-stability-"))
     cases = [
@@ -120,14 +153,19 @@ def main(gudsl, metrics):
     ]
     print(f"{'edit':<26} {'layout':<24} {'mean disp pt':>12} {'% of dot':>8} {'moved >20pt':>11} {'tau x':>6} | after: {'crossings':>9} {'edge-node hits':>14} {'label-edge hits':>15}")
     for k, (what, before, after) in enumerate(cases):
-        ours1, ours2 = render(gudsl, before, work, f"c{k}a"), render(gudsl, after, work, f"c{k}b")
+        (ours1, _), (ours2, _) = render(gudsl, before, work, f"c{k}a"), render(gudsl, after, work, f"c{k}b")
+        kept1, sidecar = render(gudsl, before, work, f"c{k}ka", remember=True)
+        kept2, _ = render(gudsl, after, work, f"c{k}kb", sidecar=sidecar)
         dot1, dot2 = dot_layout(ours1, work, f"c{k}a"), dot_layout(ours2, work, f"c{k}b")
         editor1, editor2, pinned_off, pins = asyncio.run(editor_session(gudsl, work, f"c{k}", before, after))
+        reopened1, reopened2 = asyncio.run(reopened_session(gudsl, work, f"c{k}", before, after))
         dot = stability(metrics, dot1, dot2, "dotjson")
         rows = [
             ("graphviz dot", dot, score(metrics, dot2, "dotjson")),
             ("gudsl render (fresh)", stability(metrics, ours1, ours2, "neutral"), score(metrics, ours2, "neutral")),
+            ("gudsl render --remember", stability(metrics, kept1, kept2, "neutral"), score(metrics, kept2, "neutral")),
             ("gudsl lsp (editor)", stability(metrics, editor1, editor2, "neutral"), score(metrics, editor2, "neutral")),
+            ("gudsl lsp (reopened)", stability(metrics, reopened1, reopened2, "neutral"), score(metrics, reopened2, "neutral")),
         ]
         for name, s, q in rows:
             share = 100 * s["mean_disp_aligned"] / max(dot["mean_disp_aligned"], 1e-9)

@@ -173,7 +173,7 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     if apart.is_empty() {
         return layered_joined(input, spacing);
     }
-    let (joined_input, joined_edges) = sub_input(input, &joined);
+    let (joined_input, joined_edges) = pack::sub_input(input, &joined);
     let inner = layered_joined(&joined_input, spacing);
     let m = input.edges.len();
     let mut layout = Layout {
@@ -191,36 +191,13 @@ pub fn layered(input: &LayoutInput, spacing: Spacing) -> Layout {
     let parts: Vec<pack::Part> = apart
         .into_iter()
         .map(|boxes| {
-            let (sub, edges) = sub_input(input, &boxes);
+            let (sub, edges) = pack::sub_input(input, &boxes);
             let sub = LayoutInput { remembered: sub.remembered.orders_only(), ..sub };
             pack::Part { layout: layered_joined(&sub, spacing), boxes, edges }
         })
         .collect();
     let had: Vec<Option<Point>> = parts.iter().map(|part| part.place_before(&input.remembered, spacing)).collect();
     pack::place_apart(layout, input, &parts, &had, spacing, !joined_part.boxes.is_empty())
-}
-
-/// The part of `input` made of `boxes` (in that order) and the edges between them, and those
-/// edges' indices in `input`.
-fn sub_input(input: &LayoutInput, boxes: &[usize]) -> (LayoutInput, Vec<usize>) {
-    let mut index = vec![usize::MAX; input.nodes.len()];
-    for (i, &v) in boxes.iter().enumerate() {
-        index[v] = i;
-    }
-    let edges: Vec<usize> = (0..input.edges.len())
-        .filter(|&e| index[input.edges[e].0] != usize::MAX && index[input.edges[e].1] != usize::MAX)
-        .collect();
-    let sub = LayoutInput {
-        nodes: boxes.iter().map(|&v| input.nodes[v].clone()).collect(),
-        edges: edges.iter().map(|&e| (index[input.edges[e].0], index[input.edges[e].1])).collect(),
-        groups: boxes.iter().map(|&v| input.groups.get(v).copied().flatten()).collect(),
-        labels: edges.iter().map(|&e| input.labels.get(e).copied().flatten()).collect(),
-        flow: input.flow,
-        firm: edges.iter().map(|&e| input.firm.get(e).copied().unwrap_or(false)).collect(),
-        end_labels: edges.iter().map(|&e| input.end_labels.get(e).copied().unwrap_or_default()).collect(),
-        remembered: input.remembered.part(boxes, &edges),
-    };
-    (sub, edges)
 }
 
 /// Lays out `input` top to bottom, every box in the layers.

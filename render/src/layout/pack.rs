@@ -51,6 +51,29 @@ pub(super) fn split(input: &LayoutInput) -> (Vec<usize>, Vec<Vec<usize>>) {
     (joined, apart)
 }
 
+/// The part of `input` made of `boxes` (in that order) and the edges between them, and those
+/// edges' indices in `input`.
+pub(super) fn sub_input(input: &LayoutInput, boxes: &[usize]) -> (LayoutInput, Vec<usize>) {
+    let mut index = vec![usize::MAX; input.nodes.len()];
+    for (i, &v) in boxes.iter().enumerate() {
+        index[v] = i;
+    }
+    let edges: Vec<usize> = (0..input.edges.len())
+        .filter(|&e| index[input.edges[e].0] != usize::MAX && index[input.edges[e].1] != usize::MAX)
+        .collect();
+    let sub = LayoutInput {
+        nodes: boxes.iter().map(|&v| input.nodes[v].clone()).collect(),
+        edges: edges.iter().map(|&e| (index[input.edges[e].0], index[input.edges[e].1])).collect(),
+        groups: boxes.iter().map(|&v| input.groups.get(v).copied().flatten()).collect(),
+        labels: edges.iter().map(|&e| input.labels.get(e).copied().flatten()).collect(),
+        flow: input.flow,
+        firm: edges.iter().map(|&e| input.firm.get(e).copied().unwrap_or(false)).collect(),
+        end_labels: edges.iter().map(|&e| input.end_labels.get(e).copied().unwrap_or_default()).collect(),
+        remembered: input.remembered.part(boxes, &edges),
+    };
+    (sub, edges)
+}
+
 /// A part laid out on its own: its boxes, its edges (by input index), and its layout.
 pub(super) struct Part {
     pub boxes: Vec<usize>,

@@ -306,13 +306,13 @@ fn top_at_zero(n: usize, edges: &[(usize, usize, bool)], mut rank: Vec<usize>) -
         let (ra, rb) = (root(&mut part, a), root(&mut part, b));
         part[ra.max(rb)] = ra.min(rb);
     }
+    let roots: Vec<usize> = (0..n).map(|v| root(&mut part, v)).collect();
     let mut top = vec![usize::MAX; n];
-    for v in 0..n {
-        let r = root(&mut part, v);
-        top[r] = top[r].min(rank[v]);
+    for (&r, &at) in roots.iter().zip(&rank) {
+        top[r] = top[r].min(at);
     }
-    for v in 0..n {
-        rank[v] -= top[root(&mut part, v)];
+    for (at, &r) in rank.iter_mut().zip(&roots) {
+        *at -= top[r];
     }
     rank
 }
