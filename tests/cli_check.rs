@@ -381,3 +381,39 @@ fn render_fits_a_long_flow_to_the_page_or_aspect_asked() {
         assert!(String::from_utf8_lossy(&run.stderr).contains(said), "{}", String::from_utf8_lossy(&run.stderr));
     }
 }
+
+#[test]
+fn render_remember_keeps_the_rows_and_the_next_render_keeps_the_drawing() {
+    let dir = temp_dir("render-remember");
+    let model = dir.join("classes.gudsl");
+    std::fs::copy(repo("render/tests/reference/models/Classes200.gudsl"), &model).unwrap();
+    let sidecar = dir.join("classes.gudsl.layout");
+    let render = |out: &str, remember: bool| {
+        let mut args = vec!["render", model.to_str().unwrap(), "--format", "layout-json", "-o", out];
+        if remember {
+            args.push("--remember");
+        }
+        let run = gudsl().args(&args).current_dir(&dir).output().unwrap();
+        (run.status.code(), String::from_utf8_lossy(&run.stderr).into_owned())
+    };
+    // Rendering alone writes nothing beside the model.
+    assert_eq!(render("plain", false).0, Some(0));
+    assert!(!sidecar.exists());
+    assert_eq!(render("first", true).0, Some(0));
+    let written = std::fs::read_to_string(&sidecar).unwrap();
+    let layout: serde_json::Value = serde_json::from_str(&written).unwrap();
+    let rows = layout["rows"]["Classes200"].as_array().unwrap();
+    assert!(rows.iter().flat_map(|r| r.as_array().unwrap()).any(|e| e.as_str().unwrap().starts_with("Classes200.C0 ")));
+    // Drawn again from its rows: the same bytes, and the rows as they were.
+    assert_eq!(render("second", true).0, Some(0));
+    let drawing = |out: &str| std::fs::read(dir.join(out).join("Classes200.json")).unwrap();
+    assert_eq!(drawing("second"), drawing("first"));
+    assert_eq!(drawing("first"), drawing("plain"));
+    assert_eq!(std::fs::read_to_string(&sidecar).unwrap(), written);
+    // A sidecar that is no layout is said and never overwritten.
+    std::fs::write(&sidecar, "{ broken").unwrap();
+    let (code, stderr) = render("third", true);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("classes.gudsl.layout") && stderr.contains("not overwritten"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&sidecar).unwrap(), "{ broken");
+}

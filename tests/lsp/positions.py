@@ -216,9 +216,25 @@ async def positions(client, seen, gudsl, workspace, graph, apply_graph_edit, tex
     rows = json.loads(saved_sidecar.read_text())["rows"]["Moves"]
     if sorted(entry.split(" ")[0] for row in rows for entry in row) != sorted(n.id for n in drawn.nodes):
         fail(f"the rows saved do not hold the diagram's nodes once each: {rows}")
-    out = workspace.parent / "rendered-saved"
-    done = subprocess.run([gudsl, "render", str(saved), "--format", "layout-json", "-o", str(out)], capture_output=True, text=True)
-    rendered = {n["id"]: (n["x"], n["y"]) for n in json.loads((out / "Moves.json").read_text())["nodes"]}
-    if done.returncode != 0 or rendered != {n.id: (n.bounds.x, n.bounds.y) for n in drawn.nodes}:
-        fail(f"gudsl render with the saved rows: {rendered} ({done.stderr}), the session drew {drawn.nodes}")
+    # The model edited meanwhile (a class added): `gudsl render` keeps the others where the
+    # session drew them; without the rows (the control) it does not.
+    saved.write_text(MOVES.replace("    public class Square", "    public class Triangle extends Shape { }\n    public class Square"))
+    session = {n.id: (n.bounds.x, n.bounds.y) for n in drawn.nodes}
+
+    def rendered(name):
+        out = workspace.parent / name
+        done = subprocess.run([gudsl, "render", str(saved), "--format", "layout-json", "-o", str(out)], capture_output=True, text=True)
+        if done.returncode != 0:
+            fail(f"gudsl render: {done.stderr}")
+        return {n["id"]: (n["x"], n["y"]) for n in json.loads((out / "Moves.json").read_text())["nodes"]}
+
+    # How many classes are where the session drew them (the layout JSON holds a hundredth).
+    def stayed(drawing):
+        return sum(all(abs(drawing[i][k] - session[i][k]) <= 0.005 for k in (0, 1)) for i in session)
+
+    with_rows = rendered("rendered-saved")
     saved_sidecar.unlink()
+    without = rendered("rendered-unsaved")
+    # Triangle goes beside its parent's other children: Square, right of it, makes room.
+    if "Moves.Triangle" not in with_rows or stayed(with_rows) < 2 or stayed(without) >= stayed(with_rows):
+        fail(f"adding Triangle, with the saved rows: {with_rows}, without: {without}; the session drew {session}")

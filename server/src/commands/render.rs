@@ -7,7 +7,8 @@
 //! the pipeline a run's `report.json` is of with its times and flows on it
 //! (`gudsl_host::pipeline::annotate`). Output is byte-identical for identical input.
 //! Exit code: 0 drawn, 1 nothing to draw or a file has syntax errors (what parsed is still
-//! drawn), 2 a path or the report could not be read or an output not written.
+//! drawn), 2 a path or the report could not be read or an output (or, with `--remember`, a
+//! sidecar) not written.
 
 use gudsl_host::{output::OutputDir, pipeline::annotate};
 use std::{path::PathBuf, process::ExitCode};
@@ -106,6 +107,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         }
     }
     let mut written = 0;
+    let mut unremembered = false;
     for (document, &file) in loaded.documents.iter().zip(&files) {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
         // Where the user put nodes; a sidecar that is no layout is said and left alone.
@@ -160,10 +162,16 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             written += 1;
             drawn_rows.push((graph.id.clone(), scene.rows));
         }
-        if args.remember && readable {
-            if let Err(error) = layout_file::remember(&sidecar, drawn_rows) {
+        if args.remember {
+            // (A sidecar that is no layout was said above; it is not overwritten.)
+            let remembered = if readable {
+                layout_file::remember(&sidecar, drawn_rows).map(|_| ())
+            } else {
+                Err(format!("{}: fix or delete it (it is not overwritten)", sidecar.display()))
+            };
+            if let Err(error) = remembered {
                 eprintln!("gudsl render: not remembering the rows: {error}");
-                return ExitCode::from(2);
+                unremembered = true;
             }
         }
     }
@@ -180,7 +188,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
         eprintln!("gudsl render: the report is of `{diagram}`, which none of the diagrams drawn is");
         return ExitCode::from(2);
     }
-    if !loaded.errors.is_empty() {
+    if !loaded.errors.is_empty() || unremembered {
         ExitCode::from(2)
     } else if written == 0 || broken {
         ExitCode::from(1)
