@@ -110,15 +110,8 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     let mut unremembered = false;
     for (document, &file) in loaded.documents.iter().zip(&files) {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
-        // Where the user put nodes; a sidecar that is no layout is said and left alone.
         let sidecar = layout_file::path_for(&document.path);
-        let (layout, readable) = match layout_file::read(&sidecar) {
-            Ok(layout) => (layout, true),
-            Err(error) => {
-                eprintln!("gudsl render: {error}; its positions are not used");
-                (LayoutFile::default(), false)
-            }
-        };
+        let (layout, readable) = read_sidecar(&sidecar);
         let mut drawn_rows = Vec::new();
         for graph in graphs {
             if args.diagram.as_deref().is_some_and(|wanted| !gudsl_host::named::names_diagram(wanted, &graph.id)) {
@@ -162,17 +155,8 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             written += 1;
             drawn_rows.push((graph.id.clone(), scene.rows));
         }
-        if args.remember {
-            // (A sidecar that is no layout was said above; it is not overwritten.)
-            let remembered = if readable {
-                layout_file::remember(&sidecar, drawn_rows).map(|_| ())
-            } else {
-                Err(format!("{}: fix or delete it (it is not overwritten)", sidecar.display()))
-            };
-            if let Err(error) = remembered {
-                eprintln!("gudsl render: not remembering the rows: {error}");
-                unremembered = true;
-            }
+        if args.remember && !remember(&sidecar, readable, drawn_rows) {
+            unremembered = true;
         }
     }
     if written == 0 {
@@ -195,6 +179,31 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// The layout sidecar at `path` (pins, rows) and whether it is one: a file that is no layout is
+/// said and left alone (its positions are not used).
+fn read_sidecar(path: &std::path::Path) -> (LayoutFile, bool) {
+    match layout_file::read(path) {
+        Ok(layout) => (layout, true),
+        Err(error) => {
+            eprintln!("gudsl render: {error}; its positions are not used");
+            (LayoutFile::default(), false)
+        }
+    }
+}
+
+/// `--remember`: the rows drawn kept in the sidecar at `path` (never in one that is no layout);
+/// whether they are.
+fn remember(path: &std::path::Path, readable: bool, drawn: Vec<(String, gudsl_render::pins::Rows)>) -> bool {
+    let remembered = match readable {
+        true => layout_file::remember(path, drawn).map(|_| ()),
+        false => Err(format!("{}: fix or delete it (it is not overwritten)", path.display())),
+    };
+    if let Err(error) = &remembered {
+        eprintln!("gudsl render: not remembering the rows: {error}");
+    }
+    remembered.is_ok()
 }
 
 /// The largest `report.json` read (a run's report is kilobytes).
