@@ -44,7 +44,7 @@ impl SceneCache {
     /// The scene of `graph` with `pins`: the one kept if nothing drawn changed, else laid out
     /// around the one kept (or afresh, `relayout`, for the nodes no pin holds); a fresh layout
     /// fitted to `page` (none: the page told before, else a screen's) and keeping the rows of
-    /// the one kept, else the sidecar's `rows`.
+    /// the one kept, else the sidecar's `rows` (a re-layout only those).
     pub fn scene(
         &self,
         file: FileId,
@@ -71,7 +71,9 @@ impl SceneCache {
             Some((_, scene, _)) if !relayout && !first_told => Some(scene),
             _ => None,
         };
-        let rows = kept_rows.as_ref().map(|scene| &scene.rows).or(rows);
+        // A re-layout keeps the rows saved with the model (deleted there, it starts afresh);
+        // any other fresh layout those of the scene kept, else the saved ones.
+        let rows = if relayout { rows } else { kept_rows.as_ref().map(|scene| &scene.rows).or(rows) };
         let hints = Hints { pins, previous: previous.as_deref(), page: page.unwrap_or_default(), rows };
         let scene = Arc::new(scene::build(graph, hints));
         let mut scenes = self.lock();
@@ -212,5 +214,25 @@ mod tests {
         let shape = pinned.nodes.iter().find(|n| n.id == "Shapes.Shape").unwrap().rect;
         assert_eq!((shape.x, shape.y), (400.0, 300.0));
         assert!(Arc::ptr_eq(&pinned, &scene(&host, Some(&pins))));
+    }
+
+    #[test]
+    fn a_relayout_keeps_the_saved_rows_and_without_them_starts_afresh() {
+        let grown = TEXT
+            .replace("    public class Circle", "    public class Square extends Shape { }\n    public class Circle");
+        let (host, files) = AnalysisHost::with_files([("a.gudsl".to_string(), grown)]);
+        let graph = &host.analysis().graphs(files[0]).unwrap()[0].clone();
+        let cache = SceneCache::default();
+        let first = cache.scene(files[0], graph, (None, None), false, None);
+        // Saved rows with the children the other way round: a re-layout keeps them.
+        let x = |scene: &Scene, id: &str| scene.nodes.iter().find(|n| n.id == id).unwrap().rect.x;
+        let mut children = ["Shapes.Circle", "Shapes.Square"];
+        children.sort_by(|a, b| x(&first, b).total_cmp(&x(&first, a)));
+        let saved: Rows = vec![vec!["Shapes.Shape".into()], children.iter().map(|c| c.to_string()).collect()];
+        let kept = cache.scene(files[0], graph, (None, Some(&saved)), true, None);
+        assert!(x(&kept, children[0]) < x(&kept, children[1]));
+        // Without saved rows, a re-layout is the layout afresh, whatever the session drew.
+        let afresh = cache.scene(files[0], graph, (None, None), true, None);
+        assert_eq!(*afresh, scene::build(graph, Hints::default()));
     }
 }
