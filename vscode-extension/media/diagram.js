@@ -61,7 +61,7 @@
       for (const n of m.nodes) {
         if (n.pinned) element(n.id)?.classList.add('pinned');
       }
-      applyZoom();
+      drawZoomed();
     }
     if (kindChanged) palette();
     canvas.dataset.version = String(m.version);
@@ -258,11 +258,33 @@
     applyZoom();
   }
 
+  /** How long zooming must pause before the diagram is drawn anew at the new size. */
+  const ZOOM_SETTLE_MS = 150;
+  let drawnZoom = 1; // the zoom the SVG is drawn at (its width and height)
+  let zoomTimer = null;
+
+  /** A zoom shows at once as a scale of what is drawn — cheap, where drawing thousands of
+   * elements anew takes a large diagram a tenth of a second or more (tests/vscode/bench_panel.mjs)
+   * — and the SVG is drawn at its new size once zooming pauses. */
   function applyZoom() {
+    const svg = canvas.querySelector('svg');
+    if (!svg) return;
+    const scale = zoom / drawnZoom;
+    svg.style.transformOrigin = '0 0';
+    svg.style.transform = scale === 1 ? '' : `scale(${scale})`;
+    clearTimeout(zoomTimer);
+    zoomTimer = setTimeout(drawZoomed, ZOOM_SETTLE_MS);
+  }
+
+  /** The SVG drawn at the zoom (its size set, no scale left). */
+  function drawZoomed() {
+    clearTimeout(zoomTimer);
     const svg = canvas.querySelector('svg');
     if (!svg) return;
     svg.setAttribute('width', String(Number(svg.dataset.width) * zoom));
     svg.setAttribute('height', String(Number(svg.dataset.height) * zoom));
+    svg.style.transform = '';
+    drawnZoom = zoom;
   }
 
   /** The smallest text Fit draws, in screen pixels: a diagram that would need smaller text to
