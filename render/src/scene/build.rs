@@ -116,7 +116,19 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
         let mut number = || words.next().and_then(|w| w.parse::<f64>().ok()).filter(|v| v.is_finite() && v.abs() < 1e7);
         Some((*id, number(), number()))
     };
-    let entries: Vec<Vec<RowEntry>> = rows.iter().map(|row| row.iter().filter_map(entry).collect()).collect();
+    // A row's index becomes a rank, and a sidecar is untrusted input: a million rows must not
+    // make a million ranks. As a layout writes them, every row holds a box and every box is in
+    // one row: a box named again is left out, and a row left without a box goes.
+    let mut seen = vec![false; parts.graph.nodes.len()];
+    let mut first_time = |e: &RowEntry| match e.0 {
+        Entry::Box(v) => !std::mem::replace(&mut seen[v], true),
+        Entry::Edge(_) => true,
+    };
+    let entries: Vec<Vec<RowEntry>> = rows
+        .iter()
+        .map(|row| row.iter().filter_map(entry).filter(|e| first_time(e)).collect::<Vec<_>>())
+        .filter(|row| row.iter().any(|e| matches!(e.0, Entry::Box(_))))
+        .collect();
     Remembered::of_rows(&entries, parts.graph.nodes.len(), parts.edges.len())
 }
 
