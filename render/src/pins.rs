@@ -33,10 +33,30 @@ impl Pin {
 /// The pins of one diagram, by node id.
 pub type Pins = BTreeMap<String, Pin>;
 
-/// The rows of one diagram's last fresh layout: the ids of the boxes of each rank, in order, top
-/// to bottom (left to right in a dataflow diagram). A fresh layout keeps them where it can
-/// (`layout::seeded`).
+/// The rows of one diagram's last fresh layout: per rank that holds boxes, top to bottom (left
+/// to right in a dataflow diagram), its entries in order — boxes and the long edges passing, as
+/// `row_entry` writes them. A fresh layout keeps them where it can (`layout::seeded`).
 pub type Rows = Vec<Vec<String>>;
+
+/// A row entry's text: the id, then where it was drawn — its centre across the ranks and, for a
+/// box of a part laid out apart, its top — each exactly (the shortest text that reads back as
+/// the same number), so that a layout from its own rows is the same layout.
+pub fn row_entry(id: &str, x: Option<f64>, y: Option<f64>) -> String {
+    match (x, y) {
+        (Some(x), Some(y)) => format!("{id} {x} {y}"),
+        (Some(x), None) => format!("{id} {x}"),
+        _ => id.to_string(),
+    }
+}
+
+/// A row entry read (`row_entry`): its id, and each number after it that is one (finite, below
+/// 10⁷ either way; else none).
+pub fn read_row_entry(text: &str) -> (&str, Option<f64>, Option<f64>) {
+    let mut words = text.split(' ');
+    let id = words.next().unwrap_or_default();
+    let mut number = || words.next().and_then(|w| w.parse::<f64>().ok()).filter(|v| v.is_finite() && v.abs() < 1e7);
+    (id, number(), number())
+}
 
 /// A layout sidecar: the pins of each diagram of one model file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -125,9 +145,7 @@ impl LayoutFile {
         }
         self.diagrams.retain(|_, pins| !pins.is_empty());
         for (diagram, rows) in &mut self.rows {
-            // An entry is an id, then the centre it was drawn at.
-            let id = |entry: &String| entry.split(' ').next().unwrap_or_default().to_string();
-            rows.iter_mut().for_each(|row| row.retain(|entry| exists(diagram, &id(entry))));
+            rows.iter_mut().for_each(|row| row.retain(|entry| exists(diagram, read_row_entry(entry).0)));
             rows.retain(|row| !row.is_empty());
         }
         self.rows.retain(|_, rows| !rows.is_empty());

@@ -13,6 +13,7 @@ mod minimise;
 mod order;
 mod pack;
 mod page;
+mod parts;
 mod pass;
 mod place;
 mod proper;
@@ -260,9 +261,8 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     // Seats that the order minimised afresh does not keep order the ranks instead (where it does,
     // as for the layout the seats were read off, it is that layout's order).
     let places = seats.map(|remembered| remembered.of_vertices(&graph));
-    let at: Option<Vec<Option<f64>>> = places.as_ref().map(|p| p.iter().map(|s| s.map(|s| s.at)).collect());
-    let layers = match at {
-        Some(places) if !seeded::kept(&layers, &places) => seeded::seeded_order(&graph, &places),
+    let layers = match &places {
+        Some(places) if !seeded::kept(&layers, places) => seeded::seeded_order(&graph, places),
         _ => layers,
     };
     let mut x = place::horizontal(&graph, &layers, &extent, spacing);

@@ -6,7 +6,7 @@
 //! (or, where there is none or it is narrow, as wide as makes them a block of about 3:2) — not
 //! one long row across the top.
 
-use super::{Entry, Layout, LayoutInput, Point, Remembered, RowEntry, Spacing};
+use super::{parts::connected_parts, Entry, Layout, LayoutInput, Point, Remembered, RowEntry, Spacing};
 use crate::geometry::Rect;
 use crate::grid::{Boxes, Segments};
 
@@ -18,26 +18,10 @@ const SMALL_PART: usize = 4;
 /// not the largest part (unless that is one box alone too).
 pub(super) fn split(input: &LayoutInput) -> (Vec<usize>, Vec<Vec<usize>>) {
     let n = input.nodes.len();
-    let mut part: Vec<usize> = (0..n).collect();
-    fn find(part: &mut [usize], v: usize) -> usize {
-        let mut root = v;
-        while part[root] != root {
-            root = part[root];
-        }
-        let mut at = v;
-        while part[at] != root {
-            (part[at], at) = (root, part[at]);
-        }
-        root
-    }
-    for &(a, b) in &input.edges {
-        let (ra, rb) = (find(&mut part, a), find(&mut part, b));
-        part[ra.max(rb)] = ra.min(rb);
-    }
+    let part = connected_parts(n, input.edges.iter().copied());
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
     for v in 0..n {
-        let root = find(&mut part, v);
-        members[root].push(v);
+        members[part[v]].push(v);
     }
     let largest = (0..n).max_by_key(|&r| (members[r].len(), std::cmp::Reverse(r))).unwrap_or(0);
     let in_lane = |v: usize| input.groups.get(v).copied().flatten().is_some();
@@ -47,7 +31,7 @@ pub(super) fn split(input: &LayoutInput) -> (Vec<usize>, Vec<Vec<usize>>) {
     let small = |r: usize| !layered(r) && members[r].len() <= SMALL_PART && !in_lanes(r);
     let apart: Vec<Vec<usize>> =
         (0..n).filter(|&r| !members[r].is_empty() && small(r)).map(|r| members[r].clone()).collect();
-    let joined: Vec<usize> = (0..n).filter(|&v| !small(find(&mut part, v))).collect();
+    let joined: Vec<usize> = (0..n).filter(|&v| !small(part[v])).collect();
     (joined, apart)
 }
 

@@ -7,12 +7,9 @@
 //! edges are the candidates, by least total edge length, then fewest ranks (the layout keeps
 //! the one its sweeps find the fewest crossings in).
 
-use std::{
-    cmp::Reverse,
-    collections::{BinaryHeap, VecDeque},
-};
+use std::{cmp::Reverse, collections::BinaryHeap};
 
-use super::{minimise::HUGE, simplex};
+use super::{minimise::HUGE, parts::connected_parts, simplex};
 
 /// Edges oriented so that the graph is acyclic, `(from, to, reversed)`, and each box's rank.
 #[derive(Debug, Clone, PartialEq)]
@@ -81,7 +78,6 @@ pub(super) fn orient(n: usize, edges: &[(usize, usize)]) -> Vec<(usize, usize, b
     turned(edges, depth_first(n, edges, true))
 }
 
-/// `edges` with those marked `reversed` turned round: `(from, to, reversed)`.
 /// Which edges to reverse so that each edge between boxes in different `wanted` rows points down
 /// from the higher one, and an edge between a box in a row and a new one (not firm) points to the
 /// new one — below the rows, it pushes none of them down — unless the new box is a firm
@@ -114,28 +110,11 @@ fn as_remembered(
             _ => fallback[e],
         })
         .collect();
-    let oriented = turned(edges, reversed.clone());
     // Acyclic: a topological order takes every box.
-    let mut indegree = vec![0usize; n];
-    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for &(a, b, _) in oriented.iter().filter(|e| e.0 != e.1) {
-        indegree[b] += 1;
-        out[a].push(b);
-    }
-    let mut ready: Vec<usize> = (0..n).filter(|&v| indegree[v] == 0).collect();
-    let mut taken = 0;
-    while let Some(v) = ready.pop() {
-        taken += 1;
-        for &w in &out[v] {
-            indegree[w] -= 1;
-            if indegree[w] == 0 {
-                ready.push(w);
-            }
-        }
-    }
-    (taken == n).then_some(reversed)
+    (topological(n, &turned(edges, reversed.clone())).0.len() == n).then_some(reversed)
 }
 
+/// `edges` with those marked `reversed` turned round: `(from, to, reversed)`.
 fn turned(edges: &[(usize, usize)], reversed: Vec<bool>) -> Vec<(usize, usize, bool)> {
     edges.iter().zip(reversed).map(|(&(a, b), r)| if r { (b, a, true) } else { (a, b, false) }).collect()
 }
@@ -294,19 +273,7 @@ fn kept(n: usize, edges: &[(usize, usize, bool)], wanted: &[Option<usize>]) -> V
 
 /// `rank` moved up so that each connected part's top rank is 0, as network simplex leaves it.
 fn top_at_zero(n: usize, edges: &[(usize, usize, bool)], mut rank: Vec<usize>) -> Vec<usize> {
-    let mut part: Vec<usize> = (0..n).collect();
-    fn root(part: &mut [usize], mut v: usize) -> usize {
-        while part[v] != v {
-            part[v] = part[part[v]];
-            v = part[v];
-        }
-        v
-    }
-    for &(a, b, _) in edges {
-        let (ra, rb) = (root(&mut part, a), root(&mut part, b));
-        part[ra.max(rb)] = ra.min(rb);
-    }
-    let roots: Vec<usize> = (0..n).map(|v| root(&mut part, v)).collect();
+    let roots = connected_parts(n, edges.iter().map(|&(a, b, _)| (a, b)));
     let mut top = vec![usize::MAX; n];
     for (&r, &at) in roots.iter().zip(&rank) {
         top[r] = top[r].min(at);
@@ -321,26 +288,37 @@ fn top_at_zero(n: usize, edges: &[(usize, usize, bool)], mut rank: Vec<usize>) -
 /// rank (0 where none is), or lower where an edge into it asks. Without any wanted rank: the
 /// length of the longest path to each box from a source.
 pub(super) fn feasible_near(n: usize, edges: &[(usize, usize, bool)], wanted: &[Option<usize>]) -> Vec<usize> {
-    let mut indegree = vec![0usize; n];
-    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for &(a, b, _) in edges {
-        if a != b {
-            indegree[b] += 1;
-            out[a].push(b);
-        }
-    }
     let mut rank: Vec<usize> = (0..n).map(|v| wanted.get(v).copied().flatten().unwrap_or(0)).collect();
-    let mut queue: VecDeque<usize> = (0..n).filter(|&v| indegree[v] == 0).collect();
-    while let Some(v) = queue.pop_front() {
+    let (order, out) = topological(n, edges);
+    for v in order {
         for &w in &out[v] {
             rank[w] = rank[w].max(rank[v] + 1);
-            indegree[w] -= 1;
-            if indegree[w] == 0 {
-                queue.push_back(w);
-            }
         }
     }
     rank
+}
+
+/// The boxes in an order where every edge (self loops aside) points forward, breadth first from
+/// the sources (Kahn), and each box's successors; fewer than `n` boxes where edges make a cycle.
+fn topological(n: usize, edges: &[(usize, usize, bool)]) -> (Vec<usize>, Vec<Vec<usize>>) {
+    let mut indegree = vec![0usize; n];
+    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for &(a, b, _) in edges.iter().filter(|e| e.0 != e.1) {
+        indegree[b] += 1;
+        out[a].push(b);
+    }
+    let mut order: Vec<usize> = (0..n).filter(|&v| indegree[v] == 0).collect();
+    let mut next = 0;
+    while let Some(&v) = order.get(next) {
+        next += 1;
+        for &w in &out[v] {
+            indegree[w] -= 1;
+            if indegree[w] == 0 {
+                order.push(w);
+            }
+        }
+    }
+    (order, out)
 }
 
 #[cfg(test)]

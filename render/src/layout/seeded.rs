@@ -140,9 +140,9 @@ pub(super) fn wanted_rows(remembered: &Remembered) -> Vec<Option<usize>> {
 
 /// Whether `layers` keep the seated vertices (`places`, per vertex) in the order of their
 /// places in every rank.
-pub(super) fn kept(layers: &[Vec<usize>], places: &[Option<f64>]) -> bool {
+pub(super) fn kept(layers: &[Vec<usize>], places: &[Option<Seat>]) -> bool {
     layers.iter().all(|layer| {
-        let seated: Vec<f64> = layer.iter().filter_map(|&v| places[v]).collect();
+        let seated: Vec<f64> = layer.iter().filter_map(|&v| places[v].map(|s| s.at)).collect();
         seated.windows(2).all(|pair| pair[0] < pair[1])
     })
 }
@@ -171,7 +171,7 @@ const PASSES: usize = 4;
 /// order; every other block (a new box, a new long edge's dummies) first goes where its seated
 /// neighbours put it and is sifted to where it crosses the fewest until a pass brings nothing;
 /// then median sweeps and transposition around the seated vertices.
-pub(super) fn seeded_order(graph: &Proper, places: &[Option<f64>]) -> Vec<Vec<usize>> {
+pub(super) fn seeded_order(graph: &Proper, places: &[Option<Seat>]) -> Vec<Vec<usize>> {
     let place = initial_places(graph, places);
     let mut layers = vec![Vec::new(); graph.ranks()];
     for v in 0..graph.vertices() {
@@ -188,7 +188,7 @@ pub(super) fn seeded_order(graph: &Proper, places: &[Option<f64>]) -> Vec<Vec<us
 /// `layers` with the blocks none of whose vertices is seated sifted to where they cross the
 /// fewest, until a pass brings nothing; none where the one order of blocks that sifting needs
 /// would not keep the seated vertices' order (a long edge seated in some ranks).
-fn sift_free(layers: &[Vec<usize>], graph: &Proper, places: &[Option<f64>]) -> Option<Vec<Vec<usize>>> {
+fn sift_free(layers: &[Vec<usize>], graph: &Proper, places: &[Option<Seat>]) -> Option<Vec<Vec<usize>>> {
     let mut global = GlobalOrder::new(&Order::new(layers.to_vec(), graph.vertices()), graph);
     if !kept(&global.order.layers, places) {
         return None;
@@ -214,7 +214,8 @@ fn sift_free(layers: &[Vec<usize>], graph: &Proper, places: &[Option<f64>]) -> O
 /// A first place (0 left … 1 right) for every vertex: a seated one its seat's; a new box the
 /// mean of its seated neighbours' (the middle without any); a dummy not seated evenly between
 /// the nearest places along its edge.
-fn initial_places(graph: &Proper, places: &[Option<f64>]) -> Vec<f64> {
+fn initial_places(graph: &Proper, seats: &[Option<Seat>]) -> Vec<f64> {
+    let places: Vec<Option<f64>> = seats.iter().map(|s| s.map(|s| s.at)).collect();
     let mut sum = vec![(0.0, 0usize); graph.boxes];
     for chain in &graph.chains {
         let (a, b) = (chain[0], chain[chain.len() - 1]);
@@ -253,10 +254,9 @@ mod tests {
     use crate::layout::order::tests::proper;
 
     /// The seats of every vertex in `layers`' rows.
-    fn places(layers: &[Vec<usize>], graph: &Proper) -> Vec<Option<f64>> {
+    fn places(layers: &[Vec<usize>], graph: &Proper) -> Vec<Option<Seat>> {
         let x = vec![0.0; graph.vertices()];
-        let remembered = Remembered::of_rows(&rows(layers, graph, &x), graph.boxes, graph.chains.len());
-        remembered.of_vertices(graph).iter().map(|seat| seat.map(|s| s.at)).collect()
+        Remembered::of_rows(&rows(layers, graph, &x), graph.boxes, graph.chains.len()).of_vertices(graph)
     }
 
     #[test]

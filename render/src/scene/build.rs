@@ -16,7 +16,7 @@ use super::{
 use crate::layout::{
     layered, layered_left_to_right, Entry, Layout, LayoutInput, LayoutNode, Page, Remembered, RowEntry, Spacing,
 };
-use crate::pins::Rows;
+use crate::pins::{read_row_entry, row_entry, Rows};
 
 /// A graph's edge with both ends found: node indices, and port indices on them.
 struct ResolvedEdge<'g> {
@@ -45,18 +45,12 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let mut nesting = Nesting::of(graph);
     let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
     let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), (hints.page, pinned));
-    // An entry is its id, then where it was drawn (`RowEntry`), each number exactly (the shortest
-    // text that reads back as the same number): a layout from its own rows is the same layout.
     let id = |&(entry, x, y): &RowEntry| {
         let id = match entry {
             Entry::Box(v) => &graph.nodes[v].id,
             Entry::Edge(e) => &parts.edges[e].edge.id,
         };
-        match (x, y) {
-            (Some(x), Some(y)) => format!("{id} {x} {y}"),
-            (Some(x), None) => format!("{id} {x}"),
-            _ => id.clone(),
-        }
+        row_entry(id, x, y)
     };
     let rows = layout.rows.iter().map(|row| row.iter().map(id).collect()).collect();
     arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
@@ -109,12 +103,9 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let nodes = parts.graph.nodes.iter().enumerate().map(|(i, n)| (n.id.as_str(), Entry::Box(i)));
     let edges = parts.edges.iter().enumerate().map(|(k, e)| (e.edge.id.as_str(), Entry::Edge(k)));
     let by_id: HashMap<&str, Entry> = nodes.chain(edges).collect();
-    // An entry is an id, then where it was drawn, if it says: a number that is none is left out.
     let entry = |text: &String| {
-        let mut words = text.split(' ');
-        let id = by_id.get(words.next()?)?;
-        let mut number = || words.next().and_then(|w| w.parse::<f64>().ok()).filter(|v| v.is_finite() && v.abs() < 1e7);
-        Some((*id, number(), number()))
+        let (id, x, y) = read_row_entry(text);
+        Some((*by_id.get(id)?, x, y))
     };
     // A row's index becomes a rank, and a sidecar is untrusted input: a million rows must not
     // make a million ranks. As a layout writes them, every row holds a box and every box is in

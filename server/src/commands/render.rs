@@ -111,7 +111,7 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     for (document, &file) in loaded.documents.iter().zip(&files) {
         let Ok(graphs) = analysis.graphs(file) else { return cancelled() };
         let sidecar = layout_file::path_for(&document.path);
-        let (layout, readable) = read_sidecar(&sidecar);
+        let layout = read_sidecar(&sidecar);
         let mut drawn_rows = Vec::new();
         for graph in graphs {
             if args.diagram.as_deref().is_some_and(|wanted| !gudsl_host::named::names_diagram(wanted, &graph.id)) {
@@ -155,8 +155,12 @@ pub fn run(args: &RenderArgs) -> ExitCode {
             written += 1;
             drawn_rows.push((graph.id.clone(), scene.rows));
         }
-        if args.remember && !remember(&sidecar, readable, drawn_rows) {
-            unremembered = true;
+        if args.remember {
+            // (A sidecar that is no layout is refused again there, and left as it is.)
+            if let Err(error) = layout_file::remember(&sidecar, drawn_rows) {
+                eprintln!("gudsl render: not remembering the rows: {error}");
+                unremembered = true;
+            }
         }
     }
     if written == 0 {
@@ -181,29 +185,13 @@ pub fn run(args: &RenderArgs) -> ExitCode {
     }
 }
 
-/// The layout sidecar at `path` (pins, rows) and whether it is one: a file that is no layout is
-/// said and left alone (its positions are not used).
-fn read_sidecar(path: &std::path::Path) -> (LayoutFile, bool) {
-    match layout_file::read(path) {
-        Ok(layout) => (layout, true),
-        Err(error) => {
-            eprintln!("gudsl render: {error}; its positions are not used");
-            (LayoutFile::default(), false)
-        }
-    }
-}
-
-/// `--remember`: the rows drawn kept in the sidecar at `path` (never in one that is no layout);
-/// whether they are.
-fn remember(path: &std::path::Path, readable: bool, drawn: Vec<(String, gudsl_render::pins::Rows)>) -> bool {
-    let remembered = match readable {
-        true => layout_file::remember(path, drawn).map(|_| ()),
-        false => Err(format!("{}: fix or delete it (it is not overwritten)", path.display())),
-    };
-    if let Err(error) = &remembered {
-        eprintln!("gudsl render: not remembering the rows: {error}");
-    }
-    remembered.is_ok()
+/// The layout sidecar at `path` (pins, rows): a file that is no layout is said and left alone
+/// (its positions are not used).
+fn read_sidecar(path: &std::path::Path) -> LayoutFile {
+    layout_file::read(path).unwrap_or_else(|error| {
+        eprintln!("gudsl render: {error}; its positions are not used");
+        LayoutFile::default()
+    })
 }
 
 /// The largest `report.json` read (a run's report is kilobytes).
