@@ -15,5 +15,7 @@ mod tests;
 #[cfg(test)]
 mod tests_arrange;
 #[cfg(test)]
+mod tests_bindings;
+#[cfg(test)]
 mod tests_memory;
 pub mod text;

@@ -33,6 +33,7 @@ pub use page::Page;
 pub use seeded::{Entry, Remembered, RowEntry, Seat};
 
 use minimise::{minimise_crossings, swept_crossings};
+use place::Extent;
 use proper::Proper;
 
 /// A box to place.
@@ -67,6 +68,11 @@ pub struct LayoutInput {
     /// half of the boxes have a seat, the layout keeps their rows' direction and their order in
     /// every rank (`seeded`).
     pub remembered: Remembered,
+    /// Per edge (or none): where its source's and its target's ends meet their boxes, measured
+    /// along the box's side from its start (a port's place down a box drawn left to right). A
+    /// layout given ports also runs every long edge straight through the ranks it passes, at
+    /// its place in each, so an orthogonal router can follow it (`scene::channels`).
+    pub ports: Vec<[Option<f64>; 2]>,
 }
 
 /// Spacing of the layout, and the page it is meant for.
@@ -136,6 +142,7 @@ pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
         firm: input.firm.clone(),
         end_labels: Vec::new(),
         remembered: input.remembered.clone(),
+        ports: input.ports.clone(),
     };
     let mut layout = layered(&across, Spacing { page: spacing.page.turned(), ..spacing });
     let turn = |p: &mut Point| std::mem::swap(&mut p.x, &mut p.y);
@@ -148,24 +155,6 @@ pub fn layered_left_to_right(input: &LayoutInput, spacing: Spacing) -> Layout {
 
 /// Space between an edge and its label.
 const LABEL_OFFSET: f64 = 4.0;
-
-/// How much room a vertex takes left and right of its centre line, and its height.
-#[derive(Debug, Clone, Copy, Default)]
-pub(super) struct Extent {
-    pub left: f64,
-    pub right: f64,
-    pub height: f64,
-}
-
-impl Extent {
-    /// Each box's extent (centred on its line), then `vertices - boxes.len()` dummies' (none).
-    pub(super) fn of_boxes(boxes: &[LayoutNode], vertices: usize) -> Vec<Extent> {
-        let mut extent: Vec<Extent> =
-            boxes.iter().map(|b| Extent { left: b.width / 2.0, right: b.width / 2.0, height: b.height }).collect();
-        extent.resize(vertices, Extent::default());
-        extent
-    }
-}
 
 /// Lays out `input` top to bottom: the boxes joined by edges (or in swimlanes) in layers, the
 /// boxes alone packed in rows under them (`pack`).
@@ -296,7 +285,7 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
         let y = if placed.at_top { top } else { top + height - placed.size.1 };
         end_labels[placed.edge][placed.end] = Some(Point { x: x[placed.dummy] + LABEL_OFFSET, y });
     }
-    let routed = route::polylines(&graph, &edges, &layers, &x, &bands, &extent);
+    let routed = route::polylines(&graph, &edges, &layers, (&x, &bands, &extent), &input.ports);
     let width = place::right_edge(&x, &extent) + spacing.margin;
     let rows = seeded::rows(&layers, &graph, &x);
     let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height, rows };

@@ -54,6 +54,11 @@ pub(super) fn sub_input(input: &LayoutInput, boxes: &[usize]) -> (LayoutInput, V
         firm: edges.iter().map(|&e| input.firm.get(e).copied().unwrap_or(false)).collect(),
         end_labels: edges.iter().map(|&e| input.end_labels.get(e).copied().unwrap_or_default()).collect(),
         remembered: input.remembered.part(boxes, &edges),
+        ports: if input.ports.is_empty() {
+            Vec::new()
+        } else {
+            edges.iter().map(|&e| input.ports.get(e).copied().unwrap_or_default()).collect()
+        },
     };
     (sub, edges)
 }

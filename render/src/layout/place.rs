@@ -1,9 +1,27 @@
 //! Coordinates: each vertex's x (Brandes–Köpf, `align`) with swimlanes shifted apart into
-//! disjoint columns; each rank's band (top and height).
+//! disjoint columns; each rank's band (top and height); the room each vertex takes.
 
 use super::align;
 use super::proper::Proper;
-use super::{Extent, Spacing};
+use super::{LayoutNode, Spacing};
+
+/// How much room a vertex takes left and right of its centre line, and its height.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Extent {
+    pub left: f64,
+    pub right: f64,
+    pub height: f64,
+}
+
+impl Extent {
+    /// Each box's extent (centred on its line), then `vertices - boxes.len()` dummies' (none).
+    pub(super) fn of_boxes(boxes: &[LayoutNode], vertices: usize) -> Vec<Extent> {
+        let mut extent: Vec<Extent> =
+            boxes.iter().map(|b| Extent { left: b.width / 2.0, right: b.width / 2.0, height: b.height }).collect();
+        extent.resize(vertices, Extent::default());
+        extent
+    }
+}
 
 /// The least distance between the centres of `u` and its right neighbour `v` in a rank: long
 /// edges run closer to each other than to boxes, and boxes keep the full gap.

@@ -1,7 +1,9 @@
 //! Edge polylines: each edge leaves its source straight down to the bottom of the source's rank
 //! band, runs through its dummies, and enters its target straight from the top of the target's
 //! band (so no edge cuts through a taller neighbour of the same rank); edges that share a box side
-//! attach at their own points along it. A long edge passes each rank's band where `pass` puts it.
+//! attach at their own points along it (or at their ports' places, where the input gives them).
+//! A long edge passes each rank's band where `pass` puts it, or straight at its place in the
+//! rank where the edges end at ports (for the scene's orthogonal router).
 
 use std::collections::HashMap;
 
@@ -11,17 +13,20 @@ use super::proper::Proper;
 use super::{Extent, Point};
 
 /// One polyline per oriented edge, in the input's direction, starting and ending on the boxes'
-/// borders.
+/// borders; `ports`: per input edge (or none), where its ends meet their boxes.
 pub(super) fn polylines(
     graph: &Proper,
     edges: &[(usize, usize, bool)],
     layers: &[Vec<usize>],
-    x: &[f64],
-    bands: &Bands,
-    extent: &[Extent],
+    (x, bands, extent): (&[f64], &Bands, &[Extent]),
+    ports: &[[Option<f64>; 2]],
 ) -> Vec<Vec<Point>> {
     let centre = |v: usize| Point { x: x[v], y: bands.middle(graph.rank[v]) };
-    let pass = Passes::new(graph, layers, x, bands, extent);
+    let pass = if ports.is_empty() {
+        Passes::new(graph, layers, x, bands, extent)
+    } else {
+        Passes { top: x.to_vec(), bottom: x.to_vec() }
+    };
     let mut routed: Vec<Vec<Point>> = graph
         .chains
         .iter()
@@ -50,6 +55,7 @@ pub(super) fn polylines(
         })
         .collect();
     spread_attachments(&mut routed, graph, x, extent);
+    at_ports(&mut routed, graph, edges, (x, extent), ports);
     for (route, &(_, _, reversed)) in routed.iter_mut().zip(edges) {
         if reversed {
             route.reverse();
@@ -57,6 +63,57 @@ pub(super) fn polylines(
         route.dedup_by(|a, b| (a.x - b.x).abs() < 1e-9 && (a.y - b.y).abs() < 1e-9);
     }
     routed
+}
+
+/// Between the ends of edges that meet one port: each leaves (or enters) it on a line of its
+/// own, side by side in the order of where they run to, so that they neither touch nor cross.
+const PORT_FAN: f64 = 3.0;
+/// The most room the ends at one port take along its side.
+const PORT_FAN_MOST: f64 = 9.0;
+
+/// Moves the ends of edges that meet ports to the ports' places along their boxes' sides
+/// (with their stubs), the ends at one port fanned out around its place. An edge laid out
+/// reversed ends on the other sides of its boxes than its ports: it keeps its spread ends.
+fn at_ports(
+    routed: &mut [Vec<Point>],
+    graph: &Proper,
+    edges: &[(usize, usize, bool)],
+    (x, extent): (&[f64], &[Extent]),
+    ports: &[[Option<f64>; 2]],
+) {
+    // (box, side is the first end's, the port's place in hundredths) -> [(edge, next vertex's x)]
+    let mut at: HashMap<(usize, bool, i64), Vec<(usize, f64)>> = HashMap::new();
+    let mut places: HashMap<(usize, bool, i64), f64> = HashMap::new();
+    for (e, (chain, (&(_, _, reversed), ends))) in graph.chains.iter().zip(edges.iter().zip(ports)).enumerate() {
+        let (first, last) = (chain[0], chain[chain.len() - 1]);
+        if reversed || first == last || routed[e].len() < 4 {
+            continue;
+        }
+        let mut meet = |v: usize, is_first: bool, offset: f64, next: usize| {
+            let port = (v, is_first, (offset * 100.0).round() as i64);
+            places.insert(port, offset);
+            at.entry(port).or_default().push((e, x[next]));
+        };
+        if let Some(offset) = ends[0] {
+            meet(first, true, offset, chain[1]);
+        }
+        if let Some(offset) = ends[1] {
+            meet(last, false, offset, chain[chain.len() - 2]);
+        }
+    }
+    for (port, mut ends) in at {
+        let (v, is_first, offset) = (port.0, port.1, places[&port]);
+        ends.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        let step = if ends.len() > 1 { PORT_FAN.min(PORT_FAN_MOST / (ends.len() - 1) as f64) } else { 0.0 };
+        let middle = (ends.len() - 1) as f64 / 2.0;
+        for (i, &(e, _)) in ends.iter().enumerate() {
+            let along = x[v] - extent[v].left + offset + (i as f64 - middle) * step;
+            let route = &mut routed[e];
+            let n = route.len();
+            let (end, stub) = if is_first { (0, 1) } else { (n - 1, n - 2) };
+            (route[end].x, route[stub].x) = (along, along);
+        }
+    }
 }
 
 /// A small loop on the right side of a box (its right border at `right`, its middle at

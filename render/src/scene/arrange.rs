@@ -79,10 +79,10 @@ enum Wanted {
 /// Moves `layout` (a fresh layout of `nodes` and `edges`) to honour `hints`; without pins and a
 /// previous scene it stays as it is.
 /// Nodes placed anew keep right of and below `corner` (the top left of the frame's body).
-pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints: Hints, corner: Point) {
+pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints: Hints, corner: Point) -> Arranged {
     let wanted = wanted(nodes, hints);
     if wanted.iter().all(|w| matches!(w, Wanted::Free | Wanted::Held)) {
-        return;
+        return Arranged::Fresh;
     }
     // Arranged as footprints (boxes with their ports' room), drawn as boxes.
     let footprints: Vec<Node> =
@@ -128,6 +128,15 @@ pub(super) fn arrange(layout: &mut Layout, nodes: &[Node], edges: &[Edge], hints
     let (right, bottom) = points.chain(corners).fold((0.0f64, 0.0f64), |(w, h), (x, y)| (w.max(x), h.max(y)));
     layout.width = right + MARGIN;
     layout.height = bottom + MARGIN;
+    Arranged::Around { kept: rerouted.iter().map(|r| !r).collect() }
+}
+
+/// What arranging did to the fresh layout.
+pub(super) enum Arranged {
+    /// Nothing: no node was pinned or drawn before; every route is the layout's.
+    Fresh,
+    /// Moved nodes: per edge, whether its route is the one drawn before (neither end moved).
+    Around { kept: Vec<bool> },
 }
 
 /// Each node: pinned where its pin says, kept where the previous scene had it (if that scene
@@ -262,7 +271,8 @@ struct Obstacles {
 fn free_spot(wanted: Rect, placed: &[Option<Rect>], obstacles: &Obstacles) -> Rect {
     let boxes: Vec<Rect> = placed.iter().flatten().copied().collect();
     let clear_of_boxes = |r: &Rect| {
-        let padded = r.grown(CLEARANCE);
+        // Clear by `CLEARANCE`, to rounding: a dataflow's ranks are exactly that far apart.
+        let padded = r.grown(CLEARANCE - 0.01);
         !boxes.iter().any(|b| intersects(padded, *b))
     };
     let centre = |r: &Rect| Point { x: r.x + r.width / 2.0, y: r.y + r.height / 2.0 };

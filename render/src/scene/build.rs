@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use gudsl_model::graph::{EdgeEnd, EdgeKind, Graph, GraphEdge, GraphKind, NodeShape};
 
 use super::{
-    arrange, connections, edge_label, frame, labels, lane_of, lane_span,
+    arrange, channels, connections, edge_label, frame, labels, lane_of, lane_span,
     measure::{content, label_size, port_anchors, Content},
     nesting::Nesting,
     notation, port_reach, scene_node, Hints, Point, Rect, Scene, SceneEdge, BODY_INSET,
@@ -53,7 +53,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         row_entry(id, x, y)
     };
     let rows = layout.rows.iter().map(|row| row.iter().map(id).collect()).collect();
-    arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
+    let arranged = arrange_nodes(&parts, &input, &nesting, &mut layout, hints, heading.body_offset());
     let boxes: Vec<Rect> = layout
         .positions
         .iter()
@@ -66,7 +66,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         .filter(|&i| parts.contents[i].nested > 0.0)
         .map(|i| Rect { height: boxes[i].height - parts.contents[i].nested, ..boxes[i] });
     let obstacles: Vec<Rect> = boxes.iter().copied().chain(text_areas).collect();
-    route_connections(&parts, &nesting, &mut layout, &boxes, &obstacles);
+    route_connections(&parts, &nesting, &mut layout, arranged, (&boxes, &obstacles));
     let corner = Point { x: BODY_INSET, y: heading.body_top() };
     let shared: Vec<Vec<usize>> = parts.edges.iter().map(|e| nesting.holding_both(e.from.0, e.to.0)).collect();
     let labels =
@@ -178,12 +178,22 @@ fn layout_input(parts: &Parts) -> LayoutInput {
         firm: Vec::new(),
         end_labels: Vec::new(),
         remembered: Remembered::default(),
+        ports: Vec::new(),
+    };
+    // A port's place down its box: where a connection meets it.
+    let port_place = |(node, port): (usize, Option<usize>)| {
+        let content = &parts.contents[node];
+        Some(port_anchors(&graph.nodes[node], content, Point::default())[port?].y)
     };
     for (e, texts) in parts.edges.iter().zip(&parts.texts) {
         let upwards = upwards(e.edge);
         input.edges.push(if upwards { (e.to.0, e.from.0) } else { (e.from.0, e.to.0) });
         input.firm.push(upwards);
         let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
+        if !routed_by_layout {
+            input.ports.resize(input.edges.len() - 1, [None; 2]);
+            input.ports.push([port_place(e.from), port_place(e.to)]);
+        }
         let middle = Some(&texts.middle).filter(|m| routed_by_layout && !m.is_empty());
         input.labels.push(middle.map(|m| label_size(m)));
         let end =
@@ -248,7 +258,7 @@ fn arrange_nodes(
     layout: &mut Layout,
     hints: Hints,
     (body_x, body_y): (f64, f64),
-) {
+) -> arrange::Arranged {
     let to_place: Vec<arrange::Node> = parts
         .graph
         .nodes
@@ -277,13 +287,22 @@ fn arrange_nodes(
             end_label_width: ends.iter().flatten().map(|size| size.0).fold(0.0, f64::max),
         })
         .collect();
-    arrange::arrange(layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
+    let arranged = arrange::arrange(layout, &to_place, &to_route, hints, Point { x: body_x, y: body_y });
     nesting.follow(&mut layout.positions);
+    arranged
 }
 
-/// Connections and bindings routed between ports, orthogonally around `obstacles`
-/// (`connections`); the drawing grown to hold every route; edges ended on a diamond's outline.
-fn route_connections(parts: &Parts, nesting: &Nesting, layout: &mut Layout, boxes: &[Rect], obstacles: &[Rect]) {
+/// Connections and bindings routed between ports, orthogonally: in a fresh layout of a flat
+/// diagram along the layout's routes (`channels`); where arranging kept a route, that one; the
+/// others around `obstacles` (`connections`). The drawing grown to hold every route; edges
+/// ended on a diamond's outline.
+fn route_connections(
+    parts: &Parts,
+    nesting: &Nesting,
+    layout: &mut Layout,
+    arranged: arrange::Arranged,
+    (boxes, obstacles): (&[Rect], &[Rect]),
+) {
     let graph = parts.graph;
     let anchors: Vec<Vec<Point>> = graph
         .nodes
@@ -315,7 +334,19 @@ fn route_connections(parts: &Parts, nesting: &Nesting, layout: &mut Layout, boxe
             ))
         })
         .unzip();
-    for (k, route) in wired.into_iter().zip(connections::route(&wires, obstacles)) {
+    let given: Vec<Option<Vec<Point>>> = match arranged {
+        arrange::Arranged::Fresh if nesting.is_flat() => {
+            let followed: Vec<channels::Followed> = wired
+                .iter()
+                .zip(&wires)
+                .map(|(&k, c)| channels::Followed { from: c.from, to: c.to, route: &layout.edges[k] })
+                .collect();
+            channels::follow(&followed)
+        }
+        arrange::Arranged::Fresh => Vec::new(),
+        arrange::Arranged::Around { kept } => wired.iter().map(|&k| kept[k].then(|| layout.edges[k].clone())).collect(),
+    };
+    for (k, route) in wired.into_iter().zip(connections::route(&wires, obstacles, given)) {
         layout.edges[k] = route;
     }
     for point in layout.edges.iter().flatten() {

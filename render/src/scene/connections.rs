@@ -40,31 +40,57 @@ struct Placed<'a> {
     to_port: &'a str,
 }
 
-/// Routes every connection among `boxes`, in order.
-pub(super) fn route(connections: &[Connection], boxes: &[Rect]) -> Vec<Vec<Point>> {
+/// Routes every connection among `boxes`: where `given` has a route for it that no box is in
+/// the way of, that one (placed first), else the first clear route, in order.
+pub(super) fn route<'a>(
+    connections: &[Connection<'a>],
+    boxes: &[Rect],
+    given: Vec<Option<Vec<Point>>>,
+) -> Vec<Vec<Point>> {
     let obstacles = Boxes::new(boxes.iter().copied());
     let mut placed: Cells<Placed> = Cells::new();
-    let mut routes = Vec::new();
-    for c in connections {
-        let route = best_route(c, boxes, &obstacles, &placed);
-        for s in route.windows(2) {
-            let segment = Placed { a: s[0], b: s[1], from_port: c.from_port, to_port: c.to_port };
-            placed.insert(span(s[0], s[1]), segment);
+    let mut routes: Vec<Option<Vec<Point>>> = connections
+        .iter()
+        .zip(given.into_iter().chain(std::iter::repeat(None)))
+        .map(|(c, route)| route.filter(|route| clear_of_boxes(c, route, &obstacles)))
+        .collect();
+    for (c, route) in connections.iter().zip(&routes) {
+        if let Some(route) = route {
+            place(&mut placed, c, route);
         }
-        routes.push(route);
     }
-    routes
+    for (c, route) in connections.iter().zip(&mut routes) {
+        if route.is_none() {
+            let found = best_route(c, boxes, &obstacles, &placed);
+            place(&mut placed, c, &found);
+            *route = Some(found);
+        }
+    }
+    routes.into_iter().flatten().collect()
+}
+
+/// Puts `route`'s segments among those `placed`.
+fn place<'a>(placed: &mut Cells<Placed<'a>>, c: &Connection<'a>, route: &[Point]) {
+    for s in route.windows(2) {
+        placed.insert(span(s[0], s[1]), Placed { a: s[0], b: s[1], from_port: c.from_port, to_port: c.to_port });
+    }
+}
+
+/// Whether no box is in the way of `route` (within `CLEARANCE`), but those it runs inside.
+fn clear_of_boxes(c: &Connection, route: &[Point], obstacles: &Boxes) -> bool {
+    route.windows(2).all(|s| {
+        let segment = Rect {
+            width: (s[0].x - s[1].x).abs().max(0.01),
+            height: (s[0].y - s[1].y).abs().max(0.01),
+            ..span(s[0], s[1])
+        };
+        !obstacles.overlap(segment.grown(CLEARANCE), &c.inside)
+    })
 }
 
 /// The first clear route: on the ports' own tracks if it can, else on tracks further out; three
 /// segments where the target is ahead, else five around the boxes.
 fn best_route(c: &Connection, boxes: &[Rect], obstacles: &Boxes, placed: &Cells<Placed>) -> Vec<Point> {
-    // Whether the segment passes through a box grown by `CLEARANCE`, other than those it runs inside.
-    let blocked = |a: Point, b: Point| {
-        let segment = Rect { width: (a.x - b.x).abs().max(0.01), height: (a.y - b.y).abs().max(0.01), ..span(a, b) };
-        obstacles.overlap(segment.grown(CLEARANCE), &c.inside)
-    };
-    let clear_of_boxes = |route: &[Point]| route.windows(2).all(|s| !blocked(s[0], s[1]));
     let alone = |route: &[Point]| {
         route.windows(2).all(|s| {
             !placed.any(span(s[0], s[1]).grown(2.0), |p| {
@@ -79,7 +105,7 @@ fn best_route(c: &Connection, boxes: &[Rect], obstacles: &Boxes, placed: &Cells<
         let out = c.from.x + c.from_faces * (STUB + shift as f64 * TRACK);
         let into = c.to.x + c.to_faces * (STUB + shift as f64 * TRACK);
         for candidate in candidates(c, out, into, &rows) {
-            if clear_of_boxes(&candidate) {
+            if clear_of_boxes(c, &candidate, obstacles) {
                 if alone(&candidate) {
                     return candidate;
                 }

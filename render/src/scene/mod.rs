@@ -6,6 +6,7 @@
 
 mod arrange;
 mod build;
+mod channels;
 mod connections;
 mod detour;
 mod frame;

@@ -200,6 +200,7 @@ impl Nesting {
             flow: input.flow,
             firm: Vec::new(),
             end_labels: Vec::new(),
+            ports: Vec::new(),
             remembered: input.remembered.part(&members, &which),
         };
         (members, sub, which)
