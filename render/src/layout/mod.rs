@@ -22,6 +22,7 @@ mod route;
 mod seeded;
 mod sifting;
 mod simplex;
+mod squeeze;
 mod unzip;
 mod wrap;
 

@@ -3,11 +3,13 @@
 //! it should be), each run moved right of the one before and up to the top. An edge a cut
 //! divides leaves its run straight down, runs right under it into a corridor between the
 //! columns, up, right over the next run and down into it; each such edge has lanes of its
-//! own, nested so that they cross no more than they did.
+//! own, nested so that they cross no more than they did. Across each column, stretches none of
+//! its content uses are squeezed out (`squeeze`).
 
 use std::collections::HashMap;
 
 use super::place::Bands;
+use super::squeeze::Squeeze;
 use super::{Layout, LayoutInput, Point, Spacing};
 
 /// Between the lanes of the edges a cut divides.
@@ -18,7 +20,9 @@ const MOST_COLUMNS: usize = 64;
 
 /// Wraps `layout` (of `input`, its ranks in `bands`) into columns where it does not fit its
 /// page and is taller than `TOLERANCE` times the page's aspect ratio allows; into as many as
-/// bring its aspect ratio nearest the page's.
+/// show it largest on the page (the page a drawing needs is set by its width or its height,
+/// whichever is further out of the page's proportion: so both its aspect ratio and its area
+/// count).
 pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spacing: Spacing) {
     let page = spacing.page;
     let ranks = bands.top.len();
@@ -26,13 +30,14 @@ pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spac
         return;
     }
     let measured = Measured::new(layout, input, bands);
-    let target = page.aspect().ln();
-    let off = |columns: &Columns| (columns.aspect(spacing).ln() - target).abs();
-    let best = (2..=ranks.min(MOST_COLUMNS))
-        .filter_map(|count| Columns::cut(&measured, bands, count))
-        .min_by(|a, b| off(a).total_cmp(&off(b)));
-    let unwrapped = (layout.width / layout.height).ln();
-    if let Some(columns) = best.filter(|c| off(c) < (unwrapped - target).abs()) {
+    let needs = |(width, height): (f64, f64)| (width / page.aspect()).max(height);
+    let cuts = (2..=ranks.min(MOST_COLUMNS))
+        .flat_map(|count| [even_cuts(&measured, bands, count), balanced_cuts(&measured, bands, count)]);
+    let best = cuts
+        .flatten()
+        .filter_map(|first| Columns::cut(&measured, bands, first, spacing.node_gap))
+        .min_by(|a, b| needs(a.size(spacing)).total_cmp(&needs(b.size(spacing))));
+    if let Some(columns) = best.filter(|c| needs(c.size(spacing)) < needs((layout.width, layout.height))) {
         columns.apply(layout, input, &measured, spacing);
     }
 }
@@ -40,8 +45,8 @@ pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spac
 /// What the layout holds per rank band: how far left and right its content reaches, and how
 /// many edge segments cross the gap below each band.
 struct Measured {
-    left: Vec<f64>,
-    right: Vec<f64>,
+    /// Per band, the stretches across it that its boxes, labels and edges take.
+    spans: Vec<Vec<(f64, f64)>>,
     crossing: Vec<usize>,
     /// The y that divides band `r` from band `r + 1` (the middle of the gap between them).
     divide: Vec<f64>,
@@ -51,12 +56,7 @@ impl Measured {
     fn new(layout: &Layout, input: &LayoutInput, bands: &Bands) -> Measured {
         let ranks = bands.top.len();
         let divide = (0..ranks - 1).map(|r| (bands.top[r] + bands.height[r] + bands.top[r + 1]) / 2.0).collect();
-        let mut measured = Measured {
-            left: vec![f64::INFINITY; ranks],
-            right: vec![f64::NEG_INFINITY; ranks],
-            crossing: vec![0; ranks],
-            divide,
-        };
+        let mut measured = Measured { spans: vec![Vec::new(); ranks], crossing: vec![0; ranks], divide };
         let mut reach = Vec::new();
         for (rect, _) in rects(layout, input) {
             reach.push((measured.band(rect.1 + rect.3 / 2.0), rect.0, rect.0 + rect.2));
@@ -69,8 +69,7 @@ impl Measured {
             }
         }
         for (r, left, right) in reach {
-            measured.left[r] = measured.left[r].min(left);
-            measured.right[r] = measured.right[r].max(right);
+            measured.spans[r].push((left, right));
         }
         measured
     }
@@ -112,9 +111,10 @@ enum Held {
 }
 
 /// The ranks cut into columns: per column its first band, where its content starts (left and
-/// top), how wide and tall it is, and how many edges each cut divides.
+/// top), how wide (squeezed) and tall it is, and how many edges each cut divides.
 struct Columns {
     first: Vec<usize>,
+    squeeze: Vec<Squeeze>,
     left: Vec<f64>,
     top: Vec<f64>,
     width: Vec<f64>,
@@ -126,22 +126,12 @@ struct Columns {
 impl Columns {
     /// The ranks cut into `count` columns of about equal height, each cut at the gap with the
     /// fewest crossing edges among the two on either side of where it should be.
-    fn cut(measured: &Measured, bands: &Bands, count: usize) -> Option<Columns> {
-        let ranks = bands.top.len();
+    fn cut(measured: &Measured, bands: &Bands, first: Vec<usize>, gap: f64) -> Option<Columns> {
+        let (ranks, count) = (bands.top.len(), first.len());
         let bottom = |r: usize| bands.top[r] + bands.height[r];
-        let total = bottom(ranks - 1) - bands.top[0];
-        let mut first = vec![0];
-        for j in 1..count {
-            let wanted = bands.top[0] + total * j as f64 / count as f64;
-            // Gap g lies under band g: the one nearest `wanted`, after the last cut.
-            let after = *first.last()?;
-            let nearest = measured.divide.partition_point(|&d| d < wanted).min(ranks - 2).max(after);
-            let gaps = nearest.saturating_sub(2).max(after)..=(nearest + 2).min(ranks - 2);
-            let gap = gaps.min_by_key(|&g| (measured.crossing[g], g.abs_diff(nearest)))?;
-            first.push(gap + 1);
-        }
         let mut columns = Columns {
             first,
+            squeeze: Vec::new(),
             left: Vec::new(),
             top: Vec::new(),
             width: Vec::new(),
@@ -153,14 +143,12 @@ impl Columns {
             if from >= to {
                 return None;
             }
-            let left = measured.left[from..to].iter().copied().fold(f64::INFINITY, f64::min);
-            let right = measured.right[from..to].iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            if left > right {
-                return None;
-            }
+            let squeeze = Squeeze::new(measured.spans[from..to].concat(), gap);
+            let (left, width) = squeeze.extent()?;
+            columns.squeeze.push(squeeze);
             columns.left.push(left);
             columns.top.push(bands.top[from]);
-            columns.width.push(right - left);
+            columns.width.push(width);
             columns.height.push(bottom(to - 1) - bands.top[from]);
             if j + 1 < count {
                 columns.divided.push(measured.crossing[to - 1]);
@@ -186,11 +174,6 @@ impl Columns {
         (width, tallest + 2.0 * self.channel() + 2.0 * spacing.margin)
     }
 
-    fn aspect(&self, spacing: Spacing) -> f64 {
-        let (width, height) = self.size(spacing);
-        width / height
-    }
-
     /// Moves each column into place and routes the divided edges between them.
     fn apply(&self, layout: &mut Layout, input: &LayoutInput, measured: &Measured, spacing: Spacing) {
         let top = spacing.margin + self.channel();
@@ -203,7 +186,7 @@ impl Columns {
             x = right[j] + self.divided.get(j).map_or(0.0, |_| self.corridor(j, spacing));
         }
         let column = |y: f64| self.first.partition_point(|&f| f <= measured.band(y)) - 1;
-        let moved = |p: Point, j: usize| Point { x: p.x + shift[j].x, y: p.y + shift[j].y };
+        let moved = |p: Point, j: usize| Point { x: self.squeeze[j].at(p.x) + shift[j].x, y: p.y + shift[j].y };
         for ((x, y, _, h), held) in rects(layout, input) {
             let at = moved(Point { x, y }, column(y + h / 2.0));
             match held {
@@ -240,6 +223,69 @@ impl Columns {
         }
         (layout.width, layout.height) = self.size(spacing);
     }
+}
+
+/// The first band of each of `count` columns of about equal height, each cut at the gap with
+/// the fewest crossing edges of the five nearest where it should be.
+fn even_cuts(measured: &Measured, bands: &Bands, count: usize) -> Option<Vec<usize>> {
+    let ranks = bands.top.len();
+    let total = bands.top[ranks - 1] + bands.height[ranks - 1] - bands.top[0];
+    let mut first = vec![0];
+    for j in 1..count {
+        let wanted = bands.top[0] + total * j as f64 / count as f64;
+        // Gap g lies under band g: the one nearest `wanted`, after the last cut.
+        let after = *first.last()?;
+        let nearest = measured.divide.partition_point(|&d| d < wanted).min(ranks - 2).max(after);
+        let gaps = nearest.saturating_sub(2).max(after)..=(nearest + 2).min(ranks - 2);
+        let gap = gaps.min_by_key(|&g| (measured.crossing[g], g.abs_diff(nearest)))?;
+        first.push(gap + 1);
+    }
+    Some(first)
+}
+
+/// Between how much taller than the least tallest column a cut may make a column, to cut where
+/// fewer edges cross.
+const SLACK: f64 = 1.05;
+
+/// The first band of each of `count` columns: the tallest column as short as the ranks allow
+/// (the least height for which the bands, taken in order, fill no more than `count` columns),
+/// each cut then at the gap crossed by fewest edges of the last three that keep every column
+/// within `SLACK` of that height.
+fn balanced_cuts(measured: &Measured, bands: &Bands, count: usize) -> Option<Vec<usize>> {
+    let ranks = bands.top.len();
+    let height = |from: usize, to: usize| bands.top[to - 1] + bands.height[to - 1] - bands.top[from];
+    // How many columns the bands from `from` on fill, each as full as `limit` allows.
+    let filled = |mut from: usize, limit: f64| {
+        let mut columns = 0;
+        while from < ranks {
+            let to = (from + 1..=ranks).take_while(|&to| height(from, to) <= limit).last()?;
+            (from, columns) = (to, columns + 1);
+        }
+        Some(columns)
+    };
+    let fits = |from: usize, limit: f64, columns: usize| filled(from, limit).is_some_and(|n| n <= columns);
+    let (mut low, mut high) = (0.0, height(0, ranks));
+    for _ in 0..50 {
+        let middle = (low + high) / 2.0;
+        if fits(0, middle, count) {
+            high = middle;
+        } else {
+            low = middle;
+        }
+    }
+    let limit = high * SLACK;
+    let mut first = vec![0];
+    for j in 1..count {
+        let from = *first.last()?;
+        // Cut before band `to`: the column from..to within the limit, the rest fitting after.
+        let cuts = (from + 1..ranks).rev().skip_while(|&to| height(from, to) > limit);
+        let to = cuts
+            .take_while(|&to| fits(to, limit, count - j))
+            .take(3)
+            .min_by_key(|&to| (measured.crossing[to - 1], std::cmp::Reverse(to)))?;
+        first.push(to);
+    }
+    (height(*first.last()?, ranks) <= limit).then_some(first)
 }
 
 /// Per segment of `routes` one of the `cuts` divides (by edge and segment): its cut, its lane
