@@ -377,7 +377,7 @@ def scale(gudsl, metrics, sizes, aspect, only=None):
             cells = " | ".join(f"{' / '.join(map(str, r)):>26}" for r in row)
             print(f"{name:<18} {scores[2]['nodes']:>5} {len(layout['edges']):>5} | {cells}", flush=True)
     print("(each cell: dot / ELK / gudsl; areas and w/h of the drawings' bounding boxes; label counts as gudsl gives them to all three;")
-    print(" joins: of gudsl's crossings, those where a segment ends on another edge — a port's bindings parting from their shared track)")
+    print(" joins: of gudsl's crossings, those where a segment ends on another edge rather than passing through it)")
 
 
 if __name__ == "__main__":
