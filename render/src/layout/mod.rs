@@ -27,7 +27,7 @@ mod unzip;
 mod wrap;
 
 pub(crate) use bundle::parallel_edges;
-pub(crate) use route::self_loop;
+pub(crate) use route::{self_loop, PORT_FAN_MOST};
 
 pub use crate::geometry::Point;
 pub use page::Page;

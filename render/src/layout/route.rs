@@ -69,7 +69,7 @@ pub(super) fn polylines(
 /// own, side by side in the order of where they run to, so that they neither touch nor cross.
 const PORT_FAN: f64 = 3.0;
 /// The most room the ends at one port take along its side.
-const PORT_FAN_MOST: f64 = 9.0;
+pub(crate) const PORT_FAN_MOST: f64 = 9.0;
 
 /// Moves the ends of edges that meet ports to the ports' places along their boxes' sides
 /// (with their stubs), the ends at one port fanned out around its place. An edge laid out
@@ -81,32 +81,35 @@ fn at_ports(
     (x, extent): (&[f64], &[Extent]),
     ports: &[[Option<f64>; 2]],
 ) {
-    // (box, side is the first end's, the port's place in hundredths) -> [(edge, next vertex's x)]
-    let mut at: HashMap<(usize, bool, i64), Vec<(usize, f64)>> = HashMap::new();
-    let mut places: HashMap<(usize, bool, i64), f64> = HashMap::new();
+    // A port: its box, whether it holds edges' first ends, its place in hundredths.
+    type Port = (usize, bool, i64);
+    // Per port, its ends: (edge, next vertex's x, the other end's port place).
+    let mut at: HashMap<Port, Vec<(usize, f64, f64)>> = HashMap::new();
+    let mut places: HashMap<Port, f64> = HashMap::new();
     for (e, (chain, (&(_, _, reversed), ends))) in graph.chains.iter().zip(edges.iter().zip(ports)).enumerate() {
         let (first, last) = (chain[0], chain[chain.len() - 1]);
         if reversed || first == last || routed[e].len() < 4 {
             continue;
         }
-        let mut meet = |v: usize, is_first: bool, offset: f64, next: usize| {
+        let mut meet = |v: usize, is_first: bool, offset: f64, next: usize, other: Option<f64>| {
             let port = (v, is_first, (offset * 100.0).round() as i64);
             places.insert(port, offset);
-            at.entry(port).or_default().push((e, x[next]));
+            at.entry(port).or_default().push((e, x[next], other.unwrap_or(0.0)));
         };
         if let Some(offset) = ends[0] {
-            meet(first, true, offset, chain[1]);
+            meet(first, true, offset, chain[1], ends[1]);
         }
         if let Some(offset) = ends[1] {
-            meet(last, false, offset, chain[chain.len() - 2]);
+            meet(last, false, offset, chain[chain.len() - 2], ends[0]);
         }
     }
     for (port, mut ends) in at {
         let (v, is_first, offset) = (port.0, port.1, places[&port]);
-        ends.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        // Two ends running to one box (its ports, next rank): in the order of those ports.
+        ends.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)).then(a.0.cmp(&b.0)));
         let step = if ends.len() > 1 { PORT_FAN.min(PORT_FAN_MOST / (ends.len() - 1) as f64) } else { 0.0 };
         let middle = (ends.len() - 1) as f64 / 2.0;
-        for (i, &(e, _)) in ends.iter().enumerate() {
+        for (i, &(e, _, _)) in ends.iter().enumerate() {
             let along = x[v] - extent[v].left + offset + (i as f64 - middle) * step;
             let route = &mut routed[e];
             let n = route.len();

@@ -42,7 +42,7 @@ pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spac
     }
 }
 
-/// What the layout holds per rank band: how far left and right its content reaches, and how
+/// What the layout holds per rank band: the stretches across it its content takes, and how
 /// many edge segments cross the gap below each band.
 struct Measured {
     /// Per band, the stretches across it that its boxes, labels and edges take.
@@ -124,8 +124,8 @@ struct Columns {
 }
 
 impl Columns {
-    /// The ranks cut into `count` columns of about equal height, each cut at the gap with the
-    /// fewest crossing edges among the two on either side of where it should be.
+    /// The ranks cut into columns before the bands `first`, each column measured and squeezed
+    /// (none where a column would hold no band).
     fn cut(measured: &Measured, bands: &Bands, first: Vec<usize>, gap: f64) -> Option<Columns> {
         let (ranks, count) = (bands.top.len(), first.len());
         let bottom = |r: usize| bands.top[r] + bands.height[r];
@@ -277,8 +277,9 @@ fn balanced_cuts(measured: &Measured, bands: &Bands, count: usize) -> Option<Vec
     let mut first = vec![0];
     for j in 1..count {
         let from = *first.last()?;
-        // Cut before band `to`: the column from..to within the limit, the rest fitting after.
-        let cuts = (from + 1..ranks).rev().skip_while(|&to| height(from, to) > limit);
+        // Cut before band `to`: the column from..to within the limit, a band left for each
+        // column after, and the rest fitting in them.
+        let cuts = (from + 1..=ranks - (count - j)).rev().skip_while(|&to| height(from, to) > limit);
         let to = cuts
             .take_while(|&to| fits(to, limit, count - j))
             .take(3)
@@ -319,6 +320,7 @@ fn lanes(
 
 #[cfg(test)]
 mod tests {
+    use super::{balanced_cuts, Bands, Measured};
     use crate::geometry::{segment_meets_box, Rect};
     use crate::layout::{layered, LayoutInput, LayoutNode, Page, Spacing};
 
@@ -368,6 +370,22 @@ mod tests {
             let (p, q) = (layout.positions[v - 1], layout.positions[v]);
             assert!(q.y > p.y || q.x > p.x, "step {v} reads before step {}", v - 1);
         }
+    }
+
+    #[test]
+    fn balanced_cuts_leave_a_band_for_every_column() {
+        // Five equal bands into four columns: two of them hold two bands.
+        let bands =
+            Bands { top: (0..5).map(|r| r as f64 * 50.0).collect(), height: vec![40.0; 5], total_height: 260.0 };
+        let measured = Measured {
+            spans: vec![vec![(0.0, 10.0)]; 5],
+            crossing: vec![1; 5],
+            divide: vec![45.0, 95.0, 145.0, 195.0],
+        };
+        let first = balanced_cuts(&measured, &bands, 4).expect("a cut into four columns");
+        assert_eq!(first.len(), 4);
+        assert!(first.windows(2).all(|w| w[0] < w[1]) && first[3] < 5, "{first:?}");
+        assert!(balanced_cuts(&measured, &bands, 5).is_some());
     }
 
     #[test]

@@ -192,7 +192,8 @@ fn layout_input(parts: &Parts) -> LayoutInput {
         let routed_by_layout = !(e.from.1.is_some() && e.to.1.is_some());
         if !routed_by_layout {
             input.ports.resize(input.edges.len() - 1, [None; 2]);
-            input.ports.push([port_place(e.from), port_place(e.to)]);
+            let (from, to) = (port_place(e.from), port_place(e.to));
+            input.ports.push(if upwards { [to, from] } else { [from, to] });
         }
         let middle = Some(&texts.middle).filter(|m| routed_by_layout && !m.is_empty());
         input.labels.push(middle.map(|m| label_size(m)));
@@ -340,7 +341,11 @@ fn route_connections(
             let followed: Vec<channels::Followed> = wired
                 .iter()
                 .zip(&wires)
-                .map(|(&k, c)| channels::Followed { from: c.from, to: c.to, route: &layout.edges[k] })
+                .map(|(&k, c)| {
+                    // A port facing the other way (a provider on a box's left) is left to the router.
+                    let facing = c.from_faces > 0.0 && c.to_faces < 0.0;
+                    channels::Followed { from: c.from, to: c.to, route: if facing { &layout.edges[k] } else { &[] } }
+                })
                 .collect();
             channels::follow(&followed)
         }

@@ -9,14 +9,23 @@
 use std::collections::HashMap;
 
 use super::Point;
+use crate::layout::PORT_FAN_MOST;
 
 /// How far a gap's tracks may reach into the bands of the ranks beside it: no further than the
-/// room every box keeps beside its port symbols for its tracks.
+/// room a box with ports on that side keeps beside their symbols. (A box without ports there
+/// keeps none: where it is its band's widest, a track there would meet it, and the check
+/// against the boxes leaves that route to the router around them.)
 const INTO_BANDS: f64 = 24.0;
 /// How far from its port's anchor the layout may have fanned a route's end.
-const FANNED: f64 = 5.0;
+pub(super) const FANNED: f64 = PORT_FAN_MOST / 2.0 + 0.5;
 /// Between two tracks of a gap, where the gap has room.
 const TRACK: f64 = 8.0;
+/// Tracks whose heights come nearer than this take places of their own (else they share one).
+const APART: f64 = TRACK / 2.0;
+/// The closest two tracks may run, and the most tracks a gap orders (the order takes cubic
+/// time): a gap beyond either is left to the router around the boxes.
+const CLOSEST: f64 = 2.0;
+const MOST_TRACKS: usize = 400;
 
 /// A connection the layout routed: its ports' anchors and the layout's route, from the side of
 /// the source's box to the side of the target's, meeting each at its port's height.
@@ -49,8 +58,7 @@ pub(super) fn follow(connections: &[Followed]) -> Vec<Option<Vec<Point>>> {
         let Some(points) = skeleton else { continue };
         for (s, pair) in points.windows(2).enumerate() {
             let (a, b) = (pair[0], pair[1]);
-            // Level, or upright already (around a wrapped drawing's columns).
-            if (a.y - b.y).abs() < 1e-6 || (a.x - b.x).abs() < 1e-6 {
+            if !slants(a, b) {
                 continue;
             }
             // The gap between the layout's ranks (the skeleton's ends are on the ports, inside them).
@@ -60,7 +68,9 @@ pub(super) fn follow(connections: &[Followed]) -> Vec<Option<Vec<Point>>> {
             gaps.entry(gap).or_default().push(((k, s), Track { from, to }));
         }
     }
-    let places: HashMap<Slant, f64> = gaps.into_iter().flat_map(|(gap, tracks)| places(gap, tracks)).collect();
+    // A gap with too many tracks leaves its routes to the router around the boxes.
+    let places: HashMap<Slant, f64> =
+        gaps.into_iter().filter_map(|(gap, tracks)| places(gap, tracks)).flatten().collect();
     skeletons
         .into_iter()
         .enumerate()
@@ -68,7 +78,8 @@ pub(super) fn follow(connections: &[Followed]) -> Vec<Option<Vec<Point>>> {
             let points = skeleton?;
             let mut route = vec![points[0]];
             for (s, pair) in points.windows(2).enumerate() {
-                if let Some(&x) = places.get(&(k, s)) {
+                if slants(pair[0], pair[1]) {
+                    let x = *places.get(&(k, s))?;
                     route.push(Point { x, y: pair[0].y });
                     route.push(Point { x, y: pair[1].y });
                 }
@@ -107,16 +118,26 @@ fn snap<'p>(mut points: impl Iterator<Item = &'p mut Point>, height: f64) {
     }
 }
 
+/// Whether a segment of the layout's route slants (neither level nor upright already, as
+/// around a wrapped drawing's columns): it needs a track.
+fn slants(a: Point, b: Point) -> bool {
+    (a.y - b.y).abs() >= 1e-6 && (a.x - b.x).abs() >= 1e-6
+}
+
 /// Where each track of a gap runs: left to right in the order that crosses fewest routes
-/// (`order`), tracks whose heights overlap side by side, the others sharing a place.
-fn places((left, right): Gap, mut tracks: Vec<(Slant, Track)>) -> Vec<(Slant, f64)> {
+/// (`order`), tracks whose heights overlap side by side, the others sharing a place; none
+/// where the gap holds more than `MOST_TRACKS` or they would run closer than `CLOSEST`.
+fn places((left, right): Gap, mut tracks: Vec<(Slant, Track)>) -> Option<Vec<(Slant, f64)>> {
+    if tracks.len() > MOST_TRACKS {
+        return None;
+    }
     // A start independent of the connections' order: by the heights the tracks span and come from.
     tracks.sort_by(|&(_, a), &(_, b)| {
         let (a, b) = ((span(a), a.from), (span(b), b.from));
         a.0 .0.total_cmp(&b.0 .0).then(a.0 .1.total_cmp(&b.0 .1)).then(a.1.total_cmp(&b.1))
     });
     let spans: Vec<(f64, f64)> = tracks.iter().map(|&(_, t)| span(t)).collect();
-    let overlap = |i: usize, j: usize| spans[j].0 <= spans[i].1 + 1.0 && spans[i].0 <= spans[j].1 + 1.0;
+    let overlap = |i: usize, j: usize| spans[j].0 <= spans[i].1 + APART && spans[i].0 <= spans[j].1 + APART;
     let order = order(&tracks.iter().map(|&(_, t)| t).collect::<Vec<_>>(), &overlap);
     let mut slot = vec![0usize; tracks.len()];
     for (n, &i) in order.iter().enumerate() {
@@ -125,12 +146,12 @@ fn places((left, right): Gap, mut tracks: Vec<(Slant, Track)>) -> Vec<(Slant, f6
     let count = slot.iter().max().map_or(1, |m| m + 1) as f64;
     let (from, to) = (left as f64 / SCALE - INTO_BANDS, right as f64 / SCALE + INTO_BANDS);
     let step = TRACK.min((to - from) / (count + 1.0));
+    if step < CLOSEST {
+        return None;
+    }
     let middle = (from + to) / 2.0;
-    tracks
-        .into_iter()
-        .zip(slot)
-        .map(|((slant, _), slot)| (slant, middle + (slot as f64 - (count - 1.0) / 2.0) * step))
-        .collect()
+    let place = |slot: usize| middle + (slot as f64 - (count - 1.0) / 2.0) * step;
+    Some(tracks.into_iter().zip(slot).map(|((slant, _), slot)| (slant, place(slot))).collect())
 }
 
 /// The tracks' order left to right: of two tracks side by side, the order that crosses fewer
@@ -176,7 +197,8 @@ fn order(tracks: &[Track], overlap: &dyn Fn(usize, usize) -> bool) -> Vec<usize>
 /// How many times two routes cross when track `a` runs left of track `b`: `b`'s route coming
 /// from the left across `a`, and `a`'s leaving to the right across `b`.
 fn crossings(a: Track, b: Track) -> i64 {
-    let inside = |y: f64, (top, bottom): (f64, f64)| top < y && y < bottom;
+    // A route meeting the other track's end height counts too: there they would touch.
+    let inside = |y: f64, (top, bottom): (f64, f64)| top <= y && y <= bottom;
     i64::from(inside(b.from, span(a))) + i64::from(inside(a.to, span(b)))
 }
 
@@ -272,6 +294,24 @@ mod tests {
         let layout = [across_one_gap(50.0, 0.0), across_one_gap(70.0, 20.0)];
         let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
         assert_eq!(meetings(&routes[0], &routes[1]), 0, "{routes:?}");
+    }
+
+    #[test]
+    fn a_route_ending_where_another_starts_does_not_touch_it() {
+        let layout = [across_one_gap(10.0, 20.0), across_one_gap(20.0, 30.0)];
+        let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
+        assert_eq!(meetings(&routes[0], &routes[1]), 0, "{routes:?}");
+    }
+
+    #[test]
+    fn a_gap_with_more_tracks_than_fit_is_left_to_the_router() {
+        // Fifty routes nested in one gap, each crossing all the others: 88 pt hold them only
+        // 1.7 pt apart.
+        let layout: Vec<Vec<Point>> = (0..50).map(|i| across_one_gap(i as f64, 100.0 - i as f64)).collect();
+        assert!(follow(&followed(&layout)).iter().all(Option::is_none));
+        // Ten fit.
+        let layout: Vec<Vec<Point>> = (0..10).map(|i| across_one_gap(i as f64, 100.0 - i as f64)).collect();
+        assert!(follow(&followed(&layout)).iter().all(Option::is_some));
     }
 
     #[test]

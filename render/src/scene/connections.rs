@@ -5,7 +5,7 @@
 //! shared stretch of two routes reads as a box, not as two wires). A route that a box blocks
 //! detours along the nearest free row between the boxes.
 
-use super::{Point, Rect};
+use super::{channels::FANNED, Point, Rect};
 use crate::grid::{span, Boxes, Cells};
 
 /// A connection to route: its two port anchors and which way each port faces (1: the right
@@ -52,7 +52,7 @@ pub(super) fn route<'a>(
     let mut routes: Vec<Option<Vec<Point>>> = connections
         .iter()
         .zip(given.into_iter().chain(std::iter::repeat(None)))
-        .map(|(c, route)| route.filter(|route| clear_of_boxes(c, route, &obstacles)))
+        .map(|(c, route)| route.filter(|route| at_ports(c, route) && clear_of_boxes(c, route, &obstacles)))
         .collect();
     for (c, route) in connections.iter().zip(&routes) {
         if let Some(route) = route {
@@ -74,6 +74,14 @@ fn place<'a>(placed: &mut Cells<Placed<'a>>, c: &Connection<'a>, route: &[Point]
     for s in route.windows(2) {
         placed.insert(span(s[0], s[1]), Placed { a: s[0], b: s[1], from_port: c.from_port, to_port: c.to_port });
     }
+}
+
+/// Whether `route` starts at the connection's source port and ends at its target port (or
+/// beside them, fanned out with others at the port): a route kept from the scene before may
+/// not, where the ports moved along boxes that stayed.
+fn at_ports(c: &Connection, route: &[Point]) -> bool {
+    let meets = |end: Option<&Point>, port: Point| end.is_some_and(|p| p.x == port.x && (p.y - port.y).abs() <= FANNED);
+    meets(route.first(), c.from) && meets(route.last(), c.to)
 }
 
 /// Whether no box is in the way of `route` (within `CLEARANCE`), but those it runs inside.
@@ -177,5 +185,29 @@ fn overlap(a0: Point, a1: Point, b0: Point, b1: Point) -> bool {
         (true, true) => (a0.y - b0.y).abs() < 2.0 && shared(a0.x, a1.x, b0.x, b1.x),
         (false, false) => (a0.x - b0.x).abs() < 2.0 && shared(a0.y, a1.y, b0.y, b1.y),
         _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_given_route_is_taken_only_from_port_to_port() {
+        let c = Connection {
+            from: Point { x: 0.0, y: 0.0 },
+            from_faces: 1.0,
+            to: Point { x: 100.0, y: 30.0 },
+            to_faces: -1.0,
+            from_port: "A.out",
+            to_port: "B.in",
+            inside: Vec::new(),
+        };
+        let given = vec![Point { x: 0.0, y: 3.0 }, Point { x: 50.0, y: 3.0 }, Point { x: 50.0, y: 30.0 }, c.to];
+        assert_eq!(route(std::slice::from_ref(&c), &[], vec![Some(given.clone())]), vec![given]);
+        // Kept from a scene whose port sat 20 pt lower on a box that stayed: routed anew.
+        let detached = vec![Point { x: 0.0, y: 20.0 }, Point { x: 50.0, y: 20.0 }, Point { x: 50.0, y: 30.0 }, c.to];
+        let routed = route(std::slice::from_ref(&c), &[], vec![Some(detached)]);
+        assert_eq!((routed[0][0], *routed[0].last().unwrap()), (c.from, c.to));
     }
 }
