@@ -159,12 +159,13 @@ def realistic_activity_diagram(n, seed=11):
     return "\n".join(lines) + "\n"
 
 
-def realistic_instance_diagram(n, seed=13):
+def realistic_instance_diagram(n, seed=13, extra=False):
     """A component-instance pipeline of n instances of the seed's components (samples/seed,
     listing 18): cameras first, viewers last, mean filters between; each filter and viewer
     bound from one or two earlier instances, mostly recent ones, as dataflow graphs grow. (The
     seed declares no filter-to-filter connection, so `gudsl check` reports those bindings; they
-    are drawn as any others.)"""
+    are drawn as any others.) `extra`: one more filter at the end, bound from the last filter
+    before the viewers (bench_stability's edit)."""
     rng = random.Random(seed)
     cameras, viewers = max(1, n // 10), max(1, n // 10)
     kinds = ["camera"] * cameras + ["filter"] * (n - cameras - viewers) + ["viewer"] * viewers
@@ -187,6 +188,13 @@ def realistic_instance_diagram(n, seed=13):
             lines.append("        ViewerPortInstance : ViewerPort ( processor ImageIn = IImageProcessor(); );")
         for target in bound[i]:
             lines.append(f"        [ source {port[kind]}.ImageOut ==> target I{target}.{port[kinds[target]]}.ImageIn ]")
+        if extra and i == n - viewers - 1:
+            lines.append("        [ source FilterPortInstance.ImageOut ==> target X.FilterPortInstance.ImageIn ]")
+        lines.append("    }")
+    if extra:
+        lines.append("    X instantiates ComponentClassDefinitions.MeanFilter ( )")
+        lines.append("    {")
+        lines.append("        FilterPortInstance : FilterPort ( processor ImageIn = IImageProcessor(); provider ImageOut = IImageProvider(); );")
         lines.append("    }")
     lines.append("}")
     return "\n".join(lines) + "\n"

@@ -3,7 +3,8 @@
 The same edit, laid out before and after: one class (a subclass with an association) added to a
 realistic class diagram (a random inheritance forest over ~60 % of the classes, n/2 associations
 between random pairs with role names and multiplicities at both ends), and one action inserted
-into a flow of an activity diagram (tests/render/bench_dot.py's). Laid out by `dot -Tjson` (the
+into a flow of an activity diagram, one filter added at the end of a 200-instance pipeline
+(tests/render/bench_dot.py's). Laid out by `dot -Tjson` (the
 same boxes and edges), by gudsl afresh (`gudsl render`, no memory), by gudsl afresh keeping the
 rows of the layout before (`gudsl render --remember`, then the edited model rendered with that
 sidecar), by gudsl's language server as an editor sees it (`gudsl/graph` before and after the
@@ -24,7 +25,11 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "lsp"))
-from bench_dot import activity_diagram, realistic_class_diagram, to_dot  # noqa: E402
+from bench_dot import activity_diagram, realistic_class_diagram, realistic_instance_diagram, to_dot  # noqa: E402
+from elk import node_of  # noqa: E402
+
+# The seed's component classes, which the pipelines instantiate.
+SEED = Path(__file__).resolve().parent.parent.parent / "samples" / "seed"
 from lsp_raw import start_server, stop_server  # noqa: E402
 
 
@@ -39,9 +44,10 @@ def stability(metrics, a, b, fmt):
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def render(gudsl, text, work, name, remember=False, sidecar=None):
+def render(gudsl, text, work, name, remember=False, sidecar=None, across=False):
     """`gudsl render` of `text`: with `remember`, writing the rows into the model's sidecar; with
-    `sidecar`, a copy of that one beside the model. The layout-json and the model's sidecar."""
+    `sidecar`, a copy of that one beside the model; `across`: a pipeline, drawn with the seed's
+    classes, its bindings scored between their instances. The layout-json and the sidecar."""
     src = work / f"{name}.gudsl"
     src.write_text(text)
     mine = Path(f"{src}.layout")
@@ -49,13 +55,24 @@ def render(gudsl, text, work, name, remember=False, sidecar=None):
         mine.write_text(sidecar.read_text())
     out = work / name
     flags = ["--remember"] if remember else []
-    subprocess.run([gudsl, "render", str(src), "--format", "layout-json", "-o", str(out), *flags], check=True, capture_output=True)
-    return out / "Bench.json", mine
+    paths = [str(src)] + ([str(SEED)] if across else [])
+    subprocess.run([gudsl, "render", *paths, "--diagram", "Bench", "--format", "layout-json", "-o", str(out), *flags], check=True, capture_output=True)
+    drawn = out / "Bench.json"
+    if across:
+        layout = json.loads(drawn.read_text())
+        ids = {n["id"] for n in layout["nodes"]}
+        layout["edges"] = [dict(e, src=node_of(e["src"], ids), dst=node_of(e["dst"], ids)) for e in layout["edges"]]
+        drawn = out / "Bench.scored.json"
+        drawn.write_text(json.dumps(layout))
+    return drawn, mine
 
 
-def dot_layout(layout_json, work, name):
+def dot_layout(layout_json, work, name, across=False):
+    """dot's layout of the same boxes and edges (a pipeline's bindings between its ports, as
+    gudsl drew them: the layout-json beside the scored one)."""
     src = work / f"{name}.dot"
-    src.write_text(to_dot(json.loads(layout_json.read_text())))
+    drawn = layout_json.with_name("Bench.json") if across else layout_json
+    src.write_text(to_dot(json.loads(drawn.read_text()), across))
     out = work / f"{name}.dot.json"
     with open(out, "w") as f:
         subprocess.run(["dot", "-Tjson", str(src)], check=True, stdout=f)
@@ -150,30 +167,38 @@ def main(gudsl, metrics):
         ("class 50, +1 class", realistic_class_diagram(50), realistic_class_diagram(50, extra=True)),
         ("class 200, +1 class", realistic_class_diagram(200), realistic_class_diagram(200, extra=True)),
         ("activity 200, +1 action", activity_diagram(200), activity_with_insert(200)),
+        ("instance 200, +1 filter", realistic_instance_diagram(200), realistic_instance_diagram(200, extra=True)),
     ]
     print(f"{'edit':<26} {'layout':<24} {'mean disp pt':>12} {'% of dot':>8} {'moved >20pt':>11} {'tau x':>6} | after: {'crossings':>9} {'edge-node hits':>14} {'label-edge hits':>15}")
     for k, (what, before, after) in enumerate(cases):
-        (ours1, _), (ours2, _) = render(gudsl, before, work, f"c{k}a"), render(gudsl, after, work, f"c{k}b")
-        kept1, sidecar = render(gudsl, before, work, f"c{k}ka", remember=True)
-        kept2, _ = render(gudsl, after, work, f"c{k}kb", sidecar=sidecar)
-        dot1, dot2 = dot_layout(ours1, work, f"c{k}a"), dot_layout(ours2, work, f"c{k}b")
-        editor1, editor2, pinned_off, pins = asyncio.run(editor_session(gudsl, work, f"c{k}", before, after))
-        reopened1, reopened2 = asyncio.run(reopened_session(gudsl, work, f"c{k}", before, after))
+        across = what.startswith("instance")
+        ours1, _ = render(gudsl, before, work, f"c{k}a", across=across)
+        ours2, _ = render(gudsl, after, work, f"c{k}b", across=across)
+        kept1, sidecar = render(gudsl, before, work, f"c{k}ka", remember=True, across=across)
+        kept2, _ = render(gudsl, after, work, f"c{k}kb", sidecar=sidecar, across=across)
+        dot1, dot2 = dot_layout(ours1, work, f"c{k}a", across), dot_layout(ours2, work, f"c{k}b", across)
         dot = stability(metrics, dot1, dot2, "dotjson")
         rows = [
             ("graphviz dot", dot, score(metrics, dot2, "dotjson")),
             ("gudsl render (fresh)", stability(metrics, ours1, ours2, "neutral"), score(metrics, ours2, "neutral")),
             ("gudsl render --remember", stability(metrics, kept1, kept2, "neutral"), score(metrics, kept2, "neutral")),
-            ("gudsl lsp (editor)", stability(metrics, editor1, editor2, "neutral"), score(metrics, editor2, "neutral")),
-            ("gudsl lsp (reopened)", stability(metrics, reopened1, reopened2, "neutral"), score(metrics, reopened2, "neutral")),
         ]
+        # The language server's sessions hold one model file (a pipeline needs the seed's too).
+        if not across:
+            editor1, editor2, pinned_off, pins = asyncio.run(editor_session(gudsl, work, f"c{k}", before, after))
+            reopened1, reopened2 = asyncio.run(reopened_session(gudsl, work, f"c{k}", before, after))
+            rows += [
+                ("gudsl lsp (editor)", stability(metrics, editor1, editor2, "neutral"), score(metrics, editor2, "neutral")),
+                ("gudsl lsp (reopened)", stability(metrics, reopened1, reopened2, "neutral"), score(metrics, reopened2, "neutral")),
+            ]
         for name, s, q in rows:
             share = 100 * s["mean_disp_aligned"] / max(dot["mean_disp_aligned"], 1e-9)
             print(
                 f"{what:<26} {name:<24} {s['mean_disp_aligned']:>12.1f} {share:>7.1f}% {100 * s['frac_moved_gt20']:>10.0f}% {s['order_kendall_x']:>6.2f} | "
                 f"       {q['crossings']:>9} {q['edge_node_hits']:>14} {q['label_edge_hits']:>15}"
             )
-        print(f"{what:<26} {f'{pins} pinned, relayout':<24} {pinned_off:>12.1f}   (the pinned nodes' largest displacement from where they were put, pt)")
+        if not across:
+            print(f"{what:<26} {f'{pins} pinned, relayout':<24} {pinned_off:>12.1f}   (the pinned nodes' largest displacement from where they were put, pt)")
 
 
 if __name__ == "__main__":
