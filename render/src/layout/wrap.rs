@@ -31,10 +31,8 @@ pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spac
     }
     let measured = Measured::new(layout, input, bands);
     let needs = |(width, height): (f64, f64)| (width / page.aspect()).max(height);
-    let cuts = (2..=ranks.min(MOST_COLUMNS))
-        .flat_map(|count| [even_cuts(&measured, bands, count), balanced_cuts(&measured, bands, count)]);
-    let best = cuts
-        .flatten()
+    let best = (2..=ranks.min(MOST_COLUMNS))
+        .filter_map(|count| even_cuts(&measured, bands, count))
         .filter_map(|first| Columns::cut(&measured, bands, first, spacing.node_gap))
         .min_by(|a, b| needs(a.size(spacing)).total_cmp(&needs(b.size(spacing))));
     if let Some(columns) = best.filter(|c| needs(c.size(spacing)) < needs((layout.width, layout.height))) {
@@ -243,52 +241,6 @@ fn even_cuts(measured: &Measured, bands: &Bands, count: usize) -> Option<Vec<usi
     Some(first)
 }
 
-/// Between how much taller than the least tallest column a cut may make a column, to cut where
-/// fewer edges cross.
-const SLACK: f64 = 1.05;
-
-/// The first band of each of `count` columns: the tallest column as short as the ranks allow
-/// (the least height for which the bands, taken in order, fill no more than `count` columns),
-/// each cut then at the gap crossed by fewest edges of the last three that keep every column
-/// within `SLACK` of that height.
-fn balanced_cuts(measured: &Measured, bands: &Bands, count: usize) -> Option<Vec<usize>> {
-    let ranks = bands.top.len();
-    let height = |from: usize, to: usize| bands.top[to - 1] + bands.height[to - 1] - bands.top[from];
-    // How many columns the bands from `from` on fill, each as full as `limit` allows.
-    let filled = |mut from: usize, limit: f64| {
-        let mut columns = 0;
-        while from < ranks {
-            let to = (from + 1..=ranks).take_while(|&to| height(from, to) <= limit).last()?;
-            (from, columns) = (to, columns + 1);
-        }
-        Some(columns)
-    };
-    let fits = |from: usize, limit: f64, columns: usize| filled(from, limit).is_some_and(|n| n <= columns);
-    let (mut low, mut high) = (0.0, height(0, ranks));
-    for _ in 0..50 {
-        let middle = (low + high) / 2.0;
-        if fits(0, middle, count) {
-            high = middle;
-        } else {
-            low = middle;
-        }
-    }
-    let limit = high * SLACK;
-    let mut first = vec![0];
-    for j in 1..count {
-        let from = *first.last()?;
-        // Cut before band `to`: the column from..to within the limit, a band left for each
-        // column after, and the rest fitting in them.
-        let cuts = (from + 1..=ranks - (count - j)).rev().skip_while(|&to| height(from, to) > limit);
-        let to = cuts
-            .take_while(|&to| fits(to, limit, count - j))
-            .take(3)
-            .min_by_key(|&to| (measured.crossing[to - 1], std::cmp::Reverse(to)))?;
-        first.push(to);
-    }
-    (height(*first.last()?, ranks) <= limit).then_some(first)
-}
-
 /// Per segment of `routes` one of the `cuts` divides (by edge and segment): its cut, its lane
 /// among the cut's and how many the cut divides; lanes numbered left to right where the
 /// segments leave the column above.
@@ -320,7 +272,6 @@ fn lanes(
 
 #[cfg(test)]
 mod tests {
-    use super::{balanced_cuts, Bands, Measured};
     use crate::geometry::{segment_meets_box, Rect};
     use crate::layout::{layered, LayoutInput, LayoutNode, Page, Spacing};
 
@@ -370,22 +321,6 @@ mod tests {
             let (p, q) = (layout.positions[v - 1], layout.positions[v]);
             assert!(q.y > p.y || q.x > p.x, "step {v} reads before step {}", v - 1);
         }
-    }
-
-    #[test]
-    fn balanced_cuts_leave_a_band_for_every_column() {
-        // Five equal bands into four columns: two of them hold two bands.
-        let bands =
-            Bands { top: (0..5).map(|r| r as f64 * 50.0).collect(), height: vec![40.0; 5], total_height: 260.0 };
-        let measured = Measured {
-            spans: vec![vec![(0.0, 10.0)]; 5],
-            crossing: vec![1; 5],
-            divide: vec![45.0, 95.0, 145.0, 195.0],
-        };
-        let first = balanced_cuts(&measured, &bands, 4).expect("a cut into four columns");
-        assert_eq!(first.len(), 4);
-        assert!(first.windows(2).all(|w| w[0] < w[1]) && first[3] < 5, "{first:?}");
-        assert!(balanced_cuts(&measured, &bands, 5).is_some());
     }
 
     #[test]

@@ -223,8 +223,7 @@ fn lay_out(
             // Fitted to the page unless the user pinned nodes: around nodes the user moved,
             // the connection router can run a connection between wrapped rows through a box.
             let page = if pinned { Page::UNBOUNDED } else { page };
-            let node_gap = if parts.graph.kind == GraphKind::ComponentInstance { 20.0 } else { spacing.node_gap };
-            let spacing = Spacing { rank_gap: 20.0, node_gap, page, ..spacing };
+            let spacing = Spacing { rank_gap: 20.0, page, ..spacing };
             if nesting.is_flat() {
                 layered_left_to_right(input, spacing)
             } else {
