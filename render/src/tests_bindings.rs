@@ -24,34 +24,37 @@ fn reference_pipeline() -> Graph {
     graphs.into_iter().next().expect("the pipeline's diagram")
 }
 
-/// Per pair of routes, the points where they meet: (crossings, touches), a touch being a
-/// segment's end on the other route (where a tree's branch would leave its trunk).
-fn meetings(scene: &Scene) -> (usize, usize) {
+/// Where two axis-parallel routes meet: (crossings, touches), a touch being a segment's end
+/// on the other route (where a tree's branch would leave its trunk); layout_metrics.py counts
+/// both as crossings.
+pub(crate) fn meetings(a: &[Point], b: &[Point]) -> (usize, usize) {
     let (mut crossings, mut touches) = (0, 0);
-    let routes: Vec<&[Point]> = scene.edges.iter().map(|e| e.points.as_slice()).collect();
-    for (i, a) in routes.iter().enumerate() {
-        for b in &routes[i + 1..] {
-            for s in a.windows(2) {
-                for t in b.windows(2) {
-                    let (vertical, level) = if s[0].x == s[1].x { (s, t) } else { (t, s) };
-                    if vertical[0].x != vertical[1].x || level[0].y != level[1].y {
-                        continue;
-                    }
-                    let (x, y) = (vertical[0].x, level[0].y);
-                    let within = |v: f64, a: f64, b: f64| a.min(b) <= v && v <= a.max(b);
-                    let inside = |v: f64, a: f64, b: f64| a.min(b) < v && v < a.max(b);
-                    if within(x, level[0].x, level[1].x) && within(y, vertical[0].y, vertical[1].y) {
-                        if inside(x, level[0].x, level[1].x) && inside(y, vertical[0].y, vertical[1].y) {
-                            crossings += 1;
-                        } else {
-                            touches += 1;
-                        }
-                    }
+    for s in a.windows(2) {
+        for t in b.windows(2) {
+            let (vertical, level) = if s[0].x == s[1].x { (s, t) } else { (t, s) };
+            if vertical[0].x != vertical[1].x || level[0].y != level[1].y {
+                continue; // parallel
+            }
+            let (x, y) = (vertical[0].x, level[0].y);
+            let within = |v: f64, a: f64, b: f64| a.min(b) <= v && v <= a.max(b);
+            let inside = |v: f64, a: f64, b: f64| a.min(b) < v && v < a.max(b);
+            if within(x, level[0].x, level[1].x) && within(y, vertical[0].y, vertical[1].y) {
+                if inside(x, level[0].x, level[1].x) && inside(y, vertical[0].y, vertical[1].y) {
+                    crossings += 1;
+                } else {
+                    touches += 1;
                 }
             }
         }
     }
     (crossings, touches)
+}
+
+/// Over every pair of the scene's routes, where they meet: (crossings, touches).
+fn all_meetings(scene: &Scene) -> (usize, usize) {
+    let routes: Vec<&[Point]> = scene.edges.iter().map(|e| e.points.as_slice()).collect();
+    let pairs = routes.iter().enumerate().flat_map(|(i, a)| routes[i + 1..].iter().map(move |b| meetings(a, b)));
+    pairs.fold((0, 0), |(c, t), (pc, pt)| (c + pc, t + pt))
 }
 
 #[test]
@@ -63,7 +66,7 @@ fn bindings_of_a_fresh_pipeline_neither_touch_nor_cross_where_the_layout_does_no
     for edge in &scene.edges {
         assert!(edge.points.windows(2).all(|s| s[0].x == s[1].x || s[0].y == s[1].y), "{} slants", edge.id);
     }
-    let (crossings, touches) = meetings(&scene);
+    let (crossings, touches) = all_meetings(&scene);
     assert_eq!(touches, 0);
     // Where the layout's order crosses them: three times (routed around the boxes instead, as
     // before the bindings followed the layout, they cross 8 times and touch 104 times).

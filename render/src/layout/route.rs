@@ -83,9 +83,9 @@ fn at_ports(
 ) {
     // A port: its box, whether it holds edges' first ends, its place in hundredths.
     type Port = (usize, bool, i64);
-    // Per port, its ends: (edge, next vertex's x, the other end's port place).
-    let mut at: HashMap<Port, Vec<(usize, f64, f64)>> = HashMap::new();
-    let mut places: HashMap<Port, f64> = HashMap::new();
+    // Per port, its exact place and its ends: (edge, next vertex's x, the other end's port place).
+    type Ends = (f64, Vec<(usize, f64, f64)>);
+    let mut at: HashMap<Port, Ends> = HashMap::new();
     for (e, (chain, (&(_, _, reversed), ends))) in graph.chains.iter().zip(edges.iter().zip(ports)).enumerate() {
         let (first, last) = (chain[0], chain[chain.len() - 1]);
         if reversed || first == last || routed[e].len() < 4 {
@@ -93,8 +93,7 @@ fn at_ports(
         }
         let mut meet = |v: usize, is_first: bool, offset: f64, next: usize, other: Option<f64>| {
             let port = (v, is_first, (offset * 100.0).round() as i64);
-            places.insert(port, offset);
-            at.entry(port).or_default().push((e, x[next], other.unwrap_or(0.0)));
+            at.entry(port).or_insert((offset, Vec::new())).1.push((e, x[next], other.unwrap_or(0.0)));
         };
         if let Some(offset) = ends[0] {
             meet(first, true, offset, chain[1], ends[1]);
@@ -103,8 +102,7 @@ fn at_ports(
             meet(last, false, offset, chain[chain.len() - 2], ends[0]);
         }
     }
-    for (port, mut ends) in at {
-        let (v, is_first, offset) = (port.0, port.1, places[&port]);
+    for ((v, is_first, _), (offset, mut ends)) in at {
         // Two ends running to one box (its ports, next rank): in the order of those ports.
         ends.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.2.total_cmp(&b.2)).then(a.0.cmp(&b.0)));
         let step = if ends.len() > 1 { PORT_FAN.min(PORT_FAN_MOST / (ends.len() - 1) as f64) } else { 0.0 };

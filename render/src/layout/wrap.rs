@@ -34,8 +34,9 @@ pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spac
     let best = (2..=ranks.min(MOST_COLUMNS))
         .filter_map(|count| even_cuts(&measured, bands, count))
         .filter_map(|first| Columns::cut(&measured, bands, first, spacing.node_gap))
-        .min_by(|a, b| needs(a.size(spacing)).total_cmp(&needs(b.size(spacing))));
-    if let Some(columns) = best.filter(|c| needs(c.size(spacing)) < needs((layout.width, layout.height))) {
+        .map(|columns| (needs(columns.size(spacing)), columns))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((_, columns)) = best.filter(|(need, _)| *need < needs((layout.width, layout.height))) {
         columns.apply(layout, input, &measured, spacing);
     }
 }

@@ -237,6 +237,7 @@ fn straightened(route: Vec<Point>) -> Vec<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tests_bindings::meetings;
 
     fn p(x: f64, y: f64) -> Point {
         Point { x, y }
@@ -256,24 +257,9 @@ mod tests {
             .collect()
     }
 
-    /// Where two axis-parallel routes meet: crossings and touches (an end of a segment on the
-    /// other route) alike, as layout_metrics.py counts them.
-    fn meetings(a: &[Point], b: &[Point]) -> usize {
-        let mut count = 0;
-        for s in a.windows(2) {
-            for t in b.windows(2) {
-                let (vertical, level) = if s[0].x == s[1].x { (s, t) } else { (t, s) };
-                if vertical[0].x != vertical[1].x || level[0].y != level[1].y {
-                    continue; // parallel
-                }
-                let (x, y) = (vertical[0].x, level[0].y);
-                let within = |v: f64, a: f64, b: f64| a.min(b) <= v && v <= a.max(b);
-                if within(x, level[0].x, level[1].x) && within(y, vertical[0].y, vertical[1].y) {
-                    count += 1;
-                }
-            }
-        }
-        count
+    /// Each connection's route, every one of them followed.
+    fn routed(layout: &[Vec<Point>]) -> Vec<Vec<Point>> {
+        follow(&followed(layout)).into_iter().map(Option::unwrap).collect()
     }
 
     fn orthogonal(route: &[Point]) -> bool {
@@ -285,22 +271,22 @@ mod tests {
         // Both going down, the second starting and ending lower: on tracks in the wrong order
         // (the first left) each would cross the other's track.
         let layout = [across_one_gap(0.0, 50.0), across_one_gap(20.0, 70.0)];
-        let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
+        let routes = routed(&layout);
         assert!(routes.iter().all(|r| orthogonal(r)), "{routes:?}");
-        assert_eq!(meetings(&routes[0], &routes[1]), 0, "{routes:?}");
+        assert_eq!(meetings(&routes[0], &routes[1]), (0, 0), "{routes:?}");
         // The lower one turns first (its track left of the other's).
         assert!(routes[1][1].x < routes[0][1].x, "{routes:?}");
         // Going up, the mirror image.
         let layout = [across_one_gap(50.0, 0.0), across_one_gap(70.0, 20.0)];
-        let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
-        assert_eq!(meetings(&routes[0], &routes[1]), 0, "{routes:?}");
+        let routes = routed(&layout);
+        assert_eq!(meetings(&routes[0], &routes[1]), (0, 0), "{routes:?}");
     }
 
     #[test]
     fn a_route_ending_where_another_starts_does_not_touch_it() {
         let layout = [across_one_gap(10.0, 20.0), across_one_gap(20.0, 30.0)];
-        let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
-        assert_eq!(meetings(&routes[0], &routes[1]), 0, "{routes:?}");
+        let routes = routed(&layout);
+        assert_eq!(meetings(&routes[0], &routes[1]), (0, 0), "{routes:?}");
     }
 
     #[test]
@@ -317,8 +303,8 @@ mod tests {
     #[test]
     fn routes_whose_ends_change_order_cross_once() {
         let layout = [across_one_gap(0.0, 60.0), across_one_gap(20.0, 40.0)];
-        let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
-        assert_eq!(meetings(&routes[0], &routes[1]), 1, "{routes:?}");
+        let routes = routed(&layout);
+        assert_eq!(meetings(&routes[0], &routes[1]), (1, 0), "{routes:?}");
     }
 
     #[test]
@@ -331,10 +317,10 @@ mod tests {
             across_one_gap(52.0, 52.0),
             across_one_gap(55.0, 100.0),
         ];
-        let routes: Vec<Vec<Point>> = follow(&followed(&layout)).into_iter().map(Option::unwrap).collect();
+        let routes = routed(&layout);
         for i in 0..4 {
             for j in (i + 1)..4 {
-                assert_eq!(meetings(&routes[i], &routes[j]), 0, "{i} and {j}: {routes:?}");
+                assert_eq!(meetings(&routes[i], &routes[j]), (0, 0), "{i} and {j}: {routes:?}");
             }
         }
         // Every track lies in the gap, or no further than the room beside the bands' boxes.
