@@ -49,3 +49,22 @@ pub(crate) fn segment_meets_box(a: Point, b: Point, r: Rect) -> bool {
     }
     t0 <= t1
 }
+/// An orthogonal route's corners: without repeated points and without points in the middle of
+/// a straight stretch (nor where it would turn back on itself).
+pub(crate) fn corners(route: Vec<Point>) -> Vec<Point> {
+    let mut out: Vec<Point> = Vec::with_capacity(route.len());
+    for p in route {
+        if out.last().is_some_and(|q| (q.x - p.x).abs() < 1e-9 && (q.y - p.y).abs() < 1e-9) {
+            continue;
+        }
+        if let [.., a, b] = out[..] {
+            let level = (a.y - b.y).abs() < 1e-9 && (b.y - p.y).abs() < 1e-9;
+            let upright = (a.x - b.x).abs() < 1e-9 && (b.x - p.x).abs() < 1e-9;
+            if level || upright {
+                out.pop();
+            }
+        }
+        out.push(p);
+    }
+    out
+}

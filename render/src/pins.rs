@@ -38,6 +38,11 @@ pub type Pins = BTreeMap<String, Pin>;
 /// `row_entry` writes them. A fresh layout keeps them where it can (`layout::seeded`).
 pub type Rows = Vec<Vec<String>>;
 
+/// The entry that marks, last in a row, that a wrapped drawing's column started there (with the
+/// ranks without boxes before the row it started): no node or edge id has the character, and a
+/// reader before it left it out as an id no longer in the graph.
+pub const COLUMN_MARK: &str = "|";
+
 /// A row entry's text: the id, then where it was drawn — its centre across the ranks and, for a
 /// box of a part laid out apart, its top — each exactly (the shortest text that reads back as
 /// the same number), so that a layout from its own rows is the same layout.

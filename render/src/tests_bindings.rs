@@ -7,6 +7,7 @@ use gudsl_model::graph::Graph;
 
 use crate::{
     geometry::Point,
+    layout::tracks::TRACK,
     scene::{self, Hints, Scene},
     tests::assert_clean,
 };
@@ -71,6 +72,33 @@ fn bindings_of_a_fresh_pipeline_neither_touch_nor_cross_where_the_layout_does_no
     // Where the layout's order crosses them: three times (routed around the boxes instead, as
     // before the bindings followed the layout, they cross 8 times and touch 104 times).
     assert!(crossings <= 3, "{crossings} crossings");
+}
+
+#[test]
+fn the_layout_gives_each_gap_room_for_its_tracks() {
+    // Upright stretches of two bindings side by side (their heights overlapping) run a track's
+    // width apart: the gaps between the ranks were sized for them, none squeezed.
+    let graph = reference_pipeline();
+    let scene = scene::build(&graph, Hints::default());
+    let uprights: Vec<(usize, f64, f64, f64)> = (scene.edges.iter().enumerate())
+        .flat_map(|(k, e)| e.points.windows(2).map(move |s| (k, s[0], s[1])))
+        .filter(|(_, a, b)| a.x == b.x && a.y != b.y)
+        .map(|(k, a, b)| (k, a.x, a.y.min(b.y), a.y.max(b.y)))
+        .collect();
+    assert!(uprights.len() > 40, "{}", uprights.len());
+    for (i, &(k, x, top, bottom)) in uprights.iter().enumerate() {
+        for &(l, x2, top2, bottom2) in &uprights[i + 1..] {
+            if k != l && top <= bottom2 && top2 <= bottom {
+                assert!(
+                    (x - x2).abs() >= TRACK - 1e-6,
+                    "{} and {} {} pt apart",
+                    scene.edges[k].id,
+                    scene.edges[l].id,
+                    (x - x2).abs()
+                );
+            }
+        }
+    }
 }
 
 #[test]

@@ -108,8 +108,11 @@ impl Part {
         let entry = |&(entry, x, _): &RowEntry| match entry {
             Entry::Box(i) => (Entry::Box(self.boxes[i]), x.map(|x| x + dx), top(i)),
             Entry::Edge(i) => (Entry::Edge(self.edges[i]), x.map(|x| x + dx), None),
+            Entry::Column => (Entry::Column, x, None),
         };
-        layout.rows.extend(self.layout.rows.iter().map(|row| row.iter().map(entry).collect()));
+        // Where a part apart was wrapped is not kept: it is laid out from its orders alone.
+        let kept = |e: &&RowEntry| !(apart && e.0 == Entry::Column);
+        layout.rows.extend(self.layout.rows.iter().map(|row| row.iter().filter(kept).map(entry).collect()));
     }
 }
 

@@ -112,6 +112,18 @@ impl Bands {
         Bands { top, height: heights, total_height: cursor + spacing.margin }
     }
 
+    /// Each gap between ranks at least as tall as `room` asks (per gap, top down); the ranks
+    /// below moved down by as much as the gaps above them grew.
+    pub fn widen(&mut self, room: &[f64]) {
+        let mut grown = 0.0;
+        for r in 1..self.top.len() {
+            let gap = self.top[r] - (self.top[r - 1] - grown + self.height[r - 1]);
+            grown += (room.get(r - 1).copied().unwrap_or(0.0) - gap).max(0.0);
+            self.top[r] += grown;
+        }
+        self.total_height += grown;
+    }
+
     /// The whole height, and how much of it lies in the gaps between ranks.
     pub fn size(&self) -> (f64, f64) {
         let (first, last) = (self.top.first().copied().unwrap_or(0.0), self.top.last().copied().unwrap_or(0.0));
@@ -122,5 +134,20 @@ impl Bands {
     /// The y of the middle of rank `r`.
     pub fn middle(&self, r: usize) -> f64 {
         self.top[r] + self.height[r] / 2.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Bands;
+
+    #[test]
+    fn a_widened_gap_moves_the_ranks_below_it_down() {
+        // Three ranks 20 tall, 10 apart.
+        let mut bands = Bands { top: vec![0.0, 30.0, 60.0], height: vec![20.0; 3], total_height: 80.0 };
+        // The first gap wants 25, the second 5 (it has 10 already).
+        bands.widen(&[25.0, 5.0]);
+        assert_eq!(bands.top, [0.0, 45.0, 75.0]);
+        assert_eq!(bands.total_height, 95.0);
     }
 }

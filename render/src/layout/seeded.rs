@@ -25,11 +25,14 @@ pub struct Seat {
 /// laid out apart, its top (with the centre, that part's place).
 pub type RowEntry = (Entry, Option<f64>, Option<f64>);
 
-/// What a row holds: a box, or a long edge passing through it (one of its dummies), by index.
+/// What a row holds: a box, or a long edge passing through it (one of its dummies), by index;
+/// or, last in a row, the mark that a wrapped drawing's column started there (its `x`: how many
+/// ranks without boxes before the row the column started).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Entry {
     Box(usize),
     Edge(usize),
+    Column,
 }
 
 /// Where the boxes and long edges of a graph sat in a layout before.
@@ -39,21 +42,30 @@ pub struct Remembered {
     pub boxes: Vec<Option<Seat>>,
     /// Per edge: its dummies' seats in the rows it passed, top to bottom.
     pub edges: Vec<Vec<Seat>>,
+    /// Where a wrapped drawing's columns after the first started: at a row, so many ranks
+    /// without boxes before it.
+    pub columns: Vec<(usize, usize)>,
 }
 
 impl Remembered {
     /// The seats in `rows` of a graph of `boxes` boxes and `edges` edges (entries beyond are
     /// left out).
     pub fn of_rows(rows: &[Vec<RowEntry>], boxes: usize, edges: usize) -> Remembered {
-        let mut remembered = Remembered { boxes: vec![None; boxes], edges: vec![Vec::new(); edges] };
+        let mut remembered =
+            Remembered { boxes: vec![None; boxes], edges: vec![Vec::new(); edges], columns: Vec::new() };
         for (row, entries) in rows.iter().enumerate() {
-            for (column, &(entry, x, y)) in entries.iter().enumerate() {
-                let seat = Seat { row, at: (column as f64 + 0.5) / entries.len() as f64, x, y };
+            let (marks, seated): (Vec<&RowEntry>, Vec<&RowEntry>) = entries.iter().partition(|e| e.0 == Entry::Column);
+            for (column, &&(entry, x, y)) in seated.iter().enumerate() {
+                let seat = Seat { row, at: (column as f64 + 0.5) / seated.len() as f64, x, y };
                 match entry {
                     Entry::Box(v) if v < boxes => remembered.boxes[v] = Some(seat),
                     Entry::Edge(e) if e < edges => remembered.edges[e].push(seat),
                     _ => {}
                 }
+            }
+            if let Some(&&(_, before, _)) = marks.first() {
+                // Saturating: a sidecar is untrusted, the count is clamped where it is used.
+                remembered.columns.push((row, before.map_or(0, |b| b.max(0.0) as usize)));
             }
         }
         remembered
@@ -64,6 +76,7 @@ impl Remembered {
         let forget = |seat: &mut Seat| (seat.x, seat.y) = (None, None);
         self.boxes.iter_mut().flatten().for_each(forget);
         self.edges.iter_mut().flatten().for_each(forget);
+        self.columns.clear();
         self
     }
 
@@ -72,6 +85,7 @@ impl Remembered {
         Remembered {
             boxes: boxes.iter().map(|&v| self.boxes.get(v).copied().flatten()).collect(),
             edges: edges.iter().map(|&e| self.edges.get(e).cloned().unwrap_or_default()).collect(),
+            columns: self.columns.clone(),
         }
     }
 
@@ -125,6 +139,49 @@ pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper, x: &[f64]) -> Vec<Vec<
         .filter(|layer| layer.iter().any(|&v| v < graph.boxes))
         .map(|layer| layer.iter().map(|&v| (entry(v), Some(x[v]), None)).collect())
         .collect()
+}
+
+/// The first rank of each column after the first of the wrapped layout `remembered` was read
+/// off, as its rows fall in `layers` now (`places`: the vertices' seats): a column that started
+/// at a row starts at that row's rank, or so many ranks before it as it did, none of them holding
+/// boxes. Strictly increasing; empty where the layout before was not wrapped.
+pub(super) fn kept_cuts(
+    remembered: &Remembered,
+    graph: &Proper,
+    layers: &[Vec<usize>],
+    places: &[Option<Seat>],
+) -> Vec<usize> {
+    let mut rank_of_row = std::collections::HashMap::new();
+    for (v, seat) in places.iter().enumerate().take(graph.boxes) {
+        if let Some(seat) = seat {
+            rank_of_row.insert(seat.row, graph.rank[v]);
+        }
+    }
+    let holds_box = |r: usize| layers[r].iter().any(|&v| v < graph.boxes);
+    let mut cuts: Vec<usize> = Vec::new();
+    for &(row, before) in &remembered.columns {
+        let Some(&rank) = rank_of_row.get(&row) else { continue };
+        let mut first = rank;
+        while first > 0 && rank - first < before && !holds_box(first - 1) {
+            first -= 1;
+        }
+        if first > cuts.last().copied().unwrap_or(0) {
+            cuts.push(first);
+        }
+    }
+    cuts
+}
+
+/// Marks in `rows` (of `layers`, as `rows` writes them) where each of the columns that start at
+/// the ranks `cuts` starts: last in the first row at or after it, with the ranks before it.
+pub(super) fn mark_cuts(rows: &mut [Vec<RowEntry>], layers: &[Vec<usize>], graph: &Proper, cuts: &[usize]) {
+    let box_ranks: Vec<usize> = (0..layers.len()).filter(|&r| layers[r].iter().any(|&v| v < graph.boxes)).collect();
+    for &first in cuts {
+        let row = box_ranks.partition_point(|&r| r < first);
+        if let (Some(entries), Some(&rank)) = (rows.get_mut(row), box_ranks.get(row)) {
+            entries.push((Entry::Column, Some((rank - first) as f64), None));
+        }
+    }
 }
 
 /// Whether `remembered` is worth keeping for a graph of `boxes` boxes: at least half of them had
@@ -290,6 +347,32 @@ mod tests {
         unsifted.iter_mut().for_each(|l| l.sort_by(|&a, &b| place[a].total_cmp(&place[b]).then(a.cmp(&b))));
         let crossings = |layers: Vec<Vec<usize>>| Order::new(layers, graph.vertices()).crossings(&graph);
         assert!(crossings(order) < crossings(unsifted));
+    }
+
+    #[test]
+    fn the_columns_a_wrapped_layout_started_are_read_back_where_they_started() {
+        // A chain of four boxes with an empty rank (only a long edge's dummy) before the third.
+        let edges = [(0, 1, false), (1, 2, false), (2, 3, false), (0, 4, false)];
+        let graph = Proper::new(&[], &edges, &[0, 1, 3, 4, 4]);
+        let layers = graph.initial_layers(true, false);
+        let x = vec![0.0; graph.vertices()];
+        let unmarked = rows(&layers, &graph, &x);
+        let mut marked = unmarked.clone();
+        // Columns starting at the empty rank (before the third row) and at the last rank.
+        mark_cuts(&mut marked, &layers, &graph, &[2, 4]);
+        assert_eq!(marked[2].last(), Some(&(Entry::Column, Some(1.0), None)));
+        let remembered = Remembered::of_rows(&marked, graph.boxes, graph.chains.len());
+        let places = remembered.of_vertices(&graph);
+        assert_eq!(kept_cuts(&remembered, &graph, &layers, &places), [2, 4]);
+        // The marks take no seat: every box and dummy sits where it sat without them.
+        let plain = Remembered::of_rows(&unmarked, graph.boxes, graph.chains.len());
+        assert_eq!(places, plain.of_vertices(&graph));
+        // A mark claiming more empty ranks before its row than there are (a sidecar is untrusted
+        // input) starts the column after the last rank with boxes before it.
+        let mut claimed = unmarked;
+        claimed[2].push((Entry::Column, Some(1e6), None));
+        let remembered = Remembered::of_rows(&claimed, graph.boxes, graph.chains.len());
+        assert_eq!(kept_cuts(&remembered, &graph, &layers, &places), [2]);
     }
 
     #[test]

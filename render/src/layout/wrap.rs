@@ -18,27 +18,70 @@ const LANE: f64 = 10.0;
 /// The most columns a drawing is wrapped into.
 const MOST_COLUMNS: usize = 64;
 
+/// How much more page a layout before's columns may need than the best cut afresh, and stay.
+const KEEP_WITHIN: f64 = 1.1;
+
+/// Cuts that need at most this much more page than the least are as good (then fewer columns,
+/// less area decide).
+const NEARLY: f64 = 1.02;
+
 /// Wraps `layout` (of `input`, its ranks in `bands`) into columns where it does not fit its
 /// page and is taller than `TOLERANCE` times the page's aspect ratio allows; into as many as
 /// show it largest on the page (the page a drawing needs is set by its width or its height,
 /// whichever is further out of the page's proportion: so both its aspect ratio and its area
-/// count).
-pub(super) fn wrap(layout: &mut Layout, input: &LayoutInput, bands: &Bands, spacing: Spacing) {
+/// count). The columns a layout before started at the ranks `kept` stay while they need a page
+/// at most `KEEP_WITHIN` times the best's: an edit does not tip the cuts. Returns the first rank
+/// of each column after the first (none where the layout is not wrapped).
+pub(super) fn wrap(
+    layout: &mut Layout,
+    input: &LayoutInput,
+    bands: &Bands,
+    spacing: Spacing,
+    kept: &[usize],
+) -> Vec<usize> {
     let page = spacing.page;
     let ranks = bands.top.len();
     if !page.too_tall(layout.width, layout.height) || ranks < 2 {
-        return;
+        return Vec::new();
     }
     let measured = Measured::new(layout, input, bands);
     let needs = |(width, height): (f64, f64)| (width / page.aspect()).max(height);
-    let best = (2..=ranks.min(MOST_COLUMNS))
-        .filter_map(|count| even_cuts(&measured, bands, count))
+    let measure = |columns: Columns| (needs(columns.size(spacing)), columns);
+    let candidates: Vec<(f64, Columns)> = (2..=ranks.min(MOST_COLUMNS))
+        .flat_map(|count| [even_cuts(&measured, bands, count), balanced_cuts(bands, count)])
+        .flatten()
         .filter_map(|first| Columns::cut(&measured, bands, first, spacing.node_gap))
-        .map(|columns| (needs(columns.size(spacing)), columns))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    if let Some((_, columns)) = best.filter(|(need, _)| *need < needs((layout.width, layout.height))) {
-        columns.apply(layout, input, &measured, spacing);
+        .map(measure)
+        .collect();
+    let best = chosen_columns(candidates, spacing);
+    let kept = Some(kept)
+        .filter(|cuts| !cuts.is_empty() && cuts.iter().all(|&r| r < ranks))
+        .and_then(|cuts| Columns::cut(&measured, bands, [&[0], cuts].concat(), spacing.node_gap))
+        .map(measure);
+    let chosen = match (kept, best) {
+        (Some(kept), Some(best)) if kept.0 <= KEEP_WITHIN * best.0 => Some(kept),
+        (_, best) => best,
+    };
+    match chosen.filter(|(need, _)| *need < needs((layout.width, layout.height))) {
+        Some((_, columns)) => {
+            columns.apply(layout, input, &measured, spacing);
+            columns.first[1..].to_vec()
+        }
+        None => Vec::new(),
     }
+}
+
+/// Of the `candidates` (each with the page it needs), one that needs the least page, or nearly
+/// (within `NEARLY`): of those the fewest columns, then the least area.
+fn chosen_columns(candidates: Vec<(f64, Columns)>, spacing: Spacing) -> Option<(f64, Columns)> {
+    let least = candidates.iter().map(|c| c.0).fold(f64::INFINITY, f64::min);
+    let area = |columns: &Columns| {
+        let (width, height) = columns.size(spacing);
+        width * height
+    };
+    candidates.into_iter().filter(|c| c.0 <= least * NEARLY).min_by(|a, b| {
+        a.1.first.len().cmp(&b.1.first.len()).then(area(&a.1).total_cmp(&area(&b.1))).then(a.0.total_cmp(&b.0))
+    })
 }
 
 /// What the layout holds per rank band: the stretches across it its content takes, and how
@@ -242,6 +285,33 @@ fn even_cuts(measured: &Measured, bands: &Bands, count: usize) -> Option<Vec<usi
     Some(first)
 }
 
+/// The first band of each of `count` columns cut so that the tallest is as short as it can be
+/// (none where fewer columns hold the bands as well).
+fn balanced_cuts(bands: &Bands, count: usize) -> Option<Vec<usize>> {
+    let ranks = bands.top.len();
+    let bottom = |r: usize| bands.top[r] + bands.height[r];
+    // The columns, each as many bands as fit under `tallest`, greedily.
+    let cut = |tallest: f64| {
+        let mut first = vec![0];
+        for r in 1..ranks {
+            if bottom(r) - bands.top[*first.last()?] > tallest {
+                first.push(r);
+            }
+        }
+        Some(first)
+    };
+    let (mut low, mut high) = (0.0, bottom(ranks - 1) - bands.top[0]);
+    for _ in 0..50 {
+        let middle = (low + high) / 2.0;
+        if cut(middle).is_some_and(|first| first.len() <= count) {
+            high = middle;
+        } else {
+            low = middle;
+        }
+    }
+    cut(high).filter(|first| first.len() == count)
+}
+
 /// Per segment of `routes` one of the `cuts` divides (by edge and segment): its cut, its lane
 /// among the cut's and how many the cut divides; lanes numbered left to right where the
 /// segments leave the column above.
@@ -273,8 +343,9 @@ fn lanes(
 
 #[cfg(test)]
 mod tests {
+    use super::{balanced_cuts, Bands};
     use crate::geometry::{segment_meets_box, Rect};
-    use crate::layout::{layered, LayoutInput, LayoutNode, Page, Spacing};
+    use crate::layout::{layered, Entry, LayoutInput, LayoutNode, Page, Remembered, RowEntry, Spacing};
 
     /// A flow of `n` steps down, with a loop back every ten steps and a label on each loop.
     fn long_flow(n: usize) -> LayoutInput {
@@ -322,6 +393,49 @@ mod tests {
             let (p, q) = (layout.positions[v - 1], layout.positions[v]);
             assert!(q.y > p.y || q.x > p.x, "step {v} reads before step {}", v - 1);
         }
+    }
+
+    #[test]
+    fn a_layout_keeps_the_columns_its_rows_remember_while_they_fit_nearly_as_well() {
+        let input = long_flow(120);
+        let fresh = layered(&input, Spacing::default());
+        // The rows that start a column, and the rows with columns starting at `starts` instead.
+        let starts = |rows: &[Vec<RowEntry>]| -> Vec<usize> {
+            (0..rows.len()).filter(|&r| rows[r].iter().any(|e| e.0 == Entry::Column)).collect()
+        };
+        let starting = |starts: &[usize]| -> Vec<Vec<RowEntry>> {
+            let mut rows = fresh.rows.clone();
+            rows.iter_mut().for_each(|row| row.retain(|e| e.0 != Entry::Column));
+            starts.iter().for_each(|&r| rows[r].push((Entry::Column, Some(0.0), None)));
+            rows
+        };
+        let again = |starts: &[usize]| {
+            let remembered = Remembered::of_rows(&starting(starts), input.nodes.len(), input.edges.len());
+            layered(&LayoutInput { remembered, ..input.clone() }, Spacing::default())
+        };
+        let afresh = starts(&fresh.rows);
+        assert!(afresh.len() >= 2, "{afresh:?}");
+        assert_eq!(starts(&again(&afresh).rows), afresh);
+        // Each column a row later than afresh: nearly as good, kept.
+        let later: Vec<usize> = afresh.iter().map(|r| r + 1).collect();
+        assert_eq!(starts(&again(&later).rows), later);
+        // Two columns, the first of one row: the drawing would need a far larger page; cut afresh.
+        assert_eq!(starts(&again(&[1]).rows), afresh);
+    }
+
+    #[test]
+    fn balanced_cuts_make_the_tallest_column_as_short_as_it_can_be() {
+        // Bands 10 tall, 10 apart, but the third 50 tall: of two columns the tallest is 90 tall
+        // at best (the first three bands, or the last three).
+        let height = vec![10.0, 10.0, 50.0, 10.0, 10.0];
+        let mut top = vec![0.0];
+        for h in &height[..4] {
+            top.push(top.last().unwrap() + h + 10.0);
+        }
+        let bands = Bands { top, height, total_height: 140.0 };
+        assert_eq!(balanced_cuts(&bands, 2), Some(vec![0, 3]));
+        assert_eq!(balanced_cuts(&bands, 5), Some(vec![0, 1, 2, 3, 4]));
+        assert_eq!(balanced_cuts(&bands, 6), None);
     }
 
     #[test]

@@ -16,7 +16,7 @@ use super::{
 use crate::layout::{
     layered, layered_left_to_right, Entry, Layout, LayoutInput, LayoutNode, Page, Remembered, RowEntry, Spacing,
 };
-use crate::pins::{read_row_entry, row_entry, Rows};
+use crate::pins::{read_row_entry, row_entry, Rows, COLUMN_MARK};
 
 /// A graph's edge with both ends found: node indices, and port indices on them.
 struct ResolvedEdge<'g> {
@@ -38,17 +38,20 @@ struct Parts<'g> {
 /// Measures and lays out a graph, around the nodes `hints` pins or keeps where they were.
 pub fn build(graph: &Graph, hints: Hints) -> Scene {
     let graph = &*notation::with_control_nodes(graph);
-    let mut parts = measure(graph, hints);
+    let mut nesting = Nesting::of(graph);
+    let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
+    // Nested components and nodes around pins are connected by the router around the boxes: it
+    // runs their tracks beside the boxes.
+    let mut parts = measure(graph, hints, !nesting.is_flat() || pinned);
     let input = LayoutInput { remembered: remembered(&parts, hints.rows), ..layout_input(&parts) };
     // The frame's heading comes first; the diagram is laid out below it.
     let heading = frame::Heading::measure(graph);
-    let mut nesting = Nesting::of(graph);
-    let pinned = graph.nodes.iter().any(|node| hints.pins.is_some_and(|pins| pins.get(&node.id).is_some()));
     let mut layout = lay_out(&mut parts, &input, &mut nesting, heading.body_offset(), (hints.page, pinned));
     let id = |&(entry, x, y): &RowEntry| {
         let id = match entry {
             Entry::Box(v) => &graph.nodes[v].id,
             Entry::Edge(e) => &parts.edges[e].edge.id,
+            Entry::Column => COLUMN_MARK,
         };
         row_entry(id, x, y)
     };
@@ -105,7 +108,8 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let by_id: HashMap<&str, Entry> = nodes.chain(edges).collect();
     let entry = |text: &String| {
         let (id, x, y) = read_row_entry(text);
-        Some((*by_id.get(id)?, x, y))
+        let entry = if id == COLUMN_MARK { Entry::Column } else { *by_id.get(id)? };
+        Some((entry, x, y))
     };
     // A row's index becomes a rank, and a sidecar is untrusted input: a million rows must not
     // make a million ranks. As a layout writes them, every row holds a box and every box is in
@@ -113,7 +117,7 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let mut seen = vec![false; parts.graph.nodes.len()];
     let mut first_time = |e: &RowEntry| match e.0 {
         Entry::Box(v) => !std::mem::replace(&mut seen[v], true),
-        Entry::Edge(_) => true,
+        Entry::Edge(_) | Entry::Column => true,
     };
     let entries: Vec<Vec<RowEntry>> = rows
         .iter()
@@ -124,8 +128,9 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
 }
 
 /// Each node measured (a node the user resized at that size, never smaller than its text),
-/// the edges whose ends are both in the graph (dangling ones are not drawn), their texts.
-fn measure<'g>(graph: &'g Graph, hints: Hints) -> Parts<'g> {
+/// the edges whose ends are both in the graph (dangling ones are not drawn), their texts, the
+/// room beside each box for its port symbols (and their tracks, where `tracks_beside`).
+fn measure<'g>(graph: &'g Graph, hints: Hints, tracks_beside: bool) -> Parts<'g> {
     let mut contents: Vec<Content> = graph.nodes.iter().map(content).collect();
     for (node, content) in graph.nodes.iter().zip(&mut contents) {
         if let Some((width, height)) = hints.pins.and_then(|p| p.get(&node.id)).and_then(|pin| pin.size()) {
@@ -145,7 +150,7 @@ fn measure<'g>(graph: &'g Graph, hints: Hints) -> Parts<'g> {
         .filter_map(|edge| Some(ResolvedEdge { edge, from: resolve(&edge.source)?, to: resolve(&edge.target)? }))
         .collect();
     let texts = edges.iter().map(|e| labels::texts(e.edge)).collect();
-    let reaches = graph.nodes.iter().map(port_reach).collect();
+    let reaches = graph.nodes.iter().map(|node| port_reach(node, tracks_beside)).collect();
     Parts { graph, edges, texts, contents, reaches }
 }
 
@@ -223,7 +228,7 @@ fn lay_out(
             // Fitted to the page unless the user pinned nodes: around nodes the user moved,
             // the connection router can run a connection between wrapped rows through a box.
             let page = if pinned { Page::UNBOUNDED } else { page };
-            let spacing = Spacing { rank_gap: 20.0, page, ..spacing };
+            let spacing = Spacing { rank_gap: 24.0, node_gap: 20.0, page, ..spacing };
             if nesting.is_flat() {
                 layered_left_to_right(input, spacing)
             } else {

@@ -9,23 +9,15 @@
 use std::collections::HashMap;
 
 use super::Point;
+use crate::geometry::corners;
+use crate::layout::tracks::{slots, Track, MOST_TRACKS, TRACK};
 use crate::layout::PORT_FAN_MOST;
 
-/// How far a gap's tracks may reach into the bands of the ranks beside it: no further than the
-/// room a box with ports on that side keeps beside their symbols. (A box without ports there
-/// keeps none: where it is its band's widest, a track there would meet it, and the check
-/// against the boxes leaves that route to the router around them.)
-const INTO_BANDS: f64 = 24.0;
 /// How far from its port's anchor the layout may have fanned a route's end.
 pub(super) const FANNED: f64 = PORT_FAN_MOST / 2.0 + 0.5;
-/// Between two tracks of a gap, where the gap has room.
-const TRACK: f64 = 8.0;
-/// Tracks whose heights come nearer than this take places of their own (else they share one).
-const APART: f64 = TRACK / 2.0;
-/// The closest two tracks may run, and the most tracks a gap orders (the order takes cubic
-/// time): a gap beyond either is left to the router around the boxes.
+/// The closest two tracks may run (where the layout gave a gap less room than its tracks take):
+/// a gap whose tracks would run closer is left to the router around the boxes.
 const CLOSEST: f64 = 2.0;
-const MOST_TRACKS: usize = 400;
 
 /// A connection the layout routed: its ports' anchors and the layout's route, from the side of
 /// the source's box to the side of the target's, meeting each at its port's height.
@@ -39,14 +31,6 @@ pub(super) struct Followed<'a> {
 type Gap = (i64, i64);
 /// A slant of a route: the connection's index and the segment's.
 type Slant = (usize, usize);
-
-/// A track of a gap: the height where its route comes to it from the left, and the height
-/// where it leaves it to the right.
-#[derive(Clone, Copy)]
-struct Track {
-    from: f64,
-    to: f64,
-}
 
 /// Per connection, its orthogonal route; none where the layout's route does not run from its
 /// source's port to its target's (an edge the layout reversed to break a cycle).
@@ -85,7 +69,9 @@ pub(super) fn follow(connections: &[Followed]) -> Vec<Option<Vec<Point>>> {
                 }
                 route.push(pair[1]);
             }
-            Some(straightened(route))
+            // A gap's track may lie a little inside a rank's band, before the point where the
+            // layout's route left it: the route would turn back on itself there.
+            Some(corners(route))
         })
         .collect()
 }
@@ -96,7 +82,8 @@ pub(super) fn follow(connections: &[Followed]) -> Vec<Option<Vec<Point>>> {
 fn skeleton(c: &Followed) -> Option<Vec<Point>> {
     let (first, last) = (*c.route.first()?, *c.route.last()?);
     let meets = |end: Point, port: Point| (end.y - port.y).abs() <= FANNED;
-    if c.route.len() < 2 || !meets(first, c.from) || !meets(last, c.to) || first.x < c.from.x || last.x > c.to.x {
+    let (outside, ahead) = (first.x < c.from.x - 1e-6, last.x > c.to.x + 1e-6);
+    if c.route.len() < 2 || !meets(first, c.from) || !meets(last, c.to) || outside || ahead {
         return None;
     }
     let mut points = c.route.to_vec();
@@ -124,27 +111,17 @@ fn slants(a: Point, b: Point) -> bool {
     (a.y - b.y).abs() >= 1e-6 && (a.x - b.x).abs() >= 1e-6
 }
 
-/// Where each track of a gap runs: left to right in the order that crosses fewest routes
-/// (`order`), tracks whose heights overlap side by side, the others sharing a place; none
-/// where the gap holds more than `MOST_TRACKS` or they would run closer than `CLOSEST`.
-fn places((left, right): Gap, mut tracks: Vec<(Slant, Track)>) -> Option<Vec<(Slant, f64)>> {
+/// Where each track of a gap runs: left to right in the order that crosses fewest routes,
+/// tracks whose heights overlap side by side, the others sharing a place (`tracks::slots`), a
+/// track's width apart and from the gap's sides; closer where the gap is narrower than that,
+/// but none where they would run closer than `CLOSEST` or the gap holds more than `MOST_TRACKS`.
+fn places((left, right): Gap, tracks: Vec<(Slant, Track)>) -> Option<Vec<(Slant, f64)>> {
     if tracks.len() > MOST_TRACKS {
         return None;
     }
-    // A start independent of the connections' order: by the heights the tracks span and come from.
-    tracks.sort_by(|&(_, a), &(_, b)| {
-        let (a, b) = ((span(a), a.from), (span(b), b.from));
-        a.0 .0.total_cmp(&b.0 .0).then(a.0 .1.total_cmp(&b.0 .1)).then(a.1.total_cmp(&b.1))
-    });
-    let spans: Vec<(f64, f64)> = tracks.iter().map(|&(_, t)| span(t)).collect();
-    let overlap = |i: usize, j: usize| spans[j].0 <= spans[i].1 + APART && spans[i].0 <= spans[j].1 + APART;
-    let order = order(&tracks.iter().map(|&(_, t)| t).collect::<Vec<_>>(), &overlap);
-    let mut slot = vec![0usize; tracks.len()];
-    for (n, &i) in order.iter().enumerate() {
-        slot[i] = order[..n].iter().filter(|&&j| overlap(i, j)).map(|&j| slot[j] + 1).max().unwrap_or(0);
-    }
+    let slot = slots(&tracks.iter().map(|&(_, t)| t).collect::<Vec<_>>());
     let count = slot.iter().max().map_or(1, |m| m + 1) as f64;
-    let (from, to) = (left as f64 / SCALE - INTO_BANDS, right as f64 / SCALE + INTO_BANDS);
+    let (from, to) = (left as f64 / SCALE, right as f64 / SCALE);
     let step = TRACK.min((to - from) / (count + 1.0));
     if step < CLOSEST {
         return None;
@@ -154,84 +131,10 @@ fn places((left, right): Gap, mut tracks: Vec<(Slant, Track)>) -> Option<Vec<(Sl
     Some(tracks.into_iter().zip(slot).map(|((slant, _), slot)| (slant, place(slot))).collect())
 }
 
-/// The tracks' order left to right: of two tracks side by side, the order that crosses fewer
-/// routes (`crossings`), as far as these preferences agree (where they run in a circle, Eades,
-/// Lin and Smyth's greedy order for a small feedback arc set decides).
-fn order(tracks: &[Track], overlap: &dyn Fn(usize, usize) -> bool) -> Vec<usize> {
-    let n = tracks.len();
-    // weight[i][j] > 0: i left of j crosses that many routes fewer than j left of i.
-    let mut weight = vec![vec![0i64; n]; n];
-    for i in 0..n {
-        for j in (i + 1)..n {
-            if overlap(i, j) {
-                let saved = crossings(tracks[j], tracks[i]) - crossings(tracks[i], tracks[j]);
-                (weight[i][j], weight[j][i]) = (saved, -saved);
-            }
-        }
-    }
-    let (mut left, mut right) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let mut placed = vec![false; n];
-    for _ in 0..n {
-        let open: Vec<usize> = (0..n).filter(|&i| !placed[i]).collect();
-        // Whether an open track wants to be left of `i` (sign 1) or right of it (sign -1).
-        let wanted = |i: usize, sign: i64| open.iter().any(|&j| weight[j][i] * sign > 0);
-        let outweighs = |i: usize| open.iter().map(|&j| weight[i][j]).sum::<i64>();
-        let (pick, leftmost) = match open.iter().find(|&&i| !wanted(i, 1)) {
-            Some(&i) => (i, true),
-            None => match open.iter().find(|&&i| !wanted(i, -1)) {
-                Some(&i) => (i, false),
-                None => (open.iter().copied().max_by_key(|&i| (outweighs(i), std::cmp::Reverse(i))).unwrap_or(0), true),
-            },
-        };
-        placed[pick] = true;
-        if leftmost {
-            left.push(pick)
-        } else {
-            right.push(pick)
-        }
-    }
-    left.extend(right.into_iter().rev());
-    left
-}
-
-/// How many times two routes cross when track `a` runs left of track `b`: `b`'s route coming
-/// from the left across `a`, and `a`'s leaving to the right across `b`.
-fn crossings(a: Track, b: Track) -> i64 {
-    // A route meeting the other track's end height counts too: there they would touch.
-    let inside = |y: f64, (top, bottom): (f64, f64)| top <= y && y <= bottom;
-    i64::from(inside(b.from, span(a))) + i64::from(inside(a.to, span(b)))
-}
-
-/// The heights a track spans, top to bottom.
-fn span(track: Track) -> (f64, f64) {
-    (track.from.min(track.to), track.from.max(track.to))
-}
-
 /// A gap's side as a key: its x in hundredths.
 const SCALE: f64 = 100.0;
 fn key(x: f64) -> i64 {
     (x * SCALE).round() as i64
-}
-
-/// The route without repeated points and without points in the middle of a straight stretch
-/// (nor where it would turn back on itself: a gap's track may lie a little inside a rank's band,
-/// before the point where the layout's route left the band).
-fn straightened(route: Vec<Point>) -> Vec<Point> {
-    let mut out: Vec<Point> = Vec::with_capacity(route.len());
-    for p in route {
-        if out.last().is_some_and(|q| (q.x - p.x).abs() < 1e-9 && (q.y - p.y).abs() < 1e-9) {
-            continue;
-        }
-        if let [.., a, b] = out[..] {
-            let along_x = (a.y - b.y).abs() < 1e-9 && (b.y - p.y).abs() < 1e-9;
-            let along_y = (a.x - b.x).abs() < 1e-9 && (b.x - p.x).abs() < 1e-9;
-            if along_x || along_y {
-                out.pop();
-            }
-        }
-        out.push(p);
-    }
-    out
 }
 
 #[cfg(test)]
@@ -291,8 +194,8 @@ mod tests {
 
     #[test]
     fn a_gap_with_more_tracks_than_fit_is_left_to_the_router() {
-        // Fifty routes nested in one gap, each crossing all the others: 88 pt hold them only
-        // 1.7 pt apart.
+        // Fifty routes nested in one gap, each crossing all the others: 40 pt hold them only
+        // 0.8 pt apart.
         let layout: Vec<Vec<Point>> = (0..50).map(|i| across_one_gap(i as f64, 100.0 - i as f64)).collect();
         assert!(follow(&followed(&layout)).iter().all(Option::is_none));
         // Ten fit.
@@ -323,9 +226,9 @@ mod tests {
                 assert_eq!(meetings(&routes[i], &routes[j]), (0, 0), "{i} and {j}: {routes:?}");
             }
         }
-        // Every track lies in the gap, or no further than the room beside the bands' boxes.
+        // Every track lies in the gap.
         for route in &routes {
-            assert!(route[1..route.len() - 1].iter().all(|q| (100.0 - INTO_BANDS..=140.0 + INTO_BANDS).contains(&q.x)));
+            assert!(route[1..route.len() - 1].iter().all(|q| (100.0..=140.0).contains(&q.x)));
         }
     }
 

@@ -5,7 +5,8 @@
 //! shared stretch of two routes reads as a box, not as two wires). A route that a box blocks
 //! detours along the nearest free row between the boxes.
 
-use super::{channels::FANNED, Point, Rect};
+use super::{channels::FANNED, maze, Point, Rect};
+use crate::geometry::corners;
 use crate::grid::{span, Boxes, Cells};
 
 /// A connection to route: its two port anchors and which way each port faces (1: the right
@@ -121,7 +122,16 @@ fn best_route(c: &Connection, boxes: &[Rect], obstacles: &Boxes, placed: &Cells<
             }
         }
     }
-    fallback.unwrap_or_else(|| around_everything(c, boxes))
+    fallback.or_else(|| searched(c, boxes, obstacles)).unwrap_or_else(|| around_everything(c, boxes))
+}
+
+/// A route searched through the free room between the boxes (`maze`), out of the source's stub
+/// and into the target's.
+fn searched(c: &Connection, boxes: &[Rect], obstacles: &Boxes) -> Option<Vec<Point>> {
+    let out = Point { x: c.from.x + c.from_faces * STUB, y: c.from.y };
+    let into = Point { x: c.to.x + c.to_faces * STUB, y: c.to.y };
+    let found = maze::search((out, c.from_faces), (into, c.to_faces), boxes, obstacles, (CLEARANCE, &c.inside))?;
+    Some(corners([vec![c.from], found, vec![c.to]].concat()))
 }
 
 /// The rows a route may run along between the boxes: the ports' own and those just above and

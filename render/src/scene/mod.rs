@@ -11,6 +11,7 @@ mod connections;
 mod detour;
 mod frame;
 pub(crate) mod labels;
+mod maze;
 pub(crate) mod measure;
 mod nesting;
 pub(crate) mod notation;
@@ -123,9 +124,11 @@ pub struct EdgeLabel {
     pub lines: Vec<(f64, String)>,
 }
 
-/// The room a node's port symbols and their tracks take left and right of its box.
-fn port_reach(node: &gudsl_model::graph::GraphNode) -> (f64, f64) {
-    let reach = PORT_REACH + connections::TRACKS;
+/// The room a node's port symbols take left and right of its box, and their tracks where the
+/// router around the boxes runs them there (`tracks_beside`; else the layout makes room for
+/// them in the gaps between its ranks).
+fn port_reach(node: &gudsl_model::graph::GraphNode, tracks_beside: bool) -> (f64, f64) {
+    let reach = if tracks_beside { PORT_REACH + connections::TRACKS } else { PORT_REACH };
     let left = node.ports.iter().any(measure::port_on_left);
     let right = node.ports.iter().any(|p| !measure::port_on_left(p));
     (if left { reach } else { 0.0 }, if right { reach } else { 0.0 })
