@@ -42,6 +42,8 @@ pub type Rows = Vec<Vec<String>>;
 /// ranks without boxes before the row it started): no node or edge id has the character, and a
 /// reader before it left it out as an id no longer in the graph.
 pub const COLUMN_MARK: &str = "|";
+/// The entry that marks, last in a row, where the row's band started along the ranks.
+pub const BAND_MARK: &str = "=";
 
 /// A row entry's text: the id, then where it was drawn — its centre across the ranks and, for a
 /// box of a part laid out apart, its top — each exactly (the shortest text that reads back as

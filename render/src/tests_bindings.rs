@@ -14,12 +14,18 @@ use crate::{
 
 /// The reference pipeline (`tests/reference/models/LongPipeline.gudsl`) with the seed's
 /// component classes.
-fn reference_pipeline() -> Graph {
+pub(crate) fn reference_pipeline() -> Graph {
+    edited_pipeline(&str::to_string)
+}
+
+/// The reference pipeline, its text edited by `edit`.
+pub(crate) fn edited_pipeline(edit: &dyn Fn(&str) -> String) -> Graph {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let read = |path: std::path::PathBuf| (path.display().to_string(), std::fs::read_to_string(&path).unwrap());
+    let pipeline = read(root.join("tests/reference/models/LongPipeline.gudsl"));
     let (host, files) = gudsl_model::AnalysisHost::with_files([
         read(root.join("../samples/seed/listing26_component_classes_example.gudsl")),
-        read(root.join("tests/reference/models/LongPipeline.gudsl")),
+        (pipeline.0, edit(&pipeline.1)),
     ]);
     let graphs = host.analysis().graphs(files[1]).unwrap().to_vec();
     graphs.into_iter().next().expect("the pipeline's diagram")

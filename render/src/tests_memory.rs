@@ -1,8 +1,8 @@
 //! Tests of fresh layouts that keep the rows of the layout before (`layout::seeded`): a layout
 //! from its own rows is the same drawing, for every sample diagram; a class added to the
 //! 200-class A4 model moves the others by a few points where a layout without the rows moves
-//! them by hundreds, with no more crossings; rows that name what is gone, or say nothing
-//! useful, are no error.
+//! them by hundreds, with no more crossings; a wrapped pipeline keeps its rows' columns and
+//! ranks' places; rows that name what is gone, or say nothing useful, are no error.
 
 use gudsl_model::graph::Graph;
 
@@ -93,6 +93,34 @@ fn a_class_added_to_a_fresh_layout_that_keeps_the_rows_moves_the_others_little()
 }
 
 #[test]
+fn a_wrapped_pipeline_with_a_node_added_keeps_its_columns_and_its_ranks_places() {
+    let before = scene::build(&crate::tests_bindings::reference_pipeline(), Hints::default());
+    // Wrapped: the rows mark where the second column (a row of the drawing) starts, and every
+    // row where its band is.
+    let marks =
+        |mark: &str| before.rows.iter().filter(|row| row.iter().any(|e| e.split(' ').next() == Some(mark))).count();
+    assert_eq!((marks("|"), marks("=")), (1, before.rows.len()));
+    // One filter more, bound from a filter that feeds the last viewer: in the viewer's rank, and
+    // wider than the viewer (that rank's band grows: the viewer, centred in it, moves 34 pt along
+    // the ranks, 42 without the bands kept — the gap before it has too little room to give).
+    let filter = "MeanFilter ( )\n    {\n        FilterPortInstance : FilterPort ( processor ImageIn = IImageProcessor(); provider ImageOut = IImageProvider(); );\n";
+    let graph = crate::tests_bindings::edited_pipeline(&|text| {
+        let bound = text.replacen(
+            "[ source FilterPortInstance.ImageOut ==> target I59.ViewerPortInstance.ImageIn ]",
+            "[ source FilterPortInstance.ImageOut ==> target I59.ViewerPortInstance.ImageIn ]\n        [ source FilterPortInstance.ImageOut ==> target X.FilterPortInstance.ImageIn ]",
+            1,
+        );
+        let end = bound.trim_end().strip_suffix('}').unwrap().to_string();
+        format!("{end}    X instantiates ComponentClassDefinitions.{filter}    }}\n}}\n")
+    });
+    assert_eq!(graph.nodes.len(), 61);
+    let kept = scene::build(&graph, Hints { rows: Some(&before.rows), ..Hints::default() });
+    let moved = mean_displacement(&before, &kept);
+    assert!(moved < 1.0, "{moved}");
+    assert_clean(&graph, &kept, false);
+}
+
+#[test]
 fn rows_naming_what_is_gone_or_nothing_useful_are_no_error() {
     let graph = classes200();
     let fresh = scene::build(&graph, Hints::default());
@@ -116,6 +144,14 @@ fn rows_naming_what_is_gone_or_nothing_useful_are_no_error() {
     let started = std::time::Instant::now();
     assert_eq!(scene::build(&graph, Hints { rows: Some(&padded), ..Hints::default() }), fresh);
     assert!(started.elapsed().as_secs() < 20, "{:?}", started.elapsed());
+    // Rows claiming every band far down: the ranks stay near where they would be.
+    let far: Rows = fresh
+        .rows
+        .iter()
+        .map(|row| row.iter().map(|e| if e.starts_with("= ") { "= 9999999".to_string() } else { e.clone() }).collect())
+        .collect();
+    let scene = scene::build(&graph, Hints { rows: Some(&far), ..Hints::default() });
+    assert!(scene.height < 2.0 * fresh.height, "{} against {}", scene.height, fresh.height);
     // Every node seated in one row, in reverse: kept where the edges allow, still clean.
     let reversed: Rows = vec![graph.nodes.iter().rev().map(|n| format!("{} 0", n.id)).collect()];
     let scene = scene::build(&graph, Hints { rows: Some(&reversed), ..Hints::default() });

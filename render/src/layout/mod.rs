@@ -274,12 +274,10 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     if let Some(places) = &places {
         fit::keep(&layers, &extent, &mut x, &separation, spacing.margin, places);
     }
-    if !input.ports.is_empty() {
-        // Each gap as wide as the tracks the scene turns connections on there need.
-        let routed = route::polylines(&graph, &edges, &layers, (&x, &bands, &extent), &input.ports);
-        let ported = |e: usize| !edges[e].2 && input.ports.get(e).is_some_and(|ends| ends.iter().all(Option::is_some));
-        bands.widen(&tracks::room(&routed, &ported, &bands));
-    }
+    // Each gap as wide as the tracks the scene turns connections on there need; ranks kept where they were.
+    let room = tracks::room(&graph, &edges, &layers, (&x, &bands, &extent), &input.ports);
+    let kept = places.as_ref().map(|p| seeded::kept_bands(&input.remembered, &graph, p, &bands.height));
+    bands.settle(&room, &kept.unwrap_or_default());
     let positions: Vec<Point> = (0..n)
         .map(|v| Point { x: x[v] - input.nodes[v].width / 2.0, y: bands.middle(rank[v]) - input.nodes[v].height / 2.0 })
         .collect();
@@ -297,11 +295,9 @@ fn layered_joined(input: &LayoutInput, spacing: Spacing) -> Layout {
     let width = place::right_edge(&x, &extent) + spacing.margin;
     let rows = seeded::rows(&layers, &graph, &x);
     let mut layout = Layout { positions, edges: routed, labels, end_labels, width, height: bands.total_height, rows };
-    if !in_lanes {
-        let kept = places.as_ref().map_or(Vec::new(), |p| seeded::kept_cuts(&input.remembered, &graph, &layers, p));
-        let cuts = wrap::wrap(&mut layout, input, &bands, spacing, &kept);
-        seeded::mark_cuts(&mut layout.rows, &layers, &graph, &cuts);
-    }
+    let kept = places.as_ref().map_or(Vec::new(), |p| seeded::kept_cuts(&input.remembered, &graph, &layers, p));
+    let cuts = if in_lanes { Vec::new() } else { wrap::wrap(&mut layout, input, &bands, spacing, &kept) };
+    seeded::mark(&mut layout.rows, &layers, &graph, (&bands.top, &bands.height), &cuts);
     layout
 }
 

@@ -105,13 +105,14 @@ impl Part {
         }
         // A box of a part apart is kept as drawn here: its centre and top, the part's place.
         let top = |i: usize| Some(self.layout.positions[i].y + dy).filter(|_| apart);
-        let entry = |&(entry, x, _): &RowEntry| match entry {
+        let entry = |&(entry, x, y): &RowEntry| match entry {
             Entry::Box(i) => (Entry::Box(self.boxes[i]), x.map(|x| x + dx), top(i)),
             Entry::Edge(i) => (Entry::Edge(self.edges[i]), x.map(|x| x + dx), None),
+            Entry::Band => (Entry::Band, x.map(|top| top + dy), y),
             Entry::Column => (Entry::Column, x, None),
         };
-        // Where a part apart was wrapped is not kept: it is laid out from its orders alone.
-        let kept = |e: &&RowEntry| !(apart && e.0 == Entry::Column);
+        // A part apart is laid out from its orders alone: where its bands and columns were is not kept.
+        let kept = |e: &&RowEntry| !(apart && matches!(e.0, Entry::Band | Entry::Column));
         layout.rows.extend(self.layout.rows.iter().map(|row| row.iter().filter(kept).map(entry).collect()));
     }
 }

@@ -86,6 +86,9 @@ fn separate_groups(graph: &Proper, x: &mut [f64], extent: &[Extent], gap: f64) {
     }
 }
 
+/// How far below where it would be a rank may be kept at its place in the layout before.
+const KEPT_BELOW: f64 = 400.0;
+
 /// The horizontal band of each rank: as tall as its tallest box. A lane rank (`bundle`) is
 /// half the rank gap from its neighbours.
 pub(super) struct Bands {
@@ -112,16 +115,24 @@ impl Bands {
         Bands { top, height: heights, total_height: cursor + spacing.margin }
     }
 
-    /// Each gap between ranks at least as tall as `room` asks (per gap, top down); the ranks
-    /// below moved down by as much as the gaps above them grew.
-    pub fn widen(&mut self, room: &[f64]) {
-        let mut grown = 0.0;
+    /// Each gap between ranks at least as tall as `room` asks (per gap, top down: the room of
+    /// the tracks turning there), and each rank `kept` has a place for (the layout before's) at
+    /// that place where the gap above leaves room for its tracks half as far apart, and nearest
+    /// it where not; none further below than `KEPT_BELOW` (the place is the sidecar's: untrusted).
+    /// The ranks below follow.
+    pub fn settle(&mut self, room: &[f64], kept: &[Option<f64>]) {
+        let Some(&last) = self.top.last() else { return };
+        let original = self.top.clone();
         for r in 1..self.top.len() {
-            let gap = self.top[r] - (self.top[r - 1] - grown + self.height[r - 1]);
-            grown += (room.get(r - 1).copied().unwrap_or(0.0) - gap).max(0.0);
-            self.top[r] += grown;
+            let gap = original[r] - original[r - 1] - self.height[r - 1];
+            let (bottom, wanted) = (self.top[r - 1] + self.height[r - 1], room.get(r - 1).copied().unwrap_or(0.0));
+            let (natural, least) = (bottom + gap.max(wanted), bottom + gap.max(wanted / 2.0));
+            self.top[r] = match kept.get(r).copied().flatten() {
+                Some(at) if at <= natural + KEPT_BELOW => at.max(least - 1e-6),
+                _ => natural,
+            };
         }
-        self.total_height += grown;
+        self.total_height += self.top[self.top.len() - 1] - last;
     }
 
     /// The whole height, and how much of it lies in the gaps between ranks.
@@ -141,13 +152,34 @@ impl Bands {
 mod tests {
     use super::Bands;
 
+    /// Three ranks 20 tall, 10 apart.
+    fn three() -> Bands {
+        Bands { top: vec![0.0, 30.0, 60.0], height: vec![20.0; 3], total_height: 80.0 }
+    }
+
     #[test]
     fn a_widened_gap_moves_the_ranks_below_it_down() {
-        // Three ranks 20 tall, 10 apart.
-        let mut bands = Bands { top: vec![0.0, 30.0, 60.0], height: vec![20.0; 3], total_height: 80.0 };
+        let mut bands = three();
         // The first gap wants 25, the second 5 (it has 10 already).
-        bands.widen(&[25.0, 5.0]);
+        bands.settle(&[25.0, 5.0], &[]);
         assert_eq!(bands.top, [0.0, 45.0, 75.0]);
         assert_eq!(bands.total_height, 95.0);
+    }
+
+    #[test]
+    fn a_rank_stays_where_it_was_while_its_gap_s_tracks_fit_half_as_far_apart() {
+        // The second rank was at 45: its gap now wants 40, 20 squeezed: it stays.
+        let mut bands = three();
+        bands.settle(&[40.0, 0.0], &[None, Some(45.0), None]);
+        assert_eq!(bands.top, [0.0, 45.0, 75.0]);
+        // Wanting 60 (30 squeezed): as near as it can be.
+        let mut bands = three();
+        bands.settle(&[60.0, 0.0], &[None, Some(45.0), None]);
+        assert!((bands.top[1] - 50.0).abs() < 1e-5, "{:?}", bands.top);
+        // Kept further down, where it was, but not far below where it would be.
+        let mut bands = three();
+        bands.settle(&[], &[None, Some(100.0), Some(1e7)]);
+        assert_eq!(bands.top, [0.0, 100.0, 130.0]);
+        assert_eq!(bands.total_height, 150.0);
     }
 }

@@ -26,12 +26,15 @@ pub struct Seat {
 pub type RowEntry = (Entry, Option<f64>, Option<f64>);
 
 /// What a row holds: a box, or a long edge passing through it (one of its dummies), by index;
-/// or, last in a row, the mark that a wrapped drawing's column started there (its `x`: how many
-/// ranks without boxes before the row the column started).
+/// or, last in a row, a mark: where the row's band started along the ranks and how far it
+/// reached (`Band`, its `x` and `y`),
+/// and that a wrapped drawing's column started there (`Column`, its `x`: how many ranks without
+/// boxes before the row the column started).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Entry {
     Box(usize),
     Edge(usize),
+    Band,
     Column,
 }
 
@@ -45,16 +48,23 @@ pub struct Remembered {
     /// Where a wrapped drawing's columns after the first started: at a row, so many ranks
     /// without boxes before it.
     pub columns: Vec<(usize, usize)>,
+    /// Where rows' bands started along the ranks, and how far they reached.
+    pub bands: Vec<(usize, f64, Option<f64>)>,
 }
 
 impl Remembered {
     /// The seats in `rows` of a graph of `boxes` boxes and `edges` edges (entries beyond are
     /// left out).
     pub fn of_rows(rows: &[Vec<RowEntry>], boxes: usize, edges: usize) -> Remembered {
-        let mut remembered =
-            Remembered { boxes: vec![None; boxes], edges: vec![Vec::new(); edges], columns: Vec::new() };
+        let mut remembered = Remembered {
+            boxes: vec![None; boxes],
+            edges: vec![Vec::new(); edges],
+            columns: Vec::new(),
+            bands: Vec::new(),
+        };
         for (row, entries) in rows.iter().enumerate() {
-            let (marks, seated): (Vec<&RowEntry>, Vec<&RowEntry>) = entries.iter().partition(|e| e.0 == Entry::Column);
+            let (marks, seated): (Vec<&RowEntry>, Vec<&RowEntry>) =
+                entries.iter().partition(|e| matches!(e.0, Entry::Column | Entry::Band));
             for (column, &&(entry, x, y)) in seated.iter().enumerate() {
                 let seat = Seat { row, at: (column as f64 + 0.5) / seated.len() as f64, x, y };
                 match entry {
@@ -63,9 +73,12 @@ impl Remembered {
                     _ => {}
                 }
             }
-            if let Some(&&(_, before, _)) = marks.first() {
+            if let Some(&&(_, before, _)) = marks.iter().find(|e| e.0 == Entry::Column) {
                 // Saturating: a sidecar is untrusted, the count is clamped where it is used.
                 remembered.columns.push((row, before.map_or(0, |b| b.max(0.0) as usize)));
+            }
+            if let Some(&&(_, Some(top), height)) = marks.iter().find(|e| e.0 == Entry::Band) {
+                remembered.bands.push((row, top, height));
             }
         }
         remembered
@@ -77,6 +90,7 @@ impl Remembered {
         self.boxes.iter_mut().flatten().for_each(forget);
         self.edges.iter_mut().flatten().for_each(forget);
         self.columns.clear();
+        self.bands.clear();
         self
     }
 
@@ -86,6 +100,7 @@ impl Remembered {
             boxes: boxes.iter().map(|&v| self.boxes.get(v).copied().flatten()).collect(),
             edges: edges.iter().map(|&e| self.edges.get(e).cloned().unwrap_or_default()).collect(),
             columns: self.columns.clone(),
+            bands: self.bands.clone(),
         }
     }
 
@@ -141,6 +156,13 @@ pub(super) fn rows(layers: &[Vec<usize>], graph: &Proper, x: &[f64]) -> Vec<Vec<
         .collect()
 }
 
+/// Per row of the layout `places` (the vertices' seats) were read off, the rank of `graph` its
+/// seated boxes are in now.
+fn rank_of_row(graph: &Proper, places: &[Option<Seat>]) -> std::collections::HashMap<usize, usize> {
+    let seated = places.iter().enumerate().take(graph.boxes);
+    seated.filter_map(|(v, seat)| Some((seat.as_ref()?.row, graph.rank[v]))).collect()
+}
+
 /// The first rank of each column after the first of the wrapped layout `remembered` was read
 /// off, as its rows fall in `layers` now (`places`: the vertices' seats): a column that started
 /// at a row starts at that row's rank, or so many ranks before it as it did, none of them holding
@@ -151,12 +173,7 @@ pub(super) fn kept_cuts(
     layers: &[Vec<usize>],
     places: &[Option<Seat>],
 ) -> Vec<usize> {
-    let mut rank_of_row = std::collections::HashMap::new();
-    for (v, seat) in places.iter().enumerate().take(graph.boxes) {
-        if let Some(seat) = seat {
-            rank_of_row.insert(seat.row, graph.rank[v]);
-        }
-    }
+    let rank_of_row = rank_of_row(graph, places);
     let holds_box = |r: usize| layers[r].iter().any(|&v| v < graph.boxes);
     let mut cuts: Vec<usize> = Vec::new();
     for &(row, before) in &remembered.columns {
@@ -172,10 +189,39 @@ pub(super) fn kept_cuts(
     cuts
 }
 
-/// Marks in `rows` (of `layers`, as `rows` writes them) where each of the columns that start at
-/// the ranks `cuts` starts: last in the first row at or after it, with the ranks before it.
-pub(super) fn mark_cuts(rows: &mut [Vec<RowEntry>], layers: &[Vec<usize>], graph: &Proper, cuts: &[usize]) {
+/// Per rank of `graph` (its band `height` along the ranks now), where its band starts for its
+/// middle to be where it was in the layout `remembered` was read off (`places`: the vertices'
+/// seats), if its row's band was kept.
+pub(super) fn kept_bands(
+    remembered: &Remembered,
+    graph: &Proper,
+    places: &[Option<Seat>],
+    height: &[f64],
+) -> Vec<Option<f64>> {
+    let rank_of_row = rank_of_row(graph, places);
+    let mut kept = vec![None; graph.ranks()];
+    for &(row, top, was) in &remembered.bands {
+        if let Some(&rank) = rank_of_row.get(&row) {
+            kept[rank] = Some(top + (was.unwrap_or(height[rank]) - height[rank]) / 2.0);
+        }
+    }
+    kept
+}
+
+/// Marks in `rows` (of `layers`, as `rows` writes them) where each row's band starts and how
+/// far it reaches (`bands`: per rank, its top and height), and where each of the columns that
+/// start at the ranks `cuts` starts: last in the first row at or after it, with the ranks before it.
+pub(super) fn mark(
+    rows: &mut [Vec<RowEntry>],
+    layers: &[Vec<usize>],
+    graph: &Proper,
+    bands: (&[f64], &[f64]),
+    cuts: &[usize],
+) {
     let box_ranks: Vec<usize> = (0..layers.len()).filter(|&r| layers[r].iter().any(|&v| v < graph.boxes)).collect();
+    for (entries, &rank) in rows.iter_mut().zip(&box_ranks) {
+        entries.push((Entry::Band, Some(bands.0[rank]), Some(bands.1[rank])));
+    }
     for &first in cuts {
         let row = box_ranks.partition_point(|&r| r < first);
         if let (Some(entries), Some(&rank)) = (rows.get_mut(row), box_ranks.get(row)) {
@@ -359,11 +405,17 @@ mod tests {
         let unmarked = rows(&layers, &graph, &x);
         let mut marked = unmarked.clone();
         // Columns starting at the empty rank (before the third row) and at the last rank.
-        mark_cuts(&mut marked, &layers, &graph, &[2, 4]);
+        let tops: Vec<f64> = (0..5).map(|r| r as f64 * 100.0).collect();
+        mark(&mut marked, &layers, &graph, (&tops, &[20.0; 5]), &[2, 4]);
         assert_eq!(marked[2].last(), Some(&(Entry::Column, Some(1.0), None)));
         let remembered = Remembered::of_rows(&marked, graph.boxes, graph.chains.len());
         let places = remembered.of_vertices(&graph);
         assert_eq!(kept_cuts(&remembered, &graph, &layers, &places), [2, 4]);
+        // Each row's band where it was (none for the empty rank); the last, 10 taller now, around
+        // the same middle.
+        let height = [20.0, 20.0, 20.0, 20.0, 30.0];
+        let kept = kept_bands(&remembered, &graph, &places, &height);
+        assert_eq!(kept, [Some(0.0), Some(100.0), None, Some(300.0), Some(395.0)]);
         // The marks take no seat: every box and dummy sits where it sat without them.
         let plain = Remembered::of_rows(&unmarked, graph.boxes, graph.chains.len());
         assert_eq!(places, plain.of_vertices(&graph));

@@ -4,7 +4,8 @@
 //! gap by it; the scene (`scene::channels`) runs the tracks there — one decision for both.
 
 use super::place::Bands;
-use super::Point;
+use super::proper::Proper;
+use super::{Extent, Point};
 
 /// Between two tracks of a gap, and between a gap's outer tracks and its sides.
 pub(crate) const TRACK: f64 = 8.0;
@@ -43,11 +44,27 @@ pub(crate) fn slots(tracks: &[Track]) -> Vec<usize> {
     slot
 }
 
-/// The room each gap between `bands` needs for the tracks of `routes` that end at ports at both
-/// ends (`ported`) and run down the ranks, as the layout routed them: a track's width either
-/// side of every place (none where no route slants there, and where more than `MOST_TRACKS`
-/// would: those go to the router).
-pub(super) fn room(routes: &[Vec<Point>], ported: &dyn Fn(usize) -> bool, bands: &Bands) -> Vec<f64> {
+/// The room each gap between `bands` needs for the tracks of the edges that end at ports at
+/// both ends (`ports`, per edge of `edges`) and run down the ranks, as the layout routes them
+/// (`route::polylines`): a track's width either side of every place (none where no route slants
+/// there, where more than `MOST_TRACKS` would, those go to the router, and without ports).
+pub(super) fn room(
+    graph: &Proper,
+    edges: &[(usize, usize, bool)],
+    layers: &[Vec<usize>],
+    (x, bands, extent): (&[f64], &Bands, &[Extent]),
+    ports: &[[Option<f64>; 2]],
+) -> Vec<f64> {
+    if ports.is_empty() {
+        return Vec::new();
+    }
+    let routes = super::route::polylines(graph, edges, layers, (x, bands, extent), ports);
+    let ported = |e: usize| !edges[e].2 && ports.get(e).is_some_and(|ends| ends.iter().all(Option::is_some));
+    gap_room(&routes, &ported, bands)
+}
+
+/// The room each gap between `bands` needs for the tracks of `routes` (those `ported`).
+fn gap_room(routes: &[Vec<Point>], ported: &dyn Fn(usize) -> bool, bands: &Bands) -> Vec<f64> {
     let ranks = bands.top.len();
     let mut gaps: Vec<Vec<Track>> = vec![Vec::new(); ranks.saturating_sub(1)];
     for (_, route) in routes.iter().enumerate().filter(|&(e, _)| ported(e)) {
@@ -143,13 +160,13 @@ mod tests {
         let down = |from: f64, to: f64| vec![p(from, 10.0), p(from, 20.0), p(to, 60.0), p(to, 70.0)];
         let all = |_: usize| true;
         // Straight down: no track.
-        assert_eq!(room(&[down(0.0, 0.0)], &all, &bands), [0.0]);
+        assert_eq!(gap_room(&[down(0.0, 0.0)], &all, &bands), [0.0]);
         // Two whose ends change order: side by side, three tracks' widths.
         let crossing = [down(0.0, 50.0), down(40.0, 10.0)];
-        assert_eq!(room(&crossing, &all, &bands), [3.0 * TRACK]);
+        assert_eq!(gap_room(&crossing, &all, &bands), [3.0 * TRACK]);
         // Far apart in height they share a place; a route not ending at ports takes none.
-        assert_eq!(room(&[down(0.0, 10.0), down(40.0, 50.0)], &all, &bands), [2.0 * TRACK]);
-        assert_eq!(room(&crossing, &|e| e == 0, &bands), [2.0 * TRACK]);
+        assert_eq!(gap_room(&[down(0.0, 10.0), down(40.0, 50.0)], &all, &bands), [2.0 * TRACK]);
+        assert_eq!(gap_room(&crossing, &|e| e == 0, &bands), [2.0 * TRACK]);
     }
 
     #[test]

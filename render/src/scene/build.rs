@@ -16,7 +16,7 @@ use super::{
 use crate::layout::{
     layered, layered_left_to_right, Entry, Layout, LayoutInput, LayoutNode, Page, Remembered, RowEntry, Spacing,
 };
-use crate::pins::{read_row_entry, row_entry, Rows, COLUMN_MARK};
+use crate::pins::{read_row_entry, row_entry, Rows, BAND_MARK, COLUMN_MARK};
 
 /// A graph's edge with both ends found: node indices, and port indices on them.
 struct ResolvedEdge<'g> {
@@ -51,6 +51,7 @@ pub fn build(graph: &Graph, hints: Hints) -> Scene {
         let id = match entry {
             Entry::Box(v) => &graph.nodes[v].id,
             Entry::Edge(e) => &parts.edges[e].edge.id,
+            Entry::Band => BAND_MARK,
             Entry::Column => COLUMN_MARK,
         };
         row_entry(id, x, y)
@@ -108,7 +109,11 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let by_id: HashMap<&str, Entry> = nodes.chain(edges).collect();
     let entry = |text: &String| {
         let (id, x, y) = read_row_entry(text);
-        let entry = if id == COLUMN_MARK { Entry::Column } else { *by_id.get(id)? };
+        let entry = match id {
+            BAND_MARK => Entry::Band,
+            COLUMN_MARK => Entry::Column,
+            _ => *by_id.get(id)?,
+        };
         Some((entry, x, y))
     };
     // A row's index becomes a rank, and a sidecar is untrusted input: a million rows must not
@@ -117,7 +122,7 @@ fn remembered(parts: &Parts, rows: Option<&Rows>) -> Remembered {
     let mut seen = vec![false; parts.graph.nodes.len()];
     let mut first_time = |e: &RowEntry| match e.0 {
         Entry::Box(v) => !std::mem::replace(&mut seen[v], true),
-        Entry::Edge(_) | Entry::Column => true,
+        Entry::Edge(_) | Entry::Band | Entry::Column => true,
     };
     let entries: Vec<Vec<RowEntry>> = rows
         .iter()

@@ -213,6 +213,6 @@ fn outer(&(entry, x, y): &RowEntry, level: &[usize], edges: &[usize]) -> RowEntr
     match entry {
         Entry::Box(i) => (Entry::Box(level[i]), x, y),
         Entry::Edge(i) => (Entry::Edge(edges[i]), x, y),
-        Entry::Column => (Entry::Column, x, y),
+        Entry::Band | Entry::Column => (entry, x, y),
     }
 }
