@@ -214,8 +214,12 @@ async def positions(client, seen, gudsl, workspace, graph, apply_graph_edit, tex
     client.text_document_did_save(t.DidSaveTextDocumentParams(t.TextDocumentIdentifier(saved_uri)))
     await wait_for(saved_sidecar.exists, "the diagrams' rows written on save")
     rows = json.loads(saved_sidecar.read_text())["rows"]["Moves"]
-    if sorted(entry.split(" ")[0] for row in rows for entry in row) != sorted(n.id for n in drawn.nodes):
+    # Besides the nodes (and long edges), each row ends with where its band is: `=` and numbers.
+    marks = ("=", "|")
+    if sorted(e.split(" ")[0] for row in rows for e in row if e.split(" ")[0] not in marks) != sorted(n.id for n in drawn.nodes):
         fail(f"the rows saved do not hold the diagram's nodes once each: {rows}")
+    if not all(any(e.startswith("= ") for e in row) for row in rows):
+        fail(f"a row saved does not say where its band is: {rows}")
     # The model edited meanwhile (a class added): `gudsl render` keeps the others where the
     # session drew them; without the rows (the control) it does not.
     saved.write_text(MOVES.replace("    public class Square", "    public class Triangle extends Shape { }\n    public class Square"))
