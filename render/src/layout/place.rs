@@ -124,9 +124,12 @@ impl Bands {
         let Some(&last) = self.top.last() else { return };
         let original = self.top.clone();
         for r in 1..self.top.len() {
-            let gap = original[r] - original[r - 1] - self.height[r - 1];
-            let (bottom, wanted) = (self.top[r - 1] + self.height[r - 1], room.get(r - 1).copied().unwrap_or(0.0));
-            let (natural, least) = (bottom + gap.max(wanted), bottom + gap.max(wanted / 2.0));
+            // Moved as far as the rank above, and the gap grown where it must (a rank nothing
+            // moves stays where it was to the last bit).
+            let (gap, shift) = (original[r] - original[r - 1] - self.height[r - 1], self.top[r - 1] - original[r - 1]);
+            let wanted = room.get(r - 1).copied().unwrap_or(0.0);
+            let grown = |wanted: f64| original[r] + shift + (wanted - gap).max(0.0);
+            let (natural, least) = (grown(wanted), grown(wanted / 2.0));
             self.top[r] = match kept.get(r).copied().flatten() {
                 Some(at) if at <= natural + KEPT_BELOW => at.max(least - 1e-6),
                 _ => natural,
