@@ -552,3 +552,88 @@ fn a_run_s_report_is_drawn_on_its_diagram() {
     assert_eq!(refused.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&refused.stderr).contains("is not a pipeline run's report.json"));
 }
+
+/// Issue 54: the GPU work a frame of each sample pipeline records — its dispatches (compute
+/// passes) by stage and its submissions — as `report.json` counts them (deterministic on any
+/// adapter). Before issue 54 a point cloud read by a sink or accumulated took a submission of
+/// its own per camera: `ch4_mcap_recording` 2 submissions a frame, `ch6_object_scan` 7 over
+/// its first 4 frames.
+fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions: f64) {
+    if !gpu() {
+        return;
+    }
+    let name = std::path::Path::new(sample).file_stem().unwrap().to_string_lossy().into_owned();
+    let out = temp_dir(&format!("gpu-work-{name}"));
+    let frames = frames.to_string();
+    let (code, stdout, stderr) = run(&[&repo(sample), "--frames", &frames, "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let by_stage: Vec<(String, f64)> = (report["stages"].as_array().unwrap().iter())
+        .map(|s| (s["instance"].as_str().unwrap().to_string(), s["dispatches_per_frame"].as_f64().unwrap()))
+        .filter(|(_, n)| *n > 0.0)
+        .collect();
+    let expected: Vec<(String, f64)> = dispatches.iter().map(|(s, n)| (s.to_string(), *n)).collect();
+    assert_eq!(by_stage, expected, "{name}: dispatches a frame by stage");
+    let total: f64 = expected.iter().map(|(_, n)| n).sum();
+    assert_eq!(report["dispatches_per_frame"].as_f64(), Some(total), "{name}");
+    assert_eq!(report["submissions_per_frame"].as_f64(), Some(submissions), "{name}: submissions a frame");
+    let line = format!("GPU work per frame: {total} dispatches in {submissions} submissions");
+    assert!(stdout.contains(&line), "{name}: the table says `{line}`:\n{stdout}");
+}
+
+#[test]
+fn gpu_work_of_chapter_4_motion_compensation() {
+    let stages = [("Black", 1.0), ("Uncompensated", 1.0), ("Motion", 3.0), ("Compensated", 1.0)];
+    gpu_work("samples/pipelines/ch4_motion_compensation.gudsl", 2, &stages, 1.0);
+    gpu_work("samples/pipelines/ch4_motion_taps.gudsl", 2, &stages, 1.0);
+}
+
+#[test]
+fn gpu_work_of_chapter_4_recordings() {
+    gpu_work("samples/pipelines/ch4_record_mcap.gudsl", 2, &[("Tof", 1.0)], 1.0);
+    let stages = [("Uncompensated", 1.0), ("Motion", 3.0), ("Compensated", 1.0), ("Points", 2.0)];
+    gpu_work("samples/pipelines/ch4_mcap_recording.gudsl", 2, &stages, 1.0);
+}
+
+#[test]
+fn gpu_work_of_chapter_5_integration_time() {
+    let stages = [
+        ("PerPixelBlack", 1.0),
+        ("PerPixel", 1.0),
+        ("PerPixelControl", 1.0),
+        ("MayBlack", 1.0),
+        ("MeanIntensity", 1.0),
+    ];
+    gpu_work("samples/pipelines/ch5_integration_time.gudsl", 2, &stages, 1.0);
+}
+
+/// Three cameras: the first three frames learn the background (five filters a camera); the
+/// fourth segments, makes clouds and accumulates them, read back in one submission.
+#[test]
+fn gpu_work_of_chapter_6_object_scan() {
+    let mut stages = Vec::new();
+    for camera in ["Left", "Centre", "Right"] {
+        for (stage, n) in [
+            ("Black", 1.0),
+            ("Demod", 1.0),
+            ("Median", 1.0),
+            ("Gaussian", 1.0),
+            ("Outliers", 1.0),
+            ("Background", 1.25),
+            ("Mask", 0.25),
+            ("Cloud", 0.5),
+            ("Transform", 0.5),
+        ] {
+            stages.push((format!("{camera}{stage}"), n));
+        }
+    }
+    let stages: Vec<(&str, f64)> = stages.iter().map(|(s, n)| (s.as_str(), *n)).collect();
+    gpu_work("samples/pipelines/ch6_object_scan.gudsl", 4, &stages, 1.25);
+}
+
+#[test]
+fn gpu_work_of_chapter_11_component_example() {
+    let stages = [("Camera1", 2.0), ("Camera2", 2.0), ("MeanFilter1", 6.0), ("Viewer1", 6.0)];
+    gpu_work("samples/pipelines/ch11_component_example.gudsl", 1, &stages, 1.0);
+}

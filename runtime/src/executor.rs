@@ -44,6 +44,30 @@ impl Tensor {
 /// The GPU time each stage's passes took in a frame, by stage.
 pub type StageTimes = Vec<(usize, Duration)>;
 
+/// The device work an executor did since it was last asked ([`Executor::take_work`]): each
+/// compute pass it recorded (a dispatch), by the stage that recorded it, and the command
+/// buffers it submitted. Both are counted on any adapter, timestamps or not, and stay zero on
+/// the CPU reference.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Work {
+    /// The stage of each dispatch, in the order recorded.
+    pub dispatches: Vec<usize>,
+    pub submissions: usize,
+}
+
+impl Work {
+    /// Dispatches recorded for `stage`.
+    pub fn dispatches_of(&self, stage: usize) -> usize {
+        self.dispatches.iter().filter(|&&s| s == stage).count()
+    }
+
+    /// `other`'s work added to this.
+    pub fn add(&mut self, other: Work) {
+        self.dispatches.extend(other.dispatches);
+        self.submissions += other.submissions;
+    }
+}
+
 /// The GPU (or the CPU) and the frame's recording.
 pub struct Executor<'g> {
     gpu: Option<&'g Gpu>,
@@ -52,6 +76,7 @@ pub struct Executor<'g> {
     later: Vec<Tensor>,
     staging: Option<wgpu::Buffer>,
     timing: Option<Timing>,
+    work: Work,
 }
 
 /// A kernel slot a stage keeps across frames: the kernel bound to the buffers it last ran on.
@@ -71,12 +96,17 @@ impl<'g> Executor<'g> {
     /// (a [`Gpu::with_timestamps`]) every kernel is timed on the GPU.
     pub fn new(gpu: Option<&'g Gpu>) -> Executor<'g> {
         let timing = gpu.and_then(|gpu| Timing::new(gpu, 64));
-        Executor { gpu, encoder: None, later: Vec::new(), staging: None, timing }
+        Executor { gpu, encoder: None, later: Vec::new(), staging: None, timing, work: Work::default() }
     }
 
     /// The GPU, `None` on the CPU reference.
     pub fn gpu(&self) -> Option<&'g Gpu> {
         self.gpu
+    }
+
+    /// The dispatches and submissions since the last call (or since it was made).
+    pub fn take_work(&mut self) -> Work {
+        std::mem::take(&mut self.work)
     }
 
     /// Records a dispatch of `program` (a generated kernel, a conversion) for `stage` into the
@@ -114,6 +144,7 @@ impl<'g> Executor<'g> {
         work: impl FnOnce(&Gpu, &mut wgpu::CommandEncoder, Option<wgpu::ComputePassTimestampWrites<'_>>) -> R,
     ) -> Option<R> {
         let gpu = self.gpu?;
+        self.work.dispatches.push(stage);
         let writes = self.timing.as_mut().map(|t| t.next(gpu, stage));
         let encoder = self.encoder.get_or_insert_with(|| gpu.device.create_command_encoder(&Default::default()));
         Some(work(gpu, encoder, writes))
@@ -181,7 +212,7 @@ impl<'g> Executor<'g> {
     /// submits after it.
     pub fn flush(&mut self) -> Result<(), ChainError> {
         match (self.gpu, self.encoder.take()) {
-            (Some(gpu), Some(encoder)) => submit(gpu, encoder),
+            (Some(gpu), Some(encoder)) => self.submit(gpu, encoder),
             _ => Ok(()),
         }
     }
@@ -191,7 +222,7 @@ impl<'g> Executor<'g> {
     pub fn wait(&mut self) -> Result<(), ChainError> {
         let Some(gpu) = self.gpu else { return Ok(()) };
         let encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
-        submit(gpu, encoder)?;
+        self.submit(gpu, encoder)?;
         gpu.device.poll(wgpu::PollType::wait_indefinitely()).map(drop).map_err(|e| ChainError::Readback(e.to_string()))
     }
 
@@ -229,7 +260,7 @@ impl<'g> Executor<'g> {
             timing.resolve(&mut encoder);
         }
         if bytes == 0 || tensors.iter().all(|t| matches!(t, Tensor::Cpu(_))) {
-            submit(gpu, encoder)?;
+            self.submit(gpu, encoder)?;
             return Ok(tensors.iter().map(host).collect());
         }
         if self.staging.as_ref().is_none_or(|s| s.size() < bytes) {
@@ -240,16 +271,16 @@ impl<'g> Executor<'g> {
                 mapped_at_creation: false,
             }));
         }
-        let staging = self.staging.as_ref().expect("made above");
+        let staging = self.staging.clone().expect("made above");
         let mut offset = 0;
         for tensor in tensors {
             if let Tensor::Gpu { buffer, shape } = tensor {
-                encoder.copy_buffer_to_buffer(buffer, 0, staging, offset, (shape.len() * 4) as u64);
+                encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, (shape.len() * 4) as u64);
             }
             offset += (tensor.shape().len().max(1) * 4) as u64;
         }
-        submit(gpu, encoder)?;
-        let images = gpu.with_mapped(staging, |bytes| {
+        self.submit(gpu, encoder)?;
+        let images = gpu.with_mapped(&staging, |bytes| {
             let samples: &[f32] = bytemuck::cast_slice(bytes);
             let mut at = 0;
             let mut images = Vec::with_capacity(tensors.len());
@@ -271,6 +302,13 @@ impl<'g> Executor<'g> {
         images.map_err(ChainError::Readback)
     }
 
+    /// Finishes and submits the frame's recording: what the device refuses in it (a generated
+    /// kernel's binding, say) is an error, not wgpu's panic.
+    fn submit(&mut self, gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), ChainError> {
+        self.work.submissions += 1;
+        gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(ChainError::Readback)
+    }
+
     /// A tensor's buffer on the GPU (a host image uploaded into a buffer of its own).
     fn on_device(&self, gpu: &Gpu, tensor: &Tensor) -> (wgpu::Buffer, Shape) {
         match tensor {
@@ -283,12 +321,6 @@ impl<'g> Executor<'g> {
             }
         }
     }
-}
-
-/// Finishes and submits the frame's recording: what the device refuses in it (a generated
-/// kernel's binding, say) is an error, not wgpu's panic.
-fn submit(gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), ChainError> {
-    gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(ChainError::Readback)
 }
 
 /// A tensor known to be in host memory (on the CPU device every tensor is).
@@ -367,6 +399,11 @@ impl<'g> ChainRun<'g> {
             by_step[step] += time;
         }
         Ok(by_step)
+    }
+
+    /// The dispatches and submissions of the runs since the last call.
+    pub fn take_work(&mut self) -> Work {
+        self.executor.take_work()
     }
 
     /// Changes the parameters of step `index` (same kernel, same shapes), e.g. the pose of an

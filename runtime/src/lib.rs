@@ -23,7 +23,7 @@ mod timing;
 
 pub use bound::BoundKernel;
 pub use error::ChainError;
-pub use executor::{run_cpu, ChainRun, Executor, Tensor};
+pub use executor::{run_cpu, ChainRun, Executor, Tensor, Work};
 pub use gpu::{Gpu, GpuUnavailable};
 pub use image::{Image, Shape};
 pub use kernels::Kernel;

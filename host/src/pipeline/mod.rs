@@ -38,7 +38,7 @@ use std::{
 
 use gudsl_model::{ast::ClassKind, hir::pipeline::PipelinePlan};
 pub(crate) use gudsl_runtime::executor;
-use gudsl_runtime::{Executor, Gpu};
+use gudsl_runtime::{Executor, Gpu, Work};
 
 pub use crate::output::OutputDir;
 use apart::{Mode, Processed, Written};
@@ -101,6 +101,8 @@ pub struct PreparedPipeline {
     replay: Option<replay::Replay>,
     /// What each binding carried in this run.
     flows: Vec<Flow>,
+    /// Command buffers submitted to the GPU in this run.
+    submissions: usize,
 }
 
 impl PreparedPipeline {
@@ -148,6 +150,7 @@ impl PreparedPipeline {
                 class: s.class.clone(),
                 host: Duration::ZERO,
                 device: Duration::ZERO,
+                dispatches: 0,
                 items: 0,
                 apart: *mode != Mode::InOrder,
                 failed: None,
@@ -155,6 +158,7 @@ impl PreparedPipeline {
             })
             .collect();
         self.flows = self.plan.bindings.iter().map(|b| self.flow(b)).collect();
+        self.submissions = 0;
         let mut device = Executor::new(gpu);
         let loading = Instant::now();
         let outcome = self.load(&mut stages);
@@ -187,6 +191,7 @@ impl PreparedPipeline {
             outputs: output.written().to_vec(),
             figures,
             flows: std::mem::take(&mut self.flows),
+            submissions: self.submissions,
             outcome,
         }
     }
@@ -258,6 +263,7 @@ impl PreparedPipeline {
             for (stage, time) in kernel_times {
                 times[stage].device += time;
             }
+            self.count(device.take_work(), times);
             for (index, time) in times.iter_mut().enumerate() {
                 if time.failed.is_some() {
                     continue;
@@ -394,7 +400,9 @@ impl PreparedPipeline {
             self.error(Some(index), ErrorKind::Failed, format!("its thread panicked: {why}"))
         })?;
         self.components[index] = Some(processed.component);
-        at.devices[index] = Some(processed.device);
+        let mut own = processed.device;
+        self.count(own.take_work(), at.times);
+        at.devices[index] = Some(own);
         at.output.absorb(processed.output);
         let time = &mut at.times[index];
         time.host += processed.took;
@@ -403,6 +411,14 @@ impl PreparedPipeline {
         self.deliver(at.device, index, given, at.queues, at.frame, false);
         self.deliver(at.device, index, later, at.queues, at.frame, true);
         Ok(())
+    }
+
+    /// `work` added to the run's counts: each dispatch to its stage's.
+    fn count(&mut self, work: Work, times: &mut [StageTime]) {
+        for stage in work.dispatches {
+            times[stage].dispatches += 1;
+        }
+        self.submissions += work.submissions;
     }
 
     /// Stage `index`'s component back from its writer, if one has it: its files listed in

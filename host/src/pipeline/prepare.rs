@@ -88,6 +88,7 @@ pub fn prepare(
             keys: replay::keys(plan, behaviors, files),
             replay: None,
             flows: Vec::new(),
+            submissions: 0,
         })
     } else {
         errors.extend(warnings);

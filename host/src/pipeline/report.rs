@@ -42,6 +42,8 @@ pub struct PipelineReport {
     pub figures: Vec<Figure>,
     /// What each binding carried, in the plan's order.
     pub flows: Vec<Flow>,
+    /// Command buffers submitted to the GPU (0 on the CPU reference).
+    pub submissions: usize,
     pub outcome: Result<(), PipelineError>,
 }
 
@@ -76,6 +78,8 @@ pub struct StageTime {
     pub host: Duration,
     /// Its kernels on the GPU (where the adapter has timestamp queries).
     pub device: Duration,
+    /// Its kernels' dispatches (compute passes) on the GPU, timed or not (0 on the CPU).
+    pub dispatches: usize,
     /// Items it processed.
     pub items: usize,
     /// Whether it runs on a thread of its own (bound through an `async` port): its host time
@@ -130,6 +134,15 @@ pub fn table(report: &PipelineReport) -> String {
             if stage.failed.is_some() { "  failed" } else { "" }
         );
     }
+    if report.submissions > 0 {
+        let dispatches: usize = report.stages.iter().map(|s| s.dispatches).sum();
+        let per_frame = |n: usize| n as f64 / report.frames.max(1) as f64;
+        table += &format!(
+            "GPU work per frame: {} dispatches in {} submissions\n",
+            per_frame(dispatches),
+            per_frame(report.submissions)
+        );
+    }
     table
 }
 
@@ -146,6 +159,7 @@ pub fn write_report(report: &PipelineReport, output: &mut OutputDir) -> Result<s
 /// printed table gives them (`_per_frame`, `ms_per_frame`).
 pub fn report_json(report: &PipelineReport) -> serde_json::Value {
     let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
+    let count = |n: usize| n as f64 / report.frames.max(1) as f64;
     let paths = |keep: fn(&Path) -> bool| {
         report.outputs.iter().filter(|p| keep(p)).map(|p| p.display().to_string()).collect::<Vec<_>>()
     };
@@ -157,10 +171,13 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "total_ms": ms(report.total),
         "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
+        "dispatches_per_frame": count(report.stages.iter().map(|s| s.dispatches).sum()),
+        "submissions_per_frame": count(report.submissions),
         "stages": report.stages.iter().map(|s| serde_json::json!({
             "instance": s.instance, "component": s.class, "items": s.items,
             "host_ms_total": ms(s.host), "device_ms_total": ms(s.device),
             "host_ms_per_frame": per_frame(s.host), "device_ms_per_frame": per_frame(s.device),
+            "dispatches_per_frame": count(s.dispatches),
             "async": s.apart,
             "replayed": s.replayed,
             "state": if s.failed.is_some() { "failed" } else { "ok" },

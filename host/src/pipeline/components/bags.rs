@@ -10,13 +10,10 @@
 use std::sync::Arc;
 
 use gudsl_files::Growing;
-use gudsl_formats::{
-    bag::{At, BagWriter},
-    ply::Points,
-};
+use gudsl_formats::bag::{At, BagWriter};
 use gudsl_runtime::Image;
 
-use super::{cloud::host_points, depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params};
+use super::{cloud::CloudRead, depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params};
 use crate::pipeline::{
     data::Data,
     executor::{Later, Reads},
@@ -46,7 +43,7 @@ enum Pending {
     Raw(Later),
     /// An image already in host memory (the true distances).
     Known(Arc<Image>),
-    Cloud(Points),
+    Cloud(CloudRead),
 }
 
 impl McapWriter {
@@ -98,7 +95,7 @@ impl Component for McapWriter {
         }
         for item in inputs.port("CloudIn") {
             if let Data::Cloud(cloud) = &item.data {
-                self.pending.push((format!("/{}/cloud", item.producer), Pending::Cloud(host_points(ctx, cloud)?)));
+                self.pending.push((format!("/{}/cloud", item.producer), Pending::Cloud(CloudRead::ask(ctx, cloud))));
             }
         }
         Ok(Vec::new())
@@ -112,23 +109,27 @@ impl Component for McapWriter {
         let stamp = self.recorded.take().unwrap_or((ctx.frame as f64 * self.period).round() as u64);
         let frame_id = self.frame_id.clone();
         let bag = self.bag(ctx.output)?;
-        for (topic, message) in &pending {
+        for (topic, message) in pending {
+            let topic = &topic;
             let at = At { topic, stamp, frame_id: &frame_id };
             match message {
                 Pending::Image(later) => {
-                    let image = reads.get(*later);
+                    let image = reads.get(later);
                     bag.floats(&at, (image.width, image.height), &image.data)?;
                 }
                 Pending::Known(image) => bag.floats(&at, (image.width, image.height), &image.data)?,
                 Pending::Raw(later) => {
-                    let raw = reads.get(*later);
+                    let raw = reads.get(later);
                     for (channel, first) in [("a", 0), ("b", 1)] {
                         let planes = super::channel(raw, first);
                         let topic = format!("{topic}{channel}");
                         bag.values(&At { topic: &topic, ..at }, (raw.width, 4 * raw.height), &planes)?;
                     }
                 }
-                Pending::Cloud((points, normals)) => bag.cloud(&at, points, normals)?,
+                Pending::Cloud(cloud) => {
+                    let (points, normals) = cloud.take(reads);
+                    bag.cloud(&at, &points, &normals)?
+                }
             }
         }
         Ok(Vec::new())

@@ -332,8 +332,8 @@ impl Component for Accumulation {
     }
 
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
-        for (_, cloud) in clouds(inputs) {
-            let (points, normals) = host_points(ctx, cloud)?;
+        let given: Vec<&PointCloud> = clouds(inputs).map(|(_, cloud)| cloud).collect();
+        for (points, normals) in host_clouds(ctx, &given)? {
             Arc::make_mut(&mut self.points).extend(points);
             Arc::make_mut(&mut self.normals).extend(normals);
         }
@@ -342,13 +342,54 @@ impl Component for Accumulation {
     }
 }
 
-/// A cloud's valid points and normals in host memory (an organized one read back now).
-pub fn host_points(ctx: &mut Ctx, cloud: &PointCloud) -> Result<Points, String> {
-    match cloud {
-        PointCloud::Unorganized { points, normals } => Ok((points.to_vec(), normals.to_vec())),
-        PointCloud::Organized { points, normals } => {
-            let read = ctx.device.read_now(&[points, normals]).map_err(|e| e.to_string())?;
-            Ok(valid_points(&read[0], &read[1]))
+/// Clouds' valid points and normals in host memory, the organized ones read back now, all in
+/// one read (one submission, whatever the number of cameras).
+pub fn host_clouds(ctx: &mut Ctx, clouds: &[&PointCloud]) -> Result<Vec<Points>, String> {
+    let organized: Vec<&Tensor> = clouds
+        .iter()
+        .filter_map(|cloud| match cloud {
+            PointCloud::Organized { points, normals } => Some([points, normals]),
+            PointCloud::Unorganized { .. } => None,
+        })
+        .flatten()
+        .collect();
+    let read =
+        if organized.is_empty() { Vec::new() } else { ctx.device.read_now(&organized).map_err(|e| e.to_string())? };
+    let mut read = read.chunks(2);
+    Ok(clouds
+        .iter()
+        .map(|cloud| match cloud {
+            PointCloud::Unorganized { points, normals } => (points.to_vec(), normals.to_vec()),
+            PointCloud::Organized { .. } => {
+                let pair = read.next().expect("read above");
+                valid_points(&pair[0], &pair[1])
+            }
+        })
+        .collect())
+}
+
+/// A cloud as a sink asks for it in `process`: in host memory already, or its points and
+/// normals read at the end of the frame (no submission of its own).
+pub enum CloudRead {
+    Known(Points),
+    Later(Later, Later),
+}
+
+impl CloudRead {
+    pub fn ask(ctx: &mut Ctx, cloud: &PointCloud) -> CloudRead {
+        match cloud {
+            PointCloud::Unorganized { points, normals } => CloudRead::Known((points.to_vec(), normals.to_vec())),
+            PointCloud::Organized { points, normals } => {
+                CloudRead::Later(ctx.device.read_later(points), ctx.device.read_later(normals))
+            }
+        }
+    }
+
+    /// Its valid points and normals, once the frame's reads are back.
+    pub fn take(self, reads: &Reads) -> Points {
+        match self {
+            CloudRead::Known(points) => points,
+            CloudRead::Later(points, normals) => valid_points(reads.get(points), reads.get(normals)),
         }
     }
 }

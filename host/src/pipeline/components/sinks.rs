@@ -359,6 +359,8 @@ pub struct CloudWriter {
     several: bool,
     /// The last cloud of each producer.
     last: Vec<(String, Points)>,
+    /// This frame's clouds, each with its producer, until the frame's reads are back.
+    pending: Vec<(String, super::cloud::CloudRead)>,
 }
 
 /// The files a [`CloudWriter`] writes.
@@ -376,6 +378,7 @@ impl CloudWriter {
             every_frame: params.flag("everyFrame"),
             several: params.providers > 1,
             last: Vec::new(),
+            pending: Vec::new(),
         }
     }
 
@@ -408,13 +411,20 @@ impl Component for CloudWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for item in inputs.port("CloudIn") {
             let Data::Cloud(cloud) = &item.data else { continue };
-            let points = super::cloud::host_points(ctx, cloud)?;
+            self.pending.push((item.producer.clone(), super::cloud::CloudRead::ask(ctx, cloud)));
+        }
+        Ok(Vec::new())
+    }
+
+    fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
+        for (producer, cloud) in std::mem::take(&mut self.pending) {
+            let points = cloud.take(reads);
             if self.every_frame {
                 let bytes = self.encode(&points)?;
-                ctx.output.write(&self.instance, &self.name(&item.producer, Some(ctx.frame)), &bytes)?;
+                ctx.output.write(&self.instance, &self.name(&producer, Some(ctx.frame)), &bytes)?;
             }
-            self.last.retain(|(producer, _)| *producer != item.producer);
-            self.last.push((item.producer.clone(), points));
+            self.last.retain(|(given, _)| *given != producer);
+            self.last.push((producer, points));
         }
         Ok(Vec::new())
     }
