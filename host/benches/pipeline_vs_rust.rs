@@ -100,8 +100,9 @@ fn rust_run(gpu: &Gpu, width: usize, height: usize, recorded: Option<&Path>, out
         }
         Some(_) => p.source("raw", shape),
     };
-    let mask = p.step(Kernel::DetectMotion { theta: 0.01 * 65535.0 }, &[raw]).unwrap()[1];
-    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false }, &[raw, mask]).unwrap()[0];
+    // Detection and matching in one pass, as `ToF.MotionCompensation` runs them.
+    let detect_match = Kernel::DetectMatch { theta: 0.01 * 65535.0, window: 5, restriction: None, subpixel: false };
+    let flow = p.step(detect_match, &[raw]).unwrap()[0];
     let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
     let distance = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap()[3];
     p.sink(distance).unwrap();

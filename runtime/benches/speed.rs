@@ -59,8 +59,8 @@ fn motion_chain(width: usize, height: usize) -> Pipeline {
     let shape = Shape { width, height, planes: 8 };
     let (raw, black) = (p.source("raw", shape), p.source("black", shape));
     let raw = p.step(Kernel::SubtractBlack, &[raw, black]).unwrap()[0];
-    let mask = p.step(Kernel::DetectMotion { theta: 655.0 }, &[raw]).unwrap()[1];
-    let flow = p.step(Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false }, &[raw, mask]).unwrap()[0];
+    let detect_match = Kernel::DetectMatch { theta: 655.0, window: 5, restriction: None, subpixel: false };
+    let flow = p.step(detect_match, &[raw]).unwrap()[0];
     let corrected = p.step(Kernel::CorrectRaw, &[raw, flow]).unwrap()[0];
     let outputs = p.step(Kernel::Demodulate { modulation_hz: 20.0e6 }, &[corrected]).unwrap();
     p.sink(outputs[1]).unwrap();
@@ -151,6 +151,7 @@ fn main() {
             (Kernel::DetectMotion { theta: 655.0 }, vec![raw.clone()]),
             (Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false }, vec![raw.clone(), mask.clone()]),
             (Kernel::MatchBlocks { window: 7, restriction: None, subpixel: false }, vec![raw.clone(), mask.clone()]),
+            (Kernel::DetectMatch { theta: 655.0, window: 5, restriction: None, subpixel: false }, vec![raw.clone()]),
             (Kernel::SmoothFlow { window: 5 }, vec![flow.clone()]),
             (Kernel::CorrectRaw, vec![raw.clone(), flow]),
             (Kernel::Mean { radius: 1 }, vec![image.clone()]),
@@ -173,6 +174,7 @@ fn main() {
         for (kernel, inputs) in cases {
             let label = match kernel {
                 Kernel::MatchBlocks { window, .. } => format!("match_blocks MWS {window}"),
+                Kernel::DetectMatch { window, .. } => format!("detect_match MWS {window}"),
                 Kernel::Median { radius } => format!("median {0}×{0}", 2 * radius + 1),
                 other => other.name().to_string(),
             };

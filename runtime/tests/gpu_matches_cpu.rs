@@ -133,6 +133,42 @@ fn motion_compensation_kernels_match_on_a_moving_scene() {
     }
 }
 
+/// Motion compensation's fused pass (`Kernel::DetectMatch`) gives exactly what detection then
+/// matching give on the GPU, in one dispatch instead of two; its CPU twin agrees as matching's
+/// does.
+#[test]
+fn fused_detection_and_matching_is_exactly_the_two_kernels() {
+    let Some(gpu) = gpu() else { return };
+    let frame = simulate(&Scene::height_field(), Motion::Translation([0.02, 0.0, 0.0]), &Camera::default(), 0);
+    let raw = gudsl_runtime::kernels::tof::subtract_black(&frame.raw, &frame.black);
+    let shape = Shape { width: raw.width, height: raw.height, planes: 8 };
+    let theta = 655.0;
+    for restriction in [None, Some((0.5, std::f32::consts::FRAC_PI_4))] {
+        for (window, subpixel) in [(5, false), (7, true)] {
+            let mut apart = Pipeline::new();
+            let source = apart.source("raw", shape);
+            let mask = apart.step(Kernel::DetectMotion { theta }, &[source]).unwrap()[1];
+            let flow = apart.step(Kernel::MatchBlocks { window, restriction, subpixel }, &[source, mask]).unwrap()[0];
+            let mut fused = Pipeline::new();
+            let source = fused.source("raw", shape);
+            let both = fused.step(Kernel::DetectMatch { theta, window, restriction, subpixel }, &[source]).unwrap();
+            for (pipeline, sinks) in [(&mut apart, [flow, mask]), (&mut fused, [both[0], both[1]])] {
+                sinks.into_iter().for_each(|slot| pipeline.sink(slot).unwrap());
+            }
+            let (mut two, mut one) = (ChainRun::new(Some(&gpu), &apart), ChainRun::new(Some(&gpu), &fused));
+            let (expected, actual) = (two.run(&[raw.clone()]).unwrap(), one.run(&[raw.clone()]).unwrap());
+            assert_eq!(expected[1].data, actual[1].data, "the masks");
+            assert!(actual[1].data.iter().filter(|&&m| m == 1.0).count() > 1000, "moving pixels");
+            assert_eq!(expected[0].data, actual[0].data, "{window} {subpixel} {restriction:?}: the flows");
+            assert_eq!((two.take_work().dispatches.len(), one.take_work().dispatches.len()), (2, 1));
+            let cpu = run_cpu(&fused, &[raw.clone()]).unwrap();
+            assert_eq!(cpu[1].data, actual[1].data, "the CPU's mask");
+            let differing = (0..2 * cpu[0].pixels()).filter(|&i| cpu[0].data[i] != actual[0].data[i]).count();
+            assert!(differing * 10_000 <= cpu[0].pixels(), "{differing} flow samples differ from the CPU's");
+        }
+    }
+}
+
 #[test]
 fn car_chain_kernels_match_on_simulated_frames() {
     let Some(gpu) = gpu() else { return };

@@ -169,6 +169,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "device": report.device,
         "frames": report.frames,
         "total_ms": ms(report.total),
+        "loading_ms": ms(report.loading),
         "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "dispatches_per_frame": count(report.stages.iter().map(|s| s.dispatches).sum()),

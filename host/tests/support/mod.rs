@@ -63,9 +63,13 @@ pub fn run_compute_kernel(kernel: &Kernel, count: u32) -> Option<Vec<i32>> {
     Some(out.read(&gpu).unwrap().chunks(4).map(|b| i32::from_le_bytes(b.try_into().unwrap())).collect())
 }
 
-/// The samples' folder.
+/// The samples' folder: the repository's where it was built, or `$GUDSL_REPO/samples` (a
+/// benchmark built elsewhere: `scripts/bench-gpu --prebuilt`).
 pub fn samples() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples")
+    match std::env::var_os("GUDSL_REPO") {
+        Some(repo) => std::path::Path::new(&repo).join("samples"),
+        None => std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../samples"),
+    }
 }
 
 /// The kernels' samples and `Main` (`seed/main_full.gudsl`), as `(path, text)` with `edit`

@@ -163,6 +163,9 @@ pub enum Kernel {
     /// `subpixel`, refined to a quarter pixel beyond the text's whole pixels (never to a vector
     /// whose samples blend across an edge).
     MatchBlocks { window: u32, restriction: Option<(f32, f32)>, subpixel: bool },
+    /// Motion detection and block matching in one pass, exactly as `DetectMotion { theta }` then
+    /// `MatchBlocks` give them: raw frame → flow, mask.
+    DetectMatch { theta: f32, window: u32, restriction: Option<(f32, f32)>, subpixel: bool },
     /// Median smoothing of flow directions over a `window × window` neighbourhood ("NH").
     SmoothFlow { window: u32 },
     /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame (bilinear
@@ -219,6 +222,9 @@ impl Kernel {
             Kernel::MatchBlocks { window, restriction, subpixel } => {
                 f(&motion::MatchBlocks { window, restriction, subpixel })
             }
+            Kernel::DetectMatch { theta, window, restriction, subpixel } => {
+                f(&motion::DetectMatch { theta, matching: motion::MatchBlocks { window, restriction, subpixel } })
+            }
             Kernel::SmoothFlow { window } => f(&motion::SmoothFlow { window }),
             Kernel::CorrectRaw => f(&motion::CorrectRaw),
             Kernel::GreyImage { gain } => f(&tof::GreyImage { gain }),
@@ -254,6 +260,7 @@ impl Kernel {
             Kernel::NormalizePhases,
             Kernel::DetectMotion { theta: 0.0 },
             Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false },
+            Kernel::DetectMatch { theta: 655.0, window: 5, restriction: None, subpixel: false },
             Kernel::SmoothFlow { window: 3 },
             Kernel::CorrectRaw,
             Kernel::GreyImage { gain: 2.0 },

@@ -179,7 +179,7 @@ pub struct MotionCompensation {
 #[derive(Default)]
 struct MotionItem {
     normalize: KernelSlot,
-    detect: KernelSlot,
+    /// Detection and matching, fused.
     matching: KernelSlot,
     smooth: KernelSlot,
     correct: KernelSlot,
@@ -254,11 +254,13 @@ impl Component for MotionCompensation {
                 }
                 None => frame.raw.clone(),
             };
-            let mask =
-                run(device, &mut item.detect, Kernel::DetectMotion { theta: self.theta }, &[&normalized])?.remove(1);
             let restriction = self.half_rho.zip(item.direction).map(|(half, mean)| (mean, half));
-            let matching = Kernel::MatchBlocks { window: self.window, restriction, subpixel: self.subpixel };
-            let mut flow = run(device, &mut item.matching, matching, &[&normalized, &mask])?.remove(0);
+            // Detection and matching in one pass (exactly what the two kernels give apart).
+            let (theta, window, subpixel) = (self.theta, self.window, self.subpixel);
+            let kernel = Kernel::DetectMatch { theta, window, restriction, subpixel };
+            let [mut flow, mask]: [Tensor; 2] = run(device, &mut item.matching, kernel, &[&normalized])?
+                .try_into()
+                .map_err(|_| "detection and matching give a flow and a mask".to_string())?;
             if self.smooth {
                 flow = run(device, &mut item.smooth, Kernel::SmoothFlow { window: self.window }, &[&flow])?.remove(0);
             }

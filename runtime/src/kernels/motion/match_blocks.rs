@@ -27,7 +27,15 @@ pub(crate) struct Params {
     half_width: f32,
     /// 1 when the flow is refined to a quarter pixel.
     subpixel: u32,
-    _pad: u32,
+    /// The motion threshold of `detect_match.wgsl` (padding in `match_blocks.wgsl`).
+    theta: f32,
+}
+
+impl Params {
+    /// The block with `detect_match.wgsl`'s threshold.
+    pub(crate) fn with_theta(self, theta: f32) -> Params {
+        Params { theta, ..self }
+    }
 }
 
 /// Block matching over MWS `window`, the restriction (mean direction, half width) in radians,
@@ -41,7 +49,7 @@ pub(crate) struct MatchBlocks {
 
 impl Unit for MatchBlocks {
     const NAME: &'static str = "match_blocks";
-    const SOURCE: &'static str = include_str!("match_blocks.wgsl");
+    const SOURCE: &'static str = concat!(include_str!("match_search.wgsl"), include_str!("match_blocks.wgsl"));
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(1)];
     type Params = Params;
 
@@ -56,7 +64,7 @@ impl Unit for MatchBlocks {
             mean_dir,
             half_width,
             subpixel: u32::from(self.subpixel),
-            _pad: 0,
+            theta: 0.0,
         }
     }
 

@@ -10,6 +10,7 @@ use std::f32::consts::PI;
 use crate::Image;
 
 pub mod correct_raw;
+pub mod detect_match;
 pub mod detect_motion;
 pub mod match_blocks;
 pub mod normalize_phases;
@@ -17,6 +18,7 @@ pub mod smooth_flow;
 
 pub use correct_raw::correct_raw;
 pub(crate) use correct_raw::CorrectRaw;
+pub(crate) use detect_match::DetectMatch;
 pub use detect_motion::detect;
 pub(crate) use detect_motion::DetectMotion;
 pub use match_blocks::match_blocks;

@@ -1,0 +1,42 @@
+//! Motion detection and block matching fused into one pass (`detect_match.wgsl`): raw frame →
+//! flow, mask. Each pixel's mask is its own M > θ and only its own mask decides whether it is
+//! matched, so the pass gives exactly what [`super::DetectMotion`] then [`super::MatchBlocks`]
+//! give, one dispatch and one read of the frame fewer.
+
+use super::{detect, match_blocks, MatchBlocks};
+use crate::{
+    kernels::{Pass, Shape, Unit},
+    Image,
+};
+
+/// Detection with threshold θ, then matching as [`MatchBlocks`] does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct DetectMatch {
+    pub(crate) theta: f32,
+    pub(crate) matching: MatchBlocks,
+}
+
+impl Unit for DetectMatch {
+    const NAME: &'static str = "detect_match";
+    const SOURCE: &'static str = concat!(include_str!("match_search.wgsl"), include_str!("detect_match.wgsl"));
+    const INPUTS: &'static [Option<usize>] = &[Some(8)];
+    type Params = super::match_blocks::Params;
+
+    fn params(&self, inputs: &[Shape]) -> Self::Params {
+        self.matching.params(inputs).with_theta(self.theta)
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        vec![Shape { planes: 2, ..inputs[0] }, Shape { planes: 1, ..inputs[0] }]
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        vec![Pass::tiles(inputs[0])]
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        let [_, mask] = detect(inputs[0], self.theta);
+        let MatchBlocks { window, restriction, subpixel } = self.matching;
+        vec![match_blocks(inputs[0], &mask, window, restriction, subpixel), mask]
+    }
+}
