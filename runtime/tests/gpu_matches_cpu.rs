@@ -156,12 +156,13 @@ fn fused_detection_and_matching_is_exactly_the_two_kernels() {
                 sinks.into_iter().for_each(|slot| pipeline.sink(slot).unwrap());
             }
             let (mut two, mut one) = (ChainRun::new(Some(&gpu), &apart), ChainRun::new(Some(&gpu), &fused));
-            let (expected, actual) = (two.run(&[raw.clone()]).unwrap(), one.run(&[raw.clone()]).unwrap());
+            let (expected, actual) =
+                (two.run(std::slice::from_ref(&raw)).unwrap(), one.run(std::slice::from_ref(&raw)).unwrap());
             assert_eq!(expected[1].data, actual[1].data, "the masks");
             assert!(actual[1].data.iter().filter(|&&m| m == 1.0).count() > 1000, "moving pixels");
             assert_eq!(expected[0].data, actual[0].data, "{window} {subpixel} {restriction:?}: the flows");
             assert_eq!((two.take_work().dispatches.len(), one.take_work().dispatches.len()), (2, 1));
-            let cpu = run_cpu(&fused, &[raw.clone()]).unwrap();
+            let cpu = run_cpu(&fused, std::slice::from_ref(&raw)).unwrap();
             assert_eq!(cpu[1].data, actual[1].data, "the CPU's mask");
             let differing = (0..2 * cpu[0].pixels()).filter(|&i| cpu[0].data[i] != actual[0].data[i]).count();
             assert!(differing * 10_000 <= cpu[0].pixels(), "{differing} flow samples differ from the CPU's");
