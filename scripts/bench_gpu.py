@@ -2,9 +2,9 @@
 """The pipelines' part of scripts/bench-gpu: each benchmark pipeline run by the `gudsl` binary
 on the GPU and on the CPU reference, its steady state measured, one markdown report written.
 
-A pipeline's time per frame is the steady state: (T(n) - T(1)) / (n - 1) of two runs of n and
-1 frames, each without reading its files (`loading_ms`), so compiling kernels and the first
-frame cancel out; each stage's GPU and host time per frame the same difference of its totals.
+A pipeline's time per frame is the steady state: the mean wall time of frames k+1…n of a run of
+n frames (`frame_ms`; the first compiles the kernels); each stage's GPU and host time per frame
+the difference of its totals in that run and in a run of k frames, over n − k.
 GPU times are the adapter's timestamps around each pass (0 where it has none). Recorded frames
 are simulated once per size and written as a ROS 2 bag (`McapWriter`) before the runs, so a
 recorded run measures the pipeline alone; a simulated run includes the simulator (the CPU's).
@@ -107,9 +107,13 @@ class Runner:
 
     def run(self, model, frames, cpu=False, sets=(), name="run"):
         """`gudsl run` of `model` (a path) for `frames` frames: its report.json."""
+        return self.run_with(self.gudsl, model, frames, cpu, sets, name)
+
+    def run_with(self, gudsl, model, frames, cpu=False, sets=(), name="run"):
+        """The same with another binary."""
         out = self.work / "out" / name
         shutil.rmtree(out, ignore_errors=True)
-        command = [self.gudsl, "run", str(model), "--root", str(self.work), "--frames", str(frames),
+        command = [gudsl, "run", str(model), "--root", str(self.work), "--frames", str(frames),
                    "-o", str(out)]
         command += ["--cpu"] if cpu else []
         for value in sets:
@@ -119,19 +123,20 @@ class Runner:
             raise RuntimeError(f"{' '.join(command)} failed ({done.returncode}):\n{done.stdout}\n{done.stderr}")
         return json.loads((out / "report.json").read_text())
 
-    def steady(self, model, frames, cpu=False, sets=(), first=1):
+    def steady(self, model, frames, cpu=False, sets=(), first=1, gudsl=None):
         """The steady state of `frames` frames against `first`: per frame, the wall time, each
         stage's GPU and host time and dispatches, the submissions. A time below zero (noise
         over few frames) is taken as zero."""
-        one = self.run(model, first, cpu, sets, "one")
-        all_ = self.run(model, frames, cpu, sets, "all")
+        gudsl = gudsl or self.gudsl
+        one = self.run_with(gudsl, model, first, cpu, sets, "one")
+        all_ = self.run_with(gudsl, model, frames, cpu, sets, "all")
         n = all_["frames"] - one["frames"]
         if n < 1:
             raise RuntimeError(f"{model} gives {all_['frames']} frames; the steady state needs {first + 1}")
         processors = {b["processor"] for b in all_["bindings"]}
 
         def wall(report):
-            return report["total_ms"] - report["loading_ms"]
+            return report["total_ms"] - report.get("loading_ms", 0.0)
 
         stages = []
         for early, last in zip(one["stages"], all_["stages"]):
@@ -139,16 +144,24 @@ class Runner:
                 "instance": last["instance"], "component": last["component"],
                 "gpu_us": max(1e3 * (last["device_ms_total"] - early["device_ms_total"]) / n, 0.0),
                 "host_us": max(1e3 * (last["host_ms_total"] - early["host_ms_total"]) / n, 0.0),
-                "dispatches": round((last["dispatches_per_frame"] * all_["frames"]
-                                     - early["dispatches_per_frame"] * one["frames"]) / n, 2),
+                "dispatches": round((last.get("dispatches_per_frame", 0) * all_["frames"]
+                                     - early.get("dispatches_per_frame", 0) * one["frames"]) / n, 2),
                 "async": last["async"],
                 "source": last["instance"] not in processors,
             })
         def counted(key):
+            # A binary from before the counts (a baseline) has none.
+            if key not in all_:
+                return None
             return round((all_[key] * all_["frames"] - one[key] * one["frames"]) / n, 2)
 
+        # Each frame's own wall time where the binary reports it, else the two runs' difference.
+        if "frame_ms" in all_:
+            steady_ms = sum(all_["frame_ms"][one["frames"]:]) / n
+        else:
+            steady_ms = max(wall(all_) - wall(one), 0.0) / n
         return {
-            "device": all_["device"], "ms": max(wall(all_) - wall(one), 0.0) / n, "stages": stages,
+            "device": all_["device"], "ms": steady_ms, "stages": stages,
             "dispatches": counted("dispatches_per_frame"), "submissions": counted("submissions_per_frame"),
             "frames": (one["frames"], all_["frames"]),
         }
@@ -227,6 +240,13 @@ def pipeline_ms(measured):
     return max(measured["ms"] - sources / 1e3, 0.0)
 
 
+def work(measured):
+    """Dispatches / submissions a frame (— where the binary does not count them)."""
+    if measured["dispatches"] is None:
+        return "—"
+    return f"{measured['dispatches']:g} / {measured['submissions']:g}"
+
+
 def fps(ms):
     return fmt(1e3 / ms if ms > 0 else None, 0)
 
@@ -246,9 +266,9 @@ def report(rows, header, quick, took):
         f"- commit: {header['commit']}",
         f"- took: {took:.0f} s",
         "",
-        "Per frame in the steady state: frames k+1…n of a run of n against a run of k "
-        "((T(n) − T(k)) / (n − k), the files read before the first frame left out; k = 1, for "
-        "chapter 6 its 3 frames of the empty scene). GPU µs: the stages' kernels by the "
+        "Per frame in the steady state: the mean wall time of frames k+1…n of a run of n frames "
+        "(k = 1: the first compiles the kernels; for chapter 6 its 3 frames of the empty scene); "
+        "per stage, the difference of its totals in that run and a run of k frames. GPU µs: the stages' kernels by the "
         "adapter's timestamps (the passes alone; 0 without timestamp queries). Recorded: frames "
         "simulated before the runs and read from a bag; simulated: the CPU simulates each frame "
         "in the run, and *without sources* leaves the sources' host time out (the simulator, "
@@ -272,7 +292,17 @@ def report(rows, header, quick, took):
         lines.append(
             f"| {row['name']} | {row['size']} | {row['source']} | {gpu['frames'][0]}…{gpu['frames'][1]} | "
             f"{fmt(gpu['ms'], 2)} | {fps(gpu['ms'])} | {fmt(own, 2)} | {fps(own)} | {fmt(gpu_us)} | "
-            f"{gpu['dispatches']:g} / {gpu['submissions']:g} | {fmt(cpu_own, 2)} | {fmt(speedup)} | {versus} |")
+            f"{work(gpu)} | {fmt(cpu_own, 2)} | {fmt(speedup)} | {versus} |")
+    if any(row["before"] for row in rows):
+        lines += ["", f"## Before and after, in this run (before: {header['baseline']})", "",
+                  "| pipeline | size | frames | before: ms / frame | now | before: without sources | now | "
+                  "before: dispatches / submissions | now |",
+                  "|---|---|---|---:|---:|---:|---:|---:|---:|"]
+        for row in rows:
+            before, gpu = row["before"], row["gpu"]
+            lines.append(
+                f"| {row['name']} | {row['size']} | {row['source']} | {fmt(before['ms'], 2)} | {fmt(gpu['ms'], 2)} | "
+                f"{fmt(pipeline_ms(before), 2)} | {fmt(pipeline_ms(gpu), 2)} | {work(before)} | {work(gpu)} |")
     lines += ["", "## Stages", ""]
     for row in rows:
         lines += [f"### {row['name']}, {row['size']}, {row['source']} frames", "",
@@ -294,6 +324,7 @@ def main():
     parser.add_argument("gudsl")
     parser.add_argument("out", type=Path)
     parser.add_argument("--quick", action="store_true", help="200×200 only, a few frames (CI)")
+    parser.add_argument("--baseline", help="another gudsl (an earlier commit's) run on the GPU beside it")
     args = parser.parse_args()
     started = time.monotonic()
     work = (args.out / "work").resolve()
@@ -313,12 +344,19 @@ def main():
         gpu = runner.steady(model, gpu_frames, sets=sets, first=first)
         # Generated kernels (chapter 11's device diagrams) have no CPU reference.
         cpu = None if key == "ch11" else runner.steady(model, cpu_frames, cpu=True, sets=sets, first=first)
+        before = None
+        if args.baseline:
+            before = runner.steady(model, gpu_frames, sets=sets, first=first, gudsl=os.path.abspath(args.baseline))
         size_text = f"{size[0]}×{size[1]}" if size else "its own"
-        rows.append({"name": name, "key": key, "size": size_text, "source": source, "gpu": gpu, "cpu": cpu})
+        rows.append({"name": name, "key": key, "size": size_text, "source": source, "gpu": gpu, "cpu": cpu,
+                     "before": before})
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True)
     cpu_name, driver = machine()
     header = {"adapter": rows[0]["gpu"]["device"], "driver": driver, "cpu": cpu_name,
               "commit": commit.stdout.strip() or "—"}
+    if args.baseline:
+        done = subprocess.run([args.baseline, "--version"], capture_output=True, text=True)
+        header["baseline"] = f"`{args.baseline}` ({done.stdout.strip() or 'its version unknown'})"
     text = report(rows, header, args.quick, time.monotonic() - started)
     path = write(args.out / "pipelines.md", text)
     (args.out / "pipelines.json").write_text(json.dumps({"header": header, "rows": rows}, indent=1))

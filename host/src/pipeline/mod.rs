@@ -103,6 +103,8 @@ pub struct PreparedPipeline {
     flows: Vec<Flow>,
     /// Command buffers submitted to the GPU in this run.
     submissions: usize,
+    /// The wall time of each frame of this run.
+    frame_times: Vec<Duration>,
 }
 
 impl PreparedPipeline {
@@ -159,6 +161,7 @@ impl PreparedPipeline {
             .collect();
         self.flows = self.plan.bindings.iter().map(|b| self.flow(b)).collect();
         self.submissions = 0;
+        self.frame_times.clear();
         let mut device = Executor::new(gpu);
         let loading = Instant::now();
         let outcome = self.load(&mut stages);
@@ -192,6 +195,7 @@ impl PreparedPipeline {
             figures,
             flows: std::mem::take(&mut self.flows),
             submissions: self.submissions,
+            frame_times: std::mem::take(&mut self.frame_times),
             outcome,
         }
     }
@@ -236,6 +240,7 @@ impl PreparedPipeline {
         // The devices of the stages that process apart, kept from frame to frame.
         let mut devices: Vec<Option<Executor<'g>>> = self.modes.iter().map(|_| None).collect();
         for frame in 0..frames {
+            let frame_started = Instant::now();
             if cancel.load(Ordering::Relaxed) {
                 return Err(self.error(
                     None,
@@ -294,6 +299,7 @@ impl PreparedPipeline {
                 // What a stage gives after the frame's reads arrives next frame.
                 self.deliver(device, index, produced, &mut queues, frame, true);
             }
+            self.frame_times.push(frame_started.elapsed());
             observer.frame(frame, frames);
         }
         Ok(())

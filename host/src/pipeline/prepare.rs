@@ -89,6 +89,7 @@ pub fn prepare(
             replay: None,
             flows: Vec::new(),
             submissions: 0,
+            frame_times: Vec::new(),
         })
     } else {
         errors.extend(warnings);

@@ -44,6 +44,9 @@ pub struct PipelineReport {
     pub flows: Vec<Flow>,
     /// Command buffers submitted to the GPU (0 on the CPU reference).
     pub submissions: usize,
+    /// The wall time of each frame that ran to its end, in order (the first compiles the
+    /// kernels; a benchmark's steady state is after it).
+    pub frame_times: Vec<Duration>,
     pub outcome: Result<(), PipelineError>,
 }
 
@@ -170,6 +173,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "frames": report.frames,
         "total_ms": ms(report.total),
         "loading_ms": ms(report.loading),
+        "frame_ms": report.frame_times.iter().map(|d| ms(*d)).collect::<Vec<_>>(),
         "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "dispatches_per_frame": count(report.stages.iter().map(|s| s.dispatches).sum()),
