@@ -18,7 +18,11 @@ pub(crate) struct DetectMatch {
 
 impl Unit for DetectMatch {
     const NAME: &'static str = "detect_match";
-    const SOURCE: &'static str = concat!(include_str!("match_search.wgsl"), include_str!("detect_match.wgsl"));
+    const SOURCE: &'static str = concat!(
+        include_str!("match_search.wgsl"),
+        include_str!("motion_measure.wgsl"),
+        include_str!("detect_match.wgsl")
+    );
     const INPUTS: &'static [Option<usize>] = &[Some(8)];
     type Params = super::match_blocks::Params;
 

@@ -1,5 +1,5 @@
 // Motion detection (eq. 4.4, 4.5) and block matching (eq. 4.6–4.10) in one pass: each pixel's
-// M = Σ_{i=1..3} |P⁺_i − P⁺_0| as `detect_motion.wgsl` computes it, its mask M > θ written, and
+// M (`motion_measure`, as `detect_motion.wgsl` computes it), its mask M > θ written, and
 // where it is set its flow (`best_flow`, `match_search.wgsl`) as `match_blocks.wgsl` finds it.
 // Each pixel's mask is its own (no neighbour's), so the fusion is exact.
 struct Params { width: u32, height: u32, radius: u32, restricted: u32, mean_dir: f32, half_width: f32, subpixel: u32, theta: f32 }
@@ -14,11 +14,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= p.width || id.y >= p.height { return; }
     let n = p.width * p.height;
     let i = id.y * p.width + id.x;
-    let p0 = raw[i] + raw[n + i];
-    var m = 0.0;
-    for (var k = 1u; k < 4u; k++) {
-        m += abs(raw[2u * k * n + i] + raw[(2u * k + 1u) * n + i] - p0);
-    }
+    let m = motion_measure(i, n);
     let moving = m > p.theta;
     mask_out[i] = select(0.0, 1.0, moving);
     var best = vec2<f32>(0.0, 0.0);

@@ -26,7 +26,7 @@ pub(crate) struct DetectMotion {
 
 impl Unit for DetectMotion {
     const NAME: &'static str = "detect_motion";
-    const SOURCE: &'static str = include_str!("detect_motion.wgsl");
+    const SOURCE: &'static str = concat!(include_str!("motion_measure.wgsl"), include_str!("detect_motion.wgsl"));
     const INPUTS: &'static [Option<usize>] = &[Some(8)];
     type Params = Params;
 

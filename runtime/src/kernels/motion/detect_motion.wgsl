@@ -1,4 +1,4 @@
-// Motion detection (eq. 4.4, 4.5): M = Σ_{i=1..3} |P⁺_i − P⁺_0| with P⁺_i = A_i + B_i; mask = M > θ.
+// Motion detection (eq. 4.4, 4.5): M (`motion_measure`) and the mask M > θ.
 struct Params { width: u32, height: u32, theta: f32, _pad: u32, _pad2: vec4<u32> }
 
 @group(0) @binding(0) var<uniform> p: Params;
@@ -11,11 +11,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= p.width || id.y >= p.height { return; }
     let n = p.width * p.height;
     let i = id.y * p.width + id.x;
-    let p0 = raw[i] + raw[n + i];
-    var m = 0.0;
-    for (var k = 1u; k < 4u; k++) {
-        m += abs(raw[2u * k * n + i] + raw[(2u * k + 1u) * n + i] - p0);
-    }
+    let m = motion_measure(i, n);
     m_out[i] = m;
     mask_out[i] = select(0.0, 1.0, m > p.theta);
 }
