@@ -147,7 +147,9 @@ class Runner:
                 "dispatches": round((last.get("dispatches_per_frame", 0) * all_["frames"]
                                      - early.get("dispatches_per_frame", 0) * one["frames"]) / n, 2),
                 "async": last["async"],
-                "source": last["instance"] not in processors,
+                # What gives the frames (a binary from before `source` was reported: what no
+                # binding feeds).
+                "source": last.get("source", last["instance"] not in processors),
             })
         def counted(key):
             # A binary from before the counts (a baseline) has none.

@@ -154,6 +154,7 @@ impl PreparedPipeline {
                 device: Duration::ZERO,
                 dispatches: 0,
                 items: 0,
+                source: self.components[index].as_ref().is_some_and(|c| c.frames().is_some()),
                 apart: *mode != Mode::InOrder,
                 failed: None,
                 replayed: self.replay.as_ref().is_some_and(|replay| replay.replays(index)),

@@ -85,6 +85,8 @@ pub struct StageTime {
     pub dispatches: usize,
     /// Items it processed.
     pub items: usize,
+    /// Whether it is a source: it gives the frames (a camera, a recording).
+    pub source: bool,
     /// Whether it runs on a thread of its own (bound through an `async` port): its host time
     /// then overlaps the others'.
     pub apart: bool,
@@ -184,6 +186,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
             "host_ms_per_frame": per_frame(s.host), "device_ms_per_frame": per_frame(s.device),
             "dispatches_per_frame": count(s.dispatches),
             "async": s.apart,
+            "source": s.source,
             "replayed": s.replayed,
             "state": if s.failed.is_some() { "failed" } else { "ok" },
             "error": s.failed.as_ref().map(|e| e.message.clone()),
