@@ -1,12 +1,13 @@
 //! End-to-end tests of `gudsl run`: the built binary runs `Main` of the samples (Listings
 //! 30–33) on lavapipe and writes the viewer's images and `report.json`; it refuses a model with
 //! errors, a diagram that cannot run (E0302) and an unknown diagram, and shows where a run
-//! stopped (E0303: a missing image).
+//! stopped (E0303: a missing image). And the GPU work a frame of each sample pipeline records,
+//! as `report.json` counts it (issue 54).
 
 #[path = "support/cli.rs"]
 mod cli;
 
-use cli::{gudsl, repo, temp_dir};
+use cli::{gudsl, gudsl_run as run, repo, temp_dir};
 
 /// Whether this machine has a GPU adapter (lavapipe counts); `GUDSL_NO_GPU=1` says it has none
 /// on purpose, as for the runtime's tests.
@@ -116,4 +117,91 @@ fn models_with_errors_and_diagrams_that_cannot_run_are_refused() {
     let stderr = output(&run);
     assert_eq!(run.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("no activity diagram named `Nope`") && stderr.contains("Forks"), "{stderr}");
+}
+
+/// Issue 54: the GPU work a frame of each sample pipeline records — its dispatches (compute
+/// passes) by stage and its submissions — as `report.json` counts them (deterministic on any
+/// adapter). Before issue 54 motion compensation took three dispatches (detection and matching
+/// apart), and a point cloud read by a sink or accumulated took a submission of its own per
+/// camera: `ch4_mcap_recording` 7 dispatches in 2 submissions a frame, `ch6_object_scan` 7
+/// submissions over its first 4 frames.
+fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions: f64) {
+    if !gpu() {
+        return;
+    }
+    let name = std::path::Path::new(sample).file_stem().unwrap().to_string_lossy().into_owned();
+    let out = temp_dir(&format!("gpu-work-{name}"));
+    let frames = frames.to_string();
+    let (code, stdout, stderr) = run(&[&repo(sample), "--frames", &frames, "-o", out.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let by_stage: Vec<(String, f64)> = (report["stages"].as_array().unwrap().iter())
+        .map(|s| (s["instance"].as_str().unwrap().to_string(), s["dispatches_per_frame"].as_f64().unwrap()))
+        .filter(|(_, n)| *n > 0.0)
+        .collect();
+    let expected: Vec<(String, f64)> = dispatches.iter().map(|(s, n)| (s.to_string(), *n)).collect();
+    assert_eq!(by_stage, expected, "{name}: dispatches a frame by stage");
+    let total: f64 = expected.iter().map(|(_, n)| n).sum();
+    assert_eq!(report["dispatches_per_frame"].as_f64(), Some(total), "{name}");
+    assert_eq!(report["submissions_per_frame"].as_f64(), Some(submissions), "{name}: submissions a frame");
+    let line = format!("GPU work per frame: {total} dispatches in {submissions} submissions");
+    assert!(stdout.contains(&line), "{name}: the table says `{line}`:\n{stdout}");
+}
+
+#[test]
+fn gpu_work_of_chapter_4_motion_compensation() {
+    // Motion compensation: detection and matching in one pass, then the correction (3 before).
+    let stages = [("Black", 1.0), ("Uncompensated", 1.0), ("Motion", 2.0), ("Compensated", 1.0)];
+    gpu_work("samples/pipelines/ch4_motion_compensation.gudsl", 2, &stages, 1.0);
+    gpu_work("samples/pipelines/ch4_motion_taps.gudsl", 2, &stages, 1.0);
+}
+
+#[test]
+fn gpu_work_of_chapter_4_recordings() {
+    gpu_work("samples/pipelines/ch4_record_mcap.gudsl", 2, &[("Tof", 1.0)], 1.0);
+    let stages = [("Uncompensated", 1.0), ("Motion", 2.0), ("Compensated", 1.0), ("Points", 2.0)];
+    gpu_work("samples/pipelines/ch4_mcap_recording.gudsl", 2, &stages, 1.0);
+}
+
+#[test]
+fn gpu_work_of_chapter_5_integration_time() {
+    let stages = [
+        ("PerPixelBlack", 1.0),
+        ("PerPixel", 1.0),
+        ("PerPixelControl", 1.0),
+        ("MayBlack", 1.0),
+        ("MeanIntensity", 1.0),
+    ];
+    gpu_work("samples/pipelines/ch5_integration_time.gudsl", 2, &stages, 1.0);
+}
+
+/// Three cameras: the first three frames learn the background (five filters a camera); the
+/// fourth segments, makes clouds and accumulates them, read back in one submission.
+#[test]
+fn gpu_work_of_chapter_6_object_scan() {
+    let mut stages = Vec::new();
+    for camera in ["Left", "Centre", "Right"] {
+        for (stage, n) in [
+            ("Black", 1.0),
+            ("Demod", 1.0),
+            ("Median", 1.0),
+            ("Gaussian", 1.0),
+            ("Outliers", 1.0),
+            ("Background", 1.25),
+            ("Mask", 0.25),
+            ("Cloud", 0.5),
+            ("Transform", 0.5),
+        ] {
+            stages.push((format!("{camera}{stage}"), n));
+        }
+    }
+    let stages: Vec<(&str, f64)> = stages.iter().map(|(s, n)| (s.as_str(), *n)).collect();
+    gpu_work("samples/pipelines/ch6_object_scan.gudsl", 4, &stages, 1.25);
+}
+
+#[test]
+fn gpu_work_of_chapter_11_component_example() {
+    let stages = [("Camera1", 2.0), ("Camera2", 2.0), ("MeanFilter1", 6.0), ("Viewer1", 6.0)];
+    gpu_work("samples/pipelines/ch11_component_example.gudsl", 1, &stages, 1.0);
 }
