@@ -236,33 +236,53 @@ impl<'g> Executor<'g> {
     /// needs a result before it can go on (ICP's sums each iteration, a cloud to accumulate).
     pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, ChainError> {
         let tensors: Vec<Tensor> = tensors.iter().map(|t| (*t).clone()).collect();
-        self.read(&tensors)
+        Ok(self.read(&tensors, false)?.0)
     }
 
     /// Submits the frame's work and reads back what was asked for, in one mapping; with the
-    /// GPU time each stage's kernels took.
+    /// GPU time each stage's kernels took, whose timestamps come back in the same mapping.
     pub fn end_frame(&mut self) -> Result<(Reads, Vec<(usize, Duration)>), ChainError> {
         let later = std::mem::take(&mut self.later);
-        let images = self.read(&later)?;
-        let times = match (&mut self.timing, self.gpu) {
-            (Some(timing), Some(gpu)) => timing.take(gpu).map_err(ChainError::Readback)?,
-            _ => Vec::new(),
-        };
+        let (images, ticks) = self.read(&later, true)?;
+        let times = self.timing.as_mut().map(|timing| timing.times(&ticks)).unwrap_or_default();
         Ok((Reads(images), times))
     }
 
-    /// Submits the recorded work and reads `tensors` back through one staging buffer.
-    fn read(&mut self, tensors: &[Tensor]) -> Result<Vec<Arc<Image>>, ChainError> {
-        let Some(gpu) = self.gpu else { return Ok(tensors.iter().map(host).collect()) };
-        let bytes: u64 = tensors.iter().map(|t| (t.shape().len().max(1) * 4) as u64).sum();
+    /// Submits the recorded work and reads `tensors` back through one staging buffer; with
+    /// `timestamps`, the recording's timestamps too (the passes' ticks after the images).
+    fn read(&mut self, tensors: &[Tensor], timestamps: bool) -> Result<(Vec<Arc<Image>>, Vec<u64>), ChainError> {
+        let Some(gpu) = self.gpu else { return Ok((tensors.iter().map(host).collect(), Vec::new())) };
+        let images: u64 = tensors.iter().map(|t| (t.shape().len().max(1) * 4) as u64).sum();
+        let ticks = self.timing.as_ref().filter(|_| timestamps).map_or(0, |t| t.bytes());
         let mut encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
-        if let Some(timing) = &self.timing {
-            timing.resolve(&mut encoder);
-        }
-        if bytes == 0 || tensors.iter().all(|t| matches!(t, Tensor::Cpu(_))) {
+        if ticks == 0 && tensors.iter().all(|t| matches!(t, Tensor::Cpu(_))) {
             self.submit(gpu, encoder)?;
-            return Ok(tensors.iter().map(host).collect());
+            return Ok((tensors.iter().map(host).collect(), Vec::new()));
         }
+        let staging = self.staging(gpu, images + ticks);
+        let mut offset = 0;
+        for tensor in tensors {
+            if let Tensor::Gpu { buffer, shape } = tensor {
+                encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, (shape.len() * 4) as u64);
+            }
+            offset += (tensor.shape().len().max(1) * 4) as u64;
+        }
+        if let Some(timing) = self.timing.as_ref().filter(|_| ticks > 0) {
+            timing.copy_into(&mut encoder, &staging, images);
+        }
+        self.submit(gpu, encoder)?;
+        let read = gpu.with_mapped(&staging, |bytes| {
+            let (samples, rest) = bytes.split_at(images as usize);
+            let ticks: Vec<u64> = (rest[..ticks as usize].chunks_exact(8))
+                .map(|b| u64::from_le_bytes(b.try_into().expect("eight bytes")))
+                .collect();
+            (unpack(tensors, bytemuck::cast_slice(samples)), ticks)
+        });
+        read.map_err(ChainError::Readback)
+    }
+
+    /// The staging buffer, at least `bytes` long (made larger when it is not).
+    fn staging(&mut self, gpu: &Gpu, bytes: u64) -> wgpu::Buffer {
         if self.staging.as_ref().is_none_or(|s| s.size() < bytes) {
             self.staging = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("pipeline reads"),
@@ -271,35 +291,7 @@ impl<'g> Executor<'g> {
                 mapped_at_creation: false,
             }));
         }
-        let staging = self.staging.clone().expect("made above");
-        let mut offset = 0;
-        for tensor in tensors {
-            if let Tensor::Gpu { buffer, shape } = tensor {
-                encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, (shape.len() * 4) as u64);
-            }
-            offset += (tensor.shape().len().max(1) * 4) as u64;
-        }
-        self.submit(gpu, encoder)?;
-        let images = gpu.with_mapped(&staging, |bytes| {
-            let samples: &[f32] = bytemuck::cast_slice(bytes);
-            let mut at = 0;
-            let mut images = Vec::with_capacity(tensors.len());
-            for tensor in tensors {
-                let shape = tensor.shape();
-                images.push(match tensor {
-                    Tensor::Cpu(image) => image.clone(),
-                    Tensor::Gpu { .. } => Arc::new(Image {
-                        width: shape.width,
-                        height: shape.height,
-                        planes: shape.planes,
-                        data: samples[at..at + shape.len()].to_vec(),
-                    }),
-                });
-                at += shape.len().max(1);
-            }
-            images
-        });
-        images.map_err(ChainError::Readback)
+        self.staging.clone().expect("made above")
     }
 
     /// Finishes and submits the frame's recording: what the device refuses in it (a generated
@@ -329,6 +321,27 @@ fn host(tensor: &Tensor) -> Arc<Image> {
         Tensor::Cpu(image) => image.clone(),
         Tensor::Gpu { .. } => unreachable!("GPU tensors exist only on a GPU device"),
     }
+}
+
+/// `tensors`' images from the `samples` read back for them, one after another (a host image
+/// as it is: it took its place, unread).
+fn unpack(tensors: &[Tensor], samples: &[f32]) -> Vec<Arc<Image>> {
+    let mut at = 0;
+    let mut images = Vec::with_capacity(tensors.len());
+    for tensor in tensors {
+        let shape = tensor.shape();
+        images.push(match tensor {
+            Tensor::Cpu(image) => image.clone(),
+            Tensor::Gpu { .. } => Arc::new(Image {
+                width: shape.width,
+                height: shape.height,
+                planes: shape.planes,
+                data: samples[at..at + shape.len()].to_vec(),
+            }),
+        });
+        at += shape.len().max(1);
+    }
+    images
 }
 
 /// The images read at the end of a frame, by the [`Later`] each was asked for with.

@@ -86,6 +86,22 @@ impl Timing {
         }
     }
 
+    /// The bytes the recording's timestamps take ([`Timing::copy_into`]).
+    pub fn bytes(&self) -> u64 {
+        self.used as u64 * 8
+    }
+
+    /// Resolves the recording's timestamps and copies them into `staging` at `offset` (at its
+    /// end, before it is submitted): they come back with the recording's other reads, in its
+    /// submission and its one mapping.
+    pub fn copy_into(&self, encoder: &mut wgpu::CommandEncoder, staging: &wgpu::Buffer, mut offset: u64) {
+        self.resolve(encoder);
+        for (chunk, used) in self.used_chunks() {
+            encoder.copy_buffer_to_buffer(&chunk.resolved, 0, staging, offset, used as u64 * 8);
+            offset += used as u64 * 8;
+        }
+    }
+
     /// The time each timed pass took, by stage, once the recording ran; the sets are then
     /// free for the next recording.
     pub fn take(&mut self, gpu: &Gpu) -> Result<Vec<(usize, Duration)>, String> {
@@ -94,6 +110,12 @@ impl Timing {
             let bytes = gpu.download(&chunk.resolved, used as u64 * 8)?;
             ticks.extend_from_slice(bytemuck::cast_slice(&bytes));
         }
+        Ok(self.times(&ticks))
+    }
+
+    /// The time each timed pass took, by stage, from the recording's `ticks` (as copied by
+    /// [`Timing::copy_into`]); the sets are then free for the next recording.
+    pub fn times(&mut self, ticks: &[u64]) -> Vec<(usize, Duration)> {
         let times = self
             .owners
             .iter()
@@ -105,6 +127,6 @@ impl Timing {
             .collect();
         self.used = 0;
         self.owners.clear();
-        Ok(times)
+        times
     }
 }
