@@ -38,7 +38,7 @@ use std::{
 
 use gudsl_model::{ast::ClassKind, hir::pipeline::PipelinePlan};
 pub(crate) use gudsl_runtime::executor;
-use gudsl_runtime::{Executor, Gpu, Work};
+use gudsl_runtime::{executor::Reads, Executor, Gpu, Work};
 
 pub use crate::output::OutputDir;
 use apart::{Mode, Processed, Written};
@@ -267,41 +267,52 @@ impl PreparedPipeline {
             });
             let (reads, kernel_times) = reads?;
             for (stage, time) in kernel_times {
-                times[stage].device += time;
+                at.times[stage].device += time;
             }
-            self.count(device.take_work(), times);
-            for (index, time) in times.iter_mut().enumerate() {
-                if time.failed.is_some() {
-                    continue;
-                }
-                let mode = self.modes[index];
-                match mode {
-                    // Joined before this frame's `process` above.
-                    Mode::WritesApart => {
-                        let component = self.components[index].take().expect("joined");
-                        let thread = apart::write(component, index, frame, reads.clone(), output.fork());
-                        self.writers[index] = Some(thread);
-                        continue;
-                    }
-                    Mode::ProcessesApart => continue, // its finish_frame ran on its thread
-                    Mode::InOrder if self.replayed(device, index, &mut queues, frame, true) => continue,
-                    Mode::InOrder => {}
-                }
-                let started = Instant::now();
-                let mut ctx = components::Ctx { device, stage: index, frame, output, cancel };
-                let produced = self.components[index]
-                    .as_mut()
-                    .expect("joined")
-                    .finish_frame(&mut ctx, &reads)
-                    .map_err(|message| self.error(Some(index), ErrorKind::Failed, message));
-                time.host += started.elapsed();
-                let Some(produced) = self.sink_alone_or(index, time, produced)? else { continue };
-                self.record(device, (index, frame), &produced, true);
-                // What a stage gives after the frame's reads arrives next frame.
-                self.deliver(device, index, produced, &mut queues, frame, true);
-            }
+            self.count(at.device.take_work(), at.times);
+            self.finish_reads(&mut at, &reads)?;
             self.frame_times.push(frame_started.elapsed());
             observer.frame(frame, frames);
+        }
+        Ok(())
+    }
+
+    /// Each stage's `finish_frame` on frame `at.frame`'s reads, in the plan's order: an `async`
+    /// writer's on its thread, a replayed stage's given again; what a stage gives then arrives
+    /// next frame.
+    fn finish_reads(&mut self, at: &mut At<'_, '_>, reads: &Reads) -> Result<(), PipelineError> {
+        let frame = at.frame;
+        for index in 0..at.times.len() {
+            let time = &mut at.times[index];
+            if time.failed.is_some() {
+                continue;
+            }
+            let mode = self.modes[index];
+            match mode {
+                // Joined before this frame's `process`.
+                Mode::WritesApart => {
+                    let component = self.components[index].take().expect("joined");
+                    let thread = apart::write(component, index, frame, reads.clone(), at.output.fork());
+                    self.writers[index] = Some(thread);
+                    continue;
+                }
+                Mode::ProcessesApart => continue, // its finish_frame ran on its thread
+                Mode::InOrder if self.replayed(at.device, index, at.queues, frame, true) => continue,
+                Mode::InOrder => {}
+            }
+            let started = Instant::now();
+            let mut ctx =
+                components::Ctx { device: at.device, stage: index, frame, output: at.output, cancel: at.cancel };
+            let produced = self.components[index]
+                .as_mut()
+                .expect("joined")
+                .finish_frame(&mut ctx, reads)
+                .map_err(|message| self.error(Some(index), ErrorKind::Failed, message));
+            time.host += started.elapsed();
+            let Some(produced) = self.sink_alone_or(index, time, produced)? else { continue };
+            self.record(at.device, (index, frame), &produced, true);
+            // What a stage gives after the frame's reads arrives next frame.
+            self.deliver(at.device, index, produced, at.queues, frame, true);
         }
         Ok(())
     }
