@@ -55,19 +55,6 @@ pub struct Work {
     pub submissions: usize,
 }
 
-impl Work {
-    /// Dispatches recorded for `stage`.
-    pub fn dispatches_of(&self, stage: usize) -> usize {
-        self.dispatches.iter().filter(|&&s| s == stage).count()
-    }
-
-    /// `other`'s work added to this.
-    pub fn add(&mut self, other: Work) {
-        self.dispatches.extend(other.dispatches);
-        self.submissions += other.submissions;
-    }
-}
-
 /// The GPU (or the CPU) and the frame's recording.
 pub struct Executor<'g> {
     gpu: Option<&'g Gpu>,

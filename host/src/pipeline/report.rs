@@ -15,6 +15,11 @@ impl PipelineReport {
         self.stages.iter().filter_map(|s| s.failed.as_ref())
     }
 
+    /// The dispatches of every stage over the run.
+    pub fn dispatches(&self) -> usize {
+        self.stages.iter().map(|s| s.dispatches).sum()
+    }
+
     /// The stages that replayed a live preview's last run instead of running (in the plan's
     /// order).
     pub fn replayed(&self) -> impl Iterator<Item = &str> {
@@ -140,11 +145,10 @@ pub fn table(report: &PipelineReport) -> String {
         );
     }
     if report.submissions > 0 {
-        let dispatches: usize = report.stages.iter().map(|s| s.dispatches).sum();
         let per_frame = |n: usize| n as f64 / report.frames.max(1) as f64;
         table += &format!(
             "GPU work per frame: {} dispatches in {} submissions\n",
-            per_frame(dispatches),
+            per_frame(report.dispatches()),
             per_frame(report.submissions)
         );
     }
@@ -178,7 +182,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "frame_ms": report.frame_times.iter().map(|d| ms(*d)).collect::<Vec<_>>(),
         "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
-        "dispatches_per_frame": count(report.stages.iter().map(|s| s.dispatches).sum()),
+        "dispatches_per_frame": count(report.dispatches()),
         "submissions_per_frame": count(report.submissions),
         "stages": report.stages.iter().map(|s| serde_json::json!({
             "instance": s.instance, "component": s.class, "items": s.items,
