@@ -2,7 +2,8 @@
 //! 30–33) on lavapipe and writes the viewer's images and `report.json`; it refuses a model with
 //! errors, a diagram that cannot run (E0302) and an unknown diagram, and shows where a run
 //! stopped (E0303: a missing image). And the GPU work a frame of each sample pipeline records,
-//! as `report.json` counts it (issue 54).
+//! as `report.json` counts it, and that overlapped frames write what one frame at a time
+//! writes (issue 54).
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -125,7 +126,9 @@ fn models_with_errors_and_diagrams_that_cannot_run_are_refused() {
 /// apart), and a point cloud read by a sink or accumulated took a submission of its own per
 /// camera: `ch4_mcap_recording` 7 dispatches in 2 submissions a frame, `ch6_object_scan` 7
 /// submissions over its first 4 frames.
-fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions: f64) {
+/// `sample`'s GPU work a frame over `frames` frames, by stage, its submissions a frame, and
+/// whether its frames overlap (no stage needs a frame's reads for the next).
+fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions: f64, overlapped: bool) {
     if !gpu() {
         return;
     }
@@ -145,7 +148,9 @@ fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions
     let total: f64 = expected.iter().map(|(_, n)| n).sum();
     assert_eq!(report["dispatches_per_frame"].as_f64(), Some(total), "{name}");
     assert_eq!(report["submissions_per_frame"].as_f64(), Some(submissions), "{name}: submissions a frame");
-    let line = format!("GPU work per frame: {total} dispatches in {submissions} submissions");
+    assert_eq!(report["frames_overlapped"], overlapped, "{name}: frames overlapped");
+    let how = if overlapped { "frames overlapped" } else { "one frame at a time" };
+    let line = format!("GPU work per frame: {total} dispatches in {submissions} submissions; {how}");
     assert!(stdout.contains(&line), "{name}: the table says `{line}`:\n{stdout}");
 }
 
@@ -153,15 +158,16 @@ fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions
 fn gpu_work_of_chapter_4_motion_compensation() {
     // Motion compensation: detection and matching in one pass, then the correction (3 before).
     let stages = [("Black", 1.0), ("Uncompensated", 1.0), ("Motion", 2.0), ("Compensated", 1.0)];
-    gpu_work("samples/pipelines/ch4_motion_compensation.gudsl", 2, &stages, 1.0);
-    gpu_work("samples/pipelines/ch4_motion_taps.gudsl", 2, &stages, 1.0);
+    // ρ restricts a frame's search by the frame before's flow, read back.
+    gpu_work("samples/pipelines/ch4_motion_compensation.gudsl", 2, &stages, 1.0, false);
+    gpu_work("samples/pipelines/ch4_motion_taps.gudsl", 2, &stages, 1.0, true);
 }
 
 #[test]
 fn gpu_work_of_chapter_4_recordings() {
-    gpu_work("samples/pipelines/ch4_record_mcap.gudsl", 2, &[("Tof", 1.0)], 1.0);
+    gpu_work("samples/pipelines/ch4_record_mcap.gudsl", 2, &[("Tof", 1.0)], 1.0, true);
     let stages = [("Uncompensated", 1.0), ("Motion", 2.0), ("Compensated", 1.0), ("Points", 2.0)];
-    gpu_work("samples/pipelines/ch4_mcap_recording.gudsl", 2, &stages, 1.0);
+    gpu_work("samples/pipelines/ch4_mcap_recording.gudsl", 2, &stages, 1.0, false);
 }
 
 #[test]
@@ -173,7 +179,8 @@ fn gpu_work_of_chapter_5_integration_time() {
         ("MayBlack", 1.0),
         ("MeanIntensity", 1.0),
     ];
-    gpu_work("samples/pipelines/ch5_integration_time.gudsl", 2, &stages, 1.0);
+    // The next integration time is set by this frame's intensities, read back.
+    gpu_work("samples/pipelines/ch5_integration_time.gudsl", 2, &stages, 1.0, false);
 }
 
 /// Three cameras: the first three frames learn the background (five filters a camera); the
@@ -197,11 +204,62 @@ fn gpu_work_of_chapter_6_object_scan() {
         }
     }
     let stages: Vec<(&str, f64)> = stages.iter().map(|(s, n)| (s.as_str(), *n)).collect();
-    gpu_work("samples/pipelines/ch6_object_scan.gudsl", 4, &stages, 1.25);
+    // The background is learnt from the first frames' reads.
+    gpu_work("samples/pipelines/ch6_object_scan.gudsl", 4, &stages, 1.25, false);
 }
 
 #[test]
 fn gpu_work_of_chapter_11_component_example() {
     let stages = [("Camera1", 2.0), ("Camera2", 2.0), ("MeanFilter1", 6.0), ("Viewer1", 6.0)];
-    gpu_work("samples/pipelines/ch11_component_example.gudsl", 1, &stages, 1.0);
+    gpu_work("samples/pipelines/ch11_component_example.gudsl", 1, &stages, 1.0, true);
+}
+
+/// Frames overlap where no stage needs a frame's reads for the next: such a run writes what it
+/// writes one frame at a time (`--one-frame-at-a-time`), byte for byte.
+#[test]
+fn overlapped_frames_write_what_one_frame_at_a_time_writes() {
+    if !gpu() {
+        return;
+    }
+    for sample in ["ch4_motion_taps", "ch4_record_mcap", "ch11_component_example"] {
+        let outputs = [true, false].map(|overlapped| {
+            let out = temp_dir(&format!("overlap-{sample}-{overlapped}"));
+            let mut args = vec![repo(&format!("samples/pipelines/{sample}.gudsl"))];
+            args.extend(["--frames", "3", "-o", out.to_str().unwrap()].map(String::from));
+            if !overlapped {
+                args.push("--one-frame-at-a-time".into());
+            }
+            let (code, stdout, stderr) = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+            assert_eq!(code, Some(0), "{sample}: {stdout}\n{stderr}");
+            let report: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+            assert_eq!(report["frames_overlapped"], overlapped, "{sample}");
+            files_beneath(&out)
+        });
+        let names = |files: &[(String, Vec<u8>)]| files.iter().map(|(name, _)| name.clone()).collect::<Vec<_>>();
+        assert_eq!(names(&outputs[0]), names(&outputs[1]), "{sample}: the files written");
+        assert!(!outputs[0].is_empty(), "{sample} wrote nothing");
+        for ((name, overlapped), (_, one_at_a_time)) in outputs[0].iter().zip(&outputs[1]) {
+            assert!(overlapped == one_at_a_time, "{sample}: {name} differs");
+        }
+    }
+}
+
+/// Every file beneath `folder` but `report.json` (its times differ), by path, with its bytes.
+fn files_beneath(folder: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut files = Vec::new();
+    let mut folders = vec![folder.to_path_buf()];
+    while let Some(at) = folders.pop() {
+        for entry in std::fs::read_dir(&at).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.file_name().is_some_and(|n| n != "report.json") {
+                let name = path.strip_prefix(folder).unwrap().display().to_string();
+                files.push((name, std::fs::read(&path).unwrap()));
+            }
+        }
+    }
+    files.sort();
+    files
 }

@@ -1,8 +1,9 @@
 //! The GPU executor: work recorded into one command encoder a frame over buffers made once (a
 //! kernel bound to its inputs in a [`KernelSlot`] is re-encoded frame after frame), submitted at
-//! the end of the frame, when every read asked for comes back through one staging buffer in
-//! one mapping, with the GPU's clock around every pass by the stage it belongs to (on a
-//! [`Gpu::with_timestamps`]). Without an adapter the same calls run each kernel's CPU reference
+//! the end of the frame, when every read asked for comes back through a staging buffer of the
+//! frame's own in one mapping, with the GPU's clock around every pass by the stage it belongs
+//! to (on a [`Gpu::with_timestamps`]); the next frame can be recorded and submitted before a
+//! frame's reads are collected ([`Executor::submit_frame`], [`Executor::collect`]). Without an adapter the same calls run each kernel's CPU reference
 //! and callers cannot tell the two apart. ToF pipelines (`gudsl run`) run on it, and so do the
 //! kernel chains of [`crate::pipeline`] ([`ChainRun`]).
 
@@ -61,7 +62,10 @@ pub struct Executor<'g> {
     encoder: Option<wgpu::CommandEncoder>,
     /// Reads asked for the end of the frame.
     later: Vec<Tensor>,
-    staging: Option<wgpu::Buffer>,
+    /// The frame being recorded.
+    recording: u64,
+    /// Staging buffers no frame in flight uses.
+    spare: Vec<wgpu::Buffer>,
     timing: Option<Timing>,
     work: Work,
 }
@@ -74,16 +78,39 @@ pub struct KernelSlot(Option<BoundKernel>);
 #[derive(Default)]
 pub struct BufferSlot(Option<(wgpu::Buffer, Shape)>);
 
-/// A read asked for at the end of the frame: its index among the frame's reads.
+/// A read asked for at the end of the frame: its frame's recording and its index among the
+/// frame's reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Later(usize);
+pub struct Later {
+    recording: u64,
+    index: usize,
+}
+
+/// A frame submitted, its reads on their way back ([`Executor::submit_frame`]).
+pub struct InFlight {
+    recording: u64,
+    tensors: Vec<Tensor>,
+    /// On a GPU, unless nothing was to be read: the staging buffer being mapped.
+    mapping: Option<Mapping>,
+}
+
+/// A frame's staging buffer being mapped: the bytes of its images (the timestamps after
+/// them), the stage of each timed pass, the submission that fills it.
+struct Mapping {
+    staging: wgpu::Buffer,
+    images: u64,
+    owners: Vec<usize>,
+    submission: wgpu::SubmissionIndex,
+    mapped: std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
+}
 
 impl<'g> Executor<'g> {
     /// A device on `gpu`, or the CPU reference without one; with `gpu`'s timestamp queries
     /// (a [`Gpu::with_timestamps`]) every kernel is timed on the GPU.
     pub fn new(gpu: Option<&'g Gpu>) -> Executor<'g> {
         let timing = gpu.and_then(|gpu| Timing::new(gpu, 64));
-        Executor { gpu, encoder: None, later: Vec::new(), staging: None, timing, work: Work::default() }
+        let (later, spare) = (Vec::new(), Vec::new());
+        Executor { gpu, encoder: None, later, recording: 0, spare, timing, work: Work::default() }
     }
 
     /// The GPU, `None` on the CPU reference.
@@ -199,7 +226,7 @@ impl<'g> Executor<'g> {
     /// submits after it.
     pub fn flush(&mut self) -> Result<(), ChainError> {
         match (self.gpu, self.encoder.take()) {
-            (Some(gpu), Some(encoder)) => self.submit(gpu, encoder),
+            (Some(gpu), Some(encoder)) => self.submit(gpu, encoder).map(drop),
             _ => Ok(()),
         }
     }
@@ -209,83 +236,147 @@ impl<'g> Executor<'g> {
     pub fn wait(&mut self) -> Result<(), ChainError> {
         let Some(gpu) = self.gpu else { return Ok(()) };
         let encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
-        self.submit(gpu, encoder)?;
-        gpu.device.poll(wgpu::PollType::wait_indefinitely()).map(drop).map_err(|e| ChainError::Readback(e.to_string()))
+        let submission = self.submit(gpu, encoder)?;
+        let done = wgpu::PollType::Wait { submission_index: Some(submission), timeout: None };
+        gpu.device.poll(done).map(drop).map_err(|e| ChainError::Readback(e.to_string()))
     }
 
     /// Asks for `tensor`'s samples at the end of the frame ([`Executor::end_frame`]).
     pub fn read_later(&mut self, tensor: &Tensor) -> Later {
         self.later.push(tensor.clone());
-        Later(self.later.len() - 1)
+        Later { recording: self.recording, index: self.later.len() - 1 }
+    }
+
+    /// The frame being recorded, counted from 0: what a stage keeps for a frame's reads is
+    /// kept under it ([`Reads::recording`]).
+    pub fn recording(&self) -> u64 {
+        self.recording
     }
 
     /// Submits the work recorded so far and reads `tensors` back at once: for a stage that
     /// needs a result before it can go on (ICP's sums each iteration, a cloud to accumulate).
     pub fn read_now(&mut self, tensors: &[&Tensor]) -> Result<Vec<Arc<Image>>, ChainError> {
         let tensors: Vec<Tensor> = tensors.iter().map(|t| (*t).clone()).collect();
-        Ok(self.read(&tensors, false)?.0)
+        let sent = self.send(tensors, false)?;
+        Ok(self.receive(sent)?.0)
     }
 
     /// Submits the frame's work and reads back what was asked for, in one mapping; with the
     /// GPU time each stage's kernels took, whose timestamps come back in the same mapping.
-    pub fn end_frame(&mut self) -> Result<(Reads, Vec<(usize, Duration)>), ChainError> {
-        let later = std::mem::take(&mut self.later);
-        let (images, ticks) = self.read(&later, true)?;
-        let times = self.timing.as_mut().map(|timing| timing.times(&ticks)).unwrap_or_default();
-        Ok((Reads(images), times))
+    pub fn end_frame(&mut self) -> Result<(Reads, StageTimes), ChainError> {
+        let submitted = self.submit_frame()?;
+        self.collect(submitted)
     }
 
-    /// Submits the recorded work and reads `tensors` back through one staging buffer; with
-    /// `timestamps`, the recording's timestamps too (the passes' ticks after the images).
-    fn read(&mut self, tensors: &[Tensor], timestamps: bool) -> Result<(Vec<Arc<Image>>, Vec<u64>), ChainError> {
-        let Some(gpu) = self.gpu else { return Ok((tensors.iter().map(host).collect(), Vec::new())) };
+    /// Submits the frame's work with the copies of what was asked for into a staging buffer of
+    /// its own, and does not wait: the next frame is recorded (and submitted: the queue runs it
+    /// after this one) while the device works; [`Executor::collect`] waits for this one's reads.
+    pub fn submit_frame(&mut self) -> Result<InFlight, ChainError> {
+        let later = std::mem::take(&mut self.later);
+        let submitted = self.send(later, true);
+        self.recording += 1;
+        submitted
+    }
+
+    /// The reads of a frame [`Executor::submit_frame`] submitted, once the device has done that
+    /// frame (not the ones submitted after it), and the GPU time each stage's kernels took.
+    pub fn collect(&mut self, frame: InFlight) -> Result<(Reads, StageTimes), ChainError> {
+        let recording = frame.recording;
+        let (images, times) = self.receive(frame)?;
+        Ok((Reads { recording, images }, times))
+    }
+
+    /// Submits the recorded work with copies of `tensors` into a staging buffer, which is
+    /// then mapped; with `timestamps`, the recording's timestamps too (the passes' ticks
+    /// after the images), which ends the recording's timing.
+    fn send(&mut self, tensors: Vec<Tensor>, timestamps: bool) -> Result<InFlight, ChainError> {
+        let recording = self.recording;
+        let Some(gpu) = self.gpu else { return Ok(InFlight { recording, tensors, mapping: None }) };
         let images: u64 = tensors.iter().map(|t| (t.shape().len().max(1) * 4) as u64).sum();
         let ticks = self.timing.as_ref().filter(|_| timestamps).map_or(0, |t| t.bytes());
         let mut encoder = self.encoder.take().unwrap_or_else(|| gpu.device.create_command_encoder(&Default::default()));
         if ticks == 0 && tensors.iter().all(|t| matches!(t, Tensor::Cpu(_))) {
             self.submit(gpu, encoder)?;
-            return Ok((tensors.iter().map(host).collect(), Vec::new()));
+            return Ok(InFlight { recording, tensors, mapping: None });
         }
         let staging = self.staging(gpu, images + ticks);
         let mut offset = 0;
-        for tensor in tensors {
+        for tensor in &tensors {
             if let Tensor::Gpu { buffer, shape } = tensor {
                 encoder.copy_buffer_to_buffer(buffer, 0, &staging, offset, (shape.len() * 4) as u64);
             }
             offset += (tensor.shape().len().max(1) * 4) as u64;
         }
-        if let Some(timing) = self.timing.as_ref().filter(|_| ticks > 0) {
-            timing.copy_into(&mut encoder, &staging, images);
-        }
-        self.submit(gpu, encoder)?;
-        let read = gpu.with_mapped(&staging, |bytes| {
-            let (samples, rest) = bytes.split_at(images as usize);
-            let ticks: Vec<u64> = (rest[..ticks as usize].chunks_exact(8))
-                .map(|b| u64::from_le_bytes(b.try_into().expect("eight bytes")))
-                .collect();
-            (unpack(tensors, bytemuck::cast_slice(samples)), ticks)
+        let owners = match self.timing.as_mut().filter(|_| ticks > 0) {
+            Some(timing) => {
+                timing.copy_into(&mut encoder, &staging, images);
+                timing.end_recording()
+            }
+            None => Vec::new(),
+        };
+        let submission = self.submit(gpu, encoder)?;
+        let (sender, mapped) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |result| {
+            let _ = sender.send(result);
         });
-        read.map_err(ChainError::Readback)
+        let mapping = Mapping { staging, images, owners, submission, mapped };
+        Ok(InFlight { recording, tensors, mapping: Some(mapping) })
     }
 
-    /// The staging buffer, at least `bytes` long (made larger when it is not).
+    /// The images (and the passes' times) of what [`Executor::send`] sent, once the device has
+    /// done its submission; the staging buffer is free again.
+    fn receive(&mut self, sent: InFlight) -> Result<(Vec<Arc<Image>>, StageTimes), ChainError> {
+        let InFlight { tensors, mapping, .. } = sent;
+        let (Some(gpu), Some(mapping)) = (self.gpu, mapping) else {
+            return Ok((tensors.iter().map(host).collect(), Vec::new()));
+        };
+        let Mapping { staging, images, owners, submission, mapped } = mapping;
+        let failed = |e: String| ChainError::Readback(e);
+        let done = wgpu::PollType::Wait { submission_index: Some(submission), timeout: None };
+        gpu.device.poll(done).map_err(|e| failed(e.to_string()))?;
+        let mapped = match mapped.try_recv() {
+            Ok(result) => result,
+            // Done, but its callback not yet called: the next poll calls it.
+            Err(_) => {
+                gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| failed(e.to_string()))?;
+                mapped.recv().map_err(|_| failed("the readback was dropped".into()))?
+            }
+        };
+        mapped.map_err(|e| failed(e.to_string()))?;
+        let (read, ticks) = {
+            let bytes = staging.get_mapped_range(..).map_err(|e| failed(e.to_string()))?;
+            let (samples, rest) = bytes.split_at(images as usize);
+            let ticks: Vec<u64> = (rest[..owners.len() * 16].chunks_exact(8))
+                .map(|b| u64::from_le_bytes(b.try_into().expect("eight bytes")))
+                .collect();
+            (unpack(&tensors, bytemuck::cast_slice(samples)), ticks)
+        };
+        staging.unmap();
+        self.spare.push(staging);
+        let times = self.timing.as_ref().map(|timing| timing.times(&owners, &ticks)).unwrap_or_default();
+        Ok((read, times))
+    }
+
+    /// A spare staging buffer of at least `bytes` (a new one when none is that long).
     fn staging(&mut self, gpu: &Gpu, bytes: u64) -> wgpu::Buffer {
-        if self.staging.as_ref().is_none_or(|s| s.size() < bytes) {
-            self.staging = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pipeline reads"),
-                size: bytes,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
+        if let Some(at) = self.spare.iter().position(|s| s.size() >= bytes) {
+            return self.spare.swap_remove(at);
         }
-        self.staging.clone().expect("made above")
+        // Too short for this frame's reads, so for the frames like it.
+        self.spare.clear();
+        gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("pipeline reads"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
     }
 
     /// Finishes and submits the frame's recording: what the device refuses in it (a generated
     /// kernel's binding, say) is an error, not wgpu's panic.
-    fn submit(&mut self, gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<(), ChainError> {
+    fn submit(&mut self, gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<wgpu::SubmissionIndex, ChainError> {
         self.work.submissions += 1;
-        gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map(drop).map_err(ChainError::Readback)
+        gpu.scoped(|| gpu.queue.submit([encoder.finish()])).map_err(ChainError::Readback)
     }
 
     /// A tensor's buffer on the GPU (a host image uploaded into a buffer of its own).
@@ -333,11 +424,21 @@ fn unpack(tensors: &[Tensor], samples: &[f32]) -> Vec<Arc<Image>> {
 
 /// The images read at the end of a frame, by the [`Later`] each was asked for with.
 #[derive(Clone)]
-pub struct Reads(Vec<Arc<Image>>);
+pub struct Reads {
+    recording: u64,
+    images: Vec<Arc<Image>>,
+}
 
 impl Reads {
+    /// The image asked for with `later`, in this frame.
     pub fn get(&self, later: Later) -> &Arc<Image> {
-        &self.0[later.0]
+        debug_assert_eq!(later.recording, self.recording, "a read asked for in another frame");
+        &self.images[later.index]
+    }
+
+    /// The frame they were read in ([`Executor::recording`]).
+    pub fn recording(&self) -> u64 {
+        self.recording
     }
 }
 

@@ -110,23 +110,21 @@ impl Timing {
             let bytes = gpu.download(&chunk.resolved, used as u64 * 8)?;
             ticks.extend_from_slice(bytemuck::cast_slice(&bytes));
         }
-        Ok(self.times(&ticks))
+        let owners = self.end_recording();
+        Ok(self.times(&owners, &ticks))
     }
 
-    /// The time each timed pass took, by stage, from the recording's `ticks` (as copied by
-    /// [`Timing::copy_into`]); the sets are then free for the next recording.
-    pub fn times(&mut self, ticks: &[u64]) -> Vec<(usize, Duration)> {
-        let times = self
-            .owners
-            .iter()
-            .enumerate()
-            .map(|(k, &stage)| {
-                let ns = ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * self.period_ns as f64;
-                (stage, Duration::from_nanos(ns as u64))
-            })
-            .collect();
+    /// The stage of each pass timed in the recording, which ends: the sets are free for the
+    /// next recording (the queue runs it after this one's copies of them).
+    pub fn end_recording(&mut self) -> Vec<usize> {
         self.used = 0;
-        self.owners.clear();
-        times
+        std::mem::take(&mut self.owners)
+    }
+
+    /// The time each pass of a recording took, by stage, from the stages of its passes
+    /// ([`Timing::end_recording`]) and its `ticks` (as copied by [`Timing::copy_into`]).
+    pub fn times(&self, owners: &[usize], ticks: &[u64]) -> Vec<(usize, Duration)> {
+        let ns = |k: usize| ticks[2 * k + 1].saturating_sub(ticks[2 * k]) as f64 * self.period_ns as f64;
+        owners.iter().enumerate().map(|(k, &stage)| (stage, Duration::from_nanos(ns(k) as u64))).collect()
     }
 }

@@ -90,6 +90,7 @@ pub fn prepare(
             flows: Vec::new(),
             submissions: 0,
             frame_times: Vec::new(),
+            overlap: true,
         })
     } else {
         errors.extend(warnings);

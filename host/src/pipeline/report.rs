@@ -52,6 +52,9 @@ pub struct PipelineReport {
     /// The wall time of each frame that ran to its end, in order (the first compiles the
     /// kernels; a benchmark's steady state is after it).
     pub frame_times: Vec<Duration>,
+    /// Whether frames overlapped: each recorded and submitted while the GPU worked on the one
+    /// before (then a frame's time is from the one before's end to its own).
+    pub overlapped: bool,
     pub outcome: Result<(), PipelineError>,
 }
 
@@ -147,9 +150,10 @@ pub fn table(report: &PipelineReport) -> String {
     if report.submissions > 0 {
         let per_frame = |n: usize| n as f64 / report.frames.max(1) as f64;
         table += &format!(
-            "GPU work per frame: {} dispatches in {} submissions\n",
+            "GPU work per frame: {} dispatches in {} submissions; {}\n",
             per_frame(report.dispatches()),
-            per_frame(report.submissions)
+            per_frame(report.submissions),
+            if report.overlapped { "frames overlapped" } else { "one frame at a time" }
         );
     }
     table
@@ -184,6 +188,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "dispatches_per_frame": count(report.dispatches()),
         "submissions_per_frame": count(report.submissions),
+        "frames_overlapped": report.overlapped,
         "stages": report.stages.iter().map(|s| serde_json::json!({
             "instance": s.instance, "component": s.class, "items": s.items,
             "host_ms_total": ms(s.host), "device_ms_total": ms(s.device),

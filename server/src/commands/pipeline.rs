@@ -35,6 +35,8 @@ pub struct PipelineArgs<'a> {
     pub diagram: &'a str,
     pub frames: Option<usize>,
     pub cpu: bool,
+    /// `--one-frame-at-a-time`: frames never overlap on the GPU.
+    pub one_frame_at_a_time: bool,
     pub output: Option<&'a Path>,
     /// `--set`: values every setting runs with.
     pub sets: &'a [Assignment],
@@ -120,7 +122,10 @@ pub fn run(
                 prepare_setting(host, preparations, &plan, &original, &setting, job.as_ref())
             };
             match made {
-                Ok(prepared) => {
+                Ok(mut prepared) => {
+                    if args.one_frame_at_a_time {
+                        prepared.one_frame_at_a_time();
+                    }
                     let folder = batch::folder(job.as_ref(), &setting, study);
                     runs.push(Planned { recording: job.clone(), setting, folder, prepared });
                 }

@@ -55,6 +55,10 @@ pub struct RunArgs {
     /// Run a pipeline on the CPU reference instead of the GPU.
     #[arg(long)]
     pub(super) cpu: bool,
+    /// Run a pipeline's frames one after another on the GPU: the next frame is not recorded
+    /// while the GPU works on one (the same results, slower; for comparing).
+    #[arg(long)]
+    pub(super) one_frame_at_a_time: bool,
     /// Run a pipeline with a parameter set as written in the model, without editing it (as
     /// `Motion.windowSize=7`; checked as if typed). Repeatable.
     #[arg(long = "set", value_name = "INSTANCE.PARAMETER=VALUE", value_parser = super::settings::assignment)]
@@ -99,6 +103,7 @@ pub fn run(args: &RunArgs) -> ExitCode {
                 diagram: &fqn,
                 frames: args.frames,
                 cpu: args.cpu,
+                one_frame_at_a_time: args.one_frame_at_a_time,
                 output: args.output.as_deref(),
                 sets: &args.sets,
                 sweeps: &args.sweeps,

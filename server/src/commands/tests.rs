@@ -33,6 +33,7 @@ fn kernels_generated_by_run(path: &str, diagram: &str) -> usize {
         output: Some(output.clone()),
         frames: Some(1),
         cpu: false,
+        one_frame_at_a_time: false,
         root: None,
         sets: Vec::new(),
         sweeps: Vec::new(),

@@ -7,7 +7,7 @@ use std::{fmt::Write as _, sync::Arc};
 use gudsl_runtime::Image;
 use plotters::prelude::*;
 
-use super::{depth_images, of_size, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
+use super::{depth_images, of_size, Component, Ctx, Inputs, Need, Outputs, Params, PerFrame, SizesByPort};
 use crate::pipeline::{
     executor::{Later, Reads},
     files, ErrorKind, OutputDir, PipelineError,
@@ -19,9 +19,13 @@ pub struct AccuracyReport {
     max_true: f32,
     /// The ground-truth file (`groundTruth`), when given: its truth wins over the frames'.
     truth_file: Option<TruthFile>,
-    pending: Vec<(String, Later, Arc<Image>, f32)>,
+    pending: PerFrame<Vec<Measured>>,
     rows: Vec<Row>,
 }
+
+/// An item to measure once its frame's reads are back: its series, its distances' read, the
+/// true distances, its integration time (µs).
+type Measured = (String, Later, Arc<Image>, f32);
 
 /// A file of true distances and, once the run loaded it, its images.
 struct TruthFile {
@@ -55,7 +59,7 @@ impl AccuracyReport {
             instance: params.stage.instance.clone(),
             max_true: params.f32("maxTrueDistance"),
             truth_file,
-            pending: Vec::new(),
+            pending: PerFrame::default(),
             rows: Vec::new(),
         })
     }
@@ -115,13 +119,13 @@ impl Component for AccuracyReport {
         for (producer, depth) in depth_images(inputs) {
             let truth = self.truth(ctx.frame, producer, depth.truth.as_ref())?;
             let read = ctx.device.read_later(&depth.distance);
-            self.pending.push((producer.to_string(), read, truth, depth.integration_us));
+            self.pending.now(ctx.device).push((producer.to_string(), read, truth, depth.integration_us));
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (series, later, truth, integration_us) in std::mem::take(&mut self.pending) {
+        for (series, later, truth, integration_us) in self.pending.take(reads) {
             let (pixels, mean_cm, sigma_cm) = error_cm(reads.get(later), &truth, self.max_true);
             self.rows.push(Row { frame: ctx.frame, series, pixels, mean_cm, sigma_cm, integration_us });
         }

@@ -13,7 +13,7 @@ use gudsl_files::Growing;
 use gudsl_formats::bag::{At, BagWriter};
 use gudsl_runtime::Image;
 
-use super::{cloud::CloudRead, depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params};
+use super::{cloud::CloudRead, depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params, PerFrame};
 use crate::pipeline::{
     data::Data,
     executor::{Later, Reads},
@@ -27,15 +27,21 @@ pub struct McapWriter {
     /// Nanoseconds between frames.
     period: f64,
     frame_id: String,
-    /// This frame's messages to write, each with its topic.
-    pending: Vec<(String, Pending)>,
-    /// When this frame was recorded, as the first of its items that knows says.
-    recorded: Option<u64>,
+    /// Each frame's messages, until its reads are back.
+    pending: PerFrame<BagFrame>,
     /// The bag, from the first frame that gave it anything until the run ends.
     bag: Option<BagWriter<Growing>>,
 }
 
-/// A message of this frame, as it is known before the frame's reads.
+/// A frame's messages to write, each with its topic, and when the frame was recorded, as the
+/// first of its items that knows says.
+#[derive(Default)]
+struct BagFrame {
+    messages: Vec<(String, Pending)>,
+    recorded: Option<u64>,
+}
+
+/// A message of a frame, as it is known before the frame's reads.
 enum Pending {
     /// An image read at the end of the frame.
     Image(Later),
@@ -54,8 +60,7 @@ impl McapWriter {
             planes: ["distance", "amplitude", "intensity"].into_iter().filter(|p| params.flag(p)).collect(),
             period: 1e9 / params.number("frameRate").max(1e-3),
             frame_id: params.text("frameId").to_string(),
-            pending: Vec::new(),
-            recorded: None,
+            pending: PerFrame::default(),
             bag: None,
         }
     }
@@ -66,50 +71,58 @@ impl McapWriter {
         }
         Ok(self.bag.as_mut().expect("just made"))
     }
+}
+
+impl BagFrame {
+    /// An item's message, recorded at `stamp` if the frame's time is not known yet.
+    fn push(&mut self, topic: String, message: Pending, stamp: Option<u64>) {
+        self.recorded = self.recorded.or(stamp);
+        self.messages.push((topic, message));
+    }
 
     /// The true distances of `producer`'s item, once a frame.
     fn truth(&mut self, producer: &str, truth: Option<&Arc<Image>>) {
         let topic = format!("/{producer}/truth");
-        if let Some(truth) = truth.filter(|_| !self.pending.iter().any(|(t, _)| *t == topic)) {
-            self.pending.push((topic, Pending::Known(truth.clone())));
+        if let Some(truth) = truth.filter(|_| !self.messages.iter().any(|(t, _)| *t == topic)) {
+            self.messages.push((topic, Pending::Known(truth.clone())));
         }
     }
 }
 
 impl Component for McapWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+        let this = self.pending.now(ctx.device);
         for item in inputs.port("RawIn") {
             if let Data::Raw(frame) = &item.data {
-                self.recorded = self.recorded.or(frame.stamp);
-                self.pending
-                    .push((format!("/{}/raw_", item.producer), Pending::Raw(ctx.device.read_later(&frame.raw))));
-                self.truth(&item.producer, frame.truth.as_ref());
+                let read = Pending::Raw(ctx.device.read_later(&frame.raw));
+                this.push(format!("/{}/raw_", item.producer), read, frame.stamp);
+                this.truth(&item.producer, frame.truth.as_ref());
             }
         }
         for (producer, depth) in depth_images(inputs) {
-            self.recorded = self.recorded.or(depth.stamp);
             for (what, tensor) in depth_planes(depth, &self.planes) {
-                self.pending.push((format!("/{producer}/{what}"), Pending::Image(ctx.device.read_later(tensor))));
+                let read = Pending::Image(ctx.device.read_later(tensor));
+                this.push(format!("/{producer}/{what}"), read, depth.stamp);
             }
-            self.truth(producer, depth.truth.as_ref());
+            this.truth(producer, depth.truth.as_ref());
         }
         for item in inputs.port("CloudIn") {
             if let Data::Cloud(cloud) = &item.data {
-                self.pending.push((format!("/{}/cloud", item.producer), Pending::Cloud(CloudRead::ask(ctx, cloud))));
+                this.push(format!("/{}/cloud", item.producer), Pending::Cloud(CloudRead::ask(ctx, cloud)), None);
             }
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        let pending = std::mem::take(&mut self.pending);
-        if pending.is_empty() {
+        let BagFrame { messages, recorded } = self.pending.take(reads);
+        if messages.is_empty() {
             return Ok(Vec::new());
         }
-        let stamp = self.recorded.take().unwrap_or((ctx.frame as f64 * self.period).round() as u64);
+        let stamp = recorded.unwrap_or((ctx.frame as f64 * self.period).round() as u64);
         let frame_id = self.frame_id.clone();
         let bag = self.bag(ctx.output)?;
-        for (topic, message) in pending {
+        for (topic, message) in messages {
             let topic = &topic;
             let at = At { topic, stamp, frame_id: &frame_id };
             match message {

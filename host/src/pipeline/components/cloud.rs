@@ -100,6 +100,11 @@ impl Component for BackgroundSegmentation {
         Ok(out)
     }
 
+    /// The background learnt from the first frames' reads segments the frames after them.
+    fn feeds_back(&self) -> bool {
+        true
+    }
+
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         for (producer, model) in &mut self.models {
             for (intensity, distance) in std::mem::take(&mut model.pending) {

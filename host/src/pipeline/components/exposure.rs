@@ -74,6 +74,11 @@ impl Component for IntegrationTimeControl {
         Ok(Vec::new())
     }
 
+    /// The next integration time is the camera's next frame's.
+    fn feeds_back(&self) -> bool {
+        true
+    }
+
     fn finish_frame(&mut self, _ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         let times = std::mem::take(&mut self.pending).into_iter().map(|(read, t_curr)| {
             let image = reads.get(read);

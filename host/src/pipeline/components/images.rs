@@ -5,7 +5,8 @@
 use gudsl_runtime::Kernel;
 
 use super::{
-    raw::Demodulation, sinks::png, slots, sources::Simulated, Carries, Component, Ctx, Inputs, Outputs, Params, Size,
+    raw::Demodulation, sinks::png, slots, sources::Simulated, Carries, Component, Ctx, Inputs, Outputs, Params,
+    PerFrame, Size,
 };
 use crate::pipeline::{
     data::{Data, Item, Picture},
@@ -102,12 +103,16 @@ pub struct ImageViewer {
     instance: String,
     several: bool,
     /// Reads asked for this frame: (file name's prefix, read).
-    pending: Vec<(String, Later)>,
+    pending: PerFrame<Vec<(String, Later)>>,
 }
 
 impl ImageViewer {
     pub fn new(params: &Params) -> ImageViewer {
-        ImageViewer { instance: params.stage.instance.clone(), several: params.providers > 1, pending: Vec::new() }
+        ImageViewer {
+            instance: params.stage.instance.clone(),
+            several: params.providers > 1,
+            pending: PerFrame::default(),
+        }
     }
 }
 
@@ -119,14 +124,15 @@ impl Component for ImageViewer {
                     true => format!("{}_{}", item.producer, picture.source),
                     false => picture.source.clone(),
                 };
-                self.pending.push((prefix, ctx.device.read_later(&picture.texels)));
+                let read = ctx.device.read_later(&picture.texels);
+                self.pending.now(ctx.device).push((prefix, read));
             }
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (prefix, later) in std::mem::take(&mut self.pending) {
+        for (prefix, later) in self.pending.take(reads) {
             let image = reads.get(later);
             let pixels = image.width * image.height;
             let texels: Vec<u8> = (0..pixels)

@@ -11,6 +11,7 @@ mod cloud;
 mod depth;
 mod exposure;
 mod images;
+mod per_frame;
 mod ports;
 mod raw;
 mod sinks;
@@ -18,6 +19,7 @@ mod sources;
 mod texels;
 mod workspace;
 
+pub use per_frame::PerFrame;
 pub use workspace::{behaviors, Behaviors};
 
 use std::{collections::BTreeMap, sync::atomic::AtomicBool};
@@ -238,6 +240,14 @@ pub trait Component: Send {
     /// needs the data on the host (sinks write files); anything it gives arrives next frame.
     fn finish_frame(&mut self, _ctx: &mut Ctx, _reads: &Reads) -> Result<Outputs, String> {
         Ok(Vec::new())
+    }
+
+    /// Whether the next frame's `process` needs what `finish_frame` learns from this frame's
+    /// reads (its state, or what it gives): then a pipeline's frames run one after another.
+    /// Else the next frame is recorded while the GPU works on this one, and what the
+    /// component keeps for a frame's `finish_frame` is kept by frame ([`PerFrame`]).
+    fn feeds_back(&self) -> bool {
+        false
     }
 
     /// After the last frame (a plot, a last cloud).

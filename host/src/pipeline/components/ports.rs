@@ -152,6 +152,10 @@ impl Component for OnStagePorts {
         Ok(self.on_stage_ports(given))
     }
 
+    fn feeds_back(&self) -> bool {
+        self.component.feeds_back()
+    }
+
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         let given = self.component.finish_frame(ctx, reads)?;
         Ok(self.on_stage_ports(given))

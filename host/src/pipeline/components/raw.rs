@@ -278,6 +278,11 @@ impl Component for MotionCompensation {
         Ok(out)
     }
 
+    /// ρ: the next frame's search is restricted around this frame's mean direction.
+    fn feeds_back(&self) -> bool {
+        self.half_rho.is_some()
+    }
+
     fn finish_frame(&mut self, _ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         for item in &mut self.items {
             if let Some(flow) = item.flow.take() {

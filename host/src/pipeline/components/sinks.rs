@@ -7,7 +7,7 @@ use std::{io::Cursor, sync::Arc};
 
 use gudsl_formats::{arrays, ply::Points};
 
-use super::{depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params};
+use super::{depth_images, depth_planes, Component, Ctx, Inputs, Outputs, Params, PerFrame};
 use crate::pipeline::{
     data::Data,
     executor::{Later, Reads},
@@ -24,7 +24,7 @@ fn file_name(prefix: Option<&str>, what: &str, frame: usize, extension: &str) ->
 }
 
 /// Reads asked for this frame: (producer, what, read).
-type Pending = Vec<(String, &'static str, Later)>;
+type Pending = PerFrame<Vec<(String, &'static str, Later)>>;
 
 /// `ToF.NpyWriter` and `ToF.ExrWriter`: depth images a file a frame and plane
 /// (`distance_0003.npy`, float32) or a file a frame (`depth_0003.exr`, float32 channels `Z` —
@@ -52,7 +52,7 @@ impl DepthWriter {
             format,
             planes,
             several: params.providers > 1,
-            pending: Vec::new(),
+            pending: PerFrame::default(),
         }
     }
 
@@ -79,14 +79,15 @@ impl Component for DepthWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for (producer, depth) in depth_images(inputs) {
             for (what, tensor) in depth_planes(depth, &self.planes) {
-                self.pending.push((producer.to_string(), what, ctx.device.read_later(tensor)));
+                let read = ctx.device.read_later(tensor);
+                self.pending.now(ctx.device).push((producer.to_string(), what, read));
             }
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        let pending = std::mem::take(&mut self.pending);
+        let pending = self.pending.take(reads);
         if self.format == DepthFormat::Exr {
             for (k, (producer, ..)) in pending.iter().enumerate().step_by(self.planes.len().max(1)) {
                 let planes: Vec<_> = pending[k..k + self.planes.len()]
@@ -125,7 +126,7 @@ impl PngWriter {
             preview: params.flag("preview"),
             max_distance: params.f32("maxDistance"),
             several: params.providers > 1,
-            pending: Vec::new(),
+            pending: PerFrame::default(),
         }
     }
 }
@@ -134,14 +135,15 @@ impl Component for PngWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         if self.distance || self.preview {
             for (producer, depth) in depth_images(inputs) {
-                self.pending.push((producer.to_string(), "distance", ctx.device.read_later(&depth.distance)));
+                let read = ctx.device.read_later(&depth.distance);
+                self.pending.now(ctx.device).push((producer.to_string(), "distance", read));
             }
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (producer, _, later) in std::mem::take(&mut self.pending) {
+        for (producer, _, later) in self.pending.take(reads) {
             let image = reads.get(later);
             let prefix = self.several.then_some(producer.as_str());
             if self.distance {
@@ -176,7 +178,11 @@ pub struct RawWriter {
 
 impl RawWriter {
     pub fn new(params: &Params) -> RawWriter {
-        RawWriter { instance: params.stage.instance.clone(), several: params.providers > 1, pending: Vec::new() }
+        RawWriter {
+            instance: params.stage.instance.clone(),
+            several: params.providers > 1,
+            pending: PerFrame::default(),
+        }
     }
 }
 
@@ -190,7 +196,7 @@ impl Component for RawWriter {
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (producer, _, later) in std::mem::take(&mut self.pending) {
+        for (producer, _, later) in self.pending.take(reads) {
             let raw = reads.get(later);
             for (channel, first) in [("raw_a", 0), ("raw_b", 1)] {
                 let planes = super::channel(raw, first);
@@ -212,7 +218,11 @@ pub struct MaskWriter {
 
 impl MaskWriter {
     pub fn new(params: &Params) -> MaskWriter {
-        MaskWriter { instance: params.stage.instance.clone(), several: params.providers > 1, pending: Vec::new() }
+        MaskWriter {
+            instance: params.stage.instance.clone(),
+            several: params.providers > 1,
+            pending: PerFrame::default(),
+        }
     }
 }
 
@@ -226,7 +236,7 @@ impl Component for MaskWriter {
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (producer, what, later) in std::mem::take(&mut self.pending) {
+        for (producer, what, later) in self.pending.take(reads) {
             let image = reads.get(later);
             let grey: Vec<u8> = image.plane(0).iter().map(|&m| if m > 0.0 { 255 } else { 0 }).collect();
             let buffer = image::GrayImage::from_raw(image.width as u32, image.height as u32, grey)
@@ -252,7 +262,7 @@ impl FlowWriter {
             instance: params.stage.instance.clone(),
             several: params.providers > 1,
             max_length: params.f32("maxLength"),
-            pending: Vec::new(),
+            pending: PerFrame::default(),
         }
     }
 }
@@ -267,7 +277,7 @@ impl Component for FlowWriter {
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (producer, what, later) in std::mem::take(&mut self.pending) {
+        for (producer, what, later) in self.pending.take(reads) {
             let flow = reads.get(later);
             let prefix = self.several.then_some(producer.as_str());
             let npy =
@@ -313,7 +323,8 @@ fn read_each(
 ) {
     for item in inputs.port(port) {
         if let Some(image) = pick(&item.data) {
-            pending.push((item.producer.clone(), what, ctx.device.read_later(image)));
+            let read = ctx.device.read_later(image);
+            pending.now(ctx.device).push((item.producer.clone(), what, read));
         }
     }
 }
@@ -360,7 +371,7 @@ pub struct CloudWriter {
     /// The last cloud of each producer.
     last: Vec<(String, Points)>,
     /// This frame's clouds, each with its producer, until the frame's reads are back.
-    pending: Vec<(String, super::cloud::CloudRead)>,
+    pending: PerFrame<Vec<(String, super::cloud::CloudRead)>>,
 }
 
 /// The files a [`CloudWriter`] writes.
@@ -378,7 +389,7 @@ impl CloudWriter {
             every_frame: params.flag("everyFrame"),
             several: params.providers > 1,
             last: Vec::new(),
-            pending: Vec::new(),
+            pending: PerFrame::default(),
         }
     }
 
@@ -411,13 +422,14 @@ impl Component for CloudWriter {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         for item in inputs.port("CloudIn") {
             let Data::Cloud(cloud) = &item.data else { continue };
-            self.pending.push((item.producer.clone(), super::cloud::CloudRead::ask(ctx, cloud)));
+            let read = super::cloud::CloudRead::ask(ctx, cloud);
+            self.pending.now(ctx.device).push((item.producer.clone(), read));
         }
         Ok(Vec::new())
     }
 
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for (producer, cloud) in std::mem::take(&mut self.pending) {
+        for (producer, cloud) in self.pending.take(reads) {
             let points = cloud.take(reads);
             if self.every_frame {
                 let bytes = self.encode(&points)?;

@@ -317,6 +317,10 @@ impl Component for WorkspaceComponent {
         Ok(out)
     }
 
+    fn feeds_back(&self) -> bool {
+        self.base.as_ref().is_some_and(|base| base.feeds_back())
+    }
+
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         let Some(base) = &mut self.base else { return Ok(Vec::new()) };
         let given = base.finish_frame(ctx, reads)?;
