@@ -109,13 +109,14 @@ class Runner:
         """`gudsl run` of `model` (a path) for `frames` frames: its report.json."""
         return self.run_with(self.gudsl, model, frames, cpu, sets, name)
 
-    def run_with(self, gudsl, model, frames, cpu=False, sets=(), name="run"):
-        """The same with another binary."""
+    def run_with(self, gudsl, model, frames, cpu=False, sets=(), name="run", flags=()):
+        """The same with another binary (and more of `gudsl run`'s flags)."""
         out = self.work / "out" / name
         shutil.rmtree(out, ignore_errors=True)
         command = [gudsl, "run", str(model), "--root", str(self.work), "--frames", str(frames),
                    "-o", str(out)]
         command += ["--cpu"] if cpu else []
+        command += list(flags)
         for value in sets:
             command += ["--set", value]
         done = subprocess.run(command, cwd=self.work, capture_output=True, text=True)
@@ -123,13 +124,13 @@ class Runner:
             raise RuntimeError(f"{' '.join(command)} failed ({done.returncode}):\n{done.stdout}\n{done.stderr}")
         return json.loads((out / "report.json").read_text())
 
-    def steady(self, model, frames, cpu=False, sets=(), first=1, gudsl=None):
+    def steady(self, model, frames, cpu=False, sets=(), first=1, gudsl=None, flags=()):
         """The steady state of `frames` frames against `first`: per frame, the wall time, each
-        stage's GPU and host time and dispatches, the submissions. A time below zero (noise
-        over few frames) is taken as zero."""
+        stage's GPU and host time and dispatches, the submissions, whether frames overlapped. A
+        time below zero (noise over few frames) is taken as zero."""
         gudsl = gudsl or self.gudsl
-        one = self.run_with(gudsl, model, first, cpu, sets, "one")
-        all_ = self.run_with(gudsl, model, frames, cpu, sets, "all")
+        one = self.run_with(gudsl, model, first, cpu, sets, "one", flags)
+        all_ = self.run_with(gudsl, model, frames, cpu, sets, "all", flags)
         n = all_["frames"] - one["frames"]
         if n < 1:
             raise RuntimeError(f"{model} gives {all_['frames']} frames; the steady state needs {first + 1}")
@@ -165,7 +166,7 @@ class Runner:
         return {
             "device": all_["device"], "ms": steady_ms, "stages": stages,
             "dispatches": counted("dispatches_per_frame"), "submissions": counted("submissions_per_frame"),
-            "frames": (one["frames"], all_["frames"]),
+            "frames": (one["frames"], all_["frames"]), "overlapped": all_.get("frames_overlapped", False),
         }
 
 
@@ -305,6 +306,16 @@ def report(rows, header, quick, took):
             lines.append(
                 f"| {row['name']} | {row['size']} | {row['source']} | {fmt(before['ms'], 2)} | {fmt(gpu['ms'], 2)} | "
                 f"{fmt(pipeline_ms(before), 2)} | {fmt(pipeline_ms(gpu), 2)} | {work(before)} | {work(gpu)} |")
+    if any(row["apart"] for row in rows):
+        lines += ["", "## Frames overlapped, and one at a time (`--one-frame-at-a-time`), in this run", "",
+                  "Where no stage needs a frame's reads for the next, frame n+1 is recorded and submitted while "
+                  "the GPU works on frame n; the same pipeline one frame at a time beside it.", "",
+                  "| pipeline | size | frames | one at a time: ms / frame | overlapped | × faster |",
+                  "|---|---|---|---:|---:|---:|"]
+        for row in (row for row in rows if row["apart"]):
+            apart, gpu = row["apart"]["ms"], row["gpu"]["ms"]
+            gain = fmt(apart / gpu, 2) if gpu > 0 else "—"
+            lines.append(f"| {row['name']} | {row['size']} | {row['source']} | {fmt(apart, 2)} | {fmt(gpu, 2)} | {gain} |")
     lines += ["", "## Stages", ""]
     for row in rows:
         lines += [f"### {row['name']}, {row['size']}, {row['source']} frames", "",
@@ -346,12 +357,16 @@ def main():
         gpu = runner.steady(model, gpu_frames, sets=sets, first=first)
         # Generated kernels (chapter 11's device diagrams) have no CPU reference.
         cpu = None if key == "ch11" else runner.steady(model, cpu_frames, cpu=True, sets=sets, first=first)
+        # Frames that overlapped, once more one frame at a time: what overlapping gives.
+        apart = None
+        if gpu["overlapped"]:
+            apart = runner.steady(model, gpu_frames, sets=sets, first=first, flags=["--one-frame-at-a-time"])
         before = None
         if args.baseline:
             before = runner.steady(model, gpu_frames, sets=sets, first=first, gudsl=os.path.abspath(args.baseline))
         size_text = f"{size[0]}×{size[1]}" if size else "its own"
         rows.append({"name": name, "key": key, "size": size_text, "source": source, "gpu": gpu, "cpu": cpu,
-                     "before": before})
+                     "before": before, "apart": apart})
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True)
     cpu_name, driver = machine()
     header = {"adapter": rows[0]["gpu"]["device"], "driver": driver, "cpu": cpu_name,

@@ -15,9 +15,8 @@ use std::path::Path;
 use cli::{gudsl, gudsl_run as run, repo, temp_dir};
 use gudsl_formats::arrays;
 use gudsl_runtime::{
-    kernels::motion::mean_direction,
     sim::{simulate, Camera, Motion, Scene},
-    ChainRun, Gpu, Kernel, Pipeline, Shape,
+    ChainRun, Gpu, Image, Kernel, Pipeline, Shape,
 };
 
 const SAMPLE: &str = "samples/pipelines/ch4_motion_compensation.gudsl";
@@ -52,7 +51,16 @@ fn rust_api(gpu: &Gpu) -> Vec<Vec<f32>> {
         p.sink(distance).unwrap();
         p.sink(flow).unwrap();
         let out = ChainRun::new(Some(gpu), &p).run(&[simulated.raw, simulated.black]).unwrap();
-        direction = mean_direction(&out[1]);
+        // ρ's direction for the next frame, as the pipeline computes it on the GPU.
+        let mut mean = Pipeline::new();
+        let flow = mean.source("flow", Shape { width: 200, height: 200, planes: 2 });
+        let before = mean.source("before", Shape { width: 1, height: 1, planes: 2 });
+        let step = mean.step(Kernel::MeanDirection, &[flow, before]).unwrap()[0];
+        mean.sink(step).unwrap();
+        let known = direction.map_or(vec![0.0, 0.0], |radians| vec![radians, 1.0]);
+        let before = Image { width: 1, height: 1, planes: 2, data: known };
+        let next = ChainRun::new(Some(gpu), &mean).run(&[out[1].clone(), before]).unwrap().remove(0);
+        direction = (next.data[1] != 0.0).then_some(next.data[0]);
         distances.push(out[0].data.clone());
     }
     distances

@@ -88,8 +88,11 @@ pub(crate) trait Unit {
     const NAME: &'static str;
     /// The WGSL source (with the shared code it uses prepended).
     const SOURCE: &'static str;
-    /// Planes of each input image (`None`: any number); every input has the first's size.
+    /// Planes of each input image (`None`: any number); every input has the first's size but
+    /// the [`Unit::VALUES`].
     const INPUTS: &'static [Option<usize>];
+    /// The inputs that are one value (1×1, of their planes) whatever the first's size.
+    const VALUES: &'static [usize] = &[];
     /// The uniform block, field for field the shader's `Params`.
     type Params: bytemuck::Pod;
 
@@ -108,6 +111,7 @@ trait Dispatch {
     fn name(&self) -> &'static str;
     fn source(&self) -> &'static str;
     fn input_planes(&self) -> &'static [Option<usize>];
+    fn value_inputs(&self) -> &'static [usize];
     fn params(&self, inputs: &[Shape]) -> Vec<u8>;
     fn outputs(&self, inputs: &[Shape]) -> Vec<Shape>;
     fn passes(&self, inputs: &[Shape]) -> Vec<Pass>;
@@ -124,6 +128,9 @@ impl<U: Unit> Dispatch for U {
     }
     fn input_planes(&self) -> &'static [Option<usize>] {
         U::INPUTS
+    }
+    fn value_inputs(&self) -> &'static [usize] {
+        U::VALUES
     }
     fn params(&self, inputs: &[Shape]) -> Vec<u8> {
         bytemuck::bytes_of(&Unit::params(self, inputs)).to_vec()
@@ -166,6 +173,14 @@ pub enum Kernel {
     /// Motion detection and block matching in one pass, exactly as `DetectMotion { theta }` then
     /// `MatchBlocks` give them: raw frame → flow, mask.
     DetectMatch { theta: f32, window: u32, restriction: Option<(f32, f32)>, subpixel: bool },
+    /// `DetectMatch` restricted to `half_width` radians around the direction its second input
+    /// holds (a `MeanDirection` of the frame before, on the GPU): raw frame, direction → flow,
+    /// mask.
+    DetectMatchAround { theta: f32, window: u32, half_width: f32, subpixel: bool },
+    /// The mean direction of a flow's non-zero vectors (ρ's, for the next frame): flow, the
+    /// direction before (1×1, 2 planes: radians, known) → the direction; the one before while
+    /// nothing moved.
+    MeanDirection,
     /// Median smoothing of flow directions over a `window × window` neighbourhood ("NH").
     SmoothFlow { window: u32 },
     /// Raw phase correction along the flow (sec. 4.2.5): raw frame, flow → raw frame (bilinear
@@ -225,6 +240,10 @@ impl Kernel {
             Kernel::DetectMatch { theta, window, restriction, subpixel } => {
                 f(&motion::DetectMatch { theta, matching: motion::MatchBlocks { window, restriction, subpixel } })
             }
+            Kernel::DetectMatchAround { theta, window, half_width, subpixel } => {
+                f(&motion::DetectMatchAround { theta, window, half_width, subpixel })
+            }
+            Kernel::MeanDirection => f(&motion::MeanDirection),
             Kernel::SmoothFlow { window } => f(&motion::SmoothFlow { window }),
             Kernel::CorrectRaw => f(&motion::CorrectRaw),
             Kernel::GreyImage { gain } => f(&tof::GreyImage { gain }),
@@ -261,6 +280,8 @@ impl Kernel {
             Kernel::DetectMotion { theta: 0.0 },
             Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false },
             Kernel::DetectMatch { theta: 655.0, window: 5, restriction: None, subpixel: false },
+            Kernel::DetectMatchAround { theta: 655.0, window: 5, half_width: 0.8, subpixel: false },
+            Kernel::MeanDirection,
             Kernel::SmoothFlow { window: 3 },
             Kernel::CorrectRaw,
             Kernel::GreyImage { gain: 2.0 },
@@ -298,9 +319,9 @@ impl Kernel {
     }
 
     /// Whether inputs of these shapes fit: as many as the kernel reads, each with the planes it
-    /// takes, all of one size.
+    /// takes, all of one size but the values (1×1).
     pub fn check(&self, inputs: &[Shape]) -> Result<(), ChainError> {
-        let (kernel, planes) = self.unit(|u| (u.name(), u.input_planes()));
+        let (kernel, planes, values) = self.unit(|u| (u.name(), u.input_planes(), u.value_inputs()));
         if inputs.len() != planes.len() {
             return Err(ChainError::Inputs { kernel, expected: planes.len(), given: inputs.len() });
         }
@@ -311,13 +332,9 @@ impl Kernel {
                 }
             }
             let first = inputs[0];
-            if (shape.width, shape.height) != (first.width, first.height) || shape.is_empty() {
-                return Err(ChainError::Size {
-                    kernel,
-                    input,
-                    expected: (first.width, first.height),
-                    given: (shape.width, shape.height),
-                });
+            let size = if values.contains(&input) { (1, 1) } else { (first.width, first.height) };
+            if (shape.width, shape.height) != size || shape.is_empty() {
+                return Err(ChainError::Size { kernel, input, expected: size, given: (shape.width, shape.height) });
             }
         }
         Ok(())

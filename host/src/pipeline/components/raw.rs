@@ -3,12 +3,12 @@
 
 use std::path::Path;
 
-use gudsl_runtime::{kernels::motion::mean_direction, phase_normalization::PhaseCalibration, Image, Kernel};
+use gudsl_runtime::{phase_normalization::PhaseCalibration, Image, Kernel};
 
 use super::{of_size, slots, Carries, Component, Ctx, Inputs, Need, Outputs, Params, SizesByPort};
 use crate::pipeline::{
     data::{Data, DepthImage, RawFrame, Tensor},
-    executor::{BufferSlot, KernelSlot, Later, Reads},
+    executor::{BufferSlot, KernelSlot},
     files::{self, RawFiles},
     ErrorKind, PipelineError,
 };
@@ -183,8 +183,12 @@ struct MotionItem {
     matching: KernelSlot,
     smooth: KernelSlot,
     correct: KernelSlot,
-    direction: Option<f32>,
-    flow: Option<Later>,
+    /// With ρ: the mean direction of this frame's flow, on the device.
+    mean: KernelSlot,
+    /// With ρ: the direction the next frame's search is restricted around (none known before
+    /// a frame moved), kept on the device from frame to frame.
+    direction: Option<Tensor>,
+    direction_slot: BufferSlot,
 }
 
 impl MotionCompensation {
@@ -254,19 +258,32 @@ impl Component for MotionCompensation {
                 }
                 None => frame.raw.clone(),
             };
-            let restriction = self.half_rho.zip(item.direction).map(|(half, mean)| (mean, half));
-            // Detection and matching in one pass (exactly what the two kernels give apart).
+            // Detection and matching in one pass (exactly what the two kernels give apart); with
+            // ρ around the direction the frame before left on the device.
             let (theta, window, subpixel) = (self.theta, self.window, self.subpixel);
-            let kernel = Kernel::DetectMatch { theta, window, restriction, subpixel };
-            let [mut flow, mask]: [Tensor; 2] = run(device, &mut item.matching, kernel, &[&normalized])?
-                .try_into()
-                .map_err(|_| "detection and matching give a flow and a mask".to_string())?;
+            let matched = match self.half_rho {
+                Some(half_width) => {
+                    let slot = &mut item.direction_slot;
+                    let direction = item.direction.get_or_insert_with(|| device.upload(slot, &no_direction()));
+                    let kernel = Kernel::DetectMatchAround { theta, window, half_width, subpixel };
+                    run(device, &mut item.matching, kernel, &[&normalized, &*direction])?
+                }
+                None => {
+                    let kernel = Kernel::DetectMatch { theta, window, restriction: None, subpixel };
+                    run(device, &mut item.matching, kernel, &[&normalized])?
+                }
+            };
+            let [mut flow, mask]: [Tensor; 2] =
+                matched.try_into().map_err(|_| "detection and matching give a flow and a mask".to_string())?;
             if self.smooth {
                 flow = run(device, &mut item.smooth, Kernel::SmoothFlow { window: self.window }, &[&flow])?.remove(0);
             }
             let raw = run(device, &mut item.correct, Kernel::CorrectRaw, &[&normalized, &flow])?.remove(0);
-            // ρ restricts the next frame around this one's mean direction.
-            item.flow = self.half_rho.map(|_| device.read_later(&flow));
+            // ρ restricts the next frame around this one's mean direction, kept on the device.
+            if let Some(before) = item.direction.take() {
+                let mean = run(device, &mut item.mean, Kernel::MeanDirection, &[&flow, &before])?.remove(0);
+                item.direction = Some(device.keep(&mut item.direction_slot, &mean));
+            }
             // A tap: the flow, to whatever is bound to `FlowOut`.
             out.push(("FlowOut".to_string(), Data::Flow(flow)));
             out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));
@@ -277,18 +294,9 @@ impl Component for MotionCompensation {
         }
         Ok(out)
     }
+}
 
-    /// ρ: the next frame's search is restricted around this frame's mean direction.
-    fn feeds_back(&self) -> bool {
-        self.half_rho.is_some()
-    }
-
-    fn finish_frame(&mut self, _ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
-        for item in &mut self.items {
-            if let Some(flow) = item.flow.take() {
-                item.direction = mean_direction(reads.get(flow)).or(item.direction);
-            }
-        }
-        Ok(Vec::new())
-    }
+/// The direction of ρ before a frame moved: none known (the search is not restricted).
+fn no_direction() -> Image {
+    Image { width: 1, height: 1, planes: 2, data: vec![0.0, 0.0] }
 }

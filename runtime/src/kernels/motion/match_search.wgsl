@@ -1,7 +1,7 @@
 // Block matching's search (eq. 4.6–4.10), shared by `match_blocks.wgsl` and `detect_match.wgsl`
 // (each declares `p: Params` with the fields used here and `raw`): for pixel (x, y) the
 // displacement per phase image (dx, dy) in ±radius minimising Σ_{i=1..3} (P⁺_0(x,y) −
-// P⁺_i(x+i·dx, y+i·dy))², optionally only directions within half_width of mean_dir (radians);
+// P⁺_i(x+i·dx, y+i·dy))², optionally only directions within half_width of the mean direction (radians);
 // ties: shorter vector, then scan order. With subpixel, refined: the eight vectors ½ px around,
 // then ¼ px around the better one, scored by the bilinearly weighted squared differences of the
 // pixels around each sample and taken only when strictly better.
@@ -33,10 +33,15 @@ fn squared(d: f32) -> f32 {
     return d * d;
 }
 
+// The restriction in force, set by each entry point before it searches: whether there is one,
+// and the direction (radians) it is around (from the uniforms, or from a buffer the GPU wrote).
+var<private> search_restricted: bool;
+var<private> search_mean_dir: f32;
+
 fn allowed(dx: f32, dy: f32) -> bool {
-    if p.restricted == 0u || (dx == 0.0 && dy == 0.0) { return true; }
+    if !search_restricted || (dx == 0.0 && dy == 0.0) { return true; }
     let angle = atan2(dy, dx);
-    var diff = abs(angle - p.mean_dir) % (2.0 * PI);
+    var diff = abs(angle - search_mean_dir) % (2.0 * PI);
     if diff > PI { diff = 2.0 * PI - diff; }
     return diff <= p.half_width + 1e-6;
 }
