@@ -6,7 +6,10 @@
 //!
 //! `cargo bench -p gudsl-runtime --bench speed`
 
-use std::time::{Duration, Instant};
+use std::{
+    f32::consts::FRAC_PI_4,
+    time::{Duration, Instant},
+};
 
 use gudsl_runtime::camera::{Intrinsics, IDENTITY};
 use gudsl_runtime::kernels::integration::IntegrationModel;
@@ -135,6 +138,7 @@ fn main() {
         let intensity_bg = random(w, h, 1, 30_000.0, 6);
         let [_, mask] = gudsl_runtime::kernels::motion::detect(&raw, 655.0);
         let flow = gudsl_runtime::kernels::motion::match_blocks(&raw, &mask, 5, None, false);
+        let direction = Image { width: 1, height: 1, planes: 2, data: vec![0.5, 1.0] };
         let k = intrinsics(w, h);
         let rays = k.rays();
         let points = gudsl_runtime::kernels::car::point_cloud(&image, &rays);
@@ -152,6 +156,16 @@ fn main() {
             (Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false }, vec![raw.clone(), mask.clone()]),
             (Kernel::MatchBlocks { window: 7, restriction: None, subpixel: false }, vec![raw.clone(), mask.clone()]),
             (Kernel::DetectMatch { theta: 655.0, window: 5, restriction: None, subpixel: false }, vec![raw.clone()]),
+            // ρ = 90°: around a direction given as a parameter, and one in a buffer (the GPU's).
+            (
+                Kernel::DetectMatch { theta: 655.0, window: 5, restriction: Some((0.5, FRAC_PI_4)), subpixel: false },
+                vec![raw.clone()],
+            ),
+            (
+                Kernel::DetectMatchAround { theta: 655.0, window: 5, half_width: FRAC_PI_4, subpixel: false },
+                vec![raw.clone(), direction.clone()],
+            ),
+            (Kernel::MeanDirection, vec![flow.clone(), direction.clone()]),
             (Kernel::SmoothFlow { window: 5 }, vec![flow.clone()]),
             (Kernel::CorrectRaw, vec![raw.clone(), flow]),
             (Kernel::Mean { radius: 1 }, vec![image.clone()]),
@@ -174,7 +188,9 @@ fn main() {
         for (kernel, inputs) in cases {
             let label = match kernel {
                 Kernel::MatchBlocks { window, .. } => format!("match_blocks MWS {window}"),
-                Kernel::DetectMatch { window, .. } => format!("detect_match MWS {window}"),
+                Kernel::DetectMatch { window, restriction: None, .. } => format!("detect_match MWS {window}"),
+                Kernel::DetectMatch { window, .. } => format!("detect_match MWS {window}, ρ 90°"),
+                Kernel::DetectMatchAround { window, .. } => format!("detect_match_around MWS {window}, ρ 90°"),
                 Kernel::Median { radius } => format!("median {0}×{0}", 2 * radius + 1),
                 other => other.name().to_string(),
             };

@@ -10,7 +10,5 @@ struct Params { width: u32, height: u32, radius: u32, restricted: u32, mean_dir:
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= p.width || id.y >= p.height { return; }
-    search_restricted = p.restricted != 0u;
-    search_mean_dir = p.mean_dir;
-    detect_match_pixel(id.x, id.y);
+    detect_match_pixel(id.x, id.y, vec2<f32>(f32(p.restricted), p.mean_dir));
 }

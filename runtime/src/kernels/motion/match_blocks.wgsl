@@ -10,13 +10,11 @@ struct Params { width: u32, height: u32, radius: u32, restricted: u32, mean_dir:
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= p.width || id.y >= p.height { return; }
-    search_restricted = p.restricted != 0u;
-    search_mean_dir = p.mean_dir;
     let n = p.width * p.height;
     let i = id.y * p.width + id.x;
     var best = vec2<f32>(0.0, 0.0);
     if mask[i] != 0.0 {
-        best = best_flow(i32(id.x), i32(id.y));
+        best = best_flow(i32(id.x), i32(id.y), vec2<f32>(f32(p.restricted), p.mean_dir));
     }
     flow[i] = best.x;
     flow[n + i] = best.y;

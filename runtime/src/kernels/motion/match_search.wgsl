@@ -33,20 +33,17 @@ fn squared(d: f32) -> f32 {
     return d * d;
 }
 
-// The restriction in force, set by each entry point before it searches: whether there is one,
-// and the direction (radians) it is around (from the uniforms, or from a buffer the GPU wrote).
-var<private> search_restricted: bool;
-var<private> search_mean_dir: f32;
-
-fn allowed(dx: f32, dy: f32) -> bool {
-    if !search_restricted || (dx == 0.0 && dy == 0.0) { return true; }
+// `around`: the restriction, (1, the direction in radians) or (0, ·) for none — from the
+// uniforms, or from a buffer the GPU wrote.
+fn allowed(dx: f32, dy: f32, around: vec2<f32>) -> bool {
+    if around.x == 0.0 || (dx == 0.0 && dy == 0.0) { return true; }
     let angle = atan2(dy, dx);
-    var diff = abs(angle - search_mean_dir) % (2.0 * PI);
+    var diff = abs(angle - around.y) % (2.0 * PI);
     if diff > PI { diff = 2.0 * PI - diff; }
     return diff <= p.half_width + 1e-6;
 }
 
-fn best_flow(x: i32, y: i32) -> vec2<f32> {
+fn best_flow(x: i32, y: i32, around: vec2<f32>) -> vec2<f32> {
     let r = i32(p.radius);
     let p0 = plus(0u, x, y);
     var best = 3.4e38;
@@ -55,7 +52,7 @@ fn best_flow(x: i32, y: i32) -> vec2<f32> {
     var best_dy = 0;
     for (var dy = -r; dy <= r; dy++) {
         for (var dx = -r; dx <= r; dx++) {
-            if !allowed(f32(dx), f32(dy)) { continue; }
+            if !allowed(f32(dx), f32(dy), around) { continue; }
             var ssd = 0.0;
             for (var k = 1; k < 4; k++) {
                 let d = p0 - plus(u32(k), x + k * dx, y + k * dy);
@@ -81,7 +78,7 @@ fn best_flow(x: i32, y: i32) -> vec2<f32> {
                 for (var ox = -1; ox <= 1; ox++) {
                     let du = cu + f32(ox) * step;
                     let dv = cv + f32(oy) * step;
-                    if (ox == 0 && oy == 0) || !allowed(du, dv) { continue; }
+                    if (ox == 0 && oy == 0) || !allowed(du, dv, around) { continue; }
                     var ssd = 0.0;
                     for (var k = 1; k < 4; k++) {
                         ssd += blended_squared_difference(u32(k), f32(x) + f32(k) * du, f32(y) + f32(k) * dv, p0);

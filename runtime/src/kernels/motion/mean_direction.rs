@@ -5,12 +5,14 @@
 
 use super::angle_of;
 use crate::{
-    kernels::{Pass, Shape, SizeParams, Unit},
+    kernels::{linear_groups, Pass, Scratch, Shape, SizeParams, Unit},
     Image,
 };
 
-/// The threads of its one workgroup (`mean_direction.wgsl`'s `THREADS`).
+/// The threads of a workgroup (`mean_direction.wgsl`'s `THREADS`).
 const THREADS: usize = 256;
+/// The pixels each thread of pass `main` adds (`PER_THREAD`).
+const PER_THREAD: usize = 16;
 
 /// The circular mean of a flow's non-zero vectors, else the direction before.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,13 +33,19 @@ impl Unit for MeanDirection {
         vec![Shape { width: 1, height: 1, planes: 2 }]
     }
 
-    fn passes(&self, _inputs: &[Shape]) -> Vec<Pass> {
-        vec![Pass::main([1, 1, 1])]
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        let groups = (inputs[0].width * inputs[0].height).div_ceil(THREADS * PER_THREAD);
+        vec![Pass::main(linear_groups(groups, 1)), Pass::finish()]
+    }
+
+    /// Three sums (x, y, count) a workgroup of pass `main`.
+    fn scratch(&self, inputs: &[Shape]) -> Option<Scratch> {
+        Some(Scratch { len: 3 * (inputs[0].width * inputs[0].height).div_ceil(THREADS * PER_THREAD), start: 0 })
     }
 
     fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
         let data = match summed_unit_vectors(inputs[0]) {
-            [c, s, count] if count > 0.0 => vec![angle_of(c, s), 1.0],
+            [x, y, count] if count > 0.0 => vec![angle_of(x, y), 1.0],
             _ => inputs[1].data[..2].to_vec(),
         };
         vec![Image { width: 1, height: 1, planes: 2, data }]
@@ -45,26 +53,38 @@ impl Unit for MeanDirection {
 }
 
 /// The sum of the unit vectors of `flow`'s non-zero vectors and their count, added as the
-/// shader adds them: thread t over pixels t, t + 256, …, then the threads' sums in a tree.
+/// shader adds them: thread t of workgroup g its pixels t, t + 256, … of g's 256 × 16, the
+/// threads' sums in a tree; then thread t the workgroups' sums t, t + 256, …, then a tree.
 fn summed_unit_vectors(flow: &Image) -> [f32; 3] {
     let n = flow.pixels();
-    let mut sums = [[0.0f32; 3]; THREADS];
-    for (t, sum) in sums.iter_mut().enumerate() {
-        for i in (t..n).step_by(THREADS) {
-            let (u, v) = (flow.data[i], flow.data[n + i]);
-            if u != 0.0 || v != 0.0 {
-                let r = (u * u + v * v).sqrt();
-                *sum = [sum[0] + u / r, sum[1] + v / r, sum[2] + 1.0];
-            }
+    let unit = |i: usize| {
+        let (u, v) = (flow.data[i], flow.data[n + i]);
+        if u == 0.0 && v == 0.0 {
+            return [0.0; 3];
         }
-    }
-    let mut half = THREADS / 2;
-    while half > 0 {
-        for t in 0..half {
-            let other = sums[t + half];
-            sums[t] = [sums[t][0] + other[0], sums[t][1] + other[1], sums[t][2] + other[2]];
+        let r = (u * u + v * v).sqrt();
+        [u / r, v / r, 1.0]
+    };
+    let thread = |g: usize, t: usize| {
+        let pixels = (0..PER_THREAD).map(|k| (g * PER_THREAD + k) * THREADS + t).filter(|&i| i < n);
+        pixels.map(unit).fold([0.0; 3], |sum, u| [sum[0] + u[0], sum[1] + u[1], sum[2] + u[2]])
+    };
+    let partial: Vec<[f32; 3]> =
+        (0..n.div_ceil(THREADS * PER_THREAD)).map(|g| tree(std::array::from_fn(|t| thread(g, t)))).collect();
+    tree(std::array::from_fn(|t| {
+        partial.iter().skip(t).step_by(THREADS).fold([0.0; 3], |sum, p| [sum[0] + p[0], sum[1] + p[1], sum[2] + p[2]])
+    }))
+}
+
+/// A workgroup's sum of its threads' values, as `workgroup_total` adds them.
+fn tree(mut values: [[f32; 3]; THREADS]) -> [f32; 3] {
+    let mut stride = THREADS / 2;
+    while stride > 0 {
+        for t in 0..stride {
+            let other = values[t + stride];
+            values[t] = [values[t][0] + other[0], values[t][1] + other[1], values[t][2] + other[2]];
         }
-        half /= 2;
+        stride /= 2;
     }
-    sums[0]
+    values[0]
 }
