@@ -552,3 +552,48 @@ fn a_run_s_report_is_drawn_on_its_diagram() {
     assert_eq!(refused.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&refused.stderr).contains("is not a pipeline run's report.json"));
 }
+
+/// A library sink on a port of the user's own (an `async` one) measures what it measures in
+/// order: its figures reach `report.json` (before, the stage's wrapper dropped them).
+#[test]
+fn a_library_sink_on_a_port_of_your_own_keeps_its_figures() {
+    let dir = temp_dir("pipeline-async-accuracy");
+    let port = "    Accuracy instantiates AccuracyReport (maxTrueDistance = 3.85)\n    {\n        In : DepthIn (";
+    let mut text = std::fs::read_to_string(repo(SAMPLE)).unwrap();
+    assert!(text.contains(port));
+    text = text.replace(port, &port.replace("DepthIn", "AsyncDepthIn"));
+    text += "
+ComponentDiagram AsyncAccuracy
+{
+    sink ToF.AccuracyReport
+    {
+        async port AsyncDepthIn ( processor depth : ToF.IDepthImageProcessor );
+    }
+
+    filter ToF.Demodulation
+    {
+        port DepthOut ( provider depth : ToF.IDepthImageProvider );
+        [ToAsync source DepthOut.depth ==> target AsyncDepthIn.depth]
+    }
+}
+";
+    let apart = dir.join("async.gudsl");
+    std::fs::write(&apart, text).unwrap();
+    let figures = |model: &str, out: &str| {
+        let out = dir.join(out);
+        let mut args = vec![model, "--frames", "2", "-o", out.to_str().unwrap()];
+        if !gpu() {
+            args.push("--cpu");
+        }
+        let (code, stdout, stderr) = run(&args);
+        assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+        (report["figures"].clone(), stdout)
+    };
+    let (in_order, _) = figures(&repo(SAMPLE), "in-order");
+    let (on_its_port, stdout) = figures(apart.to_str().unwrap(), "async");
+    assert!(stdout.lines().any(|l| l.starts_with("Accuracy ") && l.contains("(async)")), "{stdout}");
+    assert!(in_order.as_array().is_some_and(|f| !f.is_empty()), "{in_order}");
+    assert_eq!(on_its_port, in_order);
+}

@@ -137,6 +137,10 @@ impl Component for OnStagePorts {
         self.component.cannot_act(frames)
     }
 
+    fn too_short(&self, frames: usize) -> Option<(&'static str, String)> {
+        self.component.too_short(frames)
+    }
+
     fn load(&mut self) -> Result<(), String> {
         self.component.load()
     }
@@ -163,5 +167,9 @@ impl Component for OnStagePorts {
 
     fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
         self.component.finish_run(output)
+    }
+
+    fn figures(&self) -> Vec<(String, f64)> {
+        self.component.figures()
     }
 }

@@ -285,6 +285,10 @@ impl Component for WorkspaceComponent {
         self.base.as_ref().and_then(|b| b.cannot_act(frames))
     }
 
+    fn too_short(&self, frames: usize) -> Option<(&'static str, String)> {
+        self.base.as_ref().and_then(|b| b.too_short(frames))
+    }
+
     fn load(&mut self) -> Result<(), String> {
         self.base.as_mut().map_or(Ok(()), |b| b.load())
     }
@@ -329,6 +333,10 @@ impl Component for WorkspaceComponent {
 
     fn finish_run(&mut self, output: &mut OutputDir) -> Result<(), String> {
         self.base.as_mut().map_or(Ok(()), |b| b.finish_run(output))
+    }
+
+    fn figures(&self) -> Vec<(String, f64)> {
+        self.base.as_ref().map_or_else(Vec::new, |b| b.figures())
     }
 }
 
