@@ -2,8 +2,9 @@
 """The pipelines' part of scripts/bench-gpu: each benchmark pipeline run by the `gudsl` binary
 on the GPU and on the CPU reference, its steady state measured, one markdown report written.
 
-A pipeline's time per frame is the steady state: the mean wall time of frames k+1…n of a run of
-n frames (`frame_ms`; the first compiles the kernels); each stage's GPU and host time per frame
+A pipeline's time per frame is the steady state: the wall time from the start of frame k+1 to
+the end of frame n of a run of n frames, over n − k (`frames_started_ms`, `frames_done_ms`; the
+first compiles the kernels); each stage's GPU and host time per frame
 the difference of its totals in that run and in a run of k frames, over n − k.
 GPU times are the adapter's timestamps around each pass (0 where it has none). Recorded frames
 are simulated once per size and written as a ROS 2 bag (`McapWriter`) before the runs, so a
@@ -158,9 +159,14 @@ class Runner:
                 return None
             return round((all_[key] * all_["frames"] - one[key] * one["frames"]) / n, 2)
 
-        # Each frame's own wall time where the binary reports it, else the two runs' difference.
-        if "frame_ms" in all_:
-            steady_ms = sum(all_["frame_ms"][one["frames"]:]) / n
+        # From the start of frame k+1 to the end of frame n where the binary says when frames
+        # began and were done (overlapped frames began before the one before was done); else
+        # each frame's own wall time; else the two runs' difference.
+        k = one["frames"]
+        if "frames_done_ms" in all_:
+            steady_ms = (all_["frames_done_ms"][-1] - all_["frames_started_ms"][k]) / n
+        elif "frame_ms" in all_:
+            steady_ms = sum(all_["frame_ms"][k:]) / n
         else:
             steady_ms = max(wall(all_) - wall(one), 0.0) / n
         return {
@@ -269,7 +275,7 @@ def report(rows, header, quick, took):
         f"- commit: {header['commit']}",
         f"- took: {took:.0f} s",
         "",
-        "Per frame in the steady state: the mean wall time of frames k+1…n of a run of n frames "
+        "Per frame in the steady state: the wall time from the start of frame k+1 to the end of frame n of a run of n frames, over n − k "
         "(k = 1: the first compiles the kernels; for chapter 6 its 3 frames of the empty scene); "
         "per stage, the difference of its totals in that run and a run of k frames. GPU µs: the stages' kernels by the "
         "adapter's timestamps (the passes alone; 0 without timestamp queries). Recorded: frames "

@@ -237,6 +237,14 @@ fn overlapped_frames_write_what_one_frame_at_a_time_writes() {
             let report: serde_json::Value =
                 serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
             assert_eq!(report["frames_overlapped"], overlapped, "{sample}");
+            // Overlapped, frame 1 began (its recording) before frame 0 was done (its sinks).
+            let times = |key: &str| -> Vec<f64> {
+                report[key].as_array().unwrap().iter().map(|t| t.as_f64().unwrap()).collect()
+            };
+            let (started, done) = (times("frames_started_ms"), times("frames_done_ms"));
+            let frames = report["frames"].as_u64().unwrap() as usize;
+            assert!(frames >= 2 && (started.len(), done.len()) == (frames, frames), "{sample}: {report}");
+            assert_eq!(started[1] < done[0], overlapped, "{sample}: {started:?} {done:?}");
             files_beneath(&out)
         });
         let names = |files: &[(String, Vec<u8>)]| files.iter().map(|(name, _)| name.clone()).collect::<Vec<_>>();

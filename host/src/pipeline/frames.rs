@@ -19,14 +19,15 @@ use super::{
     apart::{self, Mode, Processed},
     components::{self, Inputs, Outputs},
     data::{self, Item},
-    ErrorKind, OutputDir, PipelineError, PipelineObserver, PreparedPipeline, StageTime,
+    ErrorKind, FrameSpan, OutputDir, PipelineError, PipelineObserver, PreparedPipeline, StageTime,
 };
 
-/// The run's progress: told each frame done, and when the last was.
+/// The run's progress: told each frame done; when the frames began, from the loop's start.
 struct Progress<'o> {
     observer: &'o mut dyn PipelineObserver,
     frames: usize,
-    done: Instant,
+    start: Instant,
+    started: Vec<Duration>,
 }
 
 /// Where a frame is: the run's device, the devices of stages that process apart, the
@@ -61,11 +62,12 @@ impl PreparedPipeline {
         // The devices of the stages that process apart, kept from frame to frame.
         let mut devices: Vec<Option<Executor<'g>>> = self.modes.iter().map(|_| None).collect();
         let mut at = At { device, devices: &mut devices, queues: &mut queues, output, times, frame: 0, cancel };
-        let mut progress = Progress { observer, frames, done: Instant::now() };
+        let mut progress = Progress { observer, frames, start: Instant::now(), started: Vec::new() };
         // The frame submitted before this one, its reads not yet finished.
         let mut in_flight: Option<InFlight> = None;
         for frame in 0..frames {
             at.frame = frame;
+            progress.started.push(progress.start.elapsed());
             let submitted = self.record_frame(&mut at, frames);
             if let Some(before) = in_flight.take() {
                 self.complete(&mut at, frame - 1, before, &mut progress)?;
@@ -115,7 +117,7 @@ impl PreparedPipeline {
     }
 
     /// Frame `frame`, submitted: its reads waited for, its stages' GPU times added, each stage's
-    /// `finish_frame` on them, its wall time (since the frame before was done) kept.
+    /// `finish_frame` on them, when it began and was done kept.
     fn complete(
         &mut self,
         at: &mut At<'_, '_>,
@@ -130,8 +132,8 @@ impl PreparedPipeline {
             at.times[stage].device += time;
         }
         self.finish_reads(at, frame, &reads)?;
-        self.frame_times.push(progress.done.elapsed());
-        progress.done = Instant::now();
+        let span = FrameSpan { started: progress.started[frame], done: progress.start.elapsed() };
+        self.frame_spans.push(span);
         progress.observer.frame(frame, progress.frames);
         Ok(())
     }
@@ -426,7 +428,7 @@ mod tests {
             let error = report.outcome.as_ref().expect_err("cancelled");
             assert_eq!(error.kind, ErrorKind::Cancelled);
             assert_eq!(error.message, format!("cancelled after {done} of 4 frames"));
-            assert_eq!(report.frame_times.len(), done);
+            assert_eq!(report.frame_spans.len(), done);
             for frame in 0..4 {
                 let written = folder.join(format!("CompensatedDepth/distance_{frame:04}.npy")).is_file();
                 assert_eq!(written, frame < done, "frame {frame} of {done}");

@@ -50,7 +50,7 @@ pub use preparations::{model_dir, Preparations};
 pub use prepare::prepare;
 pub use preview::Preview;
 pub use replay::StageKey;
-pub use report::{report_json, summary, table, write_report, Figure, Flow, PipelineReport, StageTime};
+pub use report::{report_json, summary, table, write_report, Figure, Flow, FrameSpan, PipelineReport, StageTime};
 pub use study::{rows_beneath, study_table, write_study, StudyRow};
 pub use walls::calibration_walls;
 
@@ -90,8 +90,8 @@ pub struct PreparedPipeline {
     flows: Vec<Flow>,
     /// Command buffers submitted to the GPU in this run.
     submissions: usize,
-    /// The wall time of each frame of this run.
-    frame_times: Vec<Duration>,
+    /// When each frame of this run began and was done.
+    frame_spans: Vec<FrameSpan>,
     /// Whether frames may overlap on a GPU (on unless [`PreparedPipeline::one_frame_at_a_time`]).
     overlap: bool,
 }
@@ -157,7 +157,7 @@ impl PreparedPipeline {
             .collect();
         self.flows = self.plan.bindings.iter().map(|b| self.flow(b)).collect();
         self.submissions = 0;
-        self.frame_times.clear();
+        self.frame_spans.clear();
         let mut device = Executor::new(gpu);
         let loading = Instant::now();
         let outcome = self.load(&mut stages);
@@ -191,7 +191,7 @@ impl PreparedPipeline {
             figures,
             flows: std::mem::take(&mut self.flows),
             submissions: self.submissions,
-            frame_times: std::mem::take(&mut self.frame_times),
+            frame_spans: std::mem::take(&mut self.frame_spans),
             overlapped: self.overlaps(gpu.is_some()),
             outcome,
         }

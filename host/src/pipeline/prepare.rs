@@ -89,7 +89,7 @@ pub fn prepare(
             replay: None,
             flows: Vec::new(),
             submissions: 0,
-            frame_times: Vec::new(),
+            frame_spans: Vec::new(),
             overlap: true,
         })
     } else {

@@ -49,13 +49,22 @@ pub struct PipelineReport {
     pub flows: Vec<Flow>,
     /// Command buffers submitted to the GPU (0 on the CPU reference).
     pub submissions: usize,
-    /// The wall time of each frame that ran to its end, in order (the first compiles the
-    /// kernels; a benchmark's steady state is after it).
-    pub frame_times: Vec<Duration>,
+    /// When each frame that ran to its end began (its recording) and was done (its sinks'
+    /// `finish_frame`), in order (the first compiles the kernels; a benchmark's steady state
+    /// is after it).
+    pub frame_spans: Vec<FrameSpan>,
     /// Whether frames overlapped: each recorded and submitted while the GPU worked on the one
     /// before (then a frame's time is from the one before's end to its own).
     pub overlapped: bool,
     pub outcome: Result<(), PipelineError>,
+}
+
+/// When a frame began and was done, from the start of the run's first frame: where frames
+/// overlap, a frame begins before the one before it is done.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameSpan {
+    pub started: Duration,
+    pub done: Duration,
 }
 
 /// One number a stage measured over a run.
@@ -183,7 +192,9 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "frames": report.frames,
         "total_ms": ms(report.total),
         "loading_ms": ms(report.loading),
-        "frame_ms": report.frame_times.iter().map(|d| ms(*d)).collect::<Vec<_>>(),
+        "frame_ms": report.frame_spans.iter().map(|f| ms(f.done.saturating_sub(f.started))).collect::<Vec<_>>(),
+        "frames_started_ms": report.frame_spans.iter().map(|f| ms(f.started)).collect::<Vec<_>>(),
+        "frames_done_ms": report.frame_spans.iter().map(|f| ms(f.done)).collect::<Vec<_>>(),
         "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "dispatches_per_frame": count(report.dispatches()),
