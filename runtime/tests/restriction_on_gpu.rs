@@ -1,8 +1,8 @@
 //! ρ on the GPU (chapter 4's direction restriction): the mean direction of a frame's flow
 //! (`Kernel::MeanDirection`) is computed where the flow is, and the next frame's search
 //! (`Kernel::DetectMatchAround`) reads it there — no read back between frames. The direction
-//! agrees with its CPU twin and the host's circular mean; while nothing moved it is the one
-//! before; the search around a direction in a buffer is exactly the fused pass with that
+//! agrees with its CPU twin and the host's circular mean; while nothing moved (or the vectors
+//! cancel) it is the one before; the search around a direction in a buffer is exactly the fused pass with that
 //! direction as a parameter.
 
 use std::f32::consts::FRAC_PI_4;
@@ -49,10 +49,16 @@ fn a_flow_s_mean_direction_is_computed_on_the_gpu_or_kept_while_nothing_moved() 
     assert!((cpu[0].data[0] - host).abs() < 1e-4, "twin {} vs host {host}", cpu[0].data[0]);
     assert_eq!(on_gpu[0].data[1], 1.0);
     assert!((on_gpu[0].data[0] - cpu[0].data[0]).abs() < 1e-5, "GPU {:?} vs CPU {:?}", on_gpu[0].data, cpu[0].data);
-    let still = Image { data: vec![0.0; flow.data.len()], ..flow };
+    let still = Image { data: vec![0.0; flow.data.len()], ..flow.clone() };
+    // As many vectors to the left as to the right: they cancel, and have no direction either.
+    let n = flow.pixels();
+    let mut cancelling = still.clone();
+    (0..n).for_each(|i| cancelling.data[i] = if i % 2 == 0 { 1.0 } else { -1.0 });
     for before in [direction(None), direction(Some(2.5))] {
-        let (cpu, on_gpu) = both(&gpu, Kernel::MeanDirection, &[still.clone(), before.clone()]);
-        assert_eq!((&cpu[0].data, &on_gpu[0].data), (&before.data, &before.data), "nothing moved");
+        for (what, flow) in [("nothing moved", &still), ("the vectors cancel", &cancelling)] {
+            let (cpu, on_gpu) = both(&gpu, Kernel::MeanDirection, &[flow.clone(), before.clone()]);
+            assert_eq!((&cpu[0].data, &on_gpu[0].data), (&before.data, &before.data), "{what}");
+        }
     }
 }
 

@@ -40,6 +40,11 @@ struct At<'a, 'g> {
     times: &'a mut [StageTime],
     frame: usize,
     cancel: &'a AtomicBool,
+    /// Whether frames overlap in this run.
+    overlapped: bool,
+    /// The frame each sink that failed in its `process` failed in: the frames before it still
+    /// finish (overlapped, the next frame's `process` runs before a frame's `finish_frame`).
+    failed_in: &'a mut [Option<usize>],
 }
 
 impl PreparedPipeline {
@@ -61,7 +66,9 @@ impl PreparedPipeline {
         let mut queues: Vec<VecDeque<Item>> = vec![VecDeque::new(); self.plan.bindings.len()];
         // The devices of the stages that process apart, kept from frame to frame.
         let mut devices: Vec<Option<Executor<'g>>> = self.modes.iter().map(|_| None).collect();
-        let mut at = At { device, devices: &mut devices, queues: &mut queues, output, times, frame: 0, cancel };
+        let mut failed_in = vec![None; self.plan.stages.len()];
+        let (devices, queues, failed_in) = (&mut devices, &mut queues, &mut failed_in);
+        let mut at = At { device, devices, queues, output, times, frame: 0, cancel, overlapped, failed_in };
         let mut progress = Progress { observer, frames, start: Instant::now(), started: Vec::new() };
         // The frame submitted before this one, its reads not yet finished.
         let mut in_flight: Option<InFlight> = None;
@@ -144,7 +151,9 @@ impl PreparedPipeline {
     fn finish_reads(&mut self, at: &mut At<'_, '_>, frame: usize, reads: &Reads) -> Result<(), PipelineError> {
         for index in 0..at.times.len() {
             let time = &mut at.times[index];
-            if time.failed.is_some() {
+            // A sink that failed in a later frame's `process` still finishes this frame.
+            let failed_later = at.failed_in[index].is_some_and(|failed| failed > frame);
+            if time.failed.is_some() && !failed_later {
                 continue;
             }
             let mode = self.modes[index];
@@ -175,6 +184,9 @@ impl PreparedPipeline {
                 .map_err(|message| self.error(Some(index), ErrorKind::Failed, message));
             time.host += started.elapsed();
             let Some(produced) = self.sink_alone_or(index, time, produced)? else { continue };
+            // Overlapped, the next frame is recorded already: only a stage that `feeds_back`
+            // may give after the reads, and such a stage keeps the run one frame at a time.
+            debug_assert!(!at.overlapped || produced.is_empty(), "a stage gave after its reads in an overlapped run");
             self.record(at.device, (index, frame), &produced, true);
             // What a stage gives after the frame's reads arrives next frame.
             self.deliver(at.device, index, produced, at.queues, frame, true);
@@ -250,6 +262,7 @@ impl PreparedPipeline {
                 });
             at.times[index].host += started.elapsed();
             let Some(produced) = self.sink_alone_or(index, &mut at.times[index], produced)? else {
+                at.failed_in[index] = Some(frame);
                 done[index] = true;
                 continue;
             };

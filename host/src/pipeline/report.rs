@@ -54,7 +54,7 @@ pub struct PipelineReport {
     /// is after it).
     pub frame_spans: Vec<FrameSpan>,
     /// Whether frames overlapped: each recorded and submitted while the GPU worked on the one
-    /// before (then a frame's time is from the one before's end to its own).
+    /// before (then a frame begins before the one before it is done).
     pub overlapped: bool,
     pub outcome: Result<(), PipelineError>,
 }

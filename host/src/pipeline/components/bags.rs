@@ -74,12 +74,6 @@ impl McapWriter {
 }
 
 impl BagFrame {
-    /// An item's message, recorded at `stamp` if the frame's time is not known yet.
-    fn push(&mut self, topic: String, message: Pending, stamp: Option<u64>) {
-        self.recorded = self.recorded.or(stamp);
-        self.messages.push((topic, message));
-    }
-
     /// The true distances of `producer`'s item, once a frame.
     fn truth(&mut self, producer: &str, truth: Option<&Arc<Image>>) {
         let topic = format!("/{producer}/truth");
@@ -94,21 +88,23 @@ impl Component for McapWriter {
         let this = self.pending.now(ctx.device);
         for item in inputs.port("RawIn") {
             if let Data::Raw(frame) = &item.data {
+                this.recorded = this.recorded.or(frame.stamp);
                 let read = Pending::Raw(ctx.device.read_later(&frame.raw));
-                this.push(format!("/{}/raw_", item.producer), read, frame.stamp);
+                this.messages.push((format!("/{}/raw_", item.producer), read));
                 this.truth(&item.producer, frame.truth.as_ref());
             }
         }
         for (producer, depth) in depth_images(inputs) {
+            this.recorded = this.recorded.or(depth.stamp);
             for (what, tensor) in depth_planes(depth, &self.planes) {
                 let read = Pending::Image(ctx.device.read_later(tensor));
-                this.push(format!("/{producer}/{what}"), read, depth.stamp);
+                this.messages.push((format!("/{producer}/{what}"), read));
             }
             this.truth(producer, depth.truth.as_ref());
         }
         for item in inputs.port("CloudIn") {
             if let Data::Cloud(cloud) = &item.data {
-                this.push(format!("/{}/cloud", item.producer), Pending::Cloud(CloudRead::ask(ctx, cloud)), None);
+                this.messages.push((format!("/{}/cloud", item.producer), Pending::Cloud(CloudRead::ask(ctx, cloud))));
             }
         }
         Ok(Vec::new())

@@ -14,7 +14,8 @@ const THREADS: usize = 256;
 /// The pixels each thread of pass `main` adds (`PER_THREAD`).
 const PER_THREAD: usize = 16;
 
-/// The circular mean of a flow's non-zero vectors, else the direction before.
+/// The circular mean of a flow's non-zero vectors, else (nothing moved, or the vectors cancel)
+/// the direction before.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct MeanDirection;
 
@@ -38,51 +39,52 @@ impl Unit for MeanDirection {
         vec![Pass::main(linear_groups(groups, 1)), Pass::finish()]
     }
 
-    /// Three sums (x, y, count) a workgroup of pass `main`.
+    /// Two sums (x, y) a workgroup of pass `main`.
     fn scratch(&self, inputs: &[Shape]) -> Option<Scratch> {
-        Some(Scratch { len: 3 * (inputs[0].width * inputs[0].height).div_ceil(THREADS * PER_THREAD), start: 0 })
+        Some(Scratch { len: 2 * (inputs[0].width * inputs[0].height).div_ceil(THREADS * PER_THREAD), start: 0 })
     }
 
     fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
         let data = match summed_unit_vectors(inputs[0]) {
-            [x, y, count] if count > 0.0 => vec![angle_of(x, y), 1.0],
+            // Vectors that cancel have no direction either.
+            [x, y] if x != 0.0 || y != 0.0 => vec![angle_of(x, y), 1.0],
             _ => inputs[1].data[..2].to_vec(),
         };
         vec![Image { width: 1, height: 1, planes: 2, data }]
     }
 }
 
-/// The sum of the unit vectors of `flow`'s non-zero vectors and their count, added as the
+/// The sum of the unit vectors of `flow`'s non-zero vectors, added as the
 /// shader adds them: thread t of workgroup g its pixels t, t + 256, … of g's 256 × 16, the
 /// threads' sums in a tree; then thread t the workgroups' sums t, t + 256, …, then a tree.
-fn summed_unit_vectors(flow: &Image) -> [f32; 3] {
+fn summed_unit_vectors(flow: &Image) -> [f32; 2] {
     let n = flow.pixels();
     let unit = |i: usize| {
         let (u, v) = (flow.data[i], flow.data[n + i]);
         if u == 0.0 && v == 0.0 {
-            return [0.0; 3];
+            return [0.0; 2];
         }
         let r = (u * u + v * v).sqrt();
-        [u / r, v / r, 1.0]
+        [u / r, v / r]
     };
     let thread = |g: usize, t: usize| {
         let pixels = (0..PER_THREAD).map(|k| (g * PER_THREAD + k) * THREADS + t).filter(|&i| i < n);
-        pixels.map(unit).fold([0.0; 3], |sum, u| [sum[0] + u[0], sum[1] + u[1], sum[2] + u[2]])
+        pixels.map(unit).fold([0.0; 2], |sum, u| [sum[0] + u[0], sum[1] + u[1]])
     };
-    let partial: Vec<[f32; 3]> =
+    let partial: Vec<[f32; 2]> =
         (0..n.div_ceil(THREADS * PER_THREAD)).map(|g| tree(std::array::from_fn(|t| thread(g, t)))).collect();
     tree(std::array::from_fn(|t| {
-        partial.iter().skip(t).step_by(THREADS).fold([0.0; 3], |sum, p| [sum[0] + p[0], sum[1] + p[1], sum[2] + p[2]])
+        partial.iter().skip(t).step_by(THREADS).fold([0.0; 2], |sum, p| [sum[0] + p[0], sum[1] + p[1]])
     }))
 }
 
 /// A workgroup's sum of its threads' values, as `workgroup_total` adds them.
-fn tree(mut values: [[f32; 3]; THREADS]) -> [f32; 3] {
+fn tree(mut values: [[f32; 2]; THREADS]) -> [f32; 2] {
     let mut stride = THREADS / 2;
     while stride > 0 {
         for t in 0..stride {
             let other = values[t + stride];
-            values[t] = [values[t][0] + other[0], values[t][1] + other[1], values[t][2] + other[2]];
+            values[t] = [values[t][0] + other[0], values[t][1] + other[1]];
         }
         stride /= 2;
     }
