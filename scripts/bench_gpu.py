@@ -4,8 +4,9 @@ on the GPU and on the CPU reference, its steady state measured, one markdown rep
 
 A pipeline's time per frame is the steady state: the wall time from the start of frame k+1 to
 the end of frame n of a run of n frames, over n − k (`frames_started_ms`, `frames_done_ms`; the
-first compiles the kernels); each stage's GPU and host time per frame
-the difference of its totals in that run and in a run of k frames, over n − k.
+first compiles the kernels); each stage's GPU and host time per frame its work for those frames
+(`report.json` gives it by frame), over n − k (a baseline binary without those figures: the
+difference of its totals in that run and in a run of k frames).
 GPU times are the adapter's timestamps around each pass (0 where it has none). Recorded frames
 are simulated once per size and written as a ROS 2 bag (`McapWriter`) before the runs, so a
 recorded run measures the pipeline alone; a simulated run includes the simulator (the CPU's).
@@ -126,54 +127,74 @@ class Runner:
         return json.loads((out / "report.json").read_text())
 
     def steady(self, model, frames, cpu=False, sets=(), first=1, gudsl=None, flags=()):
-        """The steady state of `frames` frames against `first`: per frame, the wall time, each
-        stage's GPU and host time and dispatches, the submissions, whether frames overlapped. A
-        time below zero (noise over few frames) is taken as zero."""
+        """The steady state of `frames` frames after the first `first`: per frame, the wall time,
+        each stage's GPU and host time and dispatches, the submissions, whether frames
+        overlapped. From the run's own per-frame figures where the binary reports them, else (an
+        earlier binary, a baseline) from the difference of a run of `first` frames and one of
+        `frames`. A time below zero (noise over few frames) is taken as zero."""
         gudsl = gudsl or self.gudsl
-        one = self.run_with(gudsl, model, first, cpu, sets, "one", flags)
         all_ = self.run_with(gudsl, model, frames, cpu, sets, "all", flags)
-        n = all_["frames"] - one["frames"]
-        if n < 1:
+        if all_["frames"] <= first:
             raise RuntimeError(f"{model} gives {all_['frames']} frames; the steady state needs {first + 1}")
-        processors = {b["processor"] for b in all_["bindings"]}
-
-        def wall(report):
-            return report["total_ms"] - report.get("loading_ms", 0.0)
-
-        stages = []
-        for early, last in zip(one["stages"], all_["stages"]):
-            stages.append({
-                "instance": last["instance"], "component": last["component"],
-                "gpu_us": max(1e3 * (last["device_ms_total"] - early["device_ms_total"]) / n, 0.0),
-                "host_us": max(1e3 * (last["host_ms_total"] - early["host_ms_total"]) / n, 0.0),
-                "dispatches": round((last.get("dispatches_per_frame", 0) * all_["frames"]
-                                     - early.get("dispatches_per_frame", 0) * one["frames"]) / n, 2),
-                "async": last["async"],
-                # What gives the frames (a binary from before `source` was reported: what no
-                # binding feeds).
-                "source": last.get("source", last["instance"] not in processors),
-            })
-        def counted(key):
-            # A binary from before the counts (a baseline) has none.
-            if key not in all_:
-                return None
-            return round((all_[key] * all_["frames"] - one[key] * one["frames"]) / n, 2)
-
-        # From the start of frame k+1 to the end of frame n where the binary says when frames
-        # began and were done (overlapped frames began before the one before was done); else
-        # each frame's own wall time; else the two runs' difference.
-        k = one["frames"]
-        if "frames_done_ms" in all_:
-            steady_ms = (all_["frames_done_ms"][-1] - all_["frames_started_ms"][k]) / n
-        elif "frame_ms" in all_:
-            steady_ms = sum(all_["frame_ms"][k:]) / n
+        if "submissions_frames" in all_:
+            measured = steady_of_frames(all_, first)
         else:
-            steady_ms = max(wall(all_) - wall(one), 0.0) / n
-        return {
-            "device": all_["device"], "ms": steady_ms, "stages": stages,
-            "dispatches": counted("dispatches_per_frame"), "submissions": counted("submissions_per_frame"),
-            "frames": (one["frames"], all_["frames"]), "overlapped": all_.get("frames_overlapped", False),
-        }
+            measured = steady_of_difference(self.run_with(gudsl, model, first, cpu, sets, "one", flags), all_)
+        processors = {b["processor"] for b in all_["bindings"]}
+        for stage, last in zip(measured["stages"], all_["stages"]):
+            # What gives the frames (a binary from before `source` was reported: what no
+            # binding feeds).
+            stage.update({"instance": last["instance"], "component": last["component"], "async": last["async"],
+                          "source": last.get("source", last["instance"] not in processors)})
+        measured.update({"device": all_["device"], "frames": (first, all_["frames"]),
+                         "overlapped": all_.get("frames_overlapped", False)})
+        return measured
+
+
+def steady_of_frames(report, k):
+    """Frames k+1…n of one run: the wall time from the start of frame k+1 to the end of frame n
+    (overlapped frames begin before the one before is done), each stage's work for those
+    frames (`*_frames`: by the frame it was for), over n − k."""
+    n = report["frames"] - k
+
+    def mean(values, scale=1.0):
+        return max(scale * sum(values[k:report["frames"]]) / n, 0.0)
+
+    stages = [{"gpu_us": mean(s["device_ms_frames"], 1e3), "host_us": mean(s["host_ms_frames"], 1e3),
+               "dispatches": round(mean(s["dispatches_frames"]), 2)} for s in report["stages"]]
+    return {
+        "ms": (report["frames_done_ms"][-1] - report["frames_started_ms"][k]) / n, "stages": stages,
+        "dispatches": round(sum(s["dispatches"] for s in stages), 2),
+        "submissions": round(mean(report["submissions_frames"]), 2),
+    }
+
+
+def steady_of_difference(one, all_):
+    """An earlier binary's steady state: the difference of a run of k frames (`one`) and one
+    of n (`all_`), over n − k; the wall time from each frame's own where it reports them."""
+    k, n = one["frames"], all_["frames"] - one["frames"]
+
+    def wall(report):
+        return report["total_ms"] - report.get("loading_ms", 0.0)
+
+    def counted(key):
+        # A binary from before the counts has none.
+        return round((all_[key] * all_["frames"] - one[key] * one["frames"]) / n, 2) if key in all_ else None
+
+    stages = [{
+        "gpu_us": max(1e3 * (last["device_ms_total"] - early["device_ms_total"]) / n, 0.0),
+        "host_us": max(1e3 * (last["host_ms_total"] - early["host_ms_total"]) / n, 0.0),
+        "dispatches": round((last.get("dispatches_per_frame", 0) * all_["frames"]
+                             - early.get("dispatches_per_frame", 0) * one["frames"]) / n, 2),
+    } for early, last in zip(one["stages"], all_["stages"])]
+    if "frames_done_ms" in all_:
+        ms = (all_["frames_done_ms"][-1] - all_["frames_started_ms"][k]) / n
+    elif "frame_ms" in all_:
+        ms = sum(all_["frame_ms"][k:]) / n
+    else:
+        ms = max(wall(all_) - wall(one), 0.0) / n
+    return {"ms": ms, "stages": stages, "dispatches": counted("dispatches_per_frame"),
+            "submissions": counted("submissions_per_frame")}
 
 
 def write(path, text):
@@ -277,7 +298,7 @@ def report(rows, header, quick, took):
         "",
         "Per frame in the steady state: the wall time from the start of frame k+1 to the end of frame n of a run of n frames, over n − k "
         "(k = 1: the first compiles the kernels; for chapter 6 its 3 frames of the empty scene); "
-        "per stage, the difference of its totals in that run and a run of k frames. GPU µs: the stages' kernels by the "
+        "per stage, its work for those frames (`report.json` gives it by frame) over n − k. GPU µs: the stages' kernels by the "
         "adapter's timestamps (the passes alone; 0 without timestamp queries). Recorded: frames "
         "simulated before the runs and read from a bag; simulated: the CPU simulates each frame "
         "in the run, and *without sources* leaves the sources' host time out (the simulator, "

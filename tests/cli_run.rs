@@ -148,6 +148,23 @@ fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions
     let total: f64 = expected.iter().map(|(_, n)| n).sum();
     assert_eq!(report["dispatches_per_frame"].as_f64(), Some(total), "{name}");
     assert_eq!(report["submissions_per_frame"].as_f64(), Some(submissions), "{name}: submissions a frame");
+    // The same work by the frame it was for: each frame's dispatches and submissions alike.
+    let frames: usize = frames.parse().unwrap();
+    let each = |values: &serde_json::Value| -> Vec<f64> {
+        values.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    let by_frame: Vec<f64> = (0..frames)
+        .map(|f| {
+            report["stages"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| each(&s["dispatches_frames"]).get(f).copied().unwrap_or(0.0))
+                .sum()
+        })
+        .collect();
+    assert_eq!(by_frame.iter().sum::<f64>(), total * frames as f64, "{name}: {by_frame:?}");
+    assert_eq!(each(&report["submissions_frames"]).iter().sum::<f64>(), submissions * frames as f64, "{name}");
     assert_eq!(report["frames_overlapped"], overlapped, "{name}: frames overlapped");
     let how = if overlapped { "frames overlapped" } else { "one frame at a time" };
     let line = format!("GPU work per frame: {total} dispatches in {submissions} submissions; {how}");

@@ -35,6 +35,8 @@ static NOT_CANCELLED: AtomicBool = AtomicBool::new(false);
 pub struct Written {
     pub component: Box<dyn Component>,
     pub output: OutputDir,
+    /// The frame it wrote.
+    pub frame: usize,
     pub took: Duration,
     pub result: Result<(), String>,
 }
@@ -53,7 +55,7 @@ pub fn write(
         let mut device = Executor::new(None);
         let mut ctx = Ctx { device: &mut device, stage, frame, output: &mut output, cancel: &NOT_CANCELLED };
         let result = component.finish_frame(&mut ctx, &reads).map(|_| ());
-        Written { component, output, took: started.elapsed(), result }
+        Written { component, output, frame, took: started.elapsed(), result }
     })
 }
 

@@ -19,7 +19,7 @@ use super::{
     apart::{self, Mode, Processed},
     components::{self, Inputs, Outputs},
     data::{self, Item},
-    ErrorKind, FrameSpan, OutputDir, PipelineError, PipelineObserver, PreparedPipeline, StageTime,
+    ErrorKind, FrameSpan, FrameWork, OutputDir, PipelineError, PipelineObserver, PreparedPipeline, StageTime,
 };
 
 /// The run's progress: told each frame done; when the frames began, from the loop's start.
@@ -119,7 +119,7 @@ impl PreparedPipeline {
             }
             outcome
         });
-        self.count(at.device.take_work(), at.times);
+        self.count(at.device.take_work(), at.times, frame);
         submitted
     }
 
@@ -136,7 +136,7 @@ impl PreparedPipeline {
         let (reads, kernel_times) =
             collected.map_err(|e| self.error(None, ErrorKind::Failed, format!("frame {frame}: {e}")))?;
         for (stage, time) in kernel_times {
-            at.times[stage].device += time;
+            at.times[stage].add(frame, FrameWork { device: time, ..FrameWork::default() });
         }
         self.finish_reads(at, frame, &reads)?;
         let span = FrameSpan { started: progress.started[frame], done: progress.start.elapsed() };
@@ -182,7 +182,7 @@ impl PreparedPipeline {
                 .expect("joined")
                 .finish_frame(&mut ctx, reads)
                 .map_err(|message| self.error(Some(index), ErrorKind::Failed, message));
-            time.host += started.elapsed();
+            time.add_host(frame, started.elapsed());
             let Some(produced) = self.sink_alone_or(index, time, produced)? else { continue };
             // Overlapped, the next frame is recorded already: only a stage that `feeds_back`
             // may give after the reads, and such a stage keeps the run one frame at a time.
@@ -260,7 +260,7 @@ impl PreparedPipeline {
                     }
                     false => self.error(Some(index), ErrorKind::Failed, message),
                 });
-            at.times[index].host += started.elapsed();
+            at.times[index].add_host(frame, started.elapsed());
             let Some(produced) = self.sink_alone_or(index, &mut at.times[index], produced)? else {
                 at.failed_in[index] = Some(frame);
                 done[index] = true;
@@ -297,24 +297,27 @@ impl PreparedPipeline {
         })?;
         self.components[index] = Some(processed.component);
         let mut own = processed.device;
-        self.count(own.take_work(), at.times);
+        self.count(own.take_work(), at.times, at.frame);
         at.devices[index] = Some(own);
         at.output.absorb(processed.output);
         let time = &mut at.times[index];
-        time.host += processed.took;
-        time.device += processed.kernel_times.iter().map(|(_, t)| *t).sum::<Duration>();
+        let device = processed.kernel_times.iter().map(|(_, t)| *t).sum::<Duration>();
+        time.add(at.frame, FrameWork { host: processed.took, device, dispatches: 0 });
         let (given, later) = processed.result.map_err(|message| self.error(Some(index), ErrorKind::Failed, message))?;
         self.deliver(at.device, index, given, at.queues, at.frame, false);
         self.deliver(at.device, index, later, at.queues, at.frame, true);
         Ok(())
     }
 
-    /// `work` added to the run's counts: each dispatch to its stage's.
-    fn count(&mut self, work: Work, times: &mut [StageTime]) {
+    /// `work` (for frame `frame`) added to the run's counts: each dispatch to its stage's.
+    fn count(&mut self, work: Work, times: &mut [StageTime], frame: usize) {
         for stage in work.dispatches {
-            times[stage].dispatches += 1;
+            times[stage].add(frame, FrameWork { dispatches: 1, ..FrameWork::default() });
         }
-        self.submissions += work.submissions;
+        if self.submissions.len() <= frame {
+            self.submissions.resize(frame + 1, 0);
+        }
+        self.submissions[frame] += work.submissions;
     }
 
     /// The items for stage `index` this frame, by port: an unbuffered binding's items of this

@@ -50,7 +50,9 @@ pub use preparations::{model_dir, Preparations};
 pub use prepare::prepare;
 pub use preview::Preview;
 pub use replay::StageKey;
-pub use report::{report_json, summary, table, write_report, Figure, Flow, FrameSpan, PipelineReport, StageTime};
+pub use report::{
+    report_json, summary, table, write_report, Figure, Flow, FrameSpan, FrameWork, PipelineReport, StageTime,
+};
 pub use study::{rows_beneath, study_table, write_study, StudyRow};
 pub use walls::calibration_walls;
 
@@ -88,8 +90,8 @@ pub struct PreparedPipeline {
     replay: Option<replay::Replay>,
     /// What each binding carried in this run.
     flows: Vec<Flow>,
-    /// Command buffers submitted to the GPU in this run.
-    submissions: usize,
+    /// Command buffers submitted to the GPU in this run, by frame.
+    submissions: Vec<usize>,
     /// When each frame of this run began and was done.
     frame_spans: Vec<FrameSpan>,
     /// Whether frames may overlap on a GPU (on unless [`PreparedPipeline::one_frame_at_a_time`]).
@@ -153,10 +155,11 @@ impl PreparedPipeline {
                 apart: *mode != Mode::InOrder,
                 failed: None,
                 replayed: self.replay.as_ref().is_some_and(|replay| replay.replays(index)),
+                frames: Vec::new(),
             })
             .collect();
         self.flows = self.plan.bindings.iter().map(|b| self.flow(b)).collect();
-        self.submissions = 0;
+        self.submissions.clear();
         self.frame_spans.clear();
         let mut device = Executor::new(gpu);
         let loading = Instant::now();
@@ -190,7 +193,8 @@ impl PreparedPipeline {
             outputs: output.written().to_vec(),
             figures,
             flows: std::mem::take(&mut self.flows),
-            submissions: self.submissions,
+            submissions: self.submissions.iter().sum(),
+            frame_submissions: std::mem::take(&mut self.submissions),
             frame_spans: std::mem::take(&mut self.frame_spans),
             overlapped: self.overlaps(gpu.is_some()),
             outcome,
@@ -234,7 +238,7 @@ impl PreparedPipeline {
         })?;
         self.components[index] = Some(written.component);
         output.absorb(written.output);
-        time.host += written.took;
+        time.add_host(written.frame, written.took);
         written.result.map_err(|message| self.error(Some(index), ErrorKind::Failed, message))
     }
 

@@ -88,7 +88,7 @@ pub fn prepare(
             keys: replay::keys(plan, behaviors, files),
             replay: None,
             flows: Vec::new(),
-            submissions: 0,
+            submissions: Vec::new(),
             frame_spans: Vec::new(),
             overlap: true,
         })

@@ -49,6 +49,8 @@ pub struct PipelineReport {
     pub flows: Vec<Flow>,
     /// Command buffers submitted to the GPU (0 on the CPU reference).
     pub submissions: usize,
+    /// Of them, by the frame they were for.
+    pub frame_submissions: Vec<usize>,
     /// When each frame that ran to its end began (its recording) and was done (its sinks'
     /// `finish_frame`), in order (the first compiles the kernels; a benchmark's steady state
     /// is after it).
@@ -111,6 +113,38 @@ pub struct StageTime {
     pub failed: Option<PipelineError>,
     /// In a preview: it gave what it gave in the last preview instead of running.
     pub replayed: bool,
+    /// Its work by the frame it was for (host, device, dispatches); `host` and `device` are
+    /// these and what it did before the first frame and after the last.
+    pub frames: Vec<FrameWork>,
+}
+
+/// A stage's work for one frame: on the host (its `process` and `finish_frame`, on a thread
+/// of its own too), its kernels on the GPU, its dispatches.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrameWork {
+    pub host: Duration,
+    pub device: Duration,
+    pub dispatches: usize,
+}
+
+impl StageTime {
+    /// `work` added to frame `frame`'s and to the run's.
+    pub(crate) fn add(&mut self, frame: usize, work: FrameWork) {
+        if self.frames.len() <= frame {
+            self.frames.resize(frame + 1, FrameWork::default());
+        }
+        let at = &mut self.frames[frame];
+        (at.host, at.device, at.dispatches) =
+            (at.host + work.host, at.device + work.device, at.dispatches + work.dispatches);
+        self.host += work.host;
+        self.device += work.device;
+        self.dispatches += work.dispatches;
+    }
+
+    /// Host time `took` for frame `frame`.
+    pub(crate) fn add_host(&mut self, frame: usize, took: Duration) {
+        self.add(frame, FrameWork { host: took, ..FrameWork::default() });
+    }
 }
 
 fn ms(duration: Duration) -> f64 {
@@ -199,12 +233,16 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "dispatches_per_frame": count(report.dispatches()),
         "submissions_per_frame": count(report.submissions),
+        "submissions_frames": report.frame_submissions,
         "frames_overlapped": report.overlapped,
         "stages": report.stages.iter().map(|s| serde_json::json!({
             "instance": s.instance, "component": s.class, "items": s.items,
             "host_ms_total": ms(s.host), "device_ms_total": ms(s.device),
             "host_ms_per_frame": per_frame(s.host), "device_ms_per_frame": per_frame(s.device),
             "dispatches_per_frame": count(s.dispatches),
+            "host_ms_frames": s.frames.iter().map(|f| ms(f.host)).collect::<Vec<_>>(),
+            "device_ms_frames": s.frames.iter().map(|f| ms(f.device)).collect::<Vec<_>>(),
+            "dispatches_frames": s.frames.iter().map(|f| f.dispatches).collect::<Vec<_>>(),
             "async": s.apart,
             "source": s.source,
             "replayed": s.replayed,
