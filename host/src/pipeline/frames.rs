@@ -400,7 +400,7 @@ mod tests {
     use gudsl_runtime::Gpu;
 
     use super::*;
-    use crate::pipeline::{PipelineReport, Preparations};
+    use crate::pipeline::{components::Component, PipelineReport, Preparations};
 
     /// Cancels the run once frame `after` is done.
     struct CancelAfter<'c>(usize, &'c AtomicBool);
@@ -413,24 +413,81 @@ mod tests {
         }
     }
 
-    /// The tapped chapter 4 sample (no stage feeds back), 4 small frames, cancelled once frame 1
-    /// is done; into `out`.
-    fn cancelled_taps(gpu: &Gpu, one_frame_at_a_time: bool, out: &str) -> (PipelineReport, std::path::PathBuf) {
-        let dir = std::env::temp_dir().join(format!("gudsl-frames-{}", std::process::id()));
+    /// The tapped chapter 4 sample (no stage feeds back), 4 small frames.
+    fn taps(one_frame_at_a_time: bool) -> PreparedPipeline {
         let text = include_str!("../../../samples/pipelines/ch4_motion_taps.gudsl")
             .replace("speed = 1, frames = 2", "speed = 1, frames = 4, width = 64, height = 48");
-        let (host, _) = AnalysisHost::with_files([(dir.join("taps.gudsl").display().to_string(), text)]);
+        let (host, _) = AnalysisHost::with_files([(dir().join("taps.gudsl").display().to_string(), text)]);
         let analysis = host.analysis();
         let plan = analysis.pipeline_plan("MotionTapsPipeline").unwrap().expect("a pipeline");
         let mut prepared = Preparations::default().take_for(&analysis, &plan).unwrap().expect("it runs");
         if one_frame_at_a_time {
             prepared.one_frame_at_a_time();
         }
-        let folder = dir.join(out);
+        prepared
+    }
+
+    fn dir() -> std::path::PathBuf {
+        std::env::temp_dir().join(format!("gudsl-frames-{}", std::process::id()))
+    }
+
+    /// `prepared` run on `gpu` into the folder `out`, cancelled once frame `cancel_after` is done.
+    fn run_taps(
+        mut prepared: PreparedPipeline,
+        gpu: &Gpu,
+        out: &str,
+        cancel_after: usize,
+    ) -> (PipelineReport, std::path::PathBuf) {
+        let folder = dir().join(out);
         let mut output = OutputDir::named(&folder).unwrap();
         let cancel = AtomicBool::new(false);
-        let report = prepared.run(Some(gpu), &mut output, None, &mut CancelAfter(1, &cancel), &cancel);
+        let report = prepared.run(Some(gpu), &mut output, None, &mut CancelAfter(cancel_after, &cancel), &cancel);
         (report, folder)
+    }
+
+    /// The tapped sample, cancelled once frame 1 is done; into `out`.
+    fn cancelled_taps(gpu: &Gpu, one_frame_at_a_time: bool, out: &str) -> (PipelineReport, std::path::PathBuf) {
+        run_taps(taps(one_frame_at_a_time), gpu, out, 1)
+    }
+
+    /// A sink that fails in its `process` of frame `.1`, else does what `.0` does.
+    struct FailsAt(Box<dyn Component>, usize);
+
+    impl Component for FailsAt {
+        fn process(&mut self, ctx: &mut components::Ctx, inputs: &Inputs) -> Result<Outputs, String> {
+            if ctx.frame == self.1 {
+                return Err(format!("made to fail in frame {}", self.1));
+            }
+            self.0.process(ctx, inputs)
+        }
+
+        fn finish_frame(&mut self, ctx: &mut components::Ctx, reads: &Reads) -> Result<Outputs, String> {
+            self.0.finish_frame(ctx, reads)
+        }
+    }
+
+    /// A sink that fails in frame 2's `process` — overlapped, before frame 1's `finish_frame` —
+    /// still writes frame 1; it then runs no more, and the others write every frame.
+    #[test]
+    fn a_sink_that_fails_in_the_next_frame_still_finishes_the_frame_in_flight() {
+        let Some(gpu) = Gpu::for_tests() else { return };
+        for one_frame_at_a_time in [false, true] {
+            let mut prepared = taps(one_frame_at_a_time);
+            let sink = prepared.plan.stages.iter().position(|s| s.instance == "CompensatedDepth").unwrap();
+            let failing = FailsAt(prepared.components[sink].take().unwrap(), 2);
+            prepared.components[sink] = Some(Box::new(failing));
+            let (report, folder) = run_taps(prepared, &gpu, &format!("sink-fails-{one_frame_at_a_time}"), usize::MAX);
+            assert!(report.outcome.is_ok(), "{:?}", report.outcome);
+            assert_eq!(report.overlapped, !one_frame_at_a_time);
+            let failed = report.stages[sink].failed.as_ref().expect("the sink failed");
+            assert!(failed.message.contains("made to fail in frame 2"), "{}", failed.message);
+            for frame in 0..4 {
+                let written = folder.join(format!("CompensatedDepth/distance_{frame:04}.npy")).is_file();
+                assert_eq!(written, frame < 2, "CompensatedDepth's frame {frame}");
+                let other = folder.join(format!("UncompensatedDepth/distance_{frame:04}.npy")).is_file();
+                assert!(other, "UncompensatedDepth's frame {frame}");
+            }
+        }
     }
 
     /// A run cancelled while a frame is in flight finishes that frame: three frames of four
