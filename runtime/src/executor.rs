@@ -3,9 +3,10 @@
 //! the end of the frame, when every read asked for comes back through a staging buffer of the
 //! frame's own in one mapping, with the GPU's clock around every pass by the stage it belongs
 //! to (on a [`Gpu::with_timestamps`]); the next frame can be recorded and submitted before a
-//! frame's reads are collected ([`Executor::submit_frame`], [`Executor::collect`]). Without an adapter the same calls run each kernel's CPU reference
-//! and callers cannot tell the two apart. ToF pipelines (`gudsl run`) run on it, and so do the
-//! kernel chains of [`crate::pipeline`] ([`ChainRun`]).
+//! frame's reads are collected ([`Executor::submit_frame`], [`Executor::collect`]). Without an
+//! adapter the same calls run each kernel's CPU reference and callers cannot tell the two apart.
+//! ToF pipelines (`gudsl run`) run on it, and so do the kernel chains of [`crate::pipeline`]
+//! ([`ChainRun`]).
 
 use std::{sync::Arc, time::Duration};
 
@@ -101,7 +102,7 @@ struct Mapping {
     images: u64,
     owners: Vec<usize>,
     submission: wgpu::SubmissionIndex,
-    mapped: std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
+    mapped: crate::gpu::Mapping,
 }
 
 impl<'g> Executor<'g> {
@@ -315,10 +316,7 @@ impl<'g> Executor<'g> {
             None => Vec::new(),
         };
         let submission = self.submit(gpu, encoder)?;
-        let (sender, mapped) = std::sync::mpsc::channel();
-        staging.map_async(wgpu::MapMode::Read, .., move |result| {
-            let _ = sender.send(result);
-        });
+        let mapped = Gpu::map(&staging);
         let mapping = Mapping { staging, images, owners, submission, mapped };
         Ok(InFlight { recording, tensors, mapping: Some(mapping) })
     }
@@ -331,27 +329,15 @@ impl<'g> Executor<'g> {
             return Ok((tensors.iter().map(host).collect(), Vec::new()));
         };
         let Mapping { staging, images, owners, submission, mapped } = mapping;
-        let failed = |e: String| ChainError::Readback(e);
-        let done = wgpu::PollType::Wait { submission_index: Some(submission), timeout: None };
-        gpu.device.poll(done).map_err(|e| failed(e.to_string()))?;
-        let mapped = match mapped.try_recv() {
-            Ok(result) => result,
-            // Done, but its callback not yet called: the next poll calls it.
-            Err(_) => {
-                gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| failed(e.to_string()))?;
-                mapped.recv().map_err(|_| failed("the readback was dropped".into()))?
-            }
-        };
-        mapped.map_err(|e| failed(e.to_string()))?;
-        let (read, ticks) = {
-            let bytes = staging.get_mapped_range(..).map_err(|e| failed(e.to_string()))?;
-            let (samples, rest) = bytes.split_at(images as usize);
-            let ticks: Vec<u64> = (rest[..owners.len() * 16].chunks_exact(8))
-                .map(|b| u64::from_le_bytes(b.try_into().expect("eight bytes")))
-                .collect();
-            (unpack(&tensors, bytemuck::cast_slice(samples)), ticks)
-        };
-        staging.unmap();
+        let (read, ticks) = gpu
+            .read_mapped(&staging, mapped, Some(submission), |bytes| {
+                let (samples, rest) = bytes.split_at(images as usize);
+                let ticks: Vec<u64> = (rest[..owners.len() * 16].chunks_exact(8))
+                    .map(|b| u64::from_le_bytes(b.try_into().expect("eight bytes")))
+                    .collect();
+                (unpack(&tensors, bytemuck::cast_slice(samples)), ticks)
+            })
+            .map_err(ChainError::Readback)?;
         self.spare.push(staging);
         let times = self.timing.as_ref().map(|timing| timing.times(&owners, &ticks)).unwrap_or_default();
         Ok((read, times))

@@ -247,18 +247,45 @@ impl Gpu {
     /// `read` of the bytes of `staging` (mapped for reading after the queue's work is done),
     /// without copying them first.
     pub fn with_mapped<T>(&self, staging: &wgpu::Buffer, read: impl FnOnce(&[u8]) -> T) -> Result<T, String> {
+        let mapping = Gpu::map(staging);
+        self.read_mapped(staging, mapping, None, read)
+    }
+
+    /// Asks for `staging` to be mapped for reading once the work submitted so far that writes
+    /// it is done; [`Gpu::read_mapped`] waits for it.
+    pub fn map(staging: &wgpu::Buffer) -> Mapping {
         let (sender, receiver) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |result| {
             let _ = sender.send(result);
         });
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
-        match receiver.recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(e.to_string()),
-            Err(_) => return Err("the readback was dropped".into()),
-        }
+        Mapping(receiver)
+    }
+
+    /// `read` of the bytes of `staging` once its `mapping` is done: after `submission` (the
+    /// one that fills it; `None`: everything submitted so far), not the submissions after it.
+    pub fn read_mapped<T>(
+        &self,
+        staging: &wgpu::Buffer,
+        mapping: Mapping,
+        submission: Option<wgpu::SubmissionIndex>,
+        read: impl FnOnce(&[u8]) -> T,
+    ) -> Result<T, String> {
+        let done = wgpu::PollType::Wait { submission_index: submission, timeout: None };
+        self.device.poll(done).map_err(|e| e.to_string())?;
+        let mapped = match mapping.0.try_recv() {
+            Ok(result) => result,
+            // Done, but its callback not yet called: the next poll calls it.
+            Err(_) => {
+                self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
+                mapping.0.recv().map_err(|_| "the readback was dropped".to_string())?
+            }
+        };
+        mapped.map_err(|e| e.to_string())?;
         let value = read(&staging.get_mapped_range(..).map_err(|e| e.to_string())?);
         staging.unmap();
         Ok(value)
     }
 }
+
+/// A buffer being mapped for reading ([`Gpu::map`]): told when it is.
+pub struct Mapping(std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>);

@@ -193,7 +193,6 @@ impl PreparedPipeline {
             outputs: output.written().to_vec(),
             figures,
             flows: std::mem::take(&mut self.flows),
-            submissions: self.submissions.iter().sum(),
             frame_submissions: std::mem::take(&mut self.submissions),
             frame_spans: std::mem::take(&mut self.frame_spans),
             overlapped: self.overlaps(gpu.is_some()),

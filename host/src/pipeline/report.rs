@@ -20,6 +20,11 @@ impl PipelineReport {
         self.stages.iter().map(|s| s.dispatches).sum()
     }
 
+    /// The command buffers submitted to the GPU over the run.
+    pub fn submissions(&self) -> usize {
+        self.frame_submissions.iter().sum()
+    }
+
     /// The stages that replayed a live preview's last run instead of running (in the plan's
     /// order).
     pub fn replayed(&self) -> impl Iterator<Item = &str> {
@@ -47,9 +52,8 @@ pub struct PipelineReport {
     pub figures: Vec<Figure>,
     /// What each binding carried, in the plan's order.
     pub flows: Vec<Flow>,
-    /// Command buffers submitted to the GPU (0 on the CPU reference).
-    pub submissions: usize,
-    /// Of them, by the frame they were for.
+    /// Command buffers submitted to the GPU (none on the CPU reference), by the frame they
+    /// were for.
     pub frame_submissions: Vec<usize>,
     /// When each frame that ran to its end began (its recording) and was done (its sinks'
     /// `finish_frame`), in order (the first compiles the kernels; a benchmark's steady state
@@ -134,8 +138,9 @@ impl StageTime {
             self.frames.resize(frame + 1, FrameWork::default());
         }
         let at = &mut self.frames[frame];
-        (at.host, at.device, at.dispatches) =
-            (at.host + work.host, at.device + work.device, at.dispatches + work.dispatches);
+        at.host += work.host;
+        at.device += work.device;
+        at.dispatches += work.dispatches;
         self.host += work.host;
         self.device += work.device;
         self.dispatches += work.dispatches;
@@ -190,12 +195,12 @@ pub fn table(report: &PipelineReport) -> String {
             if stage.failed.is_some() { "  failed" } else { "" }
         );
     }
-    if report.submissions > 0 {
+    if report.submissions() > 0 {
         let per_frame = |n: usize| n as f64 / report.frames.max(1) as f64;
         table += &format!(
             "GPU work per frame: {} dispatches in {} submissions; {}\n",
             per_frame(report.dispatches()),
-            per_frame(report.submissions),
+            per_frame(report.submissions()),
             if report.overlapped { "frames overlapped" } else { "one frame at a time" }
         );
     }
@@ -232,7 +237,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
         "ms_per_frame": per_frame(report.total),
         "error": report.outcome.as_ref().err().map(|e| e.to_string()),
         "dispatches_per_frame": count(report.dispatches()),
-        "submissions_per_frame": count(report.submissions),
+        "submissions_per_frame": count(report.submissions()),
         "submissions_frames": report.frame_submissions,
         "frames_overlapped": report.overlapped,
         "stages": report.stages.iter().map(|s| serde_json::json!({

@@ -1,8 +1,8 @@
-// Block matching's search (eq. 4.6–4.10), shared by `match_blocks.wgsl` and `detect_match.wgsl`
-// (each declares `p: Params` with the fields used here and `raw`): for pixel (x, y) the
-// displacement per phase image (dx, dy) in ±radius minimising Σ_{i=1..3} (P⁺_0(x,y) −
-// P⁺_i(x+i·dx, y+i·dy))², optionally only directions within half_width of the mean direction (radians);
-// ties: shorter vector, then scan order. With subpixel, refined: the eight vectors ½ px around,
+// Block matching's search (eq. 4.6–4.10), shared by `match_blocks.wgsl` and the fused passes
+// (`detect_match_pixel.wgsl`; each declares `p: Params` with the fields used here and `raw`):
+// for pixel (x, y) the displacement per phase image (dx, dy) in ±radius minimising
+// Σ_{i=1..3} (P⁺_0(x,y) − P⁺_i(x+i·dx, y+i·dy))², optionally only directions within half_width
+// of a mean direction (radians, `around`); ties: shorter vector, then scan order. With subpixel, refined: the eight vectors ½ px around,
 // then ¼ px around the better one, scored by the bilinearly weighted squared differences of the
 // pixels around each sample and taken only when strictly better.
 const PI: f32 = 3.141592653589793;

@@ -35,13 +35,12 @@ impl Unit for MeanDirection {
     }
 
     fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
-        let groups = (inputs[0].width * inputs[0].height).div_ceil(THREADS * PER_THREAD);
-        vec![Pass::main(linear_groups(groups, 1)), Pass::finish()]
+        vec![Pass::main(linear_groups(groups(inputs[0].width * inputs[0].height), 1)), Pass::finish()]
     }
 
     /// Two sums (x, y) a workgroup of pass `main`.
     fn scratch(&self, inputs: &[Shape]) -> Option<Scratch> {
-        Some(Scratch { len: 2 * (inputs[0].width * inputs[0].height).div_ceil(THREADS * PER_THREAD), start: 0 })
+        Some(Scratch { len: 2 * groups(inputs[0].width * inputs[0].height), start: 0 })
     }
 
     fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
@@ -54,9 +53,14 @@ impl Unit for MeanDirection {
     }
 }
 
-/// The sum of the unit vectors of `flow`'s non-zero vectors, added as the
-/// shader adds them: thread t of workgroup g its pixels t, t + 256, … of g's 256 × 16, the
-/// threads' sums in a tree; then thread t the workgroups' sums t, t + 256, …, then a tree.
+/// The workgroups of pass `main` over a flow of `pixels` (`group_count` in the shader).
+fn groups(pixels: usize) -> usize {
+    pixels.div_ceil(THREADS * PER_THREAD)
+}
+
+/// The sum of the unit vectors of `flow`'s non-zero vectors, added as the shader adds them:
+/// thread t of workgroup g its pixels t, t + 256, … of g's 256 × 16, the threads' sums in a
+/// tree; then thread t the workgroups' sums t, t + 256, …, then a tree.
 fn summed_unit_vectors(flow: &Image) -> [f32; 2] {
     let n = flow.pixels();
     let unit = |i: usize| {
@@ -71,8 +75,7 @@ fn summed_unit_vectors(flow: &Image) -> [f32; 2] {
         let pixels = (0..PER_THREAD).map(|k| (g * PER_THREAD + k) * THREADS + t).filter(|&i| i < n);
         pixels.map(unit).fold([0.0; 2], |sum, u| [sum[0] + u[0], sum[1] + u[1]])
     };
-    let partial: Vec<[f32; 2]> =
-        (0..n.div_ceil(THREADS * PER_THREAD)).map(|g| tree(std::array::from_fn(|t| thread(g, t)))).collect();
+    let partial: Vec<[f32; 2]> = (0..groups(n)).map(|g| tree(std::array::from_fn(|t| thread(g, t)))).collect();
     tree(std::array::from_fn(|t| {
         partial.iter().skip(t).step_by(THREADS).fold([0.0; 2], |sum, p| [sum[0] + p[0], sum[1] + p[1]])
     }))
