@@ -148,6 +148,7 @@ fn main() {
         let cases: Vec<(Kernel, Vec<Image>)> = vec![
             (Kernel::SubtractBlack, vec![raw.clone(), black.clone()]),
             (Kernel::Demodulate { modulation_hz: 20.0e6 }, vec![raw.clone()]),
+            (Kernel::SubtractBlackDemodulate { modulation_hz: 20.0e6 }, vec![raw.clone(), black.clone()]),
             (
                 Kernel::CorrectIntensity { q: [0.01, -1e-6, 1e-11], int_time_calib: 500.0, int_time: 1000.0 },
                 vec![image.clone(), intensity],

@@ -96,6 +96,41 @@ fn pmd_kernels_match_on_simulated_and_random_frames() {
     check(&gpu, correction, &[distance, intensity], 1e-5);
 }
 
+/// Black-image subtraction fused into demodulation (`Kernel::SubtractBlackDemodulate`) gives
+/// bit for bit what the two kernels give on the GPU, in one dispatch instead of two — on a
+/// simulated frame and on random ones whose black image exceeds the raw samples (the clamp at
+/// 0); its CPU twin is the two CPU kernels, exactly.
+#[test]
+fn fused_black_subtraction_and_demodulation_is_exactly_the_two_kernels() {
+    let Some(gpu) = gpu() else { return };
+    let frame = simulate(&Scene::height_field(), Motion::Still, &Camera::default(), 0);
+    let mut random = Random(1234);
+    let (random_raw, random_black) = (random.image(67, 45, 8, 3000.0), random.image(67, 45, 8, 1500.0));
+    assert!(random_raw.data.iter().zip(&random_black.data).any(|(r, b)| r < b), "some samples clamp");
+    for (raw, black) in [(&frame.raw, &frame.black), (&random_raw, &random_black)] {
+        let shape = Shape { width: raw.width, height: raw.height, planes: 8 };
+        let modulation_hz = 20.0e6;
+        let mut apart = Pipeline::new();
+        let sources = [apart.source("raw", shape), apart.source("black", shape)];
+        let corrected = apart.step(Kernel::SubtractBlack, &sources).unwrap()[0];
+        let two = apart.step(Kernel::Demodulate { modulation_hz }, &[corrected]).unwrap();
+        let mut fused = Pipeline::new();
+        let sources = [fused.source("raw", shape), fused.source("black", shape)];
+        let one = fused.step(Kernel::SubtractBlackDemodulate { modulation_hz }, &sources).unwrap();
+        for (pipeline, sinks) in [(&mut apart, two), (&mut fused, one)] {
+            sinks.into_iter().for_each(|slot| pipeline.sink(slot).unwrap());
+        }
+        let inputs = [raw.clone(), black.clone()];
+        let (mut two, mut one) = (ChainRun::new(Some(&gpu), &apart), ChainRun::new(Some(&gpu), &fused));
+        let (expected, actual) = (two.run(&inputs).unwrap(), one.run(&inputs).unwrap());
+        for (plane, (e, a)) in ["phase", "amplitude", "intensity", "distance"].iter().zip(expected.iter().zip(&actual)) {
+            assert_eq!(e.data, a.data, "{plane}");
+        }
+        assert_eq!((two.take_work().dispatches, one.take_work().dispatches), (vec![0, 1], vec![0]));
+        assert_eq!(run_cpu(&fused, &inputs).unwrap(), run_cpu(&apart, &inputs).unwrap(), "the CPU twin");
+    }
+}
+
 #[test]
 fn motion_compensation_kernels_match_on_a_moving_scene() {
     let Some(gpu) = gpu() else { return };

@@ -157,6 +157,9 @@ pub enum Kernel {
     Demodulate { modulation_hz: f32 },
     /// Black-image subtraction (fixed-pattern noise): raw frame, black frame → raw frame.
     SubtractBlack,
+    /// `SubtractBlack` then `Demodulate` in one pass, exactly as the two give it: raw frame,
+    /// black frame → phase, amplitude, intensity, distance.
+    SubtractBlackDemodulate { modulation_hz: f32 },
     /// Intensity-related distance correction (sec. 2.1.2.2): distance, intensity → distance.
     CorrectIntensity { q: [f32; 3], int_time_calib: f32, int_time: f32 },
     /// Phase normalization (sec. 4.2.2.1): raw frame, calibration (8 planes, see
@@ -229,6 +232,9 @@ impl Kernel {
         match *self {
             Kernel::Demodulate { modulation_hz } => f(&tof::Demodulate { modulation_hz }),
             Kernel::SubtractBlack => f(&tof::SubtractBlack),
+            Kernel::SubtractBlackDemodulate { modulation_hz } => {
+                f(&tof::SubtractBlackDemodulate { demodulate: tof::Demodulate { modulation_hz } })
+            }
             Kernel::CorrectIntensity { q, int_time_calib, int_time } => {
                 f(&tof::CorrectIntensity { q, int_time_calib, int_time })
             }
@@ -275,6 +281,7 @@ impl Kernel {
         vec![
             Kernel::Demodulate { modulation_hz: 20.0e6 },
             Kernel::SubtractBlack,
+            Kernel::SubtractBlackDemodulate { modulation_hz: 20.0e6 },
             Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
             Kernel::NormalizePhases,
             Kernel::DetectMotion { theta: 0.0 },

@@ -1,17 +1,19 @@
 //! 4-phase demodulation (sec. 2.1.1): a raw frame (8 planes) → phase, amplitude, intensity and
-//! distance images.
+//! distance images; [`SubtractBlackDemodulate`] takes the black image off the frame in the same
+//! pass (`black_demodulate.wgsl`), exactly as [`super::SubtractBlack`] then [`Demodulate`] give
+//! it, without writing and reading the frame between.
 
 use std::f32::consts::PI;
 
 use bytemuck::{Pod, Zeroable};
 
-use super::unambiguous_range;
+use super::{subtract_black, unambiguous_range};
 use crate::{
     kernels::{pixels::per_pixel, Pass, Shape, Unit},
     Image,
 };
 
-/// The uniform block of `demodulate.wgsl`, field for field.
+/// The uniform block of `demodulate_pixel.wgsl`, field for field.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub(crate) struct Params {
@@ -31,14 +33,12 @@ pub(crate) struct Demodulate {
 
 impl Unit for Demodulate {
     const NAME: &'static str = "demodulate";
-    const SOURCE: &'static str = include_str!("demodulate.wgsl");
+    const SOURCE: &'static str = concat!(include_str!("demodulate.wgsl"), include_str!("demodulate_pixel.wgsl"));
     const INPUTS: &'static [Option<usize>] = &[Some(8)];
     type Params = Params;
 
     fn params(&self, inputs: &[Shape]) -> Params {
-        let s = inputs[0];
-        let range = unambiguous_range(self.modulation_hz);
-        Params { pixels: (s.width * s.height) as u32, width: s.width as u32, range, _pad: 0, _pad2: [0; 4] }
+        Params::of(inputs[0], self.modulation_hz)
     }
 
     fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
@@ -51,6 +51,45 @@ impl Unit for Demodulate {
 
     fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
         demodulate(inputs[0], self.modulation_hz).into()
+    }
+}
+
+impl Params {
+    /// The block for frames of `shape` at a modulation frequency (Hz).
+    fn of(shape: Shape, modulation_hz: f32) -> Params {
+        let (pixels, width) = ((shape.width * shape.height) as u32, shape.width as u32);
+        Params { pixels, width, range: unambiguous_range(modulation_hz), _pad: 0, _pad2: [0; 4] }
+    }
+}
+
+/// Black-image subtraction then demodulation, in one pass: raw frame, black frame → phase,
+/// amplitude, intensity, distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SubtractBlackDemodulate {
+    pub(crate) demodulate: Demodulate,
+}
+
+impl Unit for SubtractBlackDemodulate {
+    const NAME: &'static str = "subtract_black_demodulate";
+    const SOURCE: &'static str =
+        concat!(include_str!("black_demodulate.wgsl"), include_str!("demodulate_pixel.wgsl"));
+    const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8)];
+    type Params = Params;
+
+    fn params(&self, inputs: &[Shape]) -> Params {
+        self.demodulate.params(inputs)
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        self.demodulate.outputs(inputs)
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        self.demodulate.passes(inputs)
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        self.demodulate.cpu(&[&subtract_black(inputs[0], inputs[1])])
     }
 }
 
