@@ -125,12 +125,20 @@ fn models_with_errors_and_diagrams_that_cannot_run_are_refused() {
 /// adapter). Before issue 54 motion compensation took three dispatches (detection and matching
 /// apart), and a point cloud read by a sink or accumulated took a submission of its own per
 /// camera: `ch4_mcap_recording` 7 dispatches in 2 submissions a frame, `ch6_object_scan` 7
-/// submissions over its first 4 frames.
+/// submissions over its first 4 frames. Before a black-image correction ran inside the
+/// demodulation it feeds (`fusion.rs`), each took a dispatch of its own: chapter 5's sample 5
+/// dispatches a frame, chapter 6's 22.5.
 /// `sample`'s GPU work a frame over `frames` frames, by stage, its submissions a frame, and
-/// whether its frames overlap (no stage needs a frame's reads for the next).
-fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions: f64, overlapped: bool) {
+/// whether its frames overlap (no stage needs a frame's reads for the next); its report.
+fn gpu_work(
+    sample: &str,
+    frames: usize,
+    dispatches: &[(&str, f64)],
+    submissions: f64,
+    overlapped: bool,
+) -> Option<serde_json::Value> {
     if !gpu() {
-        return;
+        return None;
     }
     let name = std::path::Path::new(sample).file_stem().unwrap().to_string_lossy().into_owned();
     let out = temp_dir(&format!("gpu-work-{name}"));
@@ -169,6 +177,19 @@ fn gpu_work(sample: &str, frames: usize, dispatches: &[(&str, f64)], submissions
     let how = if overlapped { "frames overlapped" } else { "one frame at a time" };
     let line = format!("GPU work per frame: {total} dispatches in {submissions} submissions; {how}");
     assert!(stdout.contains(&line), "{name}: the table says `{line}`:\n{stdout}");
+    Some(report)
+}
+
+/// The stages whose kernel ran inside others', with those, as `report.json` says.
+fn fused_into(report: &serde_json::Value) -> Vec<(String, Vec<String>)> {
+    let stages = report["stages"].as_array().unwrap().iter();
+    let names = |v: &serde_json::Value| -> Vec<String> {
+        v.as_array().unwrap().iter().map(|s| s.as_str().unwrap().to_string()).collect()
+    };
+    stages
+        .map(|s| (s["instance"].as_str().unwrap().to_string(), names(&s["fused_into"])))
+        .filter(|(_, inside)| !inside.is_empty())
+        .collect()
 }
 
 #[test]
@@ -178,8 +199,10 @@ fn gpu_work_of_chapter_4_motion_compensation() {
     gpu_work("samples/pipelines/ch4_motion_taps.gudsl", 2, &stages, 1.0, true);
     // With ρ, the flow's mean direction for the next frame's search, on the GPU (no read back,
     // so frames still overlap).
+    // Motion compensation reads the corrected frame many times: the correction keeps its kernel.
     let stages = [("Black", 1.0), ("Uncompensated", 1.0), ("Motion", 3.0), ("Compensated", 1.0)];
-    gpu_work("samples/pipelines/ch4_motion_compensation.gudsl", 2, &stages, 1.0, true);
+    let report = gpu_work("samples/pipelines/ch4_motion_compensation.gudsl", 2, &stages, 1.0, true);
+    assert!(report.is_none_or(|report| fused_into(&report).is_empty()));
 }
 
 #[test]
@@ -191,25 +214,24 @@ fn gpu_work_of_chapter_4_recordings() {
 
 #[test]
 fn gpu_work_of_chapter_5_integration_time() {
-    let stages = [
-        ("PerPixelBlack", 1.0),
-        ("PerPixel", 1.0),
-        ("PerPixelControl", 1.0),
-        ("MayBlack", 1.0),
-        ("MeanIntensity", 1.0),
-    ];
+    // Each black-image correction runs inside its demodulation's kernel.
+    let stages = [("PerPixel", 1.0), ("PerPixelControl", 1.0), ("MeanIntensity", 1.0)];
     // The next integration time is set by this frame's intensities, read back.
-    gpu_work("samples/pipelines/ch5_integration_time.gudsl", 2, &stages, 1.0, false);
+    let Some(report) = gpu_work("samples/pipelines/ch5_integration_time.gudsl", 2, &stages, 1.0, false) else {
+        return;
+    };
+    let fused = [("PerPixelBlack", "PerPixel"), ("MayBlack", "MeanIntensity")];
+    assert_eq!(fused_into(&report), fused.map(|(s, i)| (s.to_string(), vec![i.to_string()])));
 }
 
-/// Three cameras: the first three frames learn the background (five filters a camera); the
-/// fourth segments, makes clouds and accumulates them, read back in one submission.
+/// Three cameras: the first three frames learn the background (four filters a camera, the
+/// black-image correction inside the demodulation); the fourth segments, makes clouds and
+/// accumulates them, read back in one submission.
 #[test]
 fn gpu_work_of_chapter_6_object_scan() {
     let mut stages = Vec::new();
     for camera in ["Left", "Centre", "Right"] {
         for (stage, n) in [
-            ("Black", 1.0),
             ("Demod", 1.0),
             ("Median", 1.0),
             ("Gaussian", 1.0),
@@ -224,7 +246,11 @@ fn gpu_work_of_chapter_6_object_scan() {
     }
     let stages: Vec<(&str, f64)> = stages.iter().map(|(s, n)| (s.as_str(), *n)).collect();
     // The background is learnt from the first frames' reads.
-    gpu_work("samples/pipelines/ch6_object_scan.gudsl", 4, &stages, 1.25, false);
+    let Some(report) = gpu_work("samples/pipelines/ch6_object_scan.gudsl", 4, &stages, 1.25, false) else {
+        return;
+    };
+    let fused = ["Left", "Centre", "Right"].map(|c| (format!("{c}Black"), vec![format!("{c}Demod")]));
+    assert_eq!(fused_into(&report), fused);
 }
 
 #[test]
@@ -270,6 +296,36 @@ fn overlapped_frames_write_what_one_frame_at_a_time_writes() {
         for ((name, overlapped), (_, one_at_a_time)) in outputs[0].iter().zip(&outputs[1]) {
             assert!(overlapped == one_at_a_time, "{sample}: {name} differs");
         }
+    }
+}
+
+/// A black-image correction that runs inside its demodulation's kernel writes what it writes
+/// with every stage running its own kernels (`--unfused`), byte for byte (chapter 5's accuracy
+/// table, chapter 6's cloud): the same run with fewer dispatches.
+#[test]
+fn fused_runs_write_what_unfused_runs_write() {
+    if !gpu() {
+        return;
+    }
+    for (sample, frames, fewer) in [("ch5_integration_time", "3", 2.0), ("ch6_object_scan", "4", 3.0)] {
+        let [fused, unfused] = [false, true].map(|unfused| {
+            let out = temp_dir(&format!("fusion-{sample}-{unfused}"));
+            let mut args = vec![repo(&format!("samples/pipelines/{sample}.gudsl"))];
+            args.extend(["--frames", frames, "-o", out.to_str().unwrap()].map(String::from));
+            if unfused {
+                args.push("--unfused".into());
+            }
+            let (code, stdout, stderr) = run(&args.iter().map(String::as_str).collect::<Vec<_>>());
+            assert_eq!(code, Some(0), "{sample}: {stdout}\n{stderr}");
+            assert_eq!(stdout.contains("Black") && stdout.contains("runs in"), !unfused, "{sample}: {stdout}");
+            let report: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+            assert_eq!(fused_into(&report).is_empty(), unfused, "{sample}");
+            (report["dispatches_per_frame"].as_f64().unwrap(), files_beneath(&out))
+        });
+        assert_eq!(unfused.0 - fused.0, fewer, "{sample}: dispatches a frame");
+        assert!(!fused.1.is_empty(), "{sample} wrote nothing");
+        assert!(fused.1 == unfused.1, "{sample}: the files differ");
     }
 }
 

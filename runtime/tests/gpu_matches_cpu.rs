@@ -123,7 +123,8 @@ fn fused_black_subtraction_and_demodulation_is_exactly_the_two_kernels() {
         let inputs = [raw.clone(), black.clone()];
         let (mut two, mut one) = (ChainRun::new(Some(&gpu), &apart), ChainRun::new(Some(&gpu), &fused));
         let (expected, actual) = (two.run(&inputs).unwrap(), one.run(&inputs).unwrap());
-        for (plane, (e, a)) in ["phase", "amplitude", "intensity", "distance"].iter().zip(expected.iter().zip(&actual)) {
+        for (plane, (e, a)) in ["phase", "amplitude", "intensity", "distance"].iter().zip(expected.iter().zip(&actual))
+        {
             assert_eq!(e.data, a.data, "{plane}");
         }
         assert_eq!((two.take_work().dispatches, one.take_work().dispatches), (vec![0, 1], vec![0]));

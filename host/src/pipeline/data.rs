@@ -18,6 +18,10 @@ pub struct RawFrame {
     pub raw: Tensor,
     /// The chip's black image (8 planes), when the source knows it.
     pub black: Option<Tensor>,
+    /// A black image (8 planes) still to be taken off `raw`, clamped at 0: a black-image
+    /// correction run inside the first kernel of each stage it feeds (`fusion.rs` gives such
+    /// frames only to stages that take them).
+    pub black_owed: Option<Tensor>,
     /// The true radial distance per pixel (the simulator's), metres; NaN where unknown.
     pub truth: Option<Arc<Image>>,
     /// Integration time per phase image, microseconds.
@@ -119,7 +123,9 @@ pub fn detached(executor: &mut Executor, data: &Data) -> Data {
     let mut copy = |t: &Tensor| executor.keep(&mut BufferSlot::default(), t);
     match data {
         Data::Raw(frame) => {
-            Data::Raw(RawFrame { raw: copy(&frame.raw), black: frame.black.as_ref().map(&mut copy), ..frame.clone() })
+            let black = frame.black.as_ref().map(&mut copy);
+            let black_owed = frame.black_owed.as_ref().map(&mut copy);
+            Data::Raw(RawFrame { raw: copy(&frame.raw), black, black_owed, ..frame.clone() })
         }
         Data::Depth(depth) => Data::Depth(DepthImage {
             distance: copy(&depth.distance),

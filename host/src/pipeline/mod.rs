@@ -20,6 +20,7 @@ pub mod data;
 mod error;
 mod files;
 mod frames;
+mod fusion;
 mod on_graph;
 mod preparations;
 mod prepare;
@@ -96,6 +97,8 @@ pub struct PreparedPipeline {
     frame_spans: Vec<FrameSpan>,
     /// Whether frames may overlap on a GPU (on unless [`PreparedPipeline::one_frame_at_a_time`]).
     overlap: bool,
+    /// For each stage, the stages its kernel runs inside ([`fusion`]; none: its own).
+    fused_into: Vec<Vec<usize>>,
 }
 
 impl PreparedPipeline {
@@ -118,6 +121,21 @@ impl PreparedPipeline {
     /// one (the same results, slower: for comparing).
     pub fn one_frame_at_a_time(&mut self) {
         self.overlap = false;
+    }
+
+    /// Runs each stage's own kernels, none inside another's (the same results, more dispatches:
+    /// for comparing).
+    pub fn unfused(&mut self) {
+        self.fuse(false);
+    }
+
+    /// Runs stages' kernels inside the stages they feed where [`fusion`] allows it (`fuse`),
+    /// or none; the components told, the replay's keys kept in step.
+    fn fuse(&mut self, fuse: bool) {
+        self.fused_into = fusion::decide(&self.plan, &mut self.components, &self.modes, fuse);
+        for (key, inside) in self.keys.iter_mut().zip(&self.fused_into) {
+            key.runs_inside(inside);
+        }
     }
 
     /// The same pipeline placed where `plan` (its plan but for the ranges) sits: its errors
@@ -156,6 +174,7 @@ impl PreparedPipeline {
                 failed: None,
                 replayed: self.replay.as_ref().is_some_and(|replay| replay.replays(index)),
                 frames: Vec::new(),
+                fused_into: self.fused_into[index].iter().map(|&s| self.plan.stages[s].instance.clone()).collect(),
             })
             .collect();
         self.flows = self.plan.bindings.iter().map(|b| self.flow(b)).collect();

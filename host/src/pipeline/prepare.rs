@@ -78,7 +78,7 @@ pub fn prepare(
                 _ => Mode::InOrder,
             })
             .collect();
-        Ok(PreparedPipeline {
+        let mut prepared = PreparedPipeline {
             plan: plan.clone(),
             writers: made.iter().map(|_| None).collect(),
             components: made,
@@ -91,7 +91,10 @@ pub fn prepare(
             submissions: Vec::new(),
             frame_spans: Vec::new(),
             overlap: true,
-        })
+            fused_into: Vec::new(),
+        };
+        prepared.fuse(true);
+        Ok(prepared)
     } else {
         errors.extend(warnings);
         Err(errors)

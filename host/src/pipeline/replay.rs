@@ -34,6 +34,15 @@ pub struct StageKey {
     files: Vec<(PathBuf, Option<Stamp>)>,
     /// The kernels its `process` calls (a workspace component's).
     kernels: Vec<Option<Result<gudsl_codegen::Kernel, String>>>,
+    /// The stages its kernel runs inside (`fusion.rs`): what it gives them differs.
+    inside: Vec<usize>,
+}
+
+impl StageKey {
+    /// The stage's kernel runs inside these stages (`fusion.rs`).
+    pub fn runs_inside(&mut self, stages: &[usize]) {
+        self.inside = stages.to_vec();
+    }
 }
 
 /// The key of every stage of `plan`.
@@ -62,6 +71,7 @@ fn key(plan: &PipelinePlan, index: usize, behaviors: &Behaviors, files: &ModelFi
         kernels: stage.behavior.iter().map(|call| behaviors.get(&call.diagram).cloned()).collect(),
         stage,
         inputs,
+        inside: Vec::new(),
     }
 }
 

@@ -120,6 +120,8 @@ pub struct StageTime {
     /// Its work by the frame it was for (host, device, dispatches); `host` and `device` are
     /// these and what it did before the first frame and after the last.
     pub frames: Vec<FrameWork>,
+    /// The stages its kernel ran inside (`fusion.rs`), by instance: its GPU work is theirs.
+    pub fused_into: Vec<String>,
 }
 
 /// A stage's work for one frame: on the host (its `process` and `finish_frame`, on a thread
@@ -172,7 +174,8 @@ pub fn summary(report: &PipelineReport) -> String {
 }
 
 /// The stages' table: per stage its time per frame on the host and on the GPU, and its share
-/// of the total; a stage on a thread of its own (`async`) is marked so, a sink that failed too.
+/// of the total; a stage on a thread of its own (`async`) is marked so, a sink that failed too,
+/// a stage whose kernel ran inside others' names them.
 pub fn table(report: &PipelineReport) -> String {
     let per_frame = |d: Duration| ms(d) / report.frames.max(1) as f64;
     let total: Duration = report.stages.iter().map(|s| s.host + s.device).sum();
@@ -185,14 +188,19 @@ pub fn table(report: &PipelineReport) -> String {
     );
     for stage in &report.stages {
         let share = (stage.host + stage.device).as_secs_f64() / total.as_secs_f64().max(1e-12) * 100.0;
+        let note = match (&stage.failed, stage.fused_into.as_slice()) {
+            (Some(_), _) => "  failed".to_string(),
+            (None, []) => String::new(),
+            (None, [one]) => format!("  runs in {one}'s kernel"),
+            (None, inside) => format!("  runs in the kernels of {}", inside.join(", ")),
+        };
         table += &format!(
-            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%{}\n",
+            "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%{note}\n",
             stage.instance,
             class(stage),
             per_frame(stage.host),
             per_frame(stage.device),
             share,
-            if stage.failed.is_some() { "  failed" } else { "" }
         );
     }
     if report.submissions() > 0 {
@@ -251,6 +259,7 @@ pub fn report_json(report: &PipelineReport) -> serde_json::Value {
             "async": s.apart,
             "source": s.source,
             "replayed": s.replayed,
+            "fused_into": s.fused_into,
             "state": if s.failed.is_some() { "failed" } else { "ok" },
             "error": s.failed.as_ref().map(|e| e.message.clone()),
         })).collect::<Vec<_>>(),

@@ -37,6 +37,8 @@ pub struct PipelineArgs<'a> {
     pub cpu: bool,
     /// `--one-frame-at-a-time`: frames never overlap on the GPU.
     pub one_frame_at_a_time: bool,
+    /// `--unfused`: every stage runs its own kernels.
+    pub unfused: bool,
     pub output: Option<&'a Path>,
     /// `--set`: values every setting runs with.
     pub sets: &'a [Assignment],
@@ -125,6 +127,9 @@ pub fn run(
                 Ok(mut prepared) => {
                     if args.one_frame_at_a_time {
                         prepared.one_frame_at_a_time();
+                    }
+                    if args.unfused {
+                        prepared.unfused();
                     }
                     let folder = batch::folder(job.as_ref(), &setting, study);
                     runs.push(Planned { recording: job.clone(), setting, folder, prepared });

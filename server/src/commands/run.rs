@@ -59,6 +59,10 @@ pub struct RunArgs {
     /// while the GPU works on one (the same results, slower; for comparing).
     #[arg(long)]
     pub(super) one_frame_at_a_time: bool,
+    /// Run each stage of a pipeline with its own kernels, none inside the kernels of the stages
+    /// it feeds (the same results, more dispatches; for comparing).
+    #[arg(long)]
+    pub(super) unfused: bool,
     /// Run a pipeline with a parameter set as written in the model, without editing it (as
     /// `Motion.windowSize=7`; checked as if typed). Repeatable.
     #[arg(long = "set", value_name = "INSTANCE.PARAMETER=VALUE", value_parser = super::settings::assignment)]
@@ -104,6 +108,7 @@ pub fn run(args: &RunArgs) -> ExitCode {
                 frames: args.frames,
                 cpu: args.cpu,
                 one_frame_at_a_time: args.one_frame_at_a_time,
+                unfused: args.unfused,
                 output: args.output.as_deref(),
                 sets: &args.sets,
                 sweeps: &args.sweeps,

@@ -34,6 +34,7 @@ fn kernels_generated_by_run(path: &str, diagram: &str) -> usize {
         frames: Some(1),
         cpu: false,
         one_frame_at_a_time: false,
+        unfused: false,
         root: None,
         sets: Vec::new(),
         sweeps: Vec::new(),

@@ -250,6 +250,22 @@ pub trait Component: Send {
         false
     }
 
+    /// Whether it takes raw frames that still owe their black image ([`RawFrame::black_owed`]),
+    /// taking it off in its own first kernel (then a black-image correction feeding only such
+    /// stages runs inside them: `fusion.rs`).
+    ///
+    /// [`RawFrame::black_owed`]: super::data::RawFrame::black_owed
+    fn takes_owed_black(&self) -> bool {
+        false
+    }
+
+    /// Told (`owe`) that each stage it feeds takes frames owing their black image: whether it
+    /// then gives them so instead of taking the black image off itself (a black-image
+    /// correction does; nothing else subtracts one).
+    fn owe_black(&mut self, _owe: bool) -> bool {
+        false
+    }
+
     /// After the last frame (a plot, a last cloud).
     fn finish_run(&mut self, _output: &mut OutputDir) -> Result<(), String> {
         Ok(())

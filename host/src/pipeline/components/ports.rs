@@ -160,6 +160,14 @@ impl Component for OnStagePorts {
         self.component.feeds_back()
     }
 
+    fn takes_owed_black(&self) -> bool {
+        self.component.takes_owed_black()
+    }
+
+    fn owe_black(&mut self, owe: bool) -> bool {
+        self.component.owe_black(owe)
+    }
+
     fn finish_frame(&mut self, ctx: &mut Ctx, reads: &Reads) -> Result<Outputs, String> {
         let given = self.component.finish_frame(ctx, reads)?;
         Ok(self.on_stage_ports(given))

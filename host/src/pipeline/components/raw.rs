@@ -33,6 +33,9 @@ pub struct BlackImageCorrection {
     black: Option<Image>,
     uploaded: BufferSlot,
     kernels: Vec<KernelSlot>,
+    /// Whether its frames owe the black image to the stages it feeds, which take it off in
+    /// their own first kernels (`fusion.rs`), instead of its kernel taking it off.
+    owes: bool,
 }
 
 impl BlackImageCorrection {
@@ -54,7 +57,13 @@ impl BlackImageCorrection {
                 return Err(vec![params.error("channelA", ErrorKind::Input, message)]);
             }
         }
-        Ok(BlackImageCorrection { files, black: None, uploaded: BufferSlot::default(), kernels: Vec::new() })
+        Ok(BlackImageCorrection {
+            files,
+            black: None,
+            uploaded: BufferSlot::default(),
+            kernels: Vec::new(),
+            owes: false,
+        })
     }
 }
 
@@ -83,6 +92,11 @@ impl Component for BlackImageCorrection {
         self.files.is_none().then_some(Need::Black("give the black image's files (channelA, channelB)"))
     }
 
+    fn owe_black(&mut self, owe: bool) -> bool {
+        self.owes = owe;
+        owe
+    }
+
     fn load(&mut self) -> Result<(), String> {
         if let Some(files) = &self.files {
             self.black = Some(files.frames(1).next_frame()?);
@@ -102,12 +116,19 @@ impl Component for BlackImageCorrection {
                             .into(),
                     ),
                 };
-            let raw = ctx
-                .device
-                .kernel(ctx.stage, slots(&mut self.kernels, k), Kernel::SubtractBlack, &[&frame.raw, &black])
-                .map_err(|e| e.to_string())?
-                .remove(0);
-            out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, black: None, ..frame.clone() })));
+            debug_assert!(frame.black_owed.is_none(), "fusion.rs owes black images only to stages that take them");
+            let corrected = match self.owes {
+                true => RawFrame { black: None, black_owed: Some(black), ..frame.clone() },
+                false => {
+                    let raw = ctx
+                        .device
+                        .kernel(ctx.stage, slots(&mut self.kernels, k), Kernel::SubtractBlack, &[&frame.raw, &black])
+                        .map_err(|e| e.to_string())?
+                        .remove(0);
+                    RawFrame { raw, black: None, ..frame.clone() }
+                }
+            };
+            out.push(("RawOut".to_string(), Data::Raw(corrected)));
         }
         Ok(out)
     }
@@ -126,14 +147,21 @@ impl Demodulation {
 }
 
 impl Component for Demodulation {
+    /// It takes the black image off in its own pass (`Kernel::SubtractBlackDemodulate`).
+    fn takes_owed_black(&self) -> bool {
+        true
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let mut out = Vec::new();
         for (k, frame) in raw_frames(inputs) {
-            let kernel = Kernel::Demodulate { modulation_hz: self.modulation_hz };
-            let mut planes = ctx
-                .device
-                .kernel(ctx.stage, slots(&mut self.kernels, k), kernel, &[&frame.raw])
-                .map_err(|e| e.to_string())?;
+            let modulation_hz = self.modulation_hz;
+            let (kernel, reads) = match &frame.black_owed {
+                Some(black) => (Kernel::SubtractBlackDemodulate { modulation_hz }, vec![&frame.raw, black]),
+                None => (Kernel::Demodulate { modulation_hz }, vec![&frame.raw]),
+            };
+            let mut planes =
+                ctx.device.kernel(ctx.stage, slots(&mut self.kernels, k), kernel, &reads).map_err(|e| e.to_string())?;
             // phase, amplitude, intensity, distance
             let distance = planes.pop().expect("four outputs");
             let intensity = planes.pop().expect("four outputs");
@@ -246,6 +274,7 @@ impl Component for MotionCompensation {
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let mut out = Vec::new();
         for (k, frame) in raw_frames(inputs) {
+            debug_assert!(frame.black_owed.is_none(), "fusion.rs owes black images only to stages that take them");
             let item = slots(&mut self.items, k);
             let device = &mut *ctx.device;
             let run = |device: &mut gudsl_runtime::Executor, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {

@@ -125,6 +125,7 @@ impl Component for Simulated {
             Data::Raw(RawFrame {
                 raw,
                 black,
+                black_owed: None,
                 truth: Some(Arc::new(frame.truth)),
                 integration_us: self.camera.integration_us,
                 stamp: None,
@@ -202,7 +203,8 @@ impl Component for RawFrameFile {
         let frame = reading.next_frame()?;
         let raw = ctx.device.upload(&mut self.raw, &frame);
         let stamp = reading.stamp;
-        let frame = RawFrame { raw, black: None, truth: None, integration_us: self.integration_us, stamp };
+        let frame =
+            RawFrame { raw, black: None, black_owed: None, truth: None, integration_us: self.integration_us, stamp };
         Ok(vec![("RawOut".to_string(), Data::Raw(frame))])
     }
 }

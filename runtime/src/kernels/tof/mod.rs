@@ -9,8 +9,8 @@ pub mod subtract_black;
 
 pub use correct_intensity::correct_intensity;
 pub(crate) use correct_intensity::CorrectIntensity;
-pub(crate) use demodulate::{Demodulate, SubtractBlackDemodulate};
 pub use demodulate::{demodulate, demodulate_pixel};
+pub(crate) use demodulate::{Demodulate, SubtractBlackDemodulate};
 pub use grey_image::grey_image;
 pub(crate) use grey_image::GreyImage;
 pub use subtract_black::subtract_black;
