@@ -147,7 +147,8 @@ class Runner:
             stage.update({"instance": last["instance"], "component": last["component"], "async": last["async"],
                           "source": last.get("source", last["instance"] not in processors)})
         measured.update({"device": all_["device"], "frames": (first, all_["frames"]),
-                         "overlapped": all_.get("frames_overlapped", False)})
+                         "overlapped": all_.get("frames_overlapped", False),
+                         "fused": any(s.get("fused_into") for s in all_["stages"])})
         return measured
 
 
@@ -346,6 +347,21 @@ def report(rows, header, quick, took):
             apart, gpu = row["apart"]["ms"], row["gpu"]["ms"]
             gain = fmt(apart / gpu, 2) if gpu > 0 else "—"
             lines.append(f"| {row['name']} | {row['size']} | {row['source']} | {fmt(apart, 2)} | {fmt(gpu, 2)} | {gain} |")
+    if any(row["unfused"] for row in rows):
+        lines += ["", "## Fused across stages, and each stage its own kernels (`--unfused`), in this run", "",
+                  "A black-image correction that feeds only demodulations runs inside their kernels "
+                  "(`host/src/pipeline/fusion.rs`); the same pipeline with every stage's own kernels beside it. "
+                  "GPU µs: all stages' kernels, a frame.", "",
+                  "| pipeline | size | frames | unfused: ms / frame | fused | × faster | unfused: GPU µs | fused | "
+                  "unfused: dispatches / submissions | fused |",
+                  "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"]
+        for row in (row for row in rows if row["unfused"]):
+            unfused, gpu = row["unfused"], row["gpu"]
+            gain = fmt(unfused["ms"] / gpu["ms"], 2) if gpu["ms"] > 0 else "—"
+            kernels = [sum(s["gpu_us"] for s in m["stages"]) for m in (unfused, gpu)]
+            lines.append(f"| {row['name']} | {row['size']} | {row['source']} | {fmt(unfused['ms'], 2)} | "
+                         f"{fmt(gpu['ms'], 2)} | {gain} | {fmt(kernels[0])} | {fmt(kernels[1])} | "
+                         f"{work(unfused)} | {work(gpu)} |")
     lines += ["", "## Stages", ""]
     for row in rows:
         lines += [f"### {row['name']}, {row['size']}, {row['source']} frames", "",
@@ -391,12 +407,16 @@ def main():
         apart = None
         if gpu["overlapped"]:
             apart = runner.steady(model, gpu_frames, sets=sets, first=first, flags=["--one-frame-at-a-time"])
+        # Stages whose kernels ran inside others', once more each with its own: what fusing gives.
+        unfused = None
+        if gpu["fused"]:
+            unfused = runner.steady(model, gpu_frames, sets=sets, first=first, flags=["--unfused"])
         before = None
         if args.baseline:
             before = runner.steady(model, gpu_frames, sets=sets, first=first, gudsl=os.path.abspath(args.baseline))
         size_text = f"{size[0]}×{size[1]}" if size else "its own"
         rows.append({"name": name, "key": key, "size": size_text, "source": source, "gpu": gpu, "cpu": cpu,
-                     "before": before, "apart": apart})
+                     "before": before, "apart": apart, "unfused": unfused})
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True)
     cpu_name, driver = machine()
     header = {"adapter": rows[0]["gpu"]["device"], "driver": driver, "cpu": cpu_name,
