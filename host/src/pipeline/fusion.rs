@@ -1,11 +1,13 @@
 //! Fusion across stages: which stages' kernels run inside the kernels of the stages they feed.
 //! One kind today: a black-image correction whose every binding out leads, in order, to a stage
-//! that takes frames owing their black image (a demodulation) gives its frames owing it
+//! that takes frames owing their black image (a demodulation; a motion compensation with a
+//! phase calibration, in its normalization) gives its frames owing it
 //! ([`RawFrame::black_owed`]), and each of those stages takes it off in its own first pass — a
 //! dispatch, and a write and a read of the 8-plane frame, fewer a frame, the same results bit
-//! for bit. Where anything else reads its frames (motion compensation's search reads each
-//! sample many times, a sink reads the corrected frame) it keeps its own kernel. Decided once,
-//! where a pipeline is prepared; [`PreparedPipeline::unfused`] runs each stage's own kernels.
+//! for bit. Where anything else reads its frames (motion compensation's search without a
+//! calibration reads each sample many times, a sink reads the corrected frame) it keeps its
+//! own kernel. Decided once, where a pipeline is prepared; [`PreparedPipeline::unfused`] runs
+//! each stage's own kernels.
 //!
 //! [`RawFrame::black_owed`]: super::data::RawFrame::black_owed
 //! [`PreparedPipeline::unfused`]: super::PreparedPipeline::unfused
@@ -77,6 +79,46 @@ mod tests {
             ),
             false => ("", ""),
         };
+        with(binding, writer)
+    }
+
+    /// [`model`] with motion compensation on the corrected frames too, its normalised channels
+    /// written and its compensated frames demodulated (a stage that would take a frame owing
+    /// its black image: none must reach it); with a phase calibration (`calibrated`) or without.
+    fn motion_model(calibrated: bool) -> String {
+        std::fs::create_dir_all(dir()).unwrap();
+        let (width, height) = (64, 48);
+        // f(X) = 0.5·√(X + 20) + 1.1·X + 3 for tap A, 1.3·X for tap B.
+        let curves = [0.5, 20.0, 1.1, 3.0, 0.0, 0.0, 1.3, 0.0];
+        let calibration: Vec<f32> = curves.iter().flat_map(|&v| vec![v; width * height]).collect();
+        let path = dir().join("calibration.npy");
+        gudsl_formats::arrays::write(&path, &[8, height, width], &calibration, gudsl_formats::arrays::Dtype::F32)
+            .unwrap();
+        let calibration = if calibrated { "phaseCalibration = \"calibration.npy\"" } else { "" };
+        let raw_in = "In : RawIn ( processor frame = IRawFrameProcessor() );";
+        let motion = format!(
+            "Motion instantiates MotionCompensation ({calibration})
+            {{
+                {raw_in}
+                Out : RawOut ( provider frame = IRawFrameProvider() );
+                Normalized : NormalizedOut ( provider frame = IRawFrameProvider() );
+                [ source Out.frame ==> target Compensated.In.frame ]
+                [ source Normalized.frame ==> target Normalised.In.frame ]
+            }}
+            Compensated instantiates Demodulation ( )
+            {{
+                {raw_in}
+                Out : DepthOut ( provider depth = IDepthImageProvider() );
+                [ source Out.depth ==> target Depth.In.depth ]
+            }}
+            Normalised instantiates RawWriter ( ) {{ {raw_in} }}"
+        );
+        with("[ source Out.frame ==> target Motion.In.frame ]", &motion)
+    }
+
+    /// The camera, correction, demodulation and writer, with `binding` out of the correction
+    /// and `stages` beside them.
+    fn with(binding: &str, stages: &str) -> String {
         format!(
             "ComponentInstanceDiagram Fused
             {{
@@ -103,7 +145,7 @@ mod tests {
                 {{
                     In : DepthIn ( processor depth = IDepthImageProcessor() );
                 }}
-                {writer}
+                {stages}
             }}"
         )
     }
@@ -143,35 +185,47 @@ mod tests {
         stages.map(|s| (s.instance.as_str(), s.fused_into.iter().map(String::as_str).collect())).collect()
     }
 
-    /// Fed only by a demodulation, the correction runs inside its kernel: the same files byte
-    /// for byte as each stage running its own kernel, one dispatch a frame fewer on a GPU; on
-    /// the CPU reference alike.
+    /// Fed only by stages that take its frames owing their black image — a demodulation, and
+    /// a motion compensation with a phase calibration — the correction runs inside their
+    /// kernels: the same files byte for byte as each stage running its own kernel, one dispatch
+    /// a frame fewer on a GPU; on the CPU reference alike.
     #[test]
-    fn a_black_correction_feeding_only_a_demodulation_runs_inside_it() {
+    fn a_black_correction_feeding_only_stages_that_take_its_frames_owing_runs_inside_them() {
         let gpu = Gpu::for_tests();
-        for (gpu, on) in [(gpu.as_ref(), "gpu"), (None, "cpu")] {
-            let (fused, fused_files) = run(prepared(model(false)), gpu, &format!("fused-{on}"));
-            let mut unfused = prepared(model(false));
-            unfused.unfused();
-            let (apart, apart_files) = run(unfused, gpu, &format!("apart-{on}"));
-            assert_eq!(fused_into(&fused), [("Black", vec!["Demod"])]);
-            assert!(fused_into(&apart).is_empty());
-            assert_eq!(fused_files.len(), 6, "distance and amplitude, 3 frames");
-            let names = |files: &[(PathBuf, Vec<u8>)]| files.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
-            assert_eq!(names(&fused_files), names(&apart_files));
-            assert!(fused_files == apart_files, "{on}: the files differ");
-            if gpu.is_some() {
-                assert_eq!((fused.dispatches(), apart.dispatches()), (3, 6));
-                assert_eq!(fused.stages[1].dispatches, 0, "the correction's own kernel never ran");
+        let cases = [
+            (model(false), vec!["Demod"], 6, (3, 6)),
+            // Demodulation, normalization, detection and matching, correction, demodulation; 3
+            // frames of 6 files.
+            (motion_model(true), vec!["Demod", "Motion"], 18, (15, 18)),
+        ];
+        for (text, inside, files, dispatches) in cases {
+            for (gpu, on) in [(gpu.as_ref(), "gpu"), (None, "cpu")] {
+                let out = format!("{}-{on}", inside.len());
+                let (fused, fused_files) = run(prepared(text.clone()), gpu, &format!("fused-{out}"));
+                let mut unfused = prepared(text.clone());
+                unfused.unfused();
+                let (apart, apart_files) = run(unfused, gpu, &format!("apart-{out}"));
+                assert_eq!(fused_into(&fused), [("Black", inside.clone())]);
+                assert!(fused_into(&apart).is_empty());
+                let names = |files: &[(PathBuf, Vec<u8>)]| files.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+                assert_eq!(fused_files.len(), files, "{:?}", names(&fused_files));
+                assert_eq!(names(&fused_files), names(&apart_files));
+                assert!(fused_files == apart_files, "{on} {inside:?}: the files differ");
+                if gpu.is_some() {
+                    assert_eq!((fused.dispatches(), apart.dispatches()), dispatches, "{inside:?}");
+                    assert_eq!(fused.stages[1].dispatches, 0, "the correction's own kernel never ran");
+                }
             }
         }
     }
 
-    /// Where anything else reads the corrected frames (a sink here; motion compensation's
-    /// search in chapter 4's sample), the correction runs its own kernel.
+    /// Where anything else reads the corrected frames (a sink; motion compensation's search
+    /// without a calibration, here and in chapter 4's sample), the correction runs its own
+    /// kernel.
     #[test]
     fn a_black_correction_read_by_anything_else_runs_its_own_kernel() {
         assert!(prepared(model(true)).fused_into.iter().all(Vec::is_empty));
+        assert!(prepared(motion_model(false)).fused_into.iter().all(Vec::is_empty));
         let sample = include_str!("../../../samples/pipelines/ch4_motion_compensation.gudsl");
         let (host, _) = AnalysisHost::with_files([(dir().join("ch4.gudsl").display().to_string(), sample.into())]);
         let analysis = host.analysis();

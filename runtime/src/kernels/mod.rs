@@ -165,6 +165,9 @@ pub enum Kernel {
     /// Phase normalization (sec. 4.2.2.1): raw frame, calibration (8 planes, see
     /// [`crate::phase_normalization`]) → normalised raw frame.
     NormalizePhases,
+    /// `SubtractBlack` then `NormalizePhases` in one pass, exactly as the two give it: raw frame,
+    /// black frame, calibration → normalised raw frame.
+    SubtractBlackNormalizePhases,
     /// Motion detection (eq. 4.4, 4.5): raw frame → M, mask (`M > theta`).
     DetectMotion { theta: f32 },
     /// Block matching (eq. 4.6–4.10): raw frame, mask → flow (2 planes: dx, dy per phase image)
@@ -239,6 +242,7 @@ impl Kernel {
                 f(&tof::CorrectIntensity { q, int_time_calib, int_time })
             }
             Kernel::NormalizePhases => f(&motion::NormalizePhases),
+            Kernel::SubtractBlackNormalizePhases => f(&motion::SubtractBlackNormalizePhases),
             Kernel::DetectMotion { theta } => f(&motion::DetectMotion { theta }),
             Kernel::MatchBlocks { window, restriction, subpixel } => {
                 f(&motion::MatchBlocks { window, restriction, subpixel })
@@ -284,6 +288,7 @@ impl Kernel {
             Kernel::SubtractBlackDemodulate { modulation_hz: 20.0e6 },
             Kernel::CorrectIntensity { q: [0.0; 3], int_time_calib: 1.0, int_time: 1.0 },
             Kernel::NormalizePhases,
+            Kernel::SubtractBlackNormalizePhases,
             Kernel::DetectMotion { theta: 0.0 },
             Kernel::MatchBlocks { window: 5, restriction: None, subpixel: false },
             Kernel::DetectMatch { theta: 655.0, window: 5, restriction: None, subpixel: false },

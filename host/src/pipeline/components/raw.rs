@@ -271,22 +271,37 @@ impl Component for MotionCompensation {
         of_size(sizes, ("RawIn", "frames"), own, "phaseCalibration", "the phase calibration", advice)
     }
 
+    /// With a calibration, the normalization is the one kernel that reads the frame as it
+    /// came: it takes the black image off too (`Kernel::SubtractBlackNormalizePhases`). Without
+    /// one, the search would read each sample and its black image many times over.
+    fn takes_owed_black(&self) -> bool {
+        self.calibration.is_some()
+    }
+
     fn process(&mut self, ctx: &mut Ctx, inputs: &Inputs) -> Result<Outputs, String> {
         let mut out = Vec::new();
         for (k, frame) in raw_frames(inputs) {
-            debug_assert!(frame.black_owed.is_none(), "fusion.rs owes black images only to stages that take them");
             let item = slots(&mut self.items, k);
             let device = &mut *ctx.device;
             let run = |device: &mut gudsl_runtime::Executor, slot: &mut KernelSlot, kernel, inputs: &[&Tensor]| {
                 device.kernel(ctx.stage, slot, kernel, inputs).map_err(|e| e.to_string())
             };
-            let normalized = match &self.calibration {
-                Some(calibration) => {
+            let normalized = match (&self.calibration, &frame.black_owed) {
+                (Some(calibration), owed) => {
                     let calibration = device.upload(&mut self.uploaded, calibration);
-                    run(device, &mut item.normalize, Kernel::NormalizePhases, &[&frame.raw, &calibration])?.remove(0)
+                    let (kernel, reads) = match owed {
+                        Some(black) => (Kernel::SubtractBlackNormalizePhases, vec![&frame.raw, black, &calibration]),
+                        None => (Kernel::NormalizePhases, vec![&frame.raw, &calibration]),
+                    };
+                    run(device, &mut item.normalize, kernel, &reads)?.remove(0)
                 }
-                None => frame.raw.clone(),
+                (None, owed) => {
+                    debug_assert!(owed.is_none(), "fusion.rs owes black images only to stages that take them");
+                    frame.raw.clone()
+                }
             };
+            // What it gives owes nothing: the black image is off the normalised frame.
+            let frame = RawFrame { black_owed: None, ..frame.clone() };
             // Detection and matching in one pass (exactly what the two kernels give apart); with
             // ρ around the direction the frame before left on the device.
             let (theta, window, subpixel) = (self.theta, self.window, self.subpixel);

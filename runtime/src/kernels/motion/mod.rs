@@ -26,7 +26,7 @@ pub use match_blocks::match_blocks;
 pub(crate) use match_blocks::MatchBlocks;
 pub(crate) use mean_direction::MeanDirection;
 pub use normalize_phases::normalize_phases;
-pub(crate) use normalize_phases::NormalizePhases;
+pub(crate) use normalize_phases::{NormalizePhases, SubtractBlackNormalizePhases};
 pub use smooth_flow::smooth_flow;
 pub(crate) use smooth_flow::SmoothFlow;
 

@@ -1,7 +1,10 @@
-//! Phase normalization (sec. 4.2.2.1, eq. 4.1): raw frame, calibration → normalised raw frame.
+//! Phase normalization (sec. 4.2.2.1, eq. 4.1): raw frame, calibration → normalised raw frame;
+//! [`SubtractBlackNormalizePhases`] takes the black image off the frame in the same pass
+//! (`black_normalize_phases.wgsl`), exactly as [`crate::kernels::tof::SubtractBlack`] then
+//! [`NormalizePhases`] give it.
 
 use crate::{
-    kernels::{Pass, Shape, SizeParams, Unit},
+    kernels::{tof::subtract_black, Pass, Shape, SizeParams, Unit},
     Image,
 };
 
@@ -11,7 +14,7 @@ pub(crate) struct NormalizePhases;
 
 impl Unit for NormalizePhases {
     const NAME: &'static str = "normalize_phases";
-    const SOURCE: &'static str = include_str!("normalize_phases.wgsl");
+    const SOURCE: &'static str = concat!(include_str!("normalize_phases.wgsl"), include_str!("normalize_pixel.wgsl"));
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8)];
     type Params = SizeParams;
 
@@ -29,6 +32,35 @@ impl Unit for NormalizePhases {
 
     fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
         vec![normalize_phases(inputs[0], inputs[1])]
+    }
+}
+
+/// Black-image subtraction then phase normalization, in one pass: raw frame, black frame,
+/// calibration → normalised raw frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SubtractBlackNormalizePhases;
+
+impl Unit for SubtractBlackNormalizePhases {
+    const NAME: &'static str = "subtract_black_normalize_phases";
+    const SOURCE: &'static str =
+        concat!(include_str!("black_normalize_phases.wgsl"), include_str!("normalize_pixel.wgsl"));
+    const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8), Some(8)];
+    type Params = SizeParams;
+
+    fn params(&self, inputs: &[Shape]) -> SizeParams {
+        NormalizePhases.params(inputs)
+    }
+
+    fn outputs(&self, inputs: &[Shape]) -> Vec<Shape> {
+        NormalizePhases.outputs(inputs)
+    }
+
+    fn passes(&self, inputs: &[Shape]) -> Vec<Pass> {
+        NormalizePhases.passes(inputs)
+    }
+
+    fn cpu(&self, inputs: &[&Image]) -> Vec<Image> {
+        vec![normalize_phases(&subtract_black(inputs[0], inputs[1]), inputs[2])]
     }
 }
 
