@@ -321,8 +321,18 @@ fn fused_runs_write_what_unfused_runs_write() {
             let report: serde_json::Value =
                 serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
             assert_eq!(fused_into(&report).is_empty(), unfused, "{sample}");
-            (report["dispatches_per_frame"].as_f64().unwrap(), files_beneath(&out))
+            (report["dispatches_per_frame"].as_f64().unwrap(), files_beneath(&out), out)
         });
+        // Drawn on the diagram, a fused correction says where it ran.
+        let pictures = fused.2.join("pictures");
+        let report = fused.2.join("report.json").display().to_string();
+        let model = repo(&format!("samples/pipelines/{sample}.gudsl"));
+        let drawn = gudsl().args(["render", &model, "--with-report", &report, "-o"]).arg(&pictures).output().unwrap();
+        assert!(drawn.status.success(), "{}", String::from_utf8_lossy(&drawn.stderr));
+        let svg = std::fs::read_dir(&pictures).unwrap().map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap());
+        let demodulation = if sample.starts_with("ch5") { "PerPixel" } else { "LeftDemod" };
+        let said = format!("runs in {demodulation}&apos;s kernel");
+        assert!(svg.into_iter().any(|svg| svg.contains(&said) || svg.contains(&said.replace("&apos;", "'"))), "{said}");
         assert_eq!(unfused.0 - fused.0, fewer, "{sample}: dispatches a frame");
         assert!(!fused.1.is_empty(), "{sample} wrote nothing");
         assert!(fused.1 == unfused.1, "{sample}: the files differ");

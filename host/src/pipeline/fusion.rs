@@ -206,6 +206,11 @@ mod tests {
                 unfused.unfused();
                 let (apart, apart_files) = run(unfused, gpu, &format!("apart-{out}"));
                 assert_eq!(fused_into(&fused), [("Black", inside.clone())]);
+                let said = match inside.len() {
+                    1 => "runs in Demod's kernel",
+                    _ => "runs in Demod's and Motion's kernels",
+                };
+                assert!(crate::pipeline::table(&fused).contains(said), "{}", crate::pipeline::table(&fused));
                 assert!(fused_into(&apart).is_empty());
                 let names = |files: &[(PathBuf, Vec<u8>)]| files.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
                 assert_eq!(fused_files.len(), files, "{:?}", names(&fused_files));

@@ -1,6 +1,7 @@
 //! A run's report drawn on its component-instance diagram: under each instance its time per
 //! frame (host and GPU) and its share of the stages' time — the slowest marked «slowest», a
-//! replayed stage (a live preview's) «replayed» — and on each binding what it carried
+//! replayed stage (a live preview's) «replayed», one whose kernel ran inside others' naming
+//! them — and on each binding what it carried
 //! (`200×200 f32 depth`). Read from `report.json`'s shape, so `gudsl render --with-report`,
 //! ▶ Run pipeline and the live preview draw it alike.
 
@@ -25,12 +26,15 @@ pub fn annotate(graph: &mut Graph, report: &Value) -> Result<(), String> {
             continue;
         };
         let share = cost(stage) / total.max(1e-12) * 100.0;
-        let line = match stage["replayed"].as_bool() == Some(true) {
-            true => "replayed (unchanged)".to_string(),
-            false => {
+        let inside: Vec<&str> =
+            stage["fused_into"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
+        let line = match (stage["replayed"].as_bool() == Some(true), inside.as_slice()) {
+            (true, _) => "replayed (unchanged)".to_string(),
+            (false, []) => {
                 let device = ms(stage, "device_ms_per_frame");
                 format!("{:.2} ms/frame (GPU {device:.2}) · {share:.0} %", cost(stage))
             }
+            (false, inside) => super::report::runs_in(inside),
         };
         node.compartments.push(Compartment::plain(None, vec![line]));
         if stage["state"] == "failed" {

@@ -191,8 +191,7 @@ pub fn table(report: &PipelineReport) -> String {
         let note = match (&stage.failed, stage.fused_into.as_slice()) {
             (Some(_), _) => "  failed".to_string(),
             (None, []) => String::new(),
-            (None, [one]) => format!("  runs in {one}'s kernel"),
-            (None, inside) => format!("  runs in the kernels of {}", inside.join(", ")),
+            (None, inside) => format!("  {}", runs_in(inside)),
         };
         table += &format!(
             "{:width$}  {:class_width$}  {:>12.3}  {:>12.3}  {:>5.1}%{note}\n",
@@ -213,6 +212,17 @@ pub fn table(report: &PipelineReport) -> String {
         );
     }
     table
+}
+
+/// Where a stage's kernel ran, in words: "runs in Demod's kernel", "runs in Demod's and
+/// Motion's kernels".
+pub(crate) fn runs_in<S: AsRef<str>>(stages: &[S]) -> String {
+    let owners: Vec<String> = stages.iter().map(|s| format!("{}'s", s.as_ref())).collect();
+    match owners.as_slice() {
+        [one] => format!("runs in {one} kernel"),
+        [rest @ .., last] => format!("runs in {} and {last} kernels", rest.join(", ")),
+        [] => String::new(),
+    }
 }
 
 /// Writes `report.json` into the output folder; the report as written.
