@@ -349,7 +349,8 @@ def report(rows, header, quick, took):
             lines.append(f"| {row['name']} | {row['size']} | {row['source']} | {fmt(apart, 2)} | {fmt(gpu, 2)} | {gain} |")
     if any(row["unfused"] for row in rows):
         lines += ["", "## Fused across stages, and each stage its own kernels (`--unfused`), in this run", "",
-                  "A black-image correction that feeds only demodulations runs inside their kernels "
+                  "A black-image correction whose every consumer takes its frames owing the black image (a "
+                  "demodulation; a motion compensation with a phase calibration) runs inside their kernels "
                   "(`host/src/pipeline/fusion.rs`); the same pipeline with every stage's own kernels beside it. "
                   "GPU µs: all stages' kernels, a frame.", "",
                   "| pipeline | size | frames | unfused: ms / frame | fused | × faster | unfused: GPU µs | fused | "
