@@ -28,13 +28,16 @@ pub fn annotate(graph: &mut Graph, report: &Value) -> Result<(), String> {
         let share = cost(stage) / total.max(1e-12) * 100.0;
         let inside: Vec<&str> =
             stage["fused_into"].as_array().into_iter().flatten().filter_map(Value::as_str).collect();
-        let line = match (stage["replayed"].as_bool() == Some(true), inside.as_slice()) {
-            (true, _) => "replayed (unchanged)".to_string(),
-            (false, []) => {
+        let line = match stage["replayed"].as_bool() == Some(true) {
+            true => "replayed (unchanged)".to_string(),
+            false => {
                 let device = ms(stage, "device_ms_per_frame");
-                format!("{:.2} ms/frame (GPU {device:.2}) · {share:.0} %", cost(stage))
+                let time = format!("{:.2} ms/frame (GPU {device:.2}) · {share:.0} %", cost(stage));
+                match inside.as_slice() {
+                    [] => time,
+                    inside => format!("{time} · {}", super::report::runs_in(inside)),
+                }
             }
-            (false, inside) => super::report::runs_in(inside),
         };
         node.compartments.push(Compartment::plain(None, vec![line]));
         if stage["state"] == "failed" {

@@ -25,6 +25,10 @@ fn raw_frames(inputs: &Inputs) -> impl Iterator<Item = (usize, &RawFrame)> {
         .enumerate()
 }
 
+/// Where a frame owing its black image reached a stage that does not take one (`fusion.rs`
+/// gives such frames only to stages that do: never expected).
+const OWED: &str = "internal error: a frame still owing its black image reached a stage that reads it as it is";
+
 /// `ToF.BlackImageCorrection`: raw − black, the black image the frame's own or read from files.
 pub struct BlackImageCorrection {
     /// The black image's files, if given.
@@ -116,7 +120,9 @@ impl Component for BlackImageCorrection {
                             .into(),
                     ),
                 };
-            debug_assert!(frame.black_owed.is_none(), "fusion.rs owes black images only to stages that take them");
+            if frame.black_owed.is_some() {
+                return Err(OWED.into());
+            }
             let corrected = match self.owes {
                 true => RawFrame { black: None, black_owed: Some(black), ..frame.clone() },
                 false => {
@@ -295,10 +301,8 @@ impl Component for MotionCompensation {
                     };
                     run(device, &mut item.normalize, kernel, &reads)?.remove(0)
                 }
-                (None, owed) => {
-                    debug_assert!(owed.is_none(), "fusion.rs owes black images only to stages that take them");
-                    frame.raw.clone()
-                }
+                (None, Some(_)) => return Err(OWED.into()),
+                (None, None) => frame.raw.clone(),
             };
             // What it gives owes nothing: the black image is off the normalised frame.
             let frame = RawFrame { black_owed: None, ..frame.clone() };
