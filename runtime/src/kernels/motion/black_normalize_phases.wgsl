@@ -1,7 +1,6 @@
 // Black-image subtraction and phase normalization in one pass (`normalize_pixel.wgsl`): each
-// sample is the raw one less the black image's, clamped at 0, exactly as `subtract_black.wgsl`
-// writes it, so the pass gives what the two kernels give, without writing and reading the frame
-// between.
+// sample is `less_black` of it, as `subtract_black.wgsl` writes it, so the pass gives what the
+// two kernels give, without writing and reading the frame between.
 @group(0) @binding(0) var<uniform> p: Params;
 @group(0) @binding(1) var<storage, read> raw: array<f32>;
 @group(0) @binding(2) var<storage, read> black: array<f32>;
@@ -9,6 +8,5 @@
 @group(0) @binding(4) var<storage, read_write> output: array<f32>;
 
 fn sample(plane: u32, i: u32) -> f32 {
-    let at = plane * p.width * p.height + i;
-    return max(raw[at] - black[at], 0.0);
+    return less_black(plane * p.width * p.height + i);
 }

@@ -42,8 +42,11 @@ pub(crate) struct SubtractBlackNormalizePhases;
 
 impl Unit for SubtractBlackNormalizePhases {
     const NAME: &'static str = "subtract_black_normalize_phases";
-    const SOURCE: &'static str =
-        concat!(include_str!("black_normalize_phases.wgsl"), include_str!("normalize_pixel.wgsl"));
+    const SOURCE: &'static str = concat!(
+        include_str!("black_normalize_phases.wgsl"),
+        include_str!("../tof/less_black.wgsl"),
+        include_str!("normalize_pixel.wgsl")
+    );
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8), Some(8)];
     type Params = SizeParams;
 

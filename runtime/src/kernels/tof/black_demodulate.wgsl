@@ -1,6 +1,6 @@
 // Black-image subtraction and demodulation in one pass (`demodulate_pixel.wgsl`): each sample
-// is the raw one less the black image's, clamped at 0, exactly as `subtract_black.wgsl` writes
-// it, so the pass gives what the two kernels give, without writing and reading the frame between.
+// is `less_black` of it, as `subtract_black.wgsl` writes it, so the pass gives what the two
+// kernels give, without writing and reading the frame between.
 @group(0) @binding(0) var<uniform> p: Params;
 @group(0) @binding(1) var<storage, read> raw: array<f32>;
 @group(0) @binding(2) var<storage, read> black: array<f32>;
@@ -10,6 +10,5 @@
 @group(0) @binding(6) var<storage, read_write> distance_out: array<f32>;
 
 fn sample(plane: u32, i: u32) -> f32 {
-    let at = plane * p.pixels + i;
-    return max(raw[at] - black[at], 0.0);
+    return less_black(plane * p.pixels + i);
 }

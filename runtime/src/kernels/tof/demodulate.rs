@@ -71,7 +71,11 @@ pub(crate) struct SubtractBlackDemodulate {
 
 impl Unit for SubtractBlackDemodulate {
     const NAME: &'static str = "subtract_black_demodulate";
-    const SOURCE: &'static str = concat!(include_str!("black_demodulate.wgsl"), include_str!("demodulate_pixel.wgsl"));
+    const SOURCE: &'static str = concat!(
+        include_str!("black_demodulate.wgsl"),
+        include_str!("less_black.wgsl"),
+        include_str!("demodulate_pixel.wgsl")
+    );
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8)];
     type Params = Params;
 

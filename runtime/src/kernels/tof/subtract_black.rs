@@ -25,7 +25,7 @@ pub(crate) struct SubtractBlack;
 
 impl Unit for SubtractBlack {
     const NAME: &'static str = "subtract_black";
-    const SOURCE: &'static str = include_str!("subtract_black.wgsl");
+    const SOURCE: &'static str = concat!(include_str!("less_black.wgsl"), include_str!("subtract_black.wgsl"));
     const INPUTS: &'static [Option<usize>] = &[Some(8), Some(8)];
     type Params = Params;
 

@@ -10,5 +10,5 @@ struct Params { len: u32, _pad: u32, _pad1: vec2<u32>, _pad2: vec4<u32> }
 fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = id.y * groups.x * 256u + id.x;
     if i >= p.len { return; }
-    output[i] = max(raw[i] - black[i], 0.0);
+    output[i] = less_black(i);
 }
