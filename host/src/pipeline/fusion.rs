@@ -66,7 +66,8 @@ mod tests {
     use gudsl_runtime::Gpu;
 
     use crate::pipeline::{
-        preview::Preview, OutputDir, PipelineObserver, PipelineReport, Preparations, PreparedPipeline,
+        preview::{Preview, Quiet},
+        OutputDir, PipelineReport, Preparations, PreparedPipeline,
     };
 
     /// A camera's frames, their black image taken off, demodulated and written as `.npy`; with
@@ -159,12 +160,6 @@ mod tests {
         let analysis = host.analysis();
         let plan = analysis.pipeline_plan("Fused").unwrap().expect("a pipeline");
         Preparations::default().take_for(&analysis, &plan).unwrap().expect("it runs")
-    }
-
-    struct Quiet;
-
-    impl PipelineObserver for Quiet {
-        fn frame(&mut self, _: usize, _: usize) {}
     }
 
     /// `prepared` run on `gpu` (the CPU reference without) into `out`: its report and the files

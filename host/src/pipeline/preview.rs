@@ -52,8 +52,8 @@ impl Preview {
     }
 }
 
-/// A preview reports no progress: it is one window long.
-struct Quiet;
+/// An observer told no progress: a preview's (it is one window long), a test's.
+pub(super) struct Quiet;
 
 impl PipelineObserver for Quiet {
     fn frame(&mut self, _: usize, _: usize) {}

@@ -305,7 +305,7 @@ impl Component for MotionCompensation {
                 (None, None) => frame.raw.clone(),
             };
             // What it gives owes nothing: the black image is off the normalised frame.
-            let frame = RawFrame { black_owed: None, ..frame.clone() };
+            let given = RawFrame { black_owed: None, ..frame.clone() };
             // Detection and matching in one pass (exactly what the two kernels give apart); with
             // ρ around the direction the frame before left on the device.
             let (theta, window, subpixel) = (self.theta, self.window, self.subpixel);
@@ -334,9 +334,9 @@ impl Component for MotionCompensation {
             }
             // A tap: the flow, to whatever is bound to `FlowOut`.
             out.push(("FlowOut".to_string(), Data::Flow(flow)));
-            out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..frame.clone() })));
+            out.push(("RawOut".to_string(), Data::Raw(RawFrame { raw, ..given.clone() })));
             // A tap: the normalised channels (the frame itself without a calibration).
-            out.push(("NormalizedOut".to_string(), Data::Raw(RawFrame { raw: normalized, ..frame.clone() })));
+            out.push(("NormalizedOut".to_string(), Data::Raw(RawFrame { raw: normalized, ..given })));
             // A tap: the motion mask, to whatever is bound to `MaskOut`.
             out.push(("MaskOut".to_string(), Data::Mask(mask)));
         }
